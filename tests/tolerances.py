@@ -1,0 +1,8 @@
+"""The one place for test tolerances."""
+
+#: Agreement with the high-precision (mpmath) reference: relative, and absolute near zero.
+RTOL = 1e-12
+ATOL = 1e-12
+#: Identities that hold exactly for every returned solution (checked in double precision).
+IDENTITY_RTOL = 1e-10
+IDENTITY_ATOL = 1e-10
