@@ -42,7 +42,9 @@ def as_float_array(value: Any, name: str) -> NDArray[np.float64]:
         If ``value`` is not real-numeric, or holds NaN or infinity.
     """
     if isinstance(value, (str, bytes)) or value is None:
-        raise ValueError(f"{name} must be a real number or an array of real numbers, got {value!r}")
+        raise ValueError(
+            f"{name} must be a real number or an array of real numbers, got {value!r}"
+        )
     try:
         arr = np.asarray(value)
     except Exception as exc:  # ragged lists and the like
@@ -108,11 +110,7 @@ def check_inputs(
 
 def check_branch(sign: Any, n: Any) -> tuple[int, int]:
     """Validate a branch label: ``sign`` in {+1, -1}, ``n`` a whole number >= 0."""
-    if (
-        isinstance(sign, bool)
-        or not isinstance(sign, numbers.Real)
-        or sign not in (1, -1)
-    ):
+    if isinstance(sign, bool) or not isinstance(sign, numbers.Real) or sign not in (1, -1):
         raise ValueError(f"sign must be +1 or -1, got {sign!r}")
     if (
         isinstance(n, bool)
