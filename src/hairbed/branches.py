@@ -1,0 +1,312 @@
+"""Branches of solutions as exact parametric curves, and the folds of the physical branch.
+
+Every branch (``sign``, ``n``) of the boundary-value problem is an explicit curve in the tip
+parameter xi (math.md section 2, {solution3}): omega^2 is an *output* of xi, so no continuation
+is needed. We parametrise by the real number t of :func:`hairbed.from_parameter`,
+
+    xi - sin(theta0) = (1 - sin theta0) expit(t),    1 - xi = (1 - sin theta0) expit(-t),
+
+which resolves both weak forcing (t -> -inf) and strong forcing (t -> +inf).
+
+For a hair leaning into the flow (theta0 < 0) in a tight channel (eps near 1) omega^2(t) on the
+physical branch is not monotone (math.md section 5): it rises to a local maximum (the *upper
+fold*, where the low state disappears) and falls to a local minimum (the *lower fold*, where the
+high state disappears) before rising again. Between the two fold values of omega^2 three
+physical states coexist. :func:`folds` locates the folds as the zeros of d ln(omega^2)/dt and
+:func:`cusp` the confinement eps_c(theta0) at which the two folds are born.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.optimize import brentq, minimize_scalar
+
+import hairbed
+from hairbed._validation import as_float_array, check_branch, check_inputs
+
+__all__ = [
+    "Folds",
+    "bistable_window",
+    "curve",
+    "cusp",
+    "folds",
+    "log_slope",
+]
+
+#: Default range of the parameter t for curves: xi - sin(theta0) ~ 3e-7 (omega^2 ~ 1e-6) at the
+#: weak end, 1 - xi ~ 1e-13 (omega^2 of a few hundred) at the strong end.
+T_SPAN = (-15.0, 30.0)
+#: Where folds are searched. Folds measured here lie in t in [-5, 1]; the window is wide on both
+#: sides but stops before weak forcing, where omega^2 ~ e^t is tiny and 1 - eps h1 may cancel.
+_T_SEARCH = (-20.0, 12.0)
+_T_STEP = 0.02
+#: Step of the fourth-order central difference for d ln(omega^2)/dt: truncation ~ h^4 ~ 1e-12,
+#: rounding ~ 1e-16 / h ~ 1e-13.
+_H = 1e-3
+
+
+class Folds(NamedTuple):
+    """Fold points of the physical branch, in the order met along it (increasing xi).
+
+    Attributes
+    ----------
+    omega2 : ndarray
+        Forcing omega^2 [-] at each fold.
+    xi : ndarray
+        Tip parameter xi = sin(theta1) [-] at each fold.
+    t : ndarray
+        The curve parameter t of :func:`hairbed.from_parameter` [-] at each fold.
+    """
+
+    omega2: NDArray[np.float64]
+    xi: NDArray[np.float64]
+    t: NDArray[np.float64]
+
+
+def _scalar_params(eps: Any, theta0: Any) -> tuple[float, float]:
+    _, e, th = check_inputs(0.0, eps, theta0)
+    if e.ndim or th.ndim:
+        raise ValueError("eps and theta0 must be scalars here")
+    return float(e), float(th)
+
+
+def _log_omega2(t: Any, eps: float, theta0: float) -> NDArray[np.float64]:
+    return np.log(np.asarray(hairbed.from_parameter(t, eps, theta0).omega2, dtype=np.float64))
+
+
+def log_slope(t: Any, eps: float, theta0: float = 0.0) -> NDArray[np.float64]:
+    """d ln(omega^2) / dt along the physical branch [-] (zero exactly at a fold).
+
+    Fourth-order central differences with step 1e-3 in t: accurate to about 1e-12.
+
+    Parameters
+    ----------
+    t : array_like
+        Curve parameter of :func:`hairbed.from_parameter` [-].
+    eps : float
+        Confinement L/H [-], in [0, 1).
+    theta0 : float
+        Base angle [rad], in (-pi/2, pi/2).
+    """
+    eps, theta0 = _scalar_params(eps, theta0)
+    t = as_float_array(t, "t")
+    stencil = t[..., None] + _H * np.array([-2.0, -1.0, 1.0, 2.0])
+    f = _log_omega2(stencil, eps, theta0)
+    return (f[..., 0] - 8.0 * f[..., 1] + 8.0 * f[..., 2] - f[..., 3]) / (12.0 * _H)
+
+
+def curve(
+    eps: float,
+    theta0: float = 0.0,
+    sign: int = 1,
+    n: int = 0,
+    num: int = 1001,
+    t_span: tuple[float, float] = T_SPAN,
+) -> Any:
+    """The exact parametric curve of one branch, from weak to strong forcing.
+
+    Parameters
+    ----------
+    eps : float
+        Confinement L/H [-], in [0, 1).
+    theta0 : float
+        Base angle [rad], in (-pi/2, pi/2).
+    sign, n : int
+        Branch label: sign of theta'(0) and number of interior turning points (math.md
+        section 2). The default is the physical branch.
+    num : int
+        Number of points, evenly spaced in t.
+    t_span : (float, float)
+        Range of t. The default covers omega^2 from about 1e-6 to a few hundred on the
+        physical branch.
+
+    Returns
+    -------
+    Solution
+        States along the branch, shape (num,), ordered by increasing xi. Their ``omega2`` is the
+        forcing that holds each state ({solution3}); on the physical branch it is not monotone
+        when folds exist (:func:`folds`).
+
+    Examples
+    --------
+    >>> c = curve(0.9, -1.5, num=5)
+    >>> bool(np.all(np.diff(c.xi) > 0))
+    True
+    """
+    eps, theta0 = _scalar_params(eps, theta0)
+    sign, n = check_branch(sign, n)
+    if int(num) < 2:
+        raise ValueError(f"num must be at least 2, got {num!r}")
+    lo, hi = (float(v) for v in t_span)
+    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
+        raise ValueError(f"t_span must be two finite increasing numbers, got {t_span!r}")
+    t = np.linspace(lo, hi, int(num))
+    return hairbed.from_parameter(t, eps, theta0, sign=sign, n=n)
+
+
+def _refine_min(lo: float, hi: float, eps: float, theta0: float) -> tuple[float, float]:
+    """Minimum of the log slope on [lo, hi]: (t, value)."""
+    res = minimize_scalar(
+        lambda s: float(log_slope(s, eps, theta0)),
+        bounds=(lo, hi),
+        method="bounded",
+        options={"xatol": 1e-10},
+    )
+    return float(res.x), float(res.fun)
+
+
+def _fold_parameters(eps: float, theta0: float) -> NDArray[np.float64]:
+    """Values of t at the folds of the physical branch, increasing."""
+    t = np.arange(_T_SEARCH[0], _T_SEARCH[1] + 0.5 * _T_STEP, _T_STEP)
+    g = log_slope(t, eps, theta0)
+    if not np.all(np.isfinite(g)):
+        raise FloatingPointError("omega^2 is not finite and positive along the physical branch")
+
+    def slope(s: float) -> float:
+        return float(log_slope(s, eps, theta0))
+
+    roots = []
+    neg = g < 0.0
+    # Zeros seen on the grid.
+    for k in np.nonzero(neg[1:] != neg[:-1])[0]:
+        roots.append(brentq(slope, t[k], t[k + 1], xtol=1e-14, rtol=1e-15))
+    # A pair of zeros closer together than the grid step (near the cusp) shows as a positive
+    # interior local minimum of the slope: refine it, and if it dips below zero split there.
+    # Only nearly flat minima qualify (rounding makes shallow wiggles where the slope is ~1).
+    interior = (
+        np.nonzero((g[1:-1] < g[:-2]) & (g[1:-1] <= g[2:]) & ~neg[1:-1] & (g[1:-1] < 0.05))[0] + 1
+    )
+    for k in interior:
+        if neg[k - 1] or neg[k + 1]:
+            continue
+        tm, gm = _refine_min(t[k - 1], t[k + 1], eps, theta0)
+        if gm < 0.0:
+            roots.append(brentq(slope, t[k - 1], tm, xtol=1e-14, rtol=1e-15))
+            roots.append(brentq(slope, tm, t[k + 1], xtol=1e-14, rtol=1e-15))
+    return np.sort(np.asarray(roots, dtype=np.float64))
+
+
+def folds(eps: float, theta0: float = 0.0) -> Folds:
+    """Fold points of the physical branch (sign = +1, n = 0), in order along it.
+
+    A fold is where d omega^2 / d xi = 0: a state appears or disappears as the forcing varies.
+    They are found as sign changes of d ln(omega^2)/dt on a grid of step 0.02 in
+    t in [-20, 12] (plus a refined check of every local minimum of the slope, so that a pair
+    of folds closer together than the grid, near the cusp, is not missed) and refined with
+    Brent's method on a fourth-order central difference of ln(omega^2): t to about 1e-11,
+    omega^2 at the fold to rounding.
+
+    Parameters
+    ----------
+    eps : float
+        Confinement L/H [-], in [0, 1).
+    theta0 : float
+        Base angle [rad], in (-pi/2, pi/2).
+
+    Returns
+    -------
+    Folds
+        Arrays (omega2, xi, t), sorted by increasing xi; empty when omega^2 is monotone on the
+        physical branch (always for theta0 >= 0, and for eps below :func:`cusp`). When there are
+        two, the first is the upper fold (local maximum of omega^2) and the second the lower
+        fold (local minimum): three states coexist for omega2[1] < omega^2 < omega2[0].
+
+    Examples
+    --------
+    >>> f = folds(0.9, -1.5)
+    >>> f.omega2.tolist()
+    [1.4859, 0.95766]
+    >>> len(folds(0.5, 0.0).omega2)
+    0
+    """
+    eps, theta0 = _scalar_params(eps, theta0)
+    ts = _fold_parameters(eps, theta0)
+    if ts.size == 0:
+        empty = np.empty(0, dtype=np.float64)
+        return Folds(empty, empty.copy(), empty.copy())
+    sol = hairbed.from_parameter(ts, eps, theta0)
+    return Folds(
+        np.asarray(sol.omega2, dtype=np.float64).reshape(-1),
+        np.asarray(sol.xi, dtype=np.float64).reshape(-1),
+        ts,
+    )
+
+
+def bistable_window(eps: float, theta0: float = 0.0) -> tuple[float, float]:
+    """The range of omega^2 in which three physical states coexist [-].
+
+    Returns
+    -------
+    (lower, upper) : (float, float)
+        omega^2 at the lower and upper folds; (nan, nan) when the branch is monotone.
+
+    Examples
+    --------
+    >>> lo, hi = bistable_window(0.95, -1.0)
+    >>> lo, hi
+    (0.29696, 0.31966)
+    """
+    f = folds(eps, theta0)
+    if f.omega2.size < 2:
+        return (float("nan"), float("nan"))
+    return (float(np.min(f.omega2)), float(np.max(f.omega2)))
+
+
+def _min_slope(eps: float, theta0: float) -> float:
+    """Smallest d ln(omega^2)/dt over the search window (negative iff folds exist)."""
+    t = np.arange(_T_SEARCH[0], _T_SEARCH[1] + 0.5 * _T_STEP, _T_STEP)
+    g = log_slope(t, eps, theta0)
+    k = int(np.argmin(g))
+    if 0 < k < t.size - 1:
+        return _refine_min(t[k - 1], t[k + 1], eps, theta0)[1]
+    return float(g[k])
+
+
+def cusp(theta0: Any) -> Any:
+    """The confinement eps_c(theta0) above which the physical branch has folds [-].
+
+    At eps_c the two folds are born together: d omega^2/dt and d^2 omega^2/dt^2 vanish at once.
+    We solve min_t d ln(omega^2)/dt = 0 for eps with Brent's method (the minimum over t is
+    refined by a bounded scalar minimisation), to about 1e-10 in eps.
+
+    Parameters
+    ----------
+    theta0 : array_like
+        Base angle [rad], in (-pi/2, pi/2).
+
+    Returns
+    -------
+    float or ndarray
+        eps_c, in (0, 1]. The value 1.0 means no folds for any admissible eps < 1: this is
+        the case for theta0 >= 0 (the physical branch is monotone, math.md section 5) and,
+        numerically, for base angles so close to 0- that eps_c is within 1e-9 of 1
+        (eps_c -> 1 as theta0 -> 0-).
+
+    Examples
+    --------
+    >>> round(float(cusp(-1.0)), 2)
+    0.91
+    >>> float(cusp(0.2))
+    1.0
+    """
+    th = as_float_array(theta0, "theta0")
+    check_inputs(0.0, 0.0, th)
+    out = np.empty(th.shape, dtype=np.float64)
+    for idx, value in np.ndenumerate(th):
+        out[idx] = _cusp_scalar(float(value))
+    return out[()] if out.ndim == 0 else out
+
+
+_EPS_TOP = 1.0 - 1e-9
+
+
+def _cusp_scalar(theta0: float) -> float:
+    if theta0 >= 0.0:
+        return 1.0
+    if _min_slope(_EPS_TOP, theta0) >= 0.0:
+        return 1.0
+    # At eps = 0, omega^2 = omega_eps^2 is monotone: the slope is positive everywhere.
+    return float(brentq(lambda e: _min_slope(e, theta0), 0.0, _EPS_TOP, xtol=1e-12, rtol=1e-12))

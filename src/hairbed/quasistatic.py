@@ -1,0 +1,193 @@
+"""Quasi-static sweeps of the forcing: following one state, jumps at folds, hysteresis.
+
+When the flow is changed slowly the hair stays on the static state it is in, moving
+continuously along the physical branch, as long as that state exists. Where the forcing passes a
+fold (:func:`hairbed.branches.folds`) the state it was following disappears and the hair snaps
+to another stable state. Which states are stable is a question of dynamics
+(:mod:`hairbed.stability`): on the physical branch these are exactly the pieces where omega^2
+increases with xi, the pieces between folds where it decreases being unstable. A sweep therefore
+only ever visits the increasing pieces, and after a jump lands on the nearest increasing piece in
+the direction of travel.
+
+So a ramp of omega^2 up from rest follows the lowest-xi root up to the upper fold and then jumps
+to the high state; the ramp back down follows the highest root down to the lower fold and jumps
+back (math.md section 5): a hysteresis loop.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+import hairbed
+from hairbed._validation import check_inputs
+from hairbed.branches import _fold_parameters
+
+__all__ = ["sweep", "sweep_with_jumps"]
+
+_BISECTIONS = 80  # brackets are at most ~1e3 wide in t: 2^-80 of that is below rounding
+
+
+def _omega2(t: NDArray[np.float64], eps: float, theta0: float) -> NDArray[np.float64]:
+    return np.asarray(hairbed.from_parameter(t, eps, theta0).omega2, dtype=np.float64)
+
+
+def _stable_pieces(
+    eps: float, theta0: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """The increasing pieces of omega^2(t): their t-bounds and omega^2-ranges.
+
+    Returns (t_lo, t_hi, w_lo, w_hi) for each increasing piece, ordered along the branch;
+    infinite bounds are kept infinite (omega^2 -> 0 as t -> -inf and -> inf as t -> inf).
+    """
+    tf = _fold_parameters(eps, theta0)
+    bounds = np.concatenate(([-np.inf], tf, [np.inf]))
+    wf = _omega2(tf, eps, theta0) if tf.size else np.empty(0)
+    wb = np.concatenate(([0.0], wf, [np.inf]))
+    # Pieces alternate increasing / decreasing, starting increasing at weak forcing.
+    return bounds[0::2], bounds[1::2], wb[0::2], wb[1::2]
+
+
+def _choose_pieces(
+    path: NDArray[np.float64], w_lo: NDArray[np.float64], w_hi: NDArray[np.float64], start: str
+) -> NDArray[np.intp]:
+    """Index of the stable piece occupied at every point of the path."""
+    inside = (path[:, None] >= w_lo) & (path[:, None] <= w_hi)
+    piece = np.empty(path.size, dtype=np.intp)
+    if path.size == 0:
+        return piece
+    cand = np.nonzero(inside[0])[0]
+    current = int(cand[0] if start == "low" else cand[-1])
+    for i, w in enumerate(path):
+        if not inside[i, current]:
+            cand = np.nonzero(inside[i])[0]
+            # The state has run off the end of its piece: snap to the nearest stable piece
+            # in the direction of travel (up after an upper fold, down after a lower one).
+            current = int(
+                cand[cand > current][0] if w > w_hi[current] else cand[cand < current][-1]
+            )
+        piece[i] = current
+    return piece
+
+
+def _bracket_end(
+    path_w: NDArray[np.float64], edge: float, step: float, eps: float, theta0: float, above: bool
+) -> float:
+    """A finite t beyond which omega^2 is below (above=False) or above all of path_w."""
+    t = edge
+    for _ in range(60):
+        t += step
+        w = float(_omega2(np.array([t]), eps, theta0)[0])
+        if (w > path_w.max()) if above else (w < path_w.min()):
+            return t
+        step *= 2.0
+    raise FloatingPointError("could not bracket the forcing along the physical branch")
+
+
+def sweep_with_jumps(
+    omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "low"
+) -> tuple[Any, NDArray[np.intp]]:
+    """Follow the physical state along a path of forcing; also say where it jumps.
+
+    Parameters
+    ----------
+    omega2_path : array_like, 1-D
+        Successive values of the forcing omega^2 [-], >= 0, in the order applied.
+    eps : float
+        Confinement L/H [-], in [0, 1).
+    theta0 : float
+        Base angle [rad], in (-pi/2, pi/2).
+    start : {"low", "high"}
+        Which state the hair is in at the first point when several coexist there: "low"
+        (smallest xi: coming from rest) or "high" (largest xi: coming from strong flow).
+
+    Returns
+    -------
+    solution : Solution
+        The state at every point of the path, shape (len(omega2_path),), on the physical
+        branch. Its ``omega2`` equals the path to rounding.
+    jumps : ndarray of int
+        Indices i at which the state jumped between i - 1 and i (a fold was passed).
+
+    Examples
+    --------
+    >>> up_down = np.concatenate([np.linspace(0.8, 1.6, 9), np.linspace(1.6, 0.8, 9)])
+    >>> sol, jumps = sweep_with_jumps(up_down, 0.9, -1.5)
+    >>> jumps.tolist()
+    [7, 16]
+    """
+    path = np.asarray(omega2_path, dtype=np.float64)
+    if path.ndim != 1:
+        raise ValueError(f"omega2_path must be one-dimensional, got shape {path.shape}")
+    if np.ndim(eps) or np.ndim(theta0):
+        raise ValueError("eps and theta0 must be scalars")
+    path = check_inputs(path, eps, theta0)[0]
+    if start not in ("low", "high"):
+        raise ValueError(f"start must be 'low' or 'high', got {start!r}")
+    eps, theta0 = float(eps), float(theta0)
+
+    t_lo, t_hi, w_lo, w_hi = _stable_pieces(eps, theta0)
+    piece = _choose_pieces(path, w_lo, w_hi, start)
+
+    # Finite brackets in t for every point: the piece's bounds, with the infinite ends pushed
+    # out just far enough.
+    a = t_lo[piece]
+    b = t_hi[piece]
+    positive = path > 0.0
+    first, last = piece == 0, piece == t_lo.size - 1
+    if np.any(first & positive):
+        edge = float(min(t_hi[0], 0.0)) if np.isfinite(t_hi[0]) else 0.0
+        a[first] = _bracket_end(path[first & positive], edge, -4.0, eps, theta0, above=False)
+    if np.any(last & positive):
+        edge = float(max(t_lo[-1], 0.0)) if np.isfinite(t_lo[-1]) else 0.0
+        b[last] = _bracket_end(path[last & positive], edge, 4.0, eps, theta0, above=True)
+
+    # Vectorised bisection: omega^2 is monotone increasing in t on each piece, so this cannot
+    # fail and converges to rounding whatever the shape of the branch.
+    lo = np.where(positive, a, 0.0)
+    hi = np.where(positive, b, 0.0)
+    target = np.where(positive, path, 1.0)
+    for _ in range(_BISECTIONS):
+        mid = 0.5 * (lo + hi)
+        below = _omega2(mid, eps, theta0) < target
+        lo = np.where(below, mid, lo)
+        hi = np.where(below, hi, mid)
+    t = 0.5 * (lo + hi)
+    t = np.where(positive, t, -np.inf)  # omega^2 = 0: the undeformed hair, xi = sin(theta0)
+    jumps = np.nonzero(piece[1:] != piece[:-1])[0] + 1
+    return hairbed.from_parameter(t, eps, theta0), jumps.astype(np.intp)
+
+
+def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "low") -> Any:
+    """Follow the physical state continuously along a path of forcing.
+
+    The state moves continuously with omega^2 and jumps only where the state it is following
+    disappears at a fold: a ramp up then down traces the hysteresis loop when theta0 < 0 and
+    eps > :func:`hairbed.branches.cusp` (math.md section 5). Use :func:`sweep_with_jumps` to get
+    the jump indices too.
+
+    Parameters
+    ----------
+    omega2_path : array_like, 1-D
+        Successive values of the forcing omega^2 [-], >= 0.
+    eps : float
+        Confinement L/H [-], in [0, 1).
+    theta0 : float
+        Base angle [rad], in (-pi/2, pi/2).
+    start : {"low", "high"}
+        State at the first point when several coexist there.
+
+    Returns
+    -------
+    Solution
+        The state at every point of the path, shape (len(omega2_path),).
+
+    Examples
+    --------
+    >>> s = sweep([1.2, 1.6, 1.2], 0.9, -1.5)
+    >>> bool(s.xi[2] > s.xi[0])
+    True
+    """
+    return sweep_with_jumps(omega2_path, eps, theta0, start=start)[0]

@@ -1,0 +1,392 @@
+"""Linear stability of static states under a simple relaxation dynamics, and time-stepping.
+
+The model
+---------
+The static problem ({hairH}, math.md section 1) says nothing about which of several coexisting
+states a hair bed shows. For that we give the hair the simplest dynamics whose rest points are
+exactly the static states, an overdamped relaxation of the angle:
+
+    theta_t = theta_ss + omega_eps^2[theta] cos(theta),    0 < sigma < 1,
+    theta(0, t) = theta0,    theta_s(1, t) = 0,
+    omega_eps^2[theta] = omega^2 / (1 - eps h1[theta]),    h1[theta] = int_0^1 cos(theta) dsigma,
+
+with time in units of the bending relaxation time (zeta L^4 / (E I) for a rotational drag
+coefficient zeta per unit length). What it assumes:
+
+- Overdamped: inertia of the hair and of the fluid are negligible; the bending moment is
+  balanced by a drag proportional to the angular velocity, locally, with no hydrodynamic
+  interaction along the hair. This is a model of relaxation, not a full elastohydrodynamic
+  theory; its only job is to decide the sign of the growth rates.
+- Quasi-static fluid: the channel flow adjusts instantly, so the load at every moment is the
+  static one of the *current* shape: the tip force omega_eps^2 follows the current tip height
+  h1 through the gap 1 - eps h1 (math.md section 7: the stress ratio 1 / (1 - eps h1)).
+- The load is that of the static theory (a horizontal force at the tip); no wall contact.
+
+The load is not conservative (the operator's Jacobian is not symmetric), so this is not a
+gradient flow; it is, however, the unique local dynamics of this form whose steady states are
+the paper's solutions. The feedback through h1 is what destabilises the middle state of a
+bistable triple: raising the hair narrows the gap, raising the load, which bends it more, ...
+In the linearisation it appears as a rank-one term added to a tridiagonal matrix.
+
+Discretisation
+--------------
+N equal segments, nodes sigma_i = i / N, unknowns theta_1 .. theta_N (theta_0 = theta0 is
+given); the second derivative by central differences, the free end by a ghost node
+theta_{N+1} = theta_{N-1}, and h1 by the trapezoidal rule: second order throughout. The Jacobian
+is tridiagonal plus the rank-one coupling; for the moderate N used here it is formed dense.
+
+A static state is classified by the eigenvalues of this Jacobian at the discrete equilibrium
+nearest the analytic state (a Newton step or two from the closed-form profile sampled on the
+grid): stable when every eigenvalue has negative real part. Near a fold the critical eigenvalue
+passes through zero, so within O(1/N^2) of a fold the classification is not reliable.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from scipy.integrate import solve_ivp
+from scipy.linalg import solve_banded
+
+from hairbed._validation import check_inputs
+
+__all__ = [
+    "Relaxation",
+    "Stability",
+    "equilibrium",
+    "is_stable",
+    "relax",
+    "stability",
+]
+
+FloatArray = NDArray[np.float64]
+
+
+def _weights(n_seg: int) -> FloatArray:
+    """Trapezoidal weights for theta_1 .. theta_N (theta_0 carries dsigma / 2 separately)."""
+    w = np.full(n_seg, 1.0 / n_seg)
+    w[-1] *= 0.5
+    return w
+
+
+def _residual(u: FloatArray, omega2: float, eps: float, theta0: float) -> FloatArray:
+    """Right-hand side theta_t at the N unknown nodes."""
+    n_seg = u.size
+    inv_d2 = float(n_seg) ** 2
+    h1 = np.dot(_weights(n_seg), np.cos(u)) + 0.5 * np.cos(theta0) / n_seg
+    load = omega2 / (1.0 - eps * h1)
+    left = np.concatenate(([theta0], u[:-1]))
+    right = np.concatenate((u[1:], [u[-2] if n_seg > 1 else theta0]))
+    return (left - 2.0 * u + right) * inv_d2 + load * np.cos(u)
+
+
+def _jacobian(u: FloatArray, omega2: float, eps: float, theta0: float) -> FloatArray:
+    """Dense Jacobian of :func:`_residual`: tridiagonal plus rank one."""
+    n_seg = u.size
+    inv_d2 = float(n_seg) ** 2
+    w = _weights(n_seg)
+    h1 = np.dot(w, np.cos(u)) + 0.5 * np.cos(theta0) / n_seg
+    gap = 1.0 - eps * h1
+    load = omega2 / gap
+    jac = np.zeros((n_seg, n_seg))
+    idx = np.arange(n_seg)
+    jac[idx, idx] = -2.0 * inv_d2 - load * np.sin(u)
+    jac[idx[1:], idx[:-1]] = inv_d2
+    jac[idx[:-1], idx[1:]] = inv_d2
+    if n_seg > 1:
+        jac[-1, -2] = 2.0 * inv_d2  # ghost node at the free end
+    # d load / d theta_j = omega^2 eps (d h1 / d theta_j) / gap^2, d h1 / d theta_j = -w_j sin
+    jac += np.outer(np.cos(u), -omega2 * eps * w * np.sin(u) / gap**2)
+    return jac
+
+
+def _newton_step(u: FloatArray, omega2: float, eps: float, theta0: float) -> FloatArray:
+    """Solve J du = -R in O(N): banded solve of the tridiagonal part, Sherman-Morrison for the
+    rank-one coupling (dense LAPACK is slow and thread-hungry for no gain here)."""
+    n_seg = u.size
+    inv_d2 = float(n_seg) ** 2
+    w = _weights(n_seg)
+    h1 = np.dot(w, np.cos(u)) + 0.5 * np.cos(theta0) / n_seg
+    gap = 1.0 - eps * h1
+    load = omega2 / gap
+    bands = np.zeros((3, n_seg))
+    bands[0, 1:] = inv_d2
+    bands[1] = -2.0 * inv_d2 - load * np.sin(u)
+    bands[2, :-1] = inv_d2
+    bands[2, -2] = 2.0 * inv_d2  # ghost node at the free end
+    a = np.cos(u)
+    b = -omega2 * eps * w * np.sin(u) / gap**2
+    y, z = solve_banded((1, 1), bands, np.column_stack((-_residual(u, omega2, eps, theta0), a))).T
+    return y - z * (np.dot(b, y) / (1.0 + np.dot(b, z)))
+
+
+def _profiles(solution: Any, sigma: FloatArray, shape: tuple[int, ...]) -> FloatArray:
+    """theta at the nodes for every state, shape S + (m,)."""
+    try:
+        out = np.asarray(solution.theta(sigma), dtype=np.float64)
+        if out.shape == shape + sigma.shape:
+            return out
+    except ValueError:
+        pass
+    # Solution.theta broadcasting sigma against the solution's shape numpy-style: put sigma on
+    # a leading axis and move it to the end.
+    out = np.asarray(solution.theta(sigma.reshape(sigma.shape + (1,) * len(shape))))
+    return np.moveaxis(out.astype(np.float64), 0, -1)
+
+
+def _grid(n_seg: int) -> FloatArray:
+    return np.linspace(0.0, 1.0, n_seg + 1)
+
+
+def equilibrium(
+    omega2: float,
+    eps: float,
+    theta0: float,
+    guess: FloatArray | Callable[[FloatArray], Any],
+    N: int = 100,
+    *,
+    tol: float = 1e-12,
+    max_iter: int = 50,
+) -> FloatArray:
+    """The static state of the discretised problem nearest a guess (Newton's method).
+
+    Parameters
+    ----------
+    omega2, eps, theta0 : float
+        Forcing [-], confinement [-], base angle [rad].
+    guess : array or callable
+        theta at the N + 1 nodes sigma_i = i / N (the first is replaced by theta0), or a function
+        of sigma such as ``Solution.theta``.
+    N : int
+        Number of segments.
+
+    Returns
+    -------
+    ndarray, shape (N + 1,)
+        theta [rad] at the nodes.
+    """
+    omega2, eps, theta0 = _scalars(omega2, eps, theta0)
+    u = _initial(guess, N)[1:]
+    for _ in range(max_iter):
+        du = _newton_step(u, omega2, eps, theta0)
+        u = u + du
+        if np.max(np.abs(du)) < tol:
+            break
+    else:
+        raise RuntimeError("Newton's method did not converge to a static state")
+    return np.concatenate(([theta0], u))
+
+
+def _scalars(omega2: Any, eps: Any, theta0: Any) -> tuple[float, float, float]:
+    w, e, t = check_inputs(omega2, eps, theta0)
+    if w.ndim or e.ndim or t.ndim:
+        raise ValueError("omega2, eps and theta0 must be scalars here")
+    return float(w), float(e), float(t)
+
+
+def _initial(guess: Any, n_seg: int) -> FloatArray:
+    if int(n_seg) < 2:
+        raise ValueError(f"N must be at least 2, got {n_seg!r}")
+    if callable(guess):
+        values = np.asarray(guess(_grid(n_seg)), dtype=np.float64)
+    else:
+        values = np.asarray(guess, dtype=np.float64)
+    if values.shape != (n_seg + 1,):
+        raise ValueError(
+            f"theta must be given at the N + 1 = {n_seg + 1} nodes, got {values.shape}"
+        )
+    if not np.all(np.isfinite(values)):
+        raise ValueError("theta must be finite")
+    return values.copy()
+
+
+@dataclass(frozen=True)
+class Stability:
+    """Linear stability of static states (shapes follow the solution's shape S).
+
+    Attributes
+    ----------
+    stable : ndarray of bool, shape S
+        Every eigenvalue has negative real part. False for states that do not exist (NaN).
+    growth_rate : ndarray, shape S
+        Largest real part of the eigenvalues [1 / bending relaxation time]; NaN if no state.
+    n_unstable : ndarray of int, shape S
+        Number of eigenvalues with positive real part (-1 if no state).
+    eigenvalues : ndarray of complex, shape S + (k,)
+        The k eigenvalues of largest real part, in decreasing order of real part.
+    """
+
+    stable: NDArray[np.bool_]
+    growth_rate: FloatArray
+    n_unstable: NDArray[np.intp]
+    eigenvalues: NDArray[np.complex128]
+
+
+def stability(solution: Any, N: int = 100, k: int = 4) -> Stability:
+    """Classify static states by the linearisation of the relaxation dynamics.
+
+    Parameters
+    ----------
+    solution : Solution
+        Static states (any shape; any branch, though states that twirl need larger N).
+    N : int
+        Number of segments of the discretisation.
+    k : int
+        How many leading eigenvalues to return.
+
+    Returns
+    -------
+    Stability
+
+    Examples
+    --------
+    >>> import hairbed
+    >>> states = [hairbed.solve(1.2, 0.9, -1.5, root=r) for r in ("low", "mid", "high")]
+    >>> [bool(stability(s).stable) for s in states]
+    [True, False, True]
+    """
+    omega2 = np.asarray(solution.omega2, dtype=np.float64)
+    shape = omega2.shape
+    eps = np.broadcast_to(np.asarray(solution.eps, dtype=np.float64), shape)
+    theta0 = np.broadcast_to(np.asarray(solution.theta0, dtype=np.float64), shape)
+    profiles = _profiles(solution, _grid(N), shape)
+    stable = np.zeros(shape, dtype=bool)
+    growth = np.full(shape, np.nan)
+    n_unstable = np.full(shape, -1, dtype=np.intp)
+    eigs = np.full(shape + (k,), np.nan + 0j, dtype=np.complex128)
+    for idx in np.ndindex(shape):
+        prof = profiles[idx]
+        if not (np.isfinite(omega2[idx]) and np.all(np.isfinite(prof))):
+            continue
+        w, e, t0 = float(omega2[idx]), float(eps[idx]), float(theta0[idx])
+        u = equilibrium(w, e, t0, prof, N)[1:]
+        lam = np.linalg.eigvals(_jacobian(u, w, e, t0))
+        lam = lam[np.argsort(-lam.real)]
+        stable[idx] = bool(lam[0].real < 0.0)
+        growth[idx] = lam[0].real
+        n_unstable[idx] = int(np.count_nonzero(lam.real > 0.0))
+        eigs[idx][: min(k, lam.size)] = lam[:k]
+    return Stability(stable, growth, n_unstable, eigs)
+
+
+def is_stable(solution: Any, N: int = 100) -> Any:
+    """Whether each static state is linearly stable under the relaxation dynamics.
+
+    See the module docstring for the model. Returns a bool (scalar solution) or a bool array of
+    the solution's shape; False for states that do not exist.
+
+    Examples
+    --------
+    >>> import hairbed
+    >>> bool(is_stable(hairbed.solve(2.0, 0.5)))
+    True
+    """
+    stable = stability(solution, N=N, k=1).stable
+    return bool(stable) if stable.ndim == 0 else stable
+
+
+@dataclass(frozen=True)
+class Relaxation:
+    """A time-stepped run of the relaxation dynamics.
+
+    Attributes
+    ----------
+    t : ndarray, shape (m,)
+        Times [bending relaxation times].
+    sigma : ndarray, shape (N + 1,)
+        Arc length of the nodes [-].
+    theta : ndarray, shape (m, N + 1)
+        Angle at the nodes at each time [rad].
+    tip_height, tip_deflection : ndarray, shape (m,)
+        h1 and x1 (trapezoidal rule) at each time [-].
+    success : bool
+        Whether the integrator reached the end.
+    message : str
+        The integrator's message.
+    """
+
+    t: FloatArray
+    sigma: FloatArray
+    theta: FloatArray
+    tip_height: FloatArray
+    tip_deflection: FloatArray
+    success: bool
+    message: str
+
+
+def _trapezoid(values: FloatArray) -> FloatArray:
+    n_seg = values.shape[-1] - 1
+    return (values.sum(axis=-1) - 0.5 * (values[..., 0] + values[..., -1])) / n_seg
+
+
+def relax(
+    omega2: float,
+    eps: float,
+    theta0: float,
+    theta_initial: FloatArray | Callable[[FloatArray], Any],
+    t_end: float,
+    *,
+    N: int = 100,
+    t_eval: FloatArray | None = None,
+    method: str = "BDF",
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+) -> Relaxation:
+    """Integrate the relaxation dynamics (module docstring) from an initial shape.
+
+    Parameters
+    ----------
+    omega2, eps, theta0 : float
+        Forcing [-], confinement [-], base angle [rad].
+    theta_initial : array or callable
+        theta at the N + 1 nodes sigma_i = i / N (the first is replaced by theta0), or a function
+        of sigma such as ``Solution.theta``.
+    t_end : float
+        Final time [bending relaxation times].
+    N : int
+        Number of segments.
+    t_eval : array, optional
+        Output times; default: the integrator's own steps.
+    method : str
+        A stiff method of :func:`scipy.integrate.solve_ivp` ("BDF", "Radau" or "LSODA").
+    rtol, atol : float
+        Integrator tolerances.
+
+    Returns
+    -------
+    Relaxation
+
+    Examples
+    --------
+    >>> run = relax(2.0, 0.5, 0.0, lambda s: 0.0 * s, 20.0, N=40)
+    >>> round(float(run.tip_height[-1]), 3)
+    0.733
+    """
+    omega2, eps, theta0 = _scalars(omega2, eps, theta0)
+    if not (np.isfinite(t_end) and t_end > 0.0):
+        raise ValueError(f"t_end must be positive, got {t_end!r}")
+    u0 = _initial(theta_initial, N)[1:]
+    res = solve_ivp(
+        lambda _t, u: _residual(u, omega2, eps, theta0),
+        (0.0, float(t_end)),
+        u0,
+        method=method,
+        jac=lambda _t, u: _jacobian(u, omega2, eps, theta0),
+        t_eval=t_eval,
+        rtol=rtol,
+        atol=atol,
+    )
+    theta = np.concatenate((np.full((1, res.t.size), theta0), res.y), axis=0).T
+    return Relaxation(
+        t=res.t,
+        sigma=_grid(N),
+        theta=theta,
+        tip_height=_trapezoid(np.cos(theta)),
+        tip_deflection=_trapezoid(np.sin(theta)),
+        success=bool(res.success),
+        message=str(res.message),
+    )

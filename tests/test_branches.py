@@ -1,0 +1,134 @@
+"""Branches as parametric curves, folds and the cusp (math.md section 5)."""
+
+import numpy as np
+import pytest
+
+import hairbed
+from hairbed.branches import bistable_window, curve, cusp, folds, log_slope
+
+# math.md section 5: windows of omega^2 with three physical states, computed independently
+# (quoted to 5 significant figures).
+WINDOWS = [
+    (-1.5, 0.9, 0.95766, 1.4859),
+    (-1.0, 0.95, 0.29696, 0.31966),
+    (-0.5, 0.99, 0.034935, 0.036187),
+]
+
+
+@pytest.mark.parametrize(("theta0", "eps", "lower", "upper"), WINDOWS)
+def test_folds_reproduce_math_md_windows(theta0, eps, lower, upper):
+    f = folds(eps, theta0)
+    assert f.omega2.shape == f.xi.shape == f.t.shape == (2,)
+    # Ordered along the branch: the upper fold (maximum of omega^2) comes first.
+    assert np.all(np.diff(f.xi) > 0)
+    assert f.omega2[0] == pytest.approx(upper, rel=5e-5)
+    assert f.omega2[1] == pytest.approx(lower, rel=5e-5)
+    assert bistable_window(eps, theta0) == pytest.approx((lower, upper), rel=5e-5)
+
+
+@pytest.mark.parametrize(("theta0", "eps", "lower", "upper"), WINDOWS)
+def test_folds_against_dense_scan(theta0, eps, lower, upper):
+    # Independent of the fold refinement: local extrema of omega^2 sampled densely in t.
+    c = curve(eps, theta0, num=40001, t_span=(-8.0, 4.0))
+    w = np.asarray(c.omega2)
+    k_max = np.nonzero((w[1:-1] > w[:-2]) & (w[1:-1] > w[2:]))[0] + 1
+    k_min = np.nonzero((w[1:-1] < w[:-2]) & (w[1:-1] < w[2:]))[0] + 1
+    assert k_max.size == 1 and k_min.size == 1 and k_max[0] < k_min[0]
+    f = folds(eps, theta0)
+    # The sampled extremum cannot beat the true one, and the grid (step 3e-4 in t) gets within
+    # ~1e-7 relative of it.
+    assert w[k_max[0]] <= f.omega2[0] * (1 + 1e-14)
+    assert w[k_min[0]] >= f.omega2[1] * (1 - 1e-14)
+    assert w[k_max[0]] == pytest.approx(f.omega2[0], rel=1e-7)
+    assert w[k_min[0]] == pytest.approx(f.omega2[1], rel=1e-7)
+    xi = np.asarray(c.xi)
+    assert xi[k_max[0] - 1] < f.xi[0] < xi[k_max[0] + 1]
+    assert xi[k_min[0] - 1] < f.xi[1] < xi[k_min[0] + 1]
+
+
+@pytest.mark.parametrize(("theta0", "eps"), [(-1.5, 0.9), (-0.5, 0.99)])
+def test_folds_are_extrema_to_high_accuracy(theta0, eps):
+    f = folds(eps, theta0)
+    for k, t in enumerate(f.t):
+        # omega^2 is quadratic at a fold: a shift of 1e-5 in t changes it by ~1e-10 relative,
+        # always in the same direction on both sides if t is accurate to well below 1e-5.
+        side = np.asarray(hairbed.from_parameter(t + np.array([-1e-5, 1e-5]), eps, theta0).omega2)
+        if k == 0:
+            assert np.all(side < f.omega2[k])
+        else:
+            assert np.all(side > f.omega2[k])
+        assert abs(float(log_slope(t, eps, theta0))) < 1e-9
+
+
+@pytest.mark.parametrize(
+    ("theta0", "eps"), [(0.0, 0.5), (0.0, 0.99), (0.5, 0.999), (1.2, 0.9), (-1.0, 0.8)]
+)
+def test_monotone_branch_has_no_folds(theta0, eps):
+    f = folds(eps, theta0)
+    assert f.omega2.size == 0 and f.xi.size == 0
+    assert np.isnan(bistable_window(eps, theta0)).all()
+    w = np.asarray(curve(eps, theta0, num=4001, t_span=(-12.0, 12.0)).omega2)
+    assert np.all(np.diff(w) > 0)
+
+
+@pytest.mark.parametrize(
+    ("theta0", "expected", "tol"), [(-1.5, 0.52, 0.005), (-1.0, 0.91, 0.005), (-0.4, 0.99, 0.005)]
+)
+def test_cusp_matches_math_md(theta0, expected, tol):
+    assert cusp(theta0) == pytest.approx(expected, abs=tol)
+
+
+@pytest.mark.parametrize("theta0", [-1.2, -0.6])
+def test_cusp_separates_monotone_from_folded(theta0):
+    ec = float(cusp(theta0))
+    assert 0.0 < ec < 1.0
+    assert folds(ec - 1e-6, theta0).omega2.size == 0
+    assert folds(ec + 1e-6, theta0).omega2.size == 2
+    # Just above the cusp the window is tiny and both folds sit close together.
+    f = folds(ec + 1e-6, theta0)
+    assert abs(f.omega2[0] - f.omega2[1]) < 1e-6 * f.omega2[0]
+
+
+def test_cusp_tends_to_one_and_is_one_for_nonnegative_base_angle():
+    values = cusp(np.array([-1.5, -1.0, -0.4, -0.1]))
+    assert values.shape == (4,)
+    assert np.all(np.diff(values) > 0) and values[-1] < 1.0
+    assert values[-1] > 0.999
+    assert cusp(0.0) == 1.0 and cusp(0.7) == 1.0
+
+
+def test_curve_is_the_branch_solve_returns():
+    c = curve(0.5, 0.3, num=7, t_span=(-6.0, 6.0))
+    assert np.shape(c.xi) == (7,)
+    assert np.all(np.diff(c.xi) > 0) and np.all(np.diff(c.omega2) > 0)
+    s = hairbed.solve(np.asarray(c.omega2), 0.5, 0.3)
+    np.testing.assert_allclose(s.xi, c.xi, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(s.tip_height, c.tip_height, rtol=1e-10)
+
+
+def test_curve_of_other_branches():
+    down = curve(0.5, 0.0, sign=-1, num=50)
+    assert np.all(np.asarray(down.base_curvature) < 0) and np.all(np.asarray(down.tip_height) < 0)
+    twirl = curve(0.5, 0.0, n=1, num=50)
+    assert np.all(np.asarray(twirl.omega2) > 0)
+    # More turning points need more forcing (omega_eps >= 3K - v0 > K - v0).
+    phys = curve(0.5, 0.0, num=50)
+    assert np.all(np.asarray(twirl.omega_eps) > np.asarray(phys.omega_eps))
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: curve(1.0, 0.0),
+        lambda: curve(0.5, 2.0),
+        lambda: curve(0.5, 0.0, num=1),
+        lambda: curve(0.5, 0.0, sign=0),
+        lambda: curve(0.5, 0.0, t_span=(1.0, -1.0)),
+        lambda: folds(-0.1, 0.0),
+        lambda: folds(np.array([0.5, 0.6]), 0.0),
+        lambda: cusp(np.pi / 2),
+    ],
+)
+def test_invalid_input_raises(call):
+    with pytest.raises(ValueError):
+        call()

@@ -1,0 +1,111 @@
+"""Stability of static states under the relaxation dynamics, checked by time-stepping."""
+
+import numpy as np
+import pytest
+
+import hairbed
+from hairbed import stability as st
+
+W, EPS, THETA0 = 1.2, 0.9, -1.5  # inside the window 0.95766 .. 1.4859 (math.md section 5)
+ROOTS = ("low", "mid", "high")
+
+
+@pytest.fixture(scope="module")
+def triple():
+    return [hairbed.solve(W, EPS, THETA0, root=r) for r in ROOTS]
+
+
+def test_low_and_high_are_stable_mid_is_not(triple):
+    res = [st.stability(s) for s in triple]
+    assert [bool(r.stable) for r in res] == [True, False, True]
+    assert [int(r.n_unstable) for r in res] == [0, 1, 0]
+    # The leading eigenvalues are real (the rank-one coupling does not make them complex here).
+    for r in res:
+        assert np.all(np.abs(r.eigenvalues.imag) < 1e-8)
+    assert [bool(st.is_stable(s)) for s in triple] == [True, False, True]
+
+
+def test_growth_rates_converge_with_resolution(triple):
+    coarse = [float(st.stability(s, N=50).growth_rate) for s in triple]
+    fine = [float(st.stability(s, N=100).growth_rate) for s in triple]
+    # Second-order discretisation: halving the step changes the rate by ~3e-4 here.
+    np.testing.assert_allclose(coarse, fine, rtol=2e-3)
+
+
+def test_vectorised_over_the_solution_shape():
+    s = hairbed.solve(np.array([0.5, 2.0, 10.0]), 0.5, 0.0)
+    stable = st.is_stable(s, N=60)
+    assert stable.shape == (3,) and stable.all()
+    missing = hairbed.solve(np.array([1.2, 2.0]), EPS, THETA0, root="mid")  # one has no mid root
+    assert st.is_stable(missing, N=60).tolist() == [False, False]
+
+
+def test_discrete_equilibrium_converges_to_the_analytic_state(triple):
+    errors = []
+    for n_seg in (50, 100):
+        sigma = np.linspace(0.0, 1.0, n_seg + 1)
+        exact = triple[1].theta(sigma)
+        errors.append(np.max(np.abs(st.equilibrium(W, EPS, THETA0, exact, n_seg) - exact)))
+    assert errors[1] < errors[0] / 3.5  # second order
+
+
+def test_jacobian_matches_finite_differences():
+    rng = np.random.default_rng(1)
+    u = -1.0 + 0.3 * rng.random(12)
+    jac = st._jacobian(u, W, EPS, THETA0)
+    h = 1e-6
+    fd = np.empty_like(jac)
+    for j in range(u.size):
+        e = np.zeros(u.size)
+        e[j] = h
+        fd[:, j] = (st._residual(u + e, W, EPS, THETA0) - st._residual(u - e, W, EPS, THETA0)) / (
+            2 * h
+        )
+    np.testing.assert_allclose(jac, fd, rtol=1e-6, atol=1e-4)
+
+
+def test_time_stepping_confirms_the_classification(triple):
+    n_seg = 100
+    sigma = np.linspace(0.0, 1.0, n_seg + 1)
+    h_low, h_high = triple[0].tip_height, triple[2].tip_height
+    ends = {}
+    for name, s in zip(ROOTS, triple):
+        for delta in (1e-3, -1e-3):
+            run = st.relax(W, EPS, THETA0, s.theta(sigma) + delta * sigma, 40.0, N=n_seg)
+            assert run.success
+            ends[name, delta] = run.tip_height[-1]
+    # Perturbed stable states come back: to the discrete equilibrium, which is within the
+    # discretisation error (~2e-5 at N = 100) of the analytic tip height.
+    for name, s, h in (("low", triple[0], h_low), ("high", triple[2], h_high)):
+        theta_eq = st.equilibrium(W, EPS, THETA0, s.theta, n_seg)
+        h_discrete = (np.cos(theta_eq).sum() - 0.5 * np.cos(theta_eq[[0, -1]]).sum()) / n_seg
+        for delta in (1e-3, -1e-3):
+            assert ends[name, delta] == pytest.approx(h_discrete, abs=1e-7)
+            assert ends[name, delta] == pytest.approx(h, abs=1e-4)
+    # The middle state departs, one way to the high state and the other to the low one.
+    assert ends["mid", 1e-3] == pytest.approx(h_high, abs=1e-4)
+    assert ends["mid", -1e-3] == pytest.approx(h_low, abs=1e-4)
+
+
+def test_relaxation_from_rest_reaches_the_worked_example():
+    # math.md section 3: theta0 = 0, eps = 0.5, omega^2 = 2 gives h1 = 0.732706963462228,
+    # x1 = 0.615831536923675.
+    run = st.relax(2.0, 0.5, 0.0, np.zeros(81), 30.0, N=80, t_eval=np.array([0.0, 30.0]))
+    assert run.theta.shape == (2, 81)
+    assert run.tip_height[0] == pytest.approx(1.0)
+    assert run.tip_height[-1] == pytest.approx(0.732706963462228, abs=1e-4)
+    assert run.tip_deflection[-1] == pytest.approx(0.615831536923675, abs=1e-4)
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: st.relax(1.0, 0.5, 0.0, np.zeros(5), 1.0, N=10),
+        lambda: st.relax(1.0, 0.5, 0.0, np.zeros(11), -1.0, N=10),
+        lambda: st.relax(-1.0, 0.5, 0.0, np.zeros(11), 1.0, N=10),
+        lambda: st.equilibrium(1.0, 0.5, 0.0, np.zeros(2), N=1),
+    ],
+)
+def test_invalid_input_raises(call):
+    with pytest.raises(ValueError):
+        call()
