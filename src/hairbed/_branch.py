@@ -146,11 +146,13 @@ def branch_point(
     z = cn0_2 + p * sn0_2
     # the smaller of v0 and K - v0 directly (tan^2 phi0 < 1/sqrt(p) <=> v0 < K/2)
     direct = sn0_2 * np.sqrt(p) < cn0_2
+    # one Carlson integral per element: v0 = sn0 R_F(cn0^2, z, 1) or kv = cn0 R_F(p sn0^2, p, z)
     with np.errstate(invalid="ignore", divide="ignore"):
-        v0_direct = sn0 * special.elliprf(cn0_2, z, 1.0)
-        kv_direct = cn0 * special.elliprf(p * sn0_2, p, z)
-    v0 = np.where(direct, v0_direct, k - kv_direct)
-    kv = np.where(direct, k - v0_direct, kv_direct)
+        rf = np.where(direct, sn0, cn0) * special.elliprf(
+            np.where(direct, cn0_2, p * sn0_2), np.where(direct, z, p), np.where(direct, 1.0, z)
+        )
+    v0 = np.where(direct, rf, k - rf)
+    kv = np.where(direct, k - rf, rf)
     kv = np.where(d == 0.0, 0.0, kv)
     if sign > 0:
         omega_eps = 2 * n * k + kv
@@ -192,7 +194,8 @@ def omega2_and_slope(bp: BranchPoint) -> tuple[FloatArray, FloatArray]:
     m = bp.mu
     p = bp.p
     k = bp.k
-    e = k - complete_k_minus_e(m, p, k)
+    # E only enters the Newton slope: scipy's ellipe(m) is accurate enough here
+    e = special.ellipe(m)
     # E(phi0 | mu) = v0 - (mu/3) sn0^3 R_D(cn0^2, dn0^2, 1)
     e0 = bp.v0 - m / 3.0 * bp.sn0**3 * special.elliprd(bp.cn0**2, bp.dn0**2, 1.0)
     # dxi/dt = 2 p q; the factors below are (d/dxi) * (dxi/dt)
@@ -209,6 +212,27 @@ def omega2_and_slope(bp: BranchPoint) -> tuple[FloatArray, FloatArray]:
         s * bp.eps * bp.omega_eps * droot2d_dt
     )
     return bp.omega2, slope
+
+
+def tip_deflection(bp: BranchPoint) -> FloatArray:
+    """x(1) ({solution} integrated); algebraic on the physical branch, else via the shape.
+
+    On the physical branch v runs from v0 to K and, with w = K - v, everything at the tip is
+    algebraic in sn0, cn0, dn0: sn(kv) = cn0/dn0, cn(kv) = sqrt(p) sn0/dn0,
+    dn(kv) = sqrt(p)/dn0, so x1 = -1 + 2 mu (s0 S + (S^3/3) R_D(cn(kv)^2, dn(kv)^2, 1)) / kv
+    with S = sn(kv) (kv - Eps(kv) by DLMF 19.25.9).
+    """
+    if bp.sign != 1 or bp.n != 0:
+        return shape_terms(bp, np.ones_like(bp.t))[1]
+    m = bp.mu
+    big_s = bp.cn0 / bp.dn0
+    a2 = bp.p / (bp.dn0 * bp.dn0)
+    under = a2 < 1e-300  # separatrix: kv - Eps(kv) -> kv - 1
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rd = special.elliprd(np.where(under, 1.0, a2 * bp.sn0**2), np.where(under, 1.0, a2), 1.0)
+        kv_me = np.where(under, bp.kv - 1.0, m / 3.0 * big_s**3 * rd)
+        x1 = -1.0 + 2.0 * (m * bp.sn0 * big_s + kv_me) / bp.kv
+    return np.where(bp.kv > 0.0, x1, np.sin(bp.theta0))
 
 
 def shape_terms(bp: BranchPoint, sigma: FloatArray):

@@ -28,7 +28,8 @@ FloatArray = NDArray[np.float64]
 
 #: Most roots one branch can have at given inputs (two folds -> three roots).
 MAX_ROOTS = 3
-_T_MIN = -745.0  # expit(-745) == 0: the base state d = 0
+_T_MIN = -745.0
+_CROSSOVER = 1.0  # omega_eps^2 where the strong-forcing start takes over  # expit(-745) == 0: the base state d = 0
 _GRID = np.concatenate([np.linspace(-12.0, -2.0, 101), np.linspace(-1.95, 2.0, 80)])
 
 
@@ -55,7 +56,7 @@ def _start_physical(omega2: FloatArray, eps: FloatArray, theta0: FloatArray) -> 
         tau = 2.0 * (LN4 + np.log(cn0) - np.log1p(sn0) - oe)
         log_qc = np.log(2.0) + tau - np.log(one_minus_s)  # qc = 2p/(1 - sin theta0)
         t_strong = np.log(-np.expm1(np.minimum(log_qc, -1e-3))) - log_qc
-    t0 = np.fmax(t_weak, t_strong)
+    t0 = np.where(oe2 < _CROSSOVER, t_weak, t_strong)
     return np.where(np.isfinite(t0), t0, 0.0)
 
 
@@ -95,7 +96,8 @@ def _newton(
         la, ha = lo[active], hi[active]
         bad = ~np.isfinite(tn) | (tn <= la) | (tn >= ha)
         tn = np.where(bad, 0.5 * (la + ha), tn)
-        done = (r == 0.0) | (np.abs(tn - ta) <= 2e-16 * np.maximum(1.0, np.abs(ta)))
+        # a Newton step this small leaves an error of order step^2: converged
+        done = (r == 0.0) | (~bad & (np.abs(tn - ta) <= 1e-10 * np.maximum(1.0, np.abs(ta))))
         done |= (ha - la) <= 4e-16 * np.maximum(1.0, np.abs(ta))
         t[active] = np.where(r == 0.0, ta, tn)
         active = active[~done]

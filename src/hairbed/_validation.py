@@ -22,7 +22,7 @@ def _first_index(mask: NDArray[np.bool_]) -> str:
     """Describe where the first True of ``mask`` is (empty for scalars)."""
     if mask.ndim == 0:
         return ""
-    idx = np.unravel_index(int(np.argmax(mask)), mask.shape)
+    idx = tuple(int(i) for i in np.unravel_index(int(np.argmax(mask)), mask.shape))
     return f" (first at index {idx[0] if len(idx) == 1 else idx})"
 
 
@@ -64,7 +64,7 @@ def as_float_array(value: Any, name: str) -> NDArray[np.float64]:
 
 def _check_range(arr: NDArray[np.float64], bad: NDArray[np.bool_], name: str, rng: str) -> None:
     if np.any(bad):
-        first = arr[bad].flat[0]
+        first = float(arr[bad].flat[0])
         raise ValueError(f"{name} must lie in {rng}, got {first!r}{_first_index(bad)}")
 
 

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._branch import BranchPoint, shape_terms
+from ._branch import BranchPoint, shape_terms, tip_deflection
 from ._validation import as_float_array
 
 __all__ = ["Solution"]
@@ -97,7 +97,7 @@ class Solution:
         if omega2 is None:
             omega2 = bp.omega2
         with np.errstate(invalid="ignore", divide="ignore"):
-            _, x1, _ = shape_terms(bp, np.ones_like(bp.t))
+            x1 = tip_deflection(bp)
 
         def nan_where_missing(a: FloatArray) -> Any:
             return _out(np.where(missing, np.nan, a))
@@ -129,7 +129,7 @@ class Solution:
         s = as_float_array(sigma, "sigma")
         bad = (s < 0.0) | (s > 1.0)
         if np.any(bad):
-            raise ValueError(f"sigma must lie in [0, 1], got {s[bad].flat[0]!r}")
+            raise ValueError(f"sigma must lie in [0, 1], got {float(s[bad].flat[0])!r}")
         with np.errstate(invalid="ignore", divide="ignore"):
             return shape_terms(self._point, s)
 

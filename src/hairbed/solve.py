@@ -190,7 +190,7 @@ def from_xi(
     bad = (x < low) | (x >= 1.0)
     if np.any(bad):
         raise ValueError(
-            f"xi must lie in [sin(theta0), 1), got {x[bad].flat[0]!r}"
+            f"xi must lie in [sin(theta0), 1), got {float(x[bad].flat[0])!r}"
             + ("" if x.ndim == 0 else f" (first at index {np.argwhere(bad)[0].tolist()})")
         )
     return from_parameter(t_from_xi(x, t0), e, t0, sign=sign, n=n)

@@ -1,0 +1,82 @@
+"""Bad input gets a clear ValueError naming the parameter and its range."""
+
+import numpy as np
+import pytest
+
+import hairbed
+
+
+@pytest.mark.parametrize(
+    ("args", "kwargs", "pattern"),
+    [
+        ((-1.0, 0.5), {}, r"omega2 must lie in \[0, inf\)"),
+        ((1.0, 1.0), {}, r"eps must lie in \[0, 1\)"),
+        ((1.0, -0.1), {}, r"eps must lie in \[0, 1\)"),
+        ((1.0, 0.5, np.pi / 2), {}, r"theta0 must lie in \(-pi/2, pi/2\)"),
+        ((1.0, 0.5, -2.0), {}, r"theta0 must lie in \(-pi/2, pi/2\)"),
+        ((np.nan, 0.5), {}, r"omega2 must be finite"),
+        ((np.inf, 0.5), {}, r"omega2 must be finite"),
+        ((1.0, np.nan), {}, r"eps must be finite"),
+        (("2", 0.5), {}, r"omega2 must be a real number"),
+        ((None, 0.5), {}, r"omega2 must be a real number"),
+        ((1.0, 0.5, [0.1, "a"]), {}, r"theta0 must be a real number"),
+        ((1 + 2j, 0.5), {}, r"omega2 must be a real number"),
+        ((True, 0.5), {}, r"omega2 must be a real number"),
+        ((1.0, 0.5), {"sign": 0}, r"sign must be \+1 or -1"),
+        ((1.0, 0.5), {"sign": 2}, r"sign must be \+1 or -1"),
+        ((1.0, 0.5), {"n": -1}, r"n must be a whole number >= 0"),
+        ((1.0, 0.5), {"n": 1.5}, r"n must be a whole number >= 0"),
+        ((1.0, 0.5), {"root": "middle"}, r"root must be one of"),
+        ((1.0, 0.5), {"root": 1}, r"root must be one of"),
+    ],
+)
+def test_bad_scalar_input(args, kwargs, pattern):
+    with pytest.raises(ValueError, match=pattern):
+        hairbed.solve(*args, **kwargs)
+
+
+def test_first_offending_index_is_named():
+    with pytest.raises(ValueError, match=r"omega2 must lie in \[0, inf\), got -2.0 \(first at index 2\)"):
+        hairbed.solve([1.0, 2.0, -2.0, -3.0], 0.5)
+    with pytest.raises(ValueError, match=r"eps must be finite .*index 1"):
+        hairbed.solve(1.0, [0.1, np.nan])
+    with pytest.raises(ValueError, match=r"index \(1, 0\)"):
+        hairbed.solve(np.ones((2, 2)), [[0.1, 0.2], [1.5, 0.2]])
+
+
+def test_shapes_that_do_not_broadcast():
+    with pytest.raises(ValueError, match="must broadcast together"):
+        hairbed.solve([1.0, 2.0], [0.1, 0.2, 0.3])
+
+
+def test_solve_all_takes_scalars_only():
+    with pytest.raises(ValueError, match="scalar"):
+        hairbed.solve_all([1.0, 2.0], 0.5)
+    with pytest.raises(ValueError, match=r"eps must lie in \[0, 1\)"):
+        hairbed.solve_all(1.0, 2.0)
+
+
+def test_shape_arguments():
+    sol = hairbed.solve(2.0, 0.5)
+    with pytest.raises(ValueError, match=r"sigma must lie in \[0, 1\]"):
+        sol.theta(1.5)
+    with pytest.raises(ValueError, match="sigma must be finite"):
+        sol.z(np.nan)
+    with pytest.raises(ValueError, match="num must be an integer >= 2"):
+        sol.profile(1)
+
+
+def test_from_xi_range():
+    with pytest.raises(ValueError, match=r"xi must lie in \[sin\(theta0\), 1\)"):
+        hairbed.from_xi(1.0, 0.5)
+    with pytest.raises(ValueError, match=r"xi must lie in \[sin\(theta0\), 1\)"):
+        hairbed.from_xi(0.1, 0.5, 0.5)
+    with pytest.raises(ValueError, match="t must be a real number"):
+        hairbed.from_parameter(np.nan, 0.5)
+
+
+def test_valid_edge_values_are_accepted():
+    # the closed ends of the ranges are valid input, not errors
+    assert hairbed.solve(0.0, 0.0).xi == 0.0
+    assert np.isfinite(hairbed.solve(1.0, 0.999999, 1.5707).xi)
+    assert np.isfinite(hairbed.solve(1.0, 0.5, -1.5707).xi)
