@@ -36,7 +36,9 @@ def test_bad_scalar_input(args, kwargs, pattern):
 
 
 def test_first_offending_index_is_named():
-    with pytest.raises(ValueError, match=r"omega2 must lie in \[0, inf\), got -2.0 \(first at index 2\)"):
+    with pytest.raises(
+        ValueError, match=r"omega2 must lie in \[0, inf\), got -2.0 \(first at index 2\)"
+    ):
         hairbed.solve([1.0, 2.0, -2.0, -3.0], 0.5)
     with pytest.raises(ValueError, match=r"eps must be finite .*index 1"):
         hairbed.solve(1.0, [0.1, np.nan])
