@@ -28,8 +28,8 @@ FloatArray = NDArray[np.float64]
 
 #: Most roots one branch can have at given inputs (two folds -> three roots).
 MAX_ROOTS = 3
-_T_MIN = -745.0
-_CROSSOVER = 1.0  # omega_eps^2 where the strong-forcing start takes over  # expit(-745) == 0: the base state d = 0
+_T_MIN = -745.0  # expit(-745) == 0: the base state d = 0
+_CROSSOVER = 1.0  # omega_eps^2 where the strong-forcing start takes over
 _GRID = np.concatenate([np.linspace(-12.0, -2.0, 101), np.linspace(-1.95, 2.0, 80)])
 
 
