@@ -112,7 +112,7 @@ def solve_all(omega2: float, eps: float, theta0: float = 0.0) -> list[Solution]:
     --------
     >>> import hairbed
     >>> [(s.sign, s.n) for s in hairbed.solve_all(50.0, 0.5)]
-    [(1, 0), (1, 1), (-1, 0)]
+    [(1, 0), (-1, 0), (1, 1)]
     """
     w, e, t0 = check_inputs(omega2, eps, theta0)
     if w.ndim != 0:
