@@ -1,0 +1,623 @@
+"""The ``hairbed`` command line: a thin layer over the library.
+
+Subcommands: ``solve``, ``sweep``, ``invert``, ``figures``, ``bench``, ``demo``. Run
+``hairbed <command> --help`` for the options and examples of each. Bad input ends with one line
+``hairbed: error: <message>`` on stderr and exit status 2.
+
+Examples
+--------
+>>> main(["solve", "--omega2", "2", "--eps", "0.5", "--json"])  # doctest: +ELLIPSIS
+{"omega2": 2.0, "eps": 0.5, "theta0": 0.0, "sign": 1, "n": 0, "xi": 0.84725391654124...
+0
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import io
+import json
+import math
+import sys
+import time
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+import hairbed
+
+__all__ = ["main"]
+
+PROG = "hairbed"
+
+#: Fields of a Solution with a short description and unit, for the readable table.
+FIELDS: dict[str, str] = {
+    "omega2": "forcing omega^2 [-]",
+    "eps": "confinement eps = L/H [-]",
+    "theta0": "base angle [rad]",
+    "sign": "sign of the base curvature",
+    "n": "interior turning points",
+    "xi": "xi = E/omega_eps^2 = sin(theta1) [-]",
+    "omega_eps": "effective frequency omega_eps [-]",
+    "energy": "Hamiltonian E [-]",
+    "tip_height": "tip height h1 [L]",
+    "tip_deflection": "tip deflection x1 [L]",
+    "tip_angle": "tip angle theta1 [rad]",
+    "base_curvature": "base curvature theta'(0) [1/L]",
+    "n_roots": "states on this branch",
+    "physical": "physical branch",
+}
+
+#: Physical inputs of a bed: option name -> (HairBed keyword, help text).
+BED_OPTIONS: dict[str, tuple[str, str]] = {
+    "--length": ("length", "hair length L [m]"),
+    "--radius": ("radius", "hair radius a [m]"),
+    "--youngs-modulus": ("youngs_modulus", "Young's modulus E [Pa]"),
+    "--channel-height": ("channel_height", "channel height H [m]"),
+    "--viscosity": ("viscosity", "dynamic viscosity eta [Pa s]"),
+    "--spacing": ("spacing", "hexagonal hair spacing delta [m] (or --packing-fraction)"),
+    "--packing-fraction": ("packing_fraction", "packing fraction phi [-] (or --spacing)"),
+    "--base-angle": ("base_angle", "base angle theta0 [rad] (default 0)"),
+}
+_BED_REQUIRED = ("length", "radius", "youngs_modulus", "channel_height", "viscosity")
+
+
+class UsageError(Exception):
+    """Bad command-line input: reported as one line, exit status 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, but errors are one line on stderr (no usage block)."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        raise UsageError(message)
+
+
+def _formatter(prog: str) -> argparse.HelpFormatter:
+    return argparse.RawDescriptionHelpFormatter(prog, max_help_position=32)
+
+
+# -- output helpers -------------------------------------------------------------------------
+
+
+def _jsonable(value: Any) -> Any:
+    """Python scalars/lists for json; NaN and infinities become null (strict JSON)."""
+    if isinstance(value, np.ndarray):
+        return [_jsonable(v) for v in value.tolist()]
+    if isinstance(value, (list, tuple)):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, dict):
+        return {k: _jsonable(v) for k, v in value.items()}
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def _fmt(value: Any) -> str:
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, float):
+        return f"{value:.15g}"
+    return str(value)
+
+
+def _table(rows: dict[str, Any], notes: dict[str, str] | None = None) -> str:
+    notes = notes or {}
+    width = max(len(k) for k in rows)
+    vwidth = max(len(_fmt(v)) for v in rows.values())
+    lines = []
+    for key, value in rows.items():
+        note = notes.get(key, "")
+        lines.append(f"  {key:<{width}}  {_fmt(value):>{vwidth}}  {note}".rstrip())
+    return "\n".join(lines)
+
+
+def _solution_table(sol: Any) -> str:
+    return _table(sol.as_dict(), FIELDS)
+
+
+# -- shared option groups -------------------------------------------------------------------
+
+
+def _add_bed_options(p: argparse.ArgumentParser, velocity: bool = True) -> None:
+    g = p.add_argument_group("physical inputs (SI units; replace --omega2/--eps)")
+    for opt, (_, text) in BED_OPTIONS.items():
+        g.add_argument(opt, type=float, metavar="X", help=text)
+    if velocity:
+        g.add_argument("--velocity", type=float, metavar="V", help="top wall speed v [m/s]")
+
+
+def _bed(args: argparse.Namespace) -> Any | None:
+    """The HairBed of the physical options, or None when none is given."""
+    given = {kw: getattr(args, kw) for kw, _ in BED_OPTIONS.values()}
+    given = {k: v for k, v in given.items() if v is not None}
+    if not given:
+        return None
+    missing = [k for k in _BED_REQUIRED if k not in given]
+    if missing:
+        names = ", ".join("--" + k.replace("_", "-") for k in missing)
+        raise UsageError(f"physical inputs need also {names}")
+    try:
+        from hairbed.units import HairBed
+    except ImportError as exc:  # pragma: no cover - depends on the package state
+        raise UsageError(f"physical inputs need hairbed.units ({exc})") from exc
+    return HairBed(**given)
+
+
+# -- subcommands ----------------------------------------------------------------------------
+
+
+def _cmd_solve(args: argparse.Namespace) -> int:
+    bed = _bed(args)
+    if bed is not None:
+        if args.omega2 is not None or args.eps is not None or args.theta0 is not None:
+            raise UsageError(
+                "give either --omega2/--eps/--theta0 or the physical inputs, not both"
+            )
+        if args.velocity is None:
+            raise UsageError("physical inputs need --velocity [m/s]")
+        state = bed.deform(args.velocity, root=args.root)
+        si = {
+            "velocity": state.velocity,
+            "omega2": state.omega2,
+            "eps": bed.eps,
+            "tip_deflection_m": state.tip_deflection,
+            "tip_height_m": state.tip_height,
+            "tip_angle": state.tip_angle,
+            "wall_shear_stress_Pa": state.wall_shear_stress,
+            "force_per_hair_N": state.force_per_hair,
+            "stress_ratio": state.stress_ratio,
+        }
+        sols = [state.solution]
+        if args.json:
+            print(json.dumps(_jsonable({**si, "solution": state.solution.as_dict()})))
+        else:
+            print(f"Hair bed {bed!r}")
+            print(_table(si, {"velocity": "[m/s]", "tip_angle": "[rad]"}))
+            print("dimensionless state:")
+            print(_solution_table(state.solution))
+    else:
+        if args.omega2 is None or args.eps is None:
+            raise UsageError("give --omega2 and --eps (or the physical inputs with --velocity)")
+        theta0 = 0.0 if args.theta0 is None else args.theta0
+        if args.all_branches:
+            hairbed.solve(args.omega2, args.eps, theta0)  # validates the inputs
+            sols = hairbed.solve_all(args.omega2, args.eps, theta0)
+            if args.json:
+                print(json.dumps(_jsonable([s.as_dict() for s in sols])))
+            else:
+                print(
+                    f"{len(sols)} state(s) at omega2={args.omega2:g}, eps={args.eps:g}, "
+                    f"theta0={theta0:g}:"
+                )
+                for s in sols:
+                    print(
+                        f"branch sign={s.sign:+d}, n={s.n}" + (" (physical)" if s.physical else "")
+                    )
+                    print(_solution_table(s))
+        else:
+            s = hairbed.solve(
+                args.omega2, args.eps, theta0, sign=args.sign, n=args.n, root=args.root
+            )
+            sols = [s]
+            if args.json:
+                print(json.dumps(_jsonable(s.as_dict())))
+            else:
+                print(_solution_table(s))
+    if args.plot:
+        from hairbed.plotting import fig_states
+
+        fig_states(sols).savefig(args.plot, dpi=150)
+        print(f"wrote {args.plot}", file=sys.stderr)
+    return 0
+
+
+def _progress(done: int, total: int, start: float) -> None:
+    """A one-line progress bar on stderr (rewritten in place)."""
+    frac = done / total
+    bar = "#" * int(30 * frac)
+    elapsed = time.perf_counter() - start
+    sys.stderr.write(f"\r[{bar:<30}] {done}/{total} ({elapsed:.1f} s)")
+    if done == total:
+        sys.stderr.write("\n")
+    sys.stderr.flush()
+
+
+def _grid(lo: float, hi: float, num: int, log: bool, name: str) -> np.ndarray:
+    if num < 1:
+        raise UsageError(f"--num must be >= 1, got {num}")
+    if log:
+        if lo <= 0 or hi <= 0:
+            raise UsageError(f"--log needs positive {name} bounds, got {lo:g} and {hi:g}")
+        return np.geomspace(lo, hi, num)
+    return np.linspace(lo, hi, num)
+
+
+_SWEEP_COLUMNS = (
+    "omega2",
+    "xi",
+    "omega_eps",
+    "energy",
+    "tip_height",
+    "tip_deflection",
+    "tip_angle",
+    "base_curvature",
+    "n_roots",
+)
+
+
+def _cmd_sweep(args: argparse.Namespace) -> int:
+    bed = _bed(args)
+    chunk = 20_000
+    show = args.progress or (args.num > 5 * chunk and sys.stderr.isatty())
+    columns: dict[str, np.ndarray]
+    if bed is not None:
+        if args.velocity_min is None or args.velocity_max is None:
+            raise UsageError("a sweep of a bed needs --velocity-min and --velocity-max [m/s]")
+        v = _grid(args.velocity_min, args.velocity_max, args.num, args.log, "velocity")
+        parts: list[dict[str, np.ndarray]] = []
+        start = time.perf_counter()
+        for i in range(0, v.size, chunk):
+            st = bed.deform(v[i : i + chunk], root=args.root)
+            parts.append(
+                {
+                    "velocity": np.atleast_1d(st.velocity),
+                    "omega2": np.atleast_1d(st.omega2),
+                    "tip_deflection_m": np.atleast_1d(st.tip_deflection),
+                    "tip_height_m": np.atleast_1d(st.tip_height),
+                    "wall_shear_stress_Pa": np.atleast_1d(st.wall_shear_stress),
+                    "force_per_hair_N": np.atleast_1d(st.force_per_hair),
+                    "stress_ratio": np.atleast_1d(st.stress_ratio),
+                }
+            )
+            if show:
+                _progress(min(i + chunk, v.size), v.size, start)
+        columns = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+        attrs = {"eps": bed.eps, "base_angle": bed.base_angle, "bed": repr(bed)}
+    else:
+        if args.eps is None:
+            raise UsageError("give --eps (or the physical inputs of a bed)")
+        w2 = _grid(args.omega2_min, args.omega2_max, args.num, args.log, "omega2")
+        if args.quasistatic:
+            from hairbed.quasistatic import sweep
+
+            sols = [
+                sweep(w2, args.eps, args.theta0, start=args.root if args.root != "mid" else "low")
+            ]
+        else:
+            hairbed.solve(w2[:1], args.eps, args.theta0)  # fail fast on bad eps/theta0
+            sols = []
+            start = time.perf_counter()
+            for i in range(0, w2.size, chunk):
+                sols.append(
+                    hairbed.solve(w2[i : i + chunk], args.eps, args.theta0, root=args.root)
+                )
+                if show:
+                    _progress(min(i + chunk, w2.size), w2.size, start)
+        columns = {
+            k: np.concatenate([np.atleast_1d(getattr(s, k)) for s in sols]) for k in _SWEEP_COLUMNS
+        }
+        attrs = {"eps": args.eps, "theta0": args.theta0}
+    _write_table(columns, attrs, args.out)
+    return 0
+
+
+def _write_table(columns: dict[str, np.ndarray], attrs: dict[str, Any], out: str | None) -> None:
+    if out is not None and out.endswith(".nc"):
+        try:
+            import xarray as xr
+        except ImportError as exc:
+            raise UsageError("netCDF output needs xarray (pip install xarray)") from exc
+        first = next(iter(columns))
+        ds = xr.Dataset(
+            {k: ((first,), v) for k, v in columns.items() if k != first},
+            coords={first: columns[first]},
+            attrs={
+                k: (v if isinstance(v, (int, float, str)) else str(v)) for k, v in attrs.items()
+            },
+        )
+        try:
+            ds.to_netcdf(out)
+        except Exception as exc:  # no netCDF engine installed
+            raise UsageError(f"could not write netCDF file {out}: {exc}") from exc
+        print(f"wrote {out}", file=sys.stderr)
+        return
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    writer.writerow(list(columns))
+    for row in zip(*columns.values()):
+        writer.writerow(
+            [repr(float(x)) if isinstance(x, (float, np.floating)) else int(x) for x in row]
+        )
+    if out is None or out == "-":
+        sys.stdout.write(buf.getvalue())
+    else:
+        with open(out, "w", encoding="utf-8") as fh:
+            fh.write(buf.getvalue())
+        print(f"wrote {out} ({len(next(iter(columns.values())))} rows)", file=sys.stderr)
+
+
+def _omega2_from_x1(x1: float, eps: float, theta0: float) -> Any:
+    """Solution whose tip deflection is x1 (hairbed.inverse, else a bracketed root in t)."""
+    try:
+        from hairbed.inverse import solution_from_tip_deflection
+    except ImportError:
+        from scipy.optimize import brentq
+
+        hairbed.solve(0.0, eps, theta0)  # validates eps and theta0
+        if not math.sin(theta0) < x1 < 1.0:
+            raise ValueError(
+                f"tip deflection must lie in (sin(theta0), 1) = ({math.sin(theta0):.6g}, 1), "
+                f"got {x1!r}"
+            ) from None
+
+        def f(t: float) -> float:
+            return float(hairbed.from_parameter(t, eps, theta0).tip_deflection) - x1
+
+        t = brentq(f, -60.0, 60.0, xtol=1e-14, rtol=4e-16)
+        return hairbed.from_parameter(t, eps, theta0)
+    return solution_from_tip_deflection(x1, eps, theta0)
+
+
+def _cmd_invert(args: argparse.Namespace) -> int:
+    bed = _bed(args)
+    if bed is not None:
+        if args.eps is not None or args.theta0 is not None:
+            raise UsageError("give either --eps/--theta0 or the physical inputs, not both")
+        st = bed.state_from_tip_deflection(args.tip_deflection)
+        out = {
+            "tip_deflection_m": args.tip_deflection,
+            "velocity": st.velocity,
+            "omega2": st.omega2,
+            "wall_shear_stress_Pa": st.wall_shear_stress,
+            "force_per_hair_N": st.force_per_hair,
+            "tip_height_m": st.tip_height,
+        }
+        if args.json:
+            print(json.dumps(_jsonable(out)))
+        else:
+            print(_table(out, {"velocity": "[m/s]", "omega2": "[-]"}))
+        return 0
+    if args.eps is None:
+        raise UsageError("give --eps (or the physical inputs of a bed)")
+    theta0 = 0.0 if args.theta0 is None else args.theta0
+    sol = _omega2_from_x1(args.tip_deflection, args.eps, theta0)
+    if args.json:
+        print(json.dumps(_jsonable(sol.as_dict())))
+    else:
+        print(f"omega2 = {float(sol.omega2):.15g}")
+        print(_solution_table(sol))
+    return 0
+
+
+def _cmd_figures(args: argparse.Namespace) -> int:
+    from hairbed.plotting import make_all
+
+    start = time.perf_counter()
+    paths = make_all(args.out, dpi=args.dpi, only=args.only, verbose=not args.quiet)
+    print(f"{len(paths)} figures in {args.out}/ ({time.perf_counter() - start:.1f} s)")
+    return 0
+
+
+def _cmd_bench(args: argparse.Namespace) -> int:
+    from scipy.special import ellipkinc
+
+    if args.n < 1:
+        raise UsageError(f"--n must be >= 1, got {args.n}")
+    rng = np.random.default_rng(0)
+    w2, eps = rng.uniform(0.01, 100.0, args.n), rng.uniform(0.0, 0.9, args.n)
+    phi, m = rng.uniform(0.0, 1.5, args.n), rng.uniform(0.0, 0.99, args.n)
+
+    def best(func: Any) -> float:
+        times = []
+        for _ in range(args.repeat):
+            t0 = time.perf_counter()
+            func()
+            times.append(time.perf_counter() - t0)
+        return min(times)
+
+    t_solve = best(lambda: hairbed.solve(w2, eps))
+    t_ref = best(lambda: ellipkinc(phi, m))
+    print(
+        f"hairbed.solve          {args.n} states    {t_solve:.4f} s  "
+        f"({1e9 * t_solve / args.n:.0f} ns/state)"
+    )
+    print(
+        f"scipy.special.ellipkinc {args.n} elements  {t_ref:.4f} s  "
+        f"({1e9 * t_ref / args.n:.0f} ns/element)"
+    )
+    print(f"ratio solve/ellipkinc  {t_solve / t_ref:.1f}")
+    return 0
+
+
+def _cmd_demo(args: argparse.Namespace) -> int:
+    sol = hairbed.solve(2.0, 0.5, 0.0)
+    print("The paper's example: a hair standing upright (theta0 = 0) in a channel twice its")
+    print("length (eps = L/H = 0.5) under forcing omega^2 = 2; exact solution:")
+    print(_solution_table(sol))
+    return 0
+
+
+# -- parser ---------------------------------------------------------------------------------
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``hairbed`` (exposed for the documentation and tests)."""
+    parser = _Parser(
+        prog=PROG,
+        formatter_class=_formatter,
+        description="Exact deformation of a dense bed of elastic hairs in channel flow "
+        "(Smucker, Vural, Alvarado & Morrison).",
+        epilog="examples:\n"
+        "  hairbed demo\n"
+        "  hairbed solve --omega2 2 --eps 0.5\n"
+        "  hairbed sweep --omega2-min 0.01 --omega2-max 100 --num 200 --log --eps 0.5 "
+        "--out sweep.csv\n"
+        "  hairbed invert --tip-deflection 0.6 --eps 0.5\n"
+        "  hairbed figures --out figures\n"
+        "run 'hairbed <command> --help' for the options of a command",
+    )
+    parser.add_argument("--version", action="version", version=f"hairbed {hairbed.__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="command", parser_class=_Parser)
+
+    p = sub.add_parser(
+        "solve",
+        help="solve one state (table or JSON)",
+        formatter_class=_formatter,
+        description="Solve the boundary-value problem for one set of inputs.",
+        epilog="examples:\n"
+        "  hairbed solve --omega2 2 --eps 0.5\n"
+        "  hairbed solve --omega2 2 --eps 0.5 --theta0 0.3 --json\n"
+        "  hairbed solve --omega2 200 --eps 0.5 --all-branches --plot states.png\n"
+        "  hairbed solve --omega2 1.2 --eps 0.9 --theta0 -1.5 --root high\n"
+        "  hairbed solve --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 \\\n"
+        "      --channel-height 2e-3 --viscosity 1 --spacing 400e-6 --velocity 0.1",
+    )
+    p.add_argument("--omega2", type=float, help="forcing omega^2 [-], >= 0")
+    p.add_argument("--eps", type=float, help="confinement eps = L/H [-], in [0, 1)")
+    p.add_argument("--theta0", type=float, help="base angle [rad], in (-pi/2, pi/2); default 0")
+    p.add_argument(
+        "--sign",
+        type=int,
+        default=1,
+        choices=(1, -1),
+        help="sign of the base curvature of the branch (default 1)",
+    )
+    p.add_argument("--n", type=int, default=0, help="interior turning points (default 0)")
+    p.add_argument(
+        "--root",
+        default="low",
+        choices=("low", "mid", "high"),
+        help="which state where several coexist (default low)",
+    )
+    p.add_argument("--all-branches", action="store_true", help="every state on every branch")
+    p.add_argument("--json", action="store_true", help="print JSON (fields by API names)")
+    p.add_argument("--plot", metavar="FILE", help="also draw the profile(s) into FILE (PNG)")
+    _add_bed_options(p)
+    p.set_defaults(func=_cmd_solve)
+
+    p = sub.add_parser(
+        "sweep",
+        help="sweep omega2 (or velocity) -> CSV / netCDF",
+        formatter_class=_formatter,
+        description="Solve on a grid of forcing (or wall speed, given a bed) and write a table.",
+        epilog="examples:\n"
+        "  hairbed sweep --omega2-min 0 --omega2-max 10 --num 101 --eps 0.5 > sweep.csv\n"
+        "  hairbed sweep --omega2-min 0.01 --omega2-max 1e3 --num 1000000 --log --eps 0.5 "
+        "--out big.nc --progress\n"
+        "  hairbed sweep --omega2-min 0.5 --omega2-max 2 --num 200 --eps 0.9 --theta0 -1.5 "
+        "--quasistatic\n"
+        "  hairbed sweep --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 "
+        "--channel-height 2e-3 \\\n"
+        "      --viscosity 1 --spacing 400e-6 --velocity-min -0.5 --velocity-max 0.5 "
+        "--out bed.csv",
+    )
+    p.add_argument("--omega2-min", type=float, default=0.0, help="first omega^2 (default 0)")
+    p.add_argument("--omega2-max", type=float, default=10.0, help="last omega^2 (default 10)")
+    p.add_argument("--velocity-min", type=float, help="first wall speed [m/s] (with a bed)")
+    p.add_argument("--velocity-max", type=float, help="last wall speed [m/s] (with a bed)")
+    p.add_argument("--num", type=int, default=101, help="number of points (default 101)")
+    p.add_argument("--log", action="store_true", help="geometric spacing")
+    p.add_argument("--eps", type=float, help="confinement eps = L/H [-], in [0, 1)")
+    p.add_argument("--theta0", type=float, default=0.0, help="base angle [rad] (default 0)")
+    p.add_argument(
+        "--root",
+        default="low",
+        choices=("low", "mid", "high"),
+        help="state where several coexist (default low)",
+    )
+    p.add_argument(
+        "--quasistatic",
+        action="store_true",
+        help="follow the state along the path (jumps at folds: hysteresis)",
+    )
+    p.add_argument("--out", metavar="FILE", help="output file, .csv or .nc (default: stdout CSV)")
+    p.add_argument("--progress", action="store_true", help="progress bar on stderr")
+    _add_bed_options(p, velocity=False)
+    p.set_defaults(func=_cmd_sweep)
+
+    p = sub.add_parser(
+        "invert",
+        help="forcing from a measured tip deflection",
+        formatter_class=_formatter,
+        description="Find the forcing omega^2 (and, given a bed, the wall speed and wall shear "
+        "stress) of the physical state with a given tip deflection.",
+        epilog="examples:\n"
+        "  hairbed invert --tip-deflection 0.6158 --eps 0.5\n"
+        "  hairbed invert --tip-deflection 0.3 --eps 0.9 --theta0 0.2 --json\n"
+        "  hairbed invert --tip-deflection 3.7e-4 --length 1e-3 --radius 50e-6 \\\n"
+        "      --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6",
+    )
+    p.add_argument(
+        "--tip-deflection",
+        type=float,
+        required=True,
+        help="tip deflection x1 [L] (in metres when a bed is given)",
+    )
+    p.add_argument("--eps", type=float, help="confinement eps = L/H [-], in [0, 1)")
+    p.add_argument("--theta0", type=float, help="base angle [rad] (default 0)")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    _add_bed_options(p, velocity=False)
+    p.set_defaults(func=_cmd_invert)
+
+    p = sub.add_parser(
+        "figures",
+        help="write every figure as PNG",
+        formatter_class=_formatter,
+        description="Recompute the paper's figures and the new ones and write PNG files.",
+        epilog="examples:\n  hairbed figures --out figures\n"
+        "  hairbed figures --out figs --only solution hysteresis --dpi 300",
+    )
+    p.add_argument("--out", default="figures", help="output folder (default ./figures)")
+    p.add_argument("--dpi", type=int, default=150, help="resolution (default 150)")
+    p.add_argument("--only", nargs="+", metavar="NAME", help="only these figures")
+    p.add_argument("--quiet", action="store_true", help="no line per figure")
+    p.set_defaults(func=_cmd_figures)
+
+    p = sub.add_parser(
+        "bench",
+        help="time solve against scipy's elliptic integral",
+        formatter_class=_formatter,
+        description="Time hairbed.solve on n random states against scipy.special.ellipkinc "
+        "on n elements (one incomplete elliptic integral each).",
+        epilog="examples:\n  hairbed bench\n  hairbed bench --n 1000000 --repeat 5",
+    )
+    p.add_argument("--n", type=int, default=100_000, help="array size (default 1e5)")
+    p.add_argument("--repeat", type=int, default=3, help="best of this many runs (default 3)")
+    p.set_defaults(func=_cmd_bench)
+
+    p = sub.add_parser(
+        "demo",
+        help="the paper's worked example",
+        formatter_class=_formatter,
+        description="Solve omega2 = 2, eps = 0.5, theta0 = 0 and print the state.",
+        epilog="example:\n  hairbed demo",
+    )
+    p.set_defaults(func=_cmd_demo)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; returns the exit status (0 ok, 2 bad input)."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.command is None:
+            parser.print_help()
+            return 0
+        return int(args.func(args))
+    except (UsageError, ValueError) as exc:
+        message = " ".join(str(exc).split())  # one line, whatever the library wrote
+        print(f"{PROG}: error: {message}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:  # e.g. `hairbed sweep ... | head`
+        return 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,480 @@
+"""Figures beyond the paper: bistability, hysteresis, rheology, calibration, numerics, speed.
+
+Each function returns a :class:`matplotlib.figure.Figure`. Functions that need an optional
+module of the package (``hairbed.numerics``, ``hairbed.units`` ...) import it inside, so a
+missing module raises ImportError for that figure only; where a quantity is a one-liner of the
+core solver it is computed from :func:`hairbed.solve` directly.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.patches import FancyArrowPatch
+
+import hairbed
+
+from ._style import colors, new_figure, styled
+
+__all__ = [
+    "fig_bistability",
+    "fig_calibration",
+    "fig_fd_convergence",
+    "fig_hysteresis",
+    "fig_physical_units",
+    "fig_rheology",
+    "fig_speed",
+    "fig_states",
+    "fig_twirling",
+    "timings",
+]
+
+# Windows of omega^2 with three physical states (math.md section 5), as (theta0, eps).
+_TABLE = ((-1.5, 0.9), (-1.0, 0.95), (-0.5, 0.99))
+
+
+def _window(eps: float, theta0: float) -> tuple[float, float]:
+    """Bistable window of omega^2 (NaNs when there is none)."""
+    try:
+        from hairbed.branches import bistable_window
+    except ImportError:  # fall back on the fold values of the exact curve
+        t = np.linspace(-20.0, 12.0, 3201)
+        w = np.asarray(hairbed.from_parameter(t, eps, theta0).omega2)
+        d = np.diff(w)
+        turns = np.nonzero(np.sign(d[1:]) != np.sign(d[:-1]))[0] + 1
+        if turns.size < 2:
+            return (float("nan"), float("nan"))
+        return (float(w[turns].min()), float(w[turns].max()))
+    return bistable_window(eps, theta0)
+
+
+@styled
+def fig_bistability(n_theta: int = 12, n_eps: int = 24) -> Figure:
+    """Where the hair has three physical states: the cusp and the windows of forcing.
+
+    (a) The cusp eps_c(theta0) in the (theta0, eps) plane: above it (shaded) the physical
+    branch folds and a window of omega^2 with three states opens. (b) That window against eps
+    for two base angles (shaded between the lower and upper folds).
+
+    Examples
+    --------
+    >>> fig = fig_bistability(n_theta=3, n_eps=3)
+    >>> len(fig.axes)
+    2
+    """
+    from hairbed.branches import cusp
+
+    fig, (ax, axw) = new_figure(1, 2, size=(9.4, 3.9))
+    th = np.linspace(-1.5, -0.2, n_theta)
+    ec = np.asarray(cusp(th), dtype=float)
+    ax.fill_between(th, ec, 1.0, color="C1", alpha=0.3, lw=0, label="three states (bistable)")
+    ax.plot(th, ec, "k-", marker="o", ms=3, label=r"cusp $\epsilon_c(\theta_0)$")
+    for k, (t0, e0) in enumerate(_TABLE):
+        ax.plot(
+            t0, e0, "s", color="C3", ms=5, label="windows of (b) and table" if k == 0 else None
+        )
+    ax.set_xlim(-np.pi / 2, 0.05)
+    ax.set_ylim(0.4, 1.0)
+    ax.set_xlabel(r"base angle $\theta_0$ [rad]")
+    ax.set_ylabel(r"confinement $\epsilon = L/H$ [-]")
+    ax.set_title("(a) bistable region (hair leaning into the flow)")
+    ax.legend(loc="lower right")
+    for t0, c in zip((-1.5, -1.0), ("C0", "C3")):
+        e_c = float(cusp(t0))
+        eps = np.linspace(e_c + 1e-3, 0.985, n_eps)
+        win = np.array([_window(e, t0) for e in eps])
+        axw.fill_between(eps, win[:, 0], win[:, 1], color=c, alpha=0.3, lw=0)
+        axw.plot(eps, win[:, 0], color=c, lw=1.2)
+        axw.plot(eps, win[:, 1], color=c, lw=1.2, label=rf"$\theta_0 = {t0:g}$")
+        axw.plot(e_c, np.nanmean(win[0]), "k*", ms=7)
+    axw.plot([], [], "k*", ms=7, label="cusp")
+    axw.set_xlabel(r"confinement $\epsilon$ [-]")
+    axw.set_ylabel(r"forcing $\omega^2$ [-]")
+    axw.set_title(r"(b) window of $\omega^2$ with three states")
+    axw.legend(loc="center right")
+    return fig
+
+
+@styled
+def fig_hysteresis(eps: float = 0.9, theta0: float = -1.5, num: int = 240) -> Figure:
+    """Hysteresis loop of the tip deflection under a slow ramp of the forcing up and down.
+
+    The dotted curve is the whole physical branch (its middle, between the folds, is
+    unstable); the ramp up follows the low state to the upper fold and jumps, the ramp down
+    follows the high state to the lower fold and jumps back.
+
+    Examples
+    --------
+    >>> fig = fig_hysteresis(num=40)
+    >>> len(fig.axes)
+    1
+    """
+    lo, hi = _window(eps, theta0)
+    up = np.linspace(0.3 * lo, 1.4 * hi, num)
+    down = up[::-1]
+    try:
+        from hairbed.quasistatic import sweep
+
+        s_up, s_down = sweep(up, eps, theta0, start="low"), sweep(down, eps, theta0, start="high")
+        x_up, x_down = np.asarray(s_up.tip_deflection), np.asarray(s_down.tip_deflection)
+    except ImportError:  # one window: up follows the low root, down the high root
+        x_up = np.asarray(hairbed.solve(up, eps, theta0, root="low").tip_deflection)
+        x_down = np.asarray(hairbed.solve(down, eps, theta0, root="high").tip_deflection)
+    branch = hairbed.from_parameter(np.linspace(-12, 6, 1200), eps, theta0)
+    fig, ax = new_figure(size=(5.8, 4.2))
+    ax.axvspan(lo, hi, color="0.9", lw=0, label="three states")
+    ax.plot(
+        branch.omega2,
+        branch.tip_deflection,
+        ":",
+        color="0.3",
+        lw=1.2,
+        label="physical branch (all states)",
+    )
+    ax.plot(up, x_up, "-", color="C3", lw=3.2, alpha=0.7, label=r"ramp up ($\omega^2\uparrow$)")
+    ax.plot(down, x_down, "-", color="C0", lw=1.6, label=r"ramp down ($\omega^2\downarrow$)")
+    for xs, ws, c in ((x_up, up, "C3"), (x_down, down, "C0")):
+        j = int(np.nanargmax(np.abs(np.diff(xs))))  # the jump is the largest step
+        ax.add_patch(
+            FancyArrowPatch(
+                (ws[j], xs[j]),
+                (ws[j], xs[j + 1]),
+                arrowstyle="-|>",
+                mutation_scale=14,
+                color=c,
+                lw=1.2,
+            )
+        )
+    ax.set_xlim(up[0], up[-1])
+    ax.set_xlabel(r"forcing $\omega^2$ [-]")
+    ax.set_ylabel(r"tip deflection $x_1/L$ [-]")
+    ax.set_title(rf"Hysteresis, $\epsilon = {eps:g}$, $\theta_0 = {theta0:g}$")
+    ax.legend(loc="upper left")
+    return fig
+
+
+def _stress_ratio(omega2, eps, theta0):
+    """tau / (eta v / H) = 1 / (1 - eps h1) (math.md section 7)."""
+    try:
+        from hairbed.rheology import stress_ratio
+    except ImportError:
+        return 1.0 / (1.0 - eps * np.asarray(hairbed.solve(omega2, eps, theta0).tip_height))
+    return np.asarray(stress_ratio(omega2, eps, theta0))
+
+
+def _rectification(omega2, eps, theta0):
+    """Stress against the grain over stress with it, at the same |v|."""
+    try:
+        from hairbed.rheology import rectification_ratio
+    except ImportError:
+        return _stress_ratio(omega2, eps, -theta0) / _stress_ratio(omega2, eps, theta0)
+    return np.asarray(rectification_ratio(omega2, eps, theta0))
+
+
+@styled
+def fig_rheology(
+    eps_values: tuple[float, ...] = (0.3, 0.6, 0.9), theta0: float = 0.5, num: int = 200
+) -> Figure:
+    """Wall stress of the bed against forcing: stress ratio and rectification.
+
+    (a) tau / (eta v / H) = 1/(1 - eps h1) for upright hairs: the bed lies down and the gap
+    opens, so the stress falls from 1/(1 - eps) towards 1. (b) With a base angle the bed is a
+    rectifier: flow against the grain sees more stress than flow with it at the same speed.
+
+    Examples
+    --------
+    >>> fig = fig_rheology(eps_values=(0.5,), num=20)
+    >>> len(fig.axes)
+    2
+    """
+    w2 = np.logspace(-2, 3, num)
+    fig, (ax, axr) = new_figure(1, 2, size=(9.4, 3.9))
+    for eps, c in zip(eps_values, colors(len(eps_values))):
+        ax.plot(w2, _stress_ratio(w2, eps, 0.0), color=c, label=rf"$\epsilon = {eps:g}$")
+        ax.axhline(1 / (1 - eps), color=c, lw=0.7, ls=":")
+        axr.plot(w2, _rectification(w2, eps, theta0), color=c, label=rf"$\epsilon = {eps:g}$")
+    ax.axhline(1.0, color="0.5", lw=0.7)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(r"forcing $\omega^2$ [-]")
+    ax.set_ylabel(r"stress ratio $\tau/(\eta v/H) = 1/(1-\epsilon h_1)$")
+    ax.set_title(r"(a) stress ratio, $\theta_0 = 0$ (dotted: at rest)")
+    ax.legend(loc="upper right")
+    axr.axhline(1.0, color="0.5", lw=0.7)
+    axr.set_xscale("log")
+    axr.set_xlabel(r"forcing $\omega^2$ at $|v|$ [-]")
+    axr.set_ylabel(r"$\tau_{\mathrm{against}}/\tau_{\mathrm{with}}$ [-]")
+    axr.set_title(rf"(b) rectification, $\theta_0 = {theta0:g}$ rad")
+    axr.legend(loc="upper left")
+    return fig
+
+
+def _linear_slope(eps: float, theta0: float) -> float:
+    """d x1 / d omega^2 at rest: cantilever under its end load (cf. hairbed.inverse)."""
+    try:
+        from hairbed.inverse import tip_deflection_slope
+    except ImportError:
+        c = np.cos(theta0)
+        return float(c * c / (3.0 * (1.0 - eps * c)))
+    return float(tip_deflection_slope(eps, theta0))
+
+
+@styled
+def fig_calibration(
+    eps_values: tuple[float, ...] = (0.0, 0.5, 0.9), theta0: float = 0.0, num: int = 400
+) -> Figure:
+    """Sensor calibration: forcing read from the tip deflection, exact and linear.
+
+    (a) omega^2 against the measured x1 (exact branch curve, solid) and the small-deflection
+    cantilever line (dashed). (b) Relative error of the linear calibration.
+
+    Examples
+    --------
+    >>> fig = fig_calibration(eps_values=(0.5,), num=30)
+    >>> len(fig.axes)
+    2
+    """
+    t = np.linspace(-12.0, 30.0, num)
+    fig, (ax, axe) = new_figure(1, 2, size=(9.4, 3.9))
+    for eps, c in zip(eps_values, colors(len(eps_values))):
+        s = hairbed.from_parameter(t, eps, theta0)
+        x1, w2 = np.asarray(s.tip_deflection), np.asarray(s.omega2)
+        lin = (x1 - np.sin(theta0)) / _linear_slope(eps, theta0)
+        ax.plot(x1, w2, color=c, label=rf"exact, $\epsilon = {eps:g}$")
+        ax.plot(x1, lin, "--", color=c, lw=1.1)
+        axe.plot(x1, np.abs(lin - w2) / w2, color=c, label=rf"$\epsilon = {eps:g}$")
+    ax.plot([], [], "--", color="0.4", lw=1.1, label="linear (cantilever)")
+    ax.set_yscale("log")
+    ax.set_xlim(0, 1)
+    ax.set_ylim(1e-3, 1e3)
+    ax.set_xlabel(r"measured tip deflection $x_1/L$ [-]")
+    ax.set_ylabel(r"forcing $\omega^2 \propto v$ [-]")
+    ax.set_title(rf"(a) calibration curve, $\theta_0 = {theta0:g}$")
+    ax.legend(loc="lower right")
+    axe.axhline(0.01, color="0.5", lw=0.7, ls=":")
+    axe.text(0.98, 0.006, "1 %", color="0.4", fontsize=8, ha="right", va="top")
+    axe.set_yscale("log")
+    axe.set_xlim(0, 1)
+    axe.set_ylim(1e-6, 1e2)
+    axe.set_xlabel(r"measured tip deflection $x_1/L$ [-]")
+    axe.set_ylabel(r"relative error of linear $\omega^2$ [-]")
+    axe.set_title("(b) error of the linear calibration")
+    axe.legend(loc="lower right")
+    return fig
+
+
+@styled
+def fig_fd_convergence(
+    omega2s: tuple[float, ...] = (0.5, 2.0, 8.0, 32.0),
+    Ns: tuple[int, ...] = (10, 20, 40, 80, 160, 320, 640),
+    eps: float = 0.5,
+) -> Figure:
+    """Second-order convergence of the paper's finite differences to the exact tip height.
+
+    Examples
+    --------
+    >>> fig = fig_fd_convergence(omega2s=(1.0,), Ns=(10, 20))
+    >>> len(fig.axes)
+    1
+    """
+    from hairbed.numerics import finite_difference
+
+    Ns_arr = np.asarray(Ns, dtype=float)
+    fig, ax = new_figure(size=(5.6, 4.2))
+    for w2, c in zip(omega2s, colors(len(omega2s), "plasma")):
+        exact = hairbed.solve(w2, eps).tip_height
+        err = [abs(finite_difference(w2, eps, N=int(N)).tip_height - exact) for N in Ns]
+        ax.loglog(Ns_arr, err, "o-", color=c, ms=4, label=rf"$\omega^2 = {w2:g}$")
+    ref = 0.3 * Ns_arr[0] ** 2 * Ns_arr**-2.0 * max(1e-12, ax.get_ylim()[1] * 1e-1)
+    ax.loglog(Ns_arr, ref, "k--", lw=1, label=r"$\propto N^{-2}$")
+    ax.set_xlabel(r"segments $N$")
+    ax.set_ylabel(r"$|h_1^{\mathrm{FD}} - h_1^{\mathrm{exact}}|$ [-]")
+    ax.set_title(rf"Finite-difference convergence, $\epsilon = {eps:g}$")
+    ax.legend(loc="lower left")
+    return fig
+
+
+def _per_call(func, repeat: int = 3) -> float:
+    """Best wall time of ``func()`` over a few runs [s]."""
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        func()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def timings(n: int = 100_000) -> dict[str, float]:
+    """Time per state [s] of the exact solver (vectorised and scalar), the finite differences
+    (when hairbed.numerics exists) and scipy's incomplete elliptic integral per element.
+
+    Examples
+    --------
+    >>> sorted(timings(n=100))[:2]
+    ['exact, scalar call', 'exact, vectorised']
+    """
+    from scipy.special import ellipkinc
+
+    rng = np.random.default_rng(0)
+    w2 = rng.uniform(0.01, 100.0, n)
+    eps = rng.uniform(0.0, 0.9, n)
+    phi, m = rng.uniform(0.0, 1.5, n), rng.uniform(0.0, 0.99, n)
+    out = {
+        "exact, vectorised": _per_call(lambda: hairbed.solve(w2, eps)) / n,
+        "exact, scalar call": _per_call(lambda: hairbed.solve(2.0, 0.5), 20),
+        "scipy ellipkinc (1 element)": _per_call(lambda: ellipkinc(phi, m)) / n,
+    }
+    try:
+        from hairbed.numerics import finite_difference
+    except ImportError:
+        return out
+    out["finite differences, N = 80"] = _per_call(lambda: finite_difference(2.0, 0.5, N=80))
+    out["finite differences, N = 640"] = _per_call(lambda: finite_difference(2.0, 0.5, N=640))
+    return out
+
+
+@styled
+def fig_speed(n: int = 100_000) -> Figure:
+    """Time per state of the exact solver against the finite differences (measured here),
+    with the paper's reported 0.005 s (analytic) and 0.5 s (FD, N = 80) for scale.
+
+    Examples
+    --------
+    >>> fig = fig_speed(n=100)
+    >>> len(fig.axes)
+    1
+    """
+    t = timings(n)
+    t["paper: analytic (reported)"] = 5e-3
+    t["paper: FD N = 80 (reported)"] = 0.5
+    names = list(t)
+    vals = np.array([t[k] for k in names])
+    fig, ax = new_figure(size=(6.4, 3.6))
+    cols = ["C2" if "exact" in k else "C0" if "finite" in k else "0.6" for k in names]
+    ax.barh(np.arange(len(names)), vals, color=cols)
+    for i, v in enumerate(vals):
+        ax.text(v * 1.3, i, f"{v:.2g} s", va="center", fontsize=8)
+    ax.set_yticks(np.arange(len(names)), names)
+    ax.invert_yaxis()
+    ax.set_xscale("log")
+    ax.set_xlim(vals.min() / 3, vals.max() * 30)
+    ax.set_xlabel("wall time per state [s] (one core)")
+    ax.set_title("Speed: exact solution vs numerics")
+    return fig
+
+
+@styled
+def fig_twirling(omega2: float = 200.0, eps: float = 0.5) -> Figure:
+    """Every solution at one forcing: the physical hair and the twirling branches.
+
+    Examples
+    --------
+    >>> fig = fig_twirling(omega2=20.0)
+    >>> len(fig.axes) >= 3
+    True
+    """
+    sols = sorted(hairbed.solve_all(omega2, eps), key=lambda s: (s.n, -s.sign))
+    k = len(sols)
+    ncols = min(k, 4)
+    nrows = int(np.ceil(k / ncols))
+    fig, axes = new_figure(nrows, ncols, size=(2.3 * ncols, 2.3 * nrows + 0.4), squeeze=False)
+    for ax, s in zip(axes.flat, sols):
+        x, z = s.profile(400)
+        ax.plot(x, z, "-" if s.sign > 0 else "--", color="k" if s.physical else "C0", lw=1.6)
+        ax.axhline(0, color="0.5", lw=0.8)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_title(rf"sign ${s.sign:+d}$, $n = {s.n}$, $\xi = {s.xi:.3f}$", fontsize=8.5)
+        ax.tick_params(labelsize=7)
+    for ax in axes.flat[k:]:
+        ax.axis("off")
+    fig.suptitle(
+        rf"All states at $\omega^2 = {omega2:g}$, $\epsilon = {eps:g}$ "
+        r"(axes $x/L$, $z/L$; physical in black)",
+        fontsize=10,
+    )
+    return fig
+
+
+@styled
+def fig_physical_units() -> Figure:
+    """A real bed in SI units: tip deflection and wall shear stress against wall speed.
+
+    Soft 1 mm hairs (E = 1 MPa, radius 50 um, spacing 400 um) under 2 mm of glycerol, with
+    and without a base angle, for flow with and against the grain.
+
+    Examples
+    --------
+    >>> fig = fig_physical_units()
+    >>> len(fig.axes)
+    2
+    """
+    from hairbed.units import HairBed
+
+    v = np.linspace(-0.5, 0.5, 201)
+    fig, (ax, axs) = new_figure(1, 2, size=(9.4, 3.9))
+    for th0, c in ((0.0, "k"), (0.3, "C3")):
+        bed = HairBed(
+            length=1e-3,
+            radius=50e-6,
+            youngs_modulus=1e6,
+            channel_height=2e-3,
+            viscosity=1.0,
+            spacing=400e-6,
+            base_angle=th0,
+        )
+        st = bed.deform(v)
+        ax.plot(
+            v * 100,
+            np.asarray(st.tip_deflection) * 1e6,
+            color=c,
+            label=rf"$\theta_0 = {th0:g}$ rad",
+        )
+        axs.plot(
+            v * 100, np.asarray(st.wall_shear_stress), color=c, label=rf"$\theta_0 = {th0:g}$ rad"
+        )
+    axs.plot(v * 100, 1.0 * v / 2e-3, ":", color="0.5", label=r"no hairs, $\eta v/H$")
+    ax.set_xlabel(r"wall speed $v$ [cm/s]")
+    ax.set_ylabel(r"tip deflection $x_1 L$ [$\mu$m]")
+    ax.set_title("(a) tip deflection")
+    ax.legend(loc="upper left")
+    axs.set_xlabel(r"wall speed $v$ [cm/s]")
+    axs.set_ylabel(r"wall shear stress $\tau$ [Pa]")
+    axs.set_title("(b) wall shear stress")
+    axs.legend(loc="upper left")
+    return fig
+
+
+@styled
+def fig_states(solutions: list) -> Figure:
+    """Profiles of a few states (used by ``hairbed solve --plot``).
+
+    Examples
+    --------
+    >>> fig = fig_states([hairbed.solve(2.0, 0.5)])
+    >>> fig.axes[0].get_xlabel()
+    '$x/L$'
+    """
+    fig, ax = new_figure(size=(5.0, 3.8))
+    for s, c in zip(solutions, colors(max(len(solutions), 1), "tab10")):
+        x, z = s.profile(400)
+        ax.plot(
+            x,
+            z,
+            "-" if s.sign > 0 else "--",
+            color=c,
+            label=rf"sign ${s.sign:+d}$, $n = {s.n}$, $x_1 = {s.tip_deflection:.3f}$",
+        )
+    ax.axhline(0, color="0.5", lw=0.8)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel(r"$x/L$")
+    ax.set_ylabel(r"$z/L$")
+    if solutions:
+        s = solutions[0]
+        ax.set_title(
+            rf"$\omega^2 = {s.omega2:g}$, $\epsilon = {s.eps:g}$, "
+            rf"$\theta_0 = {s.theta0:g}$"
+        )
+    ax.legend(loc="best", fontsize=7.5)
+    return fig
