@@ -1,0 +1,527 @@
+"""Physical units: a bed of hairs in a channel, in SI, and the state a flow puts it in.
+
+The dimensionless problem of the paper [1]_ has three inputs: the forcing omega^2, the
+confinement eps = L/H and the base angle theta0. A real bed of cylindrical hairs of length L and
+radius a, Young's modulus E, hexagonally packed at spacing delta (packing fraction phi) at the
+bottom of a channel of height H filled with a fluid of viscosity eta, driven so that the top wall
+moves at speed v, has (math.md section 7)
+
+    I       = pi a^4 / 4                                  second moment of area [m^4]
+    phi     = (2 pi / sqrt 3) a^2 / delta^2               packing fraction [-]
+    omega^2 = pi a^2 L^2 eta |v| / (E I H phi)            forcing [-]
+    eps     = L / H                                       confinement [-]
+
+and the dimensionless solution gives back, in SI,
+
+    tip deflection  x1 L [m],   tip height  h1 L [m],
+    wall shear stress   tau = eta v / (H - h1 L) [Pa],
+    force on one hair   F = tau pi a^2 / phi [N]   (pi a^2 / phi = (sqrt 3 / 2) delta^2 is the
+                                                    wall area per hair).
+
+Direction of the flow
+---------------------
+x points along the flow for v > 0 and theta0 (``base_angle``) is measured from the wall normal
+towards +x, so a positive base angle leans the hairs *with* the flow for v > 0 (flow with the
+grain). A negative velocity is flow against the grain. The problem is then the mirror image
+x -> -x of the problem with base angle -theta0 and speed |v|: :meth:`HairBed.deform` solves that
+one and mirrors x, the tip angle, the wall shear stress and the force back, so that every signed
+quantity of :class:`HairState` refers to the bed's own +x axis.
+
+References
+----------
+.. [1] J. P. Smucker, Z. M. Vural, J. R. Alvarado and P. J. Morrison, "Fluid Flow Induced
+   Deformation of a Boundary Hair".
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+import hairbed
+from hairbed._validation import as_float_array, check_root
+
+if TYPE_CHECKING:  # pragma: no cover
+    from hairbed.inverse import ProfileFit
+
+__all__ = [
+    "CLOSE_PACKING_FRACTION",
+    "HairBed",
+    "HairState",
+]
+
+#: Packing fraction of touching hairs in a hexagonal array, pi / (2 sqrt 3) ~ 0.9069 [-].
+CLOSE_PACKING_FRACTION = math.pi / (2.0 * math.sqrt(3.0))
+
+FloatOrArray = float | NDArray[np.float64]
+
+
+def _scalar(value: Any) -> FloatOrArray:
+    """Return 0-d arrays as Python floats, leave other arrays alone."""
+    arr = np.asarray(value, dtype=np.float64)
+    return float(arr) if arr.ndim == 0 else arr
+
+
+def _positive(value: Any, name: str, unit: str) -> float:
+    """A finite real number > 0, or a ValueError that names it."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ValueError(f"{name} must be a real number in {unit}, got {value!r}")
+    value = float(value)
+    if not math.isfinite(value):
+        raise ValueError(f"{name} must be finite (not NaN or infinity), got {value!r}")
+    if value <= 0.0:
+        raise ValueError(f"{name} must be positive, got {value!r} {unit}")
+    return value
+
+
+@dataclass(frozen=True)
+class HairState:
+    """A hair bed deformed by a flow, in SI units (returned by :meth:`HairBed.deform`).
+
+    Attributes
+    ----------
+    bed : HairBed
+        The bed.
+    velocity : float or ndarray
+        Speed of the top wall v [m/s]; negative means flow towards -x.
+    omega2 : float or ndarray
+        Forcing omega^2 [-] (of |v|).
+    solution : Solution
+        The dimensionless state, for base angle ``direction * bed.base_angle`` (the mirror image
+        for v < 0, see the module docstring): its x and angles are in the mirrored frame.
+    direction : float or ndarray
+        +1 where v >= 0, -1 where v < 0 [-]: the factor that maps the solution's x to the bed's.
+    tip_deflection : float or ndarray
+        Horizontal position of the tip relative to the base, x1 L [m] (along +x).
+    tip_height : float or ndarray
+        Height of the tip above the wall, h1 L [m].
+    tip_angle : float or ndarray
+        Angle of the tip from the wall normal towards +x [rad].
+    wall_shear_stress : float or ndarray
+        Shear stress on the top wall, eta v / (H - h1 L) [Pa] (signed like v).
+    force_per_hair : float or ndarray
+        Horizontal force of the flow on one hair, tau pi a^2 / phi [N] (signed like v).
+    stress_ratio : float or ndarray
+        tau / (eta v / H) = 1 / (1 - eps h1) [-]: the stress relative to a bare channel.
+    """
+
+    bed: HairBed = field(repr=False)
+    velocity: FloatOrArray
+    omega2: FloatOrArray
+    solution: Any = field(repr=False)
+    direction: FloatOrArray
+    tip_deflection: FloatOrArray
+    tip_height: FloatOrArray
+    tip_angle: FloatOrArray
+    wall_shear_stress: FloatOrArray
+    force_per_hair: FloatOrArray
+    stress_ratio: FloatOrArray
+
+    def profile(self, num: int = 200) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The shape of the hair in metres, from base (0, 0) to tip.
+
+        Parameters
+        ----------
+        num : int
+            Number of points along the hair, equally spaced in arc length.
+
+        Returns
+        -------
+        x, z : ndarray
+            Horizontal position along +x [m] and height above the wall [m], of shape
+            ``velocity.shape + (num,)``.
+        """
+        x, z = self.solution.profile(num)
+        scale = self.bed.length
+        direction = np.asarray(self.direction, dtype=np.float64)[..., np.newaxis]
+        return direction * scale * np.asarray(x), scale * np.asarray(z)
+
+
+class HairBed:
+    """A dense bed of elastic hairs at the bottom of a channel flow, in SI units.
+
+    Parameters
+    ----------
+    length : float
+        Hair length L [m].
+    radius : float
+        Hair radius a [m] (the radius, not the diameter).
+    youngs_modulus : float
+        Young's modulus E of the hair material [Pa].
+    channel_height : float
+        Height H of the channel [m]; must exceed ``length``.
+    viscosity : float
+        Dynamic viscosity eta of the fluid [Pa s].
+    spacing : float, optional
+        Distance delta between neighbouring hairs of the hexagonal array [m].
+    packing_fraction : float, optional
+        Fraction phi of the wall covered by hair bases [-]. Give exactly one of ``spacing`` and
+        ``packing_fraction``; they are related by phi = (2 pi / sqrt 3) a^2 / delta^2.
+    base_angle : float, optional
+        Angle theta0 of the hairs at the wall, from the wall normal towards +x [rad], in
+        (-pi/2, pi/2). Positive leans the hairs along the flow of a positive velocity.
+
+    Raises
+    ------
+    ValueError
+        If a size is not a positive finite number, if neither or both of ``spacing`` and
+        ``packing_fraction`` are given, if the hairs overlap (radius >= spacing / 2, i.e. a
+        packing fraction at or beyond hexagonal close packing, pi / (2 sqrt 3) ~ 0.907), if
+        ``length >= channel_height`` or if ``base_angle`` is outside (-pi/2, pi/2).
+
+    Examples
+    --------
+    Soft 1 mm hairs of radius 50 um at 400 um spacing under a 2 mm layer of glycerol:
+
+    >>> bed = HairBed(length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=2e-3,
+    ...               viscosity=1.0, spacing=400e-6)
+    >>> round(bed.eps, 12), round(bed.packing_fraction, 4)
+    (0.5, 0.0567)
+    >>> state = bed.deform(0.1)  # top wall at 10 cm/s
+    >>> round(state.omega2, 4)
+    1.4114
+    >>> round(state.tip_deflection * 1e6, 1), round(state.wall_shear_stress, 2)  # um, Pa
+    (539.8, 83.57)
+    >>> round(bed.velocity_from_tip_deflection(state.tip_deflection), 12)  # calibration curve
+    0.1
+    >>> round(bed.linear_velocity_from_tip_deflection(state.tip_deflection), 4)  # linear: -43%
+    0.0574
+    """
+
+    __slots__ = (
+        "_base_angle",
+        "_channel_height",
+        "_length",
+        "_packing_fraction",
+        "_radius",
+        "_spacing",
+        "_viscosity",
+        "_youngs_modulus",
+    )
+
+    def __init__(
+        self,
+        length: float,
+        radius: float,
+        youngs_modulus: float,
+        channel_height: float,
+        viscosity: float,
+        spacing: float | None = None,
+        packing_fraction: float | None = None,
+        base_angle: float = 0.0,
+    ) -> None:
+        self._length = _positive(length, "length", "[m]")
+        self._radius = _positive(radius, "radius", "[m]")
+        self._youngs_modulus = _positive(youngs_modulus, "youngs_modulus", "[Pa]")
+        self._channel_height = _positive(channel_height, "channel_height", "[m]")
+        self._viscosity = _positive(viscosity, "viscosity", "[Pa s]")
+        if (spacing is None) == (packing_fraction is None):
+            raise ValueError(
+                "give exactly one of spacing [m] and packing_fraction [-], "
+                f"got spacing={spacing!r}, packing_fraction={packing_fraction!r}"
+            )
+        if spacing is not None:
+            self._spacing = _positive(spacing, "spacing", "[m]")
+            if self._radius >= 0.5 * self._spacing:
+                raise ValueError(
+                    f"radius ({self._radius!r} m) must be less than half the spacing "
+                    f"({self._spacing!r} m): neighbouring hairs would overlap"
+                )
+            self._packing_fraction = (
+                2.0 * math.pi / math.sqrt(3.0) * (self._radius / self._spacing) ** 2
+            )
+        else:
+            phi = _positive(packing_fraction, "packing_fraction", "[-]")
+            if phi >= CLOSE_PACKING_FRACTION:
+                raise ValueError(
+                    f"packing_fraction ({phi!r}) must be less than hexagonal close packing, "
+                    f"pi/(2 sqrt 3) = {CLOSE_PACKING_FRACTION:.6f}: hairs would overlap"
+                )
+            self._packing_fraction = phi
+            self._spacing = self._radius * math.sqrt(2.0 * math.pi / (math.sqrt(3.0) * phi))
+        if self._length >= self._channel_height:
+            raise ValueError(
+                f"length ({self._length!r} m) must be less than channel_height "
+                f"({self._channel_height!r} m): eps = L/H must be < 1, or the hairs would "
+                "reach the top wall"
+            )
+        if isinstance(base_angle, bool) or not isinstance(base_angle, numbers.Real):
+            raise ValueError(f"base_angle must be a real number in [rad], got {base_angle!r}")
+        base_angle = float(base_angle)
+        if not (abs(base_angle) < 0.5 * math.pi):
+            raise ValueError(f"base_angle must lie in (-pi/2, pi/2) [rad], got {base_angle!r}")
+        self._base_angle = base_angle
+
+    # -- the bed -------------------------------------------------------------------------------
+
+    @property
+    def length(self) -> float:
+        """Hair length L [m]."""
+        return self._length
+
+    @property
+    def radius(self) -> float:
+        """Hair radius a [m]."""
+        return self._radius
+
+    @property
+    def youngs_modulus(self) -> float:
+        """Young's modulus E [Pa]."""
+        return self._youngs_modulus
+
+    @property
+    def channel_height(self) -> float:
+        """Channel height H [m]."""
+        return self._channel_height
+
+    @property
+    def viscosity(self) -> float:
+        """Fluid viscosity eta [Pa s]."""
+        return self._viscosity
+
+    @property
+    def spacing(self) -> float:
+        """Hexagonal spacing delta [m] (computed if a packing fraction was given)."""
+        return self._spacing
+
+    @property
+    def packing_fraction(self) -> float:
+        """Packing fraction phi = (2 pi / sqrt 3) a^2 / delta^2 [-]."""
+        return self._packing_fraction
+
+    @property
+    def base_angle(self) -> float:
+        """Base angle theta0 from the wall normal towards +x [rad]."""
+        return self._base_angle
+
+    @property
+    def eps(self) -> float:
+        """Confinement eps = L / H [-]."""
+        return self._length / self._channel_height
+
+    @property
+    def second_moment(self) -> float:
+        """Second moment of area of the hair cross-section, I = pi a^4 / 4 [m^4]."""
+        return 0.25 * math.pi * self._radius**4
+
+    @property
+    def bending_stiffness(self) -> float:
+        """Bending stiffness E I [N m^2]."""
+        return self._youngs_modulus * self.second_moment
+
+    @property
+    def wall_area_per_hair(self) -> float:
+        """Wall area per hair, pi a^2 / phi = (sqrt 3 / 2) delta^2 [m^2]."""
+        return math.pi * self._radius**2 / self._packing_fraction
+
+    @property
+    def velocity_scale(self) -> float:
+        """Wall speed of unit forcing, E I H phi / (pi a^2 L^2 eta) [m/s]: omega^2 = |v| / it."""
+        return (
+            self.bending_stiffness
+            * self._channel_height
+            / (self.wall_area_per_hair * self._length**2 * self._viscosity)
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"HairBed(length={self._length!r}, radius={self._radius!r}, "
+            f"youngs_modulus={self._youngs_modulus!r}, channel_height={self._channel_height!r}, "
+            f"viscosity={self._viscosity!r}, spacing={self._spacing!r}, "
+            f"base_angle={self._base_angle!r})"
+        )
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, HairBed):
+            return NotImplemented
+        return all(getattr(self, s) == getattr(other, s) for s in self.__slots__)
+
+    def __hash__(self) -> int:
+        return hash(tuple(getattr(self, s) for s in self.__slots__))
+
+    # -- forward: velocity -> state ------------------------------------------------------------
+
+    def omega2(self, velocity: Any) -> FloatOrArray:
+        """Forcing omega^2 = pi a^2 L^2 eta |v| / (E I H phi) [-] of a wall speed.
+
+        Parameters
+        ----------
+        velocity : array_like
+            Speed of the top wall v [m/s]; the sign (direction) does not enter omega^2.
+
+        Returns
+        -------
+        float or ndarray
+            omega^2 [-], of the shape of ``velocity``.
+        """
+        v = as_float_array(velocity, "velocity")
+        return _scalar(np.abs(v) / self.velocity_scale)
+
+    def _direction(self, v: NDArray[np.float64]) -> NDArray[np.float64]:
+        return np.where(v < 0.0, -1.0, 1.0)
+
+    def deform(self, velocity: Any, *, root: str = "low") -> HairState:
+        """The state of the bed under a flow of wall speed ``velocity``.
+
+        Parameters
+        ----------
+        velocity : array_like
+            Speed of the top wall v [m/s]; negative for flow towards -x (the mirror image, see the
+            module docstring).
+        root : {"low", "mid", "high"}
+            Which state to return where several coexist (a hair leaning into a flow in a tight
+            channel, math.md section 5): passed to :func:`hairbed.solve`.
+
+        Returns
+        -------
+        HairState
+            Tip position, wall shear stress and force in SI, and the dimensionless solution.
+        """
+        root = check_root(root)
+        v = as_float_array(velocity, "velocity")
+        direction = self._direction(v)
+        omega2 = np.abs(v) / self.velocity_scale
+        sol = hairbed.solve(omega2, self.eps, direction * self._base_angle, root=root)
+        return self._state(v, direction, omega2, sol)
+
+    def _state(
+        self,
+        v: NDArray[np.float64],
+        direction: NDArray[np.float64],
+        omega2: NDArray[np.float64],
+        sol: Any,
+    ) -> HairState:
+        length = self._length
+        h1 = np.asarray(sol.tip_height, dtype=np.float64)
+        gap = self._channel_height - h1 * length
+        tau = self._viscosity * v / gap
+        return HairState(
+            bed=self,
+            velocity=_scalar(v),
+            omega2=_scalar(omega2),
+            solution=sol,
+            direction=_scalar(direction),
+            tip_deflection=_scalar(direction * length * np.asarray(sol.tip_deflection)),
+            tip_height=_scalar(length * h1),
+            tip_angle=_scalar(direction * np.asarray(sol.tip_angle)),
+            wall_shear_stress=_scalar(tau),
+            force_per_hair=_scalar(tau * self.wall_area_per_hair),
+            stress_ratio=_scalar(self._channel_height / gap),
+        )
+
+    def wall_shear_stress(self, velocity: Any, *, root: str = "low") -> FloatOrArray:
+        """Shear stress on the top wall, eta v / (H - h1 L) [Pa], at wall speed v [m/s]."""
+        return self.deform(velocity, root=root).wall_shear_stress
+
+    def rectification_ratio(self, speed: Any, *, root: str = "low") -> FloatOrArray:
+        """Stress against the grain over stress with it, at wall speed |v| = ``speed`` [m/s].
+
+        See :func:`hairbed.rheology.rectification_ratio`; "with the grain" is flow towards +x
+        (along a positive base angle).
+        """
+        from hairbed.rheology import rectification_ratio
+
+        return rectification_ratio(self.omega2(speed), self.eps, self._base_angle, root=root)
+
+    # -- inverse: tip deflection -> velocity (the sensor's calibration) -------------------------
+
+    def _solve_tip_deflection(
+        self, deflection: Any
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], Any]:
+        """Velocity, direction, omega^2 and the dimensionless solution of a tip deflection."""
+        from hairbed.inverse import solution_from_tip_deflection
+
+        d = as_float_array(deflection, "deflection")
+        length = self._length
+        bad = np.abs(d) >= length
+        if np.any(bad):
+            raise ValueError(
+                f"tip deflection must lie in (-length, length) = ({-length!r}, {length!r}) m, "
+                f"got {d[bad].flat[0]!r}"
+            )
+        rest = length * math.sin(self._base_angle)
+        # a tip behind its rest position means flow towards -x: the mirror image
+        direction = np.where(d < rest, -1.0, 1.0)
+        sol = solution_from_tip_deflection(
+            direction * d / length, self.eps, direction * self._base_angle
+        )
+        omega2 = np.asarray(sol.omega2, dtype=np.float64)
+        v = direction * omega2 * self.velocity_scale
+        return v, direction, omega2, sol
+
+    def state_from_tip_deflection(self, deflection: Any) -> HairState:
+        """The state of a bed whose tips sit at ``deflection`` [m] from their bases (along +x).
+
+        The tip deflection determines the state uniquely (math.md section 5), even where several
+        states share one velocity.
+        """
+        return self._state(*self._solve_tip_deflection(deflection))
+
+    def velocity_from_tip_deflection(self, deflection: Any) -> FloatOrArray:
+        """Wall speed v [m/s] that puts the tips at ``deflection`` [m] from their bases.
+
+        The exact calibration curve of a pillar sensor. ``deflection`` is measured along +x from
+        the base and lies in (-L, L); at rest it is L sin(theta0), and a tip behind that means
+        flow towards -x (negative v).
+
+        Raises
+        ------
+        ValueError
+            If ``|deflection| >= length``.
+        """
+        return _scalar(self._solve_tip_deflection(deflection)[0])
+
+    def wall_shear_stress_from_tip_deflection(self, deflection: Any) -> FloatOrArray:
+        """Wall shear stress tau = eta v / (H - h1 L) [Pa] read from a tip deflection [m]."""
+        return self.state_from_tip_deflection(deflection).wall_shear_stress
+
+    def linear_velocity_from_tip_deflection(self, deflection: Any) -> FloatOrArray:
+        """The small-deflection (linear) calibration: v [m/s] from a tip deflection [m].
+
+        To first order in the forcing the hair is a cantilever under a uniform load, and
+        x1 = sin(theta0) + omega^2 cos^2(theta0) / (3 (1 - eps cos theta0)) (see
+        :func:`hairbed.inverse.tip_deflection_slope`); the same line holds for v < 0. Compare
+        with :meth:`velocity_from_tip_deflection` to see where it fails.
+        """
+        from hairbed.inverse import tip_deflection_slope
+
+        d = as_float_array(deflection, "deflection")
+        slope = tip_deflection_slope(self.eps, self._base_angle)
+        x1 = d / self._length - math.sin(self._base_angle)
+        return _scalar(x1 / slope * self.velocity_scale)
+
+    def linear_wall_shear_stress_from_tip_deflection(self, deflection: Any) -> FloatOrArray:
+        """The linear calibration of the wall shear stress [Pa]: eta v_lin / (H - L cos theta0).
+
+        v_lin is :meth:`linear_velocity_from_tip_deflection`; the gap is that of the hair at rest.
+        """
+        v = np.asarray(self.linear_velocity_from_tip_deflection(deflection))
+        gap = self._channel_height - self._length * math.cos(self._base_angle)
+        return _scalar(self._viscosity * v / gap)
+
+    def fit_profile(self, x: Any, z: Any, **kwargs: Any) -> tuple[ProfileFit, float]:
+        """Fit the flow to measured points (x, z) [m] along one hair, base at the origin.
+
+        Calls :func:`hairbed.inverse.fit_profile` on (x/L, z/L) with the bed's eps and, unless
+        ``theta0=None`` is passed, its base angle held fixed; keyword arguments are passed on.
+        Only flow towards +x is fitted.
+
+        Returns
+        -------
+        fit : ProfileFit
+            The dimensionless fit (omega^2, theta0 and their standard errors).
+        velocity : float
+            The fitted wall speed omega^2 * :attr:`velocity_scale` [m/s].
+        """
+        from hairbed.inverse import fit_profile
+
+        kwargs.setdefault("theta0", self._base_angle)
+        x = as_float_array(x, "x") / self._length
+        z = as_float_array(z, "z") / self._length
+        fit = fit_profile(x, z, self.eps, **kwargs)
+        return fit, fit.omega2 * self.velocity_scale
