@@ -1,0 +1,246 @@
+"""The inverse problem, checked against the forward solver (an independent root find)."""
+
+import math
+
+import numpy as np
+import pytest
+
+import hairbed
+from hairbed import inverse
+
+OMEGA2 = np.concatenate([np.logspace(-3, 4, 22), [1e6]])  # xi rounds to 1 above ~400
+EPS = [0.0, 0.5, 0.9]
+THETA0 = [-1.0, -0.3, 0.0, 0.4, 1.0]
+
+
+@pytest.mark.parametrize("eps", EPS)
+@pytest.mark.parametrize("theta0", THETA0)
+def test_round_trip_tip_deflection(eps, theta0):
+    sol = hairbed.solve(OMEGA2, eps, theta0)
+    back = inverse.omega2_from_tip_deflection(sol.tip_deflection, eps, theta0)
+    np.testing.assert_allclose(back, OMEGA2, rtol=1e-10, atol=0)
+
+
+def test_round_trip_strong_forcing_where_xi_is_one():
+    w = np.array([1e4, 1e6, 1e8])
+    sol = hairbed.solve(w, 0.5, 0.2)
+    assert np.all(sol.xi == 1.0)  # xi carries no information here: t does
+    back = inverse.solution_from_tip_deflection(sol.tip_deflection, 0.5, 0.2)
+    np.testing.assert_allclose(back.omega2, w, rtol=1e-10)
+    np.testing.assert_allclose(back.tip_height, sol.tip_height, rtol=1e-10)
+
+
+def test_tip_deflection_determines_each_of_three_coexisting_states():
+    # theta0 = -1, eps = 0.95: three physical states at omega^2 = 0.31 (math.md section 5)
+    states = [hairbed.solve(0.31, 0.95, -1.0, root=r) for r in ("low", "mid", "high")]
+    x1 = [s.tip_deflection for s in states]
+    assert x1[0] < x1[1] < x1[2]
+    back = inverse.solution_from_tip_deflection(x1, 0.95, -1.0)
+    np.testing.assert_allclose(back.omega2, 0.31, rtol=1e-10)
+    np.testing.assert_allclose(back.xi, [s.xi for s in states], rtol=1e-10)
+
+
+@pytest.mark.parametrize("theta0", [-1.4, -1.0, -0.3, 0.0, 0.7, 1.4])
+def test_tip_deflection_is_monotone_on_the_physical_branch(theta0):
+    # the premise of a unique answer (math.md section 5), on a dense scan of the branch
+    t = np.linspace(-20, 60, 4001)
+    x1 = np.asarray(hairbed.from_parameter(t, 0.5, theta0).tip_deflection)
+    assert np.all(np.diff(x1) >= 0)
+
+
+def test_weak_forcing_matches_the_linear_limit():
+    # below ~1e-5 the inverse uses a series; compare with the first-order (linear) answer,
+    # whose relative error is O(omega^2)
+    for theta0 in (-0.8, 0.0, 0.6):
+        for dx in (1e-300, 1e-20, 1e-12, 1e-8):
+            x1 = math.sin(theta0) + dx
+            if x1 - math.sin(theta0) == 0.0:
+                continue
+            w = inverse.omega2_from_tip_deflection(x1, 0.5, theta0)
+            lin = inverse.linear_omega2_from_tip_deflection(x1, 0.5, theta0)
+            assert w == pytest.approx(lin, rel=1e-6)
+    assert inverse.omega2_from_tip_deflection(0.0, 0.5) == 0.0
+    assert inverse.omega2_from_tip_deflection(math.sin(-0.7), 0.5, -0.7) == 0.0
+
+
+def test_series_and_root_find_agree_where_they_meet():
+    # omega_eps^2 = 1e-5 is the switch: the two methods on either side must join smoothly
+    theta0 = 0.3
+    c2 = math.cos(theta0) ** 2
+    x1 = math.sin(theta0) + np.array([0.999, 1.001]) * 1e-5 * c2 / 3
+    w = inverse.omega2_from_tip_deflection(x1, 0.2, theta0)
+    assert w[1] / w[0] == pytest.approx(1.001 / 0.999, rel=2e-7)
+
+
+def test_linear_slope_against_the_exact_solution():
+    for eps, theta0 in [(0.0, 0.0), (0.5, 0.0), (0.9, 0.0), (0.5, 0.3), (0.9, -1.0)]:
+        w = 1e-7
+        sol = hairbed.solve(w, eps, theta0)
+        slope = (sol.tip_deflection - math.sin(theta0)) / w
+        assert slope == pytest.approx(inverse.tip_deflection_slope(eps, theta0), rel=1e-5)
+    # the cantilever under uniform load: 1 / (3 (1 - eps)) for upright hairs
+    assert inverse.tip_deflection_slope(0.5) == pytest.approx(2 / 3, rel=1e-15)
+
+
+def linear_error(x1, eps, theta0=0.0):
+    exact = inverse.omega2_from_tip_deflection(x1, eps, theta0)
+    return inverse.linear_omega2_from_tip_deflection(x1, eps, theta0) / exact - 1
+
+
+def test_where_the_linear_calibration_fails():
+    # measured: 1% at x1 = 0.098 and 10% at x1 = 0.31 (eps = 0); 0.040 and 0.13 (eps = 0.9)
+    assert abs(linear_error(0.09, 0.0)) < 0.01 < abs(linear_error(0.11, 0.0))
+    assert abs(linear_error(0.30, 0.0)) < 0.10 < abs(linear_error(0.32, 0.0))
+    assert abs(linear_error(0.035, 0.9)) < 0.01 < abs(linear_error(0.045, 0.9))
+    assert abs(linear_error(0.12, 0.9)) < 0.10 < abs(linear_error(0.14, 0.9))
+    assert linear_error(0.5, 0.5) < -0.2  # it always underestimates the forcing
+
+
+@pytest.mark.parametrize("bad", [1.0, 1.5, -0.01])
+def test_tip_deflection_out_of_range(bad):
+    with pytest.raises(ValueError, match=r"x1 must lie in \[sin\(theta0\), 1\)"):
+        inverse.omega2_from_tip_deflection(bad, 0.5, 0.0)
+
+
+def test_tip_deflection_input_validation():
+    with pytest.raises(ValueError, match="x1 must lie"):
+        inverse.omega2_from_tip_deflection(0.1, 0.5, 0.2)  # below sin(0.2)
+    with pytest.raises(ValueError, match="eps"):
+        inverse.omega2_from_tip_deflection(0.5, 1.0)
+    with pytest.raises(ValueError, match="theta0"):
+        inverse.omega2_from_tip_deflection(0.5, 0.5, 2.0)
+    with pytest.raises(ValueError, match="finite"):
+        inverse.omega2_from_tip_deflection(float("nan"), 0.5)
+
+
+def test_vectorised_shapes():
+    x1 = np.array([[0.1, 0.5], [0.7, 0.9]])
+    w = inverse.omega2_from_tip_deflection(x1, np.array([0.0, 0.5]), 0.0)
+    assert w.shape == (2, 2)
+    assert w[1, 1] == pytest.approx(inverse.omega2_from_tip_deflection(0.9, 0.5), rel=1e-14)
+    assert isinstance(inverse.omega2_from_tip_deflection(0.5, 0.5), float)
+    assert inverse.omega2_from_tip_height([0.5, 0.6, 0.7], 0.5).shape == (3, 2)
+
+
+# -- tip height ----------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize("theta0", [0.0, 0.5, 1.2])
+def test_tip_height_has_one_answer_for_upright_or_downstream_hairs(theta0):
+    w = np.logspace(-2, 4, 13)
+    sol = hairbed.solve(w, 0.6, theta0)
+    answers = inverse.omega2_from_tip_height(sol.tip_height, 0.6, theta0)
+    np.testing.assert_allclose(answers[:, 0], w, rtol=1e-10)
+    assert np.all(np.isnan(answers[:, 1]))
+
+
+def test_tip_height_has_two_answers_for_a_hair_leaning_into_the_flow():
+    eps, theta0 = 0.3, -0.8  # no folds here: solve gives one state per forcing
+    h_max = inverse.max_tip_height(theta0)
+    # against a dense scan of the branch
+    t = np.linspace(-15, 15, 30001)
+    scan = np.asarray(hairbed.from_parameter(t, eps, theta0).tip_height)
+    assert scan.max() <= h_max * (1 + 1e-15)
+    t_fine = t[np.argmax(scan)] + np.linspace(-2e-3, 2e-3, 20001)
+    fine = np.asarray(hairbed.from_parameter(t_fine, eps, theta0).tip_height)
+    assert fine.max() <= h_max * (1 + 1e-15)
+    assert h_max == pytest.approx(fine.max(), abs=1e-13)
+    assert math.cos(theta0) < h_max <= 1.0
+    targets = math.cos(theta0) + np.array([0.1, 0.5, 0.9]) * (h_max - math.cos(theta0))
+    answers = inverse.omega2_from_tip_height(targets, eps, theta0)
+    assert np.all(np.isfinite(answers))
+    for col in range(2):
+        sol = hairbed.solve(answers[:, col], eps, theta0)
+        np.testing.assert_allclose(sol.tip_height, targets, rtol=1e-10)
+    # first answer on the rising limb (smaller xi): the hair still leans into the flow
+    first = hairbed.solve(answers[:, 0], eps, theta0)
+    second = hairbed.solve(answers[:, 1], eps, theta0)
+    assert np.all(first.xi < second.xi)
+    # below the rest height only the bent-over state remains
+    low = inverse.omega2_from_tip_height(0.3, eps, theta0)
+    assert np.isnan(low[1])
+    assert hairbed.solve(low[0], eps, theta0).tip_height == pytest.approx(0.3, rel=1e-10)
+    # exactly the rest height: rest itself, and a bent-over state
+    rest = inverse.omega2_from_tip_height(math.cos(theta0), eps, theta0)
+    assert rest[0] == 0.0 and rest[1] > 0
+
+
+def test_tip_height_round_trip_in_the_bistable_window():
+    states = [hairbed.solve(0.31, 0.95, -1.0, root=r) for r in ("low", "mid", "high")]
+    for s in states:
+        answers = inverse.omega2_from_tip_height(s.tip_height, 0.95, -1.0)
+        assert np.nanmin(np.abs(answers - 0.31)) < 1e-9
+
+
+@pytest.mark.parametrize(("h1", "theta0"), [(0.0, 0.0), (1.01, 0.0), (0.99, 0.2), (1.0, -0.5)])
+def test_tip_height_out_of_range(h1, theta0):
+    with pytest.raises(ValueError, match="h1 must lie in"):
+        inverse.omega2_from_tip_height(h1, 0.5, theta0)
+
+
+# -- profile fitting -----------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("omega2", "eps", "theta0"), [(0.5, 0.2, 0.0), (3.0, 0.6, 0.2)])
+def test_fit_exact_profile(omega2, eps, theta0):
+    x, z = hairbed.solve(omega2, eps, theta0).profile(25)
+    order = np.random.default_rng(0).permutation(25)  # points in any order
+    fit = inverse.fit_profile(x[order], z[order], eps)
+    assert fit.success
+    assert fit.omega2 == pytest.approx(omega2, rel=1e-9)
+    assert fit.theta0 == pytest.approx(theta0, abs=1e-9)
+    assert fit.residual < 1e-10
+
+
+def test_fit_the_middle_of_three_states():
+    # parametrised by t, the fit reaches the (unstable) middle state without choosing a root
+    sol = hairbed.solve(0.31, 0.95, -1.0, root="mid")
+    x, z = sol.profile(25)
+    fit = inverse.fit_profile(x, z, 0.95)
+    assert fit.omega2 == pytest.approx(0.31, rel=1e-9)
+    assert fit.solution.xi == pytest.approx(sol.xi, rel=1e-9)
+
+
+def test_fit_uncertainties_match_the_scatter_of_noisy_fits():
+    rng = np.random.default_rng(42)
+    x, z = hairbed.solve(3.0, 0.6, 0.2).profile(30)
+    noise = 0.005
+    fits = [
+        inverse.fit_profile(
+            x + noise * rng.standard_normal(30), z + noise * rng.standard_normal(30), 0.6
+        )
+        for _ in range(24)
+    ]
+    w = np.array([f.omega2 for f in fits])
+    th = np.array([f.theta0 for f in fits])
+    w_err = np.mean([f.omega2_stderr for f in fits])
+    th_err = np.mean([f.theta0_stderr for f in fits])
+    # unbiased, and the reported errors match the scatter (24 samples: +-30% allowed)
+    assert abs(w.mean() - 3.0) < 3 * w_err / math.sqrt(24) + 0.01
+    assert abs(th.mean() - 0.2) < 3 * th_err / math.sqrt(24) + 0.001
+    assert 0.7 < w.std(ddof=1) / w_err < 1.4
+    assert 0.7 < th.std(ddof=1) / th_err < 1.4
+    # the rms residual estimates the noise (a distance normal to the curve: one component)
+    assert np.mean([f.residual for f in fits]) == pytest.approx(noise, rel=0.2)
+
+
+def test_fit_with_fixed_base_angle():
+    rng = np.random.default_rng(7)
+    x, z = hairbed.solve(1.5, 0.4, -0.3).profile(20)
+    fit = inverse.fit_profile(
+        x + 0.002 * rng.standard_normal(20), z + 0.002 * rng.standard_normal(20), 0.4, theta0=-0.3
+    )
+    assert fit.theta0 == -0.3 and fit.theta0_stderr == 0.0
+    assert abs(fit.omega2 - 1.5) < 4 * fit.omega2_stderr
+    # a starting guess is honoured
+    fit2 = inverse.fit_profile(x, z, 0.4, omega2_guess=1.0, theta0_guess=-0.2)
+    assert fit2.omega2 == pytest.approx(1.5, rel=1e-9)
+
+
+def test_fit_input_validation():
+    with pytest.raises(ValueError, match="same number of points"):
+        inverse.fit_profile([0, 0.1], [0, 0.5, 0.9], 0.5)
+    with pytest.raises(ValueError, match="at least 3 points"):
+        inverse.fit_profile([0, 0.1], [0, 0.5], 0.5)
+    with pytest.raises(ValueError, match="eps"):
+        inverse.fit_profile([0, 0.1, 0.2], [0, 0.5, 0.9], 1.5)
