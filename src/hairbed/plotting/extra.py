@@ -456,8 +456,9 @@ def fig_states(solutions: list) -> Figure:
     >>> fig.axes[0].get_xlabel()
     '$x/L$'
     """
-    fig, ax = new_figure(size=(5.0, 3.8))
-    for s, c in zip(solutions, colors(max(len(solutions), 1), "tab10")):
+    fig, ax = new_figure(size=(7.0, 3.8))
+    for i, s in enumerate(solutions):
+        c = f"C{i % 10}"
         x, z = s.profile(400)
         ax.plot(
             x,
@@ -476,5 +477,5 @@ def fig_states(solutions: list) -> Figure:
             rf"$\omega^2 = {s.omega2:g}$, $\epsilon = {s.eps:g}$, "
             rf"$\theta_0 = {s.theta0:g}$"
         )
-    ax.legend(loc="best", fontsize=7.5)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7.5)
     return fig
