@@ -160,8 +160,25 @@ def test_sweep_to_stdout_and_netcdf(tmp_path):
         (["frobnicate"], ["frobnicate"]),
     ],
 )
-def test_bad_input_is_one_line(args, words):
-    assert_one_error_line(run(*args), *words)
+def test_bad_input_is_one_line(args, words, capsys):
+    from hairbed.cli import main
+
+    # in process (a subprocess each would be slow); the real process is checked below
+    status = main(args)
+    out, err = capsys.readouterr()
+    assert_one_error_line(subprocess.CompletedProcess(args, status, out, err), *words)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["solve", "--omega2", "1", "--eps", "1.5"],
+        ["invert", "--tip-deflection", "1.5", "--eps", "0.5"],
+        ["frobnicate"],
+    ],
+)
+def test_bad_input_in_a_real_process(args):
+    assert_one_error_line(run(*args))
 
 
 def test_help_has_examples_everywhere(capsys):

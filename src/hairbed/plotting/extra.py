@@ -327,11 +327,17 @@ def timings(n: int = 100_000) -> dict[str, float]:
         "scipy ellipkinc (1 element)": _per_call(lambda: ellipkinc(phi, m)) / n,
     }
     try:
-        from hairbed.numerics import finite_difference
+        from hairbed import numerics
     except ImportError:
         return out
-    out["finite differences, N = 80"] = _per_call(lambda: finite_difference(2.0, 0.5, N=80))
-    out["finite differences, N = 640"] = _per_call(lambda: finite_difference(2.0, 0.5, N=640))
+    fd = numerics.finite_difference
+    out["finite differences, N = 80"] = _per_call(lambda: fd(2.0, 0.5, N=80))
+    out["finite differences, N = 640"] = _per_call(lambda: fd(2.0, 0.5, N=640))
+    # the other baselines, once hairbed.numerics exports them
+    for name, label in (("shooting", "shooting (solve_ivp)"), ("collocation", "collocation")):
+        func = getattr(numerics, name, None)
+        if func is not None:
+            out[label] = _per_call(lambda f=func: f(2.0, 0.5), 1)
     return out
 
 
@@ -352,7 +358,9 @@ def fig_speed(n: int = 100_000) -> Figure:
     names = list(t)
     vals = np.array([t[k] for k in names])
     fig, ax = new_figure(size=(6.4, 3.6))
-    cols = ["C2" if "exact" in k else "C0" if "finite" in k else "0.6" for k in names]
+    cols = [
+        "C2" if "exact" in k else "0.6" if "scipy" in k or "paper" in k else "C0" for k in names
+    ]
     ax.barh(np.arange(len(names)), vals, color=cols)
     for i, v in enumerate(vals):
         ax.text(v * 1.3, i, f"{v:.2g} s", va="center", fontsize=8)
