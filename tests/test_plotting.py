@@ -10,6 +10,7 @@ import pytest
 
 matplotlib = pytest.importorskip("matplotlib")
 
+from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 import hairbed  # noqa: E402
@@ -40,9 +41,9 @@ def test_every_registered_figure_is_tested():
 
 @pytest.mark.parametrize("name", sorted(SMALL))
 def test_figure_builds(name):
-    assert matplotlib.get_backend().lower() == "agg"
     fig = getattr(plotting, name)(**SMALL[name])
     assert isinstance(fig, Figure)
+    assert isinstance(fig.canvas, FigureCanvasAgg)
     axes = [ax for ax in fig.axes if ax.axison]
     for ax in axes:  # every visible data axes is labelled
         assert ax.get_xlabel() or ax.get_title(), name
@@ -78,6 +79,15 @@ def test_make_all_writes_pngs_and_rejects_unknown_names(tmp_path):
     assert all(p.read_bytes()[:4] == b"\x89PNG" for p in paths)
     with pytest.raises(ValueError, match="unknown figure"):
         plotting.make_all(tmp_path, only=["nope"])
+
+
+def test_plotting_leaves_pyplot_alone():
+    code = (
+        "import sys, hairbed.plotting as p\n"
+        "p.fig_model()\n"
+        "assert 'matplotlib.pyplot' not in sys.modules"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True, timeout=60)
 
 
 def test_core_never_imports_matplotlib():

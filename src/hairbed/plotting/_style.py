@@ -7,11 +7,8 @@ from collections.abc import Callable
 from typing import Any
 
 import matplotlib
-
-matplotlib.use("Agg")  # headless by design: figures are written to files
-
-import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.figure import Figure  # noqa: E402
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 
 __all__ = ["RC", "colors", "new_figure", "styled"]
 
@@ -33,15 +30,20 @@ RC: dict[str, Any] = {
 
 def colors(k: int, cmap: str = "viridis") -> list[Any]:
     """k distinguishable colours from a perceptually uniform map (ends trimmed)."""
-    cm = plt.get_cmap(cmap)
+    cm = matplotlib.colormaps[cmap]
     if k == 1:
         return [cm(0.35)]
     return [cm(0.05 + 0.8 * i / (k - 1)) for i in range(k)]
 
 
 def new_figure(nrows: int = 1, ncols: int = 1, *, size: tuple[float, float] = (5.0, 3.8), **kw):
-    """A Figure (not registered with pyplot, so nothing leaks) and its axes."""
+    """A Figure on an Agg canvas and its axes.
+
+    Not registered with pyplot and the global backend is left alone: nothing is shown, nothing
+    leaks, and a user's interactive session keeps its backend.
+    """
     fig = Figure(figsize=size, layout="constrained")
+    FigureCanvasAgg(fig)
     axes = fig.subplots(nrows, ncols, **kw)
     return fig, axes
 
@@ -51,7 +53,7 @@ def styled(func: Callable[..., Figure]) -> Callable[..., Figure]:
 
     @functools.wraps(func)
     def wrapper(*args: Any, **kwargs: Any) -> Figure:
-        with plt.rc_context(RC):
+        with matplotlib.rc_context(RC):
             return func(*args, **kwargs)
 
     return wrapper
