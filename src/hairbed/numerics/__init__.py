@@ -1,0 +1,17 @@
+"""Numerical baselines for the hair problem: finite differences, shooting and collocation.
+
+These are independent checks of the analytic solution (:func:`hairbed.solve`) and the paper's
+point of comparison (its section on hair profiles). They solve one state per call: scalar
+``omega2``, ``eps`` and ``theta0`` only (arrays raise ValueError). All return a
+:class:`NumericalResult` whose ``sign`` and ``n`` are read off the converged shape, so a solver
+that lands on a twirling branch says so; non-convergence is reported in the result, not raised.
+"""
+
+from ._finite_difference import finite_difference
+from ._result import NumericalResult
+from ._shooting import shooting
+
+# collocation lives in ._collocation; it joins the exports once the doctest of
+# hairbed.plotting.extra.timings no longer assumes "exact, ..." sorts first among the labels
+# (exporting it adds the label "collocation", which sorts before them).
+__all__ = ["NumericalResult", "finite_difference", "shooting"]
