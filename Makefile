@@ -19,6 +19,7 @@ $(STAMP): pyproject.toml | $(BIN)/python
 
 run: $(STAMP)
 	$(BIN)/python -m hairbed demo
+	$(BIN)/python -m hairbed figures --out figures
 
 test: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks

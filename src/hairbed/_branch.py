@@ -248,7 +248,7 @@ def shape_terms(bp: BranchPoint, sigma: FloatArray):
     kp = np.where(p < 0.5, special.ellipk(p), special.ellipkm1(m))
     kme = complete_k_minus_e(m, p, k)
     delta = bp.sign * bp.omega_eps * sigma
-    sd, cd, dd, dme = jacobi(delta, m, p, k, kp, kme)
+    sd, cd, dd, dme = jacobi(delta, m, p, k, kp, kme, bp.tau)
     sn0, cn0, dn0 = bp.sn0, bp.cn0, bp.dn0
     den = dn0**2 + m * sn0**2 * cd**2
     sn_v = (sn0 * cd * dd + cn0 * sd * dn0) / den

@@ -57,12 +57,11 @@ def complete_k_minus_e(m: FloatArray, p: FloatArray, k: FloatArray) -> FloatArra
     return np.where(tiny, k - 1.0, m / 3.0 * rd)
 
 
-def _theta_small_m(
-    a: FloatArray, k: FloatArray, log_q: FloatArray
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """sn, cn, dn on 0 <= a <= K/2 for m <= 1/2 from theta series in the nome q (DLMF 22.2).
+def _theta_small_m(a: FloatArray, k: FloatArray, log_q: FloatArray) -> tuple[FloatArray, ...]:
+    """sn, cn, dn, cd, sd, nd on 0 <= a <= K/2 for m <= 1/2 (theta series in q, DLMF 22.2).
 
-    The q^(1/4) of theta_1 and theta_2 is divided out so that m -> 0 stays finite.
+    The q^(1/4) of theta_1 and theta_2 is divided out so that m -> 0 stays finite. The last
+    element of the tuple is the scale exponent of sd and nd (0 here, see _theta_large_m).
     """
     n = np.arange(_NTERMS, dtype=np.float64)
     z = (0.5 * np.pi * a / k)[..., None]
@@ -82,18 +81,18 @@ def _theta_small_m(
     sn = th3_0 / th2_0 * th1 / th4
     cn = th4_0 / th2_0 * th2 / th4
     dn = th4_0 / th3_0 * th3 / th4
-    return sn, cn, dn
+    return sn, cn, dn, cn / dn, sn / dn, 1.0 / dn, np.zeros_like(a)
 
 
-def _theta_large_m(
-    a: FloatArray, kp: FloatArray, log_q1: FloatArray
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """sn, cn, dn on 0 <= a <= K/2 for m > 1/2 via Jacobi's imaginary transformation.
+def _theta_large_m(a: FloatArray, kp: FloatArray, log_q1: FloatArray) -> tuple[FloatArray, ...]:
+    """sn, cn, dn, cd, sd e^-y, nd e^-y and y on 0 <= a <= K/2 for m > 1/2.
 
-    sn(u|m) = -i sc(iu|p), cn(u|m) = nc(iu|p), dn(u|m) = dc(iu|p) (DLMF 22.6.12), with theta
-    functions of the complementary nome q1 = exp(-pi K/K') at the imaginary argument
-    i y, y = pi u / (2 K'). All hyperbolic terms are scaled by e^{-y}; at p = 0 (q1 = 0) the
-    series reduce exactly to sn = tanh, cn = dn = sech.
+    Jacobi's imaginary transformation: sn(u|m) = -i sc(iu|p), cn(u|m) = nc(iu|p),
+    dn(u|m) = dc(iu|p) (DLMF 22.6.12), with theta functions of the complementary nome
+    q1 = exp(-pi K/K') at the imaginary argument i y, y = pi u / (2 K'). theta_1, theta_2 are
+    scaled by e^{-y}; theta_3, theta_4 need no scaling (q1^(n^2) e^{2ny} <= 1 for u <= K/2),
+    so cd = cn/dn and the scaled sd, nd stay finite where cn and dn underflow (u beyond ~700
+    at huge forcing). At p = 0 (q1 = 0) the series reduce to sn = tanh, cn = dn = sech.
     """
     n = np.arange(_NTERMS, dtype=np.float64)
     y = (0.5 * np.pi * a / kp)[..., None]
@@ -108,18 +107,21 @@ def _theta_large_m(
     big_c = np.sum(0.5 * (e_up + e_dn), axis=-1)
     c0 = np.sum(np.exp((n * n + n) * lq), axis=-1)
     n1 = n[1:]
-    f_up = np.exp(n1 * n1 * lq + (2 * n1 - 1) * y)
-    f_dn = np.exp(n1 * n1 * lq - (2 * n1 + 1) * y)
-    e_y = np.exp(-y[..., 0])
-    t3 = e_y + np.sum(f_up + f_dn, axis=-1)
-    t4 = e_y + np.sum(alt[1:] * (f_up + f_dn), axis=-1)
+    g = np.exp(n1 * n1 * lq + 2 * n1 * y) + np.exp(n1 * n1 * lq - 2 * n1 * y)
+    t3 = 1.0 + np.sum(g, axis=-1)
+    t4 = 1.0 + np.sum(alt[1:] * g, axis=-1)
     w = np.exp(n1 * n1 * lq)
     t3_0 = 1.0 + 2.0 * np.sum(w, axis=-1)
     t4_0 = 1.0 + 2.0 * np.sum(alt[1:] * w, axis=-1)
+    y0 = y[..., 0]
+    e_y = np.exp(-y0)
     sn = t3_0 / t4_0 * big_s / big_c
-    cn = c0 / t4_0 * t4 / big_c
-    dn = c0 / t3_0 * t3 / big_c
-    return sn, cn, dn
+    cn = c0 / t4_0 * t4 * e_y / big_c
+    dn = c0 / t3_0 * t3 * e_y / big_c
+    cd = t3_0 / t4_0 * t4 / t3
+    sd_scaled = t3_0 * t3_0 / (t4_0 * c0) * big_s / t3
+    nd_scaled = t3_0 / c0 * big_c / t3
+    return sn, cn, dn, cd, sd_scaled, nd_scaled, y0
 
 
 def _u_minus_eps_half(
@@ -143,6 +145,7 @@ def jacobi(
     k: FloatArray,
     kp: FloatArray,
     k_minus_e: FloatArray,
+    tau: FloatArray | None = None,
 ) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
     """Jacobi sn, cn, dn and u - Eps(u) for real u and parameter m = 1 - p.
 
@@ -156,6 +159,8 @@ def jacobi(
         K(m) and K(p).
     k_minus_e : ndarray
         K(m) - E(m) (see :func:`complete_k_minus_e`).
+    tau : ndarray, optional
+        ln p, needed where p underflows (default ``log(p)``).
 
     Returns
     -------
@@ -165,12 +170,16 @@ def jacobi(
     Notes
     -----
     Reduction: u = 2 j K + r with |r| <= K (sn, cn change sign with j, dn and Eps - u are
-    2K-periodic up to 2 j (K - E)); then |r| > K/2 is mapped to K - |r| with
+    2K-periodic up to 2 j (K - E)); then |r| > K/2 is mapped to w = K - |r| with
     sn(K - w) = cd(w), cn(K - w) = sqrt(p) sd(w), dn(K - w) = sqrt(p) nd(w) and
     Eps(K - w) = E - Eps(w) + m sn(w) cd(w) (DLMF 22.4, 22.16.27), which keeps relative
-    accuracy near the zeros of cn and dn.
+    accuracy near the zeros of cn and dn. sqrt(p) sd and sqrt(p) nd are formed as
+    exp(tau/2 + y) times scaled values, so nothing overflows or underflows early.
     """
-    u, m, p, k, kp, k_minus_e = np.broadcast_arrays(u, m, p, k, kp, k_minus_e)
+    if tau is None:
+        with np.errstate(divide="ignore"):
+            tau = np.log(p)
+    u, m, p, k, kp, k_minus_e, tau = np.broadcast_arrays(u, m, p, k, kp, k_minus_e, tau)
     j = np.rint(u / (2.0 * k))
     r = u - 2.0 * j * k
     parity = np.where(np.fmod(np.abs(j), 2.0) == 1.0, -1.0, 1.0)
@@ -180,24 +189,23 @@ def jacobi(
     w = np.where(hi, k - a, a)
 
     small_m = m <= 0.5
-    sn_w = np.empty_like(w)
-    cn_w = np.empty_like(w)
-    dn_w = np.empty_like(w)
-    if np.any(small_m):
-        i = small_m
-        log_q = -np.pi * kp[i] / k[i]
-        sn_w[i], cn_w[i], dn_w[i] = _theta_small_m(w[i], k[i], log_q)
-    if not np.all(small_m):
-        i = ~small_m
-        log_q1 = -np.pi * k[i] / kp[i]
-        sn_w[i], cn_w[i], dn_w[i] = _theta_large_m(w[i], kp[i], log_q1)
+    parts = [np.empty_like(w) for _ in range(7)]
+    for mask, func, scale in (
+        (small_m, _theta_small_m, lambda i: -np.pi * kp[i] / k[i]),
+        (~small_m, _theta_large_m, lambda i: -np.pi * k[i] / kp[i]),
+    ):
+        if np.any(mask):
+            other = k[mask] if func is _theta_small_m else kp[mask]
+            for dst, val in zip(parts, func(w[mask], other, scale(mask))):
+                dst[mask] = val
+    sn_w, cn_w, dn_w, cd_w, sd_s, nd_s, y = parts
 
     w_me = _u_minus_eps_half(w, m, sn_w, cn_w, dn_w)
-    sq = np.sqrt(p)
-    sn_a = np.where(hi, cn_w / dn_w, sn_w)
-    cn_a = np.where(hi, sq * sn_w / dn_w, cn_w)
-    dn_a = np.where(hi, sq / dn_w, dn_w)
-    a_me = np.where(hi, k_minus_e - w_me - m * sn_w * cn_w / dn_w, w_me)
+    factor = np.exp(0.5 * tau + y)  # sqrt(p) e^{y}
+    sn_a = np.where(hi, cd_w, sn_w)
+    cn_a = np.where(hi, factor * sd_s, cn_w)
+    dn_a = np.where(hi, factor * nd_s, dn_w)
+    a_me = np.where(hi, k_minus_e - w_me - m * sn_w * cd_w, w_me)
 
     sn = parity * sgn * sn_a
     cn = parity * cn_a

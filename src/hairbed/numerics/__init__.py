@@ -7,11 +7,9 @@ point of comparison (its section on hair profiles). They solve one state per cal
 that lands on a twirling branch says so; non-convergence is reported in the result, not raised.
 """
 
+from ._collocation import collocation
 from ._finite_difference import finite_difference
 from ._result import NumericalResult
 from ._shooting import shooting
 
-# collocation lives in ._collocation; it joins the exports once the doctest of
-# hairbed.plotting.extra.timings no longer assumes "exact, ..." sorts first among the labels
-# (exporting it adds the label "collocation", which sorts before them).
-__all__ = ["NumericalResult", "finite_difference", "shooting"]
+__all__ = ["NumericalResult", "collocation", "finite_difference", "shooting"]

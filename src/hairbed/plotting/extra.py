@@ -312,8 +312,8 @@ def timings(n: int = 100_000) -> dict[str, float]:
 
     Examples
     --------
-    >>> sorted(timings(n=100))[:2]
-    ['exact, scalar call', 'exact, vectorised']
+    >>> {'exact, scalar call', 'exact, vectorised'} <= set(timings(n=100))
+    True
     """
     from scipy.special import ellipkinc
 
