@@ -195,10 +195,10 @@ def test_vectorised_solve_matches_scalar_and_reference(root: str) -> None:
 
 @pytest.mark.parametrize("name", PROFILE)
 def test_vectorised_profile_matches_reference(name: str) -> None:
-    """theta/x/z of an array solution of shape S at sigma of shape (m,) have shape S + (m,)."""
+    """theta/x/z broadcast numpy-style: sigma of shape (m, 1) against a solution of shape (S,)."""
     w, e, t = _physical_arrays()
     sol = hairbed.solve(w, e, t)
-    got = getattr(sol, name)(SIGMA)
+    got = getattr(sol, name)(SIGMA[:, None]).T
     assert np.shape(got) == w.shape + SIGMA.shape
     lines = []
     for i, case in enumerate(PHYSICAL):
