@@ -13,6 +13,7 @@ __all__ = [
     "check_branch",
     "check_inputs",
     "check_root",
+    "check_state_inputs",
 ]
 
 HALF_PI = 0.5 * np.pi
@@ -98,14 +99,29 @@ def check_inputs(
     _check_range(w, w < 0.0, "omega2", "[0, inf)")
     _check_range(e, (e < 0.0) | (e >= 1.0), "eps", "[0, 1)")
     _check_range(t, np.abs(t) >= HALF_PI, "theta0", "(-pi/2, pi/2)")
+    return _broadcast(("omega2", w), ("eps", e), ("theta0", t))
+
+
+def _broadcast(*named: tuple[str, NDArray[np.float64]]) -> tuple[NDArray[np.float64], ...]:
+    """Broadcast named arrays to one shape (copies), naming them all if they do not fit."""
+    arrays = [a for _, a in named]
     try:
-        w, e, t = np.broadcast_arrays(w, e, t)
+        out = np.broadcast_arrays(*arrays)
     except ValueError as exc:
-        raise ValueError(
-            f"omega2, eps and theta0 must broadcast together, got shapes "
-            f"{np.shape(w)}, {np.shape(e)} and {np.shape(t)}"
-        ) from exc
-    return np.array(w), np.array(e), np.array(t)
+        names = ", ".join(n for n, _ in named[:-1]) + f" and {named[-1][0]}"
+        shapes = ", ".join(str(np.shape(a)) for a in arrays[:-1]) + f" and {np.shape(arrays[-1])}"
+        raise ValueError(f"{names} must broadcast together, got shapes {shapes}") from exc
+    return tuple(np.array(a) for a in out)
+
+
+def check_state_inputs(
+    value: Any, name: str, eps: Any, theta0: Any
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """A finite array ``value`` (range checked by the caller) with valid eps and theta0,
+    broadcast together; for functions whose first input is a state rather than omega2."""
+    v = as_float_array(value, name)
+    _, e, t = check_inputs(0.0, eps, theta0)
+    return _broadcast((name, v), ("eps", e), ("theta0", t))
 
 
 def check_branch(sign: Any, n: Any) -> tuple[int, int]:

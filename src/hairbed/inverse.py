@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 from scipy import optimize
 
 import hairbed
-from hairbed._validation import as_float_array, check_inputs
+from hairbed._validation import as_float_array, check_inputs, check_state_inputs
 
 __all__ = [
     "ProfileFit",
@@ -168,16 +168,7 @@ def _expand(
 def _check_tip_inputs(
     value: Any, name: str, eps: Any, theta0: Any
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    v = as_float_array(value, name)
-    _, e, th = check_inputs(0.0, eps, theta0)
-    try:
-        v, e, th = np.broadcast_arrays(v, e, th)
-    except ValueError as exc:
-        raise ValueError(
-            f"{name}, eps and theta0 must broadcast together, got shapes "
-            f"{np.shape(v)}, {np.shape(e)} and {np.shape(th)}"
-        ) from exc
-    return np.array(v), np.array(e), np.array(th)
+    return check_state_inputs(value, name, eps, theta0)
 
 
 def _t_from_tip_deflection(x1: FloatArray, theta0: FloatArray) -> FloatArray:

@@ -22,6 +22,14 @@ def _out(a: Any) -> Any:
     return a.item() if a.ndim == 0 else a
 
 
+def _map_arrays(bp: BranchPoint, func: Any) -> BranchPoint:
+    """A branch point with ``func`` applied to every array field (labels kept)."""
+    values = {f.name: getattr(bp, f.name) for f in fields(bp)}
+    return BranchPoint(
+        **{k: func(v) if isinstance(v, np.ndarray) else v for k, v in values.items()}
+    )
+
+
 @dataclass(frozen=True, eq=False)
 class Solution:
     """A state of the hair on one branch, in the paper's dimensionless variables [1]_.
@@ -163,17 +171,7 @@ class Solution:
             raise ValueError(f"num must be an integer >= 2, got {num!r}")
         sigma = np.linspace(0.0, 1.0, int(num))
         sigma = sigma.reshape((1,) * len(self.shape) + (num,))
-        bp = self._point
-        expanded = BranchPoint(
-            **{
-                f.name: (
-                    getattr(bp, f.name)[..., None]
-                    if isinstance(getattr(bp, f.name), np.ndarray)
-                    else getattr(bp, f.name)
-                )
-                for f in fields(bp)
-            }
-        )
+        expanded = _map_arrays(self._point, lambda a: a[..., None])
         with np.errstate(invalid="ignore", divide="ignore"):
             _, x, z = shape_terms(expanded, sigma)
         return x, z
@@ -182,17 +180,7 @@ class Solution:
         """Select states of an array solution with numpy indexing."""
         if self.shape == ():
             raise TypeError("a scalar Solution cannot be indexed")
-        bp = self._point
-        sub = BranchPoint(
-            **{
-                f.name: (
-                    getattr(bp, f.name)[index]
-                    if isinstance(getattr(bp, f.name), np.ndarray)
-                    else getattr(bp, f.name)
-                )
-                for f in fields(bp)
-            }
-        )
+        sub = _map_arrays(self._point, lambda a: a[index])
         return Solution._from_point(
             sub,
             omega2=np.asarray(self.omega2)[index],

@@ -7,7 +7,7 @@ from numpy.typing import ArrayLike
 
 from ._branch import branch_point, t_from_xi
 from ._roots import MAX_ROOTS, find_roots
-from ._validation import as_float_array, check_branch, check_inputs, check_root
+from ._validation import check_branch, check_inputs, check_root, check_state_inputs
 from .solution import Solution
 
 __all__ = ["from_parameter", "from_xi", "solve", "solve_all"]
@@ -183,9 +183,7 @@ def from_xi(
     >>> round(sol.omega2, 10)
     2.0
     """
-    x = as_float_array(xi, "xi")
-    _, e, t0 = check_inputs(0.0, eps, theta0)
-    x, e, t0 = np.broadcast_arrays(x, e, t0)
+    x, e, t0 = check_state_inputs(xi, "xi", eps, theta0)
     low = np.sin(t0)
     bad = (x < low) | (x >= 1.0)
     if np.any(bad):
