@@ -2,18 +2,40 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._branch import BranchPoint, shape_terms, tip_deflection
 from ._validation import as_float_array
 
-__all__ = ["Solution"]
+__all__ = ["STATUS_MESSAGES", "Solution"]
 
 FloatArray = NDArray[np.float64]
+#: A float for a single state, an array of the broadcast shape otherwise.
+Value = float | FloatArray
+IntValue = int | NDArray[np.int64]
+BoolValue = bool | NDArray[np.bool_]
+
+#: Meaning of ``Solution.status`` (as ``scipy.optimize.elementwise`` reports it).
+STATUS_MESSAGES = {
+    0: "converged",
+    -1: "no such state: the branch has fewer roots at these inputs than the one requested",
+    -2: "iteration limit reached",
+}
+
+_SHAPE_KERNELS: Any = None
+
+
+def _shape_kernel() -> Any:
+    """The shape driver, imported on first use (compiles or loads only then)."""
+    global _SHAPE_KERNELS
+    if _SHAPE_KERNELS is None:
+        from ._kernels.state import shape_array
+
+        _SHAPE_KERNELS = shape_array
+    return _SHAPE_KERNELS
 
 
 def _out(a: Any) -> Any:
@@ -22,21 +44,13 @@ def _out(a: Any) -> Any:
     return a.item() if a.ndim == 0 else a
 
 
-def _map_arrays(bp: BranchPoint, func: Any) -> BranchPoint:
-    """A branch point with ``func`` applied to every array field (labels kept)."""
-    values = {f.name: getattr(bp, f.name) for f in fields(bp)}
-    return BranchPoint(
-        **{k: func(v) if isinstance(v, np.ndarray) else v for k, v in values.items()}
-    )
-
-
 @dataclass(frozen=True, eq=False)
 class Solution:
     """A state of the hair on one branch, in the paper's dimensionless variables [1]_.
 
     Scalar inputs give float fields, array inputs give arrays of the broadcast shape. Where
-    the requested branch has no solution at the inputs, every value field is NaN and
-    ``n_roots`` is 0.
+    the requested state does not exist at the inputs, every value field is NaN, ``status``
+    is -1 and ``n_roots`` says how many states the branch has there.
 
     Attributes
     ----------
@@ -51,16 +65,21 @@ class Solution:
     n : int
         Number of interior turning points (theta' = 0 inside 0 < sigma < 1) of the branch.
     xi : float or ndarray
-        Scaled energy xi = E/omega_eps^2 = sin(theta1) [-] (eq. {xi}); rounds to 1 at strong
-        forcing although the other fields stay exact.
+        Scaled energy xi = E/omega_eps^2 = sin(theta1) [-] (eq. {xi} of [1]_); rounds to 1 at
+        strong forcing although the other fields stay exact.
     omega_eps : float or ndarray
         Effective frequency omega_eps = omega / sqrt(1 - eps h1) [-] (eq. {oe-givens}).
     energy : float or ndarray
         Hamiltonian E = theta'^2/2 + omega_eps^2 sin(theta) [-] (eq. {hairH}).
     tip_height : float or ndarray
-        h1 = z(1) = int_0^1 cos(theta) dsigma, in units of the hair length L [-] (eq. {hs}).
+        h1 = z(1) = int_0^1 cos(theta) dsigma, in units of the hair length L [-] (eq. {hs});
+        never above 1.
     tip_deflection : float or ndarray
         x1 = x(1) = int_0^1 sin(theta) dsigma, in units of L [-].
+    tip_displacement : float or ndarray
+        x1 - sin(theta0), the tip's horizontal displacement from the hair at rest, in units of
+        L [-]; accurate relative to itself at weak forcing (omega_eps^2 cos^2(theta0)/3 to
+        leading order: a point load at the tip, x1 = F L^3/(3 E I)).
     tip_angle : float or ndarray
         theta1 = theta(1) [rad].
     base_curvature : float or ndarray
@@ -70,62 +89,98 @@ class Solution:
     physical : bool or ndarray
         True on the physical branch (sign = +1, n = 0) where a solution exists: the hair rises
         monotonically and never touches the wall. Every other branch twirls.
+    status : int or ndarray
+        How the solve of each element ended: 0 converged, -1 no such state (see ``n_roots``),
+        -2 iteration limit (``STATUS_MESSAGES``).
+    t : float or ndarray
+        Branch parameter, the logit of (xi - sin theta0)/(1 - sin theta0) [-]; -inf is the
+        hair at rest.
 
     References
     ----------
     .. [1] J. P. Smucker, Z. M. Vural, J. R. Alvarado and P. J. Morrison, "Fluid Flow Induced
-       Deformation of a Boundary Hair".
+       Deformation of a Boundary Hair", arXiv:2203.04169 (2022).
     """
 
-    omega2: Any
-    eps: Any
-    theta0: Any
+    omega2: Value
+    eps: Value
+    theta0: Value
     sign: int
     n: int
-    xi: Any
-    omega_eps: Any
-    energy: Any
-    tip_height: Any
-    tip_deflection: Any
-    tip_angle: Any
-    base_curvature: Any
-    n_roots: Any
-    physical: Any
-    _point: BranchPoint = field(repr=False)
+    xi: Value
+    omega_eps: Value
+    energy: Value
+    tip_height: Value
+    tip_deflection: Value
+    tip_displacement: Value
+    tip_angle: Value
+    base_curvature: Value
+    n_roots: IntValue
+    physical: BoolValue
+    status: IntValue
+    t: Value
 
     @classmethod
-    def _from_point(
-        cls, bp: BranchPoint, omega2: FloatArray | None = None, n_roots: Any = None
+    def _from_row(
+        cls, row: tuple[float, ...], eps: float, theta0: float, sign: int, n: int, omega2: Any
     ) -> Solution:
-        """Assemble the fields from a branch point (t = NaN marks 'no solution')."""
-        missing = np.isnan(bp.t)
-        if n_roots is None:
-            n_roots = np.where(missing, 0, 1)
-        n_roots = np.broadcast_to(np.asarray(n_roots, dtype=np.int64), bp.t.shape)
-        if omega2 is None:
-            omega2 = bp.omega2
-        with np.errstate(invalid="ignore", divide="ignore"):
-            x1 = tip_deflection(bp)
-
-        def nan_where_missing(a: FloatArray) -> Any:
-            return _out(np.where(missing, np.nan, a))
-
+        """A single state from the kernel's output tuple (``_kernels.state.FIELDS``)."""
+        t, count, status = row[0], int(row[1]), int(row[2])
         return cls(
-            omega2=_out(omega2),
-            eps=_out(bp.eps),
-            theta0=_out(bp.theta0),
-            sign=bp.sign,
-            n=bp.n,
-            xi=nan_where_missing(bp.xi),
-            omega_eps=nan_where_missing(bp.omega_eps),
-            energy=nan_where_missing(bp.energy),
-            tip_height=nan_where_missing(bp.tip_height),
-            tip_deflection=nan_where_missing(x1),
-            tip_angle=nan_where_missing(bp.tip_angle),
-            base_curvature=nan_where_missing(bp.base_curvature),
-            n_roots=_out(n_roots),
-            physical=_out((bp.sign == 1) & (bp.n == 0) & ~missing),
-            _point=bp,
+            omega2=row[3] if omega2 is None else omega2,
+            eps=eps,
+            theta0=theta0,
+            sign=sign,
+            n=n,
+            t=t,
+            xi=row[4],
+            omega_eps=row[5],
+            energy=row[6],
+            tip_height=row[7],
+            tip_deflection=row[8],
+            tip_displacement=row[9],
+            tip_angle=row[10],
+            base_curvature=row[11],
+            n_roots=count,
+            physical=sign == 1 and n == 0 and status == 0,
+            status=status,
+        )
+
+    @classmethod
+    def _from_columns(
+        cls,
+        out: FloatArray,
+        shape: tuple[int, ...],
+        eps: FloatArray,
+        theta0: FloatArray,
+        sign: int,
+        n: int,
+        omega2: FloatArray | None,
+    ) -> Solution:
+        """States from the kernel's (NFIELDS, N) output, reshaped to ``shape``."""
+
+        def col(i: int) -> Any:
+            return _out(out[i].reshape(shape))
+
+        status = out[2].reshape(shape).astype(np.int64)
+        return cls(
+            omega2=col(3) if omega2 is None else _out(omega2),
+            eps=_out(eps),
+            theta0=_out(theta0),
+            sign=sign,
+            n=n,
+            t=col(0),
+            xi=col(4),
+            omega_eps=col(5),
+            energy=col(6),
+            tip_height=col(7),
+            tip_deflection=col(8),
+            tip_displacement=col(9),
+            tip_angle=col(10),
+            base_curvature=col(11),
+            n_roots=_out(out[1].reshape(shape).astype(np.int64)),
+            physical=_out((status == 0) & (sign == 1) & (n == 0)),
+            status=_out(status),
         )
 
     @property
@@ -133,13 +188,43 @@ class Solution:
         """Shape of the array fields (() for a single state)."""
         return np.shape(self.xi)
 
-    def _shape(self, sigma: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
+    @property
+    def success(self) -> BoolValue:
+        """True where the state exists and its solve converged (status 0)."""
+        return _out(np.asarray(self.status) == 0)
+
+    @property
+    def message(self) -> str | list[Any]:
+        """``STATUS_MESSAGES`` of ``status`` (a nested list for array solutions)."""
+        st = np.asarray(self.status)
+        if st.ndim == 0:
+            return STATUS_MESSAGES[int(st)]
+        return np.vectorize(STATUS_MESSAGES.__getitem__, otypes=[object])(st).tolist()
+
+    def _shape_values(self, sigma: ArrayLike) -> FloatArray:
         s = as_float_array(sigma, "sigma")
         bad = (s < 0.0) | (s > 1.0)
         if np.any(bad):
             raise ValueError(f"sigma must lie in [0, 1], got {float(s[bad].flat[0])!r}")
-        with np.errstate(invalid="ignore", divide="ignore"):
-            return shape_terms(self._point, s)
+        t, e, th, s = np.broadcast_arrays(
+            np.asarray(self.t, dtype=np.float64),
+            np.asarray(self.eps, dtype=np.float64),
+            np.asarray(self.theta0, dtype=np.float64),
+            s,
+        )
+        shape = t.shape
+        size = t.size
+        out = np.empty((6, size, 1))
+        _shape_kernel()(
+            np.ascontiguousarray(t).reshape(size),
+            np.ascontiguousarray(e).reshape(size),
+            np.ascontiguousarray(th).reshape(size),
+            self.sign,
+            self.n,
+            np.ascontiguousarray(s).reshape(size, 1),
+            out,
+        )
+        return out.reshape((6, *shape))
 
     def theta(self, sigma: ArrayLike) -> Any:
         """Angle theta(sigma) from the vertical [rad] (eq. {solution}).
@@ -149,18 +234,25 @@ class Solution:
         sigma : array_like
             Arc length s/L in [0, 1], broadcast against the solution's shape.
         """
-        return _out(self._shape(sigma)[0])
+        return _out(self._shape_values(sigma)[0])
 
     def x(self, sigma: ArrayLike) -> Any:
-        """Horizontal position x(sigma) = int_0^sigma sin(theta) in units of L [-].
-
-        Closed form ((v - v0) - 2 (Eps(v) - Eps(v0))) / (sign omega_eps), math.md section 3.
-        """
-        return _out(self._shape(sigma)[1])
+        """Horizontal position x(sigma) = int_0^sigma sin(theta) in units of L [-]."""
+        return _out(self._shape_values(sigma)[1])
 
     def z(self, sigma: ArrayLike) -> Any:
         """Height z(sigma) = h(sigma) = int_0^sigma cos(theta) in units of L [-] (eq. {hs})."""
-        return _out(self._shape(sigma)[2])
+        return _out(self._shape_values(sigma)[2])
+
+    def displacement(self, sigma: ArrayLike) -> tuple[Any, Any, Any]:
+        """Displacements from the hair at rest at arc length sigma.
+
+        Returns (theta - theta0 [rad], x - sigma sin(theta0), z - sigma cos(theta0)) in units
+        of L [-], accurate relative to themselves at weak forcing, where they are far below
+        the rounding error of theta, x and z themselves.
+        """
+        v = self._shape_values(sigma)
+        return _out(v[3]), _out(v[4]), _out(v[5])
 
     def profile(self, num: int = 200) -> tuple[Any, Any]:
         """Points (x, z) along the hair for plotting, in units of L.
@@ -169,30 +261,40 @@ class Solution:
         """
         if isinstance(num, bool) or not isinstance(num, (int, np.integer)) or num < 2:
             raise ValueError(f"num must be an integer >= 2, got {num!r}")
-        sigma = np.linspace(0.0, 1.0, int(num))
-        sigma = sigma.reshape((1,) * len(self.shape) + (num,))
-        expanded = _map_arrays(self._point, lambda a: a[..., None])
-        with np.errstate(invalid="ignore", divide="ignore"):
-            _, x, z = shape_terms(expanded, sigma)
-        return x, z
+        num = int(num)
+        shape = self.shape
+        size = int(np.prod(shape, dtype=np.int64))
+        sigma = np.broadcast_to(np.linspace(0.0, 1.0, num), (size, num))
+        out = np.empty((6, size, num))
+        _shape_kernel()(
+            np.asarray(self.t, dtype=np.float64).reshape(size),
+            np.broadcast_to(np.asarray(self.eps, dtype=np.float64), shape).reshape(size),
+            np.broadcast_to(np.asarray(self.theta0, dtype=np.float64), shape).reshape(size),
+            self.sign,
+            self.n,
+            np.ascontiguousarray(sigma),
+            out,
+        )
+        return out[1].reshape((*shape, num)), out[2].reshape((*shape, num))
 
     def __getitem__(self, index: Any) -> Solution:
         """Select states of an array solution with numpy indexing."""
         if self.shape == ():
             raise TypeError("a scalar Solution cannot be indexed")
-        sub = _map_arrays(self._point, lambda a: a[index])
-        return Solution._from_point(
-            sub,
-            omega2=np.asarray(self.omega2)[index],
-            n_roots=np.asarray(self.n_roots)[index],
-        )
+        shape = self.shape
+        values: dict[str, Any] = {}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            if f.name in ("sign", "n"):
+                values[f.name] = v
+            else:
+                values[f.name] = _out(np.broadcast_to(np.asarray(v), shape)[index])
+        return Solution(**values)
 
     def as_dict(self) -> dict[str, Any]:
         """The public fields by their API names (arrays as lists), e.g. for JSON."""
         out: dict[str, Any] = {}
         for f in fields(self):
-            if f.name.startswith("_"):
-                continue
             v = getattr(self, f.name)
             out[f.name] = v.tolist() if isinstance(v, np.ndarray) else v
         return out

@@ -1,16 +1,72 @@
-"""The exact analytic solver: forward problem, every branch, every coexisting state."""
+"""The exact analytic solver: forward problem, every branch, every coexisting state.
+
+The wrappers here validate, then hand whole arrays to the compiled kernels of
+``hairbed._kernels`` (which trust their inputs), then wrap the kernels' columns in a
+:class:`~hairbed.solution.Solution`. Kernels are imported on first use, so importing hairbed
+compiles (or loads from the cache) nothing.
+"""
 
 from __future__ import annotations
+
+import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._branch import branch_point, t_from_xi
-from ._roots import MAX_ROOTS, find_roots
-from ._validation import check_branch, check_inputs, check_root, check_state_inputs
+from ._validation import (
+    HALF_PI,
+    check_branch,
+    check_inputs,
+    check_root,
+    check_state_inputs,
+)
 from .solution import Solution
 
 __all__ = ["from_parameter", "from_xi", "solve", "solve_all"]
+
+_ROOT_CODES = {"low": 0, "mid": 1, "high": 2}
+#: Table of the physical branch's fold threshold eps_c over u = ln(1 + sin theta0).
+_U_LO = -80.0
+_U_NODES = 1025
+_state: Any = None
+_table: tuple[float, float, np.ndarray, np.ndarray] | None = None
+
+
+def _kernels() -> Any:
+    """The kernel module, imported (compiled or loaded from the cache) on first use."""
+    global _state
+    if _state is None:
+        from ._kernels import state
+
+        _state = state
+    return _state
+
+
+def _fold_table() -> tuple[float, float, np.ndarray, np.ndarray]:
+    """(u_lo, du, lower, t_c): lower[i] <= eps_c(u) on [u_i, u_i+1], built once per process.
+
+    Below ``lower`` the physical branch is monotone (module docstring of
+    ``_kernels.roots``); the margin covers the curvature of eps_c between nodes.
+    """
+    global _table
+    if _table is None:
+        from ._kernels.roots import critical_table
+
+        u = np.linspace(_U_LO, 0.0, _U_NODES)
+        t_c, eps_c = critical_table(u)
+        left, right = eps_c[:-1], eps_c[1:]
+        lower = np.minimum(left, right) - 0.05 * np.abs(right - left) - 1e-9
+        lower = np.append(lower, lower[-1])
+        _table = (_U_LO, float(u[1] - u[0]), lower, t_c)
+    return _table
+
+
+def _scalar(value: Any) -> float | None:
+    """A plain real number as a float (fast path of the validation), else None."""
+    if type(value) is float or type(value) is int or type(value) is np.float64:
+        return float(value)
+    return None
 
 
 def solve(
@@ -27,7 +83,8 @@ def solve(
     theta'' = -omega_eps^2 cos(theta), theta(0) = theta0, theta'(1) = 0, with
     omega_eps^2 = omega^2 / (1 - eps int_0^1 cos(theta)) (eqs. {hairdiffeq}, {oe-givens},
     {eq:bcs} of [1]_), reduced to one equation for the energy xi ({solution2}, {solution3})
-    and solved by a safeguarded Newton iteration; the shape is then closed-form ({solution}).
+    and solved by a safeguarded Newton iteration in compiled code; the shape is then
+    closed-form ({solution}).
 
     Parameters
     ----------
@@ -45,15 +102,16 @@ def solve(
         -(n + 1) for sign -1).
     root : {"low", "mid", "high"}, optional
         Which state where the branch has several at these inputs (the bistable window of a hair
-        leaning into the flow, math.md section 5): "low" the smallest xi (reached by raising
+        leaning into the flow in a tight channel): "low" the smallest xi (reached by raising
         the flow slowly from rest), "high" the largest (reached by lowering it from strong
-        flow), "mid" the middle one (NaN where fewer than three exist).
+        flow), "mid" the middle one (NaN, status -1, where fewer than three exist).
 
     Returns
     -------
     Solution
         Float fields for scalar inputs, arrays of the broadcast shape otherwise; NaN value
-        fields and ``n_roots == 0`` where the branch has no solution.
+        fields, ``status == -1`` and the branch's ``n_roots`` where the requested state does
+        not exist.
 
     Raises
     ------
@@ -64,7 +122,7 @@ def solve(
     References
     ----------
     .. [1] J. P. Smucker, Z. M. Vural, J. R. Alvarado and P. J. Morrison, "Fluid Flow Induced
-       Deformation of a Boundary Hair".
+       Deformation of a Boundary Hair", arXiv:2203.04169 (2022).
 
     Examples
     --------
@@ -77,29 +135,72 @@ def solve(
     >>> round(float(sol.theta(1.0)), 12) == round(sol.tip_angle, 12)
     True
     """
-    w, e, t0 = check_inputs(omega2, eps, theta0)
+    w = _scalar(omega2)
+    e = _scalar(eps)
+    th = _scalar(theta0)
+    if (
+        w is not None
+        and e is not None
+        and th is not None
+        and 0.0 <= w < math.inf
+        and 0.0 <= e < 1.0
+        and abs(th) < HALF_PI
+    ):
+        sign, n = check_branch(sign, n)
+        code = _ROOT_CODES[check_root(root)]
+        u_lo, du, lower, t_c = _fold_table()
+        row = _kernels().solve_scalar(w, e, th, sign, n, code, u_lo, du, lower, t_c)
+        return Solution._from_row(row, e, th, sign, n, w)
+    wa, ea, ta = check_inputs(omega2, eps, theta0)
     sign, n = check_branch(sign, n)
-    root = check_root(root)
+    code = _ROOT_CODES[check_root(root)]
+    return _solve_arrays(wa, ea, ta, sign, n, code)
+
+
+def _solve_arrays(
+    w: np.ndarray, e: np.ndarray, t0: np.ndarray, sign: int, n: int, code: int
+) -> Solution:
+    k = _kernels()
     shape = w.shape
-    roots = find_roots(w.ravel(), e.ravel(), t0.ravel(), sign, n)
-    count = np.sum(~np.isnan(roots), axis=1)
-    if root == "low":
-        t = roots[:, 0]
-    elif root == "high":
-        last = np.maximum(count - 1, 0)
-        t = roots[np.arange(count.size), last]
+    wf, ef, tf = (np.ascontiguousarray(a).reshape(-1) for a in (w, e, t0))
+    u_lo, du, lower, t_c = _fold_table()
+    need = k.needs_folds_array(ef, tf, sign, n, u_lo, du, lower)
+    idx = np.flatnonzero(need)
+    pair = np.full(wf.size, -1, dtype=np.int64)
+    if idx.size:
+        ei, ti = ef[idx], tf[idx]
+        if np.all(ei == ei[0]) and np.all(ti == ti[0]):
+            ue, ut = ei[:1], ti[:1]
+            pair[idx] = 0
+        else:  # the folds depend on (eps, theta0) only: once per distinct pair
+            keys, inverse = np.unique(np.stack([ei, ti], axis=1), axis=0, return_inverse=True)
+            ue = np.ascontiguousarray(keys[:, 0])
+            ut = np.ascontiguousarray(keys[:, 1])
+            pair[idx] = inverse.reshape(-1)
+        folds, counts = k.folds_array(ue, ut, sign, n, u_lo, du, t_c)
     else:
-        t = np.where(count >= 3, roots[:, min(1, MAX_ROOTS - 1)], np.nan)
-    bp = branch_point(t.reshape(shape), e, t0, sign, n)
-    return Solution._from_point(bp, omega2=w, n_roots=count.reshape(shape))
+        folds = np.full((1, k.MAX_FOLDS), np.nan)
+        counts = np.zeros(1, dtype=np.int64)
+    out = np.empty((k.NFIELDS, wf.size))
+    k.solve_array(wf, ef, tf, sign, n, code, pair, folds, counts, out)
+    return Solution._from_columns(out, shape, e, t0, sign, n, w)
 
 
-def solve_all(omega2: float, eps: float, theta0: float = 0.0) -> list[Solution]:
+def solve_all(
+    omega2: float, eps: float, theta0: float = 0.0, *, max_n: int | None = None
+) -> list[Solution]:
     """Every solution at scalar inputs, on every branch.
 
-    Branches with n interior turning points need omega_eps >= 2nK, so only finitely many
-    have solutions; they are searched in order of n until two consecutive n have none on
-    either sign.
+    A branch with n interior turning points needs omega_eps >= 2 n K >= n pi, and
+    omega_eps^2 <= omega^2/(1 - eps) on every branch, so only n <= sqrt(omega^2/(1 - eps))/pi
+    can have solutions; all of them are searched (or those with n <= ``max_n``).
+
+    Parameters
+    ----------
+    omega2, eps, theta0 : float
+        As in :func:`solve`, scalars.
+    max_n : int, optional
+        Search only branches with n <= max_n (default: every branch that can have a state).
 
     Returns
     -------
@@ -117,21 +218,18 @@ def solve_all(omega2: float, eps: float, theta0: float = 0.0) -> list[Solution]:
     w, e, t0 = check_inputs(omega2, eps, theta0)
     if w.ndim != 0:
         raise ValueError("solve_all takes scalar omega2, eps and theta0; use solve for arrays")
-    out: list[Solution] = []
-    empty_run = 0
-    n = 0
-    while empty_run < 2:
-        found = False
-        for sign in (1, -1):
-            roots = find_roots(w.ravel(), e.ravel(), t0.ravel(), sign, n)[0]
-            roots = roots[~np.isnan(roots)]
-            for t in roots:
-                bp = branch_point(np.asarray(t), e, t0, sign, n)
-                out.append(Solution._from_point(bp, omega2=w, n_roots=roots.size))
-                found = True
-        empty_run = 0 if found else empty_run + 1
-        n += 1
-    return out
+    wf, ef, tf = float(w), float(e), float(t0)
+    bound = int(math.floor(math.sqrt(wf / (1.0 - ef)) / math.pi)) + 1
+    if max_n is not None:
+        if isinstance(max_n, bool) or not isinstance(max_n, (int, np.integer)) or max_n < 0:
+            raise ValueError(f"max_n must be a whole number >= 0, got {max_n!r}")
+        bound = min(bound, int(max_n))
+    u_lo, du, lower, t_c = _fold_table()
+    rows, signs, ns = _kernels().solve_all_kernel(wf, ef, tf, bound, u_lo, du, lower, t_c)
+    return [
+        Solution._from_row(tuple(r), ef, tf, int(s), int(k), wf)
+        for r, s, k in zip(rows.tolist(), signs.tolist(), ns.tolist())
+    ]
 
 
 def from_parameter(
@@ -142,13 +240,13 @@ def from_parameter(
     The parameter is the logit of the energy's position in its range,
     xi - sin(theta0) = (1 - sin theta0) expit(t) and 1 - xi = (1 - sin theta0) expit(-t), so
     that both ends (weak forcing t -> -inf, strong forcing t -> +inf, where xi rounds to 1)
-    keep full accuracy. This is the exact parametric curve of the branch (math.md section 2).
+    keep full accuracy. This is the exact parametric curve of the branch.
 
     Parameters
     ----------
     t : array_like
-        Branch parameter, any real number (-inf gives the undeformed hair on the physical
-        branch).
+        Branch parameter, a real number or -inf (the end xi = sin(theta0) of the branch: on
+        the physical branch the undeformed hair). +inf (xi = 1 exactly) is not a state.
     eps, theta0 : array_like
         As in :func:`solve`.
     sign, n : int
@@ -160,13 +258,40 @@ def from_parameter(
     >>> round(hairbed.from_parameter(0.0, 0.5).xi, 12)
     0.5
     """
-    tt = np.asarray(t, dtype=np.float64) if not isinstance(t, str) else None
-    if tt is None or (np.issubdtype(tt.dtype, np.floating) and np.any(np.isnan(tt))):
-        raise ValueError("t must be a real number or array of real numbers (not NaN)")
+    tt = _parameter_array(t)
     _, e, t0 = check_inputs(0.0, eps, theta0)
     sign, n = check_branch(sign, n)
-    bp = branch_point(tt, e, t0, sign, n)
-    return Solution._from_point(bp)
+    try:
+        tt, e, t0 = (np.array(a) for a in np.broadcast_arrays(tt, e, t0))
+    except ValueError as exc:
+        raise ValueError(
+            f"t, eps and theta0 must broadcast together, got shapes {np.shape(tt)}, "
+            f"{np.shape(e)} and {np.shape(t0)}"
+        ) from exc
+    k = _kernels()
+    shape = tt.shape
+    out = np.empty((k.NFIELDS, tt.size))
+    k.fields_array(tt.reshape(-1), e.reshape(-1), t0.reshape(-1), sign, n, out)
+    return Solution._from_columns(out, shape, e, t0, sign, n, None)
+
+
+def _parameter_array(t: Any) -> np.ndarray:
+    """t as a float array: real, not NaN, not +inf (-inf allowed)."""
+    if isinstance(t, (str, bytes)) or t is None:
+        raise ValueError(f"t must be a real number or an array of real numbers, got {t!r}")
+    arr = np.asarray(t)
+    if arr.dtype == np.bool_ or not (
+        np.issubdtype(arr.dtype, np.integer) or np.issubdtype(arr.dtype, np.floating)
+    ):
+        raise ValueError(
+            f"t must be a real number or an array of real numbers, got dtype {arr.dtype}"
+        )
+    arr = arr.astype(np.float64)
+    bad = np.isnan(arr) | (arr == np.inf)
+    if np.any(bad):
+        where = "" if arr.ndim == 0 else f" (first at index {np.argwhere(bad)[0].tolist()})"
+        raise ValueError(f"t must be a real number or -inf, not NaN or +inf{where}")
+    return arr
 
 
 def from_xi(
@@ -191,4 +316,6 @@ def from_xi(
             f"xi must lie in [sin(theta0), 1), got {float(x[bad].flat[0])!r}"
             + ("" if x.ndim == 0 else f" (first at index {np.argwhere(bad)[0].tolist()})")
         )
-    return from_parameter(t_from_xi(x, t0), e, t0, sign=sign, n=n)
+    with np.errstate(divide="ignore"):
+        t = np.log(x - low) - np.log1p(-x)  # logit((xi - sin theta0)/(1 - sin theta0))
+    return from_parameter(t, e, t0, sign=sign, n=n)

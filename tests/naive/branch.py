@@ -1,5 +1,8 @@
 """A branch of solutions as an explicit curve in one parameter (math.md section 2).
 
+Frozen copy of ``src/hairbed/_branch.py`` at commit 7300965 (the numpy core), kept as
+the slow reference of the tests; see :mod:`naive`. Do not change the algorithms.
+
 The energy xi = sin(theta1) is the natural unknown, but it cannot be carried in double precision
 at either end of its range [sin theta0, 1): weak forcing needs d = xi - sin(theta0) to relative
 accuracy, strong forcing needs p = (1 - xi)/2, which underflows. Both are exact functions of the
@@ -34,13 +37,14 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import special
 
-from ._elliptic import complete_k, complete_k_minus_e, jacobi
+from .elliptic import complete_k, complete_k_minus_e, jacobi
 
 __all__ = [
     "BranchPoint",
     "branch_point",
     "omega2_and_slope",
-    "t_from_xi",
+    "shape_terms",
+    "tip_deflection",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -52,15 +56,6 @@ def _half_angle_terms(theta0: FloatArray) -> tuple[FloatArray, FloatArray]:
     one_minus_s = 2.0 * np.sin(quarter - 0.5 * theta0) ** 2
     one_plus_s = 2.0 * np.cos(quarter - 0.5 * theta0) ** 2
     return one_minus_s, one_plus_s
-
-
-def t_from_xi(xi: FloatArray, theta0: FloatArray) -> FloatArray:
-    """The branch parameter t of a given energy xi in [sin theta0, 1]."""
-    one_minus_s, _ = _half_angle_terms(theta0)
-    d = xi - np.sin(theta0)
-    one_minus_xi = 1.0 - xi
-    with np.errstate(divide="ignore"):
-        return np.log(d) - np.log(one_minus_xi)  # logit(d / (1 - sin theta0))
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,8 @@
 """Elliptic functions accurate up to the separatrix (parameter m -> 1).
 
+Frozen copy of ``src/hairbed/_elliptic.py`` at commit 7300965 (the numpy core), kept as
+the slow reference of the tests; see :mod:`naive`. Do not change the algorithms.
+
 scipy.special is used only where it is accurate (math.md section 6): ``ellipkm1`` for K near
 m = 1, ``ellipk``/``ellipe`` away from it, and Carlson's ``elliprf``/``elliprd`` with arguments
 formed without cancellation. The Jacobi functions are our own: scipy's ``ellipj`` is wrong for

@@ -1,5 +1,8 @@
 """Every root of the self-consistency equation on one branch, vectorised.
 
+Frozen copy of ``src/hairbed/_roots.py`` at commit 7300965 (the numpy core), kept as
+the slow reference of the tests; see :mod:`naive`. Do not change the algorithms.
+
 omega^2(t) along a branch (``_branch``) is explicit, so the forward problem is one scalar
 equation omega^2(t) = omega^2. Its critical points (folds) were mapped over the whole
 parameter space: for every branch they lie in -10 < t < 0.5 (t is the logit of
@@ -19,10 +22,10 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from ._branch import _half_angle_terms, branch_point, omega2_and_slope
-from ._elliptic import LN4
+from .branch import _half_angle_terms, branch_point, omega2_and_slope
+from .elliptic import LN4
 
-__all__ = ["find_roots", "MAX_ROOTS"]
+__all__ = ["critical_points", "find_roots", "MAX_ROOTS"]
 
 FloatArray = NDArray[np.float64]
 

@@ -1,0 +1,387 @@
+"""Every root of the self-consistency equation ln omega^2(t) = ln omega^2 on one branch.
+
+omega^2(t) along a branch (``branch.evaluate``) is explicit, so the forward problem is one
+scalar equation. Its critical points (folds) depend on (eps, theta0) but not on omega^2:
+
+* Physical branch (sign +1, n = 0). d ln omega^2/dt = 0 where eps = G(t) with
+  G = 2 g / (h1 (g + expit(-t)/2)), g = d ln omega_eps/dt. For theta0 >= 0, G >= 1 > eps:
+  the branch is monotone. For theta0 < 0, G has a single minimum eps_c(theta0) at t_c(theta0)
+  (checked by a dense scan in the tests): no fold for eps < eps_c, and for eps > eps_c exactly
+  two, one either side of t_c, where G = eps. eps_c and t_c are tabulated once per process in
+  u = ln(1 + sin theta0) (eps_c rises with u), so most elements need no fold search at all.
+* Every other branch: the slope is scanned on a grid in t that reaches down to
+  ln(1 + sin theta0) - 14 (the structure near theta0 = -pi/2 lives there); sign changes and
+  dips of |slope| that cross zero inside one cell (two close folds) are refined.
+
+Between folds the branch is monotone; each piece that brackets the target gets a safeguarded
+Newton iteration on ln omega^2 (bisection where a step would leave the bracket; a step below
+the convergence threshold ends it). Every root ends with a status: 0 converged, -1 no such
+root, -2 iteration limit.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import kernel
+from .branch import LN_OMEGA2_NONE, base_angle, evaluate, log_expit
+
+__all__ = [
+    "MAX_FOLDS",
+    "MAX_ROOTS",
+    "STATUS_CONVERGED",
+    "STATUS_MAXITER",
+    "STATUS_NO_ROOT",
+    "T_MIN",
+    "branch_roots",
+    "critical_table",
+    "newton",
+    "physical_folds",
+    "scan_folds",
+    "start_physical",
+    "t_max",
+]
+
+MAX_FOLDS = 4
+MAX_ROOTS = MAX_FOLDS + 1
+STATUS_CONVERGED = 0
+STATUS_NO_ROOT = -1
+STATUS_MAXITER = -2
+#: Below every root: ln omega^2 is exact down here and omega^2 underflows long before.
+T_MIN = -1000.0
+_MAXITER = 100
+_LN4 = math.log(4.0)
+
+
+@kernel
+def t_max(ln_target):
+    """A t beyond every root of omega^2 = e^ln_target (omega_eps >= omega ~ t/2 at large t)."""
+    return 4.0 * math.exp(0.5 * min(ln_target, 1400.0)) + 60.0
+
+
+@kernel
+def start_physical(ln_target, eps, theta0):
+    """Starting t on the physical branch from the weak and strong forcing limits."""
+    s, c, oms, ops = base_angle(theta0)
+    ln_oe2_weak = ln_target - math.log1p(-eps * c)
+    if ln_oe2_weak < 0.0:
+        # weak forcing: theta ~ theta0, h1 ~ cos theta0, d ~ omega_eps^2 cos^2(theta0)/2
+        ln_d = ln_oe2_weak + 2.0 * math.log(c) - math.log(2.0)
+        ln_ratio = ln_d - math.log(oms)
+        if ln_ratio > -1e-3:
+            ln_ratio = -1e-3
+        return ln_ratio - math.log(-math.expm1(ln_ratio))
+    # strong forcing: omega_eps = K - v0 ~ ln(4 cn0/(1 + sn0)) - tau/2 at xi = 1
+    r2 = math.sqrt(2.0 * oms)
+    w2 = math.exp(ln_target)
+    oe = 0.5 * (eps * r2 + math.sqrt(eps * eps * 2.0 * oms + 4.0 * w2))
+    sn0 = math.sqrt(0.5 * ops)
+    cn0 = math.sqrt(0.5 * oms)
+    tau = 2.0 * (_LN4 + math.log(cn0) - math.log1p(sn0) - oe)
+    log_qc = math.log(2.0) + tau - math.log(oms)
+    if log_qc > -1e-3:
+        log_qc = -1e-3
+    return math.log(-math.expm1(log_qc)) - log_qc
+
+
+@kernel
+def newton(ln_target, t, lo, hi, rising, eps, theta0, sign, n):
+    """Safeguarded Newton on ln omega^2(t) = ln_target in [lo, hi], monotone there.
+
+    Returns (t, status). Steps that would leave the bracket are replaced by bisection; the
+    bracket shrinks at every evaluation, so the iteration cannot leave its piece.
+    """
+    if t <= lo or t >= hi:
+        t = 0.5 * (lo + hi)
+    for _ in range(_MAXITER):
+        ev = evaluate(t, eps, theta0, sign, n, True)
+        r = ev[0] - ln_target
+        if r == 0.0:
+            return t, STATUS_CONVERGED
+        if (r > 0.0) == rising:
+            hi = t
+        else:
+            lo = t
+        sl = ev[1]
+        tn = t - r / sl if sl != 0.0 else math.nan
+        scale = max(1.0, abs(t))
+        if math.isfinite(tn) and lo < tn < hi:
+            # quadratic convergence: a step this small leaves an error far below one ulp
+            if abs(tn - t) <= 1e-9 * scale:
+                return tn, STATUS_CONVERGED
+        else:
+            tn = 0.5 * (lo + hi)
+        if hi - lo <= 4.5e-16 * scale:
+            return tn, STATUS_CONVERGED
+        t = tn
+    return t, STATUS_MAXITER
+
+
+@kernel
+def _g_ratio(t, theta0):
+    """G(t) of the physical branch (module docstring): the eps at which t is a fold."""
+    ev = evaluate(t, 0.0, theta0, 1, 0, True)
+    two_g = ev[1]
+    h1 = ev[14]
+    qc = math.exp(log_expit(-t))
+    return 2.0 * two_g / (h1 * (two_g + qc))
+
+
+@kernel
+def _golden_min_g(a, b, theta0, stop_below, iters):
+    """Minimum of G on [a, b] by golden section; stops early once G < stop_below."""
+    gr = 0.5 * (math.sqrt(5.0) - 1.0)
+    c = b - gr * (b - a)
+    d = a + gr * (b - a)
+    fc = _g_ratio(c, theta0)
+    fd = _g_ratio(d, theta0)
+    for _ in range(iters):
+        if fc < stop_below:
+            return c, fc
+        if fd < stop_below:
+            return d, fd
+        if fc < fd:
+            b = d
+            d = c
+            fd = fc
+            c = b - gr * (b - a)
+            fc = _g_ratio(c, theta0)
+        else:
+            a = c
+            c = d
+            fc = fd
+            d = a + gr * (b - a)
+            fd = _g_ratio(d, theta0)
+    if fc < fd:
+        return c, fc
+    return d, fd
+
+
+@kernel
+def critical_table(u_grid):
+    """t_c and eps_c = min_t G(t) of the physical branch at theta0 = arcsin(e^u - 1)."""
+    size = u_grid.size
+    t_c = np.empty(size)
+    eps_c = np.empty(size)
+    for i in range(size):
+        theta0 = math.asin(math.exp(u_grid[i]) - 1.0)
+        tm, gm = _golden_min_g(-60.0, 4.0, theta0, -1.0, 90)
+        t_c[i] = tm
+        eps_c[i] = gm
+    return t_c, eps_c
+
+
+@kernel
+def _solve_g(target, a, ga, b, gb, theta0):
+    """t in [a, b] with G(t) = target (G - target changes sign), Illinois regula falsi."""
+    fa = ga - target
+    fb = gb - target
+    side = 0
+    for _ in range(200):
+        t = (a * fb - b * fa) / (fb - fa)
+        if not (min(a, b) < t < max(a, b)):
+            t = 0.5 * (a + b)
+        ft = _g_ratio(t, theta0) - target
+        if ft == 0.0 or abs(b - a) <= 4.5e-16 * max(1.0, abs(t)) * 4.0:
+            return t
+        if (ft > 0.0) == (fb > 0.0):
+            b = t
+            fb = ft
+            if side == -1:
+                fa *= 0.5
+            side = -1
+        else:
+            a = t
+            fa = ft
+            if side == 1:
+                fb *= 0.5
+            side = 1
+    return 0.5 * (a + b)
+
+
+@kernel
+def physical_folds(eps, theta0, t_guess, folds):
+    """Folds of the physical branch near its G minimum (t_guess ~ t_c); returns how many."""
+    tm = t_guess
+    gm = _g_ratio(tm, theta0)
+    if not gm < eps:
+        tm, gm = _golden_min_g(t_guess - 3.0, t_guess + 3.0, theta0, eps, 60)
+        if not gm < eps:
+            return 0
+    # expand outwards until G exceeds eps, then solve G = eps on each side
+    a = tm
+    ga = gm
+    step = 1.0
+    b = tm - step
+    gb = _g_ratio(b, theta0)
+    while gb <= eps and b > T_MIN:
+        a = b
+        ga = gb
+        step *= 2.0
+        b = max(tm - step, T_MIN)
+        gb = _g_ratio(b, theta0)
+    if gb <= eps:
+        return 0
+    folds[0] = _solve_g(eps, b, gb, a, ga, theta0)
+    a = tm
+    ga = gm
+    step = 1.0
+    b = tm + step
+    gb = _g_ratio(b, theta0)
+    while gb <= eps and b < 60.0:
+        a = b
+        ga = gb
+        step *= 2.0
+        b = tm + step
+        gb = _g_ratio(b, theta0)
+    if gb <= eps:
+        return 0
+    folds[1] = _solve_g(eps, a, ga, b, gb, theta0)
+    return 2
+
+
+@kernel
+def _slope(t, eps, theta0, sign, n):
+    return evaluate(t, eps, theta0, sign, n, True)[1]
+
+
+@kernel
+def _zero_of_slope(a, fa, b, fb, eps, theta0, sign, n):
+    """A zero of the slope between a and b where it changes sign (Illinois)."""
+    side = 0
+    for _ in range(200):
+        t = (a * fb - b * fa) / (fb - fa)
+        if not (min(a, b) < t < max(a, b)):
+            t = 0.5 * (a + b)
+        ft = _slope(t, eps, theta0, sign, n)
+        if ft == 0.0 or abs(b - a) <= 1.8e-15 * max(1.0, abs(t)):
+            return t
+        if (ft > 0.0) == (fb > 0.0):
+            b = t
+            fb = ft
+            if side == -1:
+                fa *= 0.5
+            side = -1
+        else:
+            a = t
+            fa = ft
+            if side == 1:
+                fb *= 0.5
+            side = 1
+    return 0.5 * (a + b)
+
+
+@kernel
+def _dip(a, b, orient, eps, theta0, sign, n):
+    """Minimum of orient * slope on [a, b] (golden section): (t, value)."""
+    gr = 0.5 * (math.sqrt(5.0) - 1.0)
+    c = b - gr * (b - a)
+    d = a + gr * (b - a)
+    fc = orient * _slope(c, eps, theta0, sign, n)
+    fd = orient * _slope(d, eps, theta0, sign, n)
+    for _ in range(60):
+        if fc < 0.0:
+            return c, fc
+        if fd < 0.0:
+            return d, fd
+        if fc < fd:
+            b = d
+            d = c
+            fd = fc
+            c = b - gr * (b - a)
+            fc = orient * _slope(c, eps, theta0, sign, n)
+        else:
+            a = c
+            c = d
+            fc = fd
+            d = a + gr * (b - a)
+            fd = orient * _slope(d, eps, theta0, sign, n)
+    if fc < fd:
+        return c, fc
+    return d, fd
+
+
+@kernel
+def scan_folds(eps, theta0, sign, n, folds):
+    """Folds of any branch: scan of the slope on a grid in t, then refinement."""
+    s, c, oms, ops = base_angle(theta0)
+    t_lo = min(-12.0, math.log(ops) - 14.0)
+    t_hi = 4.0
+    h = 0.25
+    steps = int(math.ceil((t_hi - t_lo) / h))
+    count = 0
+    t_prev2 = t_lo
+    f_prev2 = 0.0
+    t_prev = t_lo
+    f_prev = _slope(t_lo, eps, theta0, sign, n)
+    for i in range(1, steps + 1):
+        t = t_lo + i * h
+        f = _slope(t, eps, theta0, sign, n)
+        if count >= MAX_FOLDS:
+            break
+        if (f > 0.0) != (f_prev > 0.0) and f != 0.0 and f_prev != 0.0:
+            folds[count] = _zero_of_slope(t_prev, f_prev, t, f, eps, theta0, sign, n)
+            count += 1
+        elif i >= 2 and (f > 0.0) == (f_prev > 0.0) == (f_prev2 > 0.0):
+            # two folds inside one cell: |slope| dips between grid points without a change
+            if abs(f_prev) < abs(f_prev2) and abs(f_prev) < abs(f) and count + 2 <= MAX_FOLDS:
+                orient = 1.0 if f_prev > 0.0 else -1.0
+                tm, fm = _dip(t_prev2, t, orient, eps, theta0, sign, n)
+                if fm < 0.0:
+                    fl = _slope(t_prev2, eps, theta0, sign, n)
+                    fmid = orient * fm
+                    folds[count] = _zero_of_slope(t_prev2, fl, tm, fmid, eps, theta0, sign, n)
+                    folds[count + 1] = _zero_of_slope(tm, fmid, t, f, eps, theta0, sign, n)
+                    count += 2
+        t_prev2 = t_prev
+        f_prev2 = f_prev
+        t_prev = t
+        f_prev = f
+    # sort (the dip refinement may have appended out of order)
+    for i in range(count):
+        for j in range(i + 1, count):
+            if folds[j] < folds[i]:
+                tmp = folds[i]
+                folds[i] = folds[j]
+                folds[j] = tmp
+    return count
+
+
+@kernel
+def branch_roots(ln_target, eps, theta0, sign, n, folds, n_folds, roots, status):
+    """All roots on the branch, given its folds; fills ``roots``/``status`` and returns count.
+
+    ln_target = -inf (omega^2 = 0) gives t = -inf on the physical branch (the hair at rest)
+    and no root elsewhere.
+    """
+    physical = sign > 0 and n == 0
+    if ln_target == -math.inf:
+        if physical:
+            roots[0] = -math.inf
+            status[0] = STATUS_CONVERGED
+            return 1
+        return 0
+    hi_end = t_max(ln_target)
+    count = 0
+    a = T_MIN
+    fa = evaluate(a, eps, theta0, sign, n, False)[0]
+    for j in range(n_folds + 1):
+        b = folds[j] if j < n_folds else hi_end
+        fb = evaluate(b, eps, theta0, sign, n, False)[0]
+        lo_v = min(fa, fb)
+        hi_v = max(fa, fb)
+        if lo_v < ln_target <= hi_v and fa != LN_OMEGA2_NONE and fb != LN_OMEGA2_NONE:
+            rising = fb > fa
+            if physical and j == 0:
+                t0 = start_physical(ln_target, eps, theta0)
+            else:  # secant point of the piece's ends
+                t0 = a + (b - a) * (ln_target - fa) / (fb - fa)
+            t, st = newton(ln_target, t0, a, b, rising, eps, theta0, sign, n)
+            roots[count] = t
+            status[count] = st
+            count += 1
+        a = b
+        fa = fb
+    return count

@@ -1,0 +1,122 @@
+"""The shape theta(sigma), x(sigma), z(sigma) of a state in closed form ({solution}, {hs}).
+
+With v(sigma) = v0 + sign omega_eps sigma [1]_,
+
+    theta = 2 arcsin(sqrt(mu) sn(v | mu)) - pi/2,
+    z = 2 sqrt(mu) (cn(v0) - cn(v))/(sign omega_eps),
+    x = ((v - v0) - 2 (Eps(v) - Eps(v0)))/(sign omega_eps),
+
+Eps(v) = E(am v | mu) Jacobi's epsilon function (the x formula follows from
+sin theta = 2 mu sn^2 v - 1 and int sn^2 = (v - Eps)/mu).
+
+* Physical branch: v runs from v0 = K - kv to K. Where v <= K/2 the formulas above are used
+  as they stand (x = -sigma + 2 ((v - Eps v) - (v0 - Eps v0))/kv); beyond, with
+  w = K - v = kv (1 - sigma), the reflection sn(K - w) = cd w, cn(K - w) = sqrt(p) sd w,
+  dn(K - w) = sqrt(p) nd w (DLMF 22.4) gives, without cancellation near theta = pi/2 and
+  without the underflow of sqrt(p) at strong forcing,
+
+      pi/2 - theta = 2 atan2(sqrt(p), sqrt(mu) cn w),   z = 2 sqrt(mu) (cn0 - sqrt(p) sd w)/kv,
+      x = -sigma + 2 ((kv - Eps(kv)) - (w - Eps(w)) + mu (sn(kv) sn0 - sn w cd w))/kv,
+
+  with sn(kv) = cn0/dn0 and cd(kv) = sn0. At weak forcing (omega_eps^2 <= WEAK_MAX) the
+  displacements from the straight hair are the regular perturbation series of ``weak``,
+  accurate relative to themselves.
+* Other branches: the addition theorems (DLMF 22.8, 22.16.27) with delta = v - v0, relative to
+  the base, as in the paper's variables.
+
+References
+----------
+.. [1] J. P. Smucker, Z. M. Vural, J. R. Alvarado and P. J. Morrison, "Fluid Flow Induced
+   Deformation of a Boundary Hair", arXiv:2203.04169 (2022).
+"""
+
+from __future__ import annotations
+
+import math
+
+from .._jit import kernel
+from .branch import base_angle, evaluate
+from .elliptic import complete_k_m, k_minus_e, rd
+from .jacobi import jacobi
+from .weak import WEAK_MAX, weak_shape
+
+__all__ = ["shape_point", "shape_setup"]
+
+_HALF_PI = 0.5 * math.pi
+
+
+@kernel
+def shape_setup(t, eps, theta0, sign, n):
+    """Everything the shape needs at one state, computed once per state.
+
+    Returns (mu, p, tau, k, kp, kme, sn0, cn0, dn0, kv, oe, kv_me, v0, v0_me, s, c, theta0).
+    """
+    ev = evaluate(t, eps, theta0, sign, n, False)
+    p = ev[4]
+    tau = ev[5]
+    mu = ev[6]
+    sn0 = ev[7]
+    cn0 = ev[8]
+    dn0 = ev[9]
+    k = ev[10]
+    kv = ev[12]
+    oe = ev[13]
+    kp = complete_k_m(p)
+    kme = k_minus_e(mu, p, k)
+    big_s = cn0 / dn0
+    a2 = p / (dn0 * dn0)
+    if a2 < 1e-300:
+        kv_me = kv - 1.0
+    else:
+        kv_me = mu / 3.0 * big_s * big_s * big_s * rd(a2 * sn0 * sn0, a2, 1.0)
+    v0 = ev[11]
+    v0_me = mu / 3.0 * sn0 * sn0 * sn0 * rd(cn0 * cn0, dn0 * dn0, 1.0)  # v0 - E(phi0 | mu)
+    s, c, oms, ops = base_angle(theta0)
+    return mu, p, tau, k, kp, kme, sn0, cn0, dn0, kv, oe, kv_me, v0, v0_me, s, c, theta0
+
+
+@kernel
+def shape_point(sigma, sign, n, setup):
+    """(theta, x, z, dtheta, dx, dz) at arc length sigma; d* are the displacements from the
+    straight hair at rest (theta0, sigma sin theta0, sigma cos theta0)."""
+    mu, p, tau, k, kp, kme, sn0, cn0, dn0, kv, oe, kv_me, v0, v0_me, s, c, theta0 = setup
+    if oe == 0.0:  # the hair at rest
+        return theta0, sigma * s, sigma * c, 0.0, 0.0, 0.0
+    if sign > 0 and n == 0:
+        if oe * oe <= WEAK_MAX:
+            dth, dx, dz = weak_shape(sigma, oe * oe, s, c)
+            return theta0 + dth, sigma * s + dx, sigma * c + dz, dth, dx, dz
+        v = v0 + kv * sigma
+        rm = math.sqrt(mu)
+        # near the base the direct form; beyond K/2 the reflection, unless dn(w) >= p^(1/4)
+        # could underflow (huge forcing, where the direct form is accurate in absolute terms)
+        if v <= 0.5 * k or tau < -1380.0:
+            sn_v, cn_v, dn_v, me_v = jacobi(v, mu, p, tau, k, kp, kme)
+            theta = 2.0 * math.atan2(rm * sn_v, dn_v) - _HALF_PI
+            z = 2.0 * rm * (cn0 - cn_v) / kv
+            x = -sigma + 2.0 * (me_v - v0_me) / kv
+        else:  # w = K - v: the reflection, where cn v and dn v are of order sqrt(p)
+            w = kv * (1.0 - sigma)
+            sn_w, cn_w, dn_w, me_w = jacobi(w, mu, p, tau, k, kp, kme)
+            sqp = math.exp(0.5 * tau) if p < 1e-290 else math.sqrt(p)  # p may be subnormal
+            theta = _HALF_PI - 2.0 * math.atan2(sqp, rm * cn_w)
+            z = 2.0 * rm * (cn0 - sqp * sn_w / dn_w) / kv
+            big_s = cn0 / dn0
+            x = -sigma + 2.0 * ((kv_me - me_w) + mu * (big_s * sn0 - sn_w * cn_w / dn_w)) / kv
+        return theta, x, z, theta - theta0, x - sigma * s, z - sigma * c
+    delta = sign * oe * sigma
+    sd, cd, dd, dme = jacobi(delta, mu, p, tau, k, kp, kme)
+    m = mu
+    den = dn0 * dn0 + m * sn0 * sn0 * cd * cd
+    sn_v = (sn0 * cd * dd + cn0 * sd * dn0) / den
+    dn_v = (dn0 * dd - m * sn0 * cn0 * sd * cd) / den
+    if cd > 0.0:
+        one_minus_cd = sd * sd / (1.0 + cd)
+    else:
+        one_minus_cd = 1.0 - cd
+    cn_diff = (cn0 * one_minus_cd - m * cn0 * sn0 * sn0 * sd * sd + sn0 * dn0 * sd * dd) / den
+    theta = 2.0 * math.atan2(math.sqrt(m) * sn_v, dn_v) - _HALF_PI
+    so = sign * oe
+    z = 2.0 * math.sqrt(m) * cn_diff / so
+    x = (-delta + 2.0 * dme + 2.0 * m * sn0 * sd * sn_v) / so
+    return theta, x, z, theta - theta0, x - sigma * s, z - sigma * c

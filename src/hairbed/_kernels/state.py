@@ -1,0 +1,334 @@
+"""Solving one element end to end, and the array drivers that loop over elements.
+
+One element: fold search (unless the caller passes the folds of its (eps, theta0), found
+once per distinct pair), every root on the branch, the requested one (low/mid/high), and
+every output field at it. The array drivers call the same element kernel, so a scalar call
+and a one-element array give bitwise the same numbers.
+
+Output columns (``FIELDS``): t, n_roots, status, omega2, xi, omega_eps, energy, tip_height,
+tip_deflection, tip_displacement, tip_angle, base_curvature.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import kernel
+from .branch import base_angle, evaluate, tip_displacement
+from .roots import (
+    MAX_FOLDS,
+    MAX_ROOTS,
+    STATUS_CONVERGED,
+    STATUS_NO_ROOT,
+    T_MIN,
+    branch_roots,
+    newton,
+    physical_folds,
+    scan_folds,
+    start_physical,
+    t_max,
+)
+from .shape import shape_point, shape_setup
+from .weak import WEAK_MAX, weak_shape
+
+__all__ = [
+    "FIELDS",
+    "ROOT_HIGH",
+    "ROOT_LOW",
+    "ROOT_MID",
+    "fields_array",
+    "fields_at",
+    "folds_array",
+    "needs_folds_array",
+    "shape_array",
+    "solve_all_kernel",
+    "solve_array",
+    "solve_one",
+    "solve_scalar",
+]
+
+FIELDS = (
+    "t",
+    "n_roots",
+    "status",
+    "omega2",
+    "xi",
+    "omega_eps",
+    "energy",
+    "tip_height",
+    "tip_deflection",
+    "tip_displacement",
+    "tip_angle",
+    "base_curvature",
+)
+NFIELDS = len(FIELDS)
+ROOT_LOW = 0
+ROOT_MID = 1
+ROOT_HIGH = 2
+_HALF_PI = 0.5 * math.pi
+
+
+@kernel
+def fields_at(t, eps, theta0, sign, n):
+    """omega2, xi, omega_eps, energy, tip_height, tip_deflection, tip_displacement, tip_angle,
+    base_curvature of the state at parameter t (t = -inf: the hair at rest)."""
+    ev = evaluate(t, eps, theta0, sign, n, False)
+    ln_w2 = ev[0]
+    xi = ev[2]
+    p = ev[4]
+    mu = ev[6]
+    sn0 = ev[7]
+    cn0 = ev[8]
+    dn0 = ev[9]
+    kv = ev[12]
+    oe = ev[13]
+    h1 = ev[14]
+    root2d = ev[15]
+    rf_comp = ev[16]
+    s, c, oms, ops = base_angle(theta0)
+    omega2 = math.exp(ln_w2)
+    if xi > 0.5:
+        upper = _HALF_PI - 2.0 * math.asin(math.sqrt(p))
+    elif xi < -0.5:
+        upper = 2.0 * math.asin(math.sqrt(mu)) - _HALF_PI
+    else:
+        upper = math.asin(xi)
+    if sign * (1 - 2 * (n % 2)) > 0:
+        tip_angle = upper
+    else:
+        tip_angle = -math.pi - upper
+    if oe == 0.0:
+        x1 = s
+        disp = 0.0
+    elif sign > 0 and n == 0:
+        if oe * oe <= WEAK_MAX:
+            disp = weak_shape(1.0, oe * oe, s, c)[1]
+            x1 = s + disp
+        else:
+            x1, disp = tip_displacement(p, mu, sn0, cn0, dn0, kv, rf_comp)
+    else:
+        x1 = shape_point(1.0, sign, n, shape_setup(t, eps, theta0, sign, n))[1]
+        disp = x1 - s
+    energy = xi * oe * oe
+    base_curvature = sign * oe * root2d
+    return omega2, xi, oe, energy, h1, x1, disp, tip_angle, base_curvature
+
+
+@kernel
+def _physical_t_guess(theta0, u_lo, du, t_c):
+    """t_c interpolated from the table (module ``roots``)."""
+    s, c, oms, ops = base_angle(theta0)
+    x = (math.log(ops) - u_lo) / du
+    i = int(math.floor(x))
+    if i < 0:
+        return t_c[0]
+    if i >= t_c.size - 1:
+        return t_c[t_c.size - 1]
+    f = x - i
+    return (1.0 - f) * t_c[i] + f * t_c[i + 1]
+
+
+@kernel
+def needs_folds(eps, theta0, sign, n, u_lo, du, eps_c):
+    """False where the branch is certainly monotone at (eps, theta0).
+
+    Physical branch: theta0 >= 0, or eps below the tabulated eps_c at the lower table node
+    (eps_c rises with u = ln(1 + sin theta0), so that node's value is a lower bound).
+    """
+    if not (sign > 0 and n == 0):
+        return True
+    if theta0 >= 0.0:
+        return False
+    s, c, oms, ops = base_angle(theta0)
+    i = int(math.floor((math.log(ops) - u_lo) / du))
+    if i < 0:
+        i = 0
+    if i >= eps_c.size:
+        i = eps_c.size - 1
+    return eps >= eps_c[i] * (1.0 - 1e-9)
+
+
+@kernel
+def find_folds(eps, theta0, sign, n, u_lo, du, t_c, folds):
+    """The folds of the branch at (eps, theta0) into ``folds``; returns how many."""
+    if sign > 0 and n == 0:
+        return physical_folds(eps, theta0, _physical_t_guess(theta0, u_lo, du, t_c), folds)
+    return scan_folds(eps, theta0, sign, n, folds)
+
+
+@kernel
+def solve_one(omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status, out):
+    """Solve one element into ``out`` (length NFIELDS, see ``FIELDS``).
+
+    ``n_folds`` < 0: the branch is certainly monotone and physical (fast path); otherwise the
+    ``folds`` of (eps, theta0) are given. ``roots`` and ``status`` are work arrays of length
+    MAX_ROOTS (allocated once per driver call, not per element).
+    """
+    ln_target = math.log(omega2) if omega2 > 0.0 else -math.inf
+    if n_folds < 0 and ln_target > -math.inf:
+        t0 = start_physical(ln_target, eps, theta0)
+        t, st = newton(ln_target, t0, T_MIN, t_max(ln_target), True, eps, theta0, 1, 0)
+        roots[0] = t
+        status[0] = st
+        count = 1
+    else:
+        count = branch_roots(
+            ln_target, eps, theta0, sign, n, folds, max(n_folds, 0), roots, status
+        )
+    pick = -1
+    if root == ROOT_LOW:
+        pick = 0 if count >= 1 else -1
+    elif root == ROOT_HIGH:
+        pick = count - 1
+    elif count >= 3:
+        pick = 1
+    out[1] = count
+    if pick < 0:
+        out[0] = math.nan
+        out[2] = STATUS_NO_ROOT
+        for j in range(3, out.size):
+            out[j] = math.nan
+        return
+    t = roots[pick]
+    out[0] = t
+    out[2] = status[pick]
+    vals = fields_at(t, eps, theta0, sign, n)
+    for j in range(len(vals)):
+        out[3 + j] = vals[j]
+
+
+@kernel
+def solve_scalar(omega2, eps, theta0, sign, n, root, u_lo, du, eps_c, t_c):
+    """One element with its own fold search: the NFIELDS values as a tuple of floats."""
+    folds = np.full(MAX_FOLDS, math.nan)
+    if needs_folds(eps, theta0, sign, n, u_lo, du, eps_c):
+        n_folds = find_folds(eps, theta0, sign, n, u_lo, du, t_c, folds)
+    else:
+        n_folds = -1
+    row = np.empty(NFIELDS)
+    roots = np.empty(MAX_ROOTS)
+    status = np.empty(MAX_ROOTS, dtype=np.int64)
+    solve_one(omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status, row)
+    return (
+        row[0],
+        row[1],
+        row[2],
+        row[3],
+        row[4],
+        row[5],
+        row[6],
+        row[7],
+        row[8],
+        row[9],
+        row[10],
+        row[11],
+    )
+
+
+@kernel
+def needs_folds_array(eps, theta0, sign, n, u_lo, du, eps_c):
+    size = eps.size
+    out = np.empty(size, dtype=np.bool_)
+    for i in range(size):
+        out[i] = needs_folds(eps[i], theta0[i], sign, n, u_lo, du, eps_c)
+    return out
+
+
+@kernel
+def folds_array(eps, theta0, sign, n, u_lo, du, t_c):
+    """Folds of each (eps, theta0) pair: (folds (N, MAX_FOLDS), counts (N,))."""
+    size = eps.size
+    folds = np.full((size, MAX_FOLDS), math.nan)
+    counts = np.empty(size, dtype=np.int64)
+    for i in range(size):
+        counts[i] = find_folds(eps[i], theta0[i], sign, n, u_lo, du, t_c, folds[i])
+    return folds, counts
+
+
+@kernel
+def solve_array(omega2, eps, theta0, sign, n, root, pair, folds, counts, out):
+    """Solve every element; pair[i] >= 0 indexes the folds of element i's (eps, theta0),
+    pair[i] < 0 marks a certainly monotone physical element. ``out`` is (NFIELDS, N)."""
+    row = np.empty(NFIELDS)
+    roots = np.empty(MAX_ROOTS)
+    status = np.empty(MAX_ROOTS, dtype=np.int64)
+    for i in range(omega2.size):
+        j = pair[i]
+        f = folds[max(j, 0)]
+        c = counts[j] if j >= 0 else -1
+        solve_one(omega2[i], eps[i], theta0[i], sign, n, root, f, c, roots, status, row)
+        for k in range(NFIELDS):
+            out[k, i] = row[k]
+
+
+@kernel
+def fields_array(t, eps, theta0, sign, n, out):
+    """Fields at given parameters (``from_parameter``): out is (NFIELDS, N)."""
+    for i in range(t.size):
+        vals = fields_at(t[i], eps[i], theta0[i], sign, n)
+        out[0, i] = t[i]
+        out[1, i] = 1.0
+        out[2, i] = STATUS_CONVERGED
+        for k in range(len(vals)):
+            out[3 + k, i] = vals[k]
+
+
+@kernel
+def shape_array(t, eps, theta0, sign, n, sigma, out):
+    """theta, x, z and their displacements at sigma[i, j] of state i: out (6, N, M)."""
+    for i in range(t.size):
+        if math.isnan(t[i]):
+            for j in range(sigma.shape[1]):
+                for k in range(6):
+                    out[k, i, j] = math.nan
+            continue
+        setup = shape_setup(t[i], eps[i], theta0[i], sign, n)
+        for j in range(sigma.shape[1]):
+            vals = shape_point(sigma[i, j], sign, n, setup)
+            for k in range(6):
+                out[k, i, j] = vals[k]
+
+
+@kernel
+def solve_all_kernel(omega2, eps, theta0, max_n, u_lo, du, lower, t_c):
+    """Every state on every branch (sign, n <= max_n): (rows (K, NFIELDS), signs, ns)."""
+    ln_target = math.log(omega2) if omega2 > 0.0 else -math.inf
+    cap = 16
+    rows = np.empty((cap, NFIELDS))
+    signs = np.empty(cap, dtype=np.int64)
+    ns = np.empty(cap, dtype=np.int64)
+    folds = np.full(MAX_FOLDS, math.nan)
+    roots = np.empty(MAX_ROOTS)
+    status = np.empty(MAX_ROOTS, dtype=np.int64)
+    total = 0
+    for n in range(max_n + 1):
+        for sign in (1, -1):
+            if needs_folds(eps, theta0, sign, n, u_lo, du, lower):
+                n_folds = find_folds(eps, theta0, sign, n, u_lo, du, t_c, folds)
+            else:
+                n_folds = 0
+            count = branch_roots(ln_target, eps, theta0, sign, n, folds, n_folds, roots, status)
+            for j in range(count):
+                if total == cap:
+                    cap *= 2
+                    rows2 = np.empty((cap, NFIELDS))
+                    rows2[:total] = rows[:total]
+                    rows = rows2
+                    s2 = np.empty(cap, dtype=np.int64)
+                    s2[:total] = signs[:total]
+                    signs = s2
+                    n2 = np.empty(cap, dtype=np.int64)
+                    n2[:total] = ns[:total]
+                    ns = n2
+                vals = fields_at(roots[j], eps, theta0, sign, n)
+                rows[total, 0] = roots[j]
+                rows[total, 1] = count
+                rows[total, 2] = status[j]
+                for k in range(len(vals)):
+                    rows[total, 3 + k] = vals[k]
+                signs[total] = sign
+                ns[total] = n
+                total += 1
+    return rows[:total], signs[:total], ns[:total]
