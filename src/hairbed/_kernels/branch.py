@@ -98,10 +98,21 @@ def evaluate(t, eps, theta0, sign, n, want_slope):
     where omega^2 <= 0. t = -inf is the undeformed hair (d = 0).
     """
     s, c, oms, ops = base_angle(theta0)
-    lq = log_expit(t)
-    lqc = log_expit(-t)
-    q = math.exp(lq)
-    qc = math.exp(lqc)
+    # expit(+-t) and their logarithms from one exp and one log1p
+    if t >= 0.0:
+        ex = math.exp(-t)
+        l1 = math.log1p(ex)
+        q = 1.0 / (1.0 + ex)
+        qc = ex * q
+        lq = -l1
+        lqc = -t - l1
+    else:
+        ex = math.exp(t)
+        l1 = math.log1p(ex)
+        qc = 1.0 / (1.0 + ex)
+        q = ex * qc
+        lqc = -l1
+        lq = t - l1
     d = oms * q
     p = 0.5 * oms * qc
     tau = math.log(0.5 * oms) + lqc
@@ -109,12 +120,13 @@ def evaluate(t, eps, theta0, sign, n, want_slope):
     mu = 0.5 * two_mu
     sn0_2 = ops / two_mu
     sn0 = math.sqrt(sn0_2)
-    sq = math.exp(0.5 * lq)  # sqrt(expit(t)) without underflow of expit itself
+    # sqrt(expit(+-t)) without the underflow of expit itself
+    sq = math.sqrt(q) if q > 1e-300 else math.exp(0.5 * lq)
     cn0 = math.sqrt(oms / two_mu) * sq
     cn0_2 = cn0 * cn0
     dn0_2 = 0.5 * oms
     dn0 = math.sqrt(dn0_2)
-    sqrt_p = dn0 * math.exp(0.5 * lqc)
+    sqrt_p = dn0 * (math.sqrt(qc) if qc > 1e-300 else math.exp(0.5 * lqc))
     root2d = math.sqrt(2.0 * oms) * sq
     k = complete_k(p, tau)
     rf_comp = 0.0
@@ -136,24 +148,25 @@ def evaluate(t, eps, theta0, sign, n, want_slope):
         oe = 2.0 * n * k + kv
     else:
         oe = (2.0 * n + 2.0) * k - kv
+    tiny = oe <= 1e-150  # omega_eps^2 would underflow: ln omega_eps from logarithms
     if sign > 0 and n == 0 and rf_comp > 0.0:
         h1 = math.sqrt(2.0 * two_mu) / rf_comp  # sqrt(2 d)/kv with d cancelled
-        ln_oe = 0.5 * (math.log(oms / two_mu) + lq) + math.log(rf_comp)
     elif oe > 0.0:
         h1 = sign * root2d / oe
-        ln_oe = math.log(oe)
     else:
         h1 = c
-        ln_oe = -math.inf
     if d == 0.0 and lq == -math.inf:  # the end of the branch, xi = sin(theta0)
         h1 = sign * c
     if h1 > 1.0:  # int_0^1 cos(theta) <= 1: only rounding can exceed it
         h1 = 1.0
     one_minus = 1.0 - eps * h1
-    if one_minus > 0.0 and ln_oe > -math.inf:
-        ln_w2 = 2.0 * ln_oe + math.log1p(-eps * h1)
-    else:
+    if oe == 0.0 or one_minus <= 0.0:
         ln_w2 = LN_OMEGA2_NONE
+    elif not tiny:
+        ln_w2 = math.log(oe * oe * one_minus)
+    else:  # physical branch at t < -690: kv = cn0 R_F, exact down to T_MIN
+        ln_oe = 0.5 * (math.log(oms / two_mu) + lq) + math.log(rf_comp)
+        ln_w2 = 2.0 * ln_oe + math.log1p(-eps * h1)
     if d < p:
         xi = s + d
     else:

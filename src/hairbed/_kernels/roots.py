@@ -27,6 +27,7 @@ import numpy as np
 
 from .._jit import kernel
 from .branch import LN_OMEGA2_NONE, base_angle, evaluate, log_expit
+from .weak import weak_shape
 
 __all__ = [
     "MAX_FOLDS",
@@ -53,6 +54,8 @@ STATUS_MAXITER = -2
 T_MIN = -1000.0
 _MAXITER = 100
 _LN4 = math.log(4.0)
+#: Below this ln(omega_eps^2) the weak-forcing series gives the starting point.
+_LN_SERIES_START = math.log(0.5)
 
 
 @kernel
@@ -63,11 +66,23 @@ def t_max(ln_target):
 
 @kernel
 def start_physical(ln_target, eps, theta0):
-    """Starting t on the physical branch from the weak and strong forcing limits."""
+    """Starting t on the physical branch: the weak-forcing series, else the limits."""
     s, c, oms, ops = base_angle(theta0)
     ln_oe2_weak = ln_target - math.log1p(-eps * c)
+    if ln_oe2_weak < _LN_SERIES_START:
+        # weak forcing: the perturbation series (``weak``) for h1 and theta1 at omega_eps^2,
+        # with omega_eps^2 = omega^2/(1 - eps h1) by fixed-point iteration
+        w2 = math.exp(ln_target)
+        e2 = math.exp(ln_oe2_weak)
+        for _ in range(2):
+            e2 = w2 / (1.0 - eps * (c + weak_shape(1.0, e2, s, c)[2]))
+        dth = weak_shape(1.0, e2, s, c)[0]
+        half = math.sin(0.5 * dth)
+        ratio = (c * math.sin(dth) - 2.0 * s * half * half) / oms  # (xi - sin theta0)/(1 - s)
+        if 0.0 < ratio < 0.9:
+            return math.log(ratio) - math.log1p(-ratio)
     if ln_oe2_weak < 0.0:
-        # weak forcing: theta ~ theta0, h1 ~ cos theta0, d ~ omega_eps^2 cos^2(theta0)/2
+        # theta ~ theta0, h1 ~ cos theta0, d ~ omega_eps^2 cos^2(theta0)/2
         ln_d = ln_oe2_weak + 2.0 * math.log(c) - math.log(2.0)
         ln_ratio = ln_d - math.log(oms)
         if ln_ratio > -1e-3:
