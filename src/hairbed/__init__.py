@@ -1,14 +1,25 @@
 """hairbed: exact deformation of a dense bed of elastic hairs in channel flow.
 
-The numerical core (everything here except ``hairbed.plotting`` and ``hairbed.cli``) imports
-numpy and scipy only; ``hairbed.plotting`` needs matplotlib.
+The numerical core (everything here except ``hairbed.plotting`` and ``hairbed.cli``) needs
+numpy, scipy and numba (its kernels); ``hairbed.plotting`` needs matplotlib.
+
+Importing hairbed loads only the solver's wrappers (numpy, no compiled kernel, no scipy).
+The lab modules (``branches``, ``inverse``, ``quasistatic``, ``rheology``, ``stability``,
+``numerics``, ``units``) and the names ``HairBed`` and ``HairState`` are imported on first
+attribute access (PEP 562), so a command imports only what it needs.
 """
 
-# submodules build on the core and use hairbed.solve only at call time
-from . import branches, inverse, quasistatic, rheology, stability
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from .solution import Solution
 from .solve import from_parameter, from_xi, solve, solve_all
-from .units import HairBed, HairState
+
+if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
+    from . import branches, inverse, numerics, quasistatic, rheology, stability, units
+    from .units import HairBed, HairState
 
 __all__ = [
     "HairBed",
@@ -18,10 +29,35 @@ __all__ = [
     "from_parameter",
     "from_xi",
     "inverse",
+    "numerics",
     "quasistatic",
     "rheology",
     "solve",
     "solve_all",
     "stability",
+    "units",
 ]
 __version__ = "0.1.0"
+
+#: Submodules imported on first access as ``hairbed.<name>``.
+_LAZY_MODULES = frozenset(
+    {"branches", "inverse", "numerics", "quasistatic", "rheology", "stability", "units"}
+)
+#: Names imported on first access: name -> submodule that defines it.
+_LAZY_NAMES = {"HairBed": "units", "HairState": "units"}
+
+
+def __getattr__(name: str) -> Any:
+    """Import a lab module (or a name of one) on first access, then cache it here."""
+    if name in _LAZY_MODULES:
+        value = importlib.import_module(f"{__name__}.{name}")
+    elif name in _LAZY_NAMES:
+        value = getattr(importlib.import_module(f"{__name__}.{_LAZY_NAMES[name]}"), name)
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

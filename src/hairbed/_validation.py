@@ -126,6 +126,8 @@ def check_state_inputs(
 
 def check_branch(sign: Any, n: Any) -> tuple[int, int]:
     """Validate a branch label: ``sign`` in {+1, -1}, ``n`` a whole number >= 0."""
+    if type(sign) is int and type(n) is int and (sign == 1 or sign == -1) and n >= 0:
+        return sign, n  # the common case, without the abstract-base-class checks
     if isinstance(sign, bool) or not isinstance(sign, numbers.Real) or sign not in (1, -1):
         raise ValueError(f"sign must be +1 or -1, got {sign!r}")
     if (

@@ -124,15 +124,19 @@ class Solution:
     def _from_row(
         cls, row: tuple[float, ...], eps: float, theta0: float, sign: int, n: int, omega2: Any
     ) -> Solution:
-        """A single state from the kernel's output tuple (``_kernels.state.FIELDS``)."""
-        t, count, status = row[0], int(row[1]), int(row[2])
-        return cls(
+        """A single state from the kernel's output tuple (``_kernels.state.FIELDS``).
+
+        Built without the frozen dataclass's per-field ``object.__setattr__`` (a scalar solve
+        is a few microseconds; the generated ``__init__`` alone would double it).
+        """
+        status = int(row[2])
+        obj = object.__new__(cls)
+        obj.__dict__.update(
             omega2=row[3] if omega2 is None else omega2,
             eps=eps,
             theta0=theta0,
             sign=sign,
             n=n,
-            t=t,
             xi=row[4],
             omega_eps=row[5],
             energy=row[6],
@@ -141,10 +145,12 @@ class Solution:
             tip_displacement=row[9],
             tip_angle=row[10],
             base_curvature=row[11],
-            n_roots=count,
+            n_roots=int(row[1]),
             physical=sign == 1 and n == 0 and status == 0,
             status=status,
+            t=row[0],
         )
+        return obj
 
     @classmethod
     def _from_columns(

@@ -29,8 +29,11 @@ _ROOT_CODES = {"low": 0, "mid": 1, "high": 2}
 #: Table of the physical branch's fold threshold eps_c over u = ln(1 + sin theta0).
 _U_LO = -80.0
 _U_NODES = 1025
+#: Tables of Newton's start: ln(omega_eps^2) in [-4, 6] and theta0 in [-1.5, 1.5].
+_X_LO, _X_HI, _DX = -4.0, 6.0, 1.0 / 16.0
+_TH_MAX, _TH_NODES = 1.5, 129
 _state: Any = None
-_table: tuple[float, float, np.ndarray, np.ndarray] | None = None
+_table: tuple[Any, ...] | None = None
 
 
 def _kernels() -> Any:
@@ -43,23 +46,78 @@ def _kernels() -> Any:
     return _state
 
 
-def _fold_table() -> tuple[float, float, np.ndarray, np.ndarray]:
-    """(u_lo, du, lower, t_c): lower[i] <= eps_c(u) on [u_i, u_i+1], built once per process.
+def _tables() -> tuple[Any, ...]:
+    """The process-wide tables of the kernels, built on first use (cached on disk).
 
-    Below ``lower`` the physical branch is monotone (module docstring of
-    ``_kernels.roots``); the margin covers the curvature of eps_c between nodes.
+    (u_lo, du, lower, t_c, start): lower[i] <= eps_c(u) on [u_i, u_i+1] over
+    u = ln(1 + sin theta0), below which the physical branch is monotone (module docstring of
+    ``_kernels.roots``; the margin covers the curvature of eps_c between nodes), t_c the
+    minimiser of G; and ``start``, the eps = 0 tables of Newton's starting point
+    (``_kernels.roots.start_table``). They are pure functions of the kernel sources, so they
+    are kept beside the kernel cache under the kernel sources' hash (an edit rebuilds them);
+    a table only steers where Newton starts and where folds are searched, never a result.
     """
     global _table
     if _table is None:
-        from ._kernels.roots import critical_table
+        from ._kernels import roots
 
         u = np.linspace(_U_LO, 0.0, _U_NODES)
-        t_c, eps_c = critical_table(u)
+        x = np.arange(_X_LO, _X_HI + 0.5 * _DX, _DX)
+        th = np.linspace(-_TH_MAX, _TH_MAX, _TH_NODES)
+        cached = _load_tables()
+        if cached is None:
+            t_c, eps_c = roots.critical_table(u)
+            tab_t, tab_h = roots.start_table(x, th)
+            _save_tables(t_c=t_c, eps_c=eps_c, tab_t=tab_t, tab_h=tab_h)
+        else:
+            t_c, eps_c, tab_t, tab_h = (cached[k] for k in ("t_c", "eps_c", "tab_t", "tab_h"))
         left, right = eps_c[:-1], eps_c[1:]
         lower = np.minimum(left, right) - 0.05 * np.abs(right - left) - 1e-9
         lower = np.append(lower, lower[-1])
-        _table = (_U_LO, float(u[1] - u[0]), lower, t_c)
+        start = (float(x[0]), float(x[1] - x[0]), float(th[0]), float(th[1] - th[0]), tab_t, tab_h)
+        _table = (_U_LO, float(u[1] - u[0]), lower, t_c, start)
     return _table
+
+
+def _tables_path() -> Any:
+    from . import _jit
+    from ._kernels import roots
+
+    cache = getattr(roots.start_table, "_cache", None)
+    path = getattr(cache, "cache_path", None)
+    if not _jit.CACHE_ENABLED or not path:
+        return None
+    from pathlib import Path
+
+    return Path(path) / f"tables-{_jit.kernel_sources_hash()[:20]}.npz"
+
+
+def _load_tables() -> Any:
+    path = _tables_path()
+    if path is None or not path.exists():
+        return None
+    try:
+        with np.load(path) as data:
+            return {k: np.array(data[k]) for k in ("t_c", "eps_c", "tab_t", "tab_h")}
+    except (OSError, ValueError, KeyError):
+        return None
+
+
+def _save_tables(**arrays: np.ndarray) -> None:
+    """Write the tables whole or not at all (temporary file, then rename)."""
+    import os
+    import tempfile
+
+    path = _tables_path()
+    if path is None:
+        return
+    try:
+        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npz.tmp")
+        with os.fdopen(fd, "wb") as fh:
+            np.savez(fh, **arrays)
+        os.replace(tmp, path)
+    except OSError:
+        pass
 
 
 def _scalar(value: Any) -> float | None:
@@ -148,8 +206,7 @@ def solve(
     ):
         sign, n = check_branch(sign, n)
         code = _ROOT_CODES[check_root(root)]
-        u_lo, du, lower, t_c = _fold_table()
-        row = _kernels().solve_scalar(w, e, th, sign, n, code, u_lo, du, lower, t_c)
+        row = _kernels().solve_scalar(w, e, th, sign, n, code, _tables())
         return Solution._from_row(row, e, th, sign, n, w)
     wa, ea, ta = check_inputs(omega2, eps, theta0)
     sign, n = check_branch(sign, n)
@@ -163,8 +220,8 @@ def _solve_arrays(
     k = _kernels()
     shape = w.shape
     wf, ef, tf = (np.ascontiguousarray(a).reshape(-1) for a in (w, e, t0))
-    u_lo, du, lower, t_c = _fold_table()
-    need = k.needs_folds_array(ef, tf, sign, n, u_lo, du, lower)
+    tables = _tables()
+    need = k.needs_folds_array(ef, tf, sign, n, tables)
     idx = np.flatnonzero(need)
     pair = np.full(wf.size, -1, dtype=np.int64)
     if idx.size:
@@ -177,12 +234,12 @@ def _solve_arrays(
             ue = np.ascontiguousarray(keys[:, 0])
             ut = np.ascontiguousarray(keys[:, 1])
             pair[idx] = inverse.reshape(-1)
-        folds, counts = k.folds_array(ue, ut, sign, n, u_lo, du, t_c)
+        folds, counts = k.folds_array(ue, ut, sign, n, tables)
     else:
         folds = np.full((1, k.MAX_FOLDS), np.nan)
         counts = np.zeros(1, dtype=np.int64)
     out = np.empty((k.NFIELDS, wf.size))
-    k.solve_array(wf, ef, tf, sign, n, code, pair, folds, counts, out)
+    k.solve_array(wf, ef, tf, sign, n, code, pair, folds, counts, out, tables)
     return Solution._from_columns(out, shape, e, t0, sign, n, w)
 
 
@@ -224,8 +281,7 @@ def solve_all(
         if isinstance(max_n, bool) or not isinstance(max_n, (int, np.integer)) or max_n < 0:
             raise ValueError(f"max_n must be a whole number >= 0, got {max_n!r}")
         bound = min(bound, int(max_n))
-    u_lo, du, lower, t_c = _fold_table()
-    rows, signs, ns = _kernels().solve_all_kernel(wf, ef, tf, bound, u_lo, du, lower, t_c)
+    rows, signs, ns = _kernels().solve_all_kernel(wf, ef, tf, bound, _tables())
     return [
         Solution._from_row(tuple(r), ef, tf, int(s), int(k), wf)
         for r, s, k in zip(rows.tolist(), signs.tolist(), ns.tolist())

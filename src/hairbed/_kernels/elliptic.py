@@ -40,7 +40,7 @@ The complete integrals of parameter m = 1 - p are (DLMF 19.2.8, 19.25.1)
 Every function takes the complementary parameter p (not m): near the separatrix m -> 1, K has
 the logarithmic singularity :math:`K = \ln 4 - \frac{1}{2} \ln p + O(p \ln p)`
 (DLMF 19.12.1), so p must be known to full relative accuracy and ``tau = ln p`` is carried
-where p underflows. K and E use the Cephes minimax approximations P(p) - ln(p) Q(p).
+where p underflows. K and E use the Cephes minimax approximations in p and ln p.
 
 All kernels trust their inputs (the callers validate).
 """
@@ -57,11 +57,14 @@ _LN4 = 1.3862943611198906188  # ln 4
 #: Below this ln p the O(p) term of K = ln 4 - tau/2 + O(p ln p) is far below an ulp.
 _TAU_UNDERFLOW = -700.0
 _THIRD = 1.0 / 3.0
-# Stop the duplication once max |X| < 1/_RF_STOP (resp. 1/_RD_STOP): the first omitted terms
-# of the 7th-order series are below 0.016 |X|^8 for R_F and 0.082 |X|^8 for R_D (measured
-# against mpmath), i.e. below 2e-17 relative.
-_RF_STOP = 75.0
-_RD_STOP = 90.0
+# Stop the duplication once max |X| < _RF_TOL (resp. _RD_TOL): the first omitted terms of the
+# 7th-order series are below 0.016 |X|^8 for R_F and 0.082 |X|^8 for R_D (measured against
+# mpmath), i.e. below 2e-17 relative.
+_RF_TOL = 1.0 / 75.0
+_RD_TOL = 1.0 / 90.0
+#: Far more duplication steps than any finite arguments need (about 20 at most): the loop
+#: cannot hang on inf or nan.
+_MAX_STEPS = 100
 
 # Cephes ellpk.c and ellpe.c (Stephen L. Moshier, Cephes Math Library 2.0/2.1), as distributed
 # with SciPy (scipy/special/cephes) under the BSD-3-Clause license; highest degree first.
@@ -163,15 +166,17 @@ def rf(x, y, z):
     Returns
     -------
     float
-        R_F to a few ulp, for arguments spanning the whole double range.
+        R_F to a few ulp, for arguments anywhere from subnormal to about 1e307.
     """
     a0 = (x + y + z) * _THIRD
     dx = a0 - x
     dy = a0 - y
-    q = _RF_STOP * max(abs(dx), abs(dy), abs(a0 - z))
+    q = max(abs(dx), abs(dy), abs(a0 - z))  # 4^n max |X_n| A_n, never overflows
     a = a0
     f = 1.0  # 4^-n
-    while q >= a:
+    for _ in range(_MAX_STEPS):
+        if not q >= _RF_TOL * a:  # also stops at once on nan
+            break
         sx = math.sqrt(x)  # product of roots, not root of product: no underflow
         sy = math.sqrt(y)
         sz = math.sqrt(z)
@@ -193,16 +198,19 @@ def rd(x, y, z):
     Returns
     -------
     float
-        R_D to a few ulp, for arguments spanning the whole double range.
+        R_D to a few ulp, for arguments anywhere from subnormal to about 1e307 (where R_D,
+        of order z^(-3/2), does not overflow).
     """
     a0 = (x + y + 3.0 * z) * 0.2
     dx = a0 - x
     dy = a0 - y
-    q = _RD_STOP * max(abs(dx), abs(dy), abs(a0 - z))
+    q = max(abs(dx), abs(dy), abs(a0 - z))
     a = a0
     f = 1.0
     s = 0.0
-    while q >= a:
+    for _ in range(_MAX_STEPS):
+        if not q >= _RD_TOL * a:
+            break
         sx = math.sqrt(x)
         sy = math.sqrt(y)
         sz = math.sqrt(z)
@@ -237,13 +245,15 @@ def rf_rd(x, y, z):
     dfy = af0 - y
     ddx = ad0 - x
     ddy = ad0 - y
-    qf = _RF_STOP * max(abs(dfx), abs(dfy), abs(af0 - z))
-    qd = _RD_STOP * max(abs(ddx), abs(ddy), abs(ad0 - z))
+    qf = max(abs(dfx), abs(dfy), abs(af0 - z))
+    qd = max(abs(ddx), abs(ddy), abs(ad0 - z))
     af = af0
     ad = ad0
     f = 1.0
     s = 0.0
-    while qf >= af or qd >= ad:
+    for _ in range(_MAX_STEPS):
+        if not (qf >= _RF_TOL * af or qd >= _RD_TOL * ad):
+            break
         sx = math.sqrt(x)
         sy = math.sqrt(y)
         sz = math.sqrt(z)

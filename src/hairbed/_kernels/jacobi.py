@@ -12,31 +12,36 @@ functions (DLMF 22.2) are
 
 (theta constants at z = 0), and Jacobi's epsilon function is
 :math:`\mathrm{Eps}(u) = \int_0^u \operatorname{dn}^2 t\, dt = E(\operatorname{am} u | m)`
-(DLMF 22.16.14), continuous in u with Eps(u + 2K) = Eps(u) + 2E; what is returned is
+(DLMF 22.16(ii)), continuous in u with Eps(u + 2K) = Eps(u) + 2E; what is returned is
 :math:`u - \mathrm{Eps}(u) = m \int_0^u \operatorname{sn}^2 t\, dt`.
 
 Evaluation:
 
 * period reduction u = 2jK + r, |r| <= K: sn and cn change sign with j, dn is 2K-periodic
-  and u - Eps(u) = 2j(K - E) + (r - Eps(r)) (DLMF 22.4.3, 22.16.15);
-* reflection of |r| > K/2 to w = K - |r| (DLMF 22.4.3, 22.16.27):
+  and u - Eps(u) = 2j(K - E) + (r - Eps(r)) (DLMF Table 22.4.3, 22.16(ii));
+* reflection of |r| > K/2 to w = K - |r| (DLMF Table 22.4.3, 22.16(ii)):
   sn(K - w) = cd(w), cn(K - w) = sqrt(p) sd(w), dn(K - w) = sqrt(p) nd(w) and
   Eps(K - w) = E - Eps(w) + m sn(w) cd(w), which keeps relative accuracy near the zeros of
   cn and the minima of dn;
 * on 0 <= w <= K/2 the theta series in the nome q for m <= 1/2 and, for m > 1/2, in the
   complementary nome q1 = exp(-pi K/K') through Jacobi's imaginary transformation
-  sn(u|m) = -i sc(iu|p), cn(u|m) = nc(iu|p), dn(u|m) = dc(iu|p) (DLMF 22.6.12), with theta
-  functions at the imaginary argument iy, y = pi w / (2K'). Either nome is at most e^-pi, so
-  four terms of theta_1, theta_2 and three of theta_3, theta_4 reach full precision. In the
-  second form theta_1, theta_2 are scaled by e^-y and sqrt(p) sd, sqrt(p) nd are formed as
-  exp(tau/2 + y) times scaled values, so nothing over- or underflows before the result does,
-  up to u ~ 1e4 at p = 0 (tau = ln p is carried where p underflows);
+  sn(u|m) = -i sc(iu|p), cn(u|m) = nc(iu|p), dn(u|m) = dc(iu|p) (DLMF Table 22.6.1), with theta
+  functions at the imaginary argument iy, y = pi w / (2K'). Either nome is at most e^-pi,
+  so four terms of theta_1, theta_2 and three of theta_3, theta_4 reach full precision (the
+  first omitted terms are below 1e-19 relative). In the second form theta_1, theta_2 are
+  scaled by e^-y, and sqrt(p) sd, sqrt(p) nd are scaled values times sqrt(p) e^y, taken as
+  sqrt(p) / e^-y where both are in range (so dn(K) = sqrt(p) to the rounding of p) and as
+  exp(tau/2 + y) where p underflows: nothing over- or underflows before the result does, up
+  to u ~ 1e4 at p = 0 (tau = ln p is carried where p underflows);
 * w - Eps(w) = (m/3) sn^3 R_D(cn^2, dn^2, 1) (DLMF 19.25.9 with F(am w) = w), without the
   cancellation of w - Eps(w), and w - tanh w (the m = 1 form) where cn^2 underflows.
 
-This is the scalar port of ``hairbed._elliptic.jacobi``. :func:`jacobi_setup` computes what
-depends only on the parameter; :func:`jacobi_prepared` evaluates one argument from it (use the
-pair for many u at one parameter); :func:`jacobi` does both.
+This is the scalar port of the numpy layer's ``jacobi`` (``hairbed._elliptic``, now
+``tests/naive/elliptic.py``), with two refinements: the odd theta series at small y is summed
+without cancellation, and a reduction that rounds to |r| just above K is folded back.
+:func:`jacobi_setup` computes what depends only on the parameter; :func:`jacobi_prepared`
+evaluates one argument from it (use the pair for many u at one parameter); :func:`jacobi`
+does both.
 """
 
 from __future__ import annotations
@@ -66,10 +71,11 @@ def jacobi_setup(m, p, tau, k, kp):
 
     Returns
     -------
-    tuple of 15 floats
+    tuple of 16 floats
         (branch, scale, log nome, q, q^2, q^4, q^6, q^9, q^12, the five ratios of theta
-        constants for sn and cd, cn, dn, sd, nd, sqrt(p)), branch 0 for the nome q of m and
-        1 for the complementary nome; pass it to :func:`jacobi_prepared`.
+        constants for sn and cd, cn, dn, sd, nd, sqrt(p) or 0 once p < 1e-300, 1/(2K)), with
+        branch 0 for the nome q of m (m <= 1/2), 1 for the complementary nome q1 and
+        scale = pi/(2K) or pi/(2K'); pass it to :func:`jacobi_prepared`.
     """
     if m <= 0.5:
         branch = 0.0
@@ -117,13 +123,15 @@ def jacobi_setup(m, p, tau, k, kp):
         k_dn,
         k_sd,
         k_nd,
-        math.exp(0.5 * tau),
+        # sqrt(p) to the rounding of p itself; 0 routes jacobi_prepared to exp(tau/2 + y)
+        math.sqrt(p) if p >= 1e-300 else 0.0,
+        0.5 / k,
     )
 
 
 @kernel
 def _theta_small_m(w, c):
-    """sn, cn, dn, cd, sd, nd at 0 <= w <= K/2 from the theta series in q (m <= 1/2)."""
+    """sn, cn, dn, cd, sd, nd (and y = 0, e^-y = 1) at 0 <= w <= K/2 for m <= 1/2."""
     z = c[1] * w
     s = math.sin(z)
     co = math.cos(z)
@@ -155,12 +163,13 @@ def _theta_small_m(w, c):
         c[12] * th1 * i3,
         c[13] * th4 * i3,
         0.0,
+        1.0,
     )
 
 
 @kernel
 def _theta_large_m(w, c):
-    """sn, cn, dn, cd, sd e^-y, nd e^-y and y at 0 <= w <= K/2 (m > 1/2).
+    """sn, cn, dn, cd, sd e^-y, nd e^-y, y and e^-y at 0 <= w <= K/2 for m > 1/2.
 
     Theta functions of the complementary nome q1 at iy, y = pi w / (2K'). With
     d = e^-2y and a = q1 e^2y <= q1^(1/2) (as w <= K/2), every term of
@@ -207,6 +216,7 @@ def _theta_large_m(w, c):
         c[12] * big_s * i3,
         c[13] * big_c * i3,
         y,
+        ey,
     )
 
 
@@ -233,7 +243,7 @@ def jacobi_prepared(u, m, tau, k, kme, c):
         (sn u, cn u, dn u, u - Eps(u)).
     """
     k2 = 2.0 * k
-    j = math.floor(u / k2 + 0.5)
+    j = math.floor(u * c[15] + 0.5)
     r = u - j * k2
     # rounding of j can leave |r| just above K: fold back so the reflection sees K - |r| >= 0
     if r > k:
@@ -248,9 +258,9 @@ def jacobi_prepared(u, m, tau, k, kme, c):
     hi = a > 0.5 * k
     w = k - a if hi else a
     if c[0] == 0.0:
-        sn, cn, dn, cd, sd, nd, y = _theta_small_m(w, c)
+        sn, cn, dn, cd, sd, nd, y, ey = _theta_small_m(w, c)
     else:
-        sn, cn, dn, cd, sd, nd, y = _theta_large_m(w, c)
+        sn, cn, dn, cd, sd, nd, y, ey = _theta_large_m(w, c)
     cn2 = cn * cn
     if cn2 < 1e-300:
         # only reached for m so close to 1 that the m = 1 form is exact to rounding
@@ -258,8 +268,12 @@ def jacobi_prepared(u, m, tau, k, kme, c):
     else:
         w_me = m / 3.0 * (sn * sn * sn) * rd(cn2, dn * dn, 1.0)
     if hi:
-        # sqrt(p) e^y, formed as one exponential where p or e^y are out of range
-        f = c[14] if c[0] == 0.0 else math.exp(0.5 * tau + y)
+        # f = sqrt(p) e^y: from sqrt(p) itself (exact at u = K, dn(K) = sqrt(p)) where p and
+        # e^-y are in range, else as one exponential (p underflowed, or y beyond ~690)
+        if c[14] > 0.0 and ey > 1e-300:
+            f = c[14] / ey
+        else:
+            f = math.exp(0.5 * tau + y)
         w_me = kme - w_me - m * sn * cd
         sn = cd
         cn = f * sd

@@ -41,7 +41,9 @@ __all__ = [
     "newton",
     "physical_folds",
     "scan_folds",
+    "start_from_table",
     "start_physical",
+    "start_table",
     "t_max",
 ]
 
@@ -365,11 +367,11 @@ def scan_folds(eps, theta0, sign, n, folds):
 
 
 @kernel
-def branch_roots(ln_target, eps, theta0, sign, n, folds, n_folds, roots, status):
+def branch_roots(ln_target, eps, theta0, sign, n, folds, n_folds, roots, status, start):
     """All roots on the branch, given its folds; fills ``roots``/``status`` and returns count.
 
     ln_target = -inf (omega^2 = 0) gives t = -inf on the physical branch (the hair at rest)
-    and no root elsewhere.
+    and no root elsewhere. ``start`` is the table of :func:`start_from_table`.
     """
     physical = sign > 0 and n == 0
     if ln_target == -math.inf:
@@ -389,9 +391,10 @@ def branch_roots(ln_target, eps, theta0, sign, n, folds, n_folds, roots, status)
         hi_v = max(fa, fb)
         if lo_v < ln_target <= hi_v and fa != LN_OMEGA2_NONE and fb != LN_OMEGA2_NONE:
             rising = fb > fa
-            if physical and j == 0:
-                t0 = start_physical(ln_target, eps, theta0)
-            else:  # secant point of the piece's ends
+            t0 = math.nan
+            if physical:
+                t0 = start_from_table(ln_target, eps, theta0, start)
+            if not a < t0 < b:  # secant point of the piece's ends
                 t0 = a + (b - a) * (ln_target - fa) / (fb - fa)
             t, st = newton(ln_target, t0, a, b, rising, eps, theta0, sign, n)
             roots[count] = t
@@ -400,3 +403,97 @@ def branch_roots(ln_target, eps, theta0, sign, n, folds, n_folds, roots, status)
         a = b
         fa = fb
     return count
+
+
+@kernel
+def start_table(x_grid, th_grid):
+    """Tables of the physical branch at eps = 0 for Newton's starting point.
+
+    For ln(omega_eps^2) = x_grid[j] and theta0 = th_grid[i]: T[i, j] = t and H[i, j] = h1.
+    (omega_eps and h1 as functions of t do not depend on eps, so one table serves every eps:
+    omega^2 = omega_eps^2 (1 - eps h1).) Each row is solved by Newton with continuation.
+    """
+    nt = th_grid.size
+    nx = x_grid.size
+    tab_t = np.empty((nt, nx))
+    tab_h = np.empty((nt, nx))
+    for i in range(nt):
+        th = th_grid[i]
+        t = start_physical(x_grid[0], 0.0, th)
+        for j in range(nx):
+            x = x_grid[j]
+            t, st = newton(x, t, T_MIN, t_max(x), True, 0.0, th, 1, 0)
+            tab_t[i, j] = t
+            tab_h[i, j] = evaluate(t, 0.0, th, 1, 0, False)[14]
+    return tab_t, tab_h
+
+
+@kernel
+def _cubic_weights(f):
+    """4-point Lagrange weights at fraction f in [0, 1] of the middle interval."""
+    return (
+        -f * (f - 1.0) * (f - 2.0) / 6.0,
+        (f + 1.0) * (f - 1.0) * (f - 2.0) / 2.0,
+        -(f + 1.0) * f * (f - 2.0) / 2.0,
+        (f + 1.0) * f * (f - 1.0) / 6.0,
+    )
+
+
+@kernel
+def _bicubic(tab, i, wi, j, wj):
+    acc = 0.0
+    for a in range(4):
+        row = 0.0
+        for b in range(4):
+            row += wj[b] * tab[i - 1 + a, j - 1 + b]
+        acc += wi[a] * row
+    return acc
+
+
+@kernel
+def _cubic_slopes(f):
+    """Derivatives d/df of the 4-point Lagrange weights."""
+    return (
+        -(3.0 * f * f - 6.0 * f + 2.0) / 6.0,
+        (3.0 * f * f - 4.0 * f - 1.0) / 2.0,
+        -(3.0 * f * f - 2.0 * f - 2.0) / 2.0,
+        (3.0 * f * f - 1.0) / 6.0,
+    )
+
+
+@kernel
+def start_from_table(ln_target, eps, theta0, table):
+    """Newton's start on the physical branch from the eps = 0 tables (``start_table``).
+
+    X = ln(omega_eps^2) solves X + ln(1 - eps H(X)) = ln(omega^2) (a few Newton steps on the
+    interpolated h1 = H), then t = T(X) is interpolated (bicubic: 4-point Lagrange in both
+    directions). Falls back to :func:`start_physical` outside the tables.
+    """
+    x_lo, dx, th_lo, dth, tab_t, tab_h = table
+    nt, nx = tab_t.shape
+    fi = (theta0 - th_lo) / dth
+    i = int(math.floor(fi))
+    if i < 1 or i > nt - 3:
+        return start_physical(ln_target, eps, theta0)
+    wi = _cubic_weights(fi - i)
+    s, c, oms, ops = base_angle(theta0)
+    x = ln_target - math.log1p(-eps * c)
+    for _ in range(4):
+        fj = (x - x_lo) / dx
+        j = int(math.floor(fj))
+        if j < 1 or j > nx - 3:
+            return start_physical(ln_target, eps, theta0)
+        f = fj - j
+        h1 = _bicubic(tab_h, i, wi, j, _cubic_weights(f))
+        dh = _bicubic(tab_h, i, wi, j, _cubic_slopes(f)) / dx
+        one_minus = 1.0 - eps * h1
+        g = x + math.log(one_minus) - ln_target
+        dg = 1.0 - eps * dh / one_minus
+        if not dg > 0.0:
+            return start_physical(ln_target, eps, theta0)
+        x -= g / dg
+    fj = (x - x_lo) / dx
+    j = int(math.floor(fj))
+    if j < 1 or j > nx - 3:
+        return start_physical(ln_target, eps, theta0)
+    return _bicubic(tab_t, i, wi, j, _cubic_weights(fj - j))

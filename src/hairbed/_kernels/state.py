@@ -27,7 +27,7 @@ from .roots import (
     newton,
     physical_folds,
     scan_folds,
-    start_physical,
+    start_from_table,
     t_max,
 )
 from .shape import shape_point, shape_setup
@@ -131,12 +131,13 @@ def _physical_t_guess(theta0, u_lo, du, t_c):
 
 
 @kernel
-def needs_folds(eps, theta0, sign, n, u_lo, du, eps_c):
+def needs_folds(eps, theta0, sign, n, tables):
     """False where the branch is certainly monotone at (eps, theta0).
 
     Physical branch: theta0 >= 0, or eps below the tabulated eps_c at the lower table node
     (eps_c rises with u = ln(1 + sin theta0), so that node's value is a lower bound).
     """
+    u_lo, du, eps_c = tables[0], tables[1], tables[2]
     if not (sign > 0 and n == 0):
         return True
     if theta0 >= 0.0:
@@ -151,31 +152,34 @@ def needs_folds(eps, theta0, sign, n, u_lo, du, eps_c):
 
 
 @kernel
-def find_folds(eps, theta0, sign, n, u_lo, du, t_c, folds):
+def find_folds(eps, theta0, sign, n, tables, folds):
     """The folds of the branch at (eps, theta0) into ``folds``; returns how many."""
+    u_lo, du, t_c = tables[0], tables[1], tables[3]
     if sign > 0 and n == 0:
         return physical_folds(eps, theta0, _physical_t_guess(theta0, u_lo, du, t_c), folds)
     return scan_folds(eps, theta0, sign, n, folds)
 
 
 @kernel
-def solve_one(omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status, out):
+def solve_one(omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status, out, tables):
     """Solve one element into ``out`` (length NFIELDS, see ``FIELDS``).
 
     ``n_folds`` < 0: the branch is certainly monotone and physical (fast path); otherwise the
     ``folds`` of (eps, theta0) are given. ``roots`` and ``status`` are work arrays of length
-    MAX_ROOTS (allocated once per driver call, not per element).
+    MAX_ROOTS (allocated once per driver call, not per element); ``tables`` are the
+    process-wide tables (``hairbed.solve._tables``).
     """
     ln_target = math.log(omega2) if omega2 > 0.0 else -math.inf
     if n_folds < 0 and ln_target > -math.inf:
-        t0 = start_physical(ln_target, eps, theta0)
+        start = tables[4]
+        t0 = start_from_table(ln_target, eps, theta0, start)
         t, st = newton(ln_target, t0, T_MIN, t_max(ln_target), True, eps, theta0, 1, 0)
         roots[0] = t
         status[0] = st
         count = 1
     else:
         count = branch_roots(
-            ln_target, eps, theta0, sign, n, folds, max(n_folds, 0), roots, status
+            ln_target, eps, theta0, sign, n, folds, max(n_folds, 0), roots, status, tables[4]
         )
     pick = -1
     if root == ROOT_LOW:
@@ -200,17 +204,17 @@ def solve_one(omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status,
 
 
 @kernel
-def solve_scalar(omega2, eps, theta0, sign, n, root, u_lo, du, eps_c, t_c):
+def solve_scalar(omega2, eps, theta0, sign, n, root, tables):
     """One element with its own fold search: the NFIELDS values as a tuple of floats."""
     folds = np.full(MAX_FOLDS, math.nan)
-    if needs_folds(eps, theta0, sign, n, u_lo, du, eps_c):
-        n_folds = find_folds(eps, theta0, sign, n, u_lo, du, t_c, folds)
+    if needs_folds(eps, theta0, sign, n, tables):
+        n_folds = find_folds(eps, theta0, sign, n, tables, folds)
     else:
         n_folds = -1
     row = np.empty(NFIELDS)
     roots = np.empty(MAX_ROOTS)
     status = np.empty(MAX_ROOTS, dtype=np.int64)
-    solve_one(omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status, row)
+    solve_one(omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status, row, tables)
     return (
         row[0],
         row[1],
@@ -228,27 +232,27 @@ def solve_scalar(omega2, eps, theta0, sign, n, root, u_lo, du, eps_c, t_c):
 
 
 @kernel
-def needs_folds_array(eps, theta0, sign, n, u_lo, du, eps_c):
+def needs_folds_array(eps, theta0, sign, n, tables):
     size = eps.size
     out = np.empty(size, dtype=np.bool_)
     for i in range(size):
-        out[i] = needs_folds(eps[i], theta0[i], sign, n, u_lo, du, eps_c)
+        out[i] = needs_folds(eps[i], theta0[i], sign, n, tables)
     return out
 
 
 @kernel
-def folds_array(eps, theta0, sign, n, u_lo, du, t_c):
+def folds_array(eps, theta0, sign, n, tables):
     """Folds of each (eps, theta0) pair: (folds (N, MAX_FOLDS), counts (N,))."""
     size = eps.size
     folds = np.full((size, MAX_FOLDS), math.nan)
     counts = np.empty(size, dtype=np.int64)
     for i in range(size):
-        counts[i] = find_folds(eps[i], theta0[i], sign, n, u_lo, du, t_c, folds[i])
+        counts[i] = find_folds(eps[i], theta0[i], sign, n, tables, folds[i])
     return folds, counts
 
 
 @kernel
-def solve_array(omega2, eps, theta0, sign, n, root, pair, folds, counts, out):
+def solve_array(omega2, eps, theta0, sign, n, root, pair, folds, counts, out, tables):
     """Solve every element; pair[i] >= 0 indexes the folds of element i's (eps, theta0),
     pair[i] < 0 marks a certainly monotone physical element. ``out`` is (NFIELDS, N)."""
     row = np.empty(NFIELDS)
@@ -258,7 +262,7 @@ def solve_array(omega2, eps, theta0, sign, n, root, pair, folds, counts, out):
         j = pair[i]
         f = folds[max(j, 0)]
         c = counts[j] if j >= 0 else -1
-        solve_one(omega2[i], eps[i], theta0[i], sign, n, root, f, c, roots, status, row)
+        solve_one(omega2[i], eps[i], theta0[i], sign, n, root, f, c, roots, status, row, tables)
         for k in range(NFIELDS):
             out[k, i] = row[k]
 
@@ -292,7 +296,7 @@ def shape_array(t, eps, theta0, sign, n, sigma, out):
 
 
 @kernel
-def solve_all_kernel(omega2, eps, theta0, max_n, u_lo, du, lower, t_c):
+def solve_all_kernel(omega2, eps, theta0, max_n, tables):
     """Every state on every branch (sign, n <= max_n): (rows (K, NFIELDS), signs, ns)."""
     ln_target = math.log(omega2) if omega2 > 0.0 else -math.inf
     cap = 16
@@ -305,11 +309,13 @@ def solve_all_kernel(omega2, eps, theta0, max_n, u_lo, du, lower, t_c):
     total = 0
     for n in range(max_n + 1):
         for sign in (1, -1):
-            if needs_folds(eps, theta0, sign, n, u_lo, du, lower):
-                n_folds = find_folds(eps, theta0, sign, n, u_lo, du, t_c, folds)
+            if needs_folds(eps, theta0, sign, n, tables):
+                n_folds = find_folds(eps, theta0, sign, n, tables, folds)
             else:
                 n_folds = 0
-            count = branch_roots(ln_target, eps, theta0, sign, n, folds, n_folds, roots, status)
+            count = branch_roots(
+                ln_target, eps, theta0, sign, n, folds, n_folds, roots, status, tables[4]
+            )
             for j in range(count):
                 if total == cap:
                     cap *= 2
