@@ -96,10 +96,23 @@ def test_where_the_linear_calibration_fails():
     assert linear_error(0.5, 0.5) < -0.2  # it always underestimates the forcing
 
 
-@pytest.mark.parametrize("bad", [1.0, 1.5, -0.01])
+@pytest.mark.parametrize("bad", [1.0000000000000002, 1.5, -0.01])
 def test_tip_deflection_out_of_range(bad):
-    with pytest.raises(ValueError, match=r"x1 must lie in \[sin\(theta0\), 1\)"):
+    with pytest.raises(ValueError, match=r"x1 must lie in \[sin\(theta0\), 1\]"):
         inverse.omega2_from_tip_deflection(bad, 0.5, 0.0)
+
+
+def test_tip_deflection_that_rounds_to_one():
+    """Near theta0 = pi/2 solve returns x1 = 1.0 exactly; the inverse gives the smallest
+    forcing with that tip deflection (just below it, x1 < 1). Where even sin(theta0) rounds
+    to 1, that is the hair at rest."""
+    assert inverse.solution_from_tip_deflection(1.0, 0.5, 1.5707963267948963).t == -np.inf
+    theta0 = 1.5707963
+    assert hairbed.solve(1e4, 0.5, theta0).tip_deflection == 1.0
+    sol = inverse.solution_from_tip_deflection(1.0, 0.5, theta0)
+    assert sol.tip_deflection == 1.0
+    below = hairbed.from_parameter(sol.t - 1e-9 * max(1.0, abs(sol.t)), 0.5, theta0)
+    assert below.tip_deflection < 1.0
 
 
 def test_tip_deflection_input_validation():

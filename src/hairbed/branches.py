@@ -26,6 +26,7 @@ from scipy.optimize import brentq, minimize_scalar
 
 import hairbed
 from hairbed._validation import as_float_array, check_branch, check_inputs
+from hairbed.solve import fold_parameters
 
 __all__ = [
     "Folds",
@@ -159,34 +160,8 @@ def _refine_min(lo: float, hi: float, eps: float, theta0: float) -> tuple[float,
 
 
 def _fold_parameters(eps: float, theta0: float) -> NDArray[np.float64]:
-    """Values of t at the folds of the physical branch, increasing."""
-    t = np.arange(_T_SEARCH[0], _T_SEARCH[1] + 0.5 * _T_STEP, _T_STEP)
-    g = log_slope(t, eps, theta0)
-    if not np.all(np.isfinite(g)):
-        raise FloatingPointError("omega^2 is not finite and positive along the physical branch")
-
-    def slope(s: float) -> float:
-        return float(log_slope(s, eps, theta0))
-
-    roots = []
-    neg = g < 0.0
-    # Zeros seen on the grid.
-    for k in np.nonzero(neg[1:] != neg[:-1])[0]:
-        roots.append(brentq(slope, t[k], t[k + 1], xtol=1e-14, rtol=1e-15))
-    # A pair of zeros closer together than the grid step (near the cusp) shows as a positive
-    # interior local minimum of the slope: refine it, and if it dips below zero split there.
-    # Only nearly flat minima qualify (rounding makes shallow wiggles where the slope is ~1).
-    interior = (
-        np.nonzero((g[1:-1] < g[:-2]) & (g[1:-1] <= g[2:]) & ~neg[1:-1] & (g[1:-1] < 0.05))[0] + 1
-    )
-    for k in interior:
-        if neg[k - 1] or neg[k + 1]:
-            continue
-        tm, gm = _refine_min(t[k - 1], t[k + 1], eps, theta0)
-        if gm < 0.0:
-            roots.append(brentq(slope, t[k - 1], tm, xtol=1e-14, rtol=1e-15))
-            roots.append(brentq(slope, tm, t[k + 1], xtol=1e-14, rtol=1e-15))
-    return np.sort(np.asarray(roots, dtype=np.float64))
+    """Values of t at the folds of the physical branch, increasing (the solver's own search)."""
+    return fold_parameters(eps, theta0)
 
 
 def folds(eps: float, theta0: float = 0.0) -> Folds:

@@ -176,7 +176,10 @@ def _t_from_tip_deflection(x1: FloatArray, theta0: FloatArray) -> FloatArray:
     s = np.sin(theta0)
     flat_x1, flat_th, flat_s = x1.ravel(), theta0.ravel(), s.ravel()
     out = np.full(flat_x1.shape, -np.inf)
-    work = np.flatnonzero(flat_x1 > flat_s)
+    flat = np.flatnonzero((flat_x1 >= 1.0) & (flat_x1 > flat_s))
+    if flat.size:
+        out[flat] = _t_where_tip_rounds_to_one(flat_th[flat])
+    work = np.flatnonzero((flat_x1 > flat_s) & (flat_x1 < 1.0))
     if work.size == 0:
         return out.reshape(x1.shape)
     # Weak forcing: the tip values carry an absolute rounding error ~1e-16, so x1 - sin(theta0)
@@ -217,6 +220,34 @@ def _t_from_tip_deflection(x1: FloatArray, theta0: FloatArray) -> FloatArray:
     return out.reshape(x1.shape)
 
 
+def _t_where_tip_rounds_to_one(theta0: FloatArray) -> FloatArray:
+    """The smallest t at which the tip deflection rounds to 1 in double precision.
+
+    Near theta0 = pi/2, or at enormous forcing, x1 = 1 - (1 - x1) rounds to 1 over a whole
+    range of t: the smallest forcing consistent with the measured value is the answer given.
+    The tip deflection does not depend on eps, and rises with t: bisection on x1(t) >= 1.
+    """
+    lo = np.full(theta0.shape, -50.0)
+    hi = np.full(theta0.shape, 1.0)
+    for _ in range(5):  # x1(lo) < 1 down to t = -1600 (x1 - sin theta0 ~ e^t)
+        high = np.asarray(_physical(lo, 0.0, theta0).tip_deflection) >= 1.0
+        if not np.any(high):
+            break
+        lo = np.where(high, 2.0 * lo, lo)
+    for _ in range(_MAX_DOUBLINGS):
+        up = np.asarray(_physical(hi, 0.0, theta0).tip_deflection) < 1.0
+        if not np.any(up):
+            break
+        lo = np.where(up, hi, lo)
+        hi = np.where(up, 2.0 * hi + 1.0, hi)
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        below = np.asarray(_physical(mid, 0.0, theta0).tip_deflection) < 1.0
+        lo = np.where(below, mid, lo)
+        hi = np.where(below, hi, mid)
+    return hi
+
+
 def solution_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> Any:
     """The physical state whose tip deflection is ``x1`` (see :func:`omega2_from_tip_deflection`).
 
@@ -228,12 +259,13 @@ def solution_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> Any:
     """
     x1, eps, theta0 = _check_tip_inputs(x1, "x1", eps, theta0)
     s = np.sin(theta0)
-    bad = (x1 < s) | (x1 >= 1.0)
+    bad = (x1 < s) | (x1 > 1.0)
     if np.any(bad):
         i = np.flatnonzero(bad.ravel())[0]
         raise ValueError(
-            f"x1 must lie in [sin(theta0), 1) = [{s.ravel()[i]!r}, 1), got {x1.ravel()[i]!r}: "
-            "the flow bends a hair from its rest position towards +x, never past flat"
+            f"x1 must lie in [sin(theta0), 1] = [{float(s.ravel()[i])!r}, 1], got "
+            f"{float(x1.ravel()[i])!r}: the flow bends a hair from its rest position towards "
+            "+x, never past flat"
         )
     t = _t_from_tip_deflection(x1, theta0)
     return hairbed.from_parameter(t, eps, theta0)
@@ -245,7 +277,8 @@ def omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrA
     Parameters
     ----------
     x1 : array_like
-        Tip deflection x(1) [-] (in units of the hair length), in [sin(theta0), 1).
+        Tip deflection x(1) [-] (in units of the hair length), in [sin(theta0), 1]; where x1
+        rounds to 1 (theta0 near pi/2, enormous forcing) the smallest forcing that gives it.
     eps : array_like
         Confinement L/H [-], in [0, 1).
     theta0 : array_like
@@ -259,7 +292,7 @@ def omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrA
     Raises
     ------
     ValueError
-        If x1 is outside [sin(theta0), 1) or eps, theta0 are outside their ranges.
+        If x1 is outside [sin(theta0), 1] or eps, theta0 are outside their ranges.
 
     Notes
     -----

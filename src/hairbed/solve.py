@@ -23,7 +23,7 @@ from ._validation import (
 )
 from .solution import Solution
 
-__all__ = ["from_parameter", "from_xi", "solve", "solve_all"]
+__all__ = ["fold_parameters", "from_parameter", "from_xi", "solve", "solve_all"]
 
 _ROOT_CODES = {"low": 0, "mid": 1, "high": 2}
 #: Table of the physical branch's fold threshold eps_c over u = ln(1 + sin theta0).
@@ -375,3 +375,22 @@ def from_xi(
     with np.errstate(divide="ignore"):
         t = np.log(x - low) - np.log1p(-x)  # logit((xi - sin theta0)/(1 - sin theta0))
     return from_parameter(t, e, t0, sign=sign, n=n)
+
+
+def fold_parameters(eps: float, theta0: float = 0.0, *, sign: int = 1, n: int = 0) -> np.ndarray:
+    """Branch parameters t of the folds of the branch (sign, n) at scalar (eps, theta0).
+
+    The compiled fold search of :func:`solve` (one implementation); increasing.
+    """
+    _, e, t0 = check_inputs(0.0, eps, theta0)
+    if e.ndim != 0:
+        raise ValueError("fold_parameters takes scalar eps and theta0")
+    sign, n = check_branch(sign, n)
+    k = _kernels()
+    ef = np.array([float(e)])
+    tf = np.array([float(t0)])
+    tables = _tables()
+    if not k.needs_folds_array(ef, tf, sign, n, tables)[0]:
+        return np.empty(0)
+    folds, counts = k.folds_array(ef, tf, sign, n, tables)
+    return np.sort(folds[0, : counts[0]])

@@ -206,20 +206,35 @@ def evaluate(t, eps, theta0, sign, n, want_slope):
 
 
 @kernel
-def tip_displacement(p, mu, sn0, cn0, dn0, kv, rf_comp):
-    """x1 - sin(theta0) on the physical branch, and the tip deflection x1.
+def tip_displacement(p, mu, sn0, cn0, dn0, kv, s, oms):
+    """The tip deflection x1, x1 - sin(theta0) and 1 - x1 on the physical branch.
 
-    x1 - sin(theta0) = (2 mu/kv) F(kv) with F(a) = int_0^a (cd^2(w) - cd^2(a)) dw
-    = (a - Eps(a))/mu + sn(a) cd(a) - a cd^2(a), where sn(kv) = cn0/dn0 and cd(kv) = sn0.
-    (a - Eps(a)) = (mu/3) sn^3 R_D(cn^2, dn^2, 1) with cn(kv)^2 = p sn0^2/dn0^2,
-    dn(kv)^2 = p/dn0^2 (DLMF 19.25.9).
+    With w = K - v running from kv (base) to 0 (tip), sin(theta) = 1 - 2 p nd^2(w), so
+    1 - x1 = (2 p/kv) int_0^kv nd^2 dw = (2 p/kv) (kv + (mu/3) S^3 R_D(cn^2, 1, dn^2)) at
+    w = kv, with S = sn(kv) = cn0/dn0, cn(kv)^2 = p sn0^2/dn0^2, dn(kv)^2 = p/dn0^2
+    (int dphi/Delta^3 = F + m (sin^3/3) R_D(cos^2, 1, Delta^2)): every term positive, so
+    1 - x1 keeps its relative accuracy up to the separatrix and x1 never exceeds 1. The
+    displacement is (1 - sin theta0) - (1 - x1) where x1 is near 1, else
+
+        x1 - sin(theta0) = (2 mu/kv) (F(kv)),  F(a) = (a - Eps a)/mu + sn(a) cd(a) - a cd^2(a),
+
+    with a - Eps(a) = (mu/3) S^3 R_D(cn^2, dn^2, 1) (DLMF 19.25.9).
     """
     big_s = cn0 / dn0
     a2 = p / (dn0 * dn0)
+    s3 = big_s * big_s * big_s
+    if a2 > 1e-280:
+        one_minus_x1 = 2.0 * p / kv * (kv + mu / 3.0 * s3 * rd(a2 * sn0 * sn0, 1.0, a2))
+    else:  # R_D(z sn0^2, 1, z) -> 3/(z (1 + sn0)) as z -> 0
+        one_minus_x1 = 2.0 * p + 2.0 * mu * s3 * dn0 * dn0 / (kv * (1.0 + sn0))
     if a2 < 1e-300:  # separatrix: kv - Eps(kv) -> kv - 1
         kv_me = kv - 1.0
     else:
-        kv_me = mu / 3.0 * big_s * big_s * big_s * rd(a2 * sn0 * sn0, a2, 1.0)
-    x1 = -1.0 + 2.0 * (mu * sn0 * big_s + kv_me) / kv
-    disp = 2.0 * (kv_me + mu * sn0 * (big_s - kv * sn0)) / kv
-    return x1, disp
+        kv_me = mu / 3.0 * s3 * rd(a2 * sn0 * sn0, a2, 1.0)
+    if one_minus_x1 < 0.5:
+        x1 = 1.0 - one_minus_x1
+        disp = oms - one_minus_x1
+    else:
+        disp = 2.0 * (kv_me + mu * sn0 * (big_s - kv * sn0)) / kv
+        x1 = s + disp
+    return x1, disp, one_minus_x1

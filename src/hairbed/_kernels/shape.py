@@ -9,8 +9,10 @@ With v(sigma) = v0 + sign omega_eps sigma [1]_,
 Eps(v) = E(am v | mu) Jacobi's epsilon function (the x formula follows from
 sin theta = 2 mu sn^2 v - 1 and int sn^2 = (v - Eps)/mu).
 
-* Physical branch: v runs from v0 = K - kv to K. Where v <= K/2 the formulas above are used
-  as they stand (x = -sigma + 2 ((v - Eps v) - (v0 - Eps v0))/kv); beyond, with
+* Physical branch: v runs from v0 = K - kv to K. Where v <= K/2, the formulas above as they
+  stand for theta0 >= 0, and for theta0 < 0 the addition theorems relative to the base (as
+  for the other branches, below; a hair lying against the flow starts almost flat); beyond,
+  with
   w = K - v = kv (1 - sigma), the reflection sn(K - w) = cd w, cn(K - w) = sqrt(p) sd w,
   dn(K - w) = sqrt(p) nd w (DLMF 22.4) gives, without cancellation near theta = pi/2 and
   without the underflow of sqrt(p) at strong forcing,
@@ -18,9 +20,10 @@ sin theta = 2 mu sn^2 v - 1 and int sn^2 = (v - Eps)/mu).
       pi/2 - theta = 2 atan2(sqrt(p), sqrt(mu) cn w),   z = 2 sqrt(mu) (cn0 - sqrt(p) sd w)/kv,
       x = -sigma + 2 ((kv - Eps(kv)) - (w - Eps(w)) + mu (sn(kv) sn0 - sn w cd w))/kv,
 
-  with sn(kv) = cn0/dn0 and cd(kv) = sn0. At weak forcing (omega_eps^2 <= WEAK_MAX) the
-  displacements from the straight hair are the regular perturbation series of ``weak``,
-  accurate relative to themselves.
+  with sn(kv) = cn0/dn0 and cd(kv) = sn0. At huge forcing (ln p < -1380, where sqrt(p)
+  underflows) the direct forms, accurate in absolute terms. At weak forcing
+  (omega_eps^2 <= WEAK_MAX) the displacements from the straight hair are the regular
+  perturbation series of ``weak``, accurate relative to themselves.
 * Other branches: the addition theorems (DLMF 22.8, 22.16.27) with delta = v - v0, relative to
   the base, as in the paper's variables.
 
@@ -35,7 +38,7 @@ from __future__ import annotations
 import math
 
 from .._jit import kernel
-from .branch import base_angle, evaluate
+from .branch import base_angle, evaluate, tip_displacement
 from .elliptic import complete_k_m, k_minus_e, rd
 from .jacobi import jacobi
 from .weak import WEAK_MAX, weak_shape
@@ -49,7 +52,8 @@ _HALF_PI = 0.5 * math.pi
 def shape_setup(t, eps, theta0, sign, n):
     """Everything the shape needs at one state, computed once per state.
 
-    Returns (mu, p, tau, k, kp, kme, sn0, cn0, dn0, kv, oe, kv_me, v0, v0_me, s, c, theta0).
+    Returns (mu, p, tau, k, kp, kme, sn0, cn0, dn0, kv, oe, kv_me, v0, v0_me, s, c, theta0, oms,
+    one_minus_x1); the last is 1 - x(1) on the physical branch (else 0).
     """
     ev = evaluate(t, eps, theta0, sign, n, False)
     p = ev[4]
@@ -72,15 +76,58 @@ def shape_setup(t, eps, theta0, sign, n):
     v0 = ev[11]
     v0_me = mu / 3.0 * sn0 * sn0 * sn0 * rd(cn0 * cn0, dn0 * dn0, 1.0)  # v0 - E(phi0 | mu)
     s, c, oms, ops = base_angle(theta0)
-    return mu, p, tau, k, kp, kme, sn0, cn0, dn0, kv, oe, kv_me, v0, v0_me, s, c, theta0
+    one_minus_x1 = 0.0
+    if sign > 0 and n == 0 and kv > 0.0:
+        one_minus_x1 = tip_displacement(p, mu, sn0, cn0, dn0, kv, s, oms)[2]
+    return (
+        mu,
+        p,
+        tau,
+        k,
+        kp,
+        kme,
+        sn0,
+        cn0,
+        dn0,
+        kv,
+        oe,
+        kv_me,
+        v0,
+        v0_me,
+        s,
+        c,
+        theta0,
+        oms,
+        one_minus_x1,
+    )
 
 
 @kernel
 def shape_point(sigma, sign, n, setup):
     """(theta, x, z, dtheta, dx, dz) at arc length sigma; d* are the displacements from the
     straight hair at rest (theta0, sigma sin theta0, sigma cos theta0)."""
-    mu, p, tau, k, kp, kme, sn0, cn0, dn0, kv, oe, kv_me, v0, v0_me, s, c, theta0 = setup
-    if oe == 0.0:  # the hair at rest
+    (
+        mu,
+        p,
+        tau,
+        k,
+        kp,
+        kme,
+        sn0,
+        cn0,
+        dn0,
+        kv,
+        oe,
+        kv_me,
+        v0,
+        v0_me,
+        s,
+        c,
+        theta0,
+        oms,
+        one_minus_x1,
+    ) = setup
+    if oe == 0.0 or sigma == 0.0:  # the hair at rest, or its clamped base
         return theta0, sigma * s, sigma * c, 0.0, 0.0, 0.0
     if sign > 0 and n == 0:
         if oe * oe <= WEAK_MAX:
@@ -88,22 +135,35 @@ def shape_point(sigma, sign, n, setup):
             return theta0 + dth, sigma * s + dx, sigma * c + dz, dth, dx, dz
         v = v0 + kv * sigma
         rm = math.sqrt(mu)
-        # near the base the direct form; beyond K/2 the reflection, unless dn(w) >= p^(1/4)
-        # could underflow (huge forcing, where the direct form is accurate in absolute terms)
-        if v <= 0.5 * k or tau < -1380.0:
+        if tau < -1380.0:
+            # huge forcing: sqrt(p) and dn near K underflow; the direct form is accurate in
+            # absolute terms (theta = pi/2 to every digit away from the ends)
             sn_v, cn_v, dn_v, me_v = jacobi(v, mu, p, tau, k, kp, kme)
             theta = 2.0 * math.atan2(rm * sn_v, dn_v) - _HALF_PI
             z = 2.0 * rm * (cn0 - cn_v) / kv
             x = -sigma + 2.0 * (me_v - v0_me) / kv
-        else:  # w = K - v: the reflection, where cn v and dn v are of order sqrt(p)
+            return theta, x, z, theta - theta0, x - sigma * s, z - sigma * c
+        if kv * sigma <= 0.25:
+            pass  # a short arc from the base: the addition theorems below, relative to it
+        elif v > 0.5 * k or theta0 >= 0.0:
+            # w = K - v: the reflection, where cn v and dn v are of order sqrt(p)
             w = kv * (1.0 - sigma)
             sn_w, cn_w, dn_w, me_w = jacobi(w, mu, p, tau, k, kp, kme)
             sqp = math.exp(0.5 * tau) if p < 1e-290 else math.sqrt(p)  # p may be subnormal
             theta = _HALF_PI - 2.0 * math.atan2(sqp, rm * cn_w)
             z = 2.0 * rm * (cn0 - sqp * sn_w / dn_w) / kv
-            big_s = cn0 / dn0
-            x = -sigma + 2.0 * ((kv_me - me_w) + mu * (big_s * sn0 - sn_w * cn_w / dn_w)) / kv
-        return theta, x, z, theta - theta0, x - sigma * s, z - sigma * c
+            # 1 - sin(theta) = 2 p nd^2(w): int_sigma^1 (1 - sin theta) = J(w) with
+            # J(a) = (2 p/kv) (a + (mu/3) sn^3 R_D(cn^2, 1, dn^2)), all terms positive
+            s3 = sn_w * sn_w * sn_w
+            if dn_w * dn_w > 1e-280:
+                j_w = 2.0 * p / kv * (w + mu / 3.0 * s3 * rd(cn_w * cn_w, 1.0, dn_w * dn_w))
+            else:  # R_D(cn^2, 1, dn^2) -> 3/(dn (dn + cn)) as cn, dn -> 0
+                r = sqp / dn_w
+                j_w = 2.0 * p * w / kv + 2.0 * mu * s3 / kv * r * (sqp / (dn_w + cn_w))
+            part = one_minus_x1 - j_w  # int_0^sigma (1 - sin theta)
+            x = sigma - part
+            return theta, x, z, theta - theta0, sigma * oms - part, z - sigma * c
+        # leaning into the flow, near the base: the addition theorems below, relative to it
     delta = sign * oe * sigma
     sd, cd, dd, dme = jacobi(delta, mu, p, tau, k, kp, kme)
     m = mu

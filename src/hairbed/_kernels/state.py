@@ -86,7 +86,6 @@ def fields_at(t, eps, theta0, sign, n):
     oe = ev[13]
     h1 = ev[14]
     root2d = ev[15]
-    rf_comp = ev[16]
     s, c, oms, ops = base_angle(theta0)
     omega2 = math.exp(ln_w2)
     if xi > 0.5:
@@ -107,7 +106,7 @@ def fields_at(t, eps, theta0, sign, n):
             disp = weak_shape(1.0, oe * oe, s, c)[1]
             x1 = s + disp
         else:
-            x1, disp = tip_displacement(p, mu, sn0, cn0, dn0, kv, rf_comp)
+            x1, disp, _ = tip_displacement(p, mu, sn0, cn0, dn0, kv, s, oms)
     else:
         x1 = shape_point(1.0, sign, n, shape_setup(t, eps, theta0, sign, n))[1]
         disp = x1 - s
