@@ -269,19 +269,14 @@ class Solution:
             raise ValueError(f"num must be an integer >= 2, got {num!r}")
         num = int(num)
         shape = self.shape
-        size = int(np.prod(shape, dtype=np.int64))
-        sigma = np.broadcast_to(np.linspace(0.0, 1.0, num), (size, num))
-        out = np.empty((6, size, num))
-        _shape_kernel()(
-            np.asarray(self.t, dtype=np.float64).reshape(size),
-            np.broadcast_to(np.asarray(self.eps, dtype=np.float64), shape).reshape(size),
-            np.broadcast_to(np.asarray(self.theta0, dtype=np.float64), shape).reshape(size),
-            self.sign,
-            self.n,
-            np.ascontiguousarray(sigma),
-            out,
-        )
-        return out[1].reshape((*shape, num)), out[2].reshape((*shape, num))
+        from ._kernels.state import profile_array
+
+        def flat(v: Any) -> FloatArray:
+            return np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=np.float64), shape))
+
+        t, e, th = (flat(v).reshape(-1) for v in (self.t, self.eps, self.theta0))
+        xs, zs = profile_array(t, e, th, self.sign, self.n, num)
+        return xs.reshape((*shape, num)), zs.reshape((*shape, num))
 
     def __getitem__(self, index: Any) -> Solution:
         """Select states of an array solution with numpy indexing."""

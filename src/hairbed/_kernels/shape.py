@@ -40,7 +40,7 @@ import math
 from .._jit import kernel
 from .branch import base_angle, evaluate, tip_displacement
 from .elliptic import complete_k_m, k_minus_e, rd
-from .jacobi import jacobi
+from .jacobi import jacobi_prepared, jacobi_setup
 from .weak import WEAK_MAX, weak_shape
 
 __all__ = ["shape_point", "shape_setup"]
@@ -53,7 +53,8 @@ def shape_setup(t, eps, theta0, sign, n):
     """Everything the shape needs at one state, computed once per state.
 
     Returns (mu, p, tau, k, kp, kme, sn0, cn0, dn0, kv, oe, kv_me, v0, v0_me, s, c, theta0, oms,
-    one_minus_x1); the last is 1 - x(1) on the physical branch (else 0).
+    one_minus_x1, jc); one_minus_x1 is 1 - x(1) on the physical branch (else 0), jc the
+    constants of ``jacobi.jacobi_setup``.
     """
     ev = evaluate(t, eps, theta0, sign, n, False)
     p = ev[4]
@@ -79,6 +80,7 @@ def shape_setup(t, eps, theta0, sign, n):
     one_minus_x1 = 0.0
     if sign > 0 and n == 0 and kv > 0.0:
         one_minus_x1 = tip_displacement(p, mu, sn0, cn0, dn0, kv, s, oms)[2]
+    jc = jacobi_setup(mu, p, tau, k, kp)  # the theta-series constants, once per state
     return (
         mu,
         p,
@@ -99,6 +101,7 @@ def shape_setup(t, eps, theta0, sign, n):
         theta0,
         oms,
         one_minus_x1,
+        jc,
     )
 
 
@@ -126,6 +129,7 @@ def shape_point(sigma, sign, n, setup):
         theta0,
         oms,
         one_minus_x1,
+        jc,
     ) = setup
     if oe == 0.0 or sigma == 0.0:  # the hair at rest, or its clamped base
         return theta0, sigma * s, sigma * c, 0.0, 0.0, 0.0
@@ -138,7 +142,7 @@ def shape_point(sigma, sign, n, setup):
         if tau < -1380.0:
             # huge forcing: sqrt(p) and dn near K underflow; the direct form is accurate in
             # absolute terms (theta = pi/2 to every digit away from the ends)
-            sn_v, cn_v, dn_v, me_v = jacobi(v, mu, p, tau, k, kp, kme)
+            sn_v, cn_v, dn_v, me_v = jacobi_prepared(v, mu, tau, k, kme, jc)
             theta = 2.0 * math.atan2(rm * sn_v, dn_v) - _HALF_PI
             z = 2.0 * rm * (cn0 - cn_v) / kv
             x = -sigma + 2.0 * (me_v - v0_me) / kv
@@ -148,7 +152,7 @@ def shape_point(sigma, sign, n, setup):
         elif v > 0.5 * k or theta0 >= 0.0:
             # w = K - v: the reflection, where cn v and dn v are of order sqrt(p)
             w = kv * (1.0 - sigma)
-            sn_w, cn_w, dn_w, me_w = jacobi(w, mu, p, tau, k, kp, kme)
+            sn_w, cn_w, dn_w, me_w = jacobi_prepared(w, mu, tau, k, kme, jc)
             sqp = math.exp(0.5 * tau) if p < 1e-290 else math.sqrt(p)  # p may be subnormal
             theta = _HALF_PI - 2.0 * math.atan2(sqp, rm * cn_w)
             z = 2.0 * rm * (cn0 - sqp * sn_w / dn_w) / kv
@@ -165,7 +169,7 @@ def shape_point(sigma, sign, n, setup):
             return theta, x, z, theta - theta0, sigma * oms - part, z - sigma * c
         # leaning into the flow, near the base: the addition theorems below, relative to it
     delta = sign * oe * sigma
-    sd, cd, dd, dme = jacobi(delta, mu, p, tau, k, kp, kme)
+    sd, cd, dd, dme = jacobi_prepared(delta, mu, tau, k, kme, jc)
     m = mu
     den = dn0 * dn0 + m * sn0 * sn0 * cd * cd
     sn_v = (sn0 * cd * dd + cn0 * sd * dn0) / den

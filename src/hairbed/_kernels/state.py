@@ -42,6 +42,7 @@ __all__ = [
     "fields_at",
     "folds_array",
     "needs_folds_array",
+    "profile_array",
     "shape_array",
     "solve_all_kernel",
     "solve_array",
@@ -337,3 +338,24 @@ def solve_all_kernel(omega2, eps, theta0, max_n, tables):
                 ns[total] = n
                 total += 1
     return rows[:total], signs[:total], ns[:total]
+
+
+@kernel
+def profile_array(t, eps, theta0, sign, n, num):
+    """x and z of state i at sigma = j/(num - 1) (numpy's linspace(0, 1, num)): (N, num) each."""
+    size = t.size
+    xs = np.empty((size, num))
+    zs = np.empty((size, num))
+    step = 1.0 / (num - 1)
+    for i in range(size):
+        if math.isnan(t[i]):
+            xs[i, :] = math.nan
+            zs[i, :] = math.nan
+            continue
+        setup = shape_setup(t[i], eps[i], theta0[i], sign, n)
+        for j in range(num):
+            sigma = 1.0 if j == num - 1 else j * step
+            vals = shape_point(sigma, sign, n, setup)
+            xs[i, j] = vals[1]
+            zs[i, j] = vals[2]
+    return xs, zs
