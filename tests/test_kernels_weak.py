@@ -17,6 +17,16 @@ import pytest
 
 from hairbed._kernels.weak import WEAK_MAX, WEAK_ORDER, weak_shape
 
+
+def _horner(coeffs, x):
+    """Polynomial with coefficients in descending powers (mpmath.polyval's order, without its
+    deprecation of that order)."""
+    acc = mp.mpf(0)
+    for c in coeffs:
+        acc = acc * x + c
+    return acc
+
+
 DPS = 50
 ORDERS = 15
 EPS2 = (1e-300, 1e-30, 1e-12, 1e-6, 1e-4, WEAK_MAX)
@@ -83,7 +93,7 @@ def reference(eps2: float, theta0: float, sigma: float) -> tuple[mp.mpf, mp.mpf,
     with mp.workdps(DPS):
         e, t = mp.mpf(eps2), mp.mpf(sigma)
         return tuple(
-            mp.fsum(e ** (k + 1) * mp.polyval(p[::-1], t) for k, p in enumerate(orders))
+            mp.fsum(e ** (k + 1) * _horner(p[::-1], t) for k, p in enumerate(orders))
             for orders in _series(theta0)
         )
 
@@ -111,10 +121,10 @@ def _taylor_ivp(eps2, theta0, slope0, sigmas, order=30, h="0.5"):
                 cc[k + 1] = -mp.fsum(ss[j] * d[j] for j in range(k + 1)) / (k + 1)
                 ss[k + 1] = mp.fsum(cc[j] * d[j] for j in range(k + 1)) / (k + 1)
             dyc = [(k + 1) * yc[k + 1] for k in range(order)]
-            x += mp.polyval([ss[k] / (k + 1) for k in range(order - 1)][::-1] + [0], step)
-            z += mp.polyval([cc[k] / (k + 1) for k in range(order - 1)][::-1] + [0], step)
-            y = mp.polyval(yc[:order][::-1], step)
-            dy = mp.polyval(dyc[: order - 1][::-1], step)
+            x += _horner([ss[k] / (k + 1) for k in range(order - 1)][::-1] + [0], step)
+            z += _horner([cc[k] / (k + 1) for k in range(order - 1)][::-1] + [0], step)
+            y = _horner(yc[:order][::-1], step)
+            dy = _horner(dyc[: order - 1][::-1], step)
             pos += step
         out.append((y, dy, x, z))
     return out
