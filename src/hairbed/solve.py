@@ -29,8 +29,8 @@ _ROOT_CODES = {"low": 0, "mid": 1, "high": 2}
 #: Table of the physical branch's fold threshold eps_c over u = ln(1 + sin theta0).
 _U_LO = -80.0
 _U_NODES = 1025
-#: Tables of Newton's start: ln(omega_eps^2) in [-4, 6] and theta0 in [-1.5, 1.5].
-_X_LO, _X_HI, _DX = -4.0, 6.0, 1.0 / 16.0
+#: Tables of Newton's start: ln(omega_eps^2) in [-8, 8] and theta0 in [-1.5, 1.5].
+_X_LO, _X_HI, _DX = -8.0, 8.0, 1.0 / 16.0
 _TH_MAX, _TH_NODES = 1.5, 129
 _state: Any = None
 _table: tuple[Any, ...] | None = None
@@ -65,6 +65,10 @@ def _tables() -> tuple[Any, ...]:
         x = np.arange(_X_LO, _X_HI + 0.5 * _DX, _DX)
         th = np.linspace(-_TH_MAX, _TH_MAX, _TH_NODES)
         cached = _load_tables()
+        if cached is not None and (
+            cached["t_c"].shape != u.shape or cached["tab_t"].shape != (th.size, x.size)
+        ):
+            cached = None
         if cached is None:
             t_c, eps_c = roots.critical_table(u)
             tab_t, tab_h = roots.start_table(x, th)
@@ -87,9 +91,13 @@ def _tables_path() -> Any:
     path = getattr(cache, "cache_path", None)
     if not _jit.CACHE_ENABLED or not path:
         return None
+    import hashlib
     from pathlib import Path
 
-    return Path(path) / f"tables-{_jit.kernel_sources_hash()[:20]}.npz"
+    # the grids are part of the key: tables built on other grids are never loaded
+    grids = repr((_U_LO, _U_NODES, _X_LO, _X_HI, _DX, _TH_MAX, _TH_NODES)).encode()
+    key = hashlib.sha256(_jit.kernel_sources_hash().encode() + grids).hexdigest()[:20]
+    return Path(path) / f"tables-{key}.npz"
 
 
 def _load_tables() -> Any:

@@ -206,6 +206,15 @@ def evaluate(t, eps, theta0, sign, n, want_slope):
 
 
 @kernel
+def _one_minus_x1(p, mu, sn0, dn0, kv, a2, s3):
+    """1 - x1 = (2 p/kv) (kv + (mu/3) S^3 R_D(cn^2, 1, dn^2)) at w = kv (``tip_displacement``)."""
+    if a2 > 1e-280:
+        return 2.0 * p / kv * (kv + mu / 3.0 * s3 * rd(a2 * sn0 * sn0, 1.0, a2))
+    # R_D(z sn0^2, 1, z) -> 3/(z (1 + sn0)) as z -> 0
+    return 2.0 * p + 2.0 * mu * s3 * dn0 * dn0 / (kv * (1.0 + sn0))
+
+
+@kernel
 def tip_displacement(p, mu, sn0, cn0, dn0, kv, s, oms):
     """The tip deflection x1, x1 - sin(theta0) and 1 - x1 on the physical branch.
 
@@ -223,18 +232,21 @@ def tip_displacement(p, mu, sn0, cn0, dn0, kv, s, oms):
     big_s = cn0 / dn0
     a2 = p / (dn0 * dn0)
     s3 = big_s * big_s * big_s
-    if a2 > 1e-280:
-        one_minus_x1 = 2.0 * p / kv * (kv + mu / 3.0 * s3 * rd(a2 * sn0 * sn0, 1.0, a2))
-    else:  # R_D(z sn0^2, 1, z) -> 3/(z (1 + sn0)) as z -> 0
-        one_minus_x1 = 2.0 * p + 2.0 * mu * s3 * dn0 * dn0 / (kv * (1.0 + sn0))
+    # one R_D, not two: 1 - x1 where the tip is near flat (xi > 0.5 is a cheap proxy), the
+    # displacement otherwise; the other only if the proxy chose wrong
+    one_minus_x1 = -1.0
+    if mu > 0.75:
+        one_minus_x1 = _one_minus_x1(p, mu, sn0, dn0, kv, a2, s3)
+        if one_minus_x1 < 0.5:
+            return 1.0 - one_minus_x1, oms - one_minus_x1, one_minus_x1
     if a2 < 1e-300:  # separatrix: kv - Eps(kv) -> kv - 1
         kv_me = kv - 1.0
     else:
         kv_me = mu / 3.0 * s3 * rd(a2 * sn0 * sn0, a2, 1.0)
-    if one_minus_x1 < 0.5:
-        x1 = 1.0 - one_minus_x1
-        disp = oms - one_minus_x1
-    else:
-        disp = 2.0 * (kv_me + mu * sn0 * (big_s - kv * sn0)) / kv
-        x1 = s + disp
+    disp = 2.0 * (kv_me + mu * sn0 * (big_s - kv * sn0)) / kv
+    x1 = s + disp
+    if one_minus_x1 < 0.0:
+        one_minus_x1 = _one_minus_x1(p, mu, sn0, dn0, kv, a2, s3) if x1 > 0.5 else 1.0 - x1
+        if one_minus_x1 < 0.5:
+            return 1.0 - one_minus_x1, oms - one_minus_x1, one_minus_x1
     return x1, disp, one_minus_x1

@@ -476,22 +476,35 @@ def start_from_table(ln_target, eps, theta0, table):
     if i < 1 or i > nt - 3:
         return start_physical(ln_target, eps, theta0)
     wi = _cubic_weights(fi - i)
-    s, c, oms, ops = base_angle(theta0)
+    c = math.cos(theta0)
     x = ln_target - math.log1p(-eps * c)
-    for _ in range(4):
+    for _ in range(3):
         fj = (x - x_lo) / dx
         j = int(math.floor(fj))
         if j < 1 or j > nx - 3:
             return start_physical(ln_target, eps, theta0)
         f = fj - j
-        h1 = _bicubic(tab_h, i, wi, j, _cubic_weights(f))
-        dh = _bicubic(tab_h, i, wi, j, _cubic_slopes(f)) / dx
+        wj = _cubic_weights(f)
+        dwj = _cubic_slopes(f)
+        h1 = 0.0
+        dh = 0.0
+        for a in range(4):  # h1 and dh1/dX from the same 16 nodes
+            row = 0.0
+            drow = 0.0
+            for b in range(4):
+                v = tab_h[i - 1 + a, j - 1 + b]
+                row += wj[b] * v
+                drow += dwj[b] * v
+            h1 += wi[a] * row
+            dh += wi[a] * drow
         one_minus = 1.0 - eps * h1
         g = x + math.log(one_minus) - ln_target
-        dg = 1.0 - eps * dh / one_minus
+        dg = 1.0 - eps * dh / (dx * one_minus)
         if not dg > 0.0:
             return start_physical(ln_target, eps, theta0)
         x -= g / dg
+        if abs(g) < 1e-9:
+            break
     fj = (x - x_lo) / dx
     j = int(math.floor(fj))
     if j < 1 or j > nx - 3:
