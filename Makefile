@@ -25,6 +25,10 @@ test: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/ruff format --check src tests benchmarks
 	$(BIN)/python -m pytest -q
+	# the kernels once more as plain Python (coverage of the compiled code's source)
+	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q -p no:cacheprovider \
+		tests/test_kernels_elliptic.py tests/test_kernels_weak.py tests/test_jit.py \
+		tests/test_kernels_python.py
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks
