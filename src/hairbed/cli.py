@@ -405,33 +405,36 @@ def _cmd_figures(args: argparse.Namespace) -> int:
 
 
 def _cmd_bench(args: argparse.Namespace) -> int:
-    from scipy.special import ellipkinc
+    from pathlib import Path
 
-    if args.n < 1:
-        raise UsageError(f"--n must be >= 1, got {args.n}")
-    rng = np.random.default_rng(0)
-    w2, eps = rng.uniform(0.01, 100.0, args.n), rng.uniform(0.0, 0.9, args.n)
-    phi, m = rng.uniform(0.0, 1.5, args.n), rng.uniform(0.0, 0.99, args.n)
+    from hairbed import _benchmark
 
-    def best(func: Any) -> float:
-        times = []
-        for _ in range(args.repeat):
-            t0 = time.perf_counter()
-            func()
-            times.append(time.perf_counter() - t0)
-        return min(times)
+    if args.n is not None and args.n < 2:
+        raise UsageError(f"--n must be >= 2, got {args.n}")
+    if args.repeat < 1:
+        raise UsageError(f"--repeat must be >= 1, got {args.repeat}")
+    out = None if args.json is None else Path(args.json)
+    if out is not None and out.is_dir():
+        raise UsageError(f"--json {out} is a directory")
 
-    t_solve = best(lambda: hairbed.solve(w2, eps))
-    t_ref = best(lambda: ellipkinc(phi, m))
-    print(
-        f"hairbed.solve          {args.n} states    {t_solve:.4f} s  "
-        f"({1e9 * t_solve / args.n:.0f} ns/state)"
+    def progress(message: str) -> None:
+        print(f"{PROG} bench: {message}", file=sys.stderr, flush=True)
+
+    result = _benchmark.measure(
+        not args.full,
+        args.rows,
+        progress if args.progress else None,
+        repeat=args.repeat,
+        seed=args.seed,
+        cold=True if args.cold else None,
+        n=args.n,
     )
-    print(
-        f"scipy.special.ellipkinc {args.n} elements  {t_ref:.4f} s  "
-        f"({1e9 * t_ref / args.n:.0f} ns/element)"
-    )
-    print(f"ratio solve/ellipkinc  {t_solve / t_ref:.1f}")
+    print(_benchmark.format_report(result), flush=True)
+    if out is not None:
+        try:
+            _benchmark.write_json(result, out)
+        except OSError as exc:
+            raise UsageError(f"could not write {out}: {exc}") from exc
     return 0
 
 
@@ -581,14 +584,33 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser(
         "bench",
-        help="time solve against scipy's elliptic integral",
+        help="measure every row of the speed table (ratios, targets)",
         formatter_class=_formatter,
-        description="Time hairbed.solve on n random states against scipy.special.ellipkinc "
-        "on n elements (one incomplete elliptic integral each).",
-        epilog="examples:\n  hairbed bench\n  hairbed bench --n 1000000 --repeat 5",
+        description="Measure the speed and memory table of benchmarks/bench_solve.py in one "
+        "run: batch and scalar solves against scipy.special.ellipkinc, solve_all, profiles, "
+        "the finite differences, peak memory, threads and whole processes, each against its "
+        "target. By default with reduced sizes (about 30 s; figures not comparable with the "
+        "targets); --full for the full sizes (about 2-3 minutes).",
+        epilog="examples:\n  hairbed bench\n  hairbed bench --full --json bench.json\n"
+        "  hairbed bench --rows 1 2 3 --n 1000000 --repeat 5",
     )
-    p.add_argument("--n", type=int, default=100_000, help="array size (default 1e5)")
+    size = p.add_mutually_exclusive_group()
+    size.add_argument("--quick", action="store_true", help="reduced sizes (the default)")
+    size.add_argument("--full", action="store_true", help="full sizes (1e6 elements ...)")
+    p.add_argument("--n", type=int, help="batch size (default 1e5, 1e6 with --full)")
     p.add_argument("--repeat", type=int, default=3, help="best of this many runs (default 3)")
+    p.add_argument("--seed", type=int, default=2026, help="random inputs (default 2026)")
+    p.add_argument(
+        "--rows",
+        type=int,
+        nargs="+",
+        choices=range(1, 11),
+        metavar="ROW",
+        help="only these rows, 1 to 10 (default all)",
+    )
+    p.add_argument("--cold", action="store_true", help="also time a cold numba cache")
+    p.add_argument("--json", metavar="PATH", help="also write the figures as JSON")
+    p.add_argument("--progress", action="store_true", help="a line per section on stderr")
     p.set_defaults(func=_cmd_bench)
 
     p = sub.add_parser(

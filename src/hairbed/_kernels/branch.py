@@ -44,7 +44,15 @@ import math
 from .._jit import kernel
 from .elliptic import complete_e, complete_k, rd, rf, rf_rd
 
-__all__ = ["LN_OMEGA2_NONE", "base_angle", "evaluate", "log_expit", "tip_displacement"]
+__all__ = [
+    "LN_OMEGA2_NONE",
+    "base_angle",
+    "base_terms",
+    "evaluate",
+    "evaluate_at",
+    "log_expit",
+    "tip_displacement",
+]
 
 #: pi/2 in double-double: PI_2_HI + PI_2_LO is pi/2 to 1e-33.
 PI_2_HI = 1.5707963267948966
@@ -89,15 +97,30 @@ def base_angle(theta0):
 
 
 @kernel
+def base_terms(theta0):
+    """What the branch needs of theta0 alone, computed once per element (not per Newton step):
+    (theta0, sin, cos, 1 - sin, 1 + sin, ln((1 - sin)/2), dn0 = sqrt((1 - sin)/2),
+    sqrt(2 (1 - sin)))."""
+    s, c, oms, ops = base_angle(theta0)
+    return theta0, s, c, oms, ops, math.log(0.5 * oms), math.sqrt(0.5 * oms), math.sqrt(2.0 * oms)
+
+
+@kernel
 def evaluate(t, eps, theta0, sign, n, want_slope):
-    """The branch (sign, n) at parameter t.
+    """The branch (sign, n) at parameter t: :func:`evaluate_at` with ``base_terms(theta0)``."""
+    return evaluate_at(t, eps, base_terms(theta0), sign, n, want_slope)
+
+
+@kernel
+def evaluate_at(t, eps, base, sign, n, want_slope):
+    """The branch (sign, n) at parameter t, given ``base = base_terms(theta0)``.
 
     Returns the tuple (ln_omega2, dln_omega2_dt, xi, d, p, tau, mu, sn0, cn0, dn0, k, v0, kv,
     omega_eps, h1, root2d, rf_comp) where dln_omega2_dt is 0 unless ``want_slope``; rf_comp is
     R_F(p sn0^2, p, dn0^2) where kv was formed from it (else 0); ln_omega2 is LN_OMEGA2_NONE
     where omega^2 <= 0. t = -inf is the undeformed hair (d = 0).
     """
-    s, c, oms, ops = base_angle(theta0)
+    theta0, s, c, oms, ops, ln_half_oms, dn0, r2oms = base
     # expit(+-t) and their logarithms from one exp and one log1p
     if t >= 0.0:
         ex = math.exp(-t)
@@ -115,7 +138,7 @@ def evaluate(t, eps, theta0, sign, n, want_slope):
         lq = t - l1
     d = oms * q
     p = 0.5 * oms * qc
-    tau = math.log(0.5 * oms) + lqc
+    tau = ln_half_oms + lqc
     two_mu = ops + d
     mu = 0.5 * two_mu
     sn0_2 = ops / two_mu
@@ -125,9 +148,8 @@ def evaluate(t, eps, theta0, sign, n, want_slope):
     cn0 = math.sqrt(oms / two_mu) * sq
     cn0_2 = cn0 * cn0
     dn0_2 = 0.5 * oms
-    dn0 = math.sqrt(dn0_2)
     sqrt_p = dn0 * (math.sqrt(qc) if qc > 1e-300 else math.exp(0.5 * lqc))
-    root2d = math.sqrt(2.0 * oms) * sq
+    root2d = r2oms * sq
     k = complete_k(p, tau)
     rf_comp = 0.0
     rd0 = 0.0

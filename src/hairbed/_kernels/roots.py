@@ -10,7 +10,7 @@ scalar equation. Its critical points (folds) depend on (eps, theta0) but not on 
   two, one either side of t_c, where G = eps. eps_c and t_c are tabulated once per process in
   u = ln(1 + sin theta0) (eps_c rises with u), so most elements need no fold search at all.
 * Every other branch: the slope is scanned on a grid in t that reaches down to
-  ln(1 + sin theta0) - 14 (the structure near theta0 = -pi/2 lives there); sign changes and
+  ln(1 + sin theta0) - 12 (the structure near theta0 = -pi/2 lives there); sign changes and
   dips of |slope| that cross zero inside one cell (two close folds) are refined.
 
 Between folds the branch is monotone; each piece that brackets the target gets a safeguarded
@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from .._jit import kernel
-from .branch import LN_OMEGA2_NONE, base_angle, evaluate, log_expit
+from .branch import LN_OMEGA2_NONE, base_angle, base_terms, evaluate, evaluate_at, log_expit
 from .weak import weak_shape
 
 __all__ = [
@@ -112,8 +112,9 @@ def newton(ln_target, t, lo, hi, rising, eps, theta0, sign, n):
     """
     if t <= lo or t >= hi:
         t = 0.5 * (lo + hi)
+    base = base_terms(theta0)
     for _ in range(_MAXITER):
-        ev = evaluate(t, eps, theta0, sign, n, True)
+        ev = evaluate_at(t, eps, base, sign, n, True)
         r = ev[0] - ln_target
         if r == 0.0:
             return t, STATUS_CONVERGED
@@ -324,7 +325,7 @@ def _dip(a, b, orient, eps, theta0, sign, n):
 def scan_folds(eps, theta0, sign, n, folds):
     """Folds of any branch: scan of the slope on a grid in t, then refinement."""
     s, c, oms, ops = base_angle(theta0)
-    t_lo = min(-12.0, math.log(ops) - 14.0)
+    t_lo = min(-8.0, math.log(ops) - 12.0)
     t_hi = 4.0
     h = 0.25
     steps = int(math.ceil((t_hi - t_lo) / h))

@@ -16,7 +16,8 @@ import math
 import numpy as np
 
 from .._jit import kernel
-from .branch import base_angle, evaluate, tip_displacement
+from .branch import base_angle, base_terms, evaluate_at, tip_displacement
+from .elliptic import complete_k
 from .roots import (
     MAX_FOLDS,
     MAX_ROOTS,
@@ -75,7 +76,8 @@ _HALF_PI = 0.5 * math.pi
 def fields_at(t, eps, theta0, sign, n):
     """omega2, xi, omega_eps, energy, tip_height, tip_deflection, tip_displacement, tip_angle,
     base_curvature of the state at parameter t (t = -inf: the hair at rest)."""
-    ev = evaluate(t, eps, theta0, sign, n, False)
+    base = base_terms(theta0)
+    ev = evaluate_at(t, eps, base, sign, n, False)
     ln_w2 = ev[0]
     xi = ev[2]
     p = ev[4]
@@ -87,7 +89,7 @@ def fields_at(t, eps, theta0, sign, n):
     oe = ev[13]
     h1 = ev[14]
     root2d = ev[15]
-    s, c, oms, ops = base_angle(theta0)
+    s, c, oms = base[1], base[2], base[3]
     omega2 = math.exp(ln_w2)
     if xi > 0.5:
         upper = _HALF_PI - 2.0 * math.asin(math.sqrt(p))
@@ -307,8 +309,26 @@ def solve_all_kernel(omega2, eps, theta0, max_n, tables):
     roots = np.empty(MAX_ROOTS)
     status = np.empty(MAX_ROOTS, dtype=np.int64)
     total = 0
+    # omega_eps >= 2 n K(mu0) (sign +1) or (2 n + 1) K(mu0) (sign -1), mu0 = (1 + sin theta0)/2
+    # the smallest parameter on a branch, and omega^2 = omega_eps (omega_eps -+ eps sqrt(2 d)):
+    # once a branch's lower bound exceeds omega^2, so do those of every larger n
+    s, c, oms, ops = base_angle(theta0)
+    k0 = complete_k(0.5 * oms, math.log(0.5 * oms))
+    r_max = eps * math.sqrt(2.0 * oms)
+    open_plus = True
+    open_minus = True
     for n in range(max_n + 1):
+        if n >= 1 and open_plus:
+            a = 2.0 * n * k0
+            open_plus = a <= 0.5 * r_max or a * (a - r_max) <= omega2
+        if open_minus:
+            b = (2.0 * n + 1.0) * k0
+            open_minus = b * b <= omega2
+        if not (open_plus or open_minus):
+            break
         for sign in (1, -1):
+            if (sign > 0 and not open_plus) or (sign < 0 and not open_minus):
+                continue
             if needs_folds(eps, theta0, sign, n, tables):
                 n_folds = find_folds(eps, theta0, sign, n, tables, folds)
             else:

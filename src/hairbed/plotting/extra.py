@@ -8,7 +8,8 @@ core solver it is computed from :func:`hairbed.solve` directly.
 
 from __future__ import annotations
 
-import time
+from collections.abc import Iterable, Sequence
+from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
@@ -28,7 +29,6 @@ __all__ = [
     "fig_speed",
     "fig_states",
     "fig_twirling",
-    "timings",
 ]
 
 # Windows of omega^2 with three physical states (math.md section 5), as (theta0, eps).
@@ -296,80 +296,57 @@ def fig_fd_convergence(
     return fig
 
 
-def _per_call(func, repeat: int = 3) -> float:
-    """Best wall time of ``func()`` over a few runs [s]."""
-    best = np.inf
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        func()
-        best = min(best, time.perf_counter() - t0)
-    return best
-
-
-def timings(n: int = 100_000) -> dict[str, float]:
-    """Time per state [s] of the exact solver (vectorised and scalar), the finite differences
-    (when hairbed.numerics exists) and scipy's incomplete elliptic integral per element.
-
-    Examples
-    --------
-    >>> {'exact, scalar call', 'exact, vectorised'} <= set(timings(n=100))
-    True
-    """
-    from scipy.special import ellipkinc
-
-    rng = np.random.default_rng(0)
-    w2 = rng.uniform(0.01, 100.0, n)
-    eps = rng.uniform(0.0, 0.9, n)
-    phi, m = rng.uniform(0.0, 1.5, n), rng.uniform(0.0, 0.99, n)
-    out = {
-        "exact, vectorised": _per_call(lambda: hairbed.solve(w2, eps)) / n,
-        "exact, scalar call": _per_call(lambda: hairbed.solve(2.0, 0.5), 20),
-        "scipy ellipkinc (1 element)": _per_call(lambda: ellipkinc(phi, m)) / n,
-    }
-    try:
-        from hairbed import numerics
-    except ImportError:
-        return out
-    fd = numerics.finite_difference
-    out["finite differences, N = 80"] = _per_call(lambda: fd(2.0, 0.5, N=80))
-    out["finite differences, N = 640"] = _per_call(lambda: fd(2.0, 0.5, N=640))
-    # the other baselines, once hairbed.numerics exports them
-    for name, label in (("shooting", "shooting (solve_ivp)"), ("collocation", "collocation")):
-        func = getattr(numerics, name, None)
-        if func is not None:
-            out[label] = _per_call(lambda f=func: f(2.0, 0.5), 1)
-    return out
-
-
 @styled
-def fig_speed(n: int = 100_000) -> Figure:
-    """Time per state of the exact solver against the finite differences (measured here),
-    with the paper's reported 0.005 s (analytic) and 0.5 s (FD, N = 80) for scale.
+def fig_speed(
+    n: int = 100_000,
+    rows: Iterable[int] | None = None,
+    results: Sequence[Any] | None = None,
+    repeat: int = 3,
+) -> Figure:
+    """Every row of the speed table (``benchmarks/bench_solve.py``, ``hairbed bench``) as its
+    measured value over its target, on a log axis: a bar per row, the target at 1, green when
+    it is met and red when not (grey: reference rows without a target, scaled by the target
+    of their row).
+
+    The rows are measured here by the same code, ``hairbed._benchmark.run(quick=True)``, with
+    batch size ``n`` (only ``rows``, 1 to 10, if given); or passed in as ``results``, rows
+    of an earlier run.
 
     Examples
     --------
-    >>> fig = fig_speed(n=100)
-    >>> len(fig.axes)
-    1
+    >>> fig = fig_speed(n=100, rows={1, 4}, repeat=1)
+    >>> len(fig.axes), len(fig.axes[0].patches)
+    (1, 2)
     """
-    t = timings(n)
-    t["paper: analytic (reported)"] = 5e-3
-    t["paper: FD N = 80 (reported)"] = 0.5
-    names = list(t)
-    vals = np.array([t[k] for k in names])
-    fig, ax = new_figure(size=(6.4, 3.6))
-    cols = [
-        "C2" if "exact" in k else "0.6" if "scipy" in k or "paper" in k else "C0" for k in names
-    ]
-    ax.barh(np.arange(len(names)), vals, color=cols)
-    for i, v in enumerate(vals):
-        ax.text(v * 1.3, i, f"{v:.2g} s", va="center", fontsize=8)
-    ax.set_yticks(np.arange(len(names)), names)
+    measured = results is None
+    if results is None:
+        from hairbed import _benchmark
+
+        results = _benchmark.run(quick=True, rows=rows, n=n, repeat=repeat)
+    scale = {r.number.rstrip("abcd"): r.target for r in results if r.target is not None}
+    shown = [r for r in results if scale.get(r.number.rstrip("abcd")) or r.target]
+    ratios = np.array([r.value / (r.target or scale[r.number.rstrip("abcd")]) for r in shown])
+    fig, ax = new_figure(size=(7.2, 0.8 + 0.36 * max(len(shown), 1)))
+    if not shown:
+        ax.set_xlabel("measured / target")
+        ax.set_title("Speed: no rows measured")
+        return fig
+    cols = ["0.65" if r.passed is None else "C2" if r.passed else "C3" for r in shown]
+    y = np.arange(len(shown))
+    ratios = np.maximum(ratios, 1e-6)  # log axis: a zero memory delta still shows
+    ax.barh(y, ratios, color=cols, height=0.6)
+    ax.axvline(1.0, color="k", lw=1.2, ls="--")
+    ax.plot(np.ones(len(shown)), y, "k|", ms=14, mew=2, label="target")
+    for i, (r, q) in enumerate(zip(shown, ratios)):
+        target = "" if r.target is None else f" ({r.op} {r.target:g})"
+        ax.text(q * 1.15, i, f"{r.value:.3g} {r.unit}{target}", va="center", fontsize=7)
+    ax.set_yticks(y, [f"{r.number}  {r.label}" for r in shown], fontsize=7)
     ax.invert_yaxis()
     ax.set_xscale("log")
-    ax.set_xlim(vals.min() / 3, vals.max() * 30)
-    ax.set_xlabel("wall time per state [s] (one core)")
-    ax.set_title("Speed: exact solution vs numerics")
+    ax.set_xlim(min(ratios.min(), 1.0) / 3, max(ratios.max(), 1.0) * 20)
+    ax.set_xlabel("measured / target (target at 1; green met, red not, grey reference)")
+    sizes = " (quick sizes)" if measured else ""
+    ax.set_title(f"Speed table: every row against its target{sizes}")
     return fig
 
 
