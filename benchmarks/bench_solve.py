@@ -1,432 +1,30 @@
 """Speed and memory of the exact solver, as ratios measured in one run (issue 2, item 6).
 
-Every figure is measured in the same run as its baseline, so the ratios carry over between
-machines better than the raw times; no timing is asserted anywhere in the tests. Rows:
+A thin command line over :mod:`hairbed._benchmark`, which holds the measurements and the
+description of every row (1 to 10); ``hairbed bench`` and the speed figure use the same code.
 
-1. ``hairbed.solve`` on 1e6 random physical-branch inputs (theta0 in [0, 1.2], eps in
-   [0, 0.95], omega2 log-uniform in [1e-3, 1e3]), time per solve over the time per element of
-   one ``scipy.special.ellipkinc`` call on 1e6 random elements (target <= 3);
-2. the same with theta0 in [-1.5, 1.5] and eps in [0, 0.99] (bistable window and folds
-   included; target <= 5);
-3. scalar ``hairbed.solve`` on a few hundred random Python-float inputs (those of row 1), in
-   units of one scalar ``ellipkinc(0.5, 0.3)`` call (target <= 5);
-4. ``hairbed.solve_all(200, 0.5, 0.1)`` (7 states) in scalar ellipkinc calls (target <= 50);
-5. ``Solution.profile(200)`` of a scalar solution in scalar ellipkinc calls (target <= 20);
-6. ``hairbed.numerics.finite_difference(..., N=80)`` (the paper's baseline) over scalar
-   ``solve`` at the same inputs, median over five inputs (target >= 100);
-7. peak memory of ``hairbed.solve(np.logspace(-3, 3, 10**6), 0.9, -1.5)``: ru_maxrss of a
-   fresh subprocess that warms the kernels and solves, minus that of one that only warms them
-   (target <= 1 GB = 1e9 bytes; each ru_maxrss is read by a wrapper process with that one child,
-   so that no other child enters RUSAGE_CHILDREN);
-8. row 1's inputs in two halves, solved on a ``ThreadPoolExecutor(2)`` versus one after the
-   other: the speedup (the kernels release the GIL; target >= 1.8), with the process CPU time
-   over the wall time of the threaded run (near 1 means no second core was free);
-9. ``hairbed.solve_all(1e8, 0.5)`` (5393 states), wall time (target <= 1 s);
-10. the whole process ``python -m hairbed solve --omega2 2 --eps 0.5`` with a warm numba
-    cache, median of 5 runs (target <= 0.5 s); the same once with a cold cache (a fresh empty
-    ``NUMBA_CACHE_DIR``; no target); and, for reference, ``python -c "import numba"`` and
-    ``python -c "pass"`` (median of 5 each).
-
-If the kernel sources are edited while this runs, the numba cache goes stale: to keep that out,
-rows 7 and 10 start with an untimed child that refreshes it, and a warning is printed when the
-sources changed during the run.
-
-Every kernel path is called once before any timing, so compile time only enters the
-cold-cache row (a warning is printed if a kernel compiled a new signature during rows 1-9).
-Machines are shared and noisy: batch times (rows 1, 2, 8, 9) are the best of ``--repeat``
-runs; scalar latencies (rows 3 to 6) are medians of many calls (row 3: the best of 5 calls per
-input, then the median over inputs; row 6: the finite differences best of 3). The load average
-and the share of a core the process got in rows 1-6 are printed with the table.
-
-Run: ``python benchmarks/bench_solve.py [--quick] [--json PATH] [--repeat N]``. ``--quick``
-shrinks the sizes (1e5 elements, fewer calls, no cold-cache run unless ``--cold``) for a smoke
-test; its figures are not comparable with the targets. A full run takes about 2-3 minutes on
-2 cores, about a minute of it the cold-cache compilation.
+Run: ``python benchmarks/bench_solve.py [--quick] [--json PATH] [--repeat N] [--rows 1 3 ...]``.
+``--quick`` shrinks the sizes (1e5 elements, fewer calls, no cold-cache run unless ``--cold``)
+for a smoke test; its figures are not comparable with the targets. A full run takes about 2-3
+minutes on 2 cores, about a minute of it the cold-cache compilation.
 """
 
 from __future__ import annotations
 
 import argparse
-import gc
-import json
-import os
-import platform
-import statistics
-import subprocess
-import sys
-import tempfile
-import time
-from collections.abc import Callable
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-from scipy import special
-
-import hairbed
-from hairbed.numerics import finite_difference
+from hairbed import _benchmark
 
 __all__ = ["main", "run"]
 
-#: Inputs of row 6: (omega2, eps, theta0), all on the physical branch for the FD solver too.
-FD_INPUTS = [
-    (2.0, 0.5, 0.0),
-    (10.0, 0.5, 0.3),
-    (0.5, 0.9, 0.0),
-    (50.0, 0.3, 0.1),
-    (100.0, 0.8, -0.3),
-]
-CLI = [sys.executable, "-m", "hairbed", "solve", "--omega2", "2", "--eps", "0.5"]
-#: Row 7: the child warms the array path on 10 elements; the measured child then solves n.
-MEM_WARM = "import numpy as np, hairbed; hairbed.solve(np.logspace(-3, 3, 10), 0.9, -1.5)"
-MEM_SOLVE = "; hairbed.solve(np.logspace(-3, 3, {n}), 0.9, -1.5)"
-#: Runs one child and prints its peak RSS, so that no other child enters RUSAGE_CHILDREN.
-MEM_RUNNER = (
-    "import resource, subprocess, sys; "
-    "subprocess.run([sys.executable, '-c', sys.argv[1]], check=True); "
-    "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)"
-)
-
-
-def best_of(fn: Callable[[], Any], repeat: int, collect: bool = False) -> float:
-    """Smallest wall time of ``repeat`` calls of fn [s].
-
-    ``collect``: run the garbage collector before each call (for long batch calls only: it
-    empties the CPU caches, which would slow down a short call).
-    """
-    best = float("inf")
-    for _ in range(repeat):
-        if collect:
-            gc.collect()
-        start = time.perf_counter()
-        fn()
-        best = min(best, time.perf_counter() - start)
-    return best
-
-
-def median_call(fn: Callable[[], Any], calls: int, number: int = 1) -> float:
-    """Median over ``calls`` timings of ``number`` back-to-back calls of fn, per call [s]."""
-    times = []
-    for _ in range(calls):
-        start = time.perf_counter()
-        for _ in range(number):
-            fn()
-        times.append((time.perf_counter() - start) / number)
-    return statistics.median(times)
-
-
-def wall(cmd: list[str], env: dict[str, str] | None = None) -> float:
-    """Wall time of one subprocess run [s] (it must succeed)."""
-    start = time.perf_counter()
-    subprocess.run(cmd, env=env, check=True, stdout=subprocess.DEVNULL)
-    return time.perf_counter() - start
-
-
-def peak_rss(code: str) -> int:
-    """Peak resident set of a fresh ``python -c code`` [bytes]."""
-    out = subprocess.run(
-        [sys.executable, "-c", MEM_RUNNER, code], check=True, capture_output=True, text=True
-    )
-    kib_or_bytes = int(out.stdout.split()[-1])
-    return kib_or_bytes if sys.platform == "darwin" else 1024 * kib_or_bytes
-
-
-def kernel_hash() -> str | None:
-    """Hash of the kernel sources now (they may be edited while we run), if available."""
-    try:
-        from hairbed._jit import kernel_sources_hash
-
-        return kernel_sources_hash.__wrapped__()
-    except Exception:  # private helper: the benchmark must not depend on it
-        return None
-
-
-def kernel_signatures() -> dict[str, int]:
-    """Compiled signatures per hairbed kernel, to check that nothing compiles while timing."""
-    import importlib
-    import pkgutil
-
-    import hairbed._kernels as kernels
-
-    counts = {}
-    for info in pkgutil.iter_modules(kernels.__path__):
-        module = importlib.import_module(f"{kernels.__name__}.{info.name}")
-        for name, obj in vars(module).items():
-            if hasattr(obj, "py_func") and hasattr(obj, "signatures"):
-                counts[f"{info.name}.{name}"] = len(obj.signatures)
-    return counts
-
-
-def inputs(rng: np.random.Generator, n: int, theta: float, eps: float, low: float) -> tuple:
-    """omega2 log-uniform in [1e-3, 1e3], eps in [0, eps], theta0 in [low, theta]."""
-    omega2 = 10.0 ** rng.uniform(-3.0, 3.0, n)
-    return omega2, rng.uniform(0.0, eps, n), rng.uniform(low, theta, n)
-
-
-def warm_up(row1: tuple, row2: tuple, pool: ThreadPoolExecutor) -> None:
-    """Call every path once, so that compilation (or loading the cache) is not timed."""
-    hairbed.solve(2.0, 0.5)
-    hairbed.solve(*(a[:1000] for a in row1))
-    hairbed.solve(*(a[:1000] for a in row2))  # folds, several (eps, theta0) pairs
-    hairbed.solve(np.logspace(-3, 3, 10), 0.9, -1.5)  # folds, one pair
-    hairbed.solve_all(200.0, 0.5, 0.1)
-    hairbed.solve_all(1e4, 0.5)
-    hairbed.solve(2.0, 0.5).profile(200)
-    finite_difference(2.0, 0.5, 0.0, N=80)
-    special.ellipkinc(0.5, 0.3)
-    special.ellipkinc(np.full(10, 0.5), np.full(10, 0.3))
-    list(pool.map(lambda a: hairbed.solve(*a), [tuple(x[:10] for x in row1)] * 2))
-
-
-#: Row -> (what is measured, unit, target, comparison); target None: reported, no target.
-ROWS: dict[str, tuple[str, str, float | None, str]] = {
-    "1": ("batch physical / ellipkinc per element", "x", 3.0, "<="),
-    "2": ("batch wide theta0, eps / ellipkinc per element", "x", 5.0, "<="),
-    "3": ("scalar solve / scalar ellipkinc", "calls", 5.0, "<="),
-    "4": ("solve_all(200, 0.5, 0.1) / scalar ellipkinc", "calls", 50.0, "<="),
-    "5": ("Solution.profile(200) / scalar ellipkinc", "calls", 20.0, "<="),
-    "6": ("finite_difference(N=80) / scalar solve", "x", 100.0, ">="),
-    "7": ("peak memory of solve(logspace(-3, 3, n), 0.9, -1.5)", "MB", 1000.0, "<="),
-    "8": ("2 threads / 1 thread, speedup", "x", 1.8, ">="),
-    "9": ("solve_all(1e8, 0.5) wall time", "s", 1.0, "<="),
-    "10a": ("`python -m hairbed solve`, warm cache", "s", 0.5, "<="),
-    "10b": ("`python -m hairbed solve`, cold cache", "s", None, ""),
-    "10c": ('`python -c "import numba"` (reference)', "s", None, ""),
-    "10d": ('`python -c "pass"` (reference)', "s", None, ""),
-}
-
-
-def row(num: str, value: float, **detail: Any) -> dict[str, Any]:
-    """One result: the value of row ``num`` against its target in ROWS."""
-    name, unit, target, op = ROWS[num]
-    ok = None if target is None else bool(value <= target if op == "<=" else value >= target)
-    return {
-        "row": num,
-        "name": name,
-        "value": float(value),
-        "unit": unit,
-        "target": target,
-        "op": op or None,
-        "pass": ok,
-        "detail": detail,
-    }
-
 
 def run(
-    quick: bool = False, repeat: int = 3, seed: int = 2026, cold: bool | None = None
+    quick: bool = False, repeat: int = 3, seed: int = 2026, cold: bool | None = None, **kw: Any
 ) -> dict[str, Any]:
-    """Measure every row; returns {"meta": ..., "rows": [...]}."""
-    n = 100_000 if quick else 1_000_000
-    n_scalar = 50 if quick else 300
-    n_cli = 3 if quick else 5
-    calls = 21 if quick else 101
-    cold = (not quick) if cold is None else cold
-    load_start = os.getloadavg()
-    hash_start = kernel_hash()
-    rng = np.random.default_rng(seed)
-    row1 = inputs(rng, n, 1.2, 0.95, 0.0)
-    row2 = inputs(rng, n, 1.5, 0.99, -1.5)
-    phi = rng.uniform(0.0, 0.5 * np.pi, n)
-    m = rng.uniform(0.0, 1.0, n)
-    rows: list[dict[str, Any]] = []
-    pool = ThreadPoolExecutor(2)
-    sections: dict[str, float] = {}
-    t_start = last = time.perf_counter()
-
-    def lap(name: str) -> None:
-        """Record the wall time since the previous lap under ``name``."""
-        nonlocal last
-        sections[name], last = time.perf_counter() - last, time.perf_counter()
-
-    warm_up(row1, row2, pool)
-    lap("warm-up")
-    sigs_start = kernel_signatures()
-    cpu0, wall0 = time.process_time(), time.perf_counter()
-
-    # rows 1, 2: batch solves against one batch ellipkinc, per element
-    t_ell = best_of(lambda: special.ellipkinc(phi, m), repeat, collect=True) / n
-    t_b1 = best_of(lambda: hairbed.solve(*row1), repeat, collect=True) / n
-    t_b2 = best_of(lambda: hairbed.solve(*row2), repeat, collect=True) / n
-    ns = {"ellipkinc_ns": t_ell * 1e9, "n": n}
-    rows.append(row("1", t_b1 / t_ell, solve_ns=t_b1 * 1e9, **ns))
-    rows.append(row("2", t_b2 / t_ell, solve_ns=t_b2 * 1e9, **ns))
-
-    # rows 3-6: scalar latencies in units of one scalar ellipkinc call
-    unit = median_call(lambda: special.ellipkinc(0.5, 0.3), calls, number=1000)
-    per_input = [
-        best_of(lambda w=w, e=e, t=t: hairbed.solve(w, e, t), 5)
-        for w, e, t in zip(*(a[:n_scalar].tolist() for a in row1))
-    ]
-    t_scalar = statistics.median(per_input)
-    rows.append(
-        row(
-            "3", t_scalar / unit, solve_us=t_scalar * 1e6, ellipkinc_us=unit * 1e6, inputs=n_scalar
-        )
-    )
-    t_all = median_call(lambda: hairbed.solve_all(200.0, 0.5, 0.1), calls)
-    states = len(hairbed.solve_all(200.0, 0.5, 0.1))
-    rows.append(row("4", t_all / unit, us=t_all * 1e6, states=states))
-    sol = hairbed.solve(2.0, 0.5)
-    t_prof = median_call(lambda: sol.profile(200), calls)
-    rows.append(row("5", t_prof / unit, us=t_prof * 1e6))
-    ratios, fd_ms, success = [], [], []
-    for w, e, t in FD_INPUTS:
-        t_fd = best_of(lambda w=w, e=e, t=t: finite_difference(w, e, t, N=80), 3)
-        t_an = median_call(lambda w=w, e=e, t=t: hairbed.solve(w, e, t), calls)
-        ratios.append(t_fd / t_an)
-        fd_ms.append(t_fd * 1e3)
-        success.append(bool(finite_difference(w, e, t, N=80).success))
-    fd = {"ratios": ratios, "fd_ms": fd_ms, "fd_success": success, "inputs": FD_INPUTS}
-    rows.append(row("6", statistics.median(ratios), **fd))
-
-    # share of one core this process got in the single-threaded rows: below 1, it waited
-    cpu_share = (time.process_time() - cpu0) / (time.perf_counter() - wall0)
-    lap("rows 1-6")
-
-    # row 7: peak memory, fresh subprocesses
-    peak_rss(MEM_WARM)  # refreshes the kernel cache if the sources changed since the warm-up
-    base = peak_rss(MEM_WARM)
-    peak = peak_rss(MEM_WARM + MEM_SOLVE.format(n=n))
-    rows.append(row("7", (peak - base) / 1e6, peak_mb=peak / 1e6, baseline_mb=base / 1e6, n=n))
-    lap("row 7")
-
-    # row 8: two threads against one, interleaved so that a burst of load hits both alike
-    halves = [tuple(a[s].copy() for a in row1) for s in (slice(0, n // 2), slice(n // 2, n))]
-    t_seq = t_par = cpu_par = float("inf")
-    for _ in range(repeat):
-        t_seq = min(t_seq, best_of(lambda: [hairbed.solve(*h) for h in halves], 1, collect=True))
-        gc.collect()
-        cpu, start = time.process_time(), time.perf_counter()
-        list(pool.map(lambda h: hairbed.solve(*h), halves))
-        if time.perf_counter() - start < t_par:
-            t_par, cpu_par = time.perf_counter() - start, time.process_time() - cpu
-    pool.shutdown()
-    # cpu_per_wall near 2: both threads ran at once; near 1: no second core was free (load)
-    thr = {"sequential_s": t_seq, "threads_s": t_par, "cpu_per_wall": cpu_par / t_par, "n": n}
-    rows.append(row("8", t_seq / t_par, **thr))
-    lap("row 8")
-
-    # row 9: every state at strong forcing
-    t_big = best_of(lambda: hairbed.solve_all(1e8, 0.5), repeat, collect=True)
-    rows.append(row("9", t_big, states=len(hairbed.solve_all(1e8, 0.5))))
-    lap("row 9")
-    sigs_end = kernel_signatures()
-    compiled = sorted(k for k, v in sigs_end.items() if v != sigs_start.get(k))
-
-    # row 10: whole processes
-    wall(CLI)  # untimed: refreshes the kernel cache if the sources changed since the warm-up
-    warm = [wall(CLI) for _ in range(n_cli)]
-    rows.append(row("10a", statistics.median(warm), runs=warm))
-    if cold:
-        with tempfile.TemporaryDirectory(prefix="hairbed-cold-") as cache:
-            t_cold = wall(CLI, env={**os.environ, "NUMBA_CACHE_DIR": cache})
-        rows.append(row("10b", t_cold))
-    for num, code in (("10c", "import numba"), ("10d", "pass")):
-        rows.append(
-            row(num, statistics.median(wall([sys.executable, "-c", code]) for _ in range(5)))
-        )
-    lap("row 10")
-    meta = {
-        "quick": quick,
-        "repeat": repeat,
-        "seed": seed,
-        "n": n,
-        "scalar_inputs": n_scalar,
-        "median_calls": calls,
-        "cpu_count": os.cpu_count(),
-        "loadavg_start": list(load_start),
-        "loadavg_end": list(os.getloadavg()),
-        "cpu_share_single_thread": cpu_share,
-        "sections_s": sections,
-        "total_s": time.perf_counter() - t_start,
-        "compiled_while_timing": compiled,
-        "kernel_sources_changed": hash_start != kernel_hash(),
-        "python": platform.python_version(),
-        "numpy": np.__version__,
-        "numba": _version("numba"),
-        "scipy": _version("scipy"),
-        "hairbed": hairbed.__version__,
-        "platform": platform.platform(),
-        "time": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
-    }
-    return {"meta": meta, "rows": rows}
-
-
-def _version(name: str) -> str:
-    from importlib.metadata import version
-
-    return version(name)
-
-
-def report(result: dict[str, Any]) -> str:
-    """The table as text."""
-    meta = result["meta"]
-    lines = [
-        f"hairbed {meta['hairbed']}, numba {meta['numba']}, {meta['cpu_count']} CPUs, "
-        f"n = {meta['n']:.0e}, best of {meta['repeat']} (batch), medians (scalar)"
-        + ("  [QUICK: reduced sizes, not comparable with the targets]" if meta["quick"] else ""),
-        "load average (1, 5, 15 min): start "
-        + " ".join(f"{x:.2f}" for x in meta["loadavg_start"])
-        + ", end "
-        + " ".join(f"{x:.2f}" for x in meta["loadavg_end"])
-        + f"; share of a core in rows 1-6: {meta['cpu_share_single_thread']:.2f}",
-        "",
-        f"{'row':<4} {'measured':<52} {'value':>10} {'unit':<6} {'target':<9} result",
-    ]
-    for r in result["rows"]:
-        target = "-" if r["target"] is None else f"{r['op']} {r['target']:g}"
-        verdict = "info" if r["pass"] is None else ("PASS" if r["pass"] else "FAIL")
-        lines.append(
-            f"{r['row']:<4} {r['name']:<52} {r['value']:>10.4g} {r['unit']:<6} {target:<9} "
-            f"{verdict}"
-        )
-    d = {r["row"]: r["detail"] for r in result["rows"]}
-    lines += [
-        "",
-        f"ellipkinc: {d['1']['ellipkinc_ns']:.0f} ns per batch element, "
-        f"{d['3']['ellipkinc_us'] * 1e3:.0f} ns per scalar call; batch solve "
-        f"{d['1']['solve_ns']:.0f} ns (row 1), {d['2']['solve_ns']:.0f} ns (row 2); scalar solve "
-        f"{d['3']['solve_us']:.1f} us; solve_all(200) {d['4']['us']:.0f} us "
-        f"({d['4']['states']} states); profile(200) {d['5']['us']:.1f} us",
-        f"FD N=80: {', '.join(f'{t:.1f}' for t in d['6']['fd_ms'])} ms; ratios "
-        f"{', '.join(f'{x:.0f}' for x in d['6']['ratios'])}; "
-        f"converged {all(d['6']['fd_success'])}",
-        f"memory: peak {d['7']['peak_mb']:.0f} MB, baseline {d['7']['baseline_mb']:.0f} MB; "
-        f"threads: {d['8']['sequential_s']:.2f} s sequential, {d['8']['threads_s']:.2f} s on 2 "
-        f"(CPU/wall {d['8']['cpu_per_wall']:.2f}); "
-        f"solve_all(1e8): {d['9']['states']} states; warm CLI runs "
-        + ", ".join(f"{t:.2f}" for t in d["10a"]["runs"])
-        + " s",
-        "time spent: "
-        + ", ".join(f"{k} {v:.0f} s" for k, v in meta["sections_s"].items())
-        + f"; total {meta['total_s']:.0f} s",
-    ]
-    if meta["compiled_while_timing"]:
-        lines.append(
-            "WARNING: kernels compiled while timing (rows 1-9 include compile time): "
-            + ", ".join(meta["compiled_while_timing"])
-        )
-    if meta["kernel_sources_changed"]:
-        lines.append(
-            "WARNING: the kernel sources changed during the run; subprocess rows may include "
-            "recompilation"
-        )
-    return "\n".join(lines)
-
-
-def write_json(result: dict[str, Any], path: Path) -> None:
-    """Write the figures whole: a temporary file in the same directory, then os.replace."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w") as fh:
-            json.dump(result, fh, indent=2)
-            fh.write("\n")
-        os.replace(tmp, path)
-    except BaseException:
-        os.unlink(tmp)
-        raise
+    """Measure every row; returns {"meta": ..., "rows": [...]} (the JSON written)."""
+    return _benchmark.measure(quick, repeat=repeat, seed=seed, cold=cold, **kw).as_dict()
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -438,11 +36,27 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument(
         "--cold", action="store_true", help="run the cold-cache row even with --quick"
     )
+    parser.add_argument("--n", type=int, help="batch size (default 1e6, 1e5 with --quick)")
+    parser.add_argument(
+        "--rows", type=int, nargs="+", choices=_benchmark.NUMBERS, metavar="ROW",
+        help="only these rows, 1 to 10 (default all)",
+    )  # fmt: skip
     args = parser.parse_args(argv)
-    result = run(quick=args.quick, repeat=args.repeat, seed=args.seed, cold=args.cold or None)
-    print(report(result))
+    if args.repeat < 1:
+        parser.error(f"--repeat must be >= 1, got {args.repeat}")
+    if args.n is not None and args.n < 2:
+        parser.error(f"--n must be >= 2, got {args.n}")
+    result = _benchmark.measure(
+        args.quick,
+        args.rows,
+        repeat=args.repeat,
+        seed=args.seed,
+        cold=args.cold or None,
+        n=args.n,
+    )
+    print(_benchmark.format_report(result))
     if args.json is not None:
-        write_json(result, args.json)
+        _benchmark.write_json(result, args.json)
 
 
 if __name__ == "__main__":

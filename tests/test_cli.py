@@ -192,10 +192,47 @@ def test_help_has_examples_everywhere(capsys):
         assert "example" in capsys.readouterr().out
 
 
-def test_bench_prints_a_ratio():
-    proc = run("bench", "--n", "2000", "--repeat", "1")
-    assert proc.returncode == 0
-    assert "ratio" in proc.stdout
+def test_bench_runs_every_row_of_the_table(tmp_path):
+    """Structure only: the values are timings of a shared machine (no timing asserts)."""
+    from hairbed import _benchmark
+
+    out = tmp_path / "sub" / "bench.json"
+    proc = run("bench", "--quick", "--n", "1000", "--repeat", "1", "--json", str(out))
+    assert proc.returncode == 0, proc.stderr
+    numbers = [k for k in _benchmark.ROWS if k != "10b"]  # 10b (cold cache) needs --cold
+    for k in numbers:
+        assert _benchmark.ROWS[k][0] in proc.stdout, k
+    assert "QUICK" in proc.stdout
+    data = json.loads(out.read_text())
+    assert [r["row"] for r in data["rows"]] == numbers
+    assert {"row", "name", "value", "unit", "target", "op", "pass"} <= set(data["rows"][0])
+    assert data["meta"]["n"] == 1000 and data["meta"]["quick"] is True
+    assert [p.name for p in out.parent.iterdir()] == ["bench.json"]  # no temporary file left
+
+
+def test_bench_rows_and_progress():
+    proc = run("bench", "--rows", "3", "5", "--repeat", "1", "--progress")
+    assert proc.returncode == 0, proc.stderr
+    table = [line.split()[0] for line in proc.stdout.splitlines()[3:] if line[:1].isdigit()]
+    assert table == ["3", "5"]
+    assert "hairbed bench: rows 3-6" in proc.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "word"),
+    [
+        (["--repeat", "0"], "--repeat"),
+        (["--n", "0"], "--n"),
+        (["--rows", "11"], "--rows"),
+        (["--quick", "--full"], "--full"),
+    ],
+)
+def test_bench_bad_input_is_one_line(args, word, capsys):
+    from hairbed.cli import main
+
+    status = main(["bench", *args])
+    out, err = capsys.readouterr()
+    assert_one_error_line(subprocess.CompletedProcess(args, status, out, err), word)
 
 
 def test_figures_subcommand(tmp_path):

@@ -30,7 +30,7 @@ SMALL = {
     "fig_calibration": {"eps_values": (0.5,), "num": 40},
     "fig_physical_units": {},
     "fig_fd_convergence": {"omega2s": (2.0,), "Ns": (10, 20, 40)},
-    "fig_speed": {"n": 200},
+    "fig_speed": {"n": 200, "rows": {1, 3, 6}, "repeat": 1},
 }
 
 
@@ -66,6 +66,27 @@ def test_hysteresis_jumps_inside_the_window():
     j = int(np.argmax(np.abs(np.diff(y))))
     # the ramp up jumps at the upper fold of math.md section 5 (omega^2 = 1.4859)
     assert x[j] <= 1.4859 <= x[j + 1]
+
+
+def test_speed_figure_has_a_bar_per_row():
+    """Rows given (here made up: structure only, no timing) are drawn against their targets."""
+    from hairbed._benchmark import ROWS, Row
+
+    values = {k: 0.5 * (ROWS[k][2] or 0.2) for k in ROWS}
+    values["6"] = 50.0  # below its >= 100 target: a failed row
+    results = [Row.of(k, v) for k, v in values.items()]
+    fig = plotting.fig_speed(results=results)
+    ax = fig.axes[0]
+    bars = ax.patches
+    assert len(bars) == len(ROWS)
+    assert [t.get_text().split()[0] for t in ax.get_yticklabels()] == list(ROWS)
+    widths = {k: bar.get_width() for k, bar in zip(ROWS, bars)}
+    assert widths["1"] == pytest.approx(0.5)  # measured / target
+    assert widths["10d"] == pytest.approx(0.2)  # reference rows: over row 10's target
+    colours = {k: matplotlib.colors.to_hex(b.get_facecolor()) for k, b in zip(ROWS, bars)}
+    assert colours["6"] != colours["1"] != colours["10c"] != colours["6"]
+    assert ax.get_xscale() == "log"
+    fig.canvas.draw()
 
 
 def test_states_figure():

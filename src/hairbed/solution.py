@@ -28,13 +28,13 @@ STATUS_MESSAGES = {
 _SHAPE_KERNELS: Any = None
 
 
-def _shape_kernel() -> Any:
-    """The shape driver, imported on first use (compiles or loads only then)."""
+def _shape_kernels() -> Any:
+    """The kernel module of the shapes, imported on first use (compiles or loads only then)."""
     global _SHAPE_KERNELS
     if _SHAPE_KERNELS is None:
-        from ._kernels.state import shape_array
+        from ._kernels import state
 
-        _SHAPE_KERNELS = shape_array
+        _SHAPE_KERNELS = state
     return _SHAPE_KERNELS
 
 
@@ -221,7 +221,7 @@ class Solution:
         shape = t.shape
         size = t.size
         out = np.empty((6, size, 1))
-        _shape_kernel()(
+        _shape_kernels().shape_array(
             np.ascontiguousarray(t).reshape(size),
             np.ascontiguousarray(e).reshape(size),
             np.ascontiguousarray(th).reshape(size),
@@ -265,17 +265,31 @@ class Solution:
 
         Returns arrays of shape ``self.shape + (num,)``, from the base (sigma = 0) to the tip.
         """
-        if isinstance(num, bool) or not isinstance(num, (int, np.integer)) or num < 2:
+        if type(num) is not int and (
+            isinstance(num, bool) or not isinstance(num, (int, np.integer))
+        ):
+            raise ValueError(f"num must be an integer >= 2, got {num!r}")
+        if num < 2:
             raise ValueError(f"num must be an integer >= 2, got {num!r}")
         num = int(num)
+        kernels = _shape_kernels()
+        if type(self.t) is float:  # a single state: no numpy broadcasting (~10 us a call)
+            xs, zs = kernels.profile_array(
+                np.array([self.t]),
+                np.array([self.eps]),
+                np.array([self.theta0]),
+                self.sign,
+                self.n,
+                num,
+            )
+            return xs[0], zs[0]
         shape = self.shape
-        from ._kernels.state import profile_array
 
         def flat(v: Any) -> FloatArray:
-            return np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=np.float64), shape))
+            return np.array(np.broadcast_to(np.asarray(v, dtype=np.float64), shape)).reshape(-1)
 
-        t, e, th = (flat(v).reshape(-1) for v in (self.t, self.eps, self.theta0))
-        xs, zs = profile_array(t, e, th, self.sign, self.n, num)
+        t, e, th = (flat(v) for v in (self.t, self.eps, self.theta0))
+        xs, zs = kernels.profile_array(t, e, th, self.sign, self.n, num)
         return xs.reshape((*shape, num)), zs.reshape((*shape, num))
 
     def __getitem__(self, index: Any) -> Solution:

@@ -51,7 +51,7 @@ import math
 from .._jit import kernel
 from .elliptic import rd
 
-__all__ = ["jacobi", "jacobi_prepared", "jacobi_setup"]
+__all__ = ["jacobi", "jacobi_prepared", "jacobi_setup", "sncndn_prepared"]
 
 _PI = math.pi
 
@@ -242,6 +242,19 @@ def jacobi_prepared(u, m, tau, k, kme, c):
     tuple of float
         (sn u, cn u, dn u, u - Eps(u)).
     """
+    return _jacobi_core(u, m, tau, k, kme, c, True)
+
+
+@kernel
+def sncndn_prepared(u, m, tau, k, c):
+    """sn, cn, dn (and a 0 in place of u - Eps(u)) as :func:`jacobi_prepared`, without the
+    R_D that u - Eps(u) costs."""
+    return _jacobi_core(u, m, tau, k, 0.0, c, False)
+
+
+@kernel
+def _jacobi_core(u, m, tau, k, kme, c, want_me):
+    """The body of :func:`jacobi_prepared`; u - Eps(u) only if ``want_me``."""
     k2 = 2.0 * k
     j = math.floor(u * c[15] + 0.5)
     r = u - j * k2
@@ -262,7 +275,9 @@ def jacobi_prepared(u, m, tau, k, kme, c):
     else:
         sn, cn, dn, cd, sd, nd, y, ey = _theta_large_m(w, c)
     cn2 = cn * cn
-    if cn2 < 1e-300:
+    if not want_me:
+        w_me = 0.0
+    elif cn2 < 1e-300:
         # only reached for m so close to 1 that the m = 1 form is exact to rounding
         w_me = w - math.tanh(w)
     else:

@@ -40,7 +40,7 @@ import math
 from .._jit import kernel
 from .branch import base_angle, evaluate, tip_displacement
 from .elliptic import complete_k_m, k_minus_e, rd
-from .jacobi import jacobi_prepared, jacobi_setup
+from .jacobi import jacobi_prepared, jacobi_setup, sncndn_prepared
 from .weak import WEAK_MAX, weak_shape
 
 __all__ = ["shape_point", "shape_setup"]
@@ -152,7 +152,7 @@ def shape_point(sigma, sign, n, setup):
         elif v > 0.5 * k or theta0 >= 0.0:
             # w = K - v: the reflection, where cn v and dn v are of order sqrt(p)
             w = kv * (1.0 - sigma)
-            sn_w, cn_w, dn_w, me_w = jacobi_prepared(w, mu, tau, k, kme, jc)
+            sn_w, cn_w, dn_w, _ = sncndn_prepared(w, mu, tau, k, jc)
             sqp = math.exp(0.5 * tau) if p < 1e-290 else math.sqrt(p)  # p may be subnormal
             theta = _HALF_PI - 2.0 * math.atan2(sqp, rm * cn_w)
             z = 2.0 * rm * (cn0 - sqp * sn_w / dn_w) / kv

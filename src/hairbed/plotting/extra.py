@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 from matplotlib.figure import Figure
-from matplotlib.patches import FancyArrowPatch
+from matplotlib.patches import FancyArrowPatch, Patch
 
 import hairbed
 
@@ -335,16 +335,21 @@ def fig_speed(
     y = np.arange(len(shown))
     ratios = np.maximum(ratios, 1e-6)  # log axis: a zero memory delta still shows
     ax.barh(y, ratios, color=cols, height=0.6)
-    ax.axvline(1.0, color="k", lw=1.2, ls="--")
-    ax.plot(np.ones(len(shown)), y, "k|", ms=14, mew=2, label="target")
+    ax.axvline(1.0, color="k", lw=1.0, ls="--", zorder=1)
+    ax.plot(np.ones(len(shown)), y, "k|", ms=12, mew=2)
     for i, (r, q) in enumerate(zip(shown, ratios)):
         target = "" if r.target is None else f" ({r.op} {r.target:g})"
-        ax.text(q * 1.15, i, f"{r.value:.3g} {r.unit}{target}", va="center", fontsize=7)
+        text = f"{r.value:.3g} {r.unit}{target}"
+        ax.text(max(q, 1.0) * 1.25, i, text, va="center", fontsize=7)
     ax.set_yticks(y, [f"{r.number}  {r.label}" for r in shown], fontsize=7)
     ax.invert_yaxis()
     ax.set_xscale("log")
-    ax.set_xlim(min(ratios.min(), 1.0) / 3, max(ratios.max(), 1.0) * 20)
-    ax.set_xlabel("measured / target (target at 1; green met, red not, grey reference)")
+    ax.set_xlim(min(ratios.min(), 1.0) / 3, max(ratios.max(), 1.0) * 30)
+    ax.set_xlabel("measured / target (target at 1)")
+    handles = [Patch(color=c, label=t) for c, t in (("C2", "met"), ("C3", "not met"))]
+    if any(r.passed is None for r in shown):
+        handles.append(Patch(color="0.65", label="reference"))
+    ax.legend(handles=handles, loc="lower right", fontsize=7)
     sizes = " (quick sizes)" if measured else ""
     ax.set_title(f"Speed table: every row against its target{sizes}")
     return fig
