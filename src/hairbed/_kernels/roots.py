@@ -148,13 +148,23 @@ def _g_ratio(t, theta0):
 
 
 @kernel
-def _golden_min_g(a, b, theta0, stop_below, iters):
-    """Minimum of G on [a, b] by golden section; stops early once G < stop_below."""
+def _objective(kind, t, eps, theta0, sign, n):
+    """What the fold searches bracket: G(t) of the physical branch (kind 0, eps unused) or
+    the slope d ln(omega^2)/dt of the branch (kind 1)."""
+    if kind == 0:
+        return _g_ratio(t, theta0)
+    return evaluate(t, eps, theta0, sign, n, True)[1]
+
+
+@kernel
+def _golden_min(kind, a, b, eps, theta0, sign, n, orient, stop_below, iters):
+    """Minimum of orient * objective on [a, b] by golden section: (t, value); stops early
+    once the value is below ``stop_below``."""
     gr = 0.5 * (math.sqrt(5.0) - 1.0)
     c = b - gr * (b - a)
     d = a + gr * (b - a)
-    fc = _g_ratio(c, theta0)
-    fd = _g_ratio(d, theta0)
+    fc = orient * _objective(kind, c, eps, theta0, sign, n)
+    fd = orient * _objective(kind, d, eps, theta0, sign, n)
     for _ in range(iters):
         if fc < stop_below:
             return c, fc
@@ -165,115 +175,28 @@ def _golden_min_g(a, b, theta0, stop_below, iters):
             d = c
             fd = fc
             c = b - gr * (b - a)
-            fc = _g_ratio(c, theta0)
+            fc = orient * _objective(kind, c, eps, theta0, sign, n)
         else:
             a = c
             c = d
             fc = fd
             d = a + gr * (b - a)
-            fd = _g_ratio(d, theta0)
+            fd = orient * _objective(kind, d, eps, theta0, sign, n)
     if fc < fd:
         return c, fc
     return d, fd
 
 
 @kernel
-def critical_table(u_grid):
-    """t_c and eps_c = min_t G(t) of the physical branch at theta0 = arcsin(e^u - 1)."""
-    size = u_grid.size
-    t_c = np.empty(size)
-    eps_c = np.empty(size)
-    for i in range(size):
-        theta0 = math.asin(math.exp(u_grid[i]) - 1.0)
-        tm, gm = _golden_min_g(-60.0, 4.0, theta0, -1.0, 90)
-        t_c[i] = tm
-        eps_c[i] = gm
-    return t_c, eps_c
-
-
-@kernel
-def _solve_g(target, a, ga, b, gb, theta0):
-    """t in [a, b] with G(t) = target (G - target changes sign), Illinois regula falsi."""
-    fa = ga - target
-    fb = gb - target
+def _illinois(kind, a, fa, b, fb, eps, theta0, sign, n, shift):
+    """t in [a, b] with objective(t) = shift, where fa, fb (objective - shift at a, b) differ
+    in sign: Illinois regula falsi, to a bracket of a few ulp."""
     side = 0
     for _ in range(200):
         t = (a * fb - b * fa) / (fb - fa)
         if not (min(a, b) < t < max(a, b)):
             t = 0.5 * (a + b)
-        ft = _g_ratio(t, theta0) - target
-        if ft == 0.0 or abs(b - a) <= 4.5e-16 * max(1.0, abs(t)) * 4.0:
-            return t
-        if (ft > 0.0) == (fb > 0.0):
-            b = t
-            fb = ft
-            if side == -1:
-                fa *= 0.5
-            side = -1
-        else:
-            a = t
-            fa = ft
-            if side == 1:
-                fb *= 0.5
-            side = 1
-    return 0.5 * (a + b)
-
-
-@kernel
-def physical_folds(eps, theta0, t_guess, folds):
-    """Folds of the physical branch near its G minimum (t_guess ~ t_c); returns how many."""
-    tm = t_guess
-    gm = _g_ratio(tm, theta0)
-    if not gm < eps:
-        tm, gm = _golden_min_g(t_guess - 3.0, t_guess + 3.0, theta0, eps, 60)
-        if not gm < eps:
-            return 0
-    # expand outwards until G exceeds eps, then solve G = eps on each side
-    a = tm
-    ga = gm
-    step = 1.0
-    b = tm - step
-    gb = _g_ratio(b, theta0)
-    while gb <= eps and b > T_MIN:
-        a = b
-        ga = gb
-        step *= 2.0
-        b = max(tm - step, T_MIN)
-        gb = _g_ratio(b, theta0)
-    if gb <= eps:
-        return 0
-    folds[0] = _solve_g(eps, b, gb, a, ga, theta0)
-    a = tm
-    ga = gm
-    step = 1.0
-    b = tm + step
-    gb = _g_ratio(b, theta0)
-    while gb <= eps and b < 60.0:
-        a = b
-        ga = gb
-        step *= 2.0
-        b = tm + step
-        gb = _g_ratio(b, theta0)
-    if gb <= eps:
-        return 0
-    folds[1] = _solve_g(eps, a, ga, b, gb, theta0)
-    return 2
-
-
-@kernel
-def _slope(t, eps, theta0, sign, n):
-    return evaluate(t, eps, theta0, sign, n, True)[1]
-
-
-@kernel
-def _zero_of_slope(a, fa, b, fb, eps, theta0, sign, n):
-    """A zero of the slope between a and b where it changes sign (Illinois)."""
-    side = 0
-    for _ in range(200):
-        t = (a * fb - b * fa) / (fb - fa)
-        if not (min(a, b) < t < max(a, b)):
-            t = 0.5 * (a + b)
-        ft = _slope(t, eps, theta0, sign, n)
+        ft = _objective(kind, t, eps, theta0, sign, n) - shift
         if ft == 0.0 or abs(b - a) <= 1.8e-15 * max(1.0, abs(t)):
             return t
         if (ft > 0.0) == (fb > 0.0):
@@ -292,33 +215,58 @@ def _zero_of_slope(a, fa, b, fb, eps, theta0, sign, n):
 
 
 @kernel
-def _dip(a, b, orient, eps, theta0, sign, n):
-    """Minimum of orient * slope on [a, b] (golden section): (t, value)."""
-    gr = 0.5 * (math.sqrt(5.0) - 1.0)
-    c = b - gr * (b - a)
-    d = a + gr * (b - a)
-    fc = orient * _slope(c, eps, theta0, sign, n)
-    fd = orient * _slope(d, eps, theta0, sign, n)
-    for _ in range(60):
-        if fc < 0.0:
-            return c, fc
-        if fd < 0.0:
-            return d, fd
-        if fc < fd:
-            b = d
-            d = c
-            fd = fc
-            c = b - gr * (b - a)
-            fc = orient * _slope(c, eps, theta0, sign, n)
-        else:
-            a = c
-            c = d
-            fc = fd
-            d = a + gr * (b - a)
-            fd = orient * _slope(d, eps, theta0, sign, n)
-    if fc < fd:
-        return c, fc
-    return d, fd
+def critical_table(u_grid):
+    """t_c and eps_c = min_t G(t) of the physical branch at theta0 = arcsin(e^u - 1)."""
+    size = u_grid.size
+    t_c = np.empty(size)
+    eps_c = np.empty(size)
+    for i in range(size):
+        theta0 = math.asin(math.exp(u_grid[i]) - 1.0)
+        tm, gm = _golden_min(0, -60.0, 4.0, 0.0, theta0, 1, 0, 1.0, -1.0, 90)
+        t_c[i] = tm
+        eps_c[i] = gm
+    return t_c, eps_c
+
+
+@kernel
+def physical_folds(eps, theta0, t_guess, folds):
+    """Folds of the physical branch near its G minimum (t_guess ~ t_c); returns how many."""
+    tm = t_guess
+    gm = _g_ratio(tm, theta0)
+    if not gm < eps:
+        tm, gm = _golden_min(0, t_guess - 3.0, t_guess + 3.0, 0.0, theta0, 1, 0, 1.0, eps, 60)
+        if not gm < eps:
+            return 0
+    # expand outwards until G exceeds eps, then solve G = eps on each side
+    a = tm
+    ga = gm
+    step = 1.0
+    b = tm - step
+    gb = _g_ratio(b, theta0)
+    while gb <= eps and b > T_MIN:
+        a = b
+        ga = gb
+        step *= 2.0
+        b = max(tm - step, T_MIN)
+        gb = _g_ratio(b, theta0)
+    if gb <= eps:
+        return 0
+    folds[0] = _illinois(0, b, gb - eps, a, ga - eps, 0.0, theta0, 1, 0, eps)
+    a = tm
+    ga = gm
+    step = 1.0
+    b = tm + step
+    gb = _g_ratio(b, theta0)
+    while gb <= eps and b < 60.0:
+        a = b
+        ga = gb
+        step *= 2.0
+        b = tm + step
+        gb = _g_ratio(b, theta0)
+    if gb <= eps:
+        return 0
+    folds[1] = _illinois(0, a, ga - eps, b, gb - eps, 0.0, theta0, 1, 0, eps)
+    return 2
 
 
 @kernel
@@ -333,25 +281,25 @@ def scan_folds(eps, theta0, sign, n, folds):
     t_prev2 = t_lo
     f_prev2 = 0.0
     t_prev = t_lo
-    f_prev = _slope(t_lo, eps, theta0, sign, n)
+    f_prev = _objective(1, t_lo, eps, theta0, sign, n)
     for i in range(1, steps + 1):
         t = t_lo + i * h
-        f = _slope(t, eps, theta0, sign, n)
+        f = _objective(1, t, eps, theta0, sign, n)
         if count >= MAX_FOLDS:
             break
         if (f > 0.0) != (f_prev > 0.0) and f != 0.0 and f_prev != 0.0:
-            folds[count] = _zero_of_slope(t_prev, f_prev, t, f, eps, theta0, sign, n)
+            folds[count] = _illinois(1, t_prev, f_prev, t, f, eps, theta0, sign, n, 0.0)
             count += 1
         elif i >= 2 and (f > 0.0) == (f_prev > 0.0) == (f_prev2 > 0.0):
             # two folds inside one cell: |slope| dips between grid points without a change
             if abs(f_prev) < abs(f_prev2) and abs(f_prev) < abs(f) and count + 2 <= MAX_FOLDS:
                 orient = 1.0 if f_prev > 0.0 else -1.0
-                tm, fm = _dip(t_prev2, t, orient, eps, theta0, sign, n)
+                tm, fm = _golden_min(1, t_prev2, t, eps, theta0, sign, n, orient, 0.0, 60)
                 if fm < 0.0:
-                    fl = _slope(t_prev2, eps, theta0, sign, n)
+                    fl = _objective(1, t_prev2, eps, theta0, sign, n)
                     fmid = orient * fm
-                    folds[count] = _zero_of_slope(t_prev2, fl, tm, fmid, eps, theta0, sign, n)
-                    folds[count + 1] = _zero_of_slope(tm, fmid, t, f, eps, theta0, sign, n)
+                    folds[count] = _illinois(1, t_prev2, fl, tm, fmid, eps, theta0, sign, n, 0.0)
+                    folds[count + 1] = _illinois(1, tm, fmid, t, f, eps, theta0, sign, n, 0.0)
                     count += 2
         t_prev2 = t_prev
         f_prev2 = f_prev

@@ -36,6 +36,7 @@ References
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 from .._jit import kernel
 from .branch import base_angle, evaluate, tip_displacement
@@ -43,7 +44,13 @@ from .elliptic import complete_k_m, k_minus_e, rd
 from .jacobi import jacobi_prepared, jacobi_setup, sncndn_prepared
 from .weak import WEAK_MAX, weak_shape
 
-__all__ = ["shape_point", "shape_setup"]
+__all__ = ["ShapeSetup", "shape_point", "shape_setup"]
+
+#: Everything the shape needs at one state (``shape_setup``), computed once per state.
+ShapeSetup = namedtuple(
+    "ShapeSetup",
+    "mu p tau k kp kme sn0 cn0 dn0 kv oe v0 v0_me s c theta0 oms one_minus_x1 jc",
+)
 
 _HALF_PI = 0.5 * math.pi
 
@@ -52,9 +59,8 @@ _HALF_PI = 0.5 * math.pi
 def shape_setup(t, eps, theta0, sign, n):
     """Everything the shape needs at one state, computed once per state.
 
-    Returns (mu, p, tau, k, kp, kme, sn0, cn0, dn0, kv, oe, kv_me, v0, v0_me, s, c, theta0, oms,
-    one_minus_x1, jc); one_minus_x1 is 1 - x(1) on the physical branch (else 0), jc the
-    constants of ``jacobi.jacobi_setup``.
+    Returns a :data:`ShapeSetup`; its one_minus_x1 is 1 - x(1) on the physical branch (else
+    0), jc the constants of ``jacobi.jacobi_setup``.
     """
     ev = evaluate(t, eps, theta0, sign, n, False)
     p = ev[4]
@@ -68,12 +74,6 @@ def shape_setup(t, eps, theta0, sign, n):
     oe = ev[13]
     kp = complete_k_m(p)
     kme = k_minus_e(mu, p, k)
-    big_s = cn0 / dn0
-    a2 = p / (dn0 * dn0)
-    if a2 < 1e-300:
-        kv_me = kv - 1.0
-    else:
-        kv_me = mu / 3.0 * big_s * big_s * big_s * rd(a2 * sn0 * sn0, a2, 1.0)
     v0 = ev[11]
     v0_me = mu / 3.0 * sn0 * sn0 * sn0 * rd(cn0 * cn0, dn0 * dn0, 1.0)  # v0 - E(phi0 | mu)
     s, c, oms, ops = base_angle(theta0)
@@ -81,7 +81,7 @@ def shape_setup(t, eps, theta0, sign, n):
     if sign > 0 and n == 0 and kv > 0.0:
         one_minus_x1 = tip_displacement(p, mu, sn0, cn0, dn0, kv, s, oms)[2]
     jc = jacobi_setup(mu, p, tau, k, kp)  # the theta-series constants, once per state
-    return (
+    return ShapeSetup(
         mu,
         p,
         tau,
@@ -93,7 +93,6 @@ def shape_setup(t, eps, theta0, sign, n):
         dn0,
         kv,
         oe,
-        kv_me,
         v0,
         v0_me,
         s,
@@ -109,28 +108,10 @@ def shape_setup(t, eps, theta0, sign, n):
 def shape_point(sigma, sign, n, setup):
     """(theta, x, z, dtheta, dx, dz) at arc length sigma; d* are the displacements from the
     straight hair at rest (theta0, sigma sin theta0, sigma cos theta0)."""
-    (
-        mu,
-        p,
-        tau,
-        k,
-        kp,
-        kme,
-        sn0,
-        cn0,
-        dn0,
-        kv,
-        oe,
-        kv_me,
-        v0,
-        v0_me,
-        s,
-        c,
-        theta0,
-        oms,
-        one_minus_x1,
-        jc,
-    ) = setup
+    mu, p, tau, k, kme, jc = setup.mu, setup.p, setup.tau, setup.k, setup.kme, setup.jc
+    sn0, cn0, dn0, kv, oe = setup.sn0, setup.cn0, setup.dn0, setup.kv, setup.oe
+    s, c, theta0, oms = setup.s, setup.c, setup.theta0, setup.oms
+    v0, v0_me, one_minus_x1 = setup.v0, setup.v0_me, setup.one_minus_x1
     if oe == 0.0 or sigma == 0.0:  # the hair at rest, or its clamped base
         return theta0, sigma * s, sigma * c, 0.0, 0.0, 0.0
     if sign > 0 and n == 0:
