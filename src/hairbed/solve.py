@@ -280,10 +280,19 @@ def solve_all(
     >>> [(s.sign, s.n) for s in hairbed.solve_all(50.0, 0.5)]
     [(1, 0), (-1, 0), (1, 1)]
     """
-    w, e, t0 = check_inputs(omega2, eps, theta0)
-    if w.ndim != 0:
-        raise ValueError("solve_all takes scalar omega2, eps and theta0; use solve for arrays")
-    wf, ef, tf = float(w), float(e), float(t0)
+    wf, ef, tf = _scalar(omega2), _scalar(eps), _scalar(theta0)
+    if not (
+        wf is not None
+        and ef is not None
+        and tf is not None
+        and 0.0 <= wf < math.inf
+        and 0.0 <= ef < 1.0
+        and abs(tf) < HALF_PI
+    ):  # not plain valid numbers: the full checks, with their messages
+        w, e, t0 = check_inputs(omega2, eps, theta0)
+        if w.ndim != 0:
+            raise ValueError("solve_all takes scalar omega2, eps and theta0; use solve for arrays")
+        wf, ef, tf = float(w), float(e), float(t0)
     bound = int(math.floor(math.sqrt(wf / (1.0 - ef)) / math.pi)) + 1
     if max_n is not None:
         if isinstance(max_n, bool) or not isinstance(max_n, (int, np.integer)) or max_n < 0:

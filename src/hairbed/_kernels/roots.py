@@ -343,9 +343,30 @@ def branch_roots(ln_target, eps, theta0, sign, n, folds, n_folds, roots, status,
             t0 = math.nan
             if physical:
                 t0 = start_from_table(ln_target, eps, theta0, start)
-            if not a < t0 < b:  # secant point of the piece's ends
-                t0 = a + (b - a) * (ln_target - fa) / (fb - fa)
-            t, st = newton(ln_target, t0, a, b, rising, eps, theta0, sign, n)
+            lo, flo, hi, fhi = a, fa, b, fb
+            if not a < t0 < b:
+                # narrow a wide piece by probes 12, 24, 48, ... from its finite end (omega^2
+                # is nearly flat towards T_MIN and grows like t^2 towards t_max), then start
+                # from the secant point
+                step = 12.0
+                while hi - lo > 2.0 * step:
+                    if j == 0:
+                        s_t = hi - step
+                    else:
+                        s_t = lo + step
+                    f_s = evaluate(s_t, eps, theta0, sign, n, False)[0]
+                    if (f_s < ln_target) == (flo < fhi):
+                        lo, flo = s_t, f_s
+                    else:
+                        hi, fhi = s_t, f_s
+                    if j == 0:
+                        if lo == s_t:
+                            break  # the root is within the last step of the fold
+                    elif hi == s_t:
+                        break
+                    step *= 2.0
+                t0 = lo + (hi - lo) * (ln_target - flo) / (fhi - flo)
+            t, st = newton(ln_target, t0, lo, hi, rising, eps, theta0, sign, n)
             roots[count] = t
             status[count] = st
             count += 1
