@@ -122,7 +122,7 @@ class Solution:
 
     @classmethod
     def _from_row(
-        cls, row: tuple[float, ...], eps: float, theta0: float, sign: int, n: int, omega2: Any
+        cls, row: Any, eps: float, theta0: float, sign: int, n: int, omega2: Any
     ) -> Solution:
         """A single state from the kernel's output tuple (``_kernels.state.FIELDS``).
 
@@ -131,24 +131,28 @@ class Solution:
         """
         status = int(row[2])
         obj = object.__new__(cls)
-        obj.__dict__.update(
-            omega2=row[3] if omega2 is None else omega2,
-            eps=eps,
-            theta0=theta0,
-            sign=sign,
-            n=n,
-            xi=row[4],
-            omega_eps=row[5],
-            energy=row[6],
-            tip_height=row[7],
-            tip_deflection=row[8],
-            tip_displacement=row[9],
-            tip_angle=row[10],
-            base_curvature=row[11],
-            n_roots=int(row[1]),
-            physical=sign == 1 and n == 0 and status == 0,
-            status=status,
-            t=row[0],
+        object.__setattr__(
+            obj,
+            "__dict__",
+            {
+                "omega2": row[3] if omega2 is None else omega2,
+                "eps": eps,
+                "theta0": theta0,
+                "sign": sign,
+                "n": n,
+                "xi": row[4],
+                "omega_eps": row[5],
+                "energy": row[6],
+                "tip_height": row[7],
+                "tip_deflection": row[8],
+                "tip_displacement": row[9],
+                "tip_angle": row[10],
+                "base_curvature": row[11],
+                "n_roots": int(row[1]),
+                "physical": sign == 1 and n == 0 and status == 0,
+                "status": status,
+                "t": row[0],
+            },
         )
         return obj
 

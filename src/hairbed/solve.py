@@ -299,9 +299,9 @@ def solve_all(
             raise ValueError(f"max_n must be a whole number >= 0, got {max_n!r}")
         bound = min(bound, int(max_n))
     rows, signs, ns = _kernels().solve_all_kernel(wf, ef, tf, bound, _tables())
+    build = Solution._from_row
     return [
-        Solution._from_row(tuple(r), ef, tf, int(s), int(k), wf)
-        for r, s, k in zip(rows.tolist(), signs.tolist(), ns.tolist())
+        build(r, ef, tf, s, k, wf) for r, s, k in zip(rows.tolist(), signs.tolist(), ns.tolist())
     ]
 
 
