@@ -78,7 +78,8 @@ from typing import Any
 
 import numpy as np
 
-import hairbed
+from . import __version__
+from .solve import solve, solve_all
 
 __all__ = [
     "ROWS",
@@ -241,7 +242,7 @@ def peak_rss(code: str) -> int:
 def kernel_hash() -> str | None:
     """Hash of the kernel sources now (they may be edited while we run), if available."""
     try:
-        from hairbed._jit import kernel_sources_hash
+        from ._jit import kernel_sources_hash
 
         return kernel_sources_hash.__wrapped__()
     except Exception:  # private helper: the benchmark must not depend on it
@@ -253,7 +254,7 @@ def kernel_signatures() -> dict[str, int]:
     import importlib
     import pkgutil
 
-    import hairbed._kernels as kernels
+    from . import _kernels as kernels
 
     counts = {}
     for info in pkgutil.iter_modules(kernels.__path__):
@@ -333,7 +334,7 @@ def measure(
     if chosen & {1, 2, 3, 4, 5, 6}:
         from scipy import special
     if 6 in chosen:
-        from hairbed.numerics import finite_difference
+        from .numerics import finite_difference
 
     def lap(name: str) -> None:
         """Record the wall time since the previous lap under ``name``."""
@@ -344,19 +345,19 @@ def measure(
     pool = ThreadPoolExecutor(2)
     try:
         # call every path once, so that compilation (or loading the cache) is not timed
-        hairbed.solve(2.0, 0.5)
-        hairbed.solve(*(a[:1000] for a in row1))
-        hairbed.solve(*(a[:1000] for a in row2))  # folds, several (eps, theta0) pairs
-        hairbed.solve(np.logspace(-3, 3, 10), 0.9, -1.5)  # folds, one pair
-        hairbed.solve_all(200.0, 0.5, 0.1)
-        hairbed.solve_all(1e4, 0.5)
-        hairbed.solve(2.0, 0.5).profile(200)
+        solve(2.0, 0.5)
+        solve(*(a[:1000] for a in row1))
+        solve(*(a[:1000] for a in row2))  # folds, several (eps, theta0) pairs
+        solve(np.logspace(-3, 3, 10), 0.9, -1.5)  # folds, one pair
+        solve_all(200.0, 0.5, 0.1)
+        solve_all(1e4, 0.5)
+        solve(2.0, 0.5).profile(200)
         if 6 in chosen:
             finite_difference(2.0, 0.5, 0.0, N=80)
         if chosen & {1, 2, 3, 4, 5, 6}:
             special.ellipkinc(0.5, 0.3)
             special.ellipkinc(np.full(10, 0.5), np.full(10, 0.3))
-        list(pool.map(lambda a: hairbed.solve(*a), [tuple(x[:10] for x in row1)] * 2))
+        list(pool.map(lambda a: solve(*a), [tuple(x[:10] for x in row1)] * 2))
         lap("warm-up")
         sigs_start = kernel_signatures()
         cpu0, wall0 = time.process_time(), time.perf_counter()
@@ -368,7 +369,7 @@ def measure(
             ns = {"ellipkinc_ns": t_ell * 1e9, "n": n}
             for k, args in ((1, row1), (2, row2)):
                 if k in chosen:
-                    t_b = best_of(lambda a=args: hairbed.solve(*a), repeat, collect=True) / n
+                    t_b = best_of(lambda a=args: solve(*a), repeat, collect=True) / n
                     out.append(Row.of(str(k), t_b / t_ell, solve_ns=t_b * 1e9, **ns))
 
         # rows 3-6: scalar latencies in units of one scalar ellipkinc call
@@ -379,25 +380,25 @@ def measure(
             scalar = {"ellipkinc_us": unit * 1e6}
         if 3 in chosen:
             per_input = [
-                best_of(lambda w=w, e=e, t=t: hairbed.solve(w, e, t), 5)
+                best_of(lambda w=w, e=e, t=t: solve(w, e, t), 5)
                 for w, e, t in zip(*(a[:n_scalar].tolist() for a in row1))
             ]
             t_scalar = statistics.median(per_input)
             detail = {"solve_us": t_scalar * 1e6, **scalar, "inputs": n_scalar}
             out.append(Row.of("3", t_scalar / unit, **detail))
         if 4 in chosen:
-            t_all = median_call(lambda: hairbed.solve_all(200.0, 0.5, 0.1), calls)
-            states = len(hairbed.solve_all(200.0, 0.5, 0.1))
+            t_all = median_call(lambda: solve_all(200.0, 0.5, 0.1), calls)
+            states = len(solve_all(200.0, 0.5, 0.1))
             out.append(Row.of("4", t_all / unit, us=t_all * 1e6, states=states, **scalar))
         if 5 in chosen:
-            sol = hairbed.solve(2.0, 0.5)
+            sol = solve(2.0, 0.5)
             t_prof = median_call(lambda: sol.profile(200), calls)
             out.append(Row.of("5", t_prof / unit, us=t_prof * 1e6, **scalar))
         if 6 in chosen:
             ratios, fd_ms, success = [], [], []
             for w, e, t in FD_INPUTS:
                 t_fd = best_of(lambda w=w, e=e, t=t: finite_difference(w, e, t, N=80), 3)
-                t_an = median_call(lambda w=w, e=e, t=t: hairbed.solve(w, e, t), calls)
+                t_an = median_call(lambda w=w, e=e, t=t: solve(w, e, t), calls)
                 ratios.append(t_fd / t_an)
                 fd_ms.append(t_fd * 1e3)
                 success.append(bool(finite_difference(w, e, t, N=80).success))
@@ -427,12 +428,10 @@ def measure(
             halves = [tuple(a[s].copy() for a in row1) for s in cut]
             t_seq = t_par = cpu_par = float("inf")
             for _ in range(repeat):
-                t_seq = min(
-                    t_seq, best_of(lambda: [hairbed.solve(*h) for h in halves], 1, collect=True)
-                )
+                t_seq = min(t_seq, best_of(lambda: [solve(*h) for h in halves], 1, collect=True))
                 gc.collect()
                 cpu, start = time.process_time(), time.perf_counter()
-                list(pool.map(lambda h: hairbed.solve(*h), halves))
+                list(pool.map(lambda h: solve(*h), halves))
                 if time.perf_counter() - start < t_par:
                     t_par, cpu_par = time.perf_counter() - start, time.process_time() - cpu
             # cpu_per_wall near 2: both threads ran at once; near 1: no second core was free
@@ -445,8 +444,8 @@ def measure(
     # row 9: every state at strong forcing
     if 9 in chosen:
         say("row 9: solve_all(1e8, 0.5)")
-        t_big = best_of(lambda: hairbed.solve_all(1e8, 0.5), repeat, collect=True)
-        out.append(Row.of("9", t_big, states=len(hairbed.solve_all(1e8, 0.5))))
+        t_big = best_of(lambda: solve_all(1e8, 0.5), repeat, collect=True)
+        out.append(Row.of("9", t_big, states=len(solve_all(1e8, 0.5))))
         lap("row 9")
     sigs_end = kernel_signatures()
     compiled = sorted(k for k, v in sigs_end.items() if v != sigs_start.get(k))
@@ -485,7 +484,7 @@ def measure(
         "numpy": np.__version__,
         "numba": _version("numba"),
         "scipy": _version("scipy"),
-        "hairbed": hairbed.__version__,
+        "hairbed": __version__,
         "platform": platform.platform(),
         "time": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
     }

@@ -24,9 +24,10 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import brentq, minimize_scalar
 
-import hairbed
 from hairbed._validation import as_float_array, check_branch, check_inputs
 from hairbed.solve import fold_parameters
+
+from .solve import from_parameter
 
 __all__ = [
     "Folds",
@@ -75,7 +76,7 @@ def _scalar_params(eps: Any, theta0: Any) -> tuple[float, float]:
 
 
 def _log_omega2(t: Any, eps: float, theta0: float) -> NDArray[np.float64]:
-    return np.log(np.asarray(hairbed.from_parameter(t, eps, theta0).omega2, dtype=np.float64))
+    return np.log(np.asarray(from_parameter(t, eps, theta0).omega2, dtype=np.float64))
 
 
 def log_slope(t: Any, eps: float, theta0: float = 0.0) -> NDArray[np.float64]:
@@ -145,7 +146,7 @@ def curve(
     if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
         raise ValueError(f"t_span must be two finite increasing numbers, got {t_span!r}")
     t = np.linspace(lo, hi, int(num))
-    return hairbed.from_parameter(t, eps, theta0, sign=sign, n=n)
+    return from_parameter(t, eps, theta0, sign=sign, n=n)
 
 
 def _refine_min(lo: float, hi: float, eps: float, theta0: float) -> tuple[float, float]:
@@ -202,7 +203,7 @@ def folds(eps: float, theta0: float = 0.0) -> Folds:
     if ts.size == 0:
         empty = np.empty(0, dtype=np.float64)
         return Folds(empty, empty.copy(), empty.copy())
-    sol = hairbed.from_parameter(ts, eps, theta0)
+    sol = from_parameter(ts, eps, theta0)
     return Folds(
         np.asarray(sol.omega2, dtype=np.float64).reshape(-1),
         np.asarray(sol.xi, dtype=np.float64).reshape(-1),

@@ -44,8 +44,9 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import optimize
 
-import hairbed
 from hairbed._validation import as_float_array, check_inputs, check_state_inputs
+
+from .solve import from_parameter, solve
 
 __all__ = [
     "ProfileFit",
@@ -78,7 +79,7 @@ def _scalar(value: Any) -> FloatOrArray:
 
 def _physical(t: FloatArray, eps: FloatArray, theta0: FloatArray) -> Any:
     """The physical-branch state at parameter t (math.md sections 2 and 3)."""
-    return hairbed.from_parameter(t, eps, theta0)
+    return from_parameter(t, eps, theta0)
 
 
 # -- a vectorised bracketed root finder ----------------------------------------------------------
@@ -268,7 +269,7 @@ def solution_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> Any:
             "+x, never past flat"
         )
     t = _t_from_tip_deflection(x1, theta0)
-    return hairbed.from_parameter(t, eps, theta0)
+    return from_parameter(t, eps, theta0)
 
 
 def omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrArray:
@@ -500,7 +501,7 @@ def omega2_from_tip_height(h1: Any, eps: Any, theta0: Any = 0.0) -> FloatArray:
     for col, t in enumerate((first, second)):
         ok = ~np.isnan(t)
         if np.any(ok):
-            sol = hairbed.from_parameter(t[ok], e[ok], th[ok])
+            sol = from_parameter(t[ok], e[ok], th[ok])
             out[ok, col] = np.asarray(sol.omega2, dtype=np.float64)
     return out.reshape(shape + (2,))
 
@@ -622,6 +623,7 @@ def fit_profile(
 
     Examples
     --------
+    >>> import hairbed
     >>> sol = hairbed.solve(2.0, 0.5, 0.1)
     >>> x, z = sol.profile(20)
     >>> fit = fit_profile(x, z, 0.5)
@@ -657,7 +659,7 @@ def fit_profile(
     best = (np.inf, 0.0, 0.0, s_grid[:m])
     for th in th_cands:
         if omega2_guess is not None:
-            sol0 = hairbed.solve(float(omega2_guess), eps, th)
+            sol0 = solve(float(omega2_guess), eps, th)
             x1_0 = np.atleast_1d(np.asarray(sol0.tip_deflection, dtype=np.float64))
             tc = _t_from_tip_deflection(x1_0, np.atleast_1d(th))
             tc = np.where(np.isfinite(tc), tc, -30.0)

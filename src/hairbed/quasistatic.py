@@ -21,9 +21,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-import hairbed
 from hairbed._validation import check_inputs
 from hairbed.branches import _fold_parameters
+
+from .solve import from_parameter
 
 __all__ = ["sweep", "sweep_with_jumps"]
 
@@ -31,7 +32,7 @@ _BISECTIONS = 80  # brackets are at most ~1e3 wide in t: 2^-80 of that is below 
 
 
 def _omega2(t: NDArray[np.float64], eps: float, theta0: float) -> NDArray[np.float64]:
-    return np.asarray(hairbed.from_parameter(t, eps, theta0).omega2, dtype=np.float64)
+    return np.asarray(from_parameter(t, eps, theta0).omega2, dtype=np.float64)
 
 
 def _stable_pieces(
@@ -157,7 +158,7 @@ def sweep_with_jumps(
     t = 0.5 * (lo + hi)
     t = np.where(positive, t, -np.inf)  # omega^2 = 0: the undeformed hair, xi = sin(theta0)
     jumps = np.nonzero(piece[1:] != piece[:-1])[0] + 1
-    return hairbed.from_parameter(t, eps, theta0), jumps.astype(np.intp)
+    return from_parameter(t, eps, theta0), jumps.astype(np.intp)
 
 
 def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "low") -> Any:

@@ -25,8 +25,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-import hairbed
 from hairbed._validation import check_inputs, check_root
+
+from .solve import solve
 
 __all__ = [
     "rectification_ratio",
@@ -71,7 +72,7 @@ def stress_ratio(omega2: Any, eps: Any, theta0: Any = 0.0, *, root: str = "low")
     """
     check_root(root)
     w, e, th = check_inputs(omega2, eps, theta0)
-    h1 = np.asarray(hairbed.solve(w, e, th, root=root).tip_height, dtype=np.float64)
+    h1 = np.asarray(solve(w, e, th, root=root).tip_height, dtype=np.float64)
     return _scalar(1.0 / (1.0 - e * h1))
 
 

@@ -43,8 +43,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-import hairbed
 from hairbed._validation import as_float_array, check_root
+
+from .solve import solve
 
 if TYPE_CHECKING:  # pragma: no cover
     from hairbed.inverse import ProfileFit
@@ -386,7 +387,7 @@ class HairBed:
         v = as_float_array(velocity, "velocity")
         direction = self._direction(v)
         omega2 = np.abs(v) / self.velocity_scale
-        sol = hairbed.solve(omega2, self.eps, direction * self._base_angle, root=root)
+        sol = solve(omega2, self.eps, direction * self._base_angle, root=root)
         return self._state(v, direction, omega2, sol)
 
     def _state(
