@@ -1,7 +1,7 @@
 """Branches of solutions as exact parametric curves, and the folds of the physical branch.
 
 Every branch (``sign``, ``n``) of the boundary-value problem is an explicit curve in the tip
-parameter xi (math.md section 2, {solution3}): omega^2 is an *output* of xi, so no continuation
+parameter xi (theory.md §2, {solution3}): omega^2 is an *output* of xi, so no continuation
 is needed. We parametrise by the real number t of :func:`hairbed.from_parameter`,
 
     xi - sin(theta0) = (1 - sin theta0) expit(t),    1 - xi = (1 - sin theta0) expit(-t),
@@ -9,7 +9,7 @@ is needed. We parametrise by the real number t of :func:`hairbed.from_parameter`
 which resolves both weak forcing (t -> -inf) and strong forcing (t -> +inf).
 
 For a hair leaning into the flow (theta0 < 0) in a tight channel (eps near 1) omega^2(t) on the
-physical branch is not monotone (math.md section 5): it rises to a local maximum (the *upper
+physical branch is not monotone (theory.md §5): it rises to a local maximum (the *upper
 fold*, where the low state disappears) and falls to a local minimum (the *lower fold*, where the
 high state disappears) before rising again. Between the two fold values of omega^2 three
 physical states coexist. :func:`folds` locates the folds as the zeros of d ln(omega^2)/dt and
@@ -117,8 +117,8 @@ def curve(
     theta0 : float
         Base angle [rad], in (-pi/2, pi/2).
     sign, n : int
-        Branch label: sign of theta'(0) and number of interior turning points (math.md
-        section 2). The default is the physical branch.
+        Branch label: sign of theta'(0) and number of interior turning points (theory.md
+        §2). The default is the physical branch.
     num : int
         Number of points, evenly spaced in t.
     t_span : (float, float)
@@ -257,7 +257,7 @@ def cusp(theta0: Any) -> Any:
     -------
     float or ndarray
         eps_c, in (0, 1]. The value 1.0 means no folds for any admissible eps < 1: this is
-        the case for theta0 >= 0 (the physical branch is monotone, math.md section 5) and,
+        the case for theta0 >= 0 (the physical branch is monotone, theory.md §5) and,
         numerically, for base angles so close to 0- that eps_c is within 1e-9 of 1
         (eps_c -> 1 as theta0 -> 0-).
 

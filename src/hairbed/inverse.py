@@ -2,15 +2,15 @@
 
 A micropillar shear-stress sensor measures the deflection of a pillar's tip and must return the
 flow. On the physical branch (sign = +1, n = 0) every state is a point t of the explicit curve of
-:func:`hairbed.from_parameter` (math.md section 2), and the tip values x1(t) and h1(t) depend on
+:func:`hairbed.from_parameter` (theory.md §2), and the tip values x1(t) and h1(t) depend on
 t and theta0 only, not on eps: eps enters only in omega^2 = omega_eps^2 (1 - eps h1)
 ({solution3}). So the inverse problem is a root find in the one real number t, done here by a
 vectorised bracketed method (Chandrupatla's, inverse quadratic interpolation safeguarded by
 bisection), after which omega^2 is explicit. The parameter t, not xi, is the unknown: at strong
 forcing xi rounds to 1 (omega^2 above ~400) while t and the tip values stay exact.
 
-- The tip deflection x1 rises monotonically with t from sin(theta0) at rest to 1 (math.md
-  section 5), so :func:`omega2_from_tip_deflection` has one answer. Where three states share a
+- The tip deflection x1 rises monotonically with t from sin(theta0) at rest to 1 (theory.md
+  §5), so :func:`omega2_from_tip_deflection` has one answer. Where three states share a
   forcing (theta0 < 0, eps near 1) it is the one whose tip is at x1, whichever root that is.
 - The tip height h1 is not monotone when theta0 < 0: the flow first lifts a hair leaning into it
   and then bends it over, so :func:`omega2_from_tip_height` can have two answers.
@@ -78,7 +78,7 @@ def _scalar(value: Any) -> FloatOrArray:
 
 
 def _physical(t: FloatArray, eps: FloatArray, theta0: FloatArray) -> Any:
-    """The physical-branch state at parameter t (math.md sections 2 and 3)."""
+    """The physical-branch state at parameter t (theory.md §2, §3)."""
     return from_parameter(t, eps, theta0)
 
 
@@ -297,14 +297,14 @@ def omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrA
 
     Notes
     -----
-    x1 is monotone in xi along the physical branch (math.md section 5), so the answer is unique;
+    x1 is monotone in xi along the physical branch (theory.md §5), so the answer is unique;
     where three states share one forcing (theta0 < 0, eps near 1) the state with tip deflection
     x1 may be any of them (see :func:`hairbed.solve`'s ``root``). The root is found in the branch
     parameter t of :func:`hairbed.from_parameter`, then omega^2 follows from {solution3}.
 
     Examples
     --------
-    >>> round(omega2_from_tip_deflection(0.615831536923675, 0.5), 10)  # math.md section 3
+    >>> round(omega2_from_tip_deflection(0.615831536923675, 0.5), 10)  # theory.md §3
     2.0
     """
     return _scalar(solution_from_tip_deflection(x1, eps, theta0).omega2)
@@ -431,7 +431,7 @@ def omega2_from_tip_height(h1: Any, eps: Any, theta0: Any = 0.0) -> FloatArray:
 
     Examples
     --------
-    >>> w = omega2_from_tip_height(0.732706963462228, 0.5)  # math.md section 3
+    >>> w = omega2_from_tip_height(0.732706963462228, 0.5)  # theory.md §3
     >>> round(float(w[0]), 10), bool(np.isnan(w[1]))
     (2.0, True)
     """

@@ -11,7 +11,7 @@ the direction of travel.
 
 So a ramp of omega^2 up from rest follows the lowest-xi root up to the upper fold and then jumps
 to the high state; the ramp back down follows the highest root down to the lower fold and jumps
-back (math.md section 5): a hysteresis loop.
+back (theory.md §5): a hysteresis loop.
 """
 
 from __future__ import annotations
@@ -166,7 +166,7 @@ def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "lo
 
     The state moves continuously with omega^2 and jumps only where the state it is following
     disappears at a fold: a ramp up then down traces the hysteresis loop when theta0 < 0 and
-    eps > :func:`hairbed.branches.cusp` (math.md section 5). Use :func:`sweep_with_jumps` to get
+    eps > :func:`hairbed.branches.cusp` (theory.md §5). Use :func:`sweep_with_jumps` to get
     the jump indices too.
 
     Parameters

@@ -1,7 +1,7 @@
 """Rheology of a hair bed: the wall shear stress it transmits, and its rectification.
 
 The hairs shorten the channel to the gap H - h1 L above their tips, so the top wall feels the
-stress eta v / (H - h1 L) instead of eta v / H (math.md section 7). Relative to the bare channel,
+stress eta v / (H - h1 L) instead of eta v / H (theory.md §7). Relative to the bare channel,
 
     stress ratio = tau / (eta v / H) = 1 / (1 - eps h1) = omega_eps^2 / omega^2     ({solution3}).
 
@@ -10,7 +10,7 @@ lays them flat (h1 -> 0) and the ratio falls to 1: the bed shear-thins.
 
 A bed of tilted hairs (theta0 != 0) is anisotropic. Flow *with* the grain (along the tilt,
 theta0 > 0 for flow towards +x) bends the hairs over; flow *against* it first lifts them, which
-narrows the gap (math.md section 5). Reversing the flow is the mirror image theta0 -> -theta0 at
+narrows the gap (theory.md §5). Reversing the flow is the mirror image theta0 -> -theta0 at
 the same omega^2 (see :mod:`hairbed.units`), so the rectification ratio is
 
     rectification ratio = stress_ratio(omega^2, eps, -theta0) / stress_ratio(omega^2, eps, theta0),
@@ -67,7 +67,7 @@ def stress_ratio(omega2: Any, eps: Any, theta0: Any = 0.0, *, root: str = "low")
     --------
     >>> round(stress_ratio(0.0, 0.5), 12)  # upright hairs at rest fill half the channel
     2.0
-    >>> round(stress_ratio(2.0, 0.5), 6)  # math.md section 3: h1 = 0.732706963462228
+    >>> round(stress_ratio(2.0, 0.5), 6)  # theory.md §3: h1 = 0.732706963462228
     1.578167
     """
     check_root(root)
@@ -95,7 +95,7 @@ def rectification_ratio(omega2: Any, eps: Any, theta0: Any, *, root: str = "low"
         Base angle [rad]: the hairs lean along the flow "with the grain".
     root : {"low", "mid", "high"}
         Which state where several coexist; against the grain (base angle -|theta0|) a tight
-        bed can be bistable (math.md section 5).
+        bed can be bistable (theory.md §5).
 
     Returns
     -------

@@ -2,7 +2,7 @@
 
 The model
 ---------
-The static problem ({hairH}, math.md section 1) says nothing about which of several coexisting
+The static problem ({hairH}, theory.md §1) says nothing about which of several coexisting
 states a hair bed shows. For that we give the hair the simplest dynamics whose rest points are
 exactly the static states, an overdamped relaxation of the angle:
 
@@ -19,7 +19,7 @@ coefficient zeta per unit length). What it assumes:
   theory; its only job is to decide the sign of the growth rates.
 - Quasi-static fluid: the channel flow adjusts instantly, so the load at every moment is the
   static one of the *current* shape: the tip force omega_eps^2 follows the current tip height
-  h1 through the gap 1 - eps h1 (math.md section 7: the stress ratio 1 / (1 - eps h1)).
+  h1 through the gap 1 - eps h1 (theory.md §7: the stress ratio 1 / (1 - eps h1)).
 - The load is that of the static theory (a horizontal force at the tip); no wall contact.
 
 The load is not conservative (the operator's Jacobian is not symmetric), so this is not a

@@ -4,7 +4,7 @@ The dimensionless problem of the paper [1]_ has three inputs: the forcing omega^
 confinement eps = L/H and the base angle theta0. A real bed of cylindrical hairs of length L and
 radius a, Young's modulus E, hexagonally packed at spacing delta (packing fraction phi) at the
 bottom of a channel of height H filled with a fluid of viscosity eta, driven so that the top wall
-moves at speed v, has (math.md section 7)
+moves at speed v, has (theory.md §7)
 
     I       = pi a^4 / 4                                  second moment of area [m^4]
     phi     = (2 pi / sqrt 3) a^2 / delta^2               packing fraction [-]
@@ -376,7 +376,7 @@ class HairBed:
             module docstring).
         root : {"low", "mid", "high"}
             Which state to return where several coexist (a hair leaning into a flow in a tight
-            channel, math.md section 5): passed to :func:`hairbed.solve`.
+            channel, theory.md §5): passed to :func:`hairbed.solve`.
 
         Returns
         -------
@@ -458,7 +458,7 @@ class HairBed:
     def state_from_tip_deflection(self, deflection: Any) -> HairState:
         """The state of a bed whose tips sit at ``deflection`` [m] from their bases (along +x).
 
-        The tip deflection determines the state uniquely (math.md section 5), even where several
+        The tip deflection determines the state uniquely (theory.md §5), even where several
         states share one velocity.
         """
         return self._state(*self._solve_tip_deflection(deflection))

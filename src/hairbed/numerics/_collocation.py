@@ -19,7 +19,7 @@ _GUESS_TIP_FRACTION = 0.9  # of the way from theta0 to pi/2, at strong forcing
 
 
 def _default_guess(omega2: float, theta0: float) -> Callable[[FloatArray], FloatArray]:
-    """A monotone start with the base boundary layer of width 1/omega (math.md section 4).
+    """A monotone start with the base boundary layer of width 1/omega (theory.md §4).
 
     theta rises from theta0 like 1 - exp(-omega sigma) to a tip angle that approaches pi/2 as
     the forcing grows. From theta = const (the paper's finite-difference start), solve_bvp

@@ -1,4 +1,4 @@
-"""The paper's finite-difference baseline (math.md section 8), with an O(N) Newton solver."""
+"""The paper's finite-difference baseline (theory.md §8), with an O(N) Newton solver."""
 
 from __future__ import annotations
 
@@ -155,7 +155,7 @@ def finite_difference(
     central differences; theta(0) = theta0 enters the first equation, theta'(1) = 0 the last
     (through a ghost node, second order); the tip height h1 is the trapezoid sum of cos(theta),
     and omega_eps^2 = omega^2 / (1 - eps h1) {oe-givens} couples every unknown. The scheme is
-    second order: errors fall as N^-2 (math.md section 8).
+    second order: errors fall as N^-2 (theory.md §8).
 
     Parameters
     ----------

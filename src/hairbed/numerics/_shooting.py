@@ -91,7 +91,7 @@ def _bracket_physical(shooter: _Shooter, c_hi: float) -> tuple[float, float, flo
     That root is the physical one: just below c_hi the hair creeps towards theta = pi/2 and has
     not turned by the tip (theta'(1) > 0); at the physical c it turns exactly at the tip; below
     it turns inside (theta'(1) < 0) until the next, twirling (n = 1), root. The distance of the
-    physical c from c_hi shrinks like 1 - xi ~ exp(-2 omega_eps) (math.md section 4), so step
+    physical c from c_hi shrinks like 1 - xi ~ exp(-2 omega_eps) (theory.md §4), so step
     down from c_hi geometrically, from rounding level upwards.
     """
     delta = 8.0 * _MACHEPS

@@ -31,7 +31,7 @@ __all__ = [
     "fig_twirling",
 ]
 
-# Windows of omega^2 with three physical states (math.md section 5), as (theta0, eps).
+# Windows of omega^2 with three physical states (theory.md §5), as (theta0, eps).
 _TABLE = ((-1.5, 0.9), (-1.0, 0.95), (-0.5, 0.99))
 
 
@@ -156,7 +156,7 @@ def fig_hysteresis(eps: float = 0.9, theta0: float = -1.5, num: int = 240) -> Fi
 
 
 def _stress_ratio(omega2, eps, theta0):
-    """tau / (eta v / H) = 1 / (1 - eps h1) (math.md section 7)."""
+    """tau / (eta v / H) = 1 / (1 - eps h1) (theory.md §7)."""
     try:
         from hairbed.rheology import stress_ratio
     except ImportError:
