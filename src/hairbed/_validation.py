@@ -10,6 +10,7 @@ from numpy.typing import NDArray
 
 __all__ = [
     "as_float_array",
+    "broadcast_named",
     "check_branch",
     "check_inputs",
     "check_root",
@@ -27,7 +28,7 @@ def _first_index(mask: NDArray[np.bool_]) -> str:
     return f" (first at index {idx[0] if len(idx) == 1 else idx})"
 
 
-def as_float_array(value: Any, name: str) -> NDArray[np.float64]:
+def as_float_array(value: Any, name: str, allow_minus_inf: bool = False) -> NDArray[np.float64]:
     """Convert ``value`` to a float array, refusing non-numbers, NaN and infinity.
 
     Parameters
@@ -36,6 +37,8 @@ def as_float_array(value: Any, name: str) -> NDArray[np.float64]:
         What the user passed.
     name : str
         Parameter name used in the error message.
+    allow_minus_inf : bool, optional
+        Accept -inf (the end of a branch parameter's range); NaN and +inf stay refused.
 
     Raises
     ------
@@ -58,8 +61,15 @@ def as_float_array(value: Any, name: str) -> NDArray[np.float64]:
         )
     arr = arr.astype(np.float64)
     bad = ~np.isfinite(arr)
+    if allow_minus_inf:
+        bad &= arr != -np.inf
     if np.any(bad):
-        raise ValueError(f"{name} must be finite (not NaN or infinity){_first_index(bad)}")
+        what = (
+            "a real number or -inf (not NaN or +inf)"
+            if allow_minus_inf
+            else "finite (not NaN or infinity)"
+        )
+        raise ValueError(f"{name} must be {what}{_first_index(bad)}")
     return arr
 
 
@@ -99,10 +109,10 @@ def check_inputs(
     _check_range(w, w < 0.0, "omega2", "[0, inf)")
     _check_range(e, (e < 0.0) | (e >= 1.0), "eps", "[0, 1)")
     _check_range(t, np.abs(t) >= HALF_PI, "theta0", "(-pi/2, pi/2)")
-    return _broadcast(("omega2", w), ("eps", e), ("theta0", t))
+    return broadcast_named(("omega2", w), ("eps", e), ("theta0", t))
 
 
-def _broadcast(*named: tuple[str, NDArray[np.float64]]) -> tuple[NDArray[np.float64], ...]:
+def broadcast_named(*named: tuple[str, NDArray[np.float64]]) -> tuple[NDArray[np.float64], ...]:
     """Broadcast named arrays to one shape (copies), naming them all if they do not fit."""
     arrays = [a for _, a in named]
     try:
@@ -121,7 +131,7 @@ def check_state_inputs(
     broadcast together; for functions whose first input is a state rather than omega2."""
     v = as_float_array(value, name)
     _, e, t = check_inputs(0.0, eps, theta0)
-    return _broadcast((name, v), ("eps", e), ("theta0", t))
+    return broadcast_named((name, v), ("eps", e), ("theta0", t))
 
 
 def check_branch(sign: Any, n: Any) -> tuple[int, int]:

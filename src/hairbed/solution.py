@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._kernels import FIELDS
 from ._validation import as_float_array
 
 __all__ = ["STATUS_MESSAGES", "Solution"]
@@ -124,36 +125,26 @@ class Solution:
     def _from_row(
         cls, row: Any, eps: float, theta0: float, sign: int, n: int, omega2: Any
     ) -> Solution:
-        """A single state from the kernel's output tuple (``_kernels.state.FIELDS``).
+        """A single state from the kernel's output tuple (columns ``_kernels.FIELDS``).
 
         Built without the frozen dataclass's per-field ``object.__setattr__`` (a scalar solve
         is a few microseconds; the generated ``__init__`` alone would double it).
         """
-        status = int(row[2])
-        obj = object.__new__(cls)
-        object.__setattr__(
-            obj,
-            "__dict__",
-            {
-                "omega2": row[3] if omega2 is None else omega2,
-                "eps": eps,
-                "theta0": theta0,
-                "sign": sign,
-                "n": n,
-                "xi": row[4],
-                "omega_eps": row[5],
-                "energy": row[6],
-                "tip_height": row[7],
-                "tip_deflection": row[8],
-                "tip_displacement": row[9],
-                "tip_angle": row[10],
-                "base_curvature": row[11],
-                "n_roots": int(row[1]),
-                "physical": sign == 1 and n == 0 and status == 0,
-                "status": status,
-                "t": row[0],
-            },
+        values = dict(zip(FIELDS, row))
+        status = int(values["status"])
+        values.update(
+            eps=eps,
+            theta0=theta0,
+            sign=sign,
+            n=n,
+            n_roots=int(values["n_roots"]),
+            status=status,
+            physical=sign == 1 and n == 0 and status == 0,
         )
+        if omega2 is not None:
+            values["omega2"] = omega2
+        obj = object.__new__(cls)
+        object.__setattr__(obj, "__dict__", values)
         return obj
 
     @classmethod
@@ -169,29 +160,18 @@ class Solution:
     ) -> Solution:
         """States from the kernel's (NFIELDS, N) output, reshaped to ``shape``."""
 
-        def col(i: int) -> Any:
-            return _out(out[i].reshape(shape))
-
-        status = out[2].reshape(shape).astype(np.int64)
-        return cls(
-            omega2=col(3) if omega2 is None else _out(omega2),
+        values = {name: _out(out[i].reshape(shape)) for i, name in enumerate(FIELDS)}
+        status = out[FIELDS.index("status")].reshape(shape).astype(np.int64)
+        values.update(
             eps=_out(eps),
             theta0=_out(theta0),
-            sign=sign,
-            n=n,
-            t=col(0),
-            xi=col(4),
-            omega_eps=col(5),
-            energy=col(6),
-            tip_height=col(7),
-            tip_deflection=col(8),
-            tip_displacement=col(9),
-            tip_angle=col(10),
-            base_curvature=col(11),
-            n_roots=_out(out[1].reshape(shape).astype(np.int64)),
-            physical=_out((status == 0) & (sign == 1) & (n == 0)),
+            n_roots=_out(out[FIELDS.index("n_roots")].reshape(shape).astype(np.int64)),
             status=_out(status),
+            physical=_out((status == 0) & (sign == 1) & (n == 0)),
         )
+        if omega2 is not None:
+            values["omega2"] = _out(omega2)
+        return cls(sign=sign, n=n, **values)
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -269,11 +249,7 @@ class Solution:
 
         Returns arrays of shape ``self.shape + (num,)``, from the base (sigma = 0) to the tip.
         """
-        if type(num) is not int and (
-            isinstance(num, bool) or not isinstance(num, (int, np.integer))
-        ):
-            raise ValueError(f"num must be an integer >= 2, got {num!r}")
-        if num < 2:
+        if isinstance(num, bool) or not isinstance(num, (int, np.integer)) or num < 2:
             raise ValueError(f"num must be an integer >= 2, got {num!r}")
         num = int(num)
         kernels = _shape_kernels()

@@ -16,6 +16,8 @@ from numpy.typing import ArrayLike
 
 from ._validation import (
     HALF_PI,
+    as_float_array,
+    broadcast_named,
     check_branch,
     check_inputs,
     check_root,
@@ -115,23 +117,44 @@ def _save_tables(**arrays: np.ndarray) -> None:
     """Write the tables whole or not at all (temporary file, then rename)."""
     import os
     import tempfile
+    from pathlib import Path
 
     path = _tables_path()
     if path is None:
         return
     try:
         fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".npz.tmp")
+    except OSError:
+        return
+    try:
         with os.fdopen(fd, "wb") as fh:
             np.savez(fh, **arrays)
         os.replace(tmp, path)
     except OSError:
-        pass
+        Path(tmp).unlink(missing_ok=True)
 
 
 def _scalar(value: Any) -> float | None:
     """A plain real number as a float (fast path of the validation), else None."""
     if type(value) is float or type(value) is int or type(value) is np.float64:
         return float(value)
+    return None
+
+
+def _plain_inputs(omega2: Any, eps: Any, theta0: Any) -> tuple[float, float, float] | None:
+    """(omega2, eps, theta0) as floats when all three are plain numbers in range, else None
+    (then the full checks of ``check_inputs`` run, with their messages). Skipping numpy for
+    the common scalar call is most of a scalar solve's speed."""
+    w, e, th = _scalar(omega2), _scalar(eps), _scalar(theta0)
+    if (
+        w is not None
+        and e is not None
+        and th is not None
+        and 0.0 <= w < math.inf
+        and 0.0 <= e < 1.0
+        and abs(th) < HALF_PI
+    ):
+        return w, e, th
     return None
 
 
@@ -201,17 +224,9 @@ def solve(
     >>> round(float(sol.theta(1.0)), 12) == round(sol.tip_angle, 12)
     True
     """
-    w = _scalar(omega2)
-    e = _scalar(eps)
-    th = _scalar(theta0)
-    if (
-        w is not None
-        and e is not None
-        and th is not None
-        and 0.0 <= w < math.inf
-        and 0.0 <= e < 1.0
-        and abs(th) < HALF_PI
-    ):
+    plain = _plain_inputs(omega2, eps, theta0)
+    if plain is not None:
+        w, e, th = plain
         sign, n = check_branch(sign, n)
         code = _ROOT_CODES[check_root(root)]
         row = _kernels().solve_scalar(w, e, th, sign, n, code, _tables())
@@ -280,15 +295,10 @@ def solve_all(
     >>> [(s.sign, s.n) for s in hairbed.solve_all(50.0, 0.5)]
     [(1, 0), (-1, 0), (1, 1)]
     """
-    wf, ef, tf = _scalar(omega2), _scalar(eps), _scalar(theta0)
-    if not (
-        wf is not None
-        and ef is not None
-        and tf is not None
-        and 0.0 <= wf < math.inf
-        and 0.0 <= ef < 1.0
-        and abs(tf) < HALF_PI
-    ):  # not plain valid numbers: the full checks, with their messages
+    plain = _plain_inputs(omega2, eps, theta0)
+    if plain is not None:
+        wf, ef, tf = plain
+    else:
         w, e, t0 = check_inputs(omega2, eps, theta0)
         if w.ndim != 0:
             raise ValueError("solve_all takes scalar omega2, eps and theta0; use solve for arrays")
@@ -331,40 +341,15 @@ def from_parameter(
     >>> round(hairbed.from_parameter(0.0, 0.5).xi, 12)
     0.5
     """
-    tt = _parameter_array(t)
+    tt = as_float_array(t, "t", allow_minus_inf=True)
     _, e, t0 = check_inputs(0.0, eps, theta0)
     sign, n = check_branch(sign, n)
-    try:
-        tt, e, t0 = (np.array(a) for a in np.broadcast_arrays(tt, e, t0))
-    except ValueError as exc:
-        raise ValueError(
-            f"t, eps and theta0 must broadcast together, got shapes {np.shape(tt)}, "
-            f"{np.shape(e)} and {np.shape(t0)}"
-        ) from exc
+    tt, e, t0 = broadcast_named(("t", tt), ("eps", e), ("theta0", t0))
     k = _kernels()
     shape = tt.shape
     out = np.empty((k.NFIELDS, tt.size))
     k.fields_array(tt.reshape(-1), e.reshape(-1), t0.reshape(-1), sign, n, out)
     return Solution._from_columns(out, shape, e, t0, sign, n, None)
-
-
-def _parameter_array(t: Any) -> np.ndarray:
-    """t as a float array: real, not NaN, not +inf (-inf allowed)."""
-    if isinstance(t, (str, bytes)) or t is None:
-        raise ValueError(f"t must be a real number or an array of real numbers, got {t!r}")
-    arr = np.asarray(t)
-    if arr.dtype == np.bool_ or not (
-        np.issubdtype(arr.dtype, np.integer) or np.issubdtype(arr.dtype, np.floating)
-    ):
-        raise ValueError(
-            f"t must be a real number or an array of real numbers, got dtype {arr.dtype}"
-        )
-    arr = arr.astype(np.float64)
-    bad = np.isnan(arr) | (arr == np.inf)
-    if np.any(bad):
-        where = "" if arr.ndim == 0 else f" (first at index {np.argwhere(bad)[0].tolist()})"
-        raise ValueError(f"t must be a real number or -inf, not NaN or +inf{where}")
-    return arr
 
 
 def from_xi(

@@ -44,7 +44,7 @@ from .elliptic import complete_k_m, k_minus_e, rd
 from .jacobi import jacobi_prepared, jacobi_setup, sncndn_prepared
 from .weak import WEAK_MAX, weak_shape
 
-__all__ = ["ShapeSetup", "shape_point", "shape_setup"]
+__all__ = ["ShapeSetup", "shape_point", "shape_setup", "shape_setup_from"]
 
 #: Everything the shape needs at one state (``shape_setup``), computed once per state.
 ShapeSetup = namedtuple(
@@ -62,7 +62,12 @@ def shape_setup(t, eps, theta0, sign, n):
     Returns a :data:`ShapeSetup`; its one_minus_x1 is 1 - x(1) on the physical branch (else
     0), jc the constants of ``jacobi.jacobi_setup``.
     """
-    ev = evaluate(t, eps, theta0, sign, n, False)
+    return shape_setup_from(evaluate(t, eps, theta0, sign, n, False), theta0, sign, n)
+
+
+@kernel
+def shape_setup_from(ev, theta0, sign, n):
+    """:func:`shape_setup` from the branch point ``ev`` (``branch.evaluate``) already at hand."""
     p = ev[4]
     tau = ev[5]
     mu = ev[6]

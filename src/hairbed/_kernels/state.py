@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from .._jit import kernel
+from . import FIELDS
 from .branch import base_angle, base_terms, evaluate_at, tip_displacement
 from .elliptic import complete_k
 from .roots import (
@@ -31,7 +32,7 @@ from .roots import (
     start_from_table,
     t_max,
 )
-from .shape import shape_point, shape_setup
+from .shape import shape_point, shape_setup, shape_setup_from
 from .weak import WEAK_MAX, weak_shape
 
 __all__ = [
@@ -51,20 +52,6 @@ __all__ = [
     "solve_scalar",
 ]
 
-FIELDS = (
-    "t",
-    "n_roots",
-    "status",
-    "omega2",
-    "xi",
-    "omega_eps",
-    "energy",
-    "tip_height",
-    "tip_deflection",
-    "tip_displacement",
-    "tip_angle",
-    "base_curvature",
-)
 NFIELDS = len(FIELDS)
 ROOT_LOW = 0
 ROOT_MID = 1
@@ -111,7 +98,7 @@ def fields_at(t, eps, theta0, sign, n):
         else:
             x1, disp, _ = tip_displacement(p, mu, sn0, cn0, dn0, kv, s, oms)
     else:
-        x1 = shape_point(1.0, sign, n, shape_setup(t, eps, theta0, sign, n))[1]
+        x1 = shape_point(1.0, sign, n, shape_setup_from(ev, theta0, sign, n))[1]
         disp = x1 - s
     energy = xi * oe * oe
     base_curvature = sign * oe * root2d
