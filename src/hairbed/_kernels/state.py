@@ -50,6 +50,7 @@ __all__ = [
     "solve_array",
     "solve_one",
     "solve_scalar",
+    "write_state",
 ]
 
 NFIELDS = len(FIELDS)
@@ -184,9 +185,15 @@ def solve_one(omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status,
         for j in range(3, out.size):
             out[j] = math.nan
         return
-    t = roots[pick]
+    write_state(out, roots[pick], count, status[pick], eps, theta0, sign, n)
+
+
+@kernel
+def write_state(out, t, count, status, eps, theta0, sign, n):
+    """One output row (``FIELDS``) of the state at parameter t: t, count, status, fields."""
     out[0] = t
-    out[2] = status[pick]
+    out[1] = count
+    out[2] = status
     vals = fields_at(t, eps, theta0, sign, n)
     for j in range(len(vals)):
         out[3 + j] = vals[j]
@@ -259,13 +266,11 @@ def solve_array(omega2, eps, theta0, sign, n, root, pair, folds, counts, out, ta
 @kernel
 def fields_array(t, eps, theta0, sign, n, out):
     """Fields at given parameters (``from_parameter``): out is (NFIELDS, N)."""
+    row = np.empty(NFIELDS)
     for i in range(t.size):
-        vals = fields_at(t[i], eps[i], theta0[i], sign, n)
-        out[0, i] = t[i]
-        out[1, i] = 1.0
-        out[2, i] = STATUS_CONVERGED
-        for k in range(len(vals)):
-            out[3 + k, i] = vals[k]
+        write_state(row, t[i], 1, STATUS_CONVERGED, eps[i], theta0[i], sign, n)
+        for k in range(NFIELDS):
+            out[k, i] = row[k]
 
 
 @kernel
@@ -335,12 +340,7 @@ def solve_all_kernel(omega2, eps, theta0, max_n, tables):
                     n2 = np.empty(cap, dtype=np.int64)
                     n2[:total] = ns[:total]
                     ns = n2
-                vals = fields_at(roots[j], eps, theta0, sign, n)
-                rows[total, 0] = roots[j]
-                rows[total, 1] = count
-                rows[total, 2] = status[j]
-                for k in range(len(vals)):
-                    rows[total, 3 + k] = vals[k]
+                write_state(rows[total], roots[j], count, status[j], eps, theta0, sign, n)
                 signs[total] = sign
                 ns[total] = n
                 total += 1
