@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from hairbed._kernels import roots
+from hairbed._core._kernels import roots
 
 FINE = 1.0 / 32.0
 

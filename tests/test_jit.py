@@ -6,11 +6,11 @@ import sys
 
 import pytest
 
-from hairbed import _jit
+from hairbed._core import _jit
 
 
 def test_kernels_carry_the_package_cache():
-    from hairbed._kernels import branch
+    from hairbed._core._kernels import branch
 
     if not _jit.CACHE_ENABLED or os.environ.get("NUMBA_DISABLE_JIT") == "1":
         pytest.skip("caching is off in this run")
@@ -38,7 +38,7 @@ def test_source_hash_changes_with_any_kernel_file(tmp_path, monkeypatch):
 @pytest.mark.parametrize("value, enabled", [("0", False), ("off", False), ("1", True)])
 def test_environment_switch(value, enabled):
     env = dict(os.environ, HAIRBED_NUMBA_CACHE=value)
-    code = "import hairbed._jit as j; print(j.CACHE_ENABLED)"
+    code = "import hairbed._core._jit as j; print(j.CACHE_ENABLED)"
     out = subprocess.run(
         [sys.executable, "-c", code], env=env, capture_output=True, text=True, check=True
     )

@@ -1,4 +1,4 @@
-"""The elliptic kernels (hairbed._kernels.elliptic, hairbed._kernels.jacobi) against mpmath.
+"""The elliptic and Jacobi kernels (hairbed._core._kernels.elliptic, .jacobi) against mpmath.
 
 The references share no algorithm with the kernels: mpmath's own Carlson integrals for R_F and
 R_D, and the arithmetic-geometric mean (AGM) for the rest (Abramowitz and Stegun 16.4, 17.6).
@@ -33,7 +33,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from hairbed._kernels.elliptic import (
+from hairbed._core._kernels.elliptic import (
     complete_e,
     complete_k,
     complete_k_m,
@@ -42,7 +42,7 @@ from hairbed._kernels.elliptic import (
     rf,
     rf_rd,
 )
-from hairbed._kernels.jacobi import jacobi, jacobi_prepared, jacobi_setup
+from hairbed._core._kernels.jacobi_elliptic import jacobi, jacobi_prepared, jacobi_setup
 
 EPS = 2.0**-52
 #: Carlson and complete integrals: a few ulp.

@@ -15,7 +15,7 @@ from functools import cache
 import mpmath as mp
 import pytest
 
-from hairbed._kernels.weak import WEAK_MAX, WEAK_ORDER, weak_shape
+from hairbed._core._kernels.weak import WEAK_MAX, WEAK_ORDER, weak_shape
 
 
 def _horner(coeffs, x):

@@ -113,7 +113,7 @@ def test_plotting_leaves_pyplot_alone():
 
 def test_core_never_imports_matplotlib():
     code = (
-        "import sys, hairbed, hairbed.solve, hairbed.branches, hairbed.quasistatic\n"
+        "import sys, hairbed, hairbed._core.solver, hairbed.branches, hairbed.quasistatic\n"
         "assert 'matplotlib' not in sys.modules, 'core imported matplotlib'"
     )
     subprocess.run([sys.executable, "-c", code], check=True, timeout=60)

@@ -16,7 +16,7 @@ def triple():
 
 
 def test_low_and_high_are_stable_mid_is_not(triple):
-    res = [st.stability(s) for s in triple]
+    res = [st.linear_stability(s) for s in triple]
     assert [bool(r.stable) for r in res] == [True, False, True]
     assert [int(r.n_unstable) for r in res] == [0, 1, 0]
     # The leading eigenvalues are real (the rank-one coupling does not make them complex here).
@@ -26,8 +26,8 @@ def test_low_and_high_are_stable_mid_is_not(triple):
 
 
 def test_growth_rates_converge_with_resolution(triple):
-    coarse = [float(st.stability(s, N=50).growth_rate) for s in triple]
-    fine = [float(st.stability(s, N=100).growth_rate) for s in triple]
+    coarse = [float(st.linear_stability(s, N=50).growth_rate) for s in triple]
+    fine = [float(st.linear_stability(s, N=100).growth_rate) for s in triple]
     # Second-order discretisation: halving the step changes the rate by ~3e-4 here.
     np.testing.assert_allclose(coarse, fine, rtol=2e-3)
 

@@ -14,8 +14,8 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
-from .solution import Solution
-from .solve import from_parameter, from_xi, solve, solve_all
+from ._core.solution import Solution
+from ._core.solver import from_parameter, from_xi, solve, solve_all
 
 if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
     from . import branches, inverse, numerics, quasistatic, rheology, stability, units

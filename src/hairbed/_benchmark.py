@@ -79,7 +79,7 @@ from typing import Any
 import numpy as np
 
 from . import __version__
-from .solve import solve, solve_all
+from ._core.solver import solve, solve_all
 
 __all__ = [
     "ROWS",
@@ -242,7 +242,7 @@ def peak_rss(code: str) -> int:
 def kernel_hash() -> str | None:
     """Hash of the kernel sources now (they may be edited while we run), if available."""
     try:
-        from ._jit import kernel_sources_hash
+        from ._core._jit import kernel_sources_hash
 
         return kernel_sources_hash.__wrapped__()
     except Exception:  # private helper: the benchmark must not depend on it
@@ -254,7 +254,7 @@ def kernel_signatures() -> dict[str, int]:
     import importlib
     import pkgutil
 
-    from . import _kernels as kernels
+    from ._core import _kernels as kernels
 
     counts = {}
     for info in pkgutil.iter_modules(kernels.__path__):

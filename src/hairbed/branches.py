@@ -24,10 +24,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.optimize import brentq, minimize_scalar
 
-from hairbed._validation import as_float_array, check_branch, check_inputs
-from hairbed.solve import fold_parameters
-
-from .solve import from_parameter
+from ._core.solver import fold_parameters, from_parameter
+from ._core.validation import as_float_array, check_branch, check_inputs
 
 __all__ = [
     "Folds",

@@ -44,9 +44,8 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import optimize
 
-from hairbed._validation import as_float_array, check_inputs, check_state_inputs
-
-from .solve import from_parameter, solve
+from ._core.solver import from_parameter, solve
+from ._core.validation import as_float_array, check_inputs, check_state_inputs
 
 __all__ = [
     "ProfileFit",

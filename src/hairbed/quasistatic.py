@@ -21,10 +21,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hairbed._validation import check_inputs
 from hairbed.branches import _fold_parameters
 
-from .solve import from_parameter
+from ._core.solver import from_parameter
+from ._core.validation import check_inputs
 
 __all__ = ["sweep", "sweep_with_jumps"]
 

@@ -25,9 +25,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hairbed._validation import check_inputs, check_root
-
-from .solve import solve
+from ._core.solver import solve
+from ._core.validation import check_inputs, check_root
 
 __all__ = [
     "rectification_ratio",

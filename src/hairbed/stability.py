@@ -52,7 +52,7 @@ from numpy.typing import NDArray
 from scipy.integrate import solve_ivp
 from scipy.linalg import solve_banded
 
-from hairbed._validation import check_inputs
+from ._core.validation import check_inputs
 
 __all__ = [
     "Relaxation",
@@ -60,7 +60,7 @@ __all__ = [
     "equilibrium",
     "is_stable",
     "relax",
-    "stability",
+    "linear_stability",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -226,7 +226,7 @@ class Stability:
     eigenvalues: NDArray[np.complex128]
 
 
-def stability(solution: Any, N: int = 100, k: int = 4) -> Stability:
+def linear_stability(solution: Any, N: int = 100, k: int = 4) -> Stability:
     """Classify static states by the linearisation of the relaxation dynamics.
 
     Parameters
@@ -246,7 +246,7 @@ def stability(solution: Any, N: int = 100, k: int = 4) -> Stability:
     --------
     >>> import hairbed
     >>> states = [hairbed.solve(1.2, 0.9, -1.5, root=r) for r in ("low", "mid", "high")]
-    >>> [bool(stability(s).stable) for s in states]
+    >>> [bool(linear_stability(s).stable) for s in states]
     [True, False, True]
     """
     omega2 = np.asarray(solution.omega2, dtype=np.float64)
@@ -285,7 +285,7 @@ def is_stable(solution: Any, N: int = 100) -> Any:
     >>> bool(is_stable(hairbed.solve(2.0, 0.5)))
     True
     """
-    stable = stability(solution, N=N, k=1).stable
+    stable = linear_stability(solution, N=N, k=1).stable
     return bool(stable) if stable.ndim == 0 else stable
 
 

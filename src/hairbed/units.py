@@ -43,9 +43,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hairbed._validation import as_float_array, check_root
-
-from .solve import solve
+from ._core.solver import solve
+from ._core.validation import as_float_array, check_root
 
 if TYPE_CHECKING:  # pragma: no cover
     from hairbed.inverse import ProfileFit

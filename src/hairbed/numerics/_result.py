@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .._validation import check_inputs
+from .._core.validation import check_inputs
 
 __all__ = ["NumericalResult", "branch_label", "scalar_inputs"]
 
@@ -124,7 +124,7 @@ def scalar_inputs(omega2: Any, eps: Any, theta0: Any) -> tuple[float, float, flo
     Raises
     ------
     ValueError
-        If a value is out of range (message from :func:`hairbed._validation.check_inputs`) or
+        If a value is out of range (message from :func:`hairbed._core.validation.check_inputs`) or
         if any input is an array: the numerical baselines solve one state at a time.
     """
     w, e, t = check_inputs(omega2, eps, theta0)

@@ -41,7 +41,7 @@ from collections import namedtuple
 from .._jit import kernel
 from .branch import base_angle, evaluate, tip_displacement
 from .elliptic import complete_k_m, k_minus_e, rd
-from .jacobi import jacobi_prepared, jacobi_setup, sncndn_prepared
+from .jacobi_elliptic import jacobi_prepared, jacobi_setup, sncndn_prepared
 from .weak import WEAK_MAX, weak_shape
 
 __all__ = ["ShapeSetup", "shape_point", "shape_setup", "shape_setup_from"]

@@ -317,7 +317,7 @@ def jacobi(u, m, p, tau, k, kp, kme):
     k, kp : float
         K(m) and K(p).
     kme : float
-        K(m) - E(m) (:func:`hairbed._kernels.elliptic.k_minus_e`).
+        K(m) - E(m) (:func:`hairbed._core._kernels.elliptic.k_minus_e`).
 
     Returns
     -------

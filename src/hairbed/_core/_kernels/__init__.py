@@ -1,4 +1,4 @@
-"""Compiled kernels of the exact solver (numba, declared with ``hairbed._jit.kernel``).
+"""Compiled kernels of the exact solver (numba, declared with ``hairbed._core._jit.kernel``).
 
 The kernels trust their inputs: validation happens in the Python wrappers before a kernel
 is called. Every kernel works on one element; the array drivers loop over elements inside
@@ -8,7 +8,7 @@ compiled code, so scalars and arrays run the same arithmetic and agree bitwise.
 __all__ = ["FIELDS"]
 
 #: The columns of every solving kernel's output, in order: one list that the kernels write and
-#: :class:`hairbed.solution.Solution` reads (this module imports nothing, so reading it
+#: :class:`hairbed.Solution` reads (this module imports nothing, so reading it
 #: compiles and loads nothing).
 FIELDS = (
     "t",

@@ -1,8 +1,8 @@
 """The exact analytic solver: forward problem, every branch, every coexisting state.
 
 The wrappers here validate, then hand whole arrays to the compiled kernels of
-``hairbed._kernels`` (which trust their inputs), then wrap the kernels' columns in a
-:class:`~hairbed.solution.Solution`. Kernels are imported on first use, so importing hairbed
+``hairbed._core._kernels`` (which trust their inputs), then wrap the kernels' columns in a
+:class:`~hairbed.Solution`. Kernels are imported on first use, so importing hairbed
 compiles (or loads from the cache) nothing.
 """
 
@@ -14,7 +14,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ._validation import (
+from .solution import Solution
+from .validation import (
     HALF_PI,
     as_float_array,
     broadcast_named,
@@ -23,7 +24,6 @@ from ._validation import (
     check_root,
     check_state_inputs,
 )
-from .solution import Solution
 
 __all__ = ["fold_parameters", "from_parameter", "from_xi", "solve", "solve_all"]
 

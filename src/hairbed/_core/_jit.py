@@ -8,7 +8,7 @@ NaN, as in numpy, without a Python exception check on every division) with two s
   file that defines it, but a kernel inlines the kernels it calls from other files: after an
   edit of ``_kernels/elliptic.py`` a cached ``_kernels/roots.py`` kernel would still hold the
   old code. Here every kernel's cache is keyed on the SHA-256 of all the kernel sources
-  together (the files of ``hairbed._kernels`` and this one), so any edit recompiles all.
+  together (the files of ``hairbed._core._kernels`` and this one), so any edit recompiles all.
 * **Caching can be switched off**: ``HAIRBED_NUMBA_CACHE=0`` in the environment (cached kernels
   have crashed dask workers in other libraries, sgkit issues #869 and #1156). The cache lives in
   ``__pycache__`` beside the kernel sources, or in the user's cache directory when that is

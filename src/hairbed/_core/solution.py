@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._kernels import FIELDS
-from ._validation import as_float_array
+from .validation import as_float_array
 
 __all__ = ["STATUS_MESSAGES", "Solution"]
 

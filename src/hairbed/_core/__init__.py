@@ -1,0 +1,21 @@
+"""The exact core of hairbed: validation, compiled kernels and the result type.
+
+Layers, each importing only from those before it:
+
+* ``validation``: checks of the primary parameters (omega2, eps, theta0, branch, root);
+* ``_jit`` and ``_kernels``: the numba kernels (elliptic integrals, Jacobi functions, the
+  branch at its parameter, roots and folds, the closed-form shape);
+* ``solution``: :class:`Solution`, the typed result that holds a state's values;
+* ``solver``: the public wrappers (``solve``, ``solve_all``, ``from_parameter``,
+  ``from_xi``, ``fold_parameters``): validate, call a kernel, build a ``Solution``.
+
+Nothing here imports the lab modules (units, inverse, branches, ...) or the outer rooms
+(cli, plotting); ``tests/test_layering.py`` enforces this.
+"""
+
+from __future__ import annotations
+
+from .solution import Solution
+from .solver import fold_parameters, from_parameter, from_xi, solve, solve_all
+
+__all__ = ["Solution", "fold_parameters", "from_parameter", "from_xi", "solve", "solve_all"]
