@@ -1,4 +1,4 @@
-"""Branches as parametric curves, folds and the cusp (math.md section 5)."""
+"""Branches as parametric curves, folds and the cusp (theory.md §5)."""
 
 import numpy as np
 import pytest
@@ -6,7 +6,7 @@ import pytest
 import hairbed
 from hairbed.branches import bistable_window, curve, cusp, folds, log_slope
 
-# math.md section 5: windows of omega^2 with three physical states, computed independently
+# theory.md §5: windows of omega^2 with three physical states, computed independently
 # (quoted to 5 significant figures).
 WINDOWS = [
     (-1.5, 0.9, 0.95766, 1.4859),

@@ -14,7 +14,7 @@ from tolerances import ATOL, RTOL
 
 import hairbed
 
-# The worked example of math.md section 3 (Taylor-series check at 30+ digits, independent of
+# The worked example of theory.md §3 (Taylor-series check at 30+ digits, independent of
 # the solver): theta0 = 0, eps = 0.5, omega^2 = 2.
 EXAMPLE = {
     "xi": 0.847253916541247,

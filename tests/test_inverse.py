@@ -31,7 +31,7 @@ def test_round_trip_strong_forcing_where_xi_is_one():
 
 
 def test_tip_deflection_determines_each_of_three_coexisting_states():
-    # theta0 = -1, eps = 0.95: three physical states at omega^2 = 0.31 (math.md section 5)
+    # theta0 = -1, eps = 0.95: three physical states at omega^2 = 0.31 (theory.md §5)
     states = [hairbed.solve(0.31, 0.95, -1.0, root=r) for r in ("low", "mid", "high")]
     x1 = [s.tip_deflection for s in states]
     assert x1[0] < x1[1] < x1[2]
@@ -42,7 +42,7 @@ def test_tip_deflection_determines_each_of_three_coexisting_states():
 
 @pytest.mark.parametrize("theta0", [-1.4, -1.0, -0.3, 0.0, 0.7, 1.4])
 def test_tip_deflection_is_monotone_on_the_physical_branch(theta0):
-    # the premise of a unique answer (math.md section 5), on a dense scan of the branch
+    # the premise of a unique answer (theory.md §5), on a dense scan of the branch
     t = np.linspace(-20, 60, 4001)
     x1 = np.asarray(hairbed.from_parameter(t, 0.5, theta0).tip_deflection)
     assert np.all(np.diff(x1) >= 0)

@@ -32,7 +32,7 @@ def test_matches_analytic(omega2, eps, theta0):
 
 
 def test_paper_example_values():
-    # math.md section 3: omega2 = 2, eps = 0.5, theta0 = 0 (values typed in, not computed here)
+    # theory.md §3: omega2 = 2, eps = 0.5, theta0 = 0 (values typed in, not computed here)
     res = finite_difference(2.0, 0.5, N=1000)
     assert res.xi == pytest.approx(0.847253916541247, abs=1e-6)
     assert res.tip_height == pytest.approx(0.732706963462228, abs=1e-6)

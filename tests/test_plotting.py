@@ -64,7 +64,7 @@ def test_hysteresis_jumps_inside_the_window():
     up = fig.axes[0].get_lines()[1]
     x, y = up.get_xdata(), up.get_ydata()
     j = int(np.argmax(np.abs(np.diff(y))))
-    # the ramp up jumps at the upper fold of math.md section 5 (omega^2 = 1.4859)
+    # the ramp up jumps at the upper fold of theory.md §5 (omega^2 = 1.4859)
     assert x[j] <= 1.4859 <= x[j + 1]
 
 

@@ -1,4 +1,4 @@
-"""Quasi-static sweeps: continuity, jumps at the folds, hysteresis (math.md section 5)."""
+"""Quasi-static sweeps: continuity, jumps at the folds, hysteresis (theory.md §5)."""
 
 import numpy as np
 import pytest
@@ -7,7 +7,7 @@ import hairbed
 from hairbed.branches import folds
 from hairbed.quasistatic import sweep, sweep_with_jumps
 
-THETA0, EPS = -1.5, 0.9  # window 0.95766 < omega^2 < 1.4859 (math.md section 5)
+THETA0, EPS = -1.5, 0.9  # window 0.95766 < omega^2 < 1.4859 (theory.md §5)
 
 
 def _ramp():
@@ -82,7 +82,7 @@ def test_strong_forcing_and_empty_path():
     sol = sweep([1.0, 300.0, 5e3], 0.5, 0.0)
     ref = hairbed.solve(np.array([1.0, 300.0, 5e3]), 0.5, 0.0)
     np.testing.assert_allclose(sol.tip_height, ref.tip_height, rtol=1e-10)
-    # No forcing: the undeformed hair, h1 = cos(theta0) (math.md section 4).
+    # No forcing: the undeformed hair, h1 = cos(theta0) (theory.md §4).
     rest = sweep([0.0, 1e5], 0.5, -0.3)
     assert rest.tip_height[0] == pytest.approx(np.cos(-0.3), rel=1e-14)
     assert rest.omega2[1] == pytest.approx(1e5, rel=1e-12)

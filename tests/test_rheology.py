@@ -24,7 +24,7 @@ def test_slow_flow_limit(eps, theta0):
 
 @pytest.mark.parametrize("theta0", [-1.0, 0.0, 0.6])
 def test_fast_flow_limit(theta0):
-    # strong forcing lays the hair flat: h1 ~ sqrt(2 (1 - sin theta0)) / omega (math.md 4)
+    # strong forcing lays the hair flat: h1 ~ sqrt(2 (1 - sin theta0)) / omega (theory.md §4)
     w = np.array([1e2, 1e4, 1e8])
     ratio = rheology.stress_ratio(w, 0.9, theta0)
     h1 = math.sqrt(2 * (1 - math.sin(theta0))) / np.sqrt(w)
@@ -33,7 +33,7 @@ def test_fast_flow_limit(theta0):
 
 
 def test_stress_ratio_is_omega_eps_over_omega_squared():
-    # {solution3}: omega^2 = omega_eps^2 (1 - eps h1), a second route to the same number
+    # eq. (34): omega^2 = omega_eps^2 (1 - eps h1), a second route to the same number
     w = np.logspace(-2, 3, 11)
     sol = hairbed.solve(w, 0.7, 0.2)
     np.testing.assert_allclose(

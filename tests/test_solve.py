@@ -42,7 +42,7 @@ def test_physical_identities(lw, eps, theta0):
     omega2 = 10.0**lw
     sol = hairbed.solve(omega2, eps, theta0)
     assert sol.n_roots >= 1 and sol.physical
-    # self-consistency {solution3} and {intOrig}
+    # self-consistency eqs. (34) and (29)
     assert _close(sol.omega_eps**2 * (1 - eps * sol.tip_height), omega2, rtol=1e-12)
     assert _close(sol.base_curvature, sol.omega_eps**2 * sol.tip_height, rtol=1e-12)
     # boundary values and tip values of the closed-form shape
@@ -152,7 +152,7 @@ def test_weak_forcing_limit():
 @pytest.mark.parametrize("theta0", [-1.55, -0.5, 0.0, 0.7, 1.55])
 @pytest.mark.parametrize("omega2", [1e6, 1e8, 1e12])
 def test_strong_forcing_tip_values_stay_exact(omega2, theta0):
-    """xi rounds to 1 but h1 ~ sqrt(2(1 - sin theta0))/omega (math.md section 4)."""
+    """xi rounds to 1 but h1 ~ sqrt(2(1 - sin theta0))/omega (theory.md §4)."""
     sol = hairbed.solve(omega2, 0.9, theta0)
     omega = np.sqrt(omega2)
     h1 = np.sqrt(2 * (1 - np.sin(theta0))) / omega
@@ -198,7 +198,7 @@ BISTABLE = [(-1.5, 0.9, 0.95766, 1.4859), (-1.0, 0.95, 0.29696, 0.31966)]
 
 @pytest.mark.parametrize(("theta0", "eps", "lower", "upper"), BISTABLE)
 def test_bistable_window(theta0, eps, lower, upper):
-    """Three physical states inside the window of math.md section 5, one outside."""
+    """Three physical states inside the window of theory.md §5, one outside."""
     inside = np.linspace(lower, upper, 7)[1:-1]
     sols = {r: hairbed.solve(inside, eps, theta0, root=r) for r in ("low", "mid", "high")}
     assert np.all(sols["low"].n_roots == 3)
@@ -206,7 +206,7 @@ def test_bistable_window(theta0, eps, lower, upper):
     assert np.all(sols["mid"].xi < sols["high"].xi)
     for sol in sols.values():
         assert np.allclose(sol.omega_eps**2 * (1 - eps * sol.tip_height), inside, rtol=1e-12)
-    # deflection is monotone in xi (math.md section 5), so the three states are distinct
+    # deflection is monotone in xi (theory.md §5), so the three states are distinct
     assert np.all(sols["low"].tip_deflection < sols["high"].tip_deflection)
     outside = np.array([0.8 * lower, 1.2 * upper])
     out = hairbed.solve(outside, eps, theta0, root="mid")

@@ -6,7 +6,7 @@ import pytest
 import hairbed
 from hairbed import stability as st
 
-W, EPS, THETA0 = 1.2, 0.9, -1.5  # inside the window 0.95766 .. 1.4859 (math.md section 5)
+W, EPS, THETA0 = 1.2, 0.9, -1.5  # inside the window 0.95766 .. 1.4859 (theory.md §5)
 ROOTS = ("low", "mid", "high")
 
 
@@ -88,7 +88,7 @@ def test_time_stepping_confirms_the_classification(triple):
 
 
 def test_relaxation_from_rest_reaches_the_worked_example():
-    # math.md section 3: theta0 = 0, eps = 0.5, omega^2 = 2 gives h1 = 0.732706963462228,
+    # theory.md §3: theta0 = 0, eps = 0.5, omega^2 = 2 gives h1 = 0.732706963462228,
     # x1 = 0.615831536923675.
     run = st.relax(2.0, 0.5, 0.0, np.zeros(81), 30.0, N=80, t_eval=np.array([0.0, 30.0]))
     assert run.theta.shape == (2, 81)

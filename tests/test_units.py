@@ -112,7 +112,7 @@ def test_negative_velocity_is_the_mirror_image():
 
 
 def test_root_selection_in_the_bistable_window():
-    # theta0 = -1, eps = 0.95: three states for 0.29696 < omega^2 < 0.31966 (math.md section 5)
+    # theta0 = -1, eps = 0.95: three states for 0.29696 < omega^2 < 0.31966 (theory.md §5)
     bed = make_bed(channel_height=L / 0.95, base_angle=-1.0)
     v = 0.31 * bed.velocity_scale
     heights = [bed.deform(v, root=r).tip_height for r in ("low", "mid", "high")]

@@ -1,7 +1,7 @@
 """Branches of solutions as exact parametric curves, and the folds of the physical branch.
 
 Every branch (``sign``, ``n``) of the boundary-value problem is an explicit curve in the tip
-parameter xi (theory.md §2, {solution3}): omega^2 is an *output* of xi, so no continuation
+parameter xi (theory.md §2, eq. (34)): omega^2 is an *output* of xi, so no continuation
 is needed. We parametrise by the real number t of :func:`hairbed.from_parameter`,
 
     xi - sin(theta0) = (1 - sin theta0) expit(t),    1 - xi = (1 - sin theta0) expit(-t),
@@ -127,7 +127,7 @@ def curve(
     -------
     Solution
         States along the branch, shape (num,), ordered by increasing xi. Their ``omega2`` is the
-        forcing that holds each state ({solution3}); on the physical branch it is not monotone
+        forcing that holds each state (eq. (34)); on the physical branch it is not monotone
         when folds exist (:func:`folds`).
 
     Examples

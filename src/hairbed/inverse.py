@@ -4,7 +4,7 @@ A micropillar shear-stress sensor measures the deflection of a pillar's tip and 
 flow. On the physical branch (sign = +1, n = 0) every state is a point t of the explicit curve of
 :func:`hairbed.from_parameter` (theory.md §2), and the tip values x1(t) and h1(t) depend on
 t and theta0 only, not on eps: eps enters only in omega^2 = omega_eps^2 (1 - eps h1)
-({solution3}). So the inverse problem is a root find in the one real number t, done here by a
+(eq. (34)). So the inverse problem is a root find in the one real number t, done here by a
 vectorised bracketed method (Chandrupatla's, inverse quadratic interpolation safeguarded by
 bisection), after which omega^2 is explicit. The parameter t, not xi, is the unknown: at strong
 forcing xi rounds to 1 (omega^2 above ~400) while t and the tip values stay exact.
@@ -299,7 +299,7 @@ def omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrA
     x1 is monotone in xi along the physical branch (theory.md §5), so the answer is unique;
     where three states share one forcing (theta0 < 0, eps near 1) the state with tip deflection
     x1 may be any of them (see :func:`hairbed.solve`'s ``root``). The root is found in the branch
-    parameter t of :func:`hairbed.from_parameter`, then omega^2 follows from {solution3}.
+    parameter t of :func:`hairbed.from_parameter`, then omega^2 follows from eq. (34).
 
     Examples
     --------
@@ -591,7 +591,7 @@ def fit_profile(
     """Least-squares fit of the forcing (and base angle) to measured points along one hair.
 
     Minimises the sum of squared distances from the points to the closed-form curve
-    (x(sigma), z(sigma)) of the physical state ({solution}, {hs}): an orthogonal-distance
+    (x(sigma), z(sigma)) of the physical state (eqs. (32), (30)): an orthogonal-distance
     regression in the branch parameter t, the base angle and one arc length per point, with
     :func:`scipy.optimize.least_squares`. Because the curve is parametrised by t, every physical
     state (also the middle one of three) can be fitted without choosing a root.

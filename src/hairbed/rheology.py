@@ -3,7 +3,7 @@
 The hairs shorten the channel to the gap H - h1 L above their tips, so the top wall feels the
 stress eta v / (H - h1 L) instead of eta v / H (theory.md §7). Relative to the bare channel,
 
-    stress ratio = tau / (eta v / H) = 1 / (1 - eps h1) = omega_eps^2 / omega^2     ({solution3}).
+    stress ratio = tau / (eta v / H) = 1 / (1 - eps h1) = omega_eps^2 / omega^2     (eq. (34)).
 
 At rest the hairs stand at h1 = cos(theta0): the ratio is 1 / (1 - eps cos theta0). Strong flow
 lays them flat (h1 -> 0) and the ratio falls to 1: the bed shear-thins.

@@ -2,7 +2,7 @@
 
 The model
 ---------
-The static problem ({hairH}, theory.md §1) says nothing about which of several coexisting
+The static problem (eq. (7), theory.md §1) says nothing about which of several coexisting
 states a hair bed shows. For that we give the hair the simplest dynamics whose rest points are
 exactly the static states, an overdamped relaxation of the angle:
 

@@ -1,4 +1,4 @@
-"""A branch of solutions as an explicit curve in one parameter (math.md section 2).
+"""A branch of solutions as an explicit curve in one parameter (theory.md §2).
 
 Frozen copy of ``src/hairbed/_branch.py`` at commit 7300965 (the numpy core), kept as
 the slow reference of the tests; see :mod:`naive`. Do not change the algorithms.
@@ -10,16 +10,16 @@ logit parameter t:
 
     d = (1 - sin theta0) expit(t),     2 p = (1 - sin theta0) expit(-t).
 
-Everything on the branch (sign, n) is then explicit in t [1]_ (math.md sections 2 and 3):
+Everything on the branch (sign, n) is then explicit in t [1]_ (theory.md §§2 and 3):
 
     mu = (1 + xi)/2 = 1 - p,   sn0^2 = (1 + sin theta0)/(2 mu),  cn0^2 = d/(2 mu),
     dn0^2 = (1 - sin theta0)/2,
-    v0 = F(arcsin sn0 | mu),   kv = K(mu) - v0                      (Legendre form of {solution2})
+    v0 = F(arcsin sn0 | mu),   kv = K(mu) - v0                      (Legendre form of eq. (33))
     omega_eps = (2n + 1) K - sign v0 = 2nK + kv (sign +1) or (2n + 2)K - kv (sign -1)
-    theta'(0) = sign omega_eps sqrt(2 d),   h1 = theta'(0)/omega_eps^2    ({intOrig})
-    omega^2 = omega_eps^2 (1 - eps h1)                                   ({solution3})
+    theta'(0) = sign omega_eps sqrt(2 d),   h1 = theta'(0)/omega_eps^2    (eq. (29))
+    omega^2 = omega_eps^2 (1 - eps h1)                                   (eq. (34))
 
-v0 and kv are both Carlson integrals with non-cancelling arguments (math.md section 6):
+v0 and kv are both Carlson integrals with non-cancelling arguments (theory.md §6):
 v0 = sn0 R_F(cn0^2, cn0^2 + p sn0^2, 1) and kv = cn0 R_F(p sn0^2, p, cn0^2 + p sn0^2) (the
 complementary amplitude), and the smaller one is computed, the other by difference.
 
@@ -88,7 +88,7 @@ class BranchPoint:
 
     @property
     def tip_height(self) -> FloatArray:
-        """h1 = theta'(0)/omega_eps^2 ({intOrig}); 1 at omega_eps = 0 is cos(theta0)."""
+        """h1 = theta'(0)/omega_eps^2 (eq. (29)); 1 at omega_eps = 0 is cos(theta0)."""
         with np.errstate(divide="ignore", invalid="ignore"):
             h1 = self.sign * self.root2d / self.omega_eps
         return np.where(self.omega_eps > 0.0, h1, np.cos(self.theta0))
@@ -210,7 +210,7 @@ def omega2_and_slope(bp: BranchPoint) -> tuple[FloatArray, FloatArray]:
 
 
 def tip_deflection(bp: BranchPoint) -> FloatArray:
-    """x(1) ({solution} integrated); algebraic on the physical branch, else via the shape.
+    """x(1) (eq. (32) integrated); algebraic on the physical branch, else via the shape.
 
     On the physical branch v runs from v0 to K and, with w = K - v, everything at the tip is
     algebraic in sn0, cn0, dn0: sn(kv) = cn0/dn0, cn(kv) = sqrt(p) sn0/dn0,
@@ -231,7 +231,7 @@ def tip_deflection(bp: BranchPoint) -> FloatArray:
 
 
 def shape_terms(bp: BranchPoint, sigma: FloatArray):
-    """theta, x, z at arc length sigma along the shape of a branch point ({solution}, {hs}).
+    """theta, x, z at arc length sigma along the shape of a branch point (eqs. (32), (30)).
 
     With delta = v - v0 = sign omega_eps sigma the addition theorems (DLMF 22.8, 22.16.27) give
     sn, cn, dn of v and Eps(v) - Eps(v0) = Eps(delta) - m sn0 sn(delta) sn(v) relative to the

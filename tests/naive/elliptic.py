@@ -3,7 +3,7 @@
 Frozen copy of ``src/hairbed/_elliptic.py`` at commit 7300965 (the numpy core), kept as
 the slow reference of the tests; see :mod:`naive`. Do not change the algorithms.
 
-scipy.special is used only where it is accurate (math.md section 6): ``ellipkm1`` for K near
+scipy.special is used only where it is accurate (theory.md §6): ``ellipkm1`` for K near
 m = 1, ``ellipk``/``ellipe`` away from it, and Carlson's ``elliprf``/``elliprd`` with arguments
 formed without cancellation. The Jacobi functions are our own: scipy's ``ellipj`` is wrong for
 1 - m <= 1e-10 beyond u = K (scipy issue 8480). They use period reduction to [0, K/2] and

@@ -7,10 +7,10 @@ omega^2(t) along a branch (``_branch``) is explicit, so the forward problem is o
 equation omega^2(t) = omega^2. Its critical points (folds) were mapped over the whole
 parameter space: for every branch they lie in -10 < t < 0.5 (t is the logit of
 (xi - sin theta0)/(1 - sin theta0)); outside that window every branch is monotone, and the
-physical branch is monotone everywhere for theta0 >= 0 (math.md section 5). So:
+physical branch is monotone everywhere for theta0 >= 0 (theory.md §5). So:
 
 1. Fast path (physical branch, theta0 >= 0): one bracketed Newton iteration in t on
-   ln omega^2, from the weak- and strong-forcing limits of math.md section 4.
+   ln omega^2, from the weak- and strong-forcing limits of theory.md §4.
 2. Otherwise: the slope d(omega^2)/dt is sampled on a grid of the fold window; sign changes,
    and interior minima of |slope| that dip through zero (two folds within one cell, close to a
    cusp), are refined by bisection, which splits the real line into monotone pieces; each
@@ -43,7 +43,7 @@ def _eval(t, eps, theta0, sign, n):
 
 
 def _start_physical(omega2: FloatArray, eps: FloatArray, theta0: FloatArray) -> FloatArray:
-    """Starting t on the physical branch from the limits of math.md section 4."""
+    """Starting t on the physical branch from the limits of theory.md §4."""
     one_minus_s, one_plus_s = _half_angle_terms(theta0)
     c = np.cos(theta0)
     # weak forcing: theta ~ theta0, h1 ~ cos theta0, xi - sin theta0 ~ omega_eps^2 cos^2/2

@@ -128,7 +128,7 @@ def _fmt(v: mpf) -> str:
 
 
 def _omega2(br: gr.Branch, t: mpf) -> mpf:
-    """omega2 on the branch at parameter t ({solution3}); br.omega2 is not used."""
+    """omega2 on the branch at parameter t (eq. (34)); br.omega2 is not used."""
     st = br.state(t)
     w = st["w"]
     return w * w - br.eps * br.sign * w * mp.sqrt(2 * st["q"])

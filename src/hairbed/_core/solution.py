@@ -99,14 +99,14 @@ class Solution:
     n : int
         Number of interior turning points (theta' = 0 inside 0 < sigma < 1) of the branch.
     xi : float or ndarray
-        Scaled energy xi = E/omega_eps^2 = sin(theta1) [-] (eq. {xi} of [1]_); rounds to 1 at
+        Scaled energy xi = E/omega_eps^2 = sin(theta1) [-] (eq. (14) of [1]_); rounds to 1 at
         strong forcing although the other fields stay exact.
     omega_eps : float or ndarray
-        Effective frequency omega_eps = omega / sqrt(1 - eps h1) [-] (eq. {oe-givens}).
+        Effective frequency omega_eps = omega / sqrt(1 - eps h1) [-] (eq. (5)).
     energy : float or ndarray
-        Hamiltonian E = theta'^2/2 + omega_eps^2 sin(theta) [-] (eq. {hairH}).
+        Hamiltonian E = theta'^2/2 + omega_eps^2 sin(theta) [-] (eq. (7)).
     tip_height : float or ndarray
-        h1 = z(1) = int_0^1 cos(theta) dsigma, in units of the hair length L [-] (eq. {hs});
+        h1 = z(1) = int_0^1 cos(theta) dsigma, in units of the hair length L [-] (eq. (30));
         never above 1.
     tip_deflection : float or ndarray
         x1 = x(1) = int_0^1 sin(theta) dsigma, in units of L [-].
@@ -117,7 +117,7 @@ class Solution:
     tip_angle : float or ndarray
         theta1 = theta(1) [rad].
     base_curvature : float or ndarray
-        theta'(0) = omega_eps^2 h1, in units of 1/L [-] (eq. {intOrig}).
+        theta'(0) = omega_eps^2 h1, in units of 1/L [-] (eq. (29)).
     n_roots : int or ndarray
         Number of solutions on this branch at these inputs (3 in a bistable window).
     physical : bool or ndarray
@@ -257,7 +257,7 @@ class Solution:
         return out.reshape((6, *shape))
 
     def theta(self, sigma: ArrayLike) -> Any:
-        """Angle theta(sigma) from the vertical [rad] (eq. {solution}).
+        """Angle theta(sigma) from the vertical [rad] (eq. (32)).
 
         Parameters
         ----------
@@ -271,7 +271,7 @@ class Solution:
         return _out(self._shape_values(sigma)[1])
 
     def z(self, sigma: ArrayLike) -> Any:
-        """Height z(sigma) = h(sigma) = int_0^sigma cos(theta) in units of L [-] (eq. {hs})."""
+        """Height z(sigma) = h(sigma) = int_0^sigma cos(theta) in units of L [-] (eq. (30))."""
         return _out(self._shape_values(sigma)[2])
 
     def displacement(self, sigma: ArrayLike) -> tuple[Any, Any, Any]:

@@ -170,10 +170,10 @@ def solve(
     """Solve the self-consistent boundary value problem of a boundary hair exactly.
 
     theta'' = -omega_eps^2 cos(theta), theta(0) = theta0, theta'(1) = 0, with
-    omega_eps^2 = omega^2 / (1 - eps int_0^1 cos(theta)) (eqs. {hairdiffeq}, {oe-givens},
-    {eq:bcs} of [1]_), reduced to one equation for the energy xi ({solution2}, {solution3})
+    omega_eps^2 = omega^2 / (1 - eps int_0^1 cos(theta)) (eqs. (3), (5),
+    (6) of [1]_), reduced to one equation for the energy xi (eqs. (33), (34))
     and solved by a safeguarded Newton iteration in compiled code; the shape is then
-    closed-form ({solution}).
+    closed-form (eq. (32)).
 
     Parameters
     ----------
@@ -318,7 +318,7 @@ def solve_all(
 def from_parameter(
     t: ArrayLike, eps: ArrayLike, theta0: ArrayLike = 0.0, *, sign: int = 1, n: int = 0
 ) -> Solution:
-    """The state on a branch at parameter t; omega2 is then an output ({solution3}).
+    """The state on a branch at parameter t; omega2 is then an output (eq. (34)).
 
     The parameter is the logit of the energy's position in its range,
     xi - sin(theta0) = (1 - sin theta0) expit(t) and 1 - xi = (1 - sin theta0) expit(-t), so

@@ -85,8 +85,8 @@ def collocation(
     """Solve the hair problem by collocation (``scipy.integrate.solve_bvp``).
 
     The state is (theta, theta', z, x) with z' = cos(theta), x' = sin(theta) and
-    theta'' = -omega_eps^2 cos(theta) {hairdiffeq}; the tip height h1 is an unknown parameter,
-    so omega_eps^2 = omega^2 / (1 - eps h1) {oe-givens} is a constant of the system. Five
+    theta'' = -omega_eps^2 cos(theta) (eq. (3)); the tip height h1 is an unknown parameter,
+    so omega_eps^2 = omega^2 / (1 - eps h1) (eq. (5)) is a constant of the system. Five
     boundary conditions fix four components and the parameter: theta(0) = theta0, z(0) = 0,
     x(0) = 0, theta'(1) = 0 and z(1) = h1. ``solve_bvp`` (fourth-order collocation, Lobatto
     IIIA) refines its mesh until the relative residual is below ``tol``; the exact Jacobians

@@ -29,7 +29,7 @@ class _Discretisation:
     * i = N (ghost point theta_{N+1} = theta_{N-1}, halved so the matrix stays symmetric):
       theta_{N-1} - theta_N + (h^2 / 2) W cos(theta_N) = 0,
 
-    with W = omega_eps^2 = omega^2 / (1 - eps h1) {oe-givens} and h1 the trapezoid sum of
+    with W = omega_eps^2 = omega^2 / (1 - eps h1) (eq. (5)) and h1 the trapezoid sum of
     cos(theta). Every row depends on every unknown through h1: the Jacobian is tridiagonal plus
     a rank-one term.
     """
@@ -151,10 +151,10 @@ def finite_difference(
 ) -> NumericalResult:
     """Solve the hair problem by the paper's central-difference scheme.
 
-    Discretises theta'' = -omega_eps^2 cos(theta) {hairdiffeq} on N equal segments with
+    Discretises theta'' = -omega_eps^2 cos(theta) (eq. (3)) on N equal segments with
     central differences; theta(0) = theta0 enters the first equation, theta'(1) = 0 the last
     (through a ghost node, second order); the tip height h1 is the trapezoid sum of cos(theta),
-    and omega_eps^2 = omega^2 / (1 - eps h1) {oe-givens} couples every unknown. The scheme is
+    and omega_eps^2 = omega^2 / (1 - eps h1) (eq. (5)) couples every unknown. The scheme is
     second order: errors fall as N^-2 (theory.md §8).
 
     Parameters
@@ -250,7 +250,7 @@ def _result(
     z = np.concatenate([[0.0], np.cumsum(0.5 * h * (np.cos(theta[1:]) + np.cos(theta[:-1])))])
     x = np.concatenate([[0.0], np.cumsum(0.5 * h * (np.sin(theta[1:]) + np.sin(theta[:-1])))])
     # Summing all rows of the scheme gives the discrete form of theta'(0) = omega_eps^2 h1
-    # {intOrig}: (theta_1 - theta_0)/h + (h/2) W cos(theta0) = W h1, second order like the rest.
+    # eq. (29): (theta_1 - theta_0)/h + (h/2) W cos(theta0) = W h1, second order like the rest.
     base_curvature = (theta[1] - theta[0]) / h + 0.5 * h * W * np.cos(disc.theta0)
     sign, n = branch_label(np.diff(theta), base_curvature)
     return NumericalResult(

@@ -50,9 +50,9 @@ class NumericalResult:
     tip_deflection : float
         x1 = x(1) = int_0^1 sin(theta) dsigma [-].
     xi : float
-        Similarity variable xi = sin(theta(1)) {xi} [-].
+        Similarity variable xi = sin(theta(1)) (eq. (14)) [-].
     omega_eps : float
-        Effective frequency omega_eps = sqrt(omega^2 / (1 - eps h1)) {oe-givens} [-].
+        Effective frequency omega_eps = sqrt(omega^2 / (1 - eps h1)) (eq. (5)) [-].
     base_curvature : float
         theta'(0) [-].
     sign : int

@@ -20,7 +20,7 @@ _ATOL = 1e-13
 _MACHEPS = float(np.finfo(np.float64).eps)
 #: Status 3 when 1 - xi (the distance of the tip angle from pi/2) is resolved worse than this.
 _GAP_RTOL = 1e-3
-#: Status 3 when the integrated tip height and the identity {intOrig} disagree by more.
+#: Status 3 when the integrated tip height and the identity (eq. (29)) disagree by more.
 _CONSISTENCY_TOL = 1e-6
 
 
@@ -28,8 +28,8 @@ def _rhs(omega2: float, eps: float, c: float) -> Callable[[float, FloatArray], F
     """Right-hand side for theta, theta', z, x and the sensitivities d/dc of theta, theta'.
 
     omega_eps^2 = omega^2 + eps * theta'(0): integrating theta'' = -W cos(theta) over the hair
-    gives theta'(1) - theta'(0) = -W h1 {intOrig}, so once theta'(1) = 0 this is the same as
-    W = omega^2 / (1 - eps h1) {oe-givens}. Shooting is then a scalar problem in theta'(0).
+    gives theta'(1) - theta'(0) = -W h1 (eq. (29)), so once theta'(1) = 0 this is the same as
+    W = omega^2 / (1 - eps h1) (eq. (5)). Shooting is then a scalar problem in theta'(0).
     """
     W = omega2 + eps * c
 
@@ -74,7 +74,7 @@ class _Shooter:
 def _separatrix_bounds(omega2: float, eps: float, theta0: float) -> tuple[float, float]:
     """Interval of theta'(0) from which the orbit can reach a turning point (theta' = 0).
 
-    The energy {hairH} is conserved: c^2/2 + W sin(theta0) = W sin(theta1) <= W at a turning
+    The energy, eq. (7), is conserved: c^2/2 + W sin(theta0) = W sin(theta1) <= W at a turning
     point, with W = omega^2 + eps c. So every solution, on every branch, has
     c^2 <= 2 (omega^2 + eps c)(1 - sin theta0): c between the two roots of that quadratic.
     Outside it the hair rotates over the top (theta' never vanishes).
@@ -161,11 +161,11 @@ def shooting(
 ) -> NumericalResult:
     """Solve the hair problem by shooting on the base curvature theta'(0).
 
-    Integrates theta'' = -omega_eps^2 cos(theta) {hairdiffeq}, z' = cos(theta),
+    Integrates theta'' = -omega_eps^2 cos(theta) (eq. (3)), z' = cos(theta),
     x' = sin(theta) from the base with ``scipy.integrate.solve_ivp`` (DOP853, rtol 1e-12),
     taking omega_eps^2 = omega^2 + eps theta'(0), which is the self-consistency
-    {oe-givens} once theta'(1) = 0 (integrating {hairdiffeq} once gives
-    theta'(0) = omega_eps^2 h1 {intOrig}). The base curvature is adjusted until
+    of eq. (5) once theta'(1) = 0 (integrating eq. (3) once gives
+    theta'(0) = omega_eps^2 h1, eq. (29)). The base curvature is adjusted until
     theta'(1) = 0:
 
     * ``base_curvature=None``: the physical root, bracketed as the largest root below the
@@ -272,13 +272,13 @@ def shooting(
     if status in (0, 3) and abs(dtheta[-1]) > 1e-6 * max(1.0, abs(c)):
         status = 2
         message += f"; but |theta'(1)| = {abs(dtheta[-1]):.1e}: the boundary condition fails"
-    # theta'(0) = omega_eps^2 h1 {intOrig} holds for the exact shape; the integrated z(1)
+    # theta'(0) = omega_eps^2 h1 (eq. (29)) holds for the exact shape; the integrated z(1)
     # departs from it when the initial value problem amplifies integration error.
     mismatch = abs(z[-1] - c / W) if W > 0 else 0.0
     if status == 0 and mismatch > _CONSISTENCY_TOL:
         status = 3
         message += (
-            f"; but z(1) and theta'(0)/omega_eps^2 {{intOrig}} differ by {mismatch:.1e}: "
+            f"; but z(1) and theta'(0)/omega_eps^2 (eq. (29)) differ by {mismatch:.1e}: "
             "integration error amplified (ill-conditioned), the shape is inaccurate"
         )
     sign, n = branch_label(dtheta[:-1], c)

@@ -1,7 +1,7 @@
 """The figures of the paper, recomputed from the exact solution.
 
 Each function returns a :class:`matplotlib.figure.Figure` (Agg backend, not registered with
-pyplot). Figure labels in the docstrings are the paper's (e.g. Fig. {fig:solution}).
+pyplot). Figure numbers in the docstrings are those of arXiv:2203.04169 (e.g. Fig. 4).
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ def _curve(eps: float, theta0: float = 0.0, sign: int = 1, n: int = 0, num: int 
 
 
 def _phase_velocity(sol, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """theta(sigma) and theta'(sigma): magnitude from energy conservation {hairH}, sign from
+    """theta(sigma) and theta'(sigma): magnitude from energy conservation (eq. (7)), sign from
     the slope of theta on the grid (the closed form has no derivative method)."""
     th = np.asarray(sol.theta(sigma), dtype=float)
     w = (
@@ -50,7 +50,7 @@ def _phase_velocity(sol, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 @styled
 def fig_model(omega2: float = 1.5, eps: float = 0.6) -> Figure:
-    """Model schematic (Fig. {fig:model}): a bed of hairs in a channel of height H.
+    """Model schematic (Fig. 1): a bed of hairs in a channel of height H.
 
     Undeformed hairs (dashed) stand at the base angle; deformed hairs (solid) are exact
     profiles at (omega2, eps). Above the tips the flow is a linear shear from 0 at h(L) to the
@@ -125,7 +125,7 @@ def fig_model(omega2: float = 1.5, eps: float = 0.6) -> Figure:
 
 @styled
 def fig_pendulum(omega2: float = 20.0) -> Figure:
-    """Two pendulum orbits meeting the same conditions (Fig. {fig:pendulum}).
+    """Two pendulum orbits meeting the same conditions (Fig. 3).
 
     The (sign=+1, n=0) and (sign=+1, n=1) solutions at eps = 0, so both share omega_eps =
     omega: theta(0) = 0 and theta'(1) = 0 in the time 1, drawn in the (theta, theta') plane over
@@ -180,9 +180,9 @@ def fig_pendulum(omega2: float = 20.0) -> Figure:
 
 @styled
 def fig_phase_portrait(xis: tuple[float, ...] = (0.05, 0.2, 0.4, 0.6, 0.8, 0.95, 0.999)) -> Figure:
-    """Phase portraits and profiles for 0 <= xi <= 1 at theta0 = 0 (Fig. {fig:phasePortrait}).
+    """Phase portraits and profiles for 0 <= xi <= 1 at theta0 = 0 (Fig. 2).
 
-    Each xi fixes omega_eps (eq. {solution3}); the ordinate is theta'/omega_eps^2 with theta'
+    Each xi fixes omega_eps (eq. (34)); the ordinate is theta'/omega_eps^2 with theta'
     from energy conservation, so the curves are not nested as usual.
 
     Examples
@@ -225,7 +225,7 @@ _BRANCHES = ((1, 0), (-1, 0), (1, 1), (-1, 1), (1, 2), (-1, 2))
 
 @styled
 def fig_solution(eps_values: tuple[float, ...] = _EPS_SET, num: int = 600) -> Figure:
-    """Solution structure at theta0 = 0 (Fig. {fig:solution}).
+    """Solution structure at theta0 = 0 (Fig. 4).
 
     (a) energy E against omega^2 for several eps (uncollapsed); (b) xi against omega_eps^2,
     which collapses every eps, with numbered representative profiles (solid: positive base
@@ -332,7 +332,7 @@ def fig_theta0s(
     theta0s: tuple[float, ...] = (-1.2, -0.8, -0.4, 0.0, 0.4, 0.8, 1.2),
     num: int = 600,
 ) -> Figure:
-    """Angled hairs: xi against omega_eps for several base angles (Fig. {fig:theta0s}).
+    """Angled hairs: xi against omega_eps for several base angles (Fig. 5).
 
     Examples
     --------
@@ -359,7 +359,7 @@ def fig_theta0s(
 def fig_profiles(
     omega2s: tuple[float, ...] = (0.5, 2.0, 8.0, 32.0, 128.0), eps: float = 0.0, N: int = 80
 ) -> Figure:
-    """Analytic against finite-difference profiles for several E (Fig. {fig:profiles}).
+    """Analytic against finite-difference profiles for several E (Fig. 6).
 
     Solid: the paper's central differences on N segments from theta_i = 0; dashed: exact. The
     inset starts the same scheme from theta_i = -0.1 at omega^2 = 32, where it converges to a
