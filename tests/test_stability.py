@@ -5,6 +5,7 @@ import pytest
 
 import hairbed
 from hairbed import stability as st
+from hairbed.numerics._banded import HairOperator
 
 W, EPS, THETA0 = 1.2, 0.9, -1.5  # inside the window 0.95766 .. 1.4859 (theory.md §5)
 ROOTS = ("low", "mid", "high")
@@ -52,16 +53,19 @@ def test_discrete_equilibrium_converges_to_the_analytic_state(triple):
 def test_jacobian_matches_finite_differences():
     rng = np.random.default_rng(1)
     u = -1.0 + 0.3 * rng.random(12)
-    jac = st._jacobian(u, W, EPS, THETA0)
+    op = HairOperator(W, EPS, THETA0, u.size)
+    jac = op.rhs_jacobian(u)
     h = 1e-6
     fd = np.empty_like(jac)
     for j in range(u.size):
         e = np.zeros(u.size)
         e[j] = h
-        fd[:, j] = (st._residual(u + e, W, EPS, THETA0) - st._residual(u - e, W, EPS, THETA0)) / (
-            2 * h
-        )
+        fd[:, j] = (op.rhs(u + e) - op.rhs(u - e)) / (2 * h)
     np.testing.assert_allclose(jac, fd, rtol=1e-6, atol=1e-4)
+    # the O(N) Newton step (banded + Sherman-Morrison) solves the same dense system
+    r = op.residual(u)
+    dense = np.linalg.solve(jac * (op.h**2 * op.w)[:, None], -r)
+    np.testing.assert_allclose(op.newton_step(u, r), dense, rtol=1e-10, atol=1e-12)
 
 
 def test_time_stepping_confirms_the_classification(triple):

@@ -22,10 +22,10 @@ from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.optimize import brentq, minimize_scalar
 
+from ._bracketing import find_minimum, find_root
 from ._core.solver import fold_parameters, from_parameter
-from ._core.validation import as_float_array, check_branch, check_inputs
+from ._core.validation import as_float_array, check_branch, check_inputs, float_or_array
 
 __all__ = [
     "Folds",
@@ -43,6 +43,7 @@ T_SPAN = (-15.0, 30.0)
 #: sides but stops before weak forcing, where omega^2 ~ e^t is tiny and 1 - eps h1 may cancel.
 _T_SEARCH = (-20.0, 12.0)
 _T_STEP = 0.02
+_T_GRID = np.arange(_T_SEARCH[0], _T_SEARCH[1] + 0.5 * _T_STEP, _T_STEP)
 #: Step of the fourth-order central difference for d ln(omega^2)/dt: truncation ~ h^4 ~ 1e-12,
 #: rounding ~ 1e-16 / h ~ 1e-13.
 _H = 1e-3
@@ -73,8 +74,12 @@ def _scalar_params(eps: Any, theta0: Any) -> tuple[float, float]:
     return float(e), float(th)
 
 
-def _log_omega2(t: Any, eps: float, theta0: float) -> NDArray[np.float64]:
-    return np.log(np.asarray(from_parameter(t, eps, theta0).omega2, dtype=np.float64))
+def _log_slope(t: Any, eps: Any, theta0: Any) -> NDArray[np.float64]:
+    """d ln(omega^2)/dt by the fourth-order stencil; t, eps, theta0 broadcast together."""
+    stencil = np.asarray(t)[..., None] + _H * np.array([-2.0, -1.0, 1.0, 2.0])
+    w = from_parameter(stencil, np.asarray(eps)[..., None], np.asarray(theta0)[..., None])
+    f = np.log(np.asarray(w.omega2, dtype=np.float64))
+    return (f[..., 0] - 8.0 * f[..., 1] + 8.0 * f[..., 2] - f[..., 3]) / (12.0 * _H)
 
 
 def log_slope(t: Any, eps: float, theta0: float = 0.0) -> NDArray[np.float64]:
@@ -92,10 +97,7 @@ def log_slope(t: Any, eps: float, theta0: float = 0.0) -> NDArray[np.float64]:
         Base angle [rad], in (-pi/2, pi/2).
     """
     eps, theta0 = _scalar_params(eps, theta0)
-    t = as_float_array(t, "t")
-    stencil = t[..., None] + _H * np.array([-2.0, -1.0, 1.0, 2.0])
-    f = _log_omega2(stencil, eps, theta0)
-    return (f[..., 0] - 8.0 * f[..., 1] + 8.0 * f[..., 2] - f[..., 3]) / (12.0 * _H)
+    return _log_slope(as_float_array(t, "t"), eps, theta0)
 
 
 def curve(
@@ -147,31 +149,15 @@ def curve(
     return from_parameter(t, eps, theta0, sign=sign, n=n)
 
 
-def _refine_min(lo: float, hi: float, eps: float, theta0: float) -> tuple[float, float]:
-    """Minimum of the log slope on [lo, hi]: (t, value)."""
-    res = minimize_scalar(
-        lambda s: float(log_slope(s, eps, theta0)),
-        bounds=(lo, hi),
-        method="bounded",
-        options={"xatol": 1e-10},
-    )
-    return float(res.x), float(res.fun)
-
-
-def _fold_parameters(eps: float, theta0: float) -> NDArray[np.float64]:
-    """Values of t at the folds of the physical branch, increasing (the solver's own search)."""
-    return fold_parameters(eps, theta0)
-
-
 def folds(eps: float, theta0: float = 0.0) -> Folds:
     """Fold points of the physical branch (sign = +1, n = 0), in order along it.
 
     A fold is where d omega^2 / d xi = 0: a state appears or disappears as the forcing varies.
-    They are found as sign changes of d ln(omega^2)/dt on a grid of step 0.02 in
-    t in [-20, 12] (plus a refined check of every local minimum of the slope, so that a pair
-    of folds closer together than the grid, near the cusp, is not missed) and refined with
-    Brent's method on a fourth-order central difference of ln(omega^2): t to about 1e-11,
-    omega^2 at the fold to rounding.
+    They come from the compiled fold search that :func:`hairbed.solve` uses to count and
+    bracket its roots (``hairbed._core.solver.fold_parameters``, the one fold finder of the
+    package): a scan of the branch for sign changes of the slope, with a check of every local
+    minimum of the slope so that two folds closer than the scan's step, near the cusp, are not
+    missed, refined to rounding in t.
 
     Parameters
     ----------
@@ -197,7 +183,7 @@ def folds(eps: float, theta0: float = 0.0) -> Folds:
     0
     """
     eps, theta0 = _scalar_params(eps, theta0)
-    ts = _fold_parameters(eps, theta0)
+    ts = fold_parameters(eps, theta0)
     if ts.size == 0:
         empty = np.empty(0, dtype=np.float64)
         return Folds(empty, empty.copy(), empty.copy())
@@ -229,22 +215,35 @@ def bistable_window(eps: float, theta0: float = 0.0) -> tuple[float, float]:
     return (float(np.min(f.omega2)), float(np.max(f.omega2)))
 
 
-def _min_slope(eps: float, theta0: float) -> float:
-    """Smallest d ln(omega^2)/dt over the search window (negative iff folds exist)."""
-    t = np.arange(_T_SEARCH[0], _T_SEARCH[1] + 0.5 * _T_STEP, _T_STEP)
-    g = log_slope(t, eps, theta0)
-    k = int(np.argmin(g))
-    if 0 < k < t.size - 1:
-        return _refine_min(t[k - 1], t[k + 1], eps, theta0)[1]
-    return float(g[k])
+def _min_slope(eps: NDArray[np.float64], theta0: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Smallest d ln(omega^2)/dt over the search window (negative iff folds exist), for
+    1-D arrays eps and theta0: the grid's minimum, refined by a bracketed minimisation."""
+    g = _log_slope(_T_GRID, eps[:, None], theta0[:, None])
+    k = np.argmin(g, axis=1)
+    out = g[np.arange(k.size), k]
+    inner = np.flatnonzero((k > 0) & (k < _T_GRID.size - 1))
+    if inner.size:
+        ki = k[inner]
+        out[inner] = find_minimum(
+            _log_slope,
+            _T_GRID[ki - 1],
+            _T_GRID[ki],
+            _T_GRID[ki + 1],
+            args=(eps[inner], theta0[inner]),
+            xatol=1e-10,
+            what="the smallest slope of ln(omega^2) along the physical branch",
+        ).f_x
+    return out
 
 
 def cusp(theta0: Any) -> Any:
     """The confinement eps_c(theta0) above which the physical branch has folds [-].
 
     At eps_c the two folds are born together: d omega^2/dt and d^2 omega^2/dt^2 vanish at once.
-    We solve min_t d ln(omega^2)/dt = 0 for eps with Brent's method (the minimum over t is
-    refined by a bounded scalar minimisation), to about 1e-10 in eps.
+    We solve min_t d ln(omega^2)/dt = 0 for eps by a bracketed root search (the minimum over
+    t on a grid of step 0.02 in [-20, 12], refined by a bracketed minimisation), to about
+    1e-12 in eps, for all base angles at once (``hairbed._bracketing``, on
+    :mod:`scipy.optimize.elementwise`).
 
     Parameters
     ----------
@@ -268,19 +267,24 @@ def cusp(theta0: Any) -> Any:
     """
     th = as_float_array(theta0, "theta0")
     check_inputs(0.0, 0.0, th)
-    out = np.empty(th.shape, dtype=np.float64)
-    for idx, value in np.ndenumerate(th):
-        out[idx] = _cusp_scalar(float(value))
-    return out[()] if out.ndim == 0 else out
+    out = np.ones(th.shape)
+    flat = out.reshape(-1)  # a view of out
+    lean = np.flatnonzero(th.ravel() < 0.0)
+    if lean.size:
+        thl = th.ravel()[lean]
+        folding = _min_slope(np.full(thl.shape, _EPS_TOP), thl) < 0.0
+        if np.any(folding):
+            # At eps = 0, omega^2 = omega_eps^2 is monotone: the slope is positive everywhere.
+            flat[lean[folding]] = find_root(
+                _min_slope,
+                0.0,
+                _EPS_TOP,
+                args=(thl[folding],),
+                xatol=1e-12,
+                xrtol=1e-12,
+                what="the cusp confinement eps_c",
+            ).x
+    return float_or_array(out)
 
 
 _EPS_TOP = 1.0 - 1e-9
-
-
-def _cusp_scalar(theta0: float) -> float:
-    if theta0 >= 0.0:
-        return 1.0
-    if _min_slope(_EPS_TOP, theta0) >= 0.0:
-        return 1.0
-    # At eps = 0, omega^2 = omega_eps^2 is monotone: the slope is positive everywhere.
-    return float(brentq(lambda e: _min_slope(e, theta0), 0.0, _EPS_TOP, xtol=1e-12, rtol=1e-12))

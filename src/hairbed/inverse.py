@@ -6,8 +6,9 @@ flow. On the physical branch (sign = +1, n = 0) every state is a point t of the 
 t and theta0 only, not on eps: eps enters only in omega^2 = omega_eps^2 (1 - eps h1)
 (eq. (34)). So the inverse problem is a root find in the one real number t, done here by a
 vectorised bracketed method (Chandrupatla's, inverse quadratic interpolation safeguarded by
-bisection), after which omega^2 is explicit. The parameter t, not xi, is the unknown: at strong
-forcing xi rounds to 1 (omega^2 above ~400) while t and the tip values stay exact.
+bisection, from :mod:`scipy.optimize.elementwise`), after which omega^2 is explicit. The
+parameter t, not xi, is the unknown: at strong forcing xi rounds to 1 (omega^2 above ~400)
+while t and the tip values stay exact.
 
 - The tip deflection x1 rises monotonically with t from sin(theta0) at rest to 1 (theory.md
   §5), so :func:`omega2_from_tip_deflection` has one answer. Where three states share a
@@ -35,8 +36,6 @@ first order is the linear calibration of :func:`tip_deflection_slope` and
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -44,8 +43,15 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import optimize
 
+from ._bracketing import find_minimum, find_root
 from ._core.solver import from_parameter, solve
-from ._core.validation import as_float_array, check_inputs, check_state_inputs
+from ._core.validation import (
+    HALF_PI,
+    as_float_array,
+    check_inputs,
+    check_state_inputs,
+    float_or_array,
+)
 
 __all__ = [
     "ProfileFit",
@@ -61,105 +67,17 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 FloatOrArray = float | FloatArray
 
-_HALF_PI = 0.5 * math.pi
-#: Bracket search: t is doubled until it brackets the root. |t| beyond 2^60 is never needed:
-#: x1 - sin(theta0) ~ e^t underflows below t ~ -745 and 1 - x1 ~ 1/t rounds to 0 above t ~ 1e17.
-_MAX_DOUBLINGS = 60
-_MAXITER = 200
 #: Below this forcing omega_eps^2 the weak-forcing series replaces the root find (see
 #: _t_from_tip_deflection): its relative error ~W^2 < 1e-10 beats the cancellation in x1.
 _W_SERIES = 1e-5
-
-
-def _scalar(value: Any) -> FloatOrArray:
-    arr = np.asarray(value, dtype=np.float64)
-    return float(arr) if arr.ndim == 0 else arr
+#: Clips of the tip residual: the largest double below 1, the smallest normal double.
+_BELOW_ONE = float(np.nextafter(1.0, 0.0))
+_TINY = float(np.finfo(np.float64).tiny)
 
 
 def _physical(t: FloatArray, eps: FloatArray, theta0: FloatArray) -> Any:
     """The physical-branch state at parameter t (theory.md §2, §3)."""
     return from_parameter(t, eps, theta0)
-
-
-# -- a vectorised bracketed root finder ----------------------------------------------------------
-
-
-def _chandrupatla(
-    f: Callable[[FloatArray, NDArray[np.intp]], FloatArray],
-    a: FloatArray,
-    b: FloatArray,
-    fa: FloatArray,
-    fb: FloatArray,
-) -> FloatArray:
-    """Roots of f in [a, b] elementwise, with f(a) and f(b) of opposite signs (or zero).
-
-    Chandrupatla's method (T. R. Chandrupatla, Adv. Eng. Softw. 28 (1997) 145): inverse
-    quadratic interpolation when the three last points allow it, bisection otherwise, which keeps
-    the bracket and converges for any continuous f. ``f(x, idx)`` evaluates the elements ``idx``.
-    The tolerance is 4 ulp of the root plus 1e-15 absolute in x: here x is the branch parameter
-    t, and an error dt changes ln(omega^2) by at most ~dt.
-    """
-    a, b, fa, fb = (np.array(v, dtype=np.float64) for v in (a, b, fa, fb))
-    c, fc = b.copy(), fb.copy()
-    x = np.where(np.abs(fa) <= np.abs(fb), a, b)
-    done = (fa == 0.0) | (fb == 0.0)
-    t = np.full(a.shape, 0.5)
-    for _ in range(_MAXITER):
-        idx = np.flatnonzero(~done)
-        if idx.size == 0:
-            break
-        ai, bi, ti = a[idx], b[idx], t[idx]
-        xt = ai + ti * (bi - ai)
-        ft = f(xt, idx)
-        same = np.sign(ft) == np.sign(fa[idx])
-        # new bracket [xt, b] (same sign as a) or [xt, a], remembering the dropped end as c
-        c[idx] = np.where(same, ai, bi)
-        fc[idx] = np.where(same, fa[idx], fb[idx])
-        b[idx] = np.where(same, bi, ai)
-        fb[idx] = np.where(same, fb[idx], fa[idx])
-        a[idx] = xt
-        fa[idx] = ft
-        ai, bi, ci, fai, fbi, fci = a[idx], b[idx], c[idx], fa[idx], fb[idx], fc[idx]
-        better = np.abs(fai) < np.abs(fbi)
-        xm = np.where(better, ai, bi)
-        fm = np.where(better, fai, fbi)
-        x[idx] = xm
-        tol = 4.0 * np.finfo(np.float64).eps * np.abs(xm) + 1e-15
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tl = tol / np.abs(bi - ci)
-            xi = (ai - bi) / (ci - bi)
-            ph = (fai - fbi) / (fci - fbi)
-            iqi = (ph * ph < xi) & ((1.0 - ph) ** 2 < 1.0 - xi)
-            t_new = fai / (fbi - fai) * fci / (fbi - fci) + (ci - ai) / (bi - ai) * fai / (
-                fci - fai
-            ) * fbi / (fci - fbi)
-        t_new = np.where(iqi & np.isfinite(t_new), t_new, 0.5)
-        t[idx] = np.clip(t_new, np.minimum(tl, 0.5), np.maximum(1.0 - tl, 0.5))
-        finished = (tl > 0.5) | (fm == 0.0) | ~np.isfinite(tl)
-        done[idx] = finished
-    return x
-
-
-def _expand(
-    f: Callable[[FloatArray, NDArray[np.intp]], FloatArray],
-    start: FloatArray,
-    step: FloatArray,
-    want_positive: bool,
-) -> tuple[FloatArray, FloatArray]:
-    """Move ``start`` by doubling ``step`` until f there has the wanted sign."""
-    x = np.array(start, dtype=np.float64)
-    step = np.array(step, dtype=np.float64)
-    fx = f(x, np.arange(x.size).reshape(x.shape))
-    for _ in range(_MAX_DOUBLINGS):
-        need = (fx <= 0.0) if want_positive else (fx >= 0.0)
-        need &= fx != 0.0
-        idx = np.flatnonzero(need)
-        if idx.size == 0:
-            break
-        x.flat[idx] += step.flat[idx]
-        step.flat[idx] *= 2.0
-        fx.flat[idx] = f(x.flat[idx], idx)
-    return x, fx
 
 
 # -- tip deflection ------------------------------------------------------------------------------
@@ -200,24 +118,36 @@ def _t_from_tip_deflection(x1: FloatArray, theta0: FloatArray) -> FloatArray:
             return out.reshape(x1.shape)
     target_x1, th, sw = flat_x1[work], flat_th[work], flat_s[work]
     # logit-like residual: ~ t as t -> -inf and ~ ln t as t -> +inf, easy to interpolate
-    with np.errstate(divide="ignore"):
-        target = np.log(target_x1 - sw) - np.log1p(-target_x1)
+    target = np.log(target_x1 - sw) - np.log1p(-target_x1)
 
-    def f(t: FloatArray, idx: NDArray[np.intp]) -> FloatArray:
-        idx = np.asarray(idx).ravel()
-        t = np.asarray(t).ravel()
-        x = np.asarray(_physical(t, 0.0, th[idx]).tip_deflection, dtype=np.float64).ravel()
-        with np.errstate(divide="ignore", invalid="ignore"):
-            g = np.log(x - sw[idx]) - np.log1p(-x)
-        g = np.where(x <= sw[idx], -np.inf, np.where(x >= 1.0, np.inf, g))
-        return g - target[idx]
-
-    ones = np.ones(work.size)
-    lo, flo = _expand(f, -ones, -ones, want_positive=False)
-    hi, fhi = _expand(f, ones, ones, want_positive=True)
-    root = _chandrupatla(f, lo, hi, flo, fhi)
-    out[work] = root
+    # x1 <= sin(theta0) and x1 >= 1 are clipped to the nearest representable values: a finite,
+    # monotone residual, as the bracketed search needs
+    res = find_root(
+        _tip_deflection_residual,
+        -1.0,
+        1.0,
+        args=(th, sw, target),
+        grow=True,
+        xatol=1e-15,
+        what="the branch parameter of a tip deflection",
+    )
+    out[work] = res.x
     return out.reshape(x1.shape)
+
+
+def _tip_deflection_residual(
+    t: FloatArray, theta0: FloatArray, s: FloatArray, target: FloatArray
+) -> FloatArray:
+    """logit-like residual ln(x1 - s) - ln(1 - x1) - target, increasing in t [-]."""
+    x = np.asarray(_physical(t, 0.0, theta0).tip_deflection, dtype=np.float64)
+    x = np.minimum(x, _BELOW_ONE)
+    return np.log(np.maximum(x - s, _TINY)) - np.log1p(-x) - target
+
+
+def _tip_at_one(t: FloatArray, theta0: FloatArray) -> FloatArray:
+    """+1 where the tip deflection at t rounds to 1, -1 below: a step at the wanted t."""
+    x = np.asarray(_physical(t, 0.0, theta0).tip_deflection, dtype=np.float64)
+    return np.where(x >= 1.0, 1.0, -1.0)
 
 
 def _t_where_tip_rounds_to_one(theta0: FloatArray) -> FloatArray:
@@ -225,27 +155,20 @@ def _t_where_tip_rounds_to_one(theta0: FloatArray) -> FloatArray:
 
     Near theta0 = pi/2, or at enormous forcing, x1 = 1 - (1 - x1) rounds to 1 over a whole
     range of t: the smallest forcing consistent with the measured value is the answer given.
-    The tip deflection does not depend on eps, and rises with t: bisection on x1(t) >= 1.
+    The tip deflection does not depend on eps, and rises with t: a bracketed search for the
+    step of x1(t) >= 1, to one ulp in t.
     """
-    lo = np.full(theta0.shape, -50.0)
-    hi = np.full(theta0.shape, 1.0)
-    for _ in range(5):  # x1(lo) < 1 down to t = -1600 (x1 - sin theta0 ~ e^t)
-        high = np.asarray(_physical(lo, 0.0, theta0).tip_deflection) >= 1.0
-        if not np.any(high):
-            break
-        lo = np.where(high, 2.0 * lo, lo)
-    for _ in range(_MAX_DOUBLINGS):
-        up = np.asarray(_physical(hi, 0.0, theta0).tip_deflection) < 1.0
-        if not np.any(up):
-            break
-        lo = np.where(up, hi, lo)
-        hi = np.where(up, 2.0 * hi + 1.0, hi)
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        below = np.asarray(_physical(mid, 0.0, theta0).tip_deflection) < 1.0
-        lo = np.where(below, mid, lo)
-        hi = np.where(below, hi, mid)
-    return hi
+    # x1(-50) < 1 unless theta0 rounds to pi/2; the bracket grows geometrically both ways
+    res = find_root(
+        _tip_at_one,
+        -50.0,
+        1.0,
+        args=(theta0,),
+        grow=True,
+        xrtol=2.0 * np.finfo(np.float64).eps,
+        what="the branch parameter where the tip deflection rounds to 1",
+    )
+    return np.asarray(res.bracket[1], dtype=np.float64)  # the end where x1 >= 1
 
 
 def solution_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> Any:
@@ -306,7 +229,7 @@ def omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrA
     >>> round(omega2_from_tip_deflection(0.615831536923675, 0.5), 10)  # theory.md §3
     2.0
     """
-    return _scalar(solution_from_tip_deflection(x1, eps, theta0).omega2)
+    return float_or_array(solution_from_tip_deflection(x1, eps, theta0).omega2)
 
 
 def tip_deflection_slope(eps: Any, theta0: Any = 0.0) -> FloatOrArray:
@@ -323,7 +246,7 @@ def tip_deflection_slope(eps: Any, theta0: Any = 0.0) -> FloatOrArray:
     """
     _, e, th = check_inputs(0.0, eps, theta0)
     c = np.cos(th)
-    return _scalar(c * c / (3.0 * (1.0 - e * c)))
+    return float_or_array(c * c / (3.0 * (1.0 - e * c)))
 
 
 def linear_omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrArray:
@@ -337,7 +260,7 @@ def linear_omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> F
     also widens the gap (see the tests).
     """
     x1, e, th = _check_tip_inputs(x1, "x1", eps, theta0)
-    return _scalar((x1 - np.sin(th)) / np.asarray(tip_deflection_slope(e, th)))
+    return float_or_array((x1 - np.sin(th)) / np.asarray(tip_deflection_slope(e, th)))
 
 
 # -- tip height ----------------------------------------------------------------------------------
@@ -349,6 +272,10 @@ _T_SCAN = np.arange(-60.0, 40.5, 0.5)
 
 def _h1(t: FloatArray, theta0: FloatArray) -> FloatArray:
     return np.asarray(_physical(t, 0.0, theta0).tip_height, dtype=np.float64)
+
+
+def _minus_h1(t: FloatArray, theta0: FloatArray) -> FloatArray:
+    return -_h1(t, theta0)
 
 
 def _t_of_max_tip_height(theta0: FloatArray) -> tuple[FloatArray, FloatArray]:
@@ -366,26 +293,21 @@ def _t_of_max_tip_height(theta0: FloatArray) -> tuple[FloatArray, FloatArray]:
     uniq, inverse = np.unique(th[lean], return_inverse=True)
     grid = _h1(_T_SCAN[np.newaxis, :], uniq[:, np.newaxis])
     k = np.argmax(grid, axis=1)
-    lo = _T_SCAN[np.maximum(k - 1, 0)]
-    hi = _T_SCAN[np.minimum(k + 1, _T_SCAN.size - 1)]
-    # golden-section search, vectorised: h1 is smooth and unimodal near its peak
-    g = 0.5 * (math.sqrt(5.0) - 1.0)
-    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
-    f1, f2 = _h1(x1, uniq), _h1(x2, uniq)
-    for _ in range(80):
-        left = f1 > f2  # the peak is in [lo, x2]
-        hi = np.where(left, x2, hi)
-        lo = np.where(left, lo, x1)
-        x2n = np.where(left, x1, lo + g * (hi - lo))
-        x1n = np.where(left, hi - g * (hi - lo), x2)
-        f2n = np.where(left, f1, np.nan)
-        f1n = np.where(left, np.nan, f2)
-        need1 = np.isnan(f1n)
-        need2 = np.isnan(f2n)
-        f1n[need1] = _h1(x1n[need1], uniq[need1])
-        f2n[need2] = _h1(x2n[need2], uniq[need2])
-        x1, x2, f1, f2 = x1n, x2n, f1n, f2n
-    t_peak = 0.5 * (lo + hi)
+    t_peak = _T_SCAN[k]
+    # refine inside the grid (a peak on the grid's edge, for theta0 within ~1e-26 of 0-, stays
+    # there): h1 is smooth and unimodal near its peak
+    inner = np.flatnonzero((k > 0) & (k < _T_SCAN.size - 1))
+    if inner.size:
+        ki = k[inner]
+        res = find_minimum(
+            _minus_h1,
+            _T_SCAN[ki - 1],
+            _T_SCAN[ki],
+            _T_SCAN[ki + 1],
+            args=(uniq[inner],),
+            what="the highest tip of the physical branch",
+        )
+        t_peak[inner] = res.x
     h_peak = np.maximum(_h1(t_peak, uniq), np.cos(uniq))
     t_max[lean] = t_peak[inverse]
     h_max[lean] = h_peak[inverse]
@@ -399,7 +321,24 @@ def max_tip_height(theta0: Any = 0.0) -> FloatOrArray:
     towards the vertical and the maximum lies between cos(theta0) and 1.
     """
     _, _, th = check_inputs(0.0, 0.0, theta0)
-    return _scalar(_t_of_max_tip_height(th)[1].reshape(th.shape))
+    return float_or_array(_t_of_max_tip_height(th)[1].reshape(th.shape))
+
+
+def _falling_residual(
+    t: FloatArray, theta0: FloatArray, log_target: FloatArray, t_top: FloatArray
+) -> FloatArray:
+    """ln(h1 target) - ln h1(t), increasing for t >= t_top; not above 0 at the peak itself
+    (where the peak search's rounding could put it a hair above)."""
+    g = log_target - np.log(np.maximum(_h1(t, theta0), _TINY))
+    return np.where(t <= t_top, np.minimum(g, 0.0), g)
+
+
+def _rising_residual(
+    t: FloatArray, theta0: FloatArray, target: FloatArray, t_top: FloatArray
+) -> FloatArray:
+    """h1(t) - h1 target, increasing for t <= t_top; not below 0 at the peak itself."""
+    g = _h1(t, theta0) - target
+    return np.where(t >= t_top, np.maximum(g, 0.0), g)
 
 
 def omega2_from_tip_height(h1: Any, eps: Any, theta0: Any = 0.0) -> FloatArray:
@@ -455,22 +394,19 @@ def omega2_from_tip_height(h1: Any, eps: Any, theta0: Any = 0.0) -> FloatArray:
     # falling limb, t in [t_max, inf): h1 decreases from h_max to 0; residual ln(h1) (~ -ln t)
     fall = np.flatnonzero(h < h_max)
     if fall.size:
-        target = np.log(h[fall])
-        thf = th[fall]
-
-        def f_fall(t: FloatArray, idx: NDArray[np.intp]) -> FloatArray:
-            idx = np.asarray(idx).ravel()
-            return target[idx] - np.log(_h1(np.asarray(t).ravel(), thf[idx]))
-
-        start = np.where(np.isfinite(t_max[fall]), t_max[fall], -1.0)
-        hi, fhi = _expand(f_fall, start + 1.0, np.ones(fall.size), want_positive=True)
-        lo = start
-        flo = f_fall(lo, np.arange(fall.size))
-        flo = np.where(np.isfinite(t_max[fall]), np.minimum(flo, 0.0), flo)
-        # for theta0 >= 0 walk down until h1(lo) >= h1
-        if np.any(flo > 0.0):
-            lo, flo = _expand(f_fall, lo, -np.ones(fall.size), want_positive=False)
-        t_fall[fall] = _chandrupatla(f_fall, lo, hi, flo, fhi)
+        t_top = t_max[fall]  # -inf for theta0 >= 0: the limb starts at rest
+        start = np.where(np.isfinite(t_top), t_top, -1.0)
+        res = find_root(
+            _falling_residual,
+            start,
+            start + 1.0,
+            args=(th[fall], np.log(h[fall]), t_top),
+            grow=True,
+            xmin=t_top,
+            xatol=1e-15,
+            what="the branch parameter of a tip height (falling limb)",
+        )
+        t_fall[fall] = res.x
     # the peak itself: one state, on neither limb
     peak = np.flatnonzero((h == h_max) & np.isfinite(t_max))
     t_fall[peak] = t_max[peak]
@@ -481,17 +417,18 @@ def omega2_from_tip_height(h1: Any, eps: Any, theta0: Any = 0.0) -> FloatArray:
     # rising limb, t in (-inf, t_max): h1 increases from cos(theta0) to h_max
     rise = np.flatnonzero((th < 0.0) & (h > cos0) & (h < h_max))
     if rise.size:
-        target_r = h[rise]
-        thr = th[rise]
-
-        def f_rise(t: FloatArray, idx: NDArray[np.intp]) -> FloatArray:
-            idx = np.asarray(idx).ravel()
-            return _h1(np.asarray(t).ravel(), thr[idx]) - target_r[idx]
-
-        hi = t_max[rise]
-        fhi = np.maximum(f_rise(hi, np.arange(rise.size)), 0.0)
-        lo, flo = _expand(f_rise, hi - 1.0, -np.ones(rise.size), want_positive=False)
-        t_rise[rise] = _chandrupatla(f_rise, lo, hi, flo, fhi)
+        t_top = t_max[rise]
+        res = find_root(
+            _rising_residual,
+            t_top - 1.0,
+            t_top,
+            args=(th[rise], h[rise], t_top),
+            grow=True,
+            xmax=t_top,
+            xatol=1e-15,
+            what="the branch parameter of a tip height (rising limb)",
+        )
+        t_rise[rise] = res.x
     t_rise[(th < 0.0) & (h == cos0)] = -np.inf
 
     both = ~np.isnan(t_rise)
@@ -549,7 +486,7 @@ class ProfileFit:
 
 
 #: Base angles the fit may visit: the closed form needs |theta0| < pi/2.
-_THETA0_LIMIT = _HALF_PI - 1e-9
+_THETA0_LIMIT = HALF_PI - 1e-9
 
 
 def _curve(

@@ -21,14 +21,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from hairbed.branches import _fold_parameters
-
-from ._core.solver import from_parameter
+from ._bracketing import find_root
+from ._core.solver import fold_parameters, from_parameter
 from ._core.validation import check_inputs
 
 __all__ = ["sweep", "sweep_with_jumps"]
 
-_BISECTIONS = 80  # brackets are at most ~1e3 wide in t: 2^-80 of that is below rounding
+_SMALLEST = float(np.finfo(np.float64).smallest_subnormal)
 
 
 def _omega2(t: NDArray[np.float64], eps: float, theta0: float) -> NDArray[np.float64]:
@@ -37,13 +36,13 @@ def _omega2(t: NDArray[np.float64], eps: float, theta0: float) -> NDArray[np.flo
 
 def _stable_pieces(
     eps: float, theta0: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """The increasing pieces of omega^2(t): their t-bounds and omega^2-ranges.
 
     Returns (t_lo, t_hi, w_lo, w_hi) for each increasing piece, ordered along the branch;
     infinite bounds are kept infinite (omega^2 -> 0 as t -> -inf and -> inf as t -> inf).
     """
-    tf = _fold_parameters(eps, theta0)
+    tf = fold_parameters(eps, theta0)
     bounds = np.concatenate(([-np.inf], tf, [np.inf]))
     wf = _omega2(tf, eps, theta0) if tf.size else np.empty(0)
     wb = np.concatenate(([0.0], wf, [np.inf]))
@@ -73,18 +72,12 @@ def _choose_pieces(
     return piece
 
 
-def _bracket_end(
-    path_w: NDArray[np.float64], edge: float, step: float, eps: float, theta0: float, above: bool
-) -> float:
-    """A finite t beyond which omega^2 is below (above=False) or above all of path_w."""
-    t = edge
-    for _ in range(60):
-        t += step
-        w = float(_omega2(np.array([t]), eps, theta0)[0])
-        if (w > path_w.max()) if above else (w < path_w.min()):
-            return t
-        step *= 2.0
-    raise FloatingPointError("could not bracket the forcing along the physical branch")
+def _log_omega2_residual(
+    t: NDArray[np.float64], eps: float, theta0: float, log_target: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """ln omega^2(t) - ln(target), increasing on a stable piece [-] (finite where omega^2
+    underflows)."""
+    return np.log(np.maximum(_omega2(t, eps, theta0), _SMALLEST)) - log_target
 
 
 def sweep_with_jumps(
@@ -132,31 +125,25 @@ def sweep_with_jumps(
     t_lo, t_hi, w_lo, w_hi = _stable_pieces(eps, theta0)
     piece = _choose_pieces(path, w_lo, w_hi, start)
 
-    # Finite brackets in t for every point: the piece's bounds, with the infinite ends pushed
-    # out just far enough.
-    a = t_lo[piece]
-    b = t_hi[piece]
-    positive = path > 0.0
-    first, last = piece == 0, piece == t_lo.size - 1
-    if np.any(first & positive):
-        edge = float(min(t_hi[0], 0.0)) if np.isfinite(t_hi[0]) else 0.0
-        a[first] = _bracket_end(path[first & positive], edge, -4.0, eps, theta0, above=False)
-    if np.any(last & positive):
-        edge = float(max(t_lo[-1], 0.0)) if np.isfinite(t_lo[-1]) else 0.0
-        b[last] = _bracket_end(path[last & positive], edge, 4.0, eps, theta0, above=True)
-
-    # Vectorised bisection: omega^2 is monotone increasing in t on each piece, so this cannot
-    # fail and converges to rounding whatever the shape of the branch.
-    lo = np.where(positive, a, 0.0)
-    hi = np.where(positive, b, 0.0)
-    target = np.where(positive, path, 1.0)
-    for _ in range(_BISECTIONS):
-        mid = 0.5 * (lo + hi)
-        below = _omega2(mid, eps, theta0) < target
-        lo = np.where(below, mid, lo)
-        hi = np.where(below, hi, mid)
-    t = 0.5 * (lo + hi)
-    t = np.where(positive, t, -np.inf)  # omega^2 = 0: the undeformed hair, xi = sin(theta0)
+    # A bracket in t for every point: its piece's bounds, the infinite ends replaced by a
+    # starting interval next to the finite one that the search widens (omega^2 is monotone
+    # increasing in t on each piece, so the root is unique and the search cannot fail).
+    positive = np.flatnonzero(path > 0.0)
+    a, b = t_lo[piece[positive]], t_hi[piece[positive]]
+    lower = np.where(np.isfinite(a), a, np.where(np.isfinite(b), b - 1.0, -1.0))
+    upper = np.where(np.isfinite(b), b, lower + 1.0)
+    t = np.full(path.shape, -np.inf)  # omega^2 = 0: the undeformed hair, xi = sin(theta0)
+    if positive.size:
+        t[positive] = find_root(
+            _log_omega2_residual,
+            lower,
+            upper,
+            args=(eps, theta0, np.log(path[positive])),
+            grow=True,
+            xmin=a,
+            xmax=b,
+            what="the branch parameter along a sweep",
+        ).x
     jumps = np.nonzero(piece[1:] != piece[:-1])[0] + 1
     return from_parameter(t, eps, theta0), jumps.astype(np.intp)
 

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._core.solver import solve
-from ._core.validation import check_inputs, check_root
+from ._core.validation import check_inputs, check_root, float_or_array
 
 __all__ = [
     "rectification_ratio",
@@ -35,11 +35,6 @@ __all__ = [
 ]
 
 FloatOrArray = float | NDArray[np.float64]
-
-
-def _scalar(value: Any) -> FloatOrArray:
-    arr = np.asarray(value, dtype=np.float64)
-    return float(arr) if arr.ndim == 0 else arr
 
 
 def stress_ratio(omega2: Any, eps: Any, theta0: Any = 0.0, *, root: str = "low") -> FloatOrArray:
@@ -72,13 +67,13 @@ def stress_ratio(omega2: Any, eps: Any, theta0: Any = 0.0, *, root: str = "low")
     check_root(root)
     w, e, th = check_inputs(omega2, eps, theta0)
     h1 = np.asarray(solve(w, e, th, root=root).tip_height, dtype=np.float64)
-    return _scalar(1.0 / (1.0 - e * h1))
+    return float_or_array(1.0 / (1.0 - e * h1))
 
 
 def rest_stress_ratio(eps: Any, theta0: Any = 0.0) -> FloatOrArray:
     """The stress ratio of a bed at rest (slow flow), 1 / (1 - eps cos theta0) [-]."""
     _, e, th = check_inputs(0.0, eps, theta0)
-    return _scalar(1.0 / (1.0 - e * np.cos(th)))
+    return float_or_array(1.0 / (1.0 - e * np.cos(th)))
 
 
 def rectification_ratio(omega2: Any, eps: Any, theta0: Any, *, root: str = "low") -> FloatOrArray:
@@ -87,13 +82,13 @@ def rectification_ratio(omega2: Any, eps: Any, theta0: Any, *, root: str = "low"
     Parameters
     ----------
     omega2 : array_like
-        Forcing omega^2 [-] of the wall speed |v|, >= 0.
+        Forcing omega^2 [-] of the wall speed abs(v), >= 0.
     eps : array_like
         Confinement L/H [-], in [0, 1).
     theta0 : array_like
         Base angle [rad]: the hairs lean along the flow "with the grain".
     root : {"low", "mid", "high"}
-        Which state where several coexist; against the grain (base angle -|theta0|) a tight
+        Which state where several coexist; against the grain (base angle -abs(theta0)) a tight
         bed can be bistable (theory.md §5).
 
     Returns
@@ -113,4 +108,4 @@ def rectification_ratio(omega2: Any, eps: Any, theta0: Any, *, root: str = "low"
     w, e, th = check_inputs(omega2, eps, theta0)
     against = np.asarray(stress_ratio(w, e, -th, root=root))
     with_grain = np.asarray(stress_ratio(w, e, th, root=root))
-    return _scalar(against / with_grain)
+    return float_or_array(against / with_grain)

@@ -32,8 +32,10 @@ Discretisation
 --------------
 N equal segments, nodes sigma_i = i / N, unknowns theta_1 .. theta_N (theta_0 = theta0 is
 given); the second derivative by central differences, the free end by a ghost node
-theta_{N+1} = theta_{N-1}, and h1 by the trapezoidal rule: second order throughout. The Jacobian
-is tridiagonal plus the rank-one coupling; for the moderate N used here it is formed dense.
+theta_{N+1} = theta_{N-1}, and h1 by the trapezoidal rule: second order throughout. This is
+the operator of the finite-difference baseline (``hairbed.numerics._banded.HairOperator``, one
+implementation for both). Its Jacobian is tridiagonal plus the rank-one coupling: Newton steps
+take O(N); for the eigenvalues, at the moderate N used here, it is formed dense.
 
 A static state is classified by the eigenvalues of this Jacobian at the discrete equilibrium
 nearest the analytic state (a Newton step or two from the closed-form profile sampled on the
@@ -50,9 +52,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 from scipy.integrate import solve_ivp
-from scipy.linalg import solve_banded
 
 from ._core.validation import check_inputs
+from .numerics._banded import HairOperator
 
 __all__ = [
     "Relaxation",
@@ -64,64 +66,6 @@ __all__ = [
 ]
 
 FloatArray = NDArray[np.float64]
-
-
-def _weights(n_seg: int) -> FloatArray:
-    """Trapezoidal weights for theta_1 .. theta_N (theta_0 carries dsigma / 2 separately)."""
-    w = np.full(n_seg, 1.0 / n_seg)
-    w[-1] *= 0.5
-    return w
-
-
-def _residual(u: FloatArray, omega2: float, eps: float, theta0: float) -> FloatArray:
-    """Right-hand side theta_t at the N unknown nodes."""
-    n_seg = u.size
-    inv_d2 = float(n_seg) ** 2
-    h1 = np.dot(_weights(n_seg), np.cos(u)) + 0.5 * np.cos(theta0) / n_seg
-    load = omega2 / (1.0 - eps * h1)
-    left = np.concatenate(([theta0], u[:-1]))
-    right = np.concatenate((u[1:], [u[-2] if n_seg > 1 else theta0]))
-    return (left - 2.0 * u + right) * inv_d2 + load * np.cos(u)
-
-
-def _jacobian(u: FloatArray, omega2: float, eps: float, theta0: float) -> FloatArray:
-    """Dense Jacobian of :func:`_residual`: tridiagonal plus rank one."""
-    n_seg = u.size
-    inv_d2 = float(n_seg) ** 2
-    w = _weights(n_seg)
-    h1 = np.dot(w, np.cos(u)) + 0.5 * np.cos(theta0) / n_seg
-    gap = 1.0 - eps * h1
-    load = omega2 / gap
-    jac = np.zeros((n_seg, n_seg))
-    idx = np.arange(n_seg)
-    jac[idx, idx] = -2.0 * inv_d2 - load * np.sin(u)
-    jac[idx[1:], idx[:-1]] = inv_d2
-    jac[idx[:-1], idx[1:]] = inv_d2
-    if n_seg > 1:
-        jac[-1, -2] = 2.0 * inv_d2  # ghost node at the free end
-    # d load / d theta_j = omega^2 eps (d h1 / d theta_j) / gap^2, d h1 / d theta_j = -w_j sin
-    jac += np.outer(np.cos(u), -omega2 * eps * w * np.sin(u) / gap**2)
-    return jac
-
-
-def _newton_step(u: FloatArray, omega2: float, eps: float, theta0: float) -> FloatArray:
-    """Solve J du = -R in O(N): banded solve of the tridiagonal part, Sherman-Morrison for the
-    rank-one coupling (dense LAPACK is slow and thread-hungry for no gain here)."""
-    n_seg = u.size
-    inv_d2 = float(n_seg) ** 2
-    w = _weights(n_seg)
-    h1 = np.dot(w, np.cos(u)) + 0.5 * np.cos(theta0) / n_seg
-    gap = 1.0 - eps * h1
-    load = omega2 / gap
-    bands = np.zeros((3, n_seg))
-    bands[0, 1:] = inv_d2
-    bands[1] = -2.0 * inv_d2 - load * np.sin(u)
-    bands[2, :-1] = inv_d2
-    bands[2, -2] = 2.0 * inv_d2  # ghost node at the free end
-    a = np.cos(u)
-    b = -omega2 * eps * w * np.sin(u) / gap**2
-    y, z = solve_banded((1, 1), bands, np.column_stack((-_residual(u, omega2, eps, theta0), a))).T
-    return y - z * (np.dot(b, y) / (1.0 + np.dot(b, z)))
 
 
 def _profiles(solution: Any, sigma: FloatArray, shape: tuple[int, ...]) -> FloatArray:
@@ -171,8 +115,9 @@ def equilibrium(
     """
     omega2, eps, theta0 = _scalars(omega2, eps, theta0)
     u = _initial(guess, N)[1:]
+    op = HairOperator(omega2, eps, theta0, N)
     for _ in range(max_iter):
-        du = _newton_step(u, omega2, eps, theta0)
+        du = op.newton_step(u, op.residual(u))
         u = u + du
         if np.max(np.abs(du)) < tol:
             break
@@ -264,7 +209,7 @@ def linear_stability(solution: Any, N: int = 100, k: int = 4) -> Stability:
             continue
         w, e, t0 = float(omega2[idx]), float(eps[idx]), float(theta0[idx])
         u = equilibrium(w, e, t0, prof, N)[1:]
-        lam = np.linalg.eigvals(_jacobian(u, w, e, t0))
+        lam = np.linalg.eigvals(HairOperator(w, e, t0, N).rhs_jacobian(u))
         lam = lam[np.argsort(-lam.real)]
         stable[idx] = bool(lam[0].real < 0.0)
         growth[idx] = lam[0].real
@@ -370,12 +315,13 @@ def relax(
     if not (np.isfinite(t_end) and t_end > 0.0):
         raise ValueError(f"t_end must be positive, got {t_end!r}")
     u0 = _initial(theta_initial, N)[1:]
+    op = HairOperator(omega2, eps, theta0, N)
     res = solve_ivp(
-        lambda _t, u: _residual(u, omega2, eps, theta0),
+        lambda _t, u: op.rhs(u),
         (0.0, float(t_end)),
         u0,
         method=method,
-        jac=lambda _t, u: _jacobian(u, omega2, eps, theta0),
+        jac=lambda _t, u: op.rhs_jacobian(u),
         t_eval=t_eval,
         rtol=rtol,
         atol=atol,

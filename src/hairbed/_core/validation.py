@@ -15,9 +15,16 @@ __all__ = [
     "check_inputs",
     "check_root",
     "check_state_inputs",
+    "float_or_array",
 ]
 
 HALF_PI = 0.5 * np.pi
+
+
+def float_or_array(value: Any) -> float | NDArray[np.float64]:
+    """A 0-d result as a Python float, anything else as a float64 array (the lab's returns)."""
+    arr = np.asarray(value, dtype=np.float64)
+    return float(arr) if arr.ndim == 0 else arr
 
 
 def _first_index(mask: NDArray[np.bool_]) -> str:

@@ -7,8 +7,9 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy import linalg, optimize
+from scipy import optimize
 
+from ._banded import HairOperator
 from ._result import NumericalResult, branch_label, scalar_inputs
 
 __all__ = ["finite_difference"]
@@ -17,79 +18,6 @@ FloatArray = NDArray[np.float64]
 
 _METHODS = ("newton", "root")
 _MAX_STEP = 1.0  # [rad], largest Newton update of any theta_i
-
-
-class _Discretisation:
-    """Residual and Jacobian of the central-difference scheme on N segments.
-
-    Unknowns are theta_1..theta_N at sigma_i = i/N; theta_0 = theta0 is the Dirichlet value.
-    Rows (multiplied by h^2 so that the matrix part is O(1)):
-
-    * i = 1..N-1:  theta_{i-1} - 2 theta_i + theta_{i+1} + h^2 W cos(theta_i) = 0,
-    * i = N (ghost point theta_{N+1} = theta_{N-1}, halved so the matrix stays symmetric):
-      theta_{N-1} - theta_N + (h^2 / 2) W cos(theta_N) = 0,
-
-    with W = omega_eps^2 = omega^2 / (1 - eps h1) (eq. (5)) and h1 the trapezoid sum of
-    cos(theta). Every row depends on every unknown through h1: the Jacobian is tridiagonal plus
-    a rank-one term.
-    """
-
-    def __init__(self, omega2: float, eps: float, theta0: float, N: int) -> None:
-        self.omega2, self.eps, self.theta0, self.N = omega2, eps, theta0, N
-        self.h = 1.0 / N
-        # Trapezoid weights of the unknowns (the last node carries half weight), and the same
-        # halving in the ghost-point row.
-        self.w = np.ones(N)
-        self.w[-1] = 0.5
-        # Banded storage of the constant tridiagonal part, (1, 1) bands.
-        ab = np.empty((3, N))
-        ab[0, :] = 1.0
-        ab[1, :] = -2.0
-        ab[1, -1] = -1.0
-        ab[2, :] = 1.0
-        self.ab = ab
-
-    def tip_height(self, th: FloatArray) -> float:
-        return self.h * (0.5 * np.cos(self.theta0) + float(self.w @ np.cos(th)))
-
-    def frequency2(self, h1: float) -> float:
-        return self.omega2 / (1.0 - self.eps * h1)
-
-    def residual(self, th: FloatArray) -> FloatArray:
-        h2W = self.h**2 * self.frequency2(self.tip_height(th))
-        r = np.empty_like(th)
-        r[0] = self.theta0 - 2.0 * th[0]
-        r[1:] = th[:-1] - 2.0 * th[1:]
-        r[:-1] += th[1:]
-        r[-1] += th[-1]  # the ghost-point row: theta_{N-1} - theta_N
-        r += h2W * self.w * np.cos(th)
-        return r
-
-    def newton_step(self, th: FloatArray, r: FloatArray) -> FloatArray:
-        """Solve J dx = -r in O(N): banded solve plus Sherman-Morrison for the rank-one term."""
-        h1 = self.tip_height(th)
-        W = self.frequency2(h1)
-        c, s = np.cos(th), np.sin(th)
-        ab = self.ab.copy()
-        ab[1] -= self.h**2 * W * self.w * s
-        # J = T + u v^T:  dr_i/dW = h^2 w_i cos(theta_i);  dW/dtheta_j = dW/dh1 * dh1/dtheta_j.
-        u = self.h**2 * self.w * c
-        v = (self.eps * W / (1.0 - self.eps * h1)) * (-self.h * self.w * s)
-        yz = linalg.solve_banded((1, 1), ab, np.column_stack([-r, u]), check_finite=False)
-        y, z = yz[:, 0], yz[:, 1]
-        denom = 1.0 + float(v @ z)
-        return y - z * (float(v @ y) / denom)
-
-    def jacobian(self, th: FloatArray) -> FloatArray:
-        """Dense Jacobian (only for checks; the solvers never form it)."""
-        h1 = self.tip_height(th)
-        W = self.frequency2(h1)
-        c, s = np.cos(th), np.sin(th)
-        J = np.diag(self.ab[1] - self.h**2 * W * self.w * s)
-        J += np.diag(np.ones(self.N - 1), 1) + np.diag(np.ones(self.N - 1), -1)
-        u = self.h**2 * self.w * c
-        v = (self.eps * W / (1.0 - self.eps * h1)) * (-self.h * self.w * s)
-        return J + np.outer(u, v)
 
 
 def _initial_guess(guess: float | Callable[[FloatArray], Any], sigma: FloatArray) -> FloatArray:
@@ -104,7 +32,7 @@ def _initial_guess(guess: float | Callable[[FloatArray], Any], sigma: FloatArray
 
 
 def _newton(
-    disc: _Discretisation, th: FloatArray, tol: float, maxiter: int
+    disc: HairOperator, th: FloatArray, tol: float, maxiter: int
 ) -> tuple[FloatArray, int, str, int, int]:
     """Damped Newton on the residual, backtracking on ||r||^2. Returns theta, status, msg, it,
     nfev."""
@@ -209,7 +137,7 @@ def finite_difference(
     if not (tol > 0):
         raise ValueError(f"tol must be positive, got {tol!r}")
     N = int(N)
-    disc = _Discretisation(omega2, eps, theta0, N)
+    disc = HairOperator(omega2, eps, theta0, N)
     sigma = np.linspace(0.0, 1.0, N + 1)
     th0 = _initial_guess(guess, sigma[1:])
 
@@ -233,7 +161,7 @@ def finite_difference(
 
 
 def _result(
-    disc: _Discretisation,
+    disc: HairOperator,
     sigma: FloatArray,
     th: FloatArray,
     status: int,
@@ -245,7 +173,7 @@ def _result(
     h = disc.h
     theta = np.concatenate([[disc.theta0], th])
     h1 = disc.tip_height(th)
-    W = disc.frequency2(h1)
+    W = disc.omega_eps2(h1)
     # Cumulative trapezoid sums for the centreline: z' = cos(theta), x' = sin(theta).
     z = np.concatenate([[0.0], np.cumsum(0.5 * h * (np.cos(theta[1:]) + np.cos(theta[:-1])))])
     x = np.concatenate([[0.0], np.cumsum(0.5 * h * (np.sin(theta[1:]) + np.sin(theta[:-1])))])

@@ -11,7 +11,7 @@ Examples
 >>> fig.axes[0].get_xlabel()
 '$\\\\omega_\\\\epsilon$ [-]'
 
-Write every figure into a folder (skipping, with a note, those whose module is missing):
+Write every figure into a folder:
 
 >>> import tempfile
 >>> paths = make_all(tempfile.mkdtemp(), only=["fig_model"], verbose=False)
@@ -21,7 +21,6 @@ Write every figure into a folder (skipping, with a note, those whose module is m
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable, Iterable
 from pathlib import Path
 
@@ -104,12 +103,12 @@ def make_all(
     only : iterable of str, optional
         Names (keys of :data:`FIGURES`, with or without the ``fig_`` prefix) to make.
     verbose : bool, optional
-        Print one line per figure (and a note for each skipped one) on stdout.
+        Print one line per figure on stdout.
 
     Returns
     -------
     list of Path
-        The files written; a figure whose optional module is missing is skipped with a note.
+        The files written.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -121,11 +120,7 @@ def make_all(
     for name, func in FIGURES.items():
         if wanted is not None and name not in wanted:
             continue
-        try:
-            fig = func()
-        except ImportError as exc:  # an optional module of the package is not there yet
-            print(f"skipped {name}: {exc}", file=sys.stderr)
-            continue
+        fig = func()
         path = out / f"{name}.png"
         fig.savefig(path, dpi=dpi)
         paths.append(path)

@@ -1,9 +1,8 @@
 """Figures beyond the paper: bistability, hysteresis, rheology, calibration, numerics, speed.
 
-Each function returns a :class:`matplotlib.figure.Figure`. Functions that need an optional
-module of the package (``hairbed.numerics``, ``hairbed.units`` ...) import it inside, so a
-missing module raises ImportError for that figure only; where a quantity is a one-liner of the
-core solver it is computed from :func:`hairbed.solve` directly.
+Each function returns a :class:`matplotlib.figure.Figure`. Every quantity comes from the
+public API (:func:`hairbed.solve`, the lab modules ``hairbed.branches``, ``hairbed.rheology``
+...): the figures compute nothing of their own.
 """
 
 from __future__ import annotations
@@ -37,17 +36,7 @@ _TABLE = ((-1.5, 0.9), (-1.0, 0.95), (-0.5, 0.99))
 
 def _window(eps: float, theta0: float) -> tuple[float, float]:
     """Bistable window of omega^2 (NaNs when there is none)."""
-    try:
-        from hairbed.branches import bistable_window
-    except ImportError:  # fall back on the fold values of the exact curve
-        t = np.linspace(-20.0, 12.0, 3201)
-        w = np.asarray(hairbed.from_parameter(t, eps, theta0).omega2)
-        d = np.diff(w)
-        turns = np.nonzero(np.sign(d[1:]) != np.sign(d[:-1]))[0] + 1
-        if turns.size < 2:
-            return (float("nan"), float("nan"))
-        return (float(w[turns].min()), float(w[turns].max()))
-    return bistable_window(eps, theta0)
+    return hairbed.branches.bistable_window(eps, theta0)
 
 
 @styled
@@ -114,14 +103,9 @@ def fig_hysteresis(eps: float = 0.9, theta0: float = -1.5, num: int = 240) -> Fi
     lo, hi = _window(eps, theta0)
     up = np.linspace(0.3 * lo, 1.4 * hi, num)
     down = up[::-1]
-    try:
-        from hairbed.quasistatic import sweep
-
-        s_up, s_down = sweep(up, eps, theta0, start="low"), sweep(down, eps, theta0, start="high")
-        x_up, x_down = np.asarray(s_up.tip_deflection), np.asarray(s_down.tip_deflection)
-    except ImportError:  # one window: up follows the low root, down the high root
-        x_up = np.asarray(hairbed.solve(up, eps, theta0, root="low").tip_deflection)
-        x_down = np.asarray(hairbed.solve(down, eps, theta0, root="high").tip_deflection)
+    sweep = hairbed.quasistatic.sweep
+    s_up, s_down = sweep(up, eps, theta0, start="low"), sweep(down, eps, theta0, start="high")
+    x_up, x_down = np.asarray(s_up.tip_deflection), np.asarray(s_down.tip_deflection)
     branch = hairbed.from_parameter(np.linspace(-12, 6, 1200), eps, theta0)
     fig, ax = new_figure(size=(5.8, 4.2))
     ax.axvspan(lo, hi, color="0.9", lw=0, label="three states")
@@ -155,24 +139,6 @@ def fig_hysteresis(eps: float = 0.9, theta0: float = -1.5, num: int = 240) -> Fi
     return fig
 
 
-def _stress_ratio(omega2, eps, theta0):
-    """tau / (eta v / H) = 1 / (1 - eps h1) (theory.md §7)."""
-    try:
-        from hairbed.rheology import stress_ratio
-    except ImportError:
-        return 1.0 / (1.0 - eps * np.asarray(hairbed.solve(omega2, eps, theta0).tip_height))
-    return np.asarray(stress_ratio(omega2, eps, theta0))
-
-
-def _rectification(omega2, eps, theta0):
-    """Stress against the grain over stress with it, at the same |v|."""
-    try:
-        from hairbed.rheology import rectification_ratio
-    except ImportError:
-        return _stress_ratio(omega2, eps, -theta0) / _stress_ratio(omega2, eps, theta0)
-    return np.asarray(rectification_ratio(omega2, eps, theta0))
-
-
 @styled
 def fig_rheology(
     eps_values: tuple[float, ...] = (0.3, 0.6, 0.9), theta0: float = 0.5, num: int = 200
@@ -192,9 +158,19 @@ def fig_rheology(
     w2 = np.logspace(-2, 3, num)
     fig, (ax, axr) = new_figure(1, 2, size=(9.4, 3.9))
     for eps, c in zip(eps_values, colors(len(eps_values))):
-        ax.plot(w2, _stress_ratio(w2, eps, 0.0), color=c, label=rf"$\epsilon = {eps:g}$")
+        ax.plot(
+            w2,
+            hairbed.rheology.stress_ratio(w2, eps, 0.0),
+            color=c,
+            label=rf"$\epsilon = {eps:g}$",
+        )
         ax.axhline(1 / (1 - eps), color=c, lw=0.7, ls=":")
-        axr.plot(w2, _rectification(w2, eps, theta0), color=c, label=rf"$\epsilon = {eps:g}$")
+        axr.plot(
+            w2,
+            hairbed.rheology.rectification_ratio(w2, eps, theta0),
+            color=c,
+            label=rf"$\epsilon = {eps:g}$",
+        )
     ax.axhline(1.0, color="0.5", lw=0.7)
     ax.set_xscale("log")
     ax.set_yscale("log")
@@ -209,16 +185,6 @@ def fig_rheology(
     axr.set_title(rf"(b) rectification, $\theta_0 = {theta0:g}$ rad")
     axr.legend(loc="upper left")
     return fig
-
-
-def _linear_slope(eps: float, theta0: float) -> float:
-    """d x1 / d omega^2 at rest: cantilever under its end load (cf. hairbed.inverse)."""
-    try:
-        from hairbed.inverse import tip_deflection_slope
-    except ImportError:
-        c = np.cos(theta0)
-        return float(c * c / (3.0 * (1.0 - eps * c)))
-    return float(tip_deflection_slope(eps, theta0))
 
 
 @styled
@@ -241,7 +207,7 @@ def fig_calibration(
     for eps, c in zip(eps_values, colors(len(eps_values))):
         s = hairbed.from_parameter(t, eps, theta0)
         x1, w2 = np.asarray(s.tip_deflection), np.asarray(s.omega2)
-        lin = (x1 - np.sin(theta0)) / _linear_slope(eps, theta0)
+        lin = (x1 - np.sin(theta0)) / hairbed.inverse.tip_deflection_slope(eps, theta0)
         ax.plot(x1, w2, color=c, label=rf"exact, $\epsilon = {eps:g}$")
         ax.plot(x1, lin, "--", color=c, lw=1.1)
         axe.plot(x1, np.abs(lin - w2) / w2, color=c, label=rf"$\epsilon = {eps:g}$")
