@@ -3,11 +3,12 @@ PYTHON ?= python3
 VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
+DOCS_STAMP := $(VENV)/.installed-docs
 # one BLAS thread: the machines are 2-core and shared; threaded BLAS only adds contention
 export OPENBLAS_NUM_THREADS := 1
 export OMP_NUM_THREADS := 1
 
-.PHONY: run test lint format bench reference clean
+.PHONY: run test lint format bench reference docs clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -16,6 +17,10 @@ $(BIN)/python:
 $(STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet -e ".[test]"
 	touch $(STAMP)
+
+$(DOCS_STAMP): pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e ".[docs]"
+	touch $(DOCS_STAMP)
 
 run: $(STAMP)
 	$(BIN)/python -m hairbed demo
@@ -44,5 +49,10 @@ bench: $(STAMP)
 reference: $(STAMP)
 	$(BIN)/python tests/reference/generate_reference.py
 
+# The documentation site (docs/_build/html), warnings as errors. The figure gallery is drawn
+# during the build into docs/_generated (redrawn when a source file is newer).
+docs: $(DOCS_STAMP)
+	$(BIN)/sphinx-build -W --keep-going -b html docs docs/_build/html
+
 clean:
-	rm -rf $(VENV) build *.egg-info src/*.egg-info .pytest_cache .ruff_cache
+	rm -rf $(VENV) build *.egg-info src/*.egg-info .pytest_cache .ruff_cache docs/_build docs/_generated

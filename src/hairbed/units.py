@@ -4,14 +4,14 @@ The dimensionless problem of the paper [1]_ has three inputs: the forcing omega^
 confinement eps = L/H and the base angle theta0. A real bed of cylindrical hairs of length L and
 radius a, Young's modulus E, hexagonally packed at spacing delta (packing fraction phi) at the
 bottom of a channel of height H filled with a fluid of viscosity eta, driven so that the top wall
-moves at speed v, has (theory.md §7)
+moves at speed v, has (theory.md §7)::
 
     I       = pi a^4 / 4                                  second moment of area [m^4]
     phi     = (2 pi / sqrt 3) a^2 / delta^2               packing fraction [-]
     omega^2 = pi a^2 L^2 eta |v| / (E I H phi)            forcing [-]
     eps     = L / H                                       confinement [-]
 
-and the dimensionless solution gives back, in SI,
+and the dimensionless solution gives back, in SI::
 
     tip deflection  x1 L [m],   tip height  h1 L [m],
     wall shear stress   tau = eta v / (H - h1 L) [Pa],
@@ -23,7 +23,7 @@ Direction of the flow
 x points along the flow for v > 0 and theta0 (``base_angle``) is measured from the wall normal
 towards +x, so a positive base angle leans the hairs *with* the flow for v > 0 (flow with the
 grain). A negative velocity is flow against the grain. The problem is then the mirror image
-x -> -x of the problem with base angle -theta0 and speed |v|: :meth:`HairBed.deform` solves that
+x -> -x of the problem with base angle -theta0 and speed abs(v): :meth:`HairBed.deform` solves that
 one and mirrors x, the tip angle, the wall shear stress and the force back, so that every signed
 quantity of :class:`HairState` refers to the bed's own +x axis.
 
@@ -90,7 +90,7 @@ class HairState:
     velocity : float or ndarray
         Speed of the top wall v [m/s]; negative means flow towards -x.
     omega2 : float or ndarray
-        Forcing omega^2 [-] (of |v|).
+        Forcing omega^2 [-] (of abs(v)).
     solution : Solution
         The dimensionless state, for base angle ``direction * bed.base_angle`` (the mirror image
         for v < 0, see the module docstring): its x and angles are in the mirrored frame.
@@ -321,7 +321,7 @@ class HairBed:
 
     @property
     def velocity_scale(self) -> float:
-        """Wall speed of unit forcing, E I H phi / (pi a^2 L^2 eta) [m/s]: omega^2 = |v| / it."""
+        """Wall speed of unit forcing, E I H phi / (pi a^2 L^2 eta) [m/s]: omega^2 = v / it."""
         return (
             self.bending_stiffness
             * self._channel_height
@@ -347,7 +347,7 @@ class HairBed:
     # -- forward: velocity -> state ------------------------------------------------------------
 
     def omega2(self, velocity: Any) -> FloatOrArray:
-        """Forcing omega^2 = pi a^2 L^2 eta |v| / (E I H phi) [-] of a wall speed.
+        """Forcing omega^2 = pi a^2 L^2 eta abs(v) / (E I H phi) [-] of a wall speed.
 
         Parameters
         ----------
@@ -419,7 +419,7 @@ class HairBed:
         return self.deform(velocity, root=root).wall_shear_stress
 
     def rectification_ratio(self, speed: Any, *, root: str = "low") -> FloatOrArray:
-        """Stress against the grain over stress with it, at wall speed |v| = ``speed`` [m/s].
+        """Stress against the grain over stress with it, at wall speed abs(v) = ``speed`` [m/s].
 
         See :func:`hairbed.rheology.rectification_ratio`; "with the grain" is flow towards +x
         (along a positive base angle).

@@ -80,7 +80,9 @@ def _out(a: Any) -> Any:
 
 @dataclass(frozen=True, eq=False)
 class Solution:
-    """A state of the hair on one branch, in the paper's dimensionless variables [1]_.
+    """A state of the hair on one branch, in the dimensionless variables of the paper.
+
+    The variables are those of [1]_.
 
     Scalar inputs give float fields, array inputs give arrays of the broadcast shape. Where
     the requested state does not exist at the inputs, every value field is NaN, ``status``

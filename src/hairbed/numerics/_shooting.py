@@ -191,7 +191,7 @@ def shooting(
     base_curvature : float, optional
         Starting value of theta'(0) [-] for Newton's method; default: bracket the physical root.
     tol : float, optional
-        Newton convergence tolerance on |theta'(1)| relative to max(1, |theta'(0)|).
+        Newton convergence tolerance on abs(theta'(1)) relative to max(1, abs(theta'(0))).
     maxiter : int, optional
         Newton iteration limit.
     num : int, optional

@@ -1,0 +1,120 @@
+"""Sphinx configuration of the hairbed documentation (``make docs``).
+
+The figure gallery is drawn while the configuration loads: every figure of
+:data:`hairbed.plotting.FIGURES` is written into ``docs/_generated/figures`` (git-ignored)
+and ``docs/_generated/gallery.md`` lists them with their docstrings. The figures are redrawn
+only when a source file of the package is newer than the gallery page.
+"""
+
+from __future__ import annotations
+
+import inspect
+import os
+import sys
+from pathlib import Path
+
+DOCS = Path(__file__).resolve().parent
+ROOT = DOCS.parent
+sys.path.insert(0, str(ROOT / "src"))
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+import hairbed  # noqa: E402
+
+project = "hairbed"
+author = "the hairbed developers"
+copyright = "2026, the hairbed developers"
+release = hairbed.__version__
+version = release
+
+extensions = [
+    "myst_parser",
+    "sphinx.ext.autodoc",
+    "sphinx.ext.autosummary",
+    "sphinx.ext.napoleon",
+    "sphinx.ext.viewcode",
+]
+source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
+exclude_patterns = ["_build", "figures", "README.md"]
+myst_heading_anchors = 3
+suppress_warnings = ["myst.xref_missing"]
+
+# numpydoc-style docstrings through napoleon
+napoleon_google_docstring = False
+napoleon_numpy_docstring = True
+napoleon_use_rtype = False
+napoleon_use_ivar = True  # "Attributes" as fields: no duplicate of a dataclass's members
+napoleon_preprocess_types = False
+autodoc_typehints = "none"  # the docstrings carry the types and units [brackets]
+autodoc_member_order = "bysource"
+autodoc_default_options = {"members": True, "show-inheritance": False}
+autosummary_generate = False
+add_module_names = False
+
+html_theme = "alabaster"  # shipped with Sphinx: nothing is fetched when the pages are read
+html_static_path: list[str] = []
+html_title = f"hairbed {release}"
+html_theme_options = {"description": "Exact shapes of a hair bed bent by channel flow"}
+
+
+def _stale(stamp: Path) -> bool:
+    if not stamp.exists():
+        return True
+    built = stamp.stat().st_mtime
+    sources = list((ROOT / "src" / "hairbed").rglob("*.py")) + [Path(__file__)]
+    return any(p.stat().st_mtime > built for p in sources)
+
+
+def _first_paragraph(func: object) -> str:
+    doc = inspect.getdoc(func) or ""
+    return doc.split("\n\n", 1)[0].replace("\n", " ").strip()
+
+
+def _rest_of_docstring(func: object) -> str:
+    doc = inspect.getdoc(func) or ""
+    parts = doc.split("\n\n")
+    keep = []
+    for part in parts[1:]:
+        if part.lstrip().startswith(("Parameters", "Returns", "Examples", "Notes\n-", "See Also")):
+            break
+        keep.append(part)
+    return "\n\n".join(keep)
+
+
+def make_gallery() -> None:
+    """Draw every figure and write the gallery page (skipped while the page is up to date)."""
+    from hairbed.plotting import FIGURES, make_all
+
+    out = DOCS / "_generated"
+    page = out / "gallery.md"
+    if not _stale(page):
+        return
+    make_all(out / "figures", dpi=110, verbose=False)
+    lines = [
+        "# Figure gallery",
+        "",
+        "Every figure of `hairbed.plotting`, drawn from the exact solution while these pages were",
+        "built (`python -m hairbed figures --out DIR` writes the same PNGs). The paper's figures",
+        "carry the paper's numbers (arXiv:2203.04169); the others are new. The text under each",
+        "figure is the docstring of the function that draws it.",
+        "",
+    ]
+    for name, func in FIGURES.items():
+        lines += [
+            f"## `{func.__name__}`",
+            "",
+            f"```{{figure}} figures/{name}.png",
+            f":alt: {name}",
+            ":width: 100%",
+            "",
+            _first_paragraph(func),
+            "```",
+            "",
+        ]
+        rest = _rest_of_docstring(func)
+        if rest:
+            lines += ["```text", rest, "```", ""]
+        lines += [f"API: {{func}}`hairbed.plotting.{func.__name__}`", ""]
+    page.write_text("\n".join(lines))
+
+
+make_gallery()
