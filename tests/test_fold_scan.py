@@ -16,7 +16,7 @@ def _counts(eps, theta0, sign, n, step):
     folds = np.full(roots.MAX_FOLDS, np.nan)
     out = np.empty((len(eps), roots.MAX_FOLDS + 1))
     for i, (e, t) in enumerate(zip(eps, theta0)):
-        c = roots.scan_folds_step(float(e), float(t), sign, n, folds, step)
+        c = roots.scan_folds_step(float(e), float(t), sign, n, folds, step, np.empty(0))
         out[i, 0] = c
         out[i, 1:] = np.where(np.arange(roots.MAX_FOLDS) < c, folds, np.nan)
     return out

@@ -28,7 +28,7 @@ OUTER = (
     "hairbed.__main__",
     "hairbed._benchmark",
     "hairbed.plotting",
-    "hairbed.explore",
+    "hairbed.explorer",
 )
 CORE = ("hairbed._core",)
 
@@ -63,6 +63,20 @@ def _resolve(module: str, is_package: bool, node: ast.ImportFrom) -> str:
     return ".".join(base + ([node.module] if node.module else []))
 
 
+def _runtime_nodes(tree: ast.AST) -> list[ast.AST]:
+    """Every node of the tree except those under ``if TYPE_CHECKING:`` (never executed)."""
+    out: list[ast.AST] = []
+    todo = [tree]
+    while todo:
+        node = todo.pop()
+        out.append(node)
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+            todo.extend(node.orelse)
+            continue
+        todo.extend(ast.iter_child_nodes(node))
+    return out
+
+
 def _imports(root: Path) -> dict[str, set[str]]:
     """module -> the hairbed modules it imports (any depth: lazy imports count too)."""
     pkg = root.name
@@ -72,7 +86,7 @@ def _imports(root: Path) -> dict[str, set[str]]:
         module = _module_name(root, path)
         is_package = path.name == "__init__.py"
         targets: set[str] = set()
-        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        for node in _runtime_nodes(ast.parse(path.read_text(), str(path))):
             if isinstance(node, ast.Import):
                 targets.update(a.name for a in node.names if a.name.split(".")[0] == pkg)
             elif isinstance(node, ast.ImportFrom):
@@ -198,6 +212,11 @@ def test_from_hairbed_import_in_the_core_is_caught(tmp_path):
 def test_a_lab_module_importing_an_outer_room_is_caught(tmp_path):
     pkg = _write(tmp_path, {**GOOD, "lab.py": "from .cli import main\n"})
     assert "hairbed.lab (layer 1) imports hairbed.cli (layer 2)" in layering_violations(pkg)
+
+
+def test_imports_for_type_checkers_only_do_not_count(tmp_path):
+    init = "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from .cli import main\n"
+    assert layering_violations(_write(tmp_path, {**GOOD, "lab.py": init})) == []
 
 
 def test_a_cycle_between_lab_modules_is_caught(tmp_path):

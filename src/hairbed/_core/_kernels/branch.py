@@ -42,7 +42,7 @@ from __future__ import annotations
 import math
 
 from .._jit import kernel
-from .elliptic import complete_e, complete_k, rd, rf, rf_rd
+from .elliptic import complete_e_log, complete_k, rd, rf, rf_rd
 
 __all__ = [
     "LN_OMEGA2_NONE",
@@ -196,7 +196,7 @@ def evaluate_at(t, eps, base, sign, n, want_slope):
     slope = 0.0
     if want_slope and oe > 0.0:
         m = mu
-        e = complete_e(p)
+        e = complete_e_log(p, tau)
         e0 = v0 - m / 3.0 * sn0 * sn0_2 * rd0  # E(phi0 | mu), DLMF 19.25.9
         dk_dt = q * (e - p * k) / (2.0 * m)
         dphi_dt = -0.5 * sn0 * qc * cn0

@@ -51,7 +51,16 @@ import math
 
 from .._jit import kernel
 
-__all__ = ["complete_e", "complete_k", "complete_k_m", "k_minus_e", "rd", "rf", "rf_rd"]
+__all__ = [
+    "complete_e",
+    "complete_e_log",
+    "complete_k",
+    "complete_k_m",
+    "k_minus_e",
+    "rd",
+    "rf",
+    "rf_rd",
+]
 
 _LN4 = 1.3862943611198906188  # ln 4
 #: Below this ln p the O(p) term of K = ln 4 - tau/2 + O(p ln p) is far below an ulp.
@@ -326,7 +335,15 @@ def complete_e(p):
     """
     if p == 0.0:
         return 1.0
-    return _horner(p, _EP) - math.log(p) * (p * _horner(p, _EQ))
+    return complete_e_log(p, math.log(p))
+
+
+@kernel
+def complete_e_log(p, tau):
+    """:func:`complete_e` given tau = ln p as well (a caller that carries it saves a log)."""
+    if p == 0.0:
+        return 1.0
+    return _horner(p, _EP) - tau * (p * _horner(p, _EQ))
 
 
 @kernel

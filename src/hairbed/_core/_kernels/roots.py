@@ -42,6 +42,7 @@ __all__ = [
     "physical_folds",
     "scan_folds",
     "scan_folds_step",
+    "scan_points",
     "start_from_table",
     "start_physical",
     "start_table",
@@ -275,27 +276,43 @@ def physical_folds(eps, theta0, t_guess, folds):
 
 
 @kernel
-def scan_folds(eps, theta0, sign, n, folds):
-    """Folds of any branch: scan of the slope on a grid in t, then refinement."""
-    return scan_folds_step(eps, theta0, sign, n, folds, _SCAN_STEP)
+def scan_folds(eps, theta0, sign, n, folds, grid):
+    """Folds of any branch: scan of the slope on a grid in t, then refinement. ln omega^2 at
+    the grid points goes into ``grid`` where it is long enough (``scan_points``), for
+    :func:`branch_roots` to bracket its roots with."""
+    return scan_folds_step(eps, theta0, sign, n, folds, _SCAN_STEP, grid)
 
 
 @kernel
-def scan_folds_step(eps, theta0, sign, n, folds, h):
-    """:func:`scan_folds` on a grid of step h (the tests compare steps)."""
+def scan_points(theta0, h):
+    """(t_lo, steps) of the fold scan: grid points t_lo + i h, i = 0..steps, up to t = 4."""
     s, c, oms, ops = base_angle(theta0)
     t_lo = min(-8.0, math.log(ops) - 12.0)
-    t_hi = 4.0
-    steps = int(math.ceil((t_hi - t_lo) / h))
+    return t_lo, int(math.ceil((4.0 - t_lo) / h))
+
+
+@kernel
+def scan_folds_step(eps, theta0, sign, n, folds, h, grid):
+    """:func:`scan_folds` on a grid of step h (the tests compare steps)."""
+    t_lo, steps = scan_points(theta0, h)
+    record = grid.size > steps
     count = 0
     t_prev2 = t_lo
     f_prev2 = 0.0
     t_prev = t_lo
-    f_prev = _objective(1, t_lo, eps, theta0, sign, n)
+    ev = evaluate(t_lo, eps, theta0, sign, n, True)
+    f_prev = ev[1]
+    if record:
+        grid[0] = ev[0]
     for i in range(1, steps + 1):
         t = t_lo + i * h
-        f = _objective(1, t, eps, theta0, sign, n)
+        ev = evaluate(t, eps, theta0, sign, n, True)
+        f = ev[1]
+        if record:
+            grid[i] = ev[0]
         if count >= MAX_FOLDS:
+            if record:
+                continue
             break
         if (f > 0.0) != (f_prev > 0.0) and f != 0.0 and f_prev != 0.0:
             folds[count] = _illinois(1, t_prev, f_prev, t, f, eps, theta0, sign, n, 0.0)
@@ -326,11 +343,14 @@ def scan_folds_step(eps, theta0, sign, n, folds, h):
 
 
 @kernel
-def branch_roots(ln_target, eps, theta0, sign, n, folds, n_folds, roots, status, start):
+def branch_roots(ln_target, eps, theta0, sign, n, folds, n_folds, roots, status, start, grid):
     """All roots on the branch, given its folds; fills ``roots``/``status`` and returns count.
 
     ln_target = -inf (omega^2 = 0) gives t = -inf on the physical branch (the hair at rest)
-    and no root elsewhere. ``start`` is the table of :func:`start_from_table`.
+    and no root elsewhere. ``start`` is the table of :func:`start_from_table`; ``grid`` holds
+    ln omega^2 at the fold scan's points (``scan_folds``) where it was recorded there (its
+    size exceeds the scan's steps), else it is ignored: then each root's piece is narrowed to
+    one grid cell before Newton starts, with no further evaluation.
     """
     physical = sign > 0 and n == 0
     if ln_target == -math.inf:
@@ -339,6 +359,8 @@ def branch_roots(ln_target, eps, theta0, sign, n, folds, n_folds, roots, status,
             status[0] = STATUS_CONVERGED
             return 1
         return 0
+    g_lo, g_steps = scan_points(theta0, _SCAN_STEP)
+    use_grid = not physical and grid.size > g_steps
     hi_end = t_max(ln_target)
     count = 0
     a = T_MIN
@@ -354,7 +376,23 @@ def branch_roots(ln_target, eps, theta0, sign, n, folds, n_folds, roots, status,
             if physical:
                 t0 = start_from_table(ln_target, eps, theta0, start)
             lo, flo, hi, fhi = a, fa, b, fb
-            if not a < t0 < b:
+            if use_grid:
+                # the scan's points inside the piece: the first one past the target closes
+                # the bracket (the piece is monotone)
+                i0 = max(0, int(math.ceil((a - g_lo) / _SCAN_STEP)))
+                for i in range(i0, g_steps + 1):
+                    t_i = g_lo + i * _SCAN_STEP
+                    if t_i >= b:
+                        break
+                    if t_i <= a:
+                        continue
+                    f_i = grid[i]
+                    if (f_i < ln_target) == (flo < fhi):
+                        lo, flo = t_i, f_i
+                    else:
+                        hi, fhi = t_i, f_i
+                        break
+            if not lo < t0 < hi:
                 # narrow a wide piece by probes 12, 24, 48, ... from its finite end (omega^2
                 # is nearly flat towards T_MIN and grows like t^2 towards t_max), then start
                 # from the secant point

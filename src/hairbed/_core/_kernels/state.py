@@ -54,6 +54,9 @@ __all__ = [
 ]
 
 NFIELDS = len(FIELDS)
+#: Work space for the fold scan's values of ln omega^2 (``roots.scan_folds``): its grid has
+#: at most 90 points (theta0 within an ulp of -pi/2 starts it at t = -84.3).
+GRID_SIZE = 128
 ROOT_LOW = 0
 ROOT_MID = 1
 ROOT_HIGH = 2
@@ -142,22 +145,26 @@ def needs_folds(eps, theta0, sign, n, tables):
 
 
 @kernel
-def find_folds(eps, theta0, sign, n, tables, folds):
-    """The folds of the branch at (eps, theta0) into ``folds``; returns how many."""
+def find_folds(eps, theta0, sign, n, tables, folds, grid):
+    """The folds of the branch at (eps, theta0) into ``folds``; returns how many. A twirling
+    branch's scan records ln omega^2 into ``grid`` if it is long enough (``scan_folds``)."""
     u_lo, du, t_c = tables[0], tables[1], tables[3]
     if sign > 0 and n == 0:
         return physical_folds(eps, theta0, _physical_t_guess(theta0, u_lo, du, t_c), folds)
-    return scan_folds(eps, theta0, sign, n, folds)
+    return scan_folds(eps, theta0, sign, n, folds, grid)
 
 
 @kernel
-def solve_one(omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status, out, tables):
+def solve_one(
+    omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status, out, tables, grid
+):
     """Solve one element into ``out`` (length NFIELDS, see ``FIELDS``).
 
     ``n_folds`` < 0: the branch is certainly monotone and physical (fast path); otherwise the
     ``folds`` of (eps, theta0) are given. ``roots`` and ``status`` are work arrays of length
     MAX_ROOTS (allocated once per driver call, not per element); ``tables`` are the
-    process-wide tables (``hairbed.solve._tables``).
+    process-wide tables (``hairbed._core.solver._tables``); ``grid`` the scan's values of
+    ln omega^2 from ``find_folds`` (or an empty array).
     """
     ln_target = math.log(omega2) if omega2 > 0.0 else -math.inf
     if n_folds < 0 and ln_target > -math.inf:
@@ -169,7 +176,7 @@ def solve_one(omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status,
         count = 1
     else:
         count = branch_roots(
-            ln_target, eps, theta0, sign, n, folds, max(n_folds, 0), roots, status, tables[4]
+            ln_target, eps, theta0, sign, n, folds, max(n_folds, 0), roots, status, tables[4], grid
         )
     pick = -1
     if root == ROOT_LOW:
@@ -203,14 +210,15 @@ def write_state(out, t, count, status, eps, theta0, sign, n):
 def solve_scalar(omega2, eps, theta0, sign, n, root, tables):
     """One element with its own fold search: the NFIELDS values as a tuple of floats."""
     folds = np.full(MAX_FOLDS, math.nan)
+    grid = np.empty(0)  # as solve_array: a scalar and a one-element array agree bitwise
     if needs_folds(eps, theta0, sign, n, tables):
-        n_folds = find_folds(eps, theta0, sign, n, tables, folds)
+        n_folds = find_folds(eps, theta0, sign, n, tables, folds, grid)
     else:
         n_folds = -1
     row = np.empty(NFIELDS)
     roots = np.empty(MAX_ROOTS)
     status = np.empty(MAX_ROOTS, dtype=np.int64)
-    solve_one(omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status, row, tables)
+    solve_one(omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status, row, tables, grid)
     return (
         row[0],
         row[1],
@@ -242,8 +250,9 @@ def folds_array(eps, theta0, sign, n, tables):
     size = eps.size
     folds = np.full((size, MAX_FOLDS), math.nan)
     counts = np.empty(size, dtype=np.int64)
+    no_grid = np.empty(0)
     for i in range(size):
-        counts[i] = find_folds(eps[i], theta0[i], sign, n, tables, folds[i])
+        counts[i] = find_folds(eps[i], theta0[i], sign, n, tables, folds[i], no_grid)
     return folds, counts
 
 
@@ -254,11 +263,14 @@ def solve_array(omega2, eps, theta0, sign, n, root, pair, folds, counts, out, ta
     row = np.empty(NFIELDS)
     roots = np.empty(MAX_ROOTS)
     status = np.empty(MAX_ROOTS, dtype=np.int64)
+    no_grid = np.empty(0)
     for i in range(omega2.size):
         j = pair[i]
         f = folds[max(j, 0)]
         c = counts[j] if j >= 0 else -1
-        solve_one(omega2[i], eps[i], theta0[i], sign, n, root, f, c, roots, status, row, tables)
+        solve_one(
+            omega2[i], eps[i], theta0[i], sign, n, root, f, c, roots, status, row, tables, no_grid
+        )
         for k in range(NFIELDS):
             out[k, i] = row[k]
 
@@ -300,6 +312,7 @@ def solve_all_kernel(omega2, eps, theta0, max_n, tables):
     folds = np.full(MAX_FOLDS, math.nan)
     roots = np.empty(MAX_ROOTS)
     status = np.empty(MAX_ROOTS, dtype=np.int64)
+    grid = np.empty(GRID_SIZE)
     total = 0
     # omega_eps >= 2 n K(mu0) (sign +1) or (2 n + 1) K(mu0) (sign -1), mu0 = (1 + sin theta0)/2
     # the smallest parameter on a branch, and omega^2 = omega_eps (omega_eps -+ eps sqrt(2 d)):
@@ -322,11 +335,11 @@ def solve_all_kernel(omega2, eps, theta0, max_n, tables):
             if (sign > 0 and not open_plus) or (sign < 0 and not open_minus):
                 continue
             if needs_folds(eps, theta0, sign, n, tables):
-                n_folds = find_folds(eps, theta0, sign, n, tables, folds)
+                n_folds = find_folds(eps, theta0, sign, n, tables, folds, grid)
             else:
                 n_folds = 0
             count = branch_roots(
-                ln_target, eps, theta0, sign, n, folds, n_folds, roots, status, tables[4]
+                ln_target, eps, theta0, sign, n, folds, n_folds, roots, status, tables[4], grid
             )
             for j in range(count):
                 if total == cap:
