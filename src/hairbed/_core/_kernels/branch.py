@@ -1,7 +1,7 @@
 """One point of a branch of solutions, as an explicit function of the branch parameter t.
 
 The energy xi = sin(theta1) is the natural unknown of the paper's reduction [1]_ (eqs.
-{solution2}, {solution3}), but it cannot be carried in double precision at either end of its
+(33), (34)), but it cannot be carried in double precision at either end of its
 range [sin theta0, 1): weak forcing needs d = xi - sin(theta0) to relative accuracy, strong
 forcing needs p = (1 - xi)/2, which underflows. Both are exact functions of the logit t:
 
@@ -18,7 +18,7 @@ phi0 = arcsin(sn0) of the base,
 and -(n + 1) for sign -1)
 
     omega_eps = 2 n K + kv (sign +1)  or  (2 n + 2) K - kv (sign -1),
-    h1 = sign sqrt(2 d)/omega_eps (eq. {intOrig}),   omega^2 = omega_eps^2 (1 - eps h1).
+    h1 = sign sqrt(2 d)/omega_eps (eq. (29)),   omega^2 = omega_eps^2 (1 - eps h1).
 
 The smaller of v0 and kv is computed directly and the other by difference. Every quantity that
 can under- or overflow (d, p, cn0, omega_eps^2) is formed from logarithms: ln omega^2 is exact

@@ -1,4 +1,4 @@
-"""The shape theta(sigma), x(sigma), z(sigma) of a state in closed form ({solution}, {hs}).
+"""The shape theta(sigma), x(sigma), z(sigma) of a state in closed form (eqs. (32), (30) of [1]_).
 
 With v(sigma) = v0 + sign omega_eps sigma [1]_,
 
