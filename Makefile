@@ -45,9 +45,11 @@ format: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_solve.py
 
-# Regenerate the mpmath reference data of the tests (slow; run on demand).
+# Regenerate the mpmath reference data of the tests (slow: tens of minutes; run on demand).
 reference: $(STAMP)
 	$(BIN)/python tests/reference/generate_reference.py
+	$(BIN)/python tests/reference/generate_corners.py
+	$(BIN)/python tests/reference/generate_cases.py
 
 # The documentation site (docs/_build/html), warnings as errors. The figure gallery is drawn
 # during the build into docs/_generated (redrawn when a source file is newer).

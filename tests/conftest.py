@@ -6,7 +6,6 @@ import pytest
 
 TESTS = Path(__file__).resolve().parent
 DATA = TESTS / "data"
-SHARED_REFERENCE = TESTS.parent.parent / "shared" / "reference" / "reference_cases.json"
 
 
 @pytest.fixture(scope="session")

@@ -7,8 +7,11 @@ Two sources, neither computed by :mod:`hairbed`:
   Carlson forms and Jacobi functions by inversion, cross-checked against mpmath's Legendre and
   theta-function routines and, for a subset, against Taylor-series integration of the ODE
   (see the file's ``metadata``);
-- the shared ``reference_cases.json`` (``conftest.SHARED_REFERENCE``, described in the
-  README.md beside it).
+- ``tests/data/reference_cases.json``, from ``tests/reference/generate_cases.py``: a second
+  set of inputs (forward, twirling, huge forcing, profiles with the tip values of a
+  Taylor-series integration of the ODE, inverse problems), taken from an independent 30-digit
+  reference made for the project and recomputed by the same mpmath machinery (the file's
+  ``metadata`` says how well the two agree).
 
 Failures name the case (omega2, eps, theta0, sign, n, root) and the fields that disagree,
 with the difference, so that they can be reproduced with one call of :func:`hairbed.solve`.
@@ -22,10 +25,11 @@ from typing import Any
 
 import numpy as np
 import pytest
-from conftest import DATA, SHARED_REFERENCE
+from conftest import DATA
 from tolerances import ATOL, RTOL
 
 import hairbed
+from hairbed import inverse
 
 REFERENCE_PATH = DATA / "reference_mpmath.json"
 REFERENCE = json.loads(REFERENCE_PATH.read_text())
@@ -45,8 +49,7 @@ FIELDS = (
 PROFILE = ("theta", "x", "z")
 PHYSICAL = [c for c in CASES if c["sign"] == 1 and c["n"] == 0]
 
-SHARED = json.loads(SHARED_REFERENCE.read_text()) if SHARED_REFERENCE.exists() else None
-needs_shared = pytest.mark.skipif(SHARED is None, reason=f"{SHARED_REFERENCE} not present")
+SECOND = json.loads((DATA / "reference_cases.json").read_text())
 
 
 def _label(case: dict[str, Any], root: str | None = None) -> str:
@@ -234,17 +237,17 @@ def test_solve_all_matches_reference(entry: dict[str, Any]) -> None:
 
 
 # ------------------------------------------------------------------------------------------
-# The shared reference
+# The second reference set
 # ------------------------------------------------------------------------------------------
 
 
-def _shared(section: str) -> list[dict[str, Any]]:
-    return SHARED[section] if SHARED is not None else []
+def _second(section: str) -> list[dict[str, Any]]:
+    return SECOND[section]
 
 
-def _shared_ids(section: str) -> list[str]:
+def _second_ids(section: str) -> list[str]:
     ids = []
-    for c in _shared(section):
+    for c in _second(section):
         if section == "inverse":
             ids.append(f"inverse-e{c['eps']:g}-t{c['theta0']:g}-x{float(c['tip_deflection']):.6g}")
             continue
@@ -253,18 +256,25 @@ def _shared_ids(section: str) -> list[str]:
     return ids
 
 
-@needs_shared
+def test_second_reference_is_complete() -> None:
+    counts = {k: len(SECOND[k]) for k in ("forward", "branches", "huge", "profiles", "inverse")}
+    assert counts == {"forward": 45, "branches": 8, "huge": 3, "profiles": 5, "inverse": 30}
+    assert "generate_cases.py" in SECOND["metadata"]["generator"]
+
+
 @pytest.mark.parametrize(
     "case",
-    _shared("forward") + _shared("branches") + _shared("huge"),
-    ids=_shared_ids("forward") + _shared_ids("branches") + _shared_ids("huge"),
+    _second("forward") + _second("branches") + _second("huge"),
+    ids=_second_ids("forward") + _second_ids("branches") + _second_ids("huge"),
 )
-def test_solve_matches_shared_reference(case: dict[str, Any]) -> None:
+def test_solve_matches_second_reference(case: dict[str, Any]) -> None:
     args = (case["omega2"], case["eps"], case["theta0"])
     kw = {"sign": case.get("sign", 1), "n": case.get("n", 0)}
     sols = case["solutions"]
     low = hairbed.solve(*args, **kw)
-    assert low.n_roots == len(sols), f"{_label(case)}: n_roots {low.n_roots}, shared {len(sols)}"
+    assert low.n_roots == len(sols), (
+        f"{_label(case)}: n_roots {low.n_roots}, reference {len(sols)}"
+    )
     if not sols:
         _assert_empty(low, _label(case))
         return
@@ -274,9 +284,8 @@ def test_solve_matches_shared_reference(case: dict[str, Any]) -> None:
         _compare(hairbed.solve(*args, **kw, root="mid"), sols[1], _label(case, "mid"), False)
 
 
-@needs_shared
-@pytest.mark.parametrize("case", _shared("profiles"), ids=_shared_ids("profiles"))
-def test_profile_matches_shared_reference(case: dict[str, Any]) -> None:
+@pytest.mark.parametrize("case", _second("profiles"), ids=_second_ids("profiles"))
+def test_profile_matches_second_reference(case: dict[str, Any]) -> None:
     sol = hairbed.solve(case["omega2"], case["eps"], case["theta0"])
     label = _label(case)
     sigma = np.array(case["sigma"], dtype=np.float64)
@@ -286,39 +295,25 @@ def test_profile_matches_shared_reference(case: dict[str, Any]) -> None:
     assert ok.all(), (
         f"{label}: theta at sigma={sigma[~ok]}: got {got[~ok]}, expected {expected[~ok]}"
     )
-    # the tip values of the shared file's ODE integration
+    # the tip values of the reference's Taylor-series integration of the ODE
     lines = _mismatches("tip_height (ODE)", sol.tip_height, float(case["ode_h1"]))
     lines += _mismatches("tip_deflection (ODE)", sol.tip_deflection, float(case["ode_x1"]))
     assert not lines, f"{label}:\n" + "\n".join(lines)
 
 
-@needs_shared
-@pytest.mark.parametrize("case", _shared("inverse"), ids=_shared_ids("inverse"))
-def test_inverse_matches_shared_reference(case: dict[str, Any]) -> None:
-    inverse = pytest.importorskip("hairbed.inverse")
+@pytest.mark.parametrize("case", _second("inverse"), ids=_second_ids("inverse"))
+def test_inverse_matches_second_reference(case: dict[str, Any]) -> None:
     eps, theta0 = case["eps"], case["theta0"]
     x1, h1 = float(case["tip_deflection"]), float(case["tip_height"])
     omega2, xi = float(case["omega2"]), float(case["xi"])
     label = f"inverse(eps={eps!r}, theta0={theta0!r}, x1={x1!r}, h1={h1!r})"
-    known = (
-        "omega2_from_tip_deflection",
-        "solution_from_tip_deflection",
-        "omega2_from_tip_height",
+    lines = _mismatches(
+        "omega2_from_tip_deflection", inverse.omega2_from_tip_deflection(x1, eps, theta0), omega2
     )
-    if not any(hasattr(inverse, f) for f in known):
-        pytest.skip(f"hairbed.inverse has none of {known}")
-    lines = []
-    if hasattr(inverse, "omega2_from_tip_deflection"):
-        got = inverse.omega2_from_tip_deflection(x1, eps, theta0)
-        lines += _mismatches("omega2_from_tip_deflection", got, omega2)
-    if hasattr(inverse, "solution_from_tip_deflection"):
-        sol = inverse.solution_from_tip_deflection(x1, eps, theta0)
-        lines += _mismatches("solution_from_tip_deflection.xi", sol.xi, xi)
-    if hasattr(inverse, "omega2_from_tip_height"):
-        answers = np.asarray(inverse.omega2_from_tip_height(h1, eps, theta0), dtype=np.float64)
-        answers = answers[~np.isnan(answers)]
-        if not np.any(np.isclose(answers, omega2, rtol=RTOL, atol=ATOL)):
-            lines.append(
-                f"  omega2_from_tip_height: {answers.tolist()}, expected {omega2!r} among"
-            )
+    sol = inverse.solution_from_tip_deflection(x1, eps, theta0)
+    lines += _mismatches("solution_from_tip_deflection.xi", sol.xi, xi)
+    answers = np.asarray(inverse.omega2_from_tip_height(h1, eps, theta0), dtype=np.float64)
+    answers = answers[~np.isnan(answers)]
+    if not np.any(np.isclose(answers, omega2, rtol=RTOL, atol=ATOL)):
+        lines.append(f"  omega2_from_tip_height: {answers.tolist()}, expected {omega2!r} among")
     assert not lines, f"{label}:\n" + "\n".join(lines)
