@@ -70,7 +70,7 @@ def _errors(res, exact) -> tuple[float, float]:
 def _needed_N(omega2: float, eps: float, theta0: float, exact) -> int | None:
     N = 80
     while N <= N_MAX:
-        res = finite_difference(omega2, eps, theta0, N=N)
+        res = finite_difference(omega2, eps, theta0, num=N)
         if res.success and max(_errors(res, exact)) <= TARGET:
             return N
         N *= 2
@@ -90,13 +90,13 @@ def run(omega2s, epss, theta0s, repeat: int = 5) -> list[dict]:
         cases = {
             "analytic": None,
             "analytic-vec": None,
-            "fd80-newton": partial(fd, N=80),
-            "fd80-root": partial(fd, N=80, method="root"),
+            "fd80-newton": partial(fd, num=80),
+            "fd80-root": partial(fd, num=80, method="root"),
         }
         if N_need is not None:
-            cases["fdN-newton"] = partial(fd, N=N_need)
+            cases["fdN-newton"] = partial(fd, num=N_need)
             if N_need <= N_MAX_ROOT:
-                cases["fdN-root"] = partial(fd, N=N_need, method="root")
+                cases["fdN-root"] = partial(fd, num=N_need, method="root")
         cases["shooting"] = partial(shooting, *args)
         cases["collocation"] = partial(collocation, *args)
         for name, func in cases.items():

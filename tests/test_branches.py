@@ -19,11 +19,14 @@ WINDOWS = [
 def test_folds_reproduce_math_md_windows(theta0, eps, lower, upper):
     f = folds(eps, theta0)
     assert f.omega2.shape == f.xi.shape == f.t.shape == (2,)
-    # Ordered along the branch: the upper fold (maximum of omega^2) comes first.
-    assert np.all(np.diff(f.xi) > 0)
-    assert f.omega2[0] == pytest.approx(upper, rel=5e-5)
-    assert f.omega2[1] == pytest.approx(lower, rel=5e-5)
-    assert bistable_window(eps, theta0) == pytest.approx((lower, upper), rel=5e-5)
+    # Ordered by omega^2, lower fold first; along the branch the upper fold comes first.
+    assert np.all(np.diff(f.omega2) > 0) and np.all(np.diff(f.xi) < 0)
+    assert f.lower.omega2 == f.omega2[0] == pytest.approx(lower, rel=5e-5)
+    assert f.upper.omega2 == f.omega2[1] == pytest.approx(upper, rel=5e-5)
+    assert (f.lower.xi, f.lower.t) == (f.xi[0], f.t[0])
+    w = bistable_window(eps, theta0)
+    assert w.exists
+    assert (w.lower, w.upper) == pytest.approx((lower, upper), rel=5e-5)
 
 
 @pytest.mark.parametrize(("theta0", "eps", "lower", "upper"), WINDOWS)
@@ -37,13 +40,13 @@ def test_folds_against_dense_scan(theta0, eps, lower, upper):
     f = folds(eps, theta0)
     # The sampled extremum cannot beat the true one, and the grid (step 3e-4 in t) gets within
     # ~1e-7 relative of it.
-    assert w[k_max[0]] <= f.omega2[0] * (1 + 1e-14)
-    assert w[k_min[0]] >= f.omega2[1] * (1 - 1e-14)
-    assert w[k_max[0]] == pytest.approx(f.omega2[0], rel=1e-7)
-    assert w[k_min[0]] == pytest.approx(f.omega2[1], rel=1e-7)
+    assert w[k_max[0]] <= f.upper.omega2 * (1 + 1e-14)
+    assert w[k_min[0]] >= f.lower.omega2 * (1 - 1e-14)
+    assert w[k_max[0]] == pytest.approx(f.upper.omega2, rel=1e-7)
+    assert w[k_min[0]] == pytest.approx(f.lower.omega2, rel=1e-7)
     xi = np.asarray(c.xi)
-    assert xi[k_max[0] - 1] < f.xi[0] < xi[k_max[0] + 1]
-    assert xi[k_min[0] - 1] < f.xi[1] < xi[k_min[0] + 1]
+    assert xi[k_max[0] - 1] < f.upper.xi < xi[k_max[0] + 1]
+    assert xi[k_min[0] - 1] < f.lower.xi < xi[k_min[0] + 1]
 
 
 @pytest.mark.parametrize(("theta0", "eps"), [(-1.5, 0.9), (-0.5, 0.99)])
@@ -53,7 +56,7 @@ def test_folds_are_extrema_to_high_accuracy(theta0, eps):
         # omega^2 is quadratic at a fold: a shift of 1e-5 in t changes it by ~1e-10 relative,
         # always in the same direction on both sides if t is accurate to well below 1e-5.
         side = np.asarray(hairbed.from_parameter(t + np.array([-1e-5, 1e-5]), eps, theta0).omega2)
-        if k == 0:
+        if k == 1:  # the upper fold: a local maximum
             assert np.all(side < f.omega2[k])
         else:
             assert np.all(side > f.omega2[k])
@@ -66,7 +69,9 @@ def test_folds_are_extrema_to_high_accuracy(theta0, eps):
 def test_monotone_branch_has_no_folds(theta0, eps):
     f = folds(eps, theta0)
     assert f.omega2.size == 0 and f.xi.size == 0
-    assert np.isnan(bistable_window(eps, theta0)).all()
+    assert f.lower is None and f.upper is None
+    w = bistable_window(eps, theta0)
+    assert np.isnan(w.lower) and np.isnan(w.upper) and not w.exists
     w = np.asarray(curve(eps, theta0, num=4001, t_span=(-12.0, 12.0)).omega2)
     assert np.all(np.diff(w) > 0)
 

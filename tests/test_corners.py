@@ -286,7 +286,8 @@ def test_bistable_window_matches_mpmath_folds(cell: dict[str, Any]) -> None:
     branch curve omega2(t), found by mpmath; (nan, nan) where the branch is monotone (the
     smallest d ln omega2/dt exceeds 1e-3)."""
     eps, theta0 = cell["eps"], cell["theta0"]
-    got = branches.bistable_window(eps, theta0)
+    window = branches.bistable_window(eps, theta0)
+    got = (window.lower, window.upper)
     label = f"bistable_window({eps!r}, {theta0!r})"
     if not cell["folds"]:
         assert np.all(np.isnan(got)), f"{label} = {got}: the branch is monotone"

@@ -1,5 +1,6 @@
 """The paper's finite differences against the analytic solution: accuracy, order, branches."""
 
+import dataclasses
 import itertools
 
 import numpy as np
@@ -17,7 +18,7 @@ SWEEP = list(itertools.product([0.1, 2.0, 10.0, 30.0], [0.0, 0.5, 0.9], [0.0, -0
 @pytest.mark.parametrize("omega2, eps, theta0", SWEEP)
 def test_matches_analytic(omega2, eps, theta0):
     exact = hairbed.solve(omega2, eps, theta0)
-    res = finite_difference(omega2, eps, theta0, N=400)
+    res = finite_difference(omega2, eps, theta0, num=400)
     assert res.success and res.status == 0
     assert (res.sign, res.n) == (1, 0) and res.physical
     assert res.tip_height == pytest.approx(exact.tip_height, abs=FD400_ATOL)
@@ -33,7 +34,7 @@ def test_matches_analytic(omega2, eps, theta0):
 
 def test_paper_example_values():
     # theory.md §3: omega2 = 2, eps = 0.5, theta0 = 0 (values typed in, not computed here)
-    res = finite_difference(2.0, 0.5, N=1000)
+    res = finite_difference(2.0, 0.5, num=1000)
     assert res.xi == pytest.approx(0.847253916541247, abs=1e-6)
     assert res.tip_height == pytest.approx(0.732706963462228, abs=1e-6)
     assert res.tip_deflection == pytest.approx(0.615831536923675, abs=1e-6)
@@ -43,7 +44,7 @@ def test_paper_example_values():
 def test_second_order(omega2, eps, theta0):
     exact = hairbed.solve(omega2, eps, theta0)
     Ns = np.array([40, 80, 160, 320])
-    results = [finite_difference(omega2, eps, theta0, N=int(N)) for N in Ns]
+    results = [finite_difference(omega2, eps, theta0, num=int(N)) for N in Ns]
     for field in ("tip_height", "tip_deflection"):
         err = np.abs(np.array([getattr(r, field) for r in results]) - getattr(exact, field))
         order = -np.polyfit(np.log(Ns), np.log(err), 1)[0]
@@ -51,8 +52,8 @@ def test_second_order(omega2, eps, theta0):
 
 
 def test_newton_and_root_agree():
-    a = finite_difference(2.0, 0.5, 0.3, N=80, method="newton")
-    b = finite_difference(2.0, 0.5, 0.3, N=80, method="root")
+    a = finite_difference(2.0, 0.5, 0.3, num=80, method="newton")
+    b = finite_difference(2.0, 0.5, 0.3, num=80, method="root")
     assert a.success and b.success
     np.testing.assert_allclose(a.theta, b.theta, atol=1e-9)
     assert a.method == "finite_difference/newton" and b.method == "finite_difference/root"
@@ -61,7 +62,7 @@ def test_newton_and_root_agree():
 def test_strong_forcing_from_rest_is_physical():
     # The capped Newton step keeps the paper's start theta = 0 on the physical branch.
     exact = hairbed.solve(1e4, 0.5)
-    res = finite_difference(1e4, 0.5, N=1280)
+    res = finite_difference(1e4, 0.5, num=1280)
     assert res.success and res.physical
     assert res.tip_height == pytest.approx(exact.tip_height, rel=1e-3)
 
@@ -74,7 +75,7 @@ def test_strong_forcing_from_rest_is_physical():
     ],
 )
 def test_twirling_guess_finds_a_twirling_branch(omega2, guess, branch):
-    res = finite_difference(omega2, 0.5, N=400, guess=guess)
+    res = finite_difference(omega2, 0.5, num=400, guess=guess)
     assert res.success  # converged: but not to the physical hair
     assert not res.physical
     assert (res.sign, res.n) == branch
@@ -85,14 +86,16 @@ def test_twirling_guess_finds_a_twirling_branch(omega2, guess, branch):
 
 
 def test_nonconvergence_is_reported_not_raised():
-    res = finite_difference(100.0, 0.5, N=80, maxiter=2)
+    res = finite_difference(100.0, 0.5, num=80, maxiter=2)
     assert not res.success and res.status == 1
     assert "iteration limit" in res.message
     assert res.theta.shape == (81,)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        res.success = True  # results are frozen
 
 
 def test_no_forcing_is_straight():
-    res = finite_difference(0.0, 0.5, 0.4, N=20)
+    res = finite_difference(0.0, 0.5, 0.4, num=20)
     assert res.success and res.physical
     np.testing.assert_allclose(res.theta, 0.4, atol=1e-14)
     assert res.tip_height == pytest.approx(np.cos(0.4), abs=1e-14)
@@ -105,8 +108,9 @@ def test_no_forcing_is_straight():
         ({"eps": 1.0}, "eps"),
         ({"theta0": 2.0}, "theta0"),
         ({"omega2": -1.0}, "omega2"),
-        ({"N": 1}, "N"),
-        ({"N": 10.5}, "N"),
+        ({"num": 1}, "num"),
+        ({"num": 10.5}, "num"),
+        ({"xtol": 0.0}, "xtol"),
         ({"method": "lm"}, "method"),
         ({"guess": lambda s: np.nan * s}, "guess"),
     ],

@@ -22,14 +22,14 @@ SMALL = {
     "fig_phase_portrait": {"xis": (0.2, 0.9)},
     "fig_solution": {"eps_values": (0.0, 0.6), "num": 60},
     "fig_theta0s": {"theta0s": (-0.5, 0.0, 0.5), "num": 60},
-    "fig_profiles": {"omega2s": (1.0, 8.0), "N": 20},
+    "fig_profiles": {"omega2s": (1.0, 8.0), "num": 20},
     "fig_twirling": {"omega2": 20.0},
     "fig_bistability": {"n_theta": 3, "n_eps": 4},
     "fig_hysteresis": {"num": 40},
     "fig_rheology": {"eps_values": (0.5,), "num": 30},
     "fig_calibration": {"eps_values": (0.5,), "num": 40},
     "fig_physical_units": {},
-    "fig_fd_convergence": {"omega2s": (2.0,), "Ns": (10, 20, 40)},
+    "fig_fd_convergence": {"omega2s": (2.0,), "nums": (10, 20, 40)},
     "fig_speed": {"n": 200, "rows": {1, 3, 6}, "repeat": 1},
 }
 

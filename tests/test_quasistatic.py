@@ -21,8 +21,8 @@ def test_up_ramp_follows_low_root_and_down_ramp_the_high_root():
     s_down = sweep(down, EPS, THETA0, start="high")
     low = hairbed.solve(up, EPS, THETA0, root="low")
     high = hairbed.solve(up, EPS, THETA0, root="high")
-    upper = folds(EPS, THETA0).omega2[0]
-    lower = folds(EPS, THETA0).omega2[1]
+    upper = folds(EPS, THETA0).upper.omega2
+    lower = folds(EPS, THETA0).lower.omega2
     before = up < upper
     # Up: the low root while it exists, then the only root left (the high one).
     np.testing.assert_allclose(s_up.xi[before], low.xi[before], rtol=1e-10, atol=1e-12)
@@ -46,8 +46,9 @@ def test_up_ramp_follows_low_root_and_down_ramp_the_high_root():
 def test_jumps_sit_at_the_folds():
     up, down = _ramp()
     path = np.concatenate([up, down])
-    sol, jumps = sweep_with_jumps(path, EPS, THETA0)
-    upper, lower = folds(EPS, THETA0).omega2
+    run = sweep_with_jumps(path, EPS, THETA0)
+    sol, jumps = run.solution, run.jumps
+    lower, upper = folds(EPS, THETA0).omega2
     first_above = int(np.argmax(up > upper))
     first_below = up.size + int(np.argmax(down < lower))
     assert jumps.tolist() == [first_above, first_below]
@@ -61,7 +62,8 @@ def test_jumps_sit_at_the_folds():
 
 def test_monotone_branch_sweep_is_the_solve_and_never_jumps():
     path = np.concatenate([np.linspace(0.01, 30.0, 40), np.linspace(30.0, 0.01, 40)])
-    sol, jumps = sweep_with_jumps(path, 0.5, 0.3)
+    run = sweep_with_jumps(path, 0.5, 0.3)
+    sol, jumps = run.solution, run.jumps
     assert jumps.size == 0
     ref = hairbed.solve(path, 0.5, 0.3)
     np.testing.assert_allclose(sol.xi, ref.xi, rtol=1e-10, atol=1e-12)
@@ -86,7 +88,8 @@ def test_strong_forcing_and_empty_path():
     rest = sweep([0.0, 1e5], 0.5, -0.3)
     assert rest.tip_height[0] == pytest.approx(np.cos(-0.3), rel=1e-14)
     assert rest.omega2[1] == pytest.approx(1e5, rel=1e-12)
-    sol, jumps = sweep_with_jumps(np.empty(0), 0.5, 0.0)
+    run = sweep_with_jumps(np.empty(0), 0.5, 0.0)
+    sol, jumps = run.solution, run.jumps
     assert np.shape(sol.xi) == (0,) and jumps.size == 0
 
 

@@ -27,18 +27,18 @@ def test_low_and_high_are_stable_mid_is_not(triple):
 
 
 def test_growth_rates_converge_with_resolution(triple):
-    coarse = [float(st.linear_stability(s, N=50).growth_rate) for s in triple]
-    fine = [float(st.linear_stability(s, N=100).growth_rate) for s in triple]
+    coarse = [float(st.linear_stability(s, num=50).growth_rate) for s in triple]
+    fine = [float(st.linear_stability(s, num=100).growth_rate) for s in triple]
     # Second-order discretisation: halving the step changes the rate by ~3e-4 here.
     np.testing.assert_allclose(coarse, fine, rtol=2e-3)
 
 
 def test_vectorised_over_the_solution_shape():
     s = hairbed.solve(np.array([0.5, 2.0, 10.0]), 0.5, 0.0)
-    stable = st.is_stable(s, N=60)
+    stable = st.is_stable(s, num=60)
     assert stable.shape == (3,) and stable.all()
     missing = hairbed.solve(np.array([1.2, 2.0]), EPS, THETA0, root="mid")  # one has no mid root
-    assert st.is_stable(missing, N=60).tolist() == [False, False]
+    assert st.is_stable(missing, num=60).tolist() == [False, False]
 
 
 def test_discrete_equilibrium_converges_to_the_analytic_state(triple):
@@ -46,7 +46,9 @@ def test_discrete_equilibrium_converges_to_the_analytic_state(triple):
     for n_seg in (50, 100):
         sigma = np.linspace(0.0, 1.0, n_seg + 1)
         exact = triple[1].theta(sigma)
-        errors.append(np.max(np.abs(st.equilibrium(W, EPS, THETA0, exact, n_seg) - exact)))
+        eq = st.equilibrium(W, EPS, THETA0, exact, n_seg)
+        assert eq.success and eq.status == 0 and eq.message.startswith("converged")
+        errors.append(np.max(np.abs(eq.theta - exact)))
     assert errors[1] < errors[0] / 3.5  # second order
 
 
@@ -75,13 +77,13 @@ def test_time_stepping_confirms_the_classification(triple):
     ends = {}
     for name, s in zip(ROOTS, triple):
         for delta in (1e-3, -1e-3):
-            run = st.relax(W, EPS, THETA0, s.theta(sigma) + delta * sigma, 40.0, N=n_seg)
+            run = st.relax(W, EPS, THETA0, s.theta(sigma) + delta * sigma, 40.0, num=n_seg)
             assert run.success
             ends[name, delta] = run.tip_height[-1]
     # Perturbed stable states come back: to the discrete equilibrium, which is within the
     # discretisation error (~2e-5 at N = 100) of the analytic tip height.
     for name, s, h in (("low", triple[0], h_low), ("high", triple[2], h_high)):
-        theta_eq = st.equilibrium(W, EPS, THETA0, s.theta, n_seg)
+        theta_eq = st.equilibrium(W, EPS, THETA0, s.theta, n_seg).theta
         h_discrete = (np.cos(theta_eq).sum() - 0.5 * np.cos(theta_eq[[0, -1]]).sum()) / n_seg
         for delta in (1e-3, -1e-3):
             assert ends[name, delta] == pytest.approx(h_discrete, abs=1e-7)
@@ -94,7 +96,7 @@ def test_time_stepping_confirms_the_classification(triple):
 def test_relaxation_from_rest_reaches_the_worked_example():
     # theory.md §3: theta0 = 0, eps = 0.5, omega^2 = 2 gives h1 = 0.732706963462228,
     # x1 = 0.615831536923675.
-    run = st.relax(2.0, 0.5, 0.0, np.zeros(81), 30.0, N=80, t_eval=np.array([0.0, 30.0]))
+    run = st.relax(2.0, 0.5, 0.0, np.zeros(81), 30.0, num=80, t_eval=np.array([0.0, 30.0]))
     assert run.theta.shape == (2, 81)
     assert run.tip_height[0] == pytest.approx(1.0)
     assert run.tip_height[-1] == pytest.approx(0.732706963462228, abs=1e-4)
@@ -104,12 +106,37 @@ def test_relaxation_from_rest_reaches_the_worked_example():
 @pytest.mark.parametrize(
     "call",
     [
-        lambda: st.relax(1.0, 0.5, 0.0, np.zeros(5), 1.0, N=10),
-        lambda: st.relax(1.0, 0.5, 0.0, np.zeros(11), -1.0, N=10),
-        lambda: st.relax(-1.0, 0.5, 0.0, np.zeros(11), 1.0, N=10),
-        lambda: st.equilibrium(1.0, 0.5, 0.0, np.zeros(2), N=1),
+        lambda: st.relax(1.0, 0.5, 0.0, np.zeros(5), 1.0, num=10),
+        lambda: st.relax(1.0, 0.5, 0.0, np.zeros(11), -1.0, num=10),
+        lambda: st.relax(-1.0, 0.5, 0.0, np.zeros(11), 1.0, num=10),
+        lambda: st.equilibrium(1.0, 0.5, 0.0, np.zeros(2), num=1),
     ],
 )
 def test_invalid_input_raises(call):
     with pytest.raises(ValueError):
         call()
+
+
+def test_equilibrium_reports_instead_of_raising(triple):
+    # One Newton step from a poor guess cannot meet the tolerance: reported, not raised.
+    eq = st.equilibrium(W, EPS, THETA0, np.zeros(41), 40, maxiter=1)
+    assert not eq.success and eq.status == 1 and "iteration limit" in eq.message
+    assert eq.nit == 1 and eq.theta.shape == eq.sigma.shape == (41,)
+    assert eq.theta[0] == THETA0
+    ok = st.equilibrium(W, EPS, THETA0, triple[0].theta, 40)
+    assert ok.success and ok.status == 0 and ok.nit <= 5
+
+
+def test_stability_says_how_each_classification_ended():
+    missing = hairbed.solve(np.array([1.2, 2.0]), EPS, THETA0, root="mid")  # 2.0 has no mid
+    res = st.linear_stability(missing, num=60)
+    assert res.status.tolist() == [0, -1]
+    assert res.success.tolist() == [True, False]
+    assert res.message[1] == st.STATUS_MESSAGES[-1]
+    one = st.linear_stability(hairbed.solve(2.0, 0.5), num=40)
+    assert one.success is True and one.message == "classified"
+
+
+def test_relaxation_reports_the_integrator_status():
+    run = st.relax(2.0, 0.5, 0.0, np.zeros(21), 1.0, num=20)
+    assert run.success and run.status == 0

@@ -18,7 +18,8 @@ physical states coexist. :func:`folds` locates the folds as the zeros of d ln(om
 
 from __future__ import annotations
 
-from typing import Any, NamedTuple
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -28,6 +29,8 @@ from ._core.solver import fold_parameters, from_parameter
 from ._core.validation import as_float_array, check_branch, check_inputs, float_or_array
 
 __all__ = [
+    "BistableWindow",
+    "Fold",
     "Folds",
     "bistable_window",
     "curve",
@@ -49,22 +52,82 @@ _T_GRID = np.arange(_T_SEARCH[0], _T_SEARCH[1] + 0.5 * _T_STEP, _T_STEP)
 _H = 1e-3
 
 
-class Folds(NamedTuple):
-    """Fold points of the physical branch, in the order met along it (increasing xi).
+@dataclass(frozen=True)
+class Fold:
+    """One fold point of the physical branch.
 
     Attributes
     ----------
-    omega2 : ndarray
-        Forcing omega^2 [-] at each fold.
-    xi : ndarray
+    omega2 : float
+        Forcing omega^2 [-] at the fold.
+    xi : float
+        Tip parameter xi = sin(theta1) [-] at the fold.
+    t : float
+        The curve parameter t of :func:`hairbed.from_parameter` [-] at the fold.
+    """
+
+    omega2: float
+    xi: float
+    t: float
+
+
+@dataclass(frozen=True)
+class Folds:
+    """Fold points of the physical branch, in increasing omega^2: the lower fold first.
+
+    The *lower* fold is the local minimum of omega^2 along the branch (where, coming down, the
+    high state disappears), the *upper* fold the local maximum (where, going up, the low state
+    disappears); three physical states coexist for ``lower.omega2 < omega^2 < upper.omega2``.
+    Along the branch (increasing xi) the upper fold comes first.
+
+    Attributes
+    ----------
+    omega2 : ndarray, shape (k,)
+        Forcing omega^2 [-] at each fold, increasing; k = 0 (monotone branch) or 2.
+    xi : ndarray, shape (k,)
         Tip parameter xi = sin(theta1) [-] at each fold.
-    t : ndarray
+    t : ndarray, shape (k,)
         The curve parameter t of :func:`hairbed.from_parameter` [-] at each fold.
     """
 
     omega2: NDArray[np.float64]
     xi: NDArray[np.float64]
     t: NDArray[np.float64]
+
+    def _fold(self, i: int) -> Fold | None:
+        if self.omega2.size < 2:
+            return None
+        return Fold(float(self.omega2[i]), float(self.xi[i]), float(self.t[i]))
+
+    @property
+    def lower(self) -> Fold | None:
+        """The lower fold (smallest omega^2), None when the branch is monotone."""
+        return self._fold(0)
+
+    @property
+    def upper(self) -> Fold | None:
+        """The upper fold (largest omega^2), None when the branch is monotone."""
+        return self._fold(-1)
+
+
+@dataclass(frozen=True)
+class BistableWindow:
+    """The range of forcing in which three physical states coexist.
+
+    Attributes
+    ----------
+    lower, upper : float
+        omega^2 [-] at the lower and the upper fold (lower < upper); NaN when the branch is
+        monotone.
+    """
+
+    lower: float
+    upper: float
+
+    @property
+    def exists(self) -> bool:
+        """True when the branch folds (three states for lower < omega^2 < upper)."""
+        return bool(self.lower < self.upper)
 
 
 def _scalar_params(eps: Any, theta0: Any) -> tuple[float, float]:
@@ -169,18 +232,20 @@ def folds(eps: float, theta0: float = 0.0) -> Folds:
     Returns
     -------
     Folds
-        Arrays (omega2, xi, t), sorted by increasing xi; empty when omega^2 is monotone on the
-        physical branch (always for theta0 >= 0, and for eps below :func:`cusp`). When there are
-        two, the first is the upper fold (local maximum of omega^2) and the second the lower
-        fold (local minimum): three states coexist for omega2[1] < omega^2 < omega2[0].
+        Arrays (omega2, xi, t) sorted by increasing omega^2, and the two folds by name
+        (``lower``, ``upper``); empty (and None) when omega^2 is monotone on the physical
+        branch (always for theta0 >= 0, and for eps below :func:`cusp`). Three states
+        coexist for ``lower.omega2 < omega^2 < upper.omega2``.
 
     Examples
     --------
     >>> f = folds(0.9, -1.5)
     >>> f.omega2.tolist()
-    [1.4859, 0.95766]
-    >>> len(folds(0.5, 0.0).omega2)
-    0
+    [0.95766, 1.4859]
+    >>> f.upper.omega2, f.upper.xi > f.lower.xi
+    (1.4859, False)
+    >>> folds(0.5, 0.0).lower is None
+    True
     """
     eps, theta0 = _scalar_params(eps, theta0)
     ts = fold_parameters(eps, theta0)
@@ -188,31 +253,33 @@ def folds(eps: float, theta0: float = 0.0) -> Folds:
         empty = np.empty(0, dtype=np.float64)
         return Folds(empty, empty.copy(), empty.copy())
     sol = from_parameter(ts, eps, theta0)
-    return Folds(
-        np.asarray(sol.omega2, dtype=np.float64).reshape(-1),
-        np.asarray(sol.xi, dtype=np.float64).reshape(-1),
-        ts,
-    )
+    omega2 = np.asarray(sol.omega2, dtype=np.float64).reshape(-1)
+    order = np.argsort(omega2, kind="stable")
+    xi = np.asarray(sol.xi, dtype=np.float64).reshape(-1)
+    return Folds(omega2[order], xi[order], np.asarray(ts, dtype=np.float64)[order])
 
 
-def bistable_window(eps: float, theta0: float = 0.0) -> tuple[float, float]:
+def bistable_window(eps: float, theta0: float = 0.0) -> BistableWindow:
     """The range of omega^2 in which three physical states coexist [-].
 
     Returns
     -------
-    (lower, upper) : (float, float)
-        omega^2 at the lower and upper folds; (nan, nan) when the branch is monotone.
+    BistableWindow
+        ``lower`` and ``upper``: omega^2 at the lower and upper folds; both NaN when the
+        branch is monotone (``exists`` is then False).
 
     Examples
     --------
-    >>> lo, hi = bistable_window(0.95, -1.0)
-    >>> lo, hi
+    >>> w = bistable_window(0.95, -1.0)
+    >>> w.lower, w.upper
     (0.29696, 0.31966)
+    >>> bistable_window(0.5, 0.0).exists
+    False
     """
     f = folds(eps, theta0)
-    if f.omega2.size < 2:
-        return (float("nan"), float("nan"))
-    return (float(np.min(f.omega2)), float(np.max(f.omega2)))
+    if f.lower is None or f.upper is None:
+        return BistableWindow(float("nan"), float("nan"))
+    return BistableWindow(f.lower.omega2, f.upper.omega2)
 
 
 def _min_slope(eps: NDArray[np.float64], theta0: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -466,6 +466,9 @@ class ProfileFit:
         Arc length [-] of the point of the curve closest to each measured point.
     success : bool
         Whether the optimiser reports convergence.
+    status : int
+        The optimiser's status (:func:`scipy.optimize.least_squares`: > 0 converged, 0 the
+        evaluation limit, -1 improper input).
     message : str
         The optimiser's message.
     nfev : int
@@ -481,6 +484,7 @@ class ProfileFit:
     solution: Any = field(repr=False)
     sigma: FloatArray = field(repr=False)
     success: bool
+    status: int
     message: str
     nfev: int
 
@@ -687,6 +691,7 @@ def fit_profile(
         solution=sol,
         sigma=np.asarray(sg, dtype=np.float64),
         success=bool(res.success),
+        status=int(res.status),
         message=str(res.message),
         nfev=int(res.nfev),
     )

@@ -16,18 +16,38 @@ back (theory.md §5): a hysteresis loop.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ._bracketing import find_root
+from ._core.solution import Solution
 from ._core.solver import fold_parameters, from_parameter
 from ._core.validation import check_inputs
 
-__all__ = ["sweep", "sweep_with_jumps"]
+__all__ = ["QuasistaticSweep", "sweep", "sweep_with_jumps"]
 
 _SMALLEST = float(np.finfo(np.float64).smallest_subnormal)
+
+
+@dataclass(frozen=True)
+class QuasistaticSweep:
+    """A quasi-static sweep of the forcing (returned by :func:`sweep_with_jumps`).
+
+    Attributes
+    ----------
+    solution : Solution
+        The state at every point of the path, shape (len(omega2_path),), on the physical
+        branch. Its ``omega2`` equals the path to rounding.
+    jumps : ndarray of int
+        Indices i at which the state jumped between i - 1 and i (a fold was passed),
+        increasing.
+    """
+
+    solution: Solution
+    jumps: NDArray[np.intp]
 
 
 def _omega2(t: NDArray[np.float64], eps: float, theta0: float) -> NDArray[np.float64]:
@@ -82,7 +102,7 @@ def _log_omega2_residual(
 
 def sweep_with_jumps(
     omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "low"
-) -> tuple[Any, NDArray[np.intp]]:
+) -> QuasistaticSweep:
     """Follow the physical state along a path of forcing; also say where it jumps.
 
     Parameters
@@ -99,17 +119,15 @@ def sweep_with_jumps(
 
     Returns
     -------
-    solution : Solution
-        The state at every point of the path, shape (len(omega2_path),), on the physical
-        branch. Its ``omega2`` equals the path to rounding.
-    jumps : ndarray of int
-        Indices i at which the state jumped between i - 1 and i (a fold was passed).
+    QuasistaticSweep
+        ``solution``, the state at every point of the path, and ``jumps``, the indices where
+        a fold was passed.
 
     Examples
     --------
     >>> up_down = np.concatenate([np.linspace(0.8, 1.6, 9), np.linspace(1.6, 0.8, 9)])
-    >>> sol, jumps = sweep_with_jumps(up_down, 0.9, -1.5)
-    >>> jumps.tolist()
+    >>> run = sweep_with_jumps(up_down, 0.9, -1.5)
+    >>> run.jumps.tolist()
     [7, 16]
     """
     path = np.asarray(omega2_path, dtype=np.float64)
@@ -145,10 +163,10 @@ def sweep_with_jumps(
             what="the branch parameter along a sweep",
         ).x
     jumps = np.nonzero(piece[1:] != piece[:-1])[0] + 1
-    return from_parameter(t, eps, theta0), jumps.astype(np.intp)
+    return QuasistaticSweep(from_parameter(t, eps, theta0), jumps.astype(np.intp))
 
 
-def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "low") -> Any:
+def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "low") -> Solution:
     """Follow the physical state continuously along a path of forcing.
 
     The state moves continuously with omega^2 and jumps only where the state it is following
@@ -178,4 +196,4 @@ def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "lo
     >>> bool(s.xi[2] > s.xi[0])
     True
     """
-    return sweep_with_jumps(omega2_path, eps, theta0, start=start)[0]
+    return sweep_with_jumps(omega2_path, eps, theta0, start=start).solution

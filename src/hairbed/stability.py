@@ -30,7 +30,7 @@ In the linearisation it appears as a rank-one term added to a tridiagonal matrix
 
 Discretisation
 --------------
-N equal segments, nodes sigma_i = i / N, unknowns theta_1 .. theta_N (theta_0 = theta0 is
+N = ``num`` equal segments, nodes sigma_i = i / N, unknowns theta_1 .. theta_N (theta_0 = theta0 is
 given); the second derivative by central differences, the free end by a ghost node
 theta_{N+1} = theta_{N-1}, and h1 by the trapezoidal rule: second order throughout. This is
 the operator of the finite-difference baseline (``hairbed.numerics._banded.HairOperator``, one
@@ -57,6 +57,8 @@ from ._core.validation import check_inputs
 from .numerics._banded import HairOperator
 
 __all__ = [
+    "STATUS_MESSAGES",
+    "Equilibrium",
     "Relaxation",
     "Stability",
     "equilibrium",
@@ -86,16 +88,44 @@ def _grid(n_seg: int) -> FloatArray:
     return np.linspace(0.0, 1.0, n_seg + 1)
 
 
+@dataclass(frozen=True)
+class Equilibrium:
+    """A static state of the discretised problem (returned by :func:`equilibrium`).
+
+    Attributes
+    ----------
+    sigma : ndarray, shape (num + 1,)
+        Arc length of the nodes [-].
+    theta : ndarray, shape (num + 1,)
+        Angle at the nodes [rad] (the last iterate when ``success`` is False).
+    success : bool
+        Whether Newton's method converged.
+    status : int
+        0 converged; 1 iteration limit reached; 2 a non-finite Newton step (singular Jacobian).
+    message : str
+        Human-readable description of ``status``.
+    nit : int
+        Newton steps taken.
+    """
+
+    sigma: FloatArray
+    theta: FloatArray
+    success: bool
+    status: int
+    message: str
+    nit: int
+
+
 def equilibrium(
     omega2: float,
     eps: float,
     theta0: float,
     guess: FloatArray | Callable[[FloatArray], Any],
-    N: int = 100,
+    num: int = 100,
     *,
-    tol: float = 1e-12,
-    max_iter: int = 50,
-) -> FloatArray:
+    xtol: float = 1e-12,
+    maxiter: int = 50,
+) -> Equilibrium:
     """The static state of the discretised problem nearest a guess (Newton's method).
 
     Parameters
@@ -103,27 +133,51 @@ def equilibrium(
     omega2, eps, theta0 : float
         Forcing [-], confinement [-], base angle [rad].
     guess : array or callable
-        theta at the N + 1 nodes sigma_i = i / N (the first is replaced by theta0), or a function
-        of sigma such as ``Solution.theta``.
-    N : int
-        Number of segments.
+        theta at the num + 1 nodes sigma_i = i / num (the first is replaced by theta0), or a
+        function of sigma such as ``Solution.theta``.
+    num : int
+        Number of segments, at least 2.
+    xtol : float
+        Convergence tolerance on the largest Newton update [rad].
+    maxiter : int
+        Newton iteration limit.
 
     Returns
     -------
-    ndarray, shape (N + 1,)
-        theta [rad] at the nodes.
+    Equilibrium
+        theta [rad] at the nodes, and how Newton's method ended (non-convergence is reported,
+        not raised).
+
+    Examples
+    --------
+    >>> import hairbed
+    >>> state = hairbed.solve(2.0, 0.5)
+    >>> eq = equilibrium(2.0, 0.5, 0.0, state.theta, num=200)
+    >>> eq.success, eq.status, bool(abs(eq.theta[-1] - state.tip_angle) < 1e-4)
+    (True, 0, True)
     """
     omega2, eps, theta0 = _scalars(omega2, eps, theta0)
-    u = _initial(guess, N)[1:]
-    op = HairOperator(omega2, eps, theta0, N)
-    for _ in range(max_iter):
+    num = _check_num(num)
+    u = _initial(guess, num)[1:]
+    op = HairOperator(omega2, eps, theta0, num)
+    status, message, nit = 1, f"iteration limit reached ({maxiter} Newton steps)", maxiter
+    for it in range(1, int(maxiter) + 1):
         du = op.newton_step(u, op.residual(u))
-        u = u + du
-        if np.max(np.abs(du)) < tol:
+        if not np.all(np.isfinite(du)):
+            status, message, nit = 2, "singular Newton step (Jacobian not invertible)", it
             break
-    else:
-        raise RuntimeError("Newton's method did not converge to a static state")
-    return np.concatenate(([theta0], u))
+        u = u + du
+        if np.max(np.abs(du)) < xtol:
+            status, message, nit = 0, "converged: Newton step below tolerance", it
+            break
+    return Equilibrium(
+        sigma=_grid(num),
+        theta=np.concatenate(([theta0], u)),
+        success=status == 0,
+        status=status,
+        message=message,
+        nit=nit,
+    )
 
 
 def _scalars(omega2: Any, eps: Any, theta0: Any) -> tuple[float, float, float]:
@@ -133,16 +187,21 @@ def _scalars(omega2: Any, eps: Any, theta0: Any) -> tuple[float, float, float]:
     return float(w), float(e), float(t)
 
 
+def _check_num(num: Any) -> int:
+    if isinstance(num, bool) or not isinstance(num, (int, np.integer)) or num < 2:
+        raise ValueError(f"num must be an integer >= 2, got {num!r}")
+    return int(num)
+
+
 def _initial(guess: Any, n_seg: int) -> FloatArray:
-    if int(n_seg) < 2:
-        raise ValueError(f"N must be at least 2, got {n_seg!r}")
+    n_seg = _check_num(n_seg)
     if callable(guess):
         values = np.asarray(guess(_grid(n_seg)), dtype=np.float64)
     else:
         values = np.asarray(guess, dtype=np.float64)
     if values.shape != (n_seg + 1,):
         raise ValueError(
-            f"theta must be given at the N + 1 = {n_seg + 1} nodes, got {values.shape}"
+            f"theta must be given at the num + 1 = {n_seg + 1} nodes, got {values.shape}"
         )
     if not np.all(np.isfinite(values)):
         raise ValueError("theta must be finite")
@@ -163,22 +222,48 @@ class Stability:
         Number of eigenvalues with positive real part (-1 if no state).
     eigenvalues : ndarray of complex, shape S + (k,)
         The k eigenvalues of largest real part, in decreasing order of real part.
+    status : ndarray of int, shape S
+        How each classification ended: 0 classified; -1 no such state (the solution's
+        values are NaN); 1 the discrete equilibrium near the state did not converge (values
+        NaN, ``stable`` False; see ``STATUS_MESSAGES``).
     """
 
     stable: NDArray[np.bool_]
     growth_rate: FloatArray
     n_unstable: NDArray[np.intp]
     eigenvalues: NDArray[np.complex128]
+    status: NDArray[np.intp]
+
+    @property
+    def success(self) -> bool | NDArray[np.bool_]:
+        """True where the state was classified (status 0)."""
+        ok = self.status == 0
+        return bool(ok) if ok.ndim == 0 else ok
+
+    @property
+    def message(self) -> str | list[Any]:
+        """``STATUS_MESSAGES`` of ``status`` (a nested list for arrays)."""
+        if self.status.ndim == 0:
+            return STATUS_MESSAGES[int(self.status)]
+        return np.vectorize(STATUS_MESSAGES.__getitem__, otypes=[object])(self.status).tolist()
 
 
-def linear_stability(solution: Any, N: int = 100, k: int = 4) -> Stability:
+#: Meaning of ``Stability.status``.
+STATUS_MESSAGES = {
+    0: "classified",
+    -1: "no such state at these inputs",
+    1: "the discrete equilibrium near the state did not converge",
+}
+
+
+def linear_stability(solution: Any, num: int = 100, k: int = 4) -> Stability:
     """Classify static states by the linearisation of the relaxation dynamics.
 
     Parameters
     ----------
     solution : Solution
-        Static states (any shape; any branch, though states that twirl need larger N).
-    N : int
+        Static states (any shape; any branch, though states that twirl need larger num).
+    num : int
         Number of segments of the discretisation.
     k : int
         How many leading eigenvalues to return.
@@ -198,27 +283,33 @@ def linear_stability(solution: Any, N: int = 100, k: int = 4) -> Stability:
     shape = omega2.shape
     eps = np.broadcast_to(np.asarray(solution.eps, dtype=np.float64), shape)
     theta0 = np.broadcast_to(np.asarray(solution.theta0, dtype=np.float64), shape)
-    profiles = _profiles(solution, _grid(N), shape)
+    num = _check_num(num)
+    profiles = _profiles(solution, _grid(num), shape)
     stable = np.zeros(shape, dtype=bool)
     growth = np.full(shape, np.nan)
     n_unstable = np.full(shape, -1, dtype=np.intp)
     eigs = np.full(shape + (k,), np.nan + 0j, dtype=np.complex128)
+    status = np.full(shape, -1, dtype=np.intp)
     for idx in np.ndindex(shape):
         prof = profiles[idx]
         if not (np.isfinite(omega2[idx]) and np.all(np.isfinite(prof))):
             continue
         w, e, t0 = float(omega2[idx]), float(eps[idx]), float(theta0[idx])
-        u = equilibrium(w, e, t0, prof, N)[1:]
-        lam = np.linalg.eigvals(HairOperator(w, e, t0, N).rhs_jacobian(u))
+        eq = equilibrium(w, e, t0, prof, num)
+        if not eq.success:
+            status[idx] = 1
+            continue
+        lam = np.linalg.eigvals(HairOperator(w, e, t0, num).rhs_jacobian(eq.theta[1:]))
         lam = lam[np.argsort(-lam.real)]
         stable[idx] = bool(lam[0].real < 0.0)
         growth[idx] = lam[0].real
         n_unstable[idx] = int(np.count_nonzero(lam.real > 0.0))
         eigs[idx][: min(k, lam.size)] = lam[:k]
-    return Stability(stable, growth, n_unstable, eigs)
+        status[idx] = 0
+    return Stability(stable, growth, n_unstable, eigs, status)
 
 
-def is_stable(solution: Any, N: int = 100) -> Any:
+def is_stable(solution: Any, num: int = 100) -> bool | NDArray[np.bool_]:
     """Whether each static state is linearly stable under the relaxation dynamics.
 
     See the module docstring for the model. Returns a bool (scalar solution) or a bool array of
@@ -230,7 +321,7 @@ def is_stable(solution: Any, N: int = 100) -> Any:
     >>> bool(is_stable(hairbed.solve(2.0, 0.5)))
     True
     """
-    stable = linear_stability(solution, N=N, k=1).stable
+    stable = linear_stability(solution, num=num, k=1).stable
     return bool(stable) if stable.ndim == 0 else stable
 
 
@@ -242,14 +333,17 @@ class Relaxation:
     ----------
     t : ndarray, shape (m,)
         Times [bending relaxation times].
-    sigma : ndarray, shape (N + 1,)
+    sigma : ndarray, shape (num + 1,)
         Arc length of the nodes [-].
-    theta : ndarray, shape (m, N + 1)
+    theta : ndarray, shape (m, num + 1)
         Angle at the nodes at each time [rad].
     tip_height, tip_deflection : ndarray, shape (m,)
         h1 and x1 (trapezoidal rule) at each time [-].
     success : bool
         Whether the integrator reached the end.
+    status : int
+        The integrator's status (:func:`scipy.integrate.solve_ivp`): 0 reached ``t_end``, -1
+        the integration step failed.
     message : str
         The integrator's message.
     """
@@ -260,6 +354,7 @@ class Relaxation:
     tip_height: FloatArray
     tip_deflection: FloatArray
     success: bool
+    status: int
     message: str
 
 
@@ -275,7 +370,7 @@ def relax(
     theta_initial: FloatArray | Callable[[FloatArray], Any],
     t_end: float,
     *,
-    N: int = 100,
+    num: int = 100,
     t_eval: FloatArray | None = None,
     method: str = "BDF",
     rtol: float = 1e-8,
@@ -288,12 +383,12 @@ def relax(
     omega2, eps, theta0 : float
         Forcing [-], confinement [-], base angle [rad].
     theta_initial : array or callable
-        theta at the N + 1 nodes sigma_i = i / N (the first is replaced by theta0), or a function
-        of sigma such as ``Solution.theta``.
+        theta at the num + 1 nodes sigma_i = i / num (the first is replaced by theta0), or a
+        function of sigma such as ``Solution.theta``.
     t_end : float
         Final time [bending relaxation times].
-    N : int
-        Number of segments.
+    num : int
+        Number of segments, at least 2.
     t_eval : array, optional
         Output times; default: the integrator's own steps.
     method : str
@@ -307,15 +402,16 @@ def relax(
 
     Examples
     --------
-    >>> run = relax(2.0, 0.5, 0.0, lambda s: 0.0 * s, 20.0, N=40)
+    >>> run = relax(2.0, 0.5, 0.0, lambda s: 0.0 * s, 20.0, num=40)
     >>> round(float(run.tip_height[-1]), 3)
     0.733
     """
     omega2, eps, theta0 = _scalars(omega2, eps, theta0)
     if not (np.isfinite(t_end) and t_end > 0.0):
         raise ValueError(f"t_end must be positive, got {t_end!r}")
-    u0 = _initial(theta_initial, N)[1:]
-    op = HairOperator(omega2, eps, theta0, N)
+    num = _check_num(num)
+    u0 = _initial(theta_initial, num)[1:]
+    op = HairOperator(omega2, eps, theta0, num)
     res = solve_ivp(
         lambda _t, u: op.rhs(u),
         (0.0, float(t_end)),
@@ -329,10 +425,11 @@ def relax(
     theta = np.concatenate((np.full((1, res.t.size), theta0), res.y), axis=0).T
     return Relaxation(
         t=res.t,
-        sigma=_grid(N),
+        sigma=_grid(num),
         theta=theta,
         tip_height=_trapezoid(np.cos(theta)),
         tip_deflection=_trapezoid(np.sin(theta)),
         success=bool(res.success),
+        status=int(res.status),
         message=str(res.message),
     )

@@ -32,7 +32,7 @@ def _initial_guess(guess: float | Callable[[FloatArray], Any], sigma: FloatArray
 
 
 def _newton(
-    disc: HairOperator, th: FloatArray, tol: float, maxiter: int
+    disc: HairOperator, th: FloatArray, xtol: float, maxiter: int
 ) -> tuple[FloatArray, int, str, int, int]:
     """Damped Newton on the residual, backtracking on ||r||^2. Returns theta, status, msg, it,
     nfev."""
@@ -59,7 +59,7 @@ def _newton(
             lam *= 0.5
         th, r, f_prev, f = trial, r_new, f, f_new
         step = lam * size
-        if step <= tol * (1.0 + float(np.max(np.abs(th)))):
+        if step <= xtol * (1.0 + float(np.max(np.abs(th)))):
             return th, 0, "converged: Newton step below tolerance", it, nfev
         if lam < 1e-10 and f >= f_prev:
             return th, 2, "line search failed: no descent direction (stalled)", it, nfev
@@ -71,15 +71,15 @@ def finite_difference(
     eps: float,
     theta0: float = 0.0,
     *,
-    N: int = 80,
+    num: int = 80,
     guess: float | Callable[[FloatArray], Any] = 0.0,
     method: str = "newton",
-    tol: float = 1e-12,
+    xtol: float = 1e-12,
     maxiter: int = 100,
 ) -> NumericalResult:
     """Solve the hair problem by the paper's central-difference scheme.
 
-    Discretises theta'' = -omega_eps^2 cos(theta) (eq. (3)) on N equal segments with
+    Discretises theta'' = -omega_eps^2 cos(theta) (eq. (3)) on N = ``num`` equal segments with
     central differences; theta(0) = theta0 enters the first equation, theta'(1) = 0 the last
     (through a ghost node, second order); the tip height h1 is the trapezoid sum of cos(theta),
     and omega_eps^2 = omega^2 / (1 - eps h1) (eq. (5)) couples every unknown. The scheme is
@@ -93,8 +93,8 @@ def finite_difference(
         Confinement eps = L/H [-], in [0, 1).
     theta0 : float, optional
         Base angle [rad], in (-pi/2, pi/2).
-    N : int, optional
-        Number of segments (N unknowns theta_1..theta_N), at least 2.
+    num : int, optional
+        Number of segments N (N unknowns theta_1..theta_N), at least 2.
     guess : float or callable, optional
         Starting value of theta [rad] at every node, or a function of sigma giving it
         (vectorised). The default 0 is the paper's. A twirling guess such as
@@ -105,8 +105,9 @@ def finite_difference(
         coupling of the integral, solved in O(N) per step (banded solve and Sherman-Morrison).
         ``"root"``: the same residual handed to ``scipy.optimize.root`` (MINPACK hybrid method
         with a finite-difference Jacobian), as the paper did.
-    tol : float, optional
-        Convergence tolerance on the step (``"newton"``) or ``xtol`` (``"root"``) [rad].
+    xtol : float, optional
+        Convergence tolerance on the step (``"newton"``) or ``xtol`` of ``scipy.optimize.root``
+        (``"root"``) [rad].
     maxiter : int, optional
         Newton iteration limit (``"newton"`` only).
 
@@ -118,33 +119,33 @@ def finite_difference(
     Raises
     ------
     ValueError
-        If an input is out of range or not a scalar, ``N < 2``, or ``method`` is unknown.
+        If an input is out of range or not a scalar, ``num < 2``, or ``method`` is unknown.
 
     Examples
     --------
     >>> from hairbed.numerics import finite_difference
-    >>> res = finite_difference(2.0, 0.5, N=400)
+    >>> res = finite_difference(2.0, 0.5, num=400)
     >>> res.success, res.sign, res.n
     (True, 1, 0)
     >>> round(res.tip_height, 5)  # analytic 0.732706963462228
     0.73271
     """
     omega2, eps, theta0 = scalar_inputs(omega2, eps, theta0)
-    if isinstance(N, bool) or not isinstance(N, (int, np.integer)) or N < 2:
-        raise ValueError(f"N must be an integer >= 2, got {N!r}")
+    if isinstance(num, bool) or not isinstance(num, (int, np.integer)) or num < 2:
+        raise ValueError(f"num must be an integer >= 2, got {num!r}")
     if method not in _METHODS:
         raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
-    if not (tol > 0):
-        raise ValueError(f"tol must be positive, got {tol!r}")
-    N = int(N)
-    disc = HairOperator(omega2, eps, theta0, N)
-    sigma = np.linspace(0.0, 1.0, N + 1)
+    if not (xtol > 0):
+        raise ValueError(f"xtol must be positive, got {xtol!r}")
+    num = int(num)
+    disc = HairOperator(omega2, eps, theta0, num)
+    sigma = np.linspace(0.0, 1.0, num + 1)
     th0 = _initial_guess(guess, sigma[1:])
 
     if method == "newton":
-        th, status, message, iterations, nfev = _newton(disc, th0, tol, int(maxiter))
+        th, status, message, iterations, nfev = _newton(disc, th0, xtol, int(maxiter))
     else:
-        sol = optimize.root(disc.residual, th0, method="hybr", options={"xtol": tol})
+        sol = optimize.root(disc.residual, th0, method="hybr", options={"xtol": xtol})
         th = sol.x
         nfev = int(sol.nfev)
         iterations = nfev  # hybr reports no iteration count; its work is counted in calls

@@ -15,7 +15,7 @@ __all__ = ["NumericalResult", "branch_label", "scalar_inputs"]
 FloatArray = NDArray[np.float64]
 
 
-@dataclass
+@dataclass(frozen=True)
 class NumericalResult:
     """Outcome of a numerical solve of the hair problem, in the style of ``scipy.optimize``.
 

@@ -35,8 +35,9 @@ _TABLE = ((-1.5, 0.9), (-1.0, 0.95), (-0.5, 0.99))
 
 
 def _window(eps: float, theta0: float) -> tuple[float, float]:
-    """Bistable window of omega^2 (NaNs when there is none)."""
-    return hairbed.branches.bistable_window(eps, theta0)
+    """Bistable window of omega^2, (lower, upper) (NaNs when there is none)."""
+    w = hairbed.branches.bistable_window(eps, theta0)
+    return w.lower, w.upper
 
 
 @styled
@@ -234,24 +235,24 @@ def fig_calibration(
 @styled
 def fig_fd_convergence(
     omega2s: tuple[float, ...] = (0.5, 2.0, 8.0, 32.0),
-    Ns: tuple[int, ...] = (10, 20, 40, 80, 160, 320, 640),
+    nums: tuple[int, ...] = (10, 20, 40, 80, 160, 320, 640),
     eps: float = 0.5,
 ) -> Figure:
     """Second-order convergence of the paper's finite differences to the exact tip height.
 
     Examples
     --------
-    >>> fig = fig_fd_convergence(omega2s=(1.0,), Ns=(10, 20))
+    >>> fig = fig_fd_convergence(omega2s=(1.0,), nums=(10, 20))
     >>> len(fig.axes)
     1
     """
     from hairbed.numerics import finite_difference
 
-    Ns_arr = np.asarray(Ns, dtype=float)
+    Ns_arr = np.asarray(nums, dtype=float)
     fig, ax = new_figure(size=(5.6, 4.2))
     for w2, c in zip(omega2s, colors(len(omega2s), "plasma")):
         exact = hairbed.solve(w2, eps).tip_height
-        err = [abs(finite_difference(w2, eps, N=int(N)).tip_height - exact) for N in Ns]
+        err = [abs(finite_difference(w2, eps, num=int(n)).tip_height - exact) for n in nums]
         ax.loglog(Ns_arr, err, "o-", color=c, ms=4, label=rf"$\omega^2 = {w2:g}$")
     ref = 0.3 * Ns_arr[0] ** 2 * Ns_arr**-2.0 * max(1e-12, ax.get_ylim()[1] * 1e-1)
     ax.loglog(Ns_arr, ref, "k--", lw=1, label=r"$\propto N^{-2}$")

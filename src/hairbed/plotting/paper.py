@@ -357,17 +357,17 @@ def fig_theta0s(
 
 @styled
 def fig_profiles(
-    omega2s: tuple[float, ...] = (0.5, 2.0, 8.0, 32.0, 128.0), eps: float = 0.0, N: int = 80
+    omega2s: tuple[float, ...] = (0.5, 2.0, 8.0, 32.0, 128.0), eps: float = 0.0, num: int = 80
 ) -> Figure:
     """Analytic against finite-difference profiles for several E (Fig. 6).
 
-    Solid: the paper's central differences on N segments from theta_i = 0; dashed: exact. The
+    Solid: the paper's central differences on ``num`` segments from theta_i = 0; dashed: exact. The
     inset starts the same scheme from theta_i = -0.1 at omega^2 = 32, where it converges to a
     twirling branch, drawn with its exact counterpart.
 
     Examples
     --------
-    >>> fig = fig_profiles(omega2s=(1.0,), N=20)
+    >>> fig = fig_profiles(omega2s=(1.0,), num=20)
     >>> len(fig.axes), len(fig.axes[0].child_axes)  # main axes and the inset
     (1, 1)
     """
@@ -376,10 +376,10 @@ def fig_profiles(
     fig, ax = new_figure(size=(6.4, 4.0))
     for w2, c in zip(omega2s, colors(len(omega2s), "plasma")):
         exact = hairbed.solve(w2, eps)
-        num = finite_difference(w2, eps, N=N)
+        fd = finite_difference(w2, eps, num=num)
         ax.plot(
-            num.x,
-            num.z,
+            fd.x,
+            fd.z,
             "-",
             color=c,
             lw=2.2,
@@ -388,7 +388,7 @@ def fig_profiles(
         )
         x, z = exact.profile(300)
         ax.plot(x, z, "--", color="k", lw=1.0)
-    ax.plot([], [], "-", color="0.5", lw=2.2, label=rf"finite differences, $N = {N}$")
+    ax.plot([], [], "-", color="0.5", lw=2.2, label=rf"finite differences, $N = {num}$")
     ax.plot([], [], "--", color="k", lw=1.0, label="analytic")
     ax.set_xlim(0, 1.9)
     ax.set_ylim(0, 1.05)
@@ -399,14 +399,14 @@ def fig_profiles(
     ax.legend(loc="upper right", fontsize=7.5)
     ins = ax.inset_axes([0.53, 0.08, 0.44, 0.34])
     w2 = 32.0
-    num = finite_difference(w2, eps, N=N, guess=-0.1)
-    twin = [s for s in hairbed.solve_all(w2, eps) if (s.sign, s.n) == (num.sign, num.n)]
-    ins.plot(num.x, num.z, "-", color="C0", lw=2.0, alpha=0.75)
+    fd = finite_difference(w2, eps, num=num, guess=-0.1)
+    twin = [s for s in hairbed.solve_all(w2, eps) if (s.sign, s.n) == (fd.sign, fd.n)]
+    ins.plot(fd.x, fd.z, "-", color="C0", lw=2.0, alpha=0.75)
     if twin:
         x, z = twin[0].profile(300)
         ins.plot(x, z, "--", color="k", lw=1.0)
     ins.axhline(0, color="0.5", lw=0.6)
     ins.set_aspect("equal", adjustable="datalim")
     ins.tick_params(labelsize=7)
-    ins.set_title(rf"$\theta_i = -0.1$, $\omega^2 = {w2:g}$: branch $n = {num.n}$", fontsize=8)
+    ins.set_title(rf"$\theta_i = -0.1$, $\omega^2 = {w2:g}$: branch $n = {fd.n}$", fontsize=8)
     return fig
