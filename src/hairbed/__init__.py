@@ -19,6 +19,7 @@ from ._core.solver import from_parameter, from_xi, solve, solve_all
 
 if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
     from . import branches, inverse, numerics, quasistatic, rheology, stability, units
+    from .explorer import explore
     from .units import HairBed, HairState
 
 __all__ = [
@@ -26,6 +27,7 @@ __all__ = [
     "HairState",
     "Solution",
     "branches",
+    "explore",
     "from_parameter",
     "from_xi",
     "inverse",
@@ -44,7 +46,7 @@ _LAZY_MODULES = frozenset(
     {"branches", "inverse", "numerics", "quasistatic", "rheology", "stability", "units"}
 )
 #: Names imported on first access: name -> submodule that defines it.
-_LAZY_NAMES = {"HairBed": "units", "HairState": "units"}
+_LAZY_NAMES = {"HairBed": "units", "HairState": "units", "explore": "explorer"}
 
 
 def __getattr__(name: str) -> Any:

@@ -1,6 +1,7 @@
 """The ``hairbed`` command line: a thin layer over the library.
 
-Subcommands: ``solve``, ``sweep``, ``invert``, ``figures``, ``bench``, ``demo``. Run
+Subcommands: ``solve``, ``sweep``, ``invert``, ``figures``, ``bench``, ``demo``,
+``explore``. Run
 ``hairbed <command> --help`` for the options and examples of each. Bad input ends with one line
 ``hairbed: error: <message>`` on stderr and exit status 2.
 
@@ -438,6 +439,28 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_explore(args: argparse.Namespace) -> int:
+    from hairbed.explorer import AppMissingError, serve
+
+    try:
+        serve(
+            port=args.port,
+            host=args.host,
+            show=not args.no_browser,
+            allow_websocket_origin=args.allow_websocket_origin or (),
+            session_token_expiration=args.session_token_expiration,
+            check_unused_sessions=args.check_unused_sessions,
+            unused_session_lifetime=args.unused_session_lifetime,
+        )
+    except AppMissingError as exc:
+        raise UsageError(str(exc)) from None
+    except OSError as exc:  # the port is taken, the address is not ours, ...
+        raise UsageError(
+            f"cannot serve on {args.host}:{args.port}: {exc.strerror or exc}"
+        ) from None
+    return 0
+
+
 def _cmd_demo(args: argparse.Namespace) -> int:
     sol = hairbed.solve(2.0, 0.5, 0.0)
     print("The paper's example: a hair standing upright (theta0 = 0) in a channel twice its")
@@ -621,11 +644,59 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example:\n  hairbed demo",
     )
     p.set_defaults(func=_cmd_demo)
+
+    p = sub.add_parser(
+        "explore",
+        help="the interactive explorer in a web browser",
+        formatter_class=_formatter,
+        description="Serve the interactive explorer (needs the app extra: pip install "
+        "'hairbed[app]'): sliders and exact entry of omega2, eps and theta0 or of a bed in SI "
+        "units; every coexisting state in the channel, the branch diagram, the bistability map, "
+        "the phase portrait and a table; the inputs in the page's URL; JSON and CSV downloads. "
+        "Listens on the loopback interface unless --host says otherwise. Each browser session "
+        "holds about 1 MB of server memory until it is discarded, --unused-session-lifetime "
+        "after its page was closed.",
+        epilog="examples:\n  hairbed explore\n  hairbed explore --port 8000 --no-browser\n"
+        "  hairbed explore --host 0.0.0.0 --port 8000 --allow-websocket-origin example.org",
+    )
+    p.add_argument("--port", type=int, default=5006, help="TCP port (default 5006; 0: any free)")
+    p.add_argument(
+        "--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1, loopback)"
+    )
+    p.add_argument("--no-browser", action="store_true", help="do not open a web browser")
+    p.add_argument(
+        "--allow-websocket-origin",
+        action="append",
+        metavar="HOST[:PORT]",
+        help="also accept pages served as HOST[:PORT] (behind a proxy); repeatable",
+    )
+    p.add_argument(
+        "--session-token-expiration",
+        type=int,
+        default=300,
+        metavar="S",
+        help="seconds a page has to connect to its session (default 300)",
+    )
+    p.add_argument(
+        "--check-unused-sessions",
+        type=int,
+        default=17000,
+        metavar="MS",
+        help="how often to look for closed sessions [ms] (default 17000)",
+    )
+    p.add_argument(
+        "--unused-session-lifetime",
+        type=int,
+        default=15000,
+        metavar="MS",
+        help="discard a closed session's state after this long [ms] (default 15000)",
+    )
+    p.set_defaults(func=_cmd_explore)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status (0 ok, 2 bad input)."""
+    """Run the command line; returns the exit status (0 ok, 2 bad input, 130 Ctrl-C)."""
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
@@ -639,6 +710,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     except BrokenPipeError:  # e.g. `hairbed sweep ... | head`
         return 0
+    except KeyboardInterrupt:  # Ctrl-C: files are written whole or not at all
+        print(f"{PROG}: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,0 +1,185 @@
+"""The interactive explorer: move the flow in a browser and watch every state of the hair.
+
+``hairbed explore`` serves it on the loopback interface; :func:`explore` returns the same page
+for a Jupyter notebook. It needs the ``app`` extra (Panel and Bokeh):
+``pip install 'hairbed[app]'``. Importing this package imports neither; the functions do.
+
+The page solves every coexisting physical state (:func:`hairbed.solve`, every root) and on
+request every twirling state (:func:`hairbed.solve_all`) on each change of an input, classifies
+the physical states with :func:`hairbed.stability.linear_stability`, and shows them in the
+channel to scale, on the branch diagram (:mod:`hairbed.branches`), on the map of the cusp and in
+the phase plane, with a table of every :class:`hairbed.Solution` field. The inputs live in the
+page's URL; the current state downloads as JSON and CSV.
+"""
+
+from __future__ import annotations
+
+import signal
+import sys
+import webbrowser
+from collections.abc import Sequence
+from typing import Any
+
+__all__ = ["AppMissingError", "explore", "serve"]
+
+INSTALL_HINT = "pip install 'hairbed[app]'"
+
+
+class AppMissingError(ImportError):
+    """Panel or Bokeh is not installed (the ``app`` extra)."""
+
+
+def _page_module() -> Any:
+    try:
+        from . import _page
+    except ModuleNotFoundError as exc:
+        if exc.name and exc.name.split(".")[0] in ("panel", "bokeh", "param"):
+            raise AppMissingError(
+                f"the explorer needs {exc.name.split('.')[0]}, which is not installed: "
+                f"{INSTALL_HINT}"
+            ) from None
+        raise
+    return _page
+
+
+def explore(query: str = "") -> Any:
+    """The explorer as a Panel object, e.g. to show in a Jupyter notebook.
+
+    Parameters
+    ----------
+    query : str, optional
+        Inputs as a URL query string, e.g. ``"?omega2=1.2&eps=0.9&theta0=-1.5"``.
+
+    Returns
+    -------
+    panel.layout.Column
+        The page (display it as the last expression of a cell, or ``.servable()``).
+
+    Raises
+    ------
+    AppMissingError
+        If Panel is not installed (``pip install 'hairbed[app]'``).
+    """
+    page = _page_module()
+    import panel as pn
+
+    pn.extension()
+    return page.ExplorerPage(query).layout
+
+
+def _session() -> Any:
+    """One browser session's page, started from the inputs in its URL."""
+    import panel as pn
+
+    page = _page_module()
+    args = pn.state.session_args or {}
+    from urllib.parse import urlencode
+
+    query = urlencode(
+        [(k, v.decode("utf-8", "replace")) for k, vs in args.items() for v in vs], doseq=False
+    )
+    return page.ExplorerPage(query).layout
+
+
+def serve(
+    port: int = 5006,
+    host: str = "127.0.0.1",
+    *,
+    show: bool = True,
+    allow_websocket_origin: Sequence[str] = (),
+    session_token_expiration: int = 300,
+    check_unused_sessions: int = 17000,
+    unused_session_lifetime: int = 15000,
+    log: Any = None,
+) -> None:
+    """Serve the explorer until interrupted (Ctrl-C: KeyboardInterrupt once the server stopped).
+
+    Every asset (Bokeh's and Panel's JavaScript and CSS) is served by this server itself: the
+    page makes no request to any other host.
+
+    Parameters
+    ----------
+    port : int
+        TCP port (0: any free port).
+    host : str
+        Address to listen on; the loopback interface by default. Another address exposes the
+        explorer to the network: only when asked.
+    show : bool
+        Open the page in the default web browser.
+    allow_websocket_origin : sequence of str
+        Extra ``host[:port]`` origins allowed to open the session's websocket (behind a proxy);
+        the served address itself (and localhost for the loopback) is always allowed.
+    session_token_expiration : int
+        Seconds a session token stays valid before the page connects.
+    check_unused_sessions, unused_session_lifetime : int
+        How often [ms] to look for, and after how long [ms] to discard, sessions whose page was
+        closed. Each session holds about 1 MB of server memory until it is discarded.
+    log : file, optional
+        Where to print the address (default stdout).
+    """
+    _page_module()
+    import panel as pn
+
+    from ._model import compute, cusp_curve, validate
+
+    out = sys.stdout if log is None else log
+    pn.extension()
+    if port == 0:
+        port = _free_port(host)
+    server = pn.serve(
+        {"/": _session},
+        port=port,
+        address=host,
+        websocket_origin=_origins(host, port, allow_websocket_origin),
+        show=False,
+        start=False,
+        title="hairbed explorer",
+        session_token_expiration=session_token_expiration,
+        check_unused_sessions_milliseconds=check_unused_sessions,
+        unused_session_lifetime_milliseconds=unused_session_lifetime,
+    )
+    # bound (a taken port has failed above): now the slow part, before the first page
+    print("hairbed explore: preparing (kernels, the cusp curve) ...", file=out, flush=True)
+    cusp_curve()
+    compute(validate({"twirl": "1"}))  # load the compiled kernels
+    server.start()
+    actual = server.port
+    url = f"http://{_url_host(host)}:{actual}/"
+    print(f"hairbed explore: serving {url} (Ctrl-C to stop)", file=out, flush=True)
+    if show:
+        server.io_loop.add_callback(webbrowser.open, url)
+    interrupted = []
+
+    def on_sigint(*_: Any) -> None:  # Panel's own handler stops quietly: ours says so
+        interrupted.append(True)
+        server.io_loop.asyncio_loop.call_soon_threadsafe(server.io_loop.stop)
+
+    previous = signal.signal(signal.SIGINT, on_sigint)
+    try:
+        server.io_loop.start()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        server.stop()
+    if interrupted:
+        raise KeyboardInterrupt
+
+
+def _url_host(host: str) -> str:
+    return f"[{host}]" if ":" in host else host
+
+
+def _free_port(host: str) -> int:
+    import socket
+
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    with socket.socket(family, socket.SOCK_STREAM) as s:
+        s.bind((host, 0))
+        return int(s.getsockname()[1])
+
+
+def _origins(host: str, port: int, extra: Sequence[str]) -> list[str]:
+    """The websocket origins allowed: the served address (and localhost for the loopback)."""
+    base = [f"{_url_host(host)}:{port}"]
+    if host in ("127.0.0.1", "::1", "localhost"):
+        base += [f"localhost:{port}", f"127.0.0.1:{port}"]
+    return list(dict.fromkeys([*base, *extra]))

@@ -1,0 +1,399 @@
+"""The explorer's live views as Bokeh figures, built once and updated in place.
+
+Every update replaces the ``data`` of a few ``ColumnDataSource`` objects (and the ranges of the
+channel view); Bokeh sends only those to the browser, which redraws its canvas: no figure is
+rebuilt and no image is rendered on the server.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from bokeh.models import (
+    ColumnDataSource,
+    Legend,
+    LegendItem,
+    Range1d,
+    Span,
+)
+from bokeh.plotting import figure
+
+from ._model import Snapshot, cusp_curve
+
+__all__ = ["Views"]
+
+#: Colours of the low, mid and high states (Okabe-Ito: colour-blind safe).
+STATE_COLORS = {"low": "#0072B2", "mid": "#D55E00", "high": "#009E73"}
+TWIRL_COLOR = "#7f7f7f"
+#: Pixels of the channel view's frame; its ranges keep one unit of x as long as one of z.
+_FRAME_W, _FRAME_H = 460, 330
+_PROFILE_POINTS = 200
+_TWIRL_POINTS = 400
+_PHASE_POINTS = 200
+
+
+def _empty_lines() -> dict[str, list[Any]]:
+    return {"xs": [], "ys": [], "color": [], "label": []}
+
+
+def _fig(title: str, x_label: str, y_label: str, **kw: Any) -> Any:
+    f = figure(
+        title=title,
+        x_axis_label=x_label,
+        y_axis_label=y_label,
+        toolbar_location="above",
+        tools="pan,wheel_zoom,box_zoom,reset,save",
+        **kw,
+    )
+    f.toolbar.autohide = True  # shown on hover: the title stays readable
+    f.title.text_font_size = "13px"
+    f.axis.axis_label_text_font_size = "12px"
+    f.axis.axis_label_text_font_style = "normal"
+    return f
+
+
+def _style_legend(f: Any, items: list[tuple[str, list[Any]]], location: str) -> None:
+    legend = Legend(
+        items=[LegendItem(label=label, renderers=r) for label, r in items],
+        location=location,
+        label_text_font_size="11px",
+        background_fill_alpha=0.8,
+        spacing=0,
+        padding=4,
+        margin=4,
+    )
+    f.add_layout(legend)
+
+
+_NAN = [float("nan")]
+
+
+def _legend_lines(f: Any) -> dict[str, Any]:
+    """Renderers for the legend only: fixed styles and one NaN point each (nothing on the plot;
+    Bokeh draws no legend sample for a renderer without data, and the real renderers take
+    their colours from the data)."""
+    return {
+        "stable": f.line(_NAN, _NAN, color="black", line_width=3),
+        "unstable": f.line(_NAN, _NAN, color="black", line_width=3, line_dash="dashed"),
+        "twirling": f.line(_NAN, _NAN, color=TWIRL_COLOR, line_width=1.5, line_dash="dotted"),
+        "rest": f.line(_NAN, _NAN, color="#bdbdbd", line_width=2, line_dash="dotted"),
+        "curve": f.line(_NAN, _NAN, color="black", line_width=2),
+        "folds": f.scatter(_NAN, _NAN, marker="x", size=12, line_width=3, color="#CC79A7"),
+        "state": f.scatter(_NAN, _NAN, color="white", size=10, line_color="black"),
+    }
+
+
+def _phase(sol: Any, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """theta(sigma) and theta'(sigma) [1/L]: the magnitude from the first integral
+    theta'^2 / 2 + omega_eps^2 sin(theta) = E (theory.md §2), the sign from the slope."""
+    th = np.asarray(sol.theta(sigma), dtype=np.float64)
+    w2 = float(sol.omega_eps) ** 2
+    mag = np.sqrt(np.clip(2.0 * (float(sol.energy) - w2 * np.sin(th)), 0.0, None))
+    return th, np.where(np.gradient(th, sigma) >= 0.0, mag, -mag)
+
+
+class Views:
+    """The four live figures (channel, branch diagram, bistability map, phase portrait)."""
+
+    def __init__(self) -> None:
+        self.channel = self._channel()
+        self.branch = self._branch()
+        self.bistability = self._bistability()
+        self.phase = self._phase_portrait()
+
+    # -- construction -----------------------------------------------------------------------
+
+    def _channel(self) -> Any:
+        self.ch_x = Range1d(-1.2, 1.2)
+        self.ch_z = Range1d(-0.1, 1.6)
+        f = _fig(
+            "the hair in the channel, to scale",
+            "x/L [-] (along the flow)",
+            "z/L [-] (height)",
+            x_range=self.ch_x,
+            y_range=self.ch_z,
+            frame_width=_FRAME_W,
+            frame_height=_FRAME_H,
+        )
+        self.ch_floor = f.quad(
+            left=-100, right=100, bottom=-100, top=0, fill_color="#d9d9d9", line_color="black"
+        )
+        self.ch_roof = f.quad(
+            left=-100, right=100, bottom=1.0e9, top=1.0e9 + 100, fill_color="#d9d9d9"
+        )
+        self.ch_roof.glyph.line_color = "black"
+        self.ch_flow = ColumnDataSource({"x0": [], "y0": [], "x1": [], "y1": []})
+        f.segment("x0", "y0", "x1", "y1", source=self.ch_flow, color="#9ecae1", line_width=2)
+        f.scatter(
+            "x1", "y1", source=self.ch_flow, marker="triangle", angle=-np.pi / 2, size=7,
+            color="#9ecae1",
+        )  # fmt: skip
+        self.ch_rest = ColumnDataSource({"x": [], "y": []})
+        f.line("x", "y", source=self.ch_rest, color="#bdbdbd", line_width=2,
+                      line_dash="dotted")  # fmt: skip
+        self.ch_twirl = ColumnDataSource(_empty_lines())
+        f.multi_line(
+            "xs", "ys", source=self.ch_twirl, color=TWIRL_COLOR, line_width=1,
+            line_dash="dotted", alpha=0.8,
+        )  # fmt: skip
+        self.ch_stable = ColumnDataSource(_empty_lines())
+        f.multi_line("xs", "ys", source=self.ch_stable, color="color", line_width=3)
+        self.ch_unstable = ColumnDataSource(_empty_lines())
+        f.multi_line(
+            "xs", "ys", source=self.ch_unstable, color="color", line_width=3, line_dash="dashed"
+        )
+        self.ch_tips = ColumnDataSource({"x": [], "y": [], "color": [], "label": []})
+        f.scatter("x", "y", source=self.ch_tips, color="color", size=7)
+        f.text(
+            "x", "y", text="label", source=self.ch_tips, text_font_size="11px",
+            x_offset=6, y_offset=-4, text_color="color",
+        )  # fmt: skip
+        sample = _legend_lines(f)
+        _style_legend(
+            f,
+            [
+                ("stable", [sample["stable"]]),
+                ("unstable", [sample["unstable"]]),
+                ("twirling", [sample["twirling"]]),
+                ("at rest", [sample["rest"]]),
+            ],
+            "top_left",
+        )
+        f.grid.grid_line_alpha = 0.3
+        return f
+
+    def _branch(self) -> Any:
+        f = _fig(
+            "branch diagram at the current (eps, theta0)",
+            "forcing omega^2 [-]",
+            "tip deflection x1/L [-]",
+            x_axis_type="log",
+            x_range=Range1d(1e-3, 1e3),
+            width=470,
+            height=360,
+        )
+        self.br_curve = ColumnDataSource({"x": [], "y": []})
+        f.line("x", "y", source=self.br_curve, color="black", line_width=2)
+        self.br_twirl = ColumnDataSource(_empty_lines())
+        f.multi_line("xs", "ys", source=self.br_twirl, color=TWIRL_COLOR,
+                             line_dash="dotted")  # fmt: skip
+        self.br_folds = ColumnDataSource({"x": [], "y": []})
+        f.scatter("x", "y", source=self.br_folds, marker="x", size=12, line_width=3,
+                          color="#CC79A7")  # fmt: skip
+        self.br_now = Span(dimension="height", location=1.0, line_color="#999999",
+                           line_dash="dashed")  # fmt: skip
+        f.add_layout(self.br_now)
+        self.br_states = ColumnDataSource({"x": [], "y": [], "color": [], "label": []})
+        f.scatter("x", "y", source=self.br_states, color="color", size=10,
+                  line_color="black")  # fmt: skip
+        sample = _legend_lines(f)
+        self.br_twirl_states = ColumnDataSource({"x": [], "y": []})
+        f.scatter("x", "y", source=self.br_twirl_states, color=TWIRL_COLOR, size=6)
+        _style_legend(
+            f,
+            [
+                ("physical branch", [sample["curve"]]),
+                ("folds", [sample["folds"]]),
+                ("current states", [sample["state"]]),
+                ("twirling branches", [sample["twirling"]]),
+            ],
+            "top_left",
+        )
+        return f
+
+    def _bistability(self) -> Any:
+        f = _fig(
+            "where three states coexist",
+            "base angle theta0 [rad]",
+            "confinement eps = L/H [-]",
+            x_range=Range1d(-np.pi / 2, np.pi / 2),
+            y_range=Range1d(0.0, 1.0),
+            width=470,
+            height=360,
+        )
+        th, ec = cusp_curve()
+        region = f.varea(x=th, y1=ec, y2=np.ones_like(ec), fill_color="#E69F00", fill_alpha=0.35)
+        cusp = f.line(th, ec, color="black", line_width=2)
+        self.bi_now = ColumnDataSource({"x": [], "y": [], "color": []})
+        f.scatter("x", "y", source=self.bi_now, size=12, color="color",
+                  line_color="black", marker="circle")  # fmt: skip
+        _style_legend(
+            f,
+            [
+                ("three states (folded branch)", [region]),
+                ("cusp eps_c(theta0)", [cusp]),
+                ("current (theta0, eps)", [_legend_lines(f)["state"]]),
+            ],
+            "bottom_right",
+        )
+        return f
+
+    def _phase_portrait(self) -> Any:
+        f = _fig(
+            "phase portraits (square: base, circle: tip)",
+            "angle theta [rad]",
+            "curvature theta' [1/L]",
+            width=470,
+            height=360,
+        )
+        self.ph_twirl = ColumnDataSource(_empty_lines())
+        f.multi_line("xs", "ys", source=self.ph_twirl, color=TWIRL_COLOR, line_dash="dotted")
+        self.ph_stable = ColumnDataSource(_empty_lines())
+        f.multi_line("xs", "ys", source=self.ph_stable, color="color", line_width=3)
+        self.ph_unstable = ColumnDataSource(_empty_lines())
+        f.multi_line("xs", "ys", source=self.ph_unstable, color="color",
+                                line_width=3, line_dash="dashed")  # fmt: skip
+        self.ph_ends = ColumnDataSource({"x": [], "y": [], "color": [], "marker": []})
+        f.scatter("x", "y", source=self.ph_ends, color="color", marker="marker", size=8)
+        sample = _legend_lines(f)
+        _style_legend(
+            f,
+            [("stable", [sample["stable"]]), ("unstable", [sample["unstable"]])],
+            "top_right",
+        )
+        return f
+
+    # -- update -----------------------------------------------------------------------------
+
+    def update(self, snap: Snapshot) -> None:
+        """Show a snapshot: new data for every source of the four figures."""
+        p = snap.params
+        phys = [(s.label, s.solution, s.stable) for s in snap.states]
+        twirl = [s.solution for s in snap.twirling]
+        scale, unit = 1.0, "L"
+        if p.si and p.bed is not None:
+            scale, unit = p.bed.length * 1e3, "mm"
+        self._update_channel(p, phys, twirl, scale, unit)
+        self._update_branch(snap, phys, twirl)
+        self.bi_now.data = {
+            "x": [p.theta0],
+            "y": [p.eps],
+            "color": [STATE_COLORS["mid"] if len(phys) >= 3 else STATE_COLORS["low"]],
+        }
+        self._update_phase(phys, twirl)
+
+    def _update_channel(
+        self, p: Any, phys: list[Any], twirl: list[Any], scale: float, unit: str
+    ) -> None:
+        # the solution's frame is the bed's mirror image for a negative wall speed
+        mirror = -1.0 if (p.si and p.velocity is not None and p.velocity < 0.0) else 1.0
+        lines = {True: _empty_lines(), False: _empty_lines()}
+        tips: dict[str, list[Any]] = {"x": [], "y": [], "color": [], "label": []}
+        top_tip = 0.0
+        for label, sol, stable in phys:
+            x, z = sol.profile(_PROFILE_POINTS)
+            x, z = mirror * scale * np.asarray(x), scale * np.asarray(z)
+            d = lines[bool(stable)]
+            d["xs"].append(x)
+            d["ys"].append(z)
+            d["color"].append(STATE_COLORS[label])
+            d["label"].append(label)
+            tips["x"].append(float(x[-1]))
+            tips["y"].append(float(z[-1]))
+            tips["color"].append(STATE_COLORS[label])
+            tips["label"].append(label)
+            top_tip = max(top_tip, float(z[-1]))
+        self.ch_stable.data = lines[True]
+        self.ch_unstable.data = lines[False]
+        tw = _empty_lines()
+        for sol in twirl:
+            x, z = sol.profile(_TWIRL_POINTS)
+            tw["xs"].append(mirror * scale * np.asarray(x))
+            tw["ys"].append(scale * np.asarray(z))
+            tw["color"].append(TWIRL_COLOR)
+            tw["label"].append(f"({sol.sign:+d}, {sol.n})")
+        self.ch_twirl.data = tw
+        self.ch_tips.data = tips
+        base = mirror * p.theta0
+        self.ch_rest.data = {
+            "x": [0.0, scale * np.sin(base)],
+            "y": [0.0, scale * np.cos(base)],
+        }
+        # to scale: equal units on both axes; the top wall shown when it is within 4 L
+        height = scale / p.eps if p.eps > 0.0 else np.inf
+        shown = height <= 4.0 * scale
+        top = (height if shown else 1.3 * scale) + 0.08 * scale
+        bottom = -0.08 * scale
+        span_z = top - bottom
+        span_x = max(span_z * _FRAME_W / _FRAME_H, 2.5 * scale)
+        span_z = span_x * _FRAME_H / _FRAME_W
+        top = bottom + span_z
+        self.ch_x.start, self.ch_x.end = -0.5 * span_x, 0.5 * span_x
+        self.ch_z.start, self.ch_z.end = bottom, top
+        roof = height if shown else 1.0e9
+        self.ch_roof.glyph.bottom = roof
+        self.ch_roof.glyph.top = roof + 100.0 * scale
+        flow: dict[str, list[float]] = {"x0": [], "y0": [], "x1": [], "y1": []}
+        if shown and height > top_tip:
+            # the linear shear between the highest tip and the moving top wall
+            for frac in (0.25, 0.5, 0.75, 1.0):
+                zf = top_tip + frac * (height - top_tip) * 0.97
+                length = 0.35 * scale * frac * (1.0 if mirror > 0 else -1.0)
+                x0 = 0.5 * span_x - 0.45 * scale - 0.2 * scale
+                flow["x0"].append(x0)
+                flow["y0"].append(zf)
+                flow["x1"].append(x0 + length)
+                flow["y1"].append(zf)
+        self.ch_flow.data = flow
+        note = f"top wall at z = H = {height:.3g} {unit}" + ("" if shown else " (above)")
+        if p.eps == 0.0:
+            note = "no top wall (eps = 0)"
+        self.channel.title.text = f"the hair in the channel, to scale ({note})"
+        self.channel.xaxis.axis_label = f"x [{unit}] (along the flow)"
+        self.channel.yaxis.axis_label = f"z [{unit}] (height)"
+
+    def _update_branch(self, snap: Snapshot, phys: list[Any], twirl: list[Any]) -> None:
+        p = snap.params
+        key = "tip_deflection" if p.y == "x1" else "xi"
+        self.branch.yaxis.axis_label = (
+            "tip deflection x1/L [-]" if p.y == "x1" else "xi = sin(theta1) [-]"
+        )
+        self.br_curve.data = {"x": snap.curve_omega2, "y": snap.curve_y}
+        tw = _empty_lines()
+        for label, w, y in snap.twirl_curves:
+            tw["xs"].append(w)
+            tw["ys"].append(y)
+            tw["color"].append(TWIRL_COLOR)
+            tw["label"].append(label)
+        self.br_twirl.data = tw
+        self.br_folds.data = {"x": snap.folds_omega2, "y": snap.folds_y}
+        self.br_now.location = p.omega2 if p.omega2 > 0.0 else 1e-3
+        self.br_states.data = {
+            "x": [p.omega2] * len(phys),
+            "y": [float(getattr(s, key)) for _, s, _ in phys],
+            "color": [STATE_COLORS[label] for label, _, _ in phys],
+            "label": [label for label, _, _ in phys],
+        }
+        self.br_twirl_states.data = {
+            "x": [p.omega2] * len(twirl),
+            "y": [float(getattr(s, key)) for s in twirl],
+        }
+
+    def _update_phase(self, phys: list[Any], twirl: list[Any]) -> None:
+        sigma = np.linspace(0.0, 1.0, _PHASE_POINTS)
+        lines = {True: _empty_lines(), False: _empty_lines()}
+        ends: dict[str, list[Any]] = {"x": [], "y": [], "color": [], "marker": []}
+        for label, sol, stable in phys:
+            th, dth = _phase(sol, sigma)
+            d = lines[bool(stable)]
+            d["xs"].append(th)
+            d["ys"].append(dth)
+            d["color"].append(STATE_COLORS[label])
+            d["label"].append(label)
+            for i, marker in ((0, "square"), (-1, "circle")):
+                ends["x"].append(float(th[i]))
+                ends["y"].append(float(dth[i]))
+                ends["color"].append(STATE_COLORS[label])
+                ends["marker"].append(marker)
+        self.ph_stable.data = lines[True]
+        self.ph_unstable.data = lines[False]
+        tw = _empty_lines()
+        for sol in twirl:
+            th, dth = _phase(sol, np.linspace(0.0, 1.0, _TWIRL_POINTS))
+            tw["xs"].append(th)
+            tw["ys"].append(dth)
+            tw["color"].append(TWIRL_COLOR)
+            tw["label"].append(f"({sol.sign:+d}, {sol.n})")
+        self.ph_twirl.data = tw
+        self.ph_ends.data = ends

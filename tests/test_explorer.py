@@ -1,0 +1,330 @@
+"""The explorer without a browser: inputs, states, exports, the page's logic and its command.
+
+Expectations are computed here from the library's public functions (``hairbed.solve`` for
+every root, ``solve_all``, ``HairBed.deform``, ``stability.is_stable`` at another resolution),
+never from the explorer's own code path. The page in a real browser is tested in
+tests/test_explorer_browser.py.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import hairbed
+from hairbed.explorer import _model as model
+
+BED = {
+    "length": 1e-3,
+    "radius": 50e-6,
+    "youngs_modulus": 1e6,
+    "channel_height": 2e-3,
+    "viscosity": 1.0,
+    "spacing": 400e-6,
+}
+
+
+def _raw(**kw: object) -> dict[str, str]:
+    return {k: str(v) for k, v in kw.items()}
+
+
+def _library_message(func, *args, **kwargs) -> str:
+    with pytest.raises(ValueError) as info:
+        func(*args, **kwargs)
+    return str(info.value)
+
+
+# -- importing -----------------------------------------------------------------------------------
+
+
+def test_import_hairbed_imports_no_web_framework():
+    code = (
+        "import sys, hairbed, hairbed.explorer; f = hairbed.explore; "
+        "assert callable(f) and f is hairbed.explorer.explore; "
+        "bad = [m for m in ('panel', 'bokeh', 'param', 'tornado') if m in sys.modules]; "
+        "print(bad)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
+
+
+def test_missing_app_extra_is_one_line_naming_the_extra():
+    # panel made unimportable: the command says how to install it, in one line, exit 2
+    code = (
+        "import sys; sys.modules['panel'] = None; from hairbed.cli import main; "
+        "sys.exit(main(['explore', '--no-browser', '--port', '0']))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert out.returncode == 2
+    lines = out.stderr.strip().splitlines()
+    assert len(lines) == 1, out.stderr
+    assert lines[0].startswith("hairbed: error: ")
+    assert "pip install 'hairbed[app]'" in lines[0]
+
+
+def test_explore_help_names_the_options():
+    out = subprocess.run(
+        [sys.executable, "-m", "hairbed", "explore", "--help"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    for option in ("--port", "--host", "--no-browser", "--allow-websocket-origin"):
+        assert option in out.stdout
+    assert "127.0.0.1" in out.stdout
+
+
+def test_taken_port_is_a_one_line_error():
+    import socket
+
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        s.listen()
+        port = s.getsockname()[1]
+        out = subprocess.run(
+            [sys.executable, "-m", "hairbed", "explore", "--port", str(port), "--no-browser"],
+            capture_output=True,
+            text=True,
+            timeout=120,
+        )
+    assert out.returncode == 2
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr
+    assert f"127.0.0.1:{port}" in out.stderr
+
+
+def test_websocket_origins_default_to_the_loopback():
+    from hairbed.explorer import _origins
+
+    assert _origins("127.0.0.1", 5006, ()) == ["127.0.0.1:5006", "localhost:5006"]
+    assert _origins("0.0.0.0", 80, ("example.org",)) == ["0.0.0.0:80", "example.org"]
+
+
+# -- validation: the library's messages ------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("raw", "args"),
+    [
+        (_raw(omega2="-1"), (-1.0, 0.9, -1.5)),
+        (_raw(omega2="abc"), ("abc", 0.9, -1.5)),
+        (_raw(omega2="nan"), (math.nan, 0.9, -1.5)),
+        (_raw(omega2="inf"), (math.inf, 0.9, -1.5)),
+        (_raw(eps="1"), (0.8, 1.0, -1.5)),
+        (_raw(eps=""), (0.8, "", -1.5)),
+        (_raw(theta0="1.6"), (0.8, 0.9, 1.6)),
+    ],
+)
+def test_bad_dimensionless_input_gives_the_librarys_message(raw, args):
+    expected = _library_message(hairbed.solve, *args)
+    with pytest.raises(ValueError) as info:
+        model.validate(raw)
+    assert str(info.value) == expected
+
+
+@pytest.mark.parametrize(
+    ("change", "bed_kw"),
+    [
+        ({"length": "0"}, {"length": 0.0}),
+        ({"radius": "x"}, {"radius": "x"}),
+        ({"channel_height": "0.0005"}, {"channel_height": 0.0005}),
+        ({"packing_fraction": "0.3"}, {"packing_fraction": 0.3}),
+        ({"spacing": "0.00009"}, {"spacing": 0.00009}),
+        ({"theta0": "2"}, {"base_angle": 2.0}),
+    ],
+)
+def test_bad_bed_gives_the_librarys_message(change, bed_kw):
+    kw = {**BED, "base_angle": -1.5, **bed_kw}
+    expected = _library_message(hairbed.HairBed, **kw)
+    with pytest.raises(ValueError) as info:
+        model.validate({"si": "1", **change})
+    assert str(info.value) == expected
+
+
+def test_bad_velocity_and_density():
+    bed = hairbed.HairBed(**BED)
+    expected = _library_message(bed.omega2, "fast")
+    with pytest.raises(ValueError, match="velocity") as info:
+        model.validate({"si": "1", "velocity": "fast"})
+    assert str(info.value) == expected
+    with pytest.raises(ValueError, match=r"density must be a positive number in \[kg/m\^3\]"):
+        model.validate({"si": "1", "density": "-1"})
+    with pytest.raises(ValueError, match="unknown parameter 'foo'"):
+        model.validate({"foo": "1"})
+    with pytest.raises(ValueError, match="si must be 0 or 1"):
+        model.validate({"si": "maybe"})
+    with pytest.raises(ValueError, match="y must be one of"):
+        model.validate({"y": "z"})
+
+
+# -- states -------------------------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("omega2", "count"), [(0.8, 1), (1.2, 3), (2.5, 1)])
+def test_every_coexisting_state_is_the_librarys(omega2, count):
+    snap = model.compute(model.validate(_raw(omega2=omega2, eps=0.9, theta0=-1.5)))
+    assert len(snap.states) == count == hairbed.solve(omega2, 0.9, -1.5).n_roots
+    roots = ("low", "mid", "high") if count == 3 else ("low",)
+    for view, root in zip(snap.states, roots):
+        ref = hairbed.solve(omega2, 0.9, -1.5, root=root)
+        assert view.label == root
+        for name in model.SOLUTION_FIELDS:
+            assert getattr(view.solution, name) == getattr(ref, name), name
+        # an independent resolution of the stability problem agrees (away from the folds)
+        assert view.stable == hairbed.stability.is_stable(ref, 120)
+    if count == 3:
+        assert [v.stable for v in snap.states] == [True, False, True]
+    # the folds of the branch diagram are the library's, and bracket the window
+    folds = hairbed.branches.folds(0.9, -1.5)
+    np.testing.assert_array_equal(np.sort(snap.folds_omega2), np.sort(folds.omega2))
+
+
+def test_twirling_states_are_every_other_state_of_solve_all():
+    snap = model.compute(model.validate(_raw(omega2=200, eps=0.5, theta0=0, twirl=1)))
+    ref = [s for s in hairbed.solve_all(200.0, 0.5, 0.0) if (s.sign, s.n) != (1, 0)]
+    assert len(snap.twirling) == len(ref) > 0
+    for view, s in zip(snap.twirling, ref):
+        assert (view.solution.sign, view.solution.n) == (s.sign, s.n)
+        assert view.solution.xi == s.xi
+    assert {c[0] for c in snap.twirl_curves} == {f"({s.sign:+d}, {s.n})" for s in ref}
+
+
+def test_si_mode_is_the_beds_state():
+    raw = {"si": "1", "velocity": "-0.3", "theta0": "0.4", "density": "1000"}
+    p = model.validate(raw)
+    bed = hairbed.HairBed(**BED, base_angle=0.4)
+    assert p.omega2 == bed.omega2(0.3) and p.eps == 0.5 and p.theta0 == -0.4  # mirrored
+    snap = model.compute(p)
+    st = bed.deform(-0.3)
+    view = snap.states[0]
+    assert view.si.wall_shear_stress == st.wall_shear_stress
+    assert view.si.tip_deflection == st.tip_deflection < 0.0
+    gap = 2e-3 - st.tip_height
+    assert view.reynolds == pytest.approx(1000 * 0.3 * gap / 1.0, rel=1e-14)
+    assert snap.warnings == []
+    # warnings where the model's assumptions fail
+    fast = model.compute(model.validate({"si": "1", "velocity": "500", "density": "1000"}))
+    assert any("Reynolds" in w for w in fast.warnings)
+    fat = model.compute(
+        model.validate({"si": "1", "radius": "0.00015", "spacing": "0.0012", "velocity": "0.1"})
+    )
+    assert any("slender" in w for w in fat.warnings) and any("dense" in w for w in fat.warnings)
+    nodens = model.compute(model.validate({"si": "1", "density": ""}))
+    assert math.isnan(nodens.states[0].reynolds)
+    assert any("density" in w for w in nodens.warnings)
+
+
+# -- exports and the URL ------------------------------------------------------------------------
+
+
+def test_json_and_csv_exports_hold_every_field():
+    snap = model.compute(model.validate(_raw(omega2=1.2, eps=0.9, theta0=-1.5, twirl=1)))
+    doc = json.loads(model.snapshot_json(snap))
+    rows = list(csv.DictReader(io.StringIO(model.snapshot_csv(snap))))
+    assert [s["state"] for s in doc["states"]] == ["low", "mid", "high"]
+    assert [r["state"] for r in rows[:3]] == ["low", "mid", "high"]
+    assert len(rows) == 3 + len(doc["twirling"])
+    for root, rec, row in zip(("low", "mid", "high"), doc["states"], rows):
+        ref = hairbed.solve(1.2, 0.9, -1.5, root=root)
+        for name in model.SOLUTION_FIELDS:
+            expected = getattr(ref, name)
+            got_csv = row[name]
+            if isinstance(expected, bool):
+                assert rec[name] is expected and got_csv == str(expected)
+            else:
+                assert rec[name] == expected and float(got_csv) == expected, name
+
+
+def test_si_export_holds_the_bed():
+    snap = model.compute(model.validate({"si": "1", "velocity": "0.2"}))
+    doc = json.loads(model.snapshot_json(snap))
+    st = hairbed.HairBed(**BED, base_angle=-1.5).deform(0.2)
+    assert doc["bed"]["velocity"] == 0.2
+    assert doc["states"][0]["si_wall_shear_stress"] == st.wall_shear_stress
+    row = next(csv.DictReader(io.StringIO(model.snapshot_csv(snap))))
+    assert float(row["si_force_per_hair"]) == st.force_per_hair
+
+
+def test_query_round_trip():
+    p = model.validate(_raw(omega2="1.25", eps="0.95", theta0="-1", y="xi", twirl="1"))
+    q = model.query_from_inputs(p)
+    assert model.validate(model.inputs_from_query(q)) == p
+    si = model.validate({"si": "1", "velocity": "0.05", "packing_fraction": "0.1", "spacing": ""})
+    back = model.validate(model.inputs_from_query(model.query_from_inputs(si)))
+    assert back.bed == si.bed and back.velocity == 0.05
+
+
+# -- the page, in process -------------------------------------------------------------------------
+
+pn = pytest.importorskip("panel", reason="the app extra (panel) is not installed")
+
+
+def _page(query: str = ""):
+    from hairbed.explorer._page import ExplorerPage
+
+    return ExplorerPage(query)
+
+
+def test_slider_move_resolves_every_state():
+    page = _page("?omega2=0.8&eps=0.9&theta0=-1.5")
+    assert len(page.snapshot.states) == 1
+    page.omega2_slider.value = math.log10(1.2)
+    w = float(page.text["omega2"].value)
+    assert w == pytest.approx(1.2, rel=1e-5)
+    assert page.snapshot.params.omega2 == w
+    assert [s.label for s in page.snapshot.states] == ["low", "mid", "high"]
+    for s in page.snapshot.states:
+        assert s.solution.xi == hairbed.solve(w, 0.9, -1.5, root=s.label).xi
+    assert page.timings["total"] > 0.0
+    page.eps_slider.value = 0.5  # below the cusp: one state again
+    assert page.text["eps"].value == "0.5" and len(page.snapshot.states) == 1
+
+
+def test_bad_input_keeps_the_last_good_state():
+    page = _page()
+    good = page.snapshot
+    page.text["eps"].value = "1.5"
+    assert page.error == _library_message(hairbed.solve, 0.8, 1.5, -1.5)
+    assert page.alert.visible and page.snapshot is good
+    page.text["eps"].value = "0.95"
+    assert page.error == "" and not page.alert.visible
+    assert page.snapshot.params.eps == 0.95
+
+
+def test_bad_url_keeps_the_defaults_on_screen():
+    page = _page("?omega2=2&eps=oops")
+    assert page.error == _library_message(hairbed.solve, 2.0, "oops", -1.5)
+    assert page.snapshot.params.omega2 == float(model.DEFAULTS["omega2"])
+    page = _page("?omega2=2&colour=red")
+    assert "unknown parameter 'colour'" in page.error
+    page = _page("?omega2=2&si=perhaps")
+    assert page.error == "si must be 0 or 1, got 'perhaps'"
+
+
+def test_si_switch_and_twirl():
+    page = _page()
+    page.si.value = True
+    bed = hairbed.HairBed(**BED, base_angle=-1.5)
+    assert page.snapshot.params.omega2 == bed.omega2(0.1)
+    assert page.text["eps"].disabled and page.text["eps"].value == repr(bed.eps)
+    page.omega2_slider.value = math.log10(2.0)  # moves the wall speed
+    v = float(page.text["velocity"].value)
+    assert v == pytest.approx(2.0 * bed.velocity_scale, rel=1e-5)
+    assert page.snapshot.states[0].si.velocity == v
+    assert "wall shear stress" in page.table.object
+    page.twirl.value = True
+    page.si.value = False
+    page.text["omega2"].value = "200"
+    page.text["eps"].value = "0.5"
+    page.text["theta0"].value = "0"
+    n = sum((s.sign, s.n) != (1, 0) for s in hairbed.solve_all(200.0, 0.5, 0.0))
+    assert len(page.snapshot.twirling) == n
+    assert f'data-count="{n}"' in page.twirl_table.object
+    doc = json.loads(page._json_file().read())
+    assert len(doc["twirling"]) == n

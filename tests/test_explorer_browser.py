@@ -1,0 +1,440 @@
+"""The explorer in a real browser: ``hairbed explore`` served, Debian's Chromium driven by
+Playwright (headless, no network: a dead proxy for everything but the loopback).
+
+What is checked against the library (expectations computed here with ``hairbed.solve``,
+``HairBed.deform`` and ``solve_all``, never read from the app): the table after loading a URL,
+after dragging the omega2 slider across both folds of a bistable case and after typing; the
+library's own error message for bad typed and URL input, with the last good state kept; the URL
+after a change and a fresh page opened from it; the JSON and CSV downloads; SI mode; twirling
+states. Also: the page makes no request outside 127.0.0.1, the server writes no traceback, and
+Ctrl-C stops it with one line and exit status 130. A screenshot of each view is saved (in
+``HAIRBED_SCREENSHOTS`` when set, else in pytest's temporary directory).
+
+Needs the ``app`` extra (panel, playwright) and Chromium at /usr/bin/chromium (Debian package
+``chromium``; ``HAIRBED_CHROMIUM`` names another executable). Where one is missing the tests
+skip, saying which; with ``HAIRBED_REQUIRE_BROWSER=1`` (set by .ci/run) they fail instead.
+Playwright's own browser download (``playwright install``) is never used.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+from urllib.parse import urlparse
+
+import pytest
+
+import hairbed
+
+CHROMIUM = os.environ.get("HAIRBED_CHROMIUM", "/usr/bin/chromium")
+REQUIRE = os.environ.get("HAIRBED_REQUIRE_BROWSER", "") == "1"
+CHROMIUM_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+    "--proxy-server=http://127.0.0.1:9",  # nothing but the loopback leaves the browser
+]
+BED = {
+    "length": 1e-3,
+    "radius": 50e-6,
+    "youngs_modulus": 1e6,
+    "channel_height": 2e-3,
+    "viscosity": 1.0,
+    "spacing": 400e-6,
+}
+TIMEOUT = 60.0  # [s] for one view to update on this (shared, 2-core) machine
+
+
+def _unavailable(reason: str) -> None:
+    if REQUIRE:
+        pytest.fail(f"browser tests required (HAIRBED_REQUIRE_BROWSER=1) but {reason}")
+    pytest.skip(reason)
+
+
+def _missing() -> str | None:
+    try:
+        import panel  # noqa: F401
+    except ImportError:
+        return "panel is not installed (pip install 'hairbed[app]')"
+    try:
+        import playwright.sync_api  # noqa: F401
+    except ImportError:
+        return "playwright is not installed (pip install 'hairbed[app]')"
+    if not (Path(CHROMIUM).is_file() and os.access(CHROMIUM, os.X_OK)):
+        return f"no Chromium at {CHROMIUM} (apt-get install chromium)"
+    return None
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory):
+    """``hairbed explore`` on a free loopback port: (base URL, process, stderr path)."""
+    reason = _missing()
+    if reason:
+        _unavailable(reason)
+    port = _free_port()
+    logs = tmp_path_factory.mktemp("explore")
+    out, err = logs / "stdout.txt", logs / "stderr.txt"
+    with open(out, "w") as fo, open(err, "w") as fe:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "hairbed", "explore", "--port", str(port), "--no-browser"],
+            stdout=fo,
+            stderr=fe,
+        )
+    base = f"http://127.0.0.1:{port}/"
+    deadline = time.monotonic() + 300.0
+    while True:
+        if proc.poll() is not None:
+            pytest.fail(f"hairbed explore exited with {proc.returncode}: {err.read_text()}")
+        try:
+            with urllib.request.urlopen(base, timeout=5) as r:
+                if r.status == 200:
+                    break
+        except OSError:
+            pass
+        if time.monotonic() > deadline:
+            proc.kill()
+            pytest.fail("hairbed explore did not answer within 300 s")
+        time.sleep(0.5)
+    yield base, proc, err
+    if proc.poll() is None:
+        proc.kill()
+        proc.wait()
+
+
+@pytest.fixture(scope="module")
+def browser(server, tmp_path_factory):
+    """A headless Chromium context with a fresh profile; records every request's URL."""
+    from playwright.sync_api import Error, sync_playwright
+
+    profile = tmp_path_factory.mktemp("chromium-profile")
+    requests: list[str] = []
+    with sync_playwright() as pw:
+        try:
+            ctx = pw.chromium.launch_persistent_context(
+                str(profile),
+                executable_path=CHROMIUM,
+                headless=True,
+                args=CHROMIUM_ARGS,
+                viewport={"width": 1400, "height": 1500},
+                accept_downloads=True,
+            )
+        except Error as exc:
+            _unavailable(f"Chromium at {CHROMIUM} does not start: {str(exc).splitlines()[0]}")
+        ctx.on("request", lambda r: requests.append(r.url))
+        ctx.requests = requests  # type: ignore[attr-defined]
+        yield ctx
+        ctx.close()
+
+
+@pytest.fixture(scope="module")
+def shots(tmp_path_factory) -> Path:
+    where = os.environ.get("HAIRBED_SCREENSHOTS")
+    path = Path(where) if where else tmp_path_factory.mktemp("screenshots")
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+# -- reading the page ----------------------------------------------------------------------
+
+
+def _open(browser, server, query: str = ""):
+    page = browser.new_page()
+    page.goto(server[0] + query)
+    page.locator("table.hb-states td[data-field='xi']").first.wait_for(timeout=TIMEOUT * 1e3)
+    return page
+
+
+def _cells(page, field: str) -> dict[str, str]:
+    return dict(
+        page.locator(f"table.hb-states td[data-field='{field}']").evaluate_all(
+            "els => els.map(e => [e.dataset.state, e.textContent])"
+        )
+    )
+
+
+def _until(check, what: str):
+    """Poll ``check()`` until it returns something truthy (the Bokeh views update
+    asynchronously); fail naming ``what`` after TIMEOUT."""
+    deadline = time.monotonic() + TIMEOUT
+    last = None
+    while time.monotonic() < deadline:
+        try:
+            last = check()
+        except Exception as exc:  # an element being re-rendered
+            last = exc
+        else:
+            if last:
+                return last
+        time.sleep(0.05)
+    pytest.fail(f"timed out waiting for {what}; last: {last!r}")
+
+
+def _shown_omega2(page) -> float | None:
+    """omega2 of the table, once it is the one of the omega2 field (the update arrived)."""
+    typed = page.locator(".hb-omega2 input").input_value()
+    cells = set(_cells(page, "omega2").values())
+    if len(cells) == 1 and float(cells.pop()) == float(typed):
+        return float(typed)
+    return None
+
+
+def _check_states(page, omega2: float, eps: float, theta0: float) -> list[str]:
+    """The table holds exactly the library's states at these inputs; returns their roots."""
+    n = hairbed.solve(omega2, eps, theta0).n_roots
+    roots = ["low", "mid", "high"] if n == 3 else ["low"]
+    assert page.locator("table.hb-states").get_attribute("data-count") == str(len(roots))
+    for field in ("xi", "tip_deflection", "tip_height", "tip_angle", "base_curvature"):
+        shown = _cells(page, field)
+        assert sorted(shown) == sorted(roots), field
+        for root in roots:
+            expected = getattr(hairbed.solve(omega2, eps, theta0, root=root), field)
+            assert float(shown[root]) == pytest.approx(expected, rel=1e-11, abs=1e-13), (
+                field,
+                root,
+            )
+    return roots
+
+
+def _error_text(page) -> str:
+    alert = page.locator(".hb-error")
+    if not alert.is_visible():
+        return ""
+    return alert.locator("p").first.text_content() or ""
+
+
+def _type(page, key: str, value: str) -> None:
+    box = page.locator(f".hb-{key} input")
+    box.fill(value)
+    box.press("Enter")
+
+
+def _library_message(*args) -> str:
+    with pytest.raises(ValueError) as info:
+        hairbed.solve(*args)
+    return str(info.value)
+
+
+# -- the tests ----------------------------------------------------------------------
+
+
+def test_page_loads_everything_from_the_loopback(browser, server, shots):
+    page = _open(browser, server)
+    _until(lambda: _shown_omega2(page), "the first view")
+    _check_states(page, 0.8, 0.9, -1.5)
+    page.wait_for_timeout(500)
+    page.screenshot(path=str(shots / "explorer-default.png"), full_page=True)
+    hosts = {urlparse(u).netloc for u in browser.requests if urlparse(u).scheme in ("http", "ws")}
+    assert hosts == {urlparse(server[0]).netloc}, hosts
+    assert all(urlparse(u).scheme in ("http", "ws", "data", "blob") for u in browser.requests)
+    page.close()
+
+
+def test_slider_across_both_folds(browser, server, shots):
+    """Drag the omega2 slider through the window of three states of (eps, theta0) =
+    (0.9, -1.5) (between the folds, theory.md §5) and out above it."""
+    window = hairbed.branches.folds(0.9, -1.5).omega2
+    lo_fold, hi_fold = float(min(window)), float(max(window))
+    page = _open(browser, server, "?omega2=0.8&eps=0.9&theta0=-1.5")
+    _until(lambda: _shown_omega2(page) == 0.8, "the view at omega2 = 0.8")
+    assert _check_states(page, 0.8, 0.9, -1.5) == ["low"]
+    track = page.locator(".hb-omega2-slider .noUi-base").bounding_box()
+    handle = page.locator(".hb-omega2-slider .noUi-handle").bounding_box()
+    y = handle["y"] + handle["height"] / 2
+    x = handle["x"] + handle["width"] / 2
+
+    def x_of(omega2: float) -> float:  # the slider runs over log10(omega2) in [-3, 3]
+        return track["x"] + (math.log10(omega2) + 3.0) / 6.0 * track["width"]
+
+    page.mouse.move(x, y)
+    page.mouse.down()
+    seen = []
+    for target, count in ((1.2, 3), (2.5, 1)):
+        assert (lo_fold < target < hi_fold) == (count == 3)
+        x1 = x_of(target)
+        for k in range(1, 9):  # a drag, not a jump: every step re-solves every state
+            page.mouse.move(x + (x1 - x) * k / 8, y)
+            page.wait_for_timeout(40)
+        x = x1
+        if count == 3:
+            page.mouse.up()
+        # the handle follows the mouse to within a step (0.005 in log10 omega2); the last
+        # update of the drag may arrive after earlier ones
+        w = _until(
+            lambda t=target: (lambda v: v if v and abs(math.log10(v / t)) < 0.012 else None)(
+                _shown_omega2(page)
+            ),
+            f"the view near omega2 = {target}",
+        )
+        assert len(_check_states(page, w, 0.9, -1.5)) == count
+        seen.append(w)
+        if count == 3:
+            page.screenshot(path=str(shots / "explorer-three-states.png"), full_page=True)
+            page.mouse.move(x, y)
+            page.mouse.down()
+    page.mouse.up()
+    # the URL follows: it reproduces the last view in a fresh page
+    url = _until(lambda: page.url if f"omega2={seen[-1]:.6g}" in page.url else None, "the URL")
+    other = browser.new_page()
+    other.goto(url)
+    _until(lambda: _shown_omega2(other) == seen[-1], "the view of the link")
+    for field in ("xi", "tip_deflection", "energy"):
+        assert _cells(other, field) == _cells(page, field)
+    other.close()
+    page.close()
+
+
+def test_typed_values_and_bad_input(browser, server, shots):
+    page = _open(browser, server, "?omega2=1.2&eps=0.9&theta0=-1.5")
+    _until(lambda: _shown_omega2(page) == 1.2, "the view at omega2 = 1.2")
+    _type(page, "omega2", "1.3")
+    _until(lambda: _shown_omega2(page) == 1.3, "the typed omega2")
+    _check_states(page, 1.3, 0.9, -1.5)
+    good = _cells(page, "tip_deflection")
+    for key, text, args in (
+        ("omega2", "-1", (-1.0, 0.9, -1.5)),
+        ("omega2", "abc", ("abc", 0.9, -1.5)),
+        ("eps", "1", (1.3, 1.0, -1.5)),
+        ("theta0", "nan", (1.3, 0.9, float("nan"))),
+    ):
+        _type(page, key, text)
+        expected = _library_message(*args)
+        _until(lambda e=expected: _error_text(page) == e, f"the message {expected!r}")
+        assert _cells(page, "tip_deflection") == good  # the last good state stays
+        if key == "omega2" and text == "abc":
+            page.screenshot(path=str(shots / "explorer-bad-input.png"), full_page=True)
+        _type(page, key, {"omega2": "1.3", "eps": "0.9", "theta0": "-1.5"}[key])
+        _until(lambda: _error_text(page) == "", "the message to go")
+    _type(page, "theta0", "-1")
+    _type(page, "eps", "0.95")
+    _type(page, "omega2", "0.3")
+    _until(
+        lambda: _cells(page, "eps").get("low") == "0.95" and _cells(page, "theta0")["low"] == "-1",
+        "the typed eps and theta0",
+    )
+    _check_states(page, 0.3, 0.95, -1.0)
+    page.close()
+
+
+def test_bad_url_shows_the_message_and_the_defaults(browser, server):
+    page = _open(browser, server, "?omega2=2&eps=1.5")
+    expected = _library_message(2.0, 1.5, -1.5)
+    _until(lambda: _error_text(page) == expected, "the URL's message")
+    assert page.locator(".hb-eps input").input_value() == "1.5"
+    _check_states(page, 0.8, 0.9, -1.5)  # the defaults
+    page.close()
+    page = _open(browser, server, "?omega2=zero")
+    expected = _library_message("zero", 0.9, -1.5)
+    _until(lambda: _error_text(page) == expected, "the URL's message")
+    page.close()
+
+
+def test_downloads_match_the_library(browser, server, tmp_path):
+    page = _open(browser, server, "?omega2=1.2&eps=0.9&theta0=-1.5")
+    _until(lambda: _shown_omega2(page) == 1.2, "the view at omega2 = 1.2")
+    files = {}
+    for kind in ("json", "csv"):
+        with page.expect_download(timeout=TIMEOUT * 1e3) as info:
+            page.locator(f".hb-download-{kind} button").click()
+        path = tmp_path / info.value.suggested_filename
+        info.value.save_as(path)
+        files[kind] = path.read_text()
+    doc = json.loads(files["json"])
+    rows = list(csv.DictReader(io.StringIO(files["csv"])))
+    assert (
+        [s["state"] for s in doc["states"]]
+        == [r["state"] for r in rows]
+        == [
+            "low",
+            "mid",
+            "high",
+        ]
+    )
+    for rec, row in zip(doc["states"], rows):
+        ref = hairbed.solve(1.2, 0.9, -1.5, root=rec["state"])
+        for name, value in ref.as_dict().items():
+            if isinstance(value, bool):
+                assert rec[name] is value and row[name] == str(value)
+            else:
+                assert rec[name] == value and float(row[name]) == value, name
+    assert [r["stable"] for r in rows] == ["True", "False", "True"]
+    page.close()
+
+
+def test_si_mode(browser, server, shots):
+    query = "?si=1&velocity=0.3&theta0=0.2&density=1000&" + "&".join(
+        f"{k}={v!r}" for k, v in BED.items()
+    )
+    page = _open(browser, server, query)
+    bed = hairbed.HairBed(**BED, base_angle=0.2)
+    st = bed.deform(0.3)
+
+    def shown():
+        cells = page.locator("td[data-field='si_wall_shear_stress']").all_text_contents()
+        return cells or None
+
+    tau = _until(shown, "the SI rows")
+    assert float(tau[0]) == pytest.approx(st.wall_shear_stress, rel=1e-11)
+    assert float(_cells(page, "si_tip_deflection")["low"]) == pytest.approx(
+        st.tip_deflection, rel=1e-11
+    )
+    gap = bed.channel_height - st.tip_height
+    reynolds = float(_cells(page, "si_reynolds_number")["low"])
+    assert reynolds == pytest.approx(1000.0 * 0.3 * gap / bed.viscosity, rel=1e-11)
+    assert page.locator(".hb-eps input").input_value() == repr(bed.eps)
+    page.screenshot(path=str(shots / "explorer-si.png"), full_page=True)
+    _type(page, "length", "-1e-3")
+    with pytest.raises(ValueError) as info:
+        hairbed.HairBed(**{**BED, "length": -1e-3})
+    _until(lambda: _error_text(page) == str(info.value), "the bed's message")
+    assert float(page.locator("td[data-field='si_wall_shear_stress']").first.text_content()) == (
+        pytest.approx(st.wall_shear_stress, rel=1e-11)
+    )
+    page.close()
+
+
+def test_twirling_states(browser, server, shots):
+    page = _open(browser, server, "?omega2=200&eps=0.5&theta0=0&twirl=1")
+    ref = [s for s in hairbed.solve_all(200.0, 0.5, 0.0) if (s.sign, s.n) != (1, 0)]
+    table = page.locator("table.hb-twirl")
+    _until(lambda: table.get_attribute("data-count") == str(len(ref)), "the twirling table")
+    xi = table.locator("td[data-field='xi']").all_text_contents()
+    assert [float(v) for v in xi] == pytest.approx([s.xi for s in ref], rel=1e-11)
+    page.wait_for_timeout(500)
+    page.screenshot(path=str(shots / "explorer-twirling.png"), full_page=True)
+    page.close()
+
+
+def test_zz_server_clean_and_ctrl_c(server, browser):
+    """Last: the server wrote no traceback, and Ctrl-C ends it with one line, status 130."""
+    base, proc, err = server
+    hosts = {urlparse(u).netloc for u in browser.requests if urlparse(u).scheme in ("http", "ws")}
+    assert hosts == {urlparse(base).netloc}, hosts
+    proc.send_signal(signal.SIGINT)
+    try:
+        code = proc.wait(timeout=30)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        pytest.fail("hairbed explore did not stop on Ctrl-C")
+    text = err.read_text()
+    assert "Traceback" not in text, text
+    assert code == 130, text
+    assert text.strip().splitlines()[-1] == "hairbed: interrupted"
