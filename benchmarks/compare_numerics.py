@@ -9,7 +9,7 @@ For a sweep of omega^2 at a few eps and theta0, measured in one run:
 * ``fdN-newton`` / ``fdN-root``: the same at the smallest N (doubling from 80) whose tip
   height and tip deflection are both within 1e-6 of the analytic values (``root`` only up to
   N = 640: its dense finite-difference Jacobian costs 1 s there and 13 s at N = 1280);
-* ``shooting`` (solve_ivp + brentq on theta'(0)) and ``collocation`` (solve_bvp).
+* ``shooting`` (solve_ivp + a bracketed root search on theta'(0)) and ``collocation`` (solve_bvp).
 
 Each time is the best of a few repeats, per state, and is reported as a ratio to the analytic
 time of the same state (and, in the summary, to the vectorised per-state time). A table goes

@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._bracketing import find_minimum, find_root
+from ._core.solution import Solution
 from ._core.solver import fold_parameters, from_parameter
 from ._core.validation import as_float_array, check_branch, check_inputs, float_or_array
 
@@ -170,7 +171,7 @@ def curve(
     n: int = 0,
     num: int = 1001,
     t_span: tuple[float, float] = T_SPAN,
-) -> Any:
+) -> Solution:
     """The exact parametric curve of one branch, from weak to strong forcing.
 
     Parameters
@@ -303,7 +304,7 @@ def _min_slope(eps: NDArray[np.float64], theta0: NDArray[np.float64]) -> NDArray
     return out
 
 
-def cusp(theta0: Any) -> Any:
+def cusp(theta0: Any) -> float | NDArray[np.float64]:
     """The confinement eps_c(theta0) above which the physical branch has folds [-].
 
     At eps_c the two folds are born together: d omega^2/dt and d^2 omega^2/dt^2 vanish at once.

@@ -17,8 +17,9 @@ while t and the tip values stay exact.
   and then bends it over, so :func:`omega2_from_tip_height` can have two answers.
 - :func:`fit_profile` fits (omega^2, theta0) to measured points along a whole hair.
 
-To first order in the forcing the hair is a cantilever under a uniform load omega_eps^2 cos(theta0)
-per unit length: theta = theta0 + omega_eps^2 cos(theta0) (sigma - sigma^2/2), so
+To first order in the forcing the hair is a cantilever under a point load at its tip (the
+horizontal force F = omega_eps^2 E I/L^2, of which cos(theta0) bends it): theta = theta0 +
+omega_eps^2 cos(theta0) (sigma - sigma^2/2), the textbook x1 = F L^3/(3 E I) tilted by theta0, so
 
     x1 = sin(theta0) + omega^2 cos^2(theta0) / (3 (1 - eps cos theta0)) + O(omega^4),
     h1 = cos(theta0) - omega^2 sin(theta0) cos(theta0) / (3 (1 - eps cos theta0)) + O(omega^4),
@@ -40,10 +41,11 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 from scipy import optimize
 
 from ._bracketing import find_minimum, find_root
+from ._core.solution import Solution
 from ._core.solver import from_parameter, solve
 from ._core.validation import (
     HALF_PI,
@@ -75,7 +77,7 @@ _BELOW_ONE = float(np.nextafter(1.0, 0.0))
 _TINY = float(np.finfo(np.float64).tiny)
 
 
-def _physical(t: FloatArray, eps: FloatArray, theta0: FloatArray) -> Any:
+def _physical(t: ArrayLike, eps: ArrayLike, theta0: ArrayLike) -> Solution:
     """The physical-branch state at parameter t (theory.md §2, §3)."""
     return from_parameter(t, eps, theta0)
 
@@ -171,7 +173,7 @@ def _t_where_tip_rounds_to_one(theta0: FloatArray) -> FloatArray:
     return np.asarray(res.bracket[1], dtype=np.float64)  # the end where x1 >= 1
 
 
-def solution_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> Any:
+def solution_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> Solution:
     """The physical state whose tip deflection is ``x1`` (see :func:`omega2_from_tip_deflection`).
 
     Returns
@@ -236,8 +238,8 @@ def tip_deflection_slope(eps: Any, theta0: Any = 0.0) -> FloatOrArray:
     """Slope d x1 / d omega^2 at rest: cos^2(theta0) / (3 (1 - eps cos theta0)) [-].
 
     The linear (small-deflection) calibration x1 = sin(theta0) + slope * omega^2 of a cantilever
-    under the uniform load of weak flow (derivation in the module docstring). For theta0 = 0 it
-    is 1 / (3 (1 - eps)).
+    under a point load at its tip, x1 = F L^3/(3 E I) (derivation in the module docstring). For
+    theta0 = 0 it is 1 / (3 (1 - eps)).
 
     Examples
     --------
@@ -481,7 +483,7 @@ class ProfileFit:
     theta0_stderr: float
     covariance: FloatArray = field(repr=False)
     residual: float
-    solution: Any = field(repr=False)
+    solution: Solution = field(repr=False)
     sigma: FloatArray = field(repr=False)
     success: bool
     status: int

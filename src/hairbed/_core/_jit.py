@@ -92,7 +92,7 @@ def kernel(func: F | None = None, **options: Any) -> Any:
 
     def wrap(f: F) -> Any:
         dispatcher = numba.njit(nogil=True, cache=False, error_model="numpy", **options)(f)
-        if CACHE_ENABLED and not config.DISABLE_JIT:
+        if CACHE_ENABLED and not getattr(config, "DISABLE_JIT", 0):  # set at numba's import
             try:
                 dispatcher._cache = _KernelCache(dispatcher.py_func)
             except RuntimeError:  # no writable cache location: compile every time

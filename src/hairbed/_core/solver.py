@@ -113,7 +113,7 @@ def _load_tables() -> Any:
         return None
 
 
-def _save_tables(**arrays: np.ndarray) -> None:
+def _save_tables(**arrays: Any) -> None:
     """Write the tables whole or not at all (temporary file, then rename)."""
     import os
     import tempfile

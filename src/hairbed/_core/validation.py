@@ -116,7 +116,8 @@ def check_inputs(
     _check_range(w, w < 0.0, "omega2", "[0, inf)")
     _check_range(e, (e < 0.0) | (e >= 1.0), "eps", "[0, 1)")
     _check_range(t, np.abs(t) >= HALF_PI, "theta0", "(-pi/2, pi/2)")
-    return broadcast_named(("omega2", w), ("eps", e), ("theta0", t))
+    w, e, t = broadcast_named(("omega2", w), ("eps", e), ("theta0", t))
+    return w, e, t
 
 
 def broadcast_named(*named: tuple[str, NDArray[np.float64]]) -> tuple[NDArray[np.float64], ...]:
@@ -138,7 +139,8 @@ def check_state_inputs(
     broadcast together; for functions whose first input is a state rather than omega2."""
     v = as_float_array(value, name)
     _, e, t = check_inputs(0.0, eps, theta0)
-    return broadcast_named((name, v), ("eps", e), ("theta0", t))
+    v, e, t = broadcast_named((name, v), ("eps", e), ("theta0", t))
+    return v, e, t
 
 
 def check_branch(sign: Any, n: Any) -> tuple[int, int]:
@@ -154,7 +156,7 @@ def check_branch(sign: Any, n: Any) -> tuple[int, int]:
         or n < 0
     ):
         raise ValueError(f"n must be a whole number >= 0, got {n!r}")
-    return int(sign), int(n)
+    return (1 if sign == 1 else -1), int(float(n))
 
 
 ROOTS = ("low", "mid", "high")

@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
+from .._bracketing import find_root
 from ._result import NumericalResult, branch_label, scalar_inputs
 
 __all__ = ["shooting"]
@@ -50,7 +51,7 @@ class _Shooter:
         self.nfev = 0
         self.nivp = 0
 
-    def integrate(self, c: float, t_eval: FloatArray | None = None):
+    def integrate(self, c: float, t_eval: FloatArray | None = None) -> Any:
         y0 = np.array([self.theta0, c, 0.0, 0.0, 0.0, 1.0])
         sol = solve_ivp(
             _rhs(self.omega2, self.eps, c),
@@ -95,7 +96,8 @@ def _bracket_physical(shooter: _Shooter, c_hi: float) -> tuple[float, float, flo
     down from c_hi geometrically, from rounding level upwards.
     """
     delta = 8.0 * _MACHEPS
-    c_up, r_up = None, None
+    c_up: float | None = None
+    r_up = 0.0
     while True:
         c = c_hi * (1.0 - delta)
         r = shooter.residual(c)
@@ -169,7 +171,8 @@ def shooting(
     theta'(1) = 0:
 
     * ``base_curvature=None``: the physical root, bracketed as the largest root below the
-      separatrix (beyond which the hair rotates over the top), then ``scipy.optimize.brentq``.
+      separatrix (beyond which the hair rotates over the top), then the package's bracketed
+      root search (``scipy.optimize.elementwise.find_root``, Chandrupatla's method).
     * a number: Newton's method from there, with the derivative from the variational
       equations. It may reach a twirling branch; ``sign`` and ``n`` say which.
 
@@ -242,10 +245,19 @@ def shooting(
         else:
             a, _, b, _ = bracket
             try:
-                c = brentq(shooter.residual, a, b, xtol=4 * _MACHEPS * abs(b), rtol=4 * _MACHEPS)
-                status, message = 0, "converged: bracketed the physical root, brentq"
-            except (ValueError, RuntimeError) as exc:  # NaN from a failed integration
-                c, status, message = 0.5 * (a + b), 2, f"brentq failed: {exc}"
+                c = float(
+                    find_root(
+                        np.vectorize(shooter.residual, otypes=[np.float64]),
+                        a,
+                        b,
+                        xatol=4 * _MACHEPS * abs(b),
+                        xrtol=4 * _MACHEPS,
+                        what="the physical base curvature",
+                    ).x
+                )
+                status, message = 0, "converged: bracketed the physical root (find_root)"
+            except FloatingPointError as exc:  # NaN from a failed integration
+                c, status, message = 0.5 * (a + b), 2, f"root search failed: {exc}"
             gap = (c_hi - c) / c_hi
             # The relative error of c is about the integrator tolerance; the tip angle depends
             # on c only through this gap (1 - xi is proportional to it).

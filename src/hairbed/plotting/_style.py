@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 
 __all__ = ["RC", "colors", "new_figure", "styled"]
 
-RC: dict[str, Any] = {
+RC: Any = {  # rcParams (matplotlib types its keys as literals)
     "font.size": 10,
     "axes.labelsize": 11,
     "axes.titlesize": 11,
@@ -36,7 +36,9 @@ def colors(k: int, cmap: str = "viridis") -> list[Any]:
     return [cm(0.05 + 0.8 * i / (k - 1)) for i in range(k)]
 
 
-def new_figure(nrows: int = 1, ncols: int = 1, *, size: tuple[float, float] = (5.0, 3.8), **kw):
+def new_figure(
+    nrows: int = 1, ncols: int = 1, *, size: tuple[float, float] = (5.0, 3.8), **kw: Any
+) -> tuple[Figure, Any]:
     """A Figure on an Agg canvas and its axes.
 
     Not registered with pyplot and the global backend is left alone: nothing is shown, nothing

@@ -6,6 +6,8 @@ pyplot). Figure numbers in the docstrings are those of arXiv:2203.04169 (e.g. Fi
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
@@ -27,13 +29,15 @@ __all__ = [
 _BRANCH_T = (-15.0, 40.0)
 
 
-def _curve(eps: float, theta0: float = 0.0, sign: int = 1, n: int = 0, num: int = 600):
+def _curve(
+    eps: float, theta0: float = 0.0, sign: int = 1, n: int = 0, num: int = 600
+) -> hairbed.Solution:
     """Exact branch curve over the logit parameter t (no root finding)."""
     t = np.linspace(*_BRANCH_T, num)
     return hairbed.from_parameter(t, eps, theta0, sign=sign, n=n)
 
 
-def _phase_velocity(sol, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _phase_velocity(sol: hairbed.Solution, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """theta(sigma) and theta'(sigma): magnitude from energy conservation (eq. (7)), sign from
     the slope of theta on the grid (the closed form has no derivative method)."""
     th = np.asarray(sol.theta(sigma), dtype=float)
@@ -64,7 +68,7 @@ def fig_model(omega2: float = 1.5, eps: float = 0.6) -> Figure:
     """
     sol = hairbed.solve(omega2, eps)
     x, z = sol.profile(120)
-    h1, height = sol.tip_height, 1.0 / eps
+    h1, height = float(sol.tip_height), 1.0 / eps
     fig, ax = new_figure(size=(6.4, 3.1))
     ax.add_patch(Rectangle((-0.6, -0.12), 6.0, 0.12, color="0.55", hatch="///", fill=False))
     ax.add_patch(Rectangle((-0.6, height), 6.0, 0.12, color="0.55", hatch="///", fill=False))
@@ -96,7 +100,7 @@ def fig_model(omega2: float = 1.5, eps: float = 0.6) -> Figure:
         )
     )
     # Dimension arrows.
-    dim = {"arrowstyle": "<|-|>", "mutation_scale": 8, "color": "k", "lw": 0.9}
+    dim: dict[str, Any] = {"arrowstyle": "<|-|>", "mutation_scale": 8, "color": "k", "lw": 0.9}
     ax.add_patch(FancyArrowPatch((-0.35, 0), (-0.35, height), **dim))
     ax.text(-0.42, 0.62 * height, r"$H$", ha="right", va="center")
     ax.add_patch(FancyArrowPatch((bases[0] - 0.12, 0), (bases[0] - 0.12, 1), **dim))
