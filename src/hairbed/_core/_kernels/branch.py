@@ -116,9 +116,9 @@ def evaluate_at(t, eps, base, sign, n, want_slope):
     """The branch (sign, n) at parameter t, given ``base = base_terms(theta0)``.
 
     Returns the tuple (ln_omega2, dln_omega2_dt, xi, d, p, tau, mu, sn0, cn0, dn0, k, v0, kv,
-    omega_eps, h1, root2d, rf_comp) where dln_omega2_dt is 0 unless ``want_slope``; rf_comp is
-    R_F(p sn0^2, p, dn0^2) where kv was formed from it (else 0); ln_omega2 is LN_OMEGA2_NONE
-    where omega^2 <= 0. t = -inf is the undeformed hair (d = 0).
+    omega_eps, h1, root2d, rf_comp, dln_omega_eps_dt) where the two derivatives are 0 unless
+    ``want_slope``; rf_comp is R_F(p sn0^2, p, dn0^2) where kv was formed from it (else 0);
+    ln_omega2 is LN_OMEGA2_NONE where omega^2 <= 0. t = -inf is the undeformed hair (d = 0).
     """
     theta0, s, c, oms, ops, ln_half_oms, dn0, r2oms = base
     # expit(+-t) and their logarithms from one exp and one log1p
@@ -194,6 +194,7 @@ def evaluate_at(t, eps, base, sign, n, want_slope):
     else:
         xi = 1.0 - 2.0 * p
     slope = 0.0
+    g = 0.0
     if want_slope and oe > 0.0:
         m = mu
         e = complete_e_log(p, tau)
@@ -224,6 +225,7 @@ def evaluate_at(t, eps, base, sign, n, want_slope):
         h1,
         root2d,
         rf_comp,
+        g,
     )
 
 

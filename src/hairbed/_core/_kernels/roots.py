@@ -39,6 +39,7 @@ __all__ = [
     "branch_roots",
     "critical_table",
     "newton",
+    "newton_last",
     "physical_folds",
     "scan_folds",
     "scan_folds_step",
@@ -116,14 +117,26 @@ def newton(ln_target, t, lo, hi, rising, eps, theta0, sign, n):
     Returns (t, status). Steps that would leave the bracket are replaced by bisection; the
     bracket shrinks at every evaluation, so the iteration cannot leave its piece.
     """
+    r = newton_last(ln_target, t, lo, hi, rising, eps, theta0, sign, n)
+    return r[0], r[1]
+
+
+@kernel
+def newton_last(ln_target, t, lo, hi, rising, eps, theta0, sign, n):
+    """:func:`newton`, also returning its last evaluation: (t, status, ev, step).
+
+    ev is ``evaluate_at`` (with slope) at t - step, the last point evaluated; step is the
+    final Newton step where the iteration ended on a small step (|step| <= 1e-9 scale) or an
+    exact zero (step 0), else NaN (the answer was not reached by a step from ev).
+    """
     if t <= lo or t >= hi:
         t = 0.5 * (lo + hi)
     base = base_terms(theta0)
+    ev = evaluate_at(t, eps, base, sign, n, True)
     for _ in range(_MAXITER):
-        ev = evaluate_at(t, eps, base, sign, n, True)
         r = ev[0] - ln_target
         if r == 0.0:
-            return t, STATUS_CONVERGED
+            return t, STATUS_CONVERGED, ev, 0.0
         if (r > 0.0) == rising:
             hi = t
         else:
@@ -134,13 +147,14 @@ def newton(ln_target, t, lo, hi, rising, eps, theta0, sign, n):
         if math.isfinite(tn) and lo < tn < hi:
             # quadratic convergence: a step this small leaves an error far below one ulp
             if abs(tn - t) <= 1e-9 * scale:
-                return tn, STATUS_CONVERGED
+                return tn, STATUS_CONVERGED, ev, tn - t
         else:
             tn = 0.5 * (lo + hi)
         if hi - lo <= 4.5e-16 * scale:
-            return tn, STATUS_CONVERGED
+            return tn, STATUS_CONVERGED, ev, math.nan
         t = tn
-    return t, STATUS_MAXITER
+        ev = evaluate_at(t, eps, base, sign, n, True)
+    return t, STATUS_MAXITER, ev, math.nan
 
 
 @kernel

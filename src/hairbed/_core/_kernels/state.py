@@ -26,7 +26,7 @@ from .roots import (
     STATUS_NO_ROOT,
     T_MIN,
     branch_roots,
-    newton,
+    newton_last,
     physical_folds,
     scan_folds,
     start_from_table,
@@ -42,6 +42,7 @@ __all__ = [
     "ROOT_MID",
     "fields_array",
     "fields_at",
+    "fields_from",
     "folds_array",
     "needs_folds_array",
     "profile_array",
@@ -50,6 +51,7 @@ __all__ = [
     "solve_array",
     "solve_one",
     "solve_scalar",
+    "write_fields",
     "write_state",
 ]
 
@@ -68,9 +70,39 @@ def fields_at(t, eps, theta0, sign, n):
     """omega2, xi, omega_eps, energy, tip_height, tip_deflection, tip_displacement, tip_angle,
     base_curvature of the state at parameter t (t = -inf: the hair at rest)."""
     base = base_terms(theta0)
-    ev = evaluate_at(t, eps, base, sign, n, False)
+    return fields_from(evaluate_at(t, eps, base, sign, n, False), 0.0, base, theta0, sign, n)
+
+
+@kernel
+def _tip_angle(xi, p, mu, sign, n):
+    """theta(1) from xi = sin(theta1), with p = (1 - xi)/2 and mu = (1 + xi)/2 exact."""
+    if xi > 0.5:
+        upper = _HALF_PI - 2.0 * math.asin(math.sqrt(p))
+    elif xi < -0.5:
+        upper = 2.0 * math.asin(math.sqrt(mu)) - _HALF_PI
+    else:
+        upper = math.asin(xi)
+    if sign * (1 - 2 * (n % 2)) > 0:
+        return upper
+    return -math.pi - upper
+
+
+@kernel
+def fields_from(ev, step, base, theta0, sign, n):
+    """:func:`fields_at` at t + step from the branch point ``ev`` evaluated at t.
+
+    step = 0: the fields at t itself. Otherwise ev carries the t-derivatives (``evaluate_at``
+    with the slope) and every field is moved by its first-order Taylor term, exact to
+    O(step^2) (callers pass |step| <= 1e-9, so the remainder is below 1e-18 relative): with
+    q = expit(t), d' = d (1 - q), p' = -p q, omega_eps' = g omega_eps, h1' = h1 ((1 - q)/2 - g),
+    and for the tip deflection x1' = xi'/2 + (xi - x1) g, which follows from
+    x1 = xi - (1/(2 omega_eps^2)) int_0^1 theta'^2 dsigma (the energy integral, eq. (7)) and
+    d/dxi int theta'^2 dsigma = omega_eps^2 at fixed omega_eps (the path in theta depends on
+    xi alone; the integrand vanishes at its turning points and at the tip).
+    """
     ln_w2 = ev[0]
     xi = ev[2]
+    d = ev[3]
     p = ev[4]
     mu = ev[6]
     sn0 = ev[7]
@@ -81,17 +113,7 @@ def fields_at(t, eps, theta0, sign, n):
     h1 = ev[14]
     root2d = ev[15]
     s, c, oms = base[1], base[2], base[3]
-    omega2 = math.exp(ln_w2)
-    if xi > 0.5:
-        upper = _HALF_PI - 2.0 * math.asin(math.sqrt(p))
-    elif xi < -0.5:
-        upper = 2.0 * math.asin(math.sqrt(mu)) - _HALF_PI
-    else:
-        upper = math.asin(xi)
-    if sign * (1 - 2 * (n % 2)) > 0:
-        tip_angle = upper
-    else:
-        tip_angle = -math.pi - upper
+    one_minus_x1 = -1.0  # not at hand
     if oe == 0.0:
         x1 = s
         disp = 0.0
@@ -100,10 +122,40 @@ def fields_at(t, eps, theta0, sign, n):
             disp = weak_shape(1.0, oe * oe, s, c)[1]
             x1 = s + disp
         else:
-            x1, disp, _ = tip_displacement(p, mu, sn0, cn0, dn0, kv, s, oms)
+            x1, disp, one_minus_x1 = tip_displacement(p, mu, sn0, cn0, dn0, kv, s, oms)
     else:
         x1 = shape_point(1.0, sign, n, shape_setup_from(ev, theta0, sign, n))[1]
         disp = x1 - s
+    if step != 0.0:
+        slope = ev[1]
+        g = ev[17]
+        q = d / oms
+        qc = 2.0 * p / oms
+        # xi - x1 = d - disp without cancellation at weak forcing, (1 - x1) - 2 p at strong
+        if d < p or one_minus_x1 < 0.0:
+            xi_minus_x1 = d - disp
+        else:
+            xi_minus_x1 = one_minus_x1 - 2.0 * p
+        dx1 = p * q + xi_minus_x1 * g  # xi'/2 + (xi - x1) g, xi' = 2 p q
+        ln_w2 += slope * step
+        d += d * qc * step
+        p -= p * q * step
+        mu = 1.0 - p
+        xi = s + d if d < p else 1.0 - 2.0 * p
+        h1 += h1 * (0.5 * qc - g) * step
+        if h1 > 1.0:
+            h1 = 1.0
+        root2d += 0.5 * root2d * qc * step
+        oe += oe * g * step
+        if one_minus_x1 >= 0.0 and one_minus_x1 < 0.5:
+            one_minus_x1 -= dx1 * step
+            x1 = 1.0 - one_minus_x1
+            disp = oms - one_minus_x1
+        else:
+            x1 += dx1 * step
+            disp += dx1 * step
+    omega2 = math.exp(ln_w2)
+    tip_angle = _tip_angle(xi, p, mu, sign, n)
     energy = xi * oe * oe
     base_curvature = sign * oe * root2d
     return omega2, xi, oe, energy, h1, x1, disp, tip_angle, base_curvature
@@ -170,7 +222,15 @@ def solve_one(
     if n_folds < 0 and ln_target > -math.inf:
         start = tables[4]
         t0 = start_from_table(ln_target, eps, theta0, start)
-        t, st = newton(ln_target, t0, T_MIN, t_max(ln_target), True, eps, theta0, 1, 0)
+        t, st, ev, step = newton_last(
+            ln_target, t0, T_MIN, t_max(ln_target), True, eps, theta0, 1, 0
+        )
+        if abs(step) <= 1e-9 and root != ROOT_MID:
+            # the fields from Newton's last evaluation, moved by its final step (exact to
+            # O(step^2), below 1e-18): no evaluation at the root itself
+            vals = fields_from(ev, step, base_terms(theta0), theta0, 1, 0)
+            write_fields(out, t, 1, st, vals)
+            return
         roots[0] = t
         status[0] = st
         count = 1
@@ -198,10 +258,15 @@ def solve_one(
 @kernel
 def write_state(out, t, count, status, eps, theta0, sign, n):
     """One output row (``FIELDS``) of the state at parameter t: t, count, status, fields."""
+    write_fields(out, t, count, status, fields_at(t, eps, theta0, sign, n))
+
+
+@kernel
+def write_fields(out, t, count, status, vals):
+    """One output row (``FIELDS``): t, count, status and the fields ``vals``."""
     out[0] = t
     out[1] = count
     out[2] = status
-    vals = fields_at(t, eps, theta0, sign, n)
     for j in range(len(vals)):
         out[3 + j] = vals[j]
 
