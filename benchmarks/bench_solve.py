@@ -1,7 +1,8 @@
 """Speed and memory of the exact solver, as ratios measured in one run (issue 2, item 6).
 
 A thin command line over :mod:`hairbed._benchmark`, which holds the measurements and the
-description of every row (1 to 10); ``hairbed bench`` and the speed figure use the same code.
+description of every row (1 to 11; 11 the sweeps); ``hairbed bench`` and the speed figure use
+the same code.
 
 Run: ``python benchmarks/bench_solve.py [--quick] [--json PATH] [--repeat N] [--rows 1 3 ...]``.
 ``--quick`` shrinks the sizes (1e5 elements, fewer calls, no cold-cache run unless ``--cold``)
@@ -39,7 +40,7 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--n", type=int, help="batch size (default 1e6, 1e5 with --quick)")
     parser.add_argument(
         "--rows", type=int, nargs="+", choices=_benchmark.NUMBERS, metavar="ROW",
-        help="only these rows, 1 to 10 (default all)",
+        help="only these rows, 1 to 11 (default all)",
     )  # fmt: skip
     args = parser.parse_args(argv)
     if args.repeat < 1:

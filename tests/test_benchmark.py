@@ -44,7 +44,7 @@ def test_report_json_and_progress(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "kwargs", [{"rows": {0}}, {"rows": {11}}, {"rows": set()}, {"repeat": 0}, {"n": 0}]
+    "kwargs", [{"rows": {0}}, {"rows": {12}}, {"rows": set()}, {"repeat": 0}, {"n": 0}]
 )
 def test_bad_arguments(kwargs):
     with pytest.raises(ValueError):

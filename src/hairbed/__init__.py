@@ -5,8 +5,9 @@ numpy, scipy and numba (its kernels); ``hairbed.plotting`` needs matplotlib.
 
 Importing hairbed loads only the solver's wrappers (numpy, no compiled kernel, no scipy).
 The lab modules (``branches``, ``inverse``, ``quasistatic``, ``rheology``, ``stability``,
-``numerics``, ``units``) and the names ``HairBed`` and ``HairState`` are imported on first
-attribute access (PEP 562), so a command imports only what it needs.
+``numerics``, ``units``, ``sweeps``) and the names ``HairBed``, ``HairState`` and ``sweep``
+are imported on first attribute access (PEP 562), so a command imports only what it needs
+(``import hairbed`` imports neither xarray nor dask).
 """
 
 from __future__ import annotations
@@ -18,8 +19,8 @@ from ._core.solution import Solution
 from ._core.solver import from_parameter, from_xi, solve, solve_all
 
 if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
-    from . import branches, inverse, numerics, quasistatic, rheology, stability, units
-    from .explorer import explore
+    from . import branches, inverse, numerics, quasistatic, rheology, stability, sweeps, units
+    from .sweeps import sweep
     from .units import HairBed, HairState
 
 __all__ = [
@@ -27,7 +28,6 @@ __all__ = [
     "HairState",
     "Solution",
     "branches",
-    "explore",
     "from_parameter",
     "from_xi",
     "inverse",
@@ -37,16 +37,27 @@ __all__ = [
     "solve",
     "solve_all",
     "stability",
+    "sweep",
+    "sweeps",
     "units",
 ]
 __version__ = "0.1.0"
 
 #: Submodules imported on first access as ``hairbed.<name>``.
 _LAZY_MODULES = frozenset(
-    {"branches", "inverse", "numerics", "quasistatic", "rheology", "stability", "units"}
+    {
+        "branches",
+        "inverse",
+        "numerics",
+        "quasistatic",
+        "rheology",
+        "stability",
+        "sweeps",
+        "units",
+    }
 )
 #: Names imported on first access: name -> submodule that defines it.
-_LAZY_NAMES = {"HairBed": "units", "HairState": "units", "explore": "explorer"}
+_LAZY_NAMES = {"HairBed": "units", "HairState": "units", "sweep": "sweeps"}
 
 
 def __getattr__(name: str) -> Any:

@@ -30,6 +30,18 @@ machines better than the raw times; no timing is asserted anywhere in the tests.
     ``NUMBA_CACHE_DIR``; no target); and, for reference, ``python -c "import numba"`` and
     ``python -c "pass"`` (median of 5 each).
 
+11. sweeps (:func:`hairbed.sweep`): (a) the eager sweep of a 100 x 40 x 25 grid (omega2
+    log-uniform in [1e-3, 1e3], eps in [0, 0.95], theta0 in [-1.2, 1.2]) over one
+    ``hairbed.solve`` of the same 1e5 points (the cost of the labelled dataset; target <= 1.2)
+    and (b) its wall time; then a 1e7-point sweep of the same ranges in blocks of ~1e5 points
+    (omega2 whole: its folds are per (eps, theta0)), reduced to sums so that no result crosses
+    a process boundary: (c) dask's threaded scheduler on 2 threads over the same blocks one
+    after the other (the synchronous scheduler; target >= 1.8), (d) a 2-worker
+    ``dask.distributed.LocalCluster`` of processes (1 thread each) over the same serial run,
+    with the nanny's default ``MALLOC_TRIM_THRESHOLD_=65536``, and (e) the same with that
+    setting removed (glibc's own trimming; not in quick runs). Needs ``hairbed[sweep]``;
+    ``quick`` and ``n`` scale the sizes (the big sweep has 10 n points, the grid min(n, 1e5)).
+
 If the kernel sources are edited while this runs, the numba cache goes stale: to keep that out,
 rows 7 and 10 start with an untimed child that refreshes it, and a warning is printed when the
 sources changed during the run.
@@ -107,9 +119,14 @@ ROWS: dict[str, tuple[str, str, float | None, str]] = {
     "10b": ("`python -m hairbed solve`, cold cache", "s", None, ""),
     "10c": ('`python -c "import numba"` (reference)', "s", None, ""),
     "10d": ('`python -c "pass"` (reference)', "s", None, ""),
+    "11a": ("sweep 100x40x25 / one solve of its points", "x", 1.2, "<="),
+    "11b": ("sweep 100x40x25, wall time", "s", None, ""),
+    "11c": ("1e7-point sweep: dask threads (2) / serial, speedup", "x", 1.8, ">="),
+    "11d": ("1e7-point sweep: LocalCluster 2 processes / serial", "x", None, ""),
+    "11e": ("the same, nanny without MALLOC_TRIM_THRESHOLD_", "x", None, ""),
 }
-#: The rows of the issue, 1 to 10 (row 10 is the table rows 10a-10d).
-NUMBERS = tuple(range(1, 11))
+#: The rows of the issue, 1 to 10 (row 10 is the table rows 10a-10d), and the sweeps' 11.
+NUMBERS = tuple(range(1, 12))
 
 #: Inputs of row 6: (omega2, eps, theta0), all on the physical branch for the FD solver too.
 FD_INPUTS = [
@@ -286,7 +303,7 @@ def _selection(rows: Iterable[int] | None) -> frozenset[int]:
     chosen = frozenset(rows)
     bad = sorted(chosen - set(NUMBERS), key=str)
     if bad or not chosen:
-        raise ValueError(f"benchmark rows are 1 to 10, got {', '.join(map(str, bad)) or 'none'}")
+        raise ValueError(f"benchmark rows are 1 to 11, got {', '.join(map(str, bad)) or 'none'}")
     return chosen
 
 
@@ -464,6 +481,10 @@ def measure(
             runs = [wall([sys.executable, "-c", code]) for _ in range(5)]
             out.append(Row.of(num, statistics.median(runs)))
         lap("row 10")
+    if 11 in chosen:
+        say("row 11: sweeps (eager grid; threads and a LocalCluster against serial blocks)")
+        out.extend(sweep_rows(n, repeat, quick))
+        lap("row 11")
     meta = {
         "quick": quick,
         "repeat": repeat,
@@ -489,6 +510,78 @@ def measure(
         "time": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
     }
     return Result(tuple(out), meta)
+
+
+def _sweep_axes(points: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The 100 x 40 x 25 grid of row 11 scaled to about ``points`` points."""
+    scale = (points / 100_000) ** (1.0 / 3.0)
+    nw, ne, nt = (max(2, round(k * scale)) for k in (100, 40, 25))
+    return np.geomspace(1e-3, 1e3, nw), np.linspace(0.0, 0.95, ne), np.linspace(-1.2, 1.2, nt)
+
+
+def sweep_rows(n: int, repeat: int, quick: bool = False) -> list[Row]:
+    """Rows 11a-11e (module docstring): the sweeps, eager, threaded and on a LocalCluster.
+
+    ``quick``: one cluster only (11e, a second cluster, is measured in full runs).
+    """
+    try:
+        import dask
+        import distributed
+    except ImportError:  # the sweep extra is not installed: the rows cannot be measured
+        return []
+    from .sweeps import sweep
+
+    w, e, t = _sweep_axes(min(n, 100_000))
+    grid = np.meshgrid(w, e, t, indexing="ij")
+    sweep(w[:2], e[:2], t[:2])  # warm
+    t_solve = best_of(lambda: solve(*grid), repeat, collect=True)
+    t_sweep = best_of(lambda: sweep(w, e, t), repeat, collect=True)
+    rows = [
+        Row.of("11a", t_sweep / t_solve, sweep_s=t_sweep, solve_s=t_solve, points=grid[0].size),
+        Row.of("11b", t_sweep, shape=[w.size, e.size, t.size]),
+    ]
+    w, e, t = _sweep_axes(10 * n)
+    points = w.size * e.size * t.size
+    chunks = {
+        "omega2": w.size,
+        "eps": max(1, round(100_000 / (w.size * t.size))),
+        "theta0": t.size,
+    }
+    if chunks["eps"] * w.size * t.size > 150_000:
+        chunks["theta0"] = max(1, round(100_000 / (w.size * chunks["eps"])))
+
+    def total(**compute: Any) -> float:
+        gc.collect()
+        start = time.perf_counter()
+        sweep(w, e, t, chunks=chunks).sum().compute(**compute)
+        return time.perf_counter() - start
+
+    t_serial = total(scheduler="synchronous")
+    cpu, t0 = time.process_time(), time.perf_counter()
+    t_threads = total(scheduler="threads", num_workers=2)
+    cpu_per_wall = (time.process_time() - cpu) / (time.perf_counter() - t0)
+    detail = {"points": points, "chunks": chunks, "serial_s": t_serial}
+    rows.append(
+        Row.of("11c", t_serial / t_threads, threads_s=t_threads, cpu_per_wall=cpu_per_wall,
+               **detail)
+    )  # fmt: skip
+    for number, trim in (("11d", "default"), ("11e", None))[: 1 if quick else 2]:
+        config = {} if trim == "default" else {KEY_TRIM: None}
+        with dask.config.set(config), distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+        ) as cluster, distributed.Client(cluster) as client:  # fmt: skip
+            client.run(lambda: sweep(1.0, 0.5).xi.values)  # each worker loads the kernels
+            env = client.run(lambda: os.environ.get("MALLOC_TRIM_THRESHOLD_"))
+            t_cluster = total()
+        rows.append(
+            Row.of(number, t_serial / t_cluster, cluster_s=t_cluster,
+                   malloc_trim_threshold=sorted(set(map(str, env.values()))), **detail)
+        )  # fmt: skip
+    return rows
+
+
+#: The nanny's environment setting of glibc's trim threshold (dask's configuration key).
+KEY_TRIM = "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"
 
 
 def run(
@@ -571,6 +664,21 @@ def format_report(result: Result) -> str:
         other.append(f"solve_all(1e8): {d['9']['states']} states")
     if "10a" in d:
         other.append("warm CLI runs " + ", ".join(f"{t:.2f}" for t in d["10a"]["runs"]) + " s")
+    if "11a" in d:
+        other.append(
+            f"sweep {'x'.join(map(str, d['11b']['shape']))}: {d['11a']['sweep_s']:.2f} s, "
+            f"one solve {d['11a']['solve_s']:.2f} s"
+        )
+    if "11c" in d:
+        other.append(
+            f"{d['11c']['points']:.1e}-point sweep: serial {d['11c']['serial_s']:.1f} s, "
+            f"2 threads {d['11c']['threads_s']:.1f} s (CPU/wall {d['11c']['cpu_per_wall']:.2f})"
+            + "".join(
+                f", LocalCluster{'' if k == '11d' else ' untrimmed'} {d[k]['cluster_s']:.1f} s"
+                for k in ("11d", "11e")
+                if k in d
+            )
+        )
     if other:
         lines.append("; ".join(other))
     lines.append(
@@ -592,15 +700,9 @@ def format_report(result: Result) -> str:
 
 
 def write_json(result: Result, path: str | os.PathLike[str]) -> None:
-    """Write the figures whole: a temporary file in the same directory, then os.replace."""
+    """Write the figures whole or not at all (:mod:`hairbed.safe_files`)."""
+    from .safe_files import write_text
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w") as fh:
-            json.dump(result.as_dict(), fh, indent=2)
-            fh.write("\n")
-        os.replace(tmp, path)
-    except BaseException:
-        os.unlink(tmp)
-        raise
+    write_text(path, json.dumps(result.as_dict(), indent=2) + "\n")

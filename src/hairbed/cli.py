@@ -1,9 +1,9 @@
 """The ``hairbed`` command line: a thin layer over the library.
 
-Subcommands: ``solve``, ``sweep``, ``invert``, ``figures``, ``bench``, ``demo``,
-``explore``. Run
+Subcommands: ``solve``, ``sweep``, ``invert``, ``figures``, ``bench``, ``demo``. Run
 ``hairbed <command> --help`` for the options and examples of each. Bad input ends with one line
-``hairbed: error: <message>`` on stderr and exit status 2.
+``hairbed: error: <message>`` on stderr and exit status 2; Ctrl-C with the one line
+``hairbed: interrupted`` and exit status 130, leaving no partial file behind.
 
 Examples
 --------
@@ -15,8 +15,6 @@ Examples
 from __future__ import annotations
 
 import argparse
-import csv
-import io
 import json
 import math
 import sys
@@ -122,6 +120,20 @@ def _solution_table(sol: Any) -> str:
     return _table(sol.as_dict(), FIELDS)
 
 
+def _save_figure(fig: Any, path: str) -> None:
+    """Save a matplotlib figure whole or not at all (format from the extension)."""
+    from pathlib import Path
+
+    from hairbed.safe_files import atomic_path
+
+    fmt = Path(path).suffix.lstrip(".").lower() or "png"
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=150, format=fmt)
+    except OSError as exc:
+        raise UsageError(f"could not write {path}: {exc}") from exc
+
+
 # -- shared option groups -------------------------------------------------------------------
 
 
@@ -213,134 +225,190 @@ def _cmd_solve(args: argparse.Namespace) -> int:
     if args.plot:
         from hairbed.plotting import fig_states
 
-        fig_states(sols).savefig(args.plot, dpi=150)
+        _save_figure(fig_states(sols), args.plot)
         print(f"wrote {args.plot}", file=sys.stderr)
     return 0
 
 
-def _progress(done: int, total: int, start: float) -> None:
-    """A one-line progress bar on stderr (rewritten in place)."""
-    frac = done / total
-    bar = "#" * int(30 * frac)
-    elapsed = time.perf_counter() - start
-    sys.stderr.write(f"\r[{bar:<30}] {done}/{total} ({elapsed:.1f} s)")
-    if done == total:
-        sys.stderr.write("\n")
-    sys.stderr.flush()
+def _progress_bar(total: int) -> Any:
+    """A tqdm bar on stderr, shown once the work has run a second (with an ETA)."""
+    from tqdm import tqdm
+
+    from hairbed.sweeps import PROGRESS_DELAY
+
+    return tqdm(
+        total=total, unit="task", delay=PROGRESS_DELAY, file=sys.stderr, desc="hairbed sweep"
+    )
 
 
-def _grid(lo: float, hi: float, num: int, log: bool, name: str) -> np.ndarray:
+def _spec(text: str | None, option: str) -> Any:
+    """A SPEC of the sweep: a value, a comma list, or start:stop:num[:log] (or :lin)."""
+    if text is None:
+        return None
+    form = "a number, a comma list or start:stop:num[:log]"
+    parts = text.split(":")
+    try:
+        if len(parts) == 1:
+            items = [p for p in text.split(",")]
+            if len(items) == 1:
+                return float(items[0])
+            return np.array([float(p) for p in items])
+        if len(parts) not in (3, 4):
+            raise ValueError
+        start, stop, num = float(parts[0]), float(parts[1]), int(parts[2])
+        spacing = parts[3].strip().lower() if len(parts) == 4 else "lin"
+    except ValueError:
+        raise UsageError(f"{option} must be {form}, got {text!r}") from None
+    if spacing not in ("lin", "log"):
+        raise UsageError(f"{option}: the fourth field of start:stop:num:log is 'log' or 'lin'")
+    if num < 1:
+        raise UsageError(f"{option}: num in start:stop:num must be >= 1, got {num}")
+    if spacing == "log":
+        if start <= 0 or stop <= 0:
+            raise UsageError(f"{option}: a log range needs positive bounds, got {text!r}")
+        return np.geomspace(start, stop, num)
+    return np.linspace(start, stop, num)
+
+
+def _legacy_grid(args: argparse.Namespace, name: str, lo: float | None, hi: float | None) -> Any:
+    """--<name>-min/--<name>-max/--num/--log (the older form of a 1-D SPEC)."""
+    num = 101 if args.num is None else args.num
     if num < 1:
         raise UsageError(f"--num must be >= 1, got {num}")
-    if log:
-        if lo <= 0 or hi <= 0:
-            raise UsageError(f"--log needs positive {name} bounds, got {lo:g} and {hi:g}")
+    if args.log:
+        if lo is None or hi is None or lo <= 0 or hi <= 0:
+            raise UsageError(f"--log needs positive --{name}-min and --{name}-max")
         return np.geomspace(lo, hi, num)
     return np.linspace(lo, hi, num)
 
 
-_SWEEP_COLUMNS = (
-    "omega2",
-    "xi",
-    "omega_eps",
-    "energy",
-    "tip_height",
-    "tip_deflection",
-    "tip_angle",
-    "base_curvature",
-    "n_roots",
-)
+def _refuse(args: argparse.Namespace, options: dict[str, str], why: str) -> None:
+    """UsageError naming the first of ``options`` (dest -> flag) that was given."""
+    for dest, flag in options.items():
+        value = getattr(args, dest)
+        if value is not None and value is not False:
+            raise UsageError(f"{flag} {why}")
 
 
 def _cmd_sweep(args: argparse.Namespace) -> int:
-    bed = _bed(args)
-    chunk = 20_000
-    show = args.progress or (args.num > 5 * chunk and sys.stderr.isatty())
-    columns: dict[str, np.ndarray]
-    if bed is not None:
-        if args.velocity_min is None or args.velocity_max is None:
-            raise UsageError("a sweep of a bed needs --velocity-min and --velocity-max [m/s]")
-        v = _grid(args.velocity_min, args.velocity_max, args.num, args.log, "velocity")
-        parts: list[dict[str, np.ndarray]] = []
-        start = time.perf_counter()
-        for i in range(0, v.size, chunk):
-            st = bed.deform(v[i : i + chunk], root=args.root)
-            parts.append(
-                {
-                    "velocity": np.atleast_1d(st.velocity),
-                    "omega2": np.atleast_1d(st.omega2),
-                    "tip_deflection_m": np.atleast_1d(st.tip_deflection),
-                    "tip_height_m": np.atleast_1d(st.tip_height),
-                    "wall_shear_stress_Pa": np.atleast_1d(st.wall_shear_stress),
-                    "force_per_hair_N": np.atleast_1d(st.force_per_hair),
-                    "stress_ratio": np.atleast_1d(st.stress_ratio),
-                }
-            )
-            if show:
-                _progress(min(i + chunk, v.size), v.size, start)
-        columns = {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
-        attrs = {"eps": bed.eps, "base_angle": bed.base_angle, "bed": repr(bed)}
-    else:
-        if args.eps is None:
-            raise UsageError("give --eps (or the physical inputs of a bed)")
-        w2 = _grid(args.omega2_min, args.omega2_max, args.num, args.log, "omega2")
-        if args.quasistatic:
-            from hairbed.quasistatic import sweep
+    from hairbed import sweeps
 
-            sols = [
-                sweep(w2, args.eps, args.theta0, start=args.root if args.root != "mid" else "low")
-            ]
+    # -- everything is checked before any work ------------------------------------------------
+    out = args.out
+    to_stdout = out is None or out == "-"
+    if not to_stdout:
+        sweeps.output_format(out)  # an unknown extension is refused here
+        from pathlib import Path
+
+        parent = Path(out).parent
+        if not parent.is_dir():
+            raise UsageError(f"--out: directory {str(parent)!r} does not exist")
+    if args.chunks is not None and args.chunks < 1:
+        raise UsageError(f"--chunks must be >= 1, got {args.chunks}")
+    if args.scheduler is not None and args.chunks is None:
+        raise UsageError("--scheduler needs --chunks N (the blocks that the workers solve)")
+    legacy_w = {"omega2_min": "--omega2-min", "omega2_max": "--omega2-max"}
+    legacy_v = {"velocity_min": "--velocity-min", "velocity_max": "--velocity-max"}
+    shape = {"num": "--num", "log": "--log"}
+    omega2: Any = None
+    eps: Any = None
+    theta0: Any = None
+    velocity: Any = None
+    bed = _bed(args)
+    if bed is not None:
+        why = "does not apply to the sweep of a bed (its eps and base angle are fixed)"
+        _refuse(args, {"omega2": "--omega2", "eps": "--eps", "theta0": "--theta0"}, why)
+        _refuse(args, legacy_w, why)
+        _refuse(args, {"sign": "--sign", "n": "--n"}, "does not apply: a bed follows the "
+                "physical branch")  # fmt: skip
+        _refuse(args, {"quasistatic": "--quasistatic"}, "takes an --omega2 path, not a bed")
+        if args.velocity is not None:
+            _refuse(args, {**legacy_v, **shape}, "does not apply with --velocity SPEC")
+            velocity = _spec(args.velocity, "--velocity")
+        elif args.velocity_min is not None and args.velocity_max is not None:
+            velocity = _legacy_grid(args, "velocity", args.velocity_min, args.velocity_max)
         else:
-            hairbed.solve(w2[:1], args.eps, args.theta0)  # fail fast on bad eps/theta0
-            sols = []
-            start = time.perf_counter()
-            for i in range(0, w2.size, chunk):
-                sols.append(
-                    hairbed.solve(w2[i : i + chunk], args.eps, args.theta0, root=args.root)
-                )
-                if show:
-                    _progress(min(i + chunk, w2.size), w2.size, start)
-        columns = {
-            k: np.concatenate([np.atleast_1d(getattr(s, k)) for s in sols]) for k in _SWEEP_COLUMNS
-        }
-        attrs = {"eps": args.eps, "theta0": args.theta0}
-    _write_table(columns, attrs, args.out)
+            raise UsageError("a sweep of a bed needs --velocity SPEC [m/s]")
+        kwargs: dict[str, Any] = {"root": args.root}
+    else:
+        why = "needs the physical inputs of a bed (--length, --radius, ...)"
+        _refuse(args, {"velocity": "--velocity", **legacy_v}, why)
+        if args.eps is None:
+            raise UsageError("give --eps SPEC (or the physical inputs of a bed)")
+        if args.omega2 is not None:
+            _refuse(args, {**legacy_w, **shape}, "does not apply with --omega2 SPEC")
+            omega2 = _spec(args.omega2, "--omega2")
+        else:  # the older form --omega2-min/--omega2-max/--num/--log, default 0:10:101
+            lo = 0.0 if args.omega2_min is None else args.omega2_min
+            hi = 10.0 if args.omega2_max is None else args.omega2_max
+            omega2 = _legacy_grid(args, "omega2", lo, hi)
+        eps = _spec(args.eps, "--eps")
+        theta0 = _spec(args.theta0, "--theta0")
+        theta0 = 0.0 if theta0 is None else theta0
+        sign = 1 if args.sign is None else args.sign
+        n = 0 if args.n is None else args.n
+        kwargs = {"sign": sign, "n": n, "root": args.root}
+    if args.quasistatic:
+        why = "does not apply with --quasistatic (a path is followed in order, in one process)"
+        _refuse(args, {"chunks": "--chunks", "scheduler": "--scheduler"}, why)
+        _refuse(args, {"sign": "--sign", "n": "--n"}, "does not apply with --quasistatic "
+                "(it follows the physical branch)")  # fmt: skip
+        if args.root == "mid":
+            raise UsageError("--root mid does not apply with --quasistatic (low or high)")
+        if np.ndim(omega2) != 1 or np.ndim(eps) != 0 or np.ndim(theta0) != 0:
+            raise UsageError(
+                "--quasistatic follows a 1-D path: --omega2 a list or range, --eps and "
+                "--theta0 single values"
+            )
+        if args.progress:
+            raise UsageError("--progress does not apply with --quasistatic (one pass)")
+
+    # -- the work ------------------------------------------------------------------------------
+    def build(chunks: int | None, progress: bool) -> Any:
+        if bed is not None:
+            return bed.sweep(velocity, chunks=chunks, progress=progress, **kwargs)
+        return hairbed.sweep(omega2, eps, theta0, chunks=chunks, progress=progress, **kwargs)
+
+    if args.quasistatic:
+        from hairbed.quasistatic import sweep as follow
+
+        path = follow(omega2, eps, theta0, start=args.root)
+        ds = sweeps.path_dataset(path, kind="quasistatic", root=args.root, omega2=omega2)
+    elif args.scheduler is not None:
+        ds = _distributed(args.scheduler, build, args.chunks, args.progress)
+    else:
+        ds = build(args.chunks, args.progress)
+    if to_stdout:
+        sweeps.write_csv_stream(ds, sys.stdout)
+        sys.stdout.flush()
+        return 0
+    points = sweeps.write_dataset(ds, out)
+    print(f"wrote {out} ({points} points)", file=sys.stderr)
     return 0
 
 
-def _write_table(columns: dict[str, np.ndarray], attrs: dict[str, Any], out: str | None) -> None:
-    if out is not None and out.endswith(".nc"):
-        try:
-            import xarray as xr
-        except ImportError as exc:
-            raise UsageError("netCDF output needs xarray (pip install xarray)") from exc
-        first = next(iter(columns))
-        ds = xr.Dataset(
-            {k: ((first,), v) for k, v in columns.items() if k != first},
-            coords={first: columns[first]},
-            attrs={
-                k: (v if isinstance(v, (int, float, str)) else str(v)) for k, v in attrs.items()
-            },
-        )
-        try:
-            ds.to_netcdf(out)
-        except Exception as exc:  # no netCDF engine installed
-            raise UsageError(f"could not write netCDF file {out}: {exc}") from exc
-        print(f"wrote {out}", file=sys.stderr)
-        return
-    buf = io.StringIO()
-    writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(list(columns))
-    for row in zip(*columns.values()):
-        writer.writerow(
-            [repr(float(x)) if isinstance(x, (float, np.floating)) else int(x) for x in row]
-        )
-    if out is None or out == "-":
-        sys.stdout.write(buf.getvalue())
-    else:
-        with open(out, "w", encoding="utf-8") as fh:
-            fh.write(buf.getvalue())
-        print(f"wrote {out} ({len(next(iter(columns.values())))} rows)", file=sys.stderr)
+def _distributed(address: str, build: Any, chunks: int, progress: bool) -> Any:
+    """The sweep computed on the dask.distributed cluster at ``address``, gathered here."""
+    try:
+        import distributed
+    except ImportError as exc:
+        raise UsageError("--scheduler needs distributed: pip install 'hairbed[sweep]'") from exc
+    try:
+        client = distributed.Client(address, timeout="10s", set_as_default=True)
+    except (OSError, TimeoutError, ValueError) as exc:
+        message = " ".join(str(exc).split())
+        raise UsageError(
+            f"--scheduler: could not connect to a dask scheduler at {address!r} ({message})"
+        ) from exc
+    with client:
+        # the workers' stderr is not ours: the bar follows the blocks' futures from here
+        persisted = build(chunks, False).persist()
+        futures = distributed.futures_of(persisted)
+        if progress:
+            with _progress_bar(len(futures)) as bar:
+                for _ in distributed.as_completed(futures):
+                    bar.update(1)
+        return persisted.compute()
 
 
 def _omega2_from_x1(x1: float, eps: float, theta0: float) -> Any:
@@ -439,28 +507,6 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
-def _cmd_explore(args: argparse.Namespace) -> int:
-    from hairbed.explorer import AppMissingError, serve
-
-    try:
-        serve(
-            port=args.port,
-            host=args.host,
-            show=not args.no_browser,
-            allow_websocket_origin=args.allow_websocket_origin or (),
-            session_token_expiration=args.session_token_expiration,
-            check_unused_sessions=args.check_unused_sessions,
-            unused_session_lifetime=args.unused_session_lifetime,
-        )
-    except AppMissingError as exc:
-        raise UsageError(str(exc)) from None
-    except OSError as exc:  # the port is taken, the address is not ours, ...
-        raise UsageError(
-            f"cannot serve on {args.host}:{args.port}: {exc.strerror or exc}"
-        ) from None
-    return 0
-
-
 def _cmd_demo(args: argparse.Namespace) -> int:
     sol = hairbed.solve(2.0, 0.5, 0.0)
     print("The paper's example: a hair standing upright (theta0 = 0) in a channel twice its")
@@ -482,8 +528,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="examples:\n"
         "  hairbed demo\n"
         "  hairbed solve --omega2 2 --eps 0.5\n"
-        "  hairbed sweep --omega2-min 0.01 --omega2-max 100 --num 200 --log --eps 0.5 "
-        "--out sweep.csv\n"
+        "  hairbed sweep --omega2 0.01:100:200:log --eps 0.5,0.9 --theta0 0 --out sweep.nc\n"
         "  hairbed invert --tip-deflection 0.6 --eps 0.5\n"
         "  hairbed figures --out figures\n"
         "run 'hairbed <command> --help' for the options of a command",
@@ -529,28 +574,35 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser(
         "sweep",
-        help="sweep omega2 (or velocity) -> CSV / netCDF",
+        help="grids of omega2, eps, theta0 (or wall speed) -> netCDF, zarr, CSV, parquet",
         formatter_class=_formatter,
-        description="Solve on a grid of forcing (or wall speed, given a bed) and write a table.",
+        description="Solve on the outer-product grid of --omega2, --eps and --theta0 (or over "
+        "wall speeds, given a bed) and write a labelled table. SPEC is a value, a comma list "
+        "or start:stop:num[:log]; write --opt=SPEC for a SPEC that starts with '-'. The output "
+        "format follows the extension of --out: .nc (netCDF-4, CF attributes), .zarr, .csv "
+        "(one row per grid point, units in the header; the default, to stdout) or .parquet; "
+        "files are written whole or not at all.",
         epilog="examples:\n"
-        "  hairbed sweep --omega2-min 0 --omega2-max 10 --num 101 --eps 0.5 > sweep.csv\n"
-        "  hairbed sweep --omega2-min 0.01 --omega2-max 1e3 --num 1000000 --log --eps 0.5 "
-        "--out big.nc --progress\n"
-        "  hairbed sweep --omega2-min 0.5 --omega2-max 2 --num 200 --eps 0.9 --theta0 -1.5 "
-        "--quasistatic\n"
+        "  hairbed sweep --omega2 0:10:101 --eps 0.5 > sweep.csv\n"
+        "  hairbed sweep --omega2 1e-3:1e3:100:log --eps 0:0.95:40 --theta0=-1.2:1.2:25 "
+        "--out grid.nc\n"
+        "  hairbed sweep --omega2 1e-3:1e3:1000:log --eps 0:0.95:100 --theta0 0:1.2:100 "
+        "--chunks 50 --progress --out big.zarr\n"
+        "  hairbed sweep --omega2 0.01:100:200:log --eps 0.5,0.9 --chunks 50 "
+        "--scheduler tcp://10.0.0.5:8786 --out grid.parquet\n"
+        "  hairbed sweep --omega2 0.5:2:200 --eps 0.9 --theta0=-1.5 --quasistatic\n"
         "  hairbed sweep --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 "
         "--channel-height 2e-3 \\\n"
-        "      --viscosity 1 --spacing 400e-6 --velocity-min -0.5 --velocity-max 0.5 "
-        "--out bed.csv",
+        "      --viscosity 1 --spacing 400e-6 --velocity=-0.5:0.5:101 --out bed.nc",
     )
-    p.add_argument("--omega2-min", type=float, default=0.0, help="first omega^2 (default 0)")
-    p.add_argument("--omega2-max", type=float, default=10.0, help="last omega^2 (default 10)")
-    p.add_argument("--velocity-min", type=float, help="first wall speed [m/s] (with a bed)")
-    p.add_argument("--velocity-max", type=float, help="last wall speed [m/s] (with a bed)")
-    p.add_argument("--num", type=int, default=101, help="number of points (default 101)")
-    p.add_argument("--log", action="store_true", help="geometric spacing")
-    p.add_argument("--eps", type=float, help="confinement eps = L/H [-], in [0, 1)")
-    p.add_argument("--theta0", type=float, default=0.0, help="base angle [rad] (default 0)")
+    p.add_argument("--omega2", metavar="SPEC", help="forcing omega^2 [-], >= 0")
+    p.add_argument("--eps", metavar="SPEC", help="confinement eps = L/H [-], in [0, 1)")
+    p.add_argument("--theta0", metavar="SPEC", help="base angle [rad] (default 0)")
+    p.add_argument("--velocity", metavar="SPEC", help="top wall speed v [m/s] (with a bed)")
+    p.add_argument(
+        "--sign", type=int, choices=(1, -1), help="sign of the base curvature (default 1)"
+    )
+    p.add_argument("--n", type=int, help="interior turning points of the branch (default 0)")
     p.add_argument(
         "--root",
         default="low",
@@ -560,10 +612,27 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--quasistatic",
         action="store_true",
-        help="follow the state along the path (jumps at folds: hysteresis)",
+        help="follow the state along a 1-D --omega2 path (jumps at folds: hysteresis)",
     )
-    p.add_argument("--out", metavar="FILE", help="output file, .csv or .nc (default: stdout CSV)")
-    p.add_argument("--progress", action="store_true", help="progress bar on stderr")
+    p.add_argument(
+        "--chunks", type=int, metavar="N", help="blocks of N points per dimension (dask)"
+    )
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="compute on a running dask.distributed scheduler (needs --chunks)",
+    )
+    p.add_argument("--progress", action="store_true", help="progress bar with ETA on stderr")
+    p.add_argument(
+        "--out", metavar="FILE", help="output: .nc, .zarr, .csv or .parquet (default: CSV stdout)"
+    )
+    old = p.add_argument_group("the older form of a 1-D range (instead of a SPEC)")
+    old.add_argument("--omega2-min", type=float, metavar="X", help="first omega^2 (default 0)")
+    old.add_argument("--omega2-max", type=float, metavar="X", help="last omega^2 (default 10)")
+    old.add_argument("--velocity-min", type=float, metavar="V", help="first wall speed [m/s]")
+    old.add_argument("--velocity-max", type=float, metavar="V", help="last wall speed [m/s]")
+    old.add_argument("--num", type=int, help="number of points (default 101)")
+    old.add_argument("--log", action="store_true", help="geometric spacing")
     _add_bed_options(p, velocity=False)
     p.set_defaults(func=_cmd_sweep)
 
@@ -627,9 +696,9 @@ def build_parser() -> argparse.ArgumentParser:
         "--rows",
         type=int,
         nargs="+",
-        choices=range(1, 11),
+        choices=range(1, 12),
         metavar="ROW",
-        help="only these rows, 1 to 10 (default all)",
+        help="only these rows, 1 to 11 (default all)",
     )
     p.add_argument("--cold", action="store_true", help="also time a cold numba cache")
     p.add_argument("--json", metavar="PATH", help="also write the figures as JSON")
@@ -644,54 +713,6 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example:\n  hairbed demo",
     )
     p.set_defaults(func=_cmd_demo)
-
-    p = sub.add_parser(
-        "explore",
-        help="the interactive explorer in a web browser",
-        formatter_class=_formatter,
-        description="Serve the interactive explorer (needs the app extra: pip install "
-        "'hairbed[app]'): sliders and exact entry of omega2, eps and theta0 or of a bed in SI "
-        "units; every coexisting state in the channel, the branch diagram, the bistability map, "
-        "the phase portrait and a table; the inputs in the page's URL; JSON and CSV downloads. "
-        "Listens on the loopback interface unless --host says otherwise. Each browser session "
-        "holds about 1 MB of server memory until it is discarded, --unused-session-lifetime "
-        "after its page was closed.",
-        epilog="examples:\n  hairbed explore\n  hairbed explore --port 8000 --no-browser\n"
-        "  hairbed explore --host 0.0.0.0 --port 8000 --allow-websocket-origin example.org",
-    )
-    p.add_argument("--port", type=int, default=5006, help="TCP port (default 5006; 0: any free)")
-    p.add_argument(
-        "--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1, loopback)"
-    )
-    p.add_argument("--no-browser", action="store_true", help="do not open a web browser")
-    p.add_argument(
-        "--allow-websocket-origin",
-        action="append",
-        metavar="HOST[:PORT]",
-        help="also accept pages served as HOST[:PORT] (behind a proxy); repeatable",
-    )
-    p.add_argument(
-        "--session-token-expiration",
-        type=int,
-        default=300,
-        metavar="S",
-        help="seconds a page has to connect to its session (default 300)",
-    )
-    p.add_argument(
-        "--check-unused-sessions",
-        type=int,
-        default=17000,
-        metavar="MS",
-        help="how often to look for closed sessions [ms] (default 17000)",
-    )
-    p.add_argument(
-        "--unused-session-lifetime",
-        type=int,
-        default=15000,
-        metavar="MS",
-        help="discard a closed session's state after this long [ms] (default 15000)",
-    )
-    p.set_defaults(func=_cmd_explore)
     return parser
 
 

@@ -418,6 +418,26 @@ class HairBed:
         """Shear stress on the top wall, eta v / (H - h1 L) [Pa], at wall speed v [m/s]."""
         return self.deform(velocity, root=root).wall_shear_stress
 
+    def sweep(
+        self, velocity: Any, *, root: str = "low", chunks: Any = None, progress: bool = False
+    ) -> Any:
+        """The bed's states over wall speeds as a labelled xarray Dataset, in SI units.
+
+        Tip deflection, displacement and height [m], tip angle [rad], wall shear stress [Pa],
+        force per hair [N] and stress ratio, with the dimensionless fields beside them and
+        the bed's parameters in the attributes; see :func:`hairbed.sweeps.bed_sweep`
+        (``chunks`` and ``progress`` as in :func:`hairbed.sweep`). Needs
+        ``pip install "hairbed[sweep]"``.
+
+        Parameters
+        ----------
+        velocity : float or 1-D array_like
+            Speed of the top wall v [m/s] (the dimension ``velocity``).
+        """
+        from .sweeps import bed_sweep
+
+        return bed_sweep(self, velocity, root=root, chunks=chunks, progress=progress)
+
     def rectification_ratio(self, speed: Any, *, root: str = "low") -> FloatOrArray:
         """Stress against the grain over stress with it, at wall speed abs(v) = ``speed`` [m/s].
 

@@ -1,0 +1,189 @@
+"""Files written whole or not at all: a temporary file beside the target, then a rename.
+
+Every file hairbed writes (sweep tables, figures, benchmark JSON) goes through
+:func:`atomic_path`: the writer fills a temporary file (or, for a ``.zarr`` store, a
+temporary directory) in the target's own directory, named ``.<name>.<random>.tmp<suffix>``
+(the suffix kept, so that libraries that look at it still see the format); when the writer
+returns, its data are flushed to disk (``fsync``) and the temporary is renamed onto the
+target (``os.replace``, atomic on POSIX), then the directory entry is flushed too. If the
+writer fails or is interrupted (Ctrl-C is a ``KeyboardInterrupt``, a ``BaseException``), the
+temporary is removed and the target, if it existed, is left exactly as it was: a reader
+never sees a half-written file.
+
+A directory cannot be renamed onto a non-empty one, so a store that already exists is
+first renamed aside, the new one renamed into place, then the old one removed; Ctrl-C is
+held back during those two renames, so an interrupt cannot leave the target missing.
+
+Examples
+--------
+>>> import pathlib, tempfile
+>>> folder = pathlib.Path(tempfile.mkdtemp())
+>>> with atomic_path(folder / "a.txt") as tmp:
+...     _ = tmp.write_text("whole")
+>>> (folder / "a.txt").read_text(), sorted(p.name for p in folder.iterdir())
+('whole', ['a.txt'])
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import tempfile
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+__all__ = ["atomic_path", "temporary_names", "write_bytes", "write_text"]
+
+#: Marker in the names of the temporaries (``.<name>.<random>.tmp<suffix>``).
+TMP_MARK = ".tmp"
+
+
+def temporary_names(target: str | os.PathLike[str]) -> list[Path]:
+    """Temporaries of ``target`` present in its directory (normally none: for tests)."""
+    target = Path(target)
+    prefix = f".{target.name}."
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        return []
+    return sorted(p for p in parent.iterdir() if p.name.startswith(prefix) and TMP_MARK in p.name)
+
+
+def _fsync_path(path: Path, directory: bool = False) -> None:
+    flags = os.O_RDONLY | (getattr(os, "O_DIRECTORY", 0) if directory else 0)
+    try:
+        fd = os.open(path, flags)
+    except OSError:  # some file systems do not open directories: nothing to flush then
+        return
+    try:
+        os.fsync(fd)
+    except OSError:
+        pass
+    finally:
+        os.close(fd)
+
+
+def _fsync_tree(path: Path) -> None:
+    """fsync every file and directory under ``path`` (a directory store), deepest first."""
+    for root, _dirs, files in os.walk(path, topdown=False):
+        for name in files:
+            _fsync_path(Path(root) / name)
+        _fsync_path(Path(root), directory=True)
+
+
+def _remove(path: Path) -> None:
+    if path.is_dir() and not path.is_symlink():
+        shutil.rmtree(path, ignore_errors=True)
+    else:
+        try:
+            path.unlink()
+        except FileNotFoundError:
+            pass
+
+
+@contextmanager
+def _sigint_held() -> Iterator[None]:
+    """Defer Ctrl-C until the block ends (main thread only; elsewhere a no-op)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    caught: list[int] = []
+    try:
+        previous = signal.signal(signal.SIGINT, lambda signum, frame: caught.append(signum))
+    except (ValueError, OSError):  # no signals here (e.g. an embedded interpreter)
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+        if caught:
+            raise KeyboardInterrupt
+
+
+@contextmanager
+def atomic_path(target: str | os.PathLike[str], *, directory: bool = False) -> Iterator[Path]:
+    """A temporary path beside ``target`` that becomes ``target`` when the block succeeds.
+
+    Parameters
+    ----------
+    target : path-like
+        The file (or, with ``directory=True``, the directory store) to write. Its directory
+        must exist.
+    directory : bool, optional
+        The writer creates a directory (a ``.zarr`` store) rather than a file. The temporary
+        path is then free: the writer creates it.
+
+    Yields
+    ------
+    pathlib.Path
+        Where the writer must write. For a file it exists (empty); for a directory it does not.
+
+    Raises
+    ------
+    FileNotFoundError
+        If the target's directory does not exist.
+    IsADirectoryError, NotADirectoryError
+        If the target exists and is a directory where a file is expected or vice versa.
+    """
+    target = Path(target)
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        raise FileNotFoundError(f"directory {str(parent)!r} of {str(target)!r} does not exist")
+    if target.exists() and target.is_dir() != directory:
+        kind = "a directory" if target.is_dir() else "a file"
+        error = IsADirectoryError if target.is_dir() else NotADirectoryError
+        raise error(f"{str(target)!r} exists and is {kind}")
+    prefix, suffix = f".{target.name}.", f"{TMP_MARK}{target.suffix}"
+    if directory:
+        tmp = Path(tempfile.mkdtemp(prefix=prefix, suffix=suffix, dir=parent))
+        tmp.rmdir()  # the writer creates it (stores refuse to write into an existing one)
+    else:
+        fd, name = tempfile.mkstemp(prefix=prefix, suffix=suffix, dir=parent)
+        os.close(fd)
+        tmp = Path(name)
+    try:
+        yield tmp
+        if directory:
+            if not tmp.is_dir():
+                raise FileNotFoundError(f"the writer created no directory {str(tmp)!r}")
+            _fsync_tree(tmp)
+            old: Path | None = None
+            try:
+                with _sigint_held():
+                    if target.exists():
+                        old = Path(tempfile.mkdtemp(prefix=prefix, suffix=".tmp.old", dir=parent))
+                        os.replace(target, old)  # onto an empty directory: allowed
+                    os.replace(tmp, target)
+            finally:
+                if old is not None:
+                    if target.exists():
+                        _remove(old)
+                    else:  # the second rename failed: put the old store back
+                        os.replace(old, target)
+        else:
+            _fsync_path(tmp)
+            try:  # mkstemp makes the file private (0600); give it the usual permissions
+                umask = os.umask(0)
+                os.umask(umask)
+                os.chmod(tmp, 0o666 & ~umask)
+            except OSError:
+                pass
+            os.replace(tmp, target)
+        _fsync_path(parent, directory=True)
+    except BaseException:
+        _remove(tmp)
+        raise
+
+
+def write_bytes(target: str | os.PathLike[str], data: bytes) -> None:
+    """Write ``data`` to ``target`` whole or not at all."""
+    with atomic_path(target) as tmp, open(tmp, "wb") as fh:
+        fh.write(data)
+
+
+def write_text(target: str | os.PathLike[str], text: str, encoding: str = "utf-8") -> None:
+    """Write ``text`` to ``target`` whole or not at all."""
+    write_bytes(target, text.encode(encoding))
