@@ -8,14 +8,14 @@ DOCS_STAMP := $(VENV)/.installed-docs
 export OPENBLAS_NUM_THREADS := 1
 export OMP_NUM_THREADS := 1
 
-.PHONY: run test lint format bench reference docs clean
+.PHONY: run test chromium lint format bench reference docs clean
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 
 $(STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install --quiet -e ".[test,sweep]"
+	$(BIN)/python -m pip install --quiet -e ".[test,sweep,app]"
 	touch $(STAMP)
 
 $(DOCS_STAMP): pyproject.toml | $(BIN)/python
@@ -26,7 +26,7 @@ run: $(STAMP)
 	$(BIN)/python -m hairbed demo
 	$(BIN)/python -m hairbed figures --out figures
 
-test: $(STAMP)
+test: $(STAMP) chromium
 	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/ruff format --check src tests benchmarks
 	$(BIN)/python -m pytest -q
@@ -34,6 +34,19 @@ test: $(STAMP)
 	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q -p no:cacheprovider \
 		tests/test_kernels_elliptic.py tests/test_kernels_weak.py tests/test_jit.py \
 		tests/test_kernels_python.py
+
+# Debian's Chromium for the browser tests of the explorer (tests/test_explorer_browser.py),
+# installed when missing and possible (root with apt-get); otherwise those tests skip, saying so.
+chromium:
+	@if [ -x /usr/bin/chromium ] || [ -n "$$HAIRBED_CHROMIUM" ]; then :; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+		echo "installing Debian's chromium for the browser tests (apt-get install chromium)"; \
+		apt-get install -y -q chromium >/dev/null 2>&1 \
+		|| (apt-get update -q >/dev/null 2>&1 && apt-get install -y -q chromium >/dev/null 2>&1) \
+		|| echo "could not install chromium: the browser tests will skip"; \
+	else \
+		echo "no /usr/bin/chromium (apt-get install chromium): the browser tests will skip"; \
+	fi
 
 lint: $(STAMP)
 	$(BIN)/ruff check src tests benchmarks
@@ -45,9 +58,11 @@ format: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python benchmarks/bench_solve.py
 
-# Regenerate the mpmath reference data of the tests (slow; run on demand).
+# Regenerate the mpmath reference data of the tests (slow: tens of minutes; run on demand).
 reference: $(STAMP)
 	$(BIN)/python tests/reference/generate_reference.py
+	$(BIN)/python tests/reference/generate_corners.py
+	$(BIN)/python tests/reference/generate_cases.py
 
 # The documentation site (docs/_build/html), warnings as errors. The figure gallery is drawn
 # during the build into docs/_generated (redrawn when a source file is newer).

@@ -20,6 +20,7 @@ from ._core.solver import from_parameter, from_xi, solve, solve_all
 
 if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
     from . import branches, inverse, numerics, quasistatic, rheology, stability, sweeps, units
+    from .explorer import explore
     from .sweeps import sweep
     from .units import HairBed, HairState
 
@@ -28,6 +29,7 @@ __all__ = [
     "HairState",
     "Solution",
     "branches",
+    "explore",
     "from_parameter",
     "from_xi",
     "inverse",
@@ -57,7 +59,7 @@ _LAZY_MODULES = frozenset(
     }
 )
 #: Names imported on first access: name -> submodule that defines it.
-_LAZY_NAMES = {"HairBed": "units", "HairState": "units", "sweep": "sweeps"}
+_LAZY_NAMES = {"HairBed": "units", "HairState": "units", "explore": "explorer", "sweep": "sweeps"}
 
 
 def __getattr__(name: str) -> Any:

@@ -1,6 +1,7 @@
 """The ``hairbed`` command line: a thin layer over the library.
 
-Subcommands: ``solve``, ``sweep``, ``invert``, ``figures``, ``bench``, ``demo``. Run
+Subcommands: ``solve``, ``sweep``, ``invert``, ``figures``, ``bench``, ``demo``,
+``explore``. Run
 ``hairbed <command> --help`` for the options and examples of each. Bad input ends with one line
 ``hairbed: error: <message>`` on stderr and exit status 2; Ctrl-C with the one line
 ``hairbed: interrupted`` and exit status 130, leaving no partial file behind.
@@ -155,7 +156,11 @@ def _bed(args: argparse.Namespace) -> Any | None:
     if missing:
         names = ", ".join("--" + k.replace("_", "-") for k in missing)
         raise UsageError(f"physical inputs need also {names}")
-    return hairbed.HairBed(**given)
+    try:
+        from hairbed.units import HairBed
+    except ImportError as exc:  # pragma: no cover - depends on the package state
+        raise UsageError(f"physical inputs need hairbed.units ({exc})") from exc
+    return HairBed(**given)
 
 
 # -- subcommands ----------------------------------------------------------------------------
@@ -407,6 +412,28 @@ def _distributed(address: str, build: Any, chunks: int, progress: bool) -> Any:
         return persisted.compute()
 
 
+def _omega2_from_x1(x1: float, eps: float, theta0: float) -> Any:
+    """Solution whose tip deflection is x1 (hairbed.inverse, else a bracketed root in t)."""
+    try:
+        from hairbed.inverse import solution_from_tip_deflection
+    except ImportError:
+        from scipy.optimize import brentq
+
+        hairbed.solve(0.0, eps, theta0)  # validates eps and theta0
+        if not math.sin(theta0) < x1 < 1.0:
+            raise ValueError(
+                f"tip deflection must lie in (sin(theta0), 1) = ({math.sin(theta0):.6g}, 1), "
+                f"got {x1!r}"
+            ) from None
+
+        def f(t: float) -> float:
+            return float(hairbed.from_parameter(t, eps, theta0).tip_deflection) - x1
+
+        t = brentq(f, -60.0, 60.0, xtol=1e-14, rtol=4e-16)
+        return hairbed.from_parameter(t, eps, theta0)
+    return solution_from_tip_deflection(x1, eps, theta0)
+
+
 def _cmd_invert(args: argparse.Namespace) -> int:
     bed = _bed(args)
     if bed is not None:
@@ -429,7 +456,7 @@ def _cmd_invert(args: argparse.Namespace) -> int:
     if args.eps is None:
         raise UsageError("give --eps (or the physical inputs of a bed)")
     theta0 = 0.0 if args.theta0 is None else args.theta0
-    sol = hairbed.inverse.solution_from_tip_deflection(args.tip_deflection, args.eps, theta0)
+    sol = _omega2_from_x1(args.tip_deflection, args.eps, theta0)
     if args.json:
         print(json.dumps(_jsonable(sol.as_dict())))
     else:
@@ -478,6 +505,28 @@ def _cmd_bench(args: argparse.Namespace) -> int:
             _benchmark.write_json(result, out)
         except OSError as exc:
             raise UsageError(f"could not write {out}: {exc}") from exc
+    return 0
+
+
+def _cmd_explore(args: argparse.Namespace) -> int:
+    from hairbed.explorer import AppMissingError, serve
+
+    try:
+        serve(
+            port=args.port,
+            host=args.host,
+            show=not args.no_browser,
+            allow_websocket_origin=args.allow_websocket_origin or (),
+            session_token_expiration=args.session_token_expiration,
+            check_unused_sessions=args.check_unused_sessions,
+            unused_session_lifetime=args.unused_session_lifetime,
+        )
+    except AppMissingError as exc:
+        raise UsageError(str(exc)) from None
+    except OSError as exc:  # the port is taken, the address is not ours, ...
+        raise UsageError(
+            f"cannot serve on {args.host}:{args.port}: {exc.strerror or exc}"
+        ) from None
     return 0
 
 
@@ -687,6 +736,54 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="example:\n  hairbed demo",
     )
     p.set_defaults(func=_cmd_demo)
+
+    p = sub.add_parser(
+        "explore",
+        help="the interactive explorer in a web browser",
+        formatter_class=_formatter,
+        description="Serve the interactive explorer (needs the app extra: pip install "
+        "'hairbed[app]'): sliders and exact entry of omega2, eps and theta0 or of a bed in SI "
+        "units; every coexisting state in the channel, the branch diagram, the bistability map, "
+        "the phase portrait and a table; the inputs in the page's URL; JSON and CSV downloads. "
+        "Listens on the loopback interface unless --host says otherwise. Each browser session "
+        "holds about 1 MB of server memory until it is discarded, --unused-session-lifetime "
+        "after its page was closed.",
+        epilog="examples:\n  hairbed explore\n  hairbed explore --port 8000 --no-browser\n"
+        "  hairbed explore --host 0.0.0.0 --port 8000 --allow-websocket-origin example.org",
+    )
+    p.add_argument("--port", type=int, default=5006, help="TCP port (default 5006; 0: any free)")
+    p.add_argument(
+        "--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1, loopback)"
+    )
+    p.add_argument("--no-browser", action="store_true", help="do not open a web browser")
+    p.add_argument(
+        "--allow-websocket-origin",
+        action="append",
+        metavar="HOST[:PORT]",
+        help="also accept pages served as HOST[:PORT] (behind a proxy); repeatable",
+    )
+    p.add_argument(
+        "--session-token-expiration",
+        type=int,
+        default=300,
+        metavar="S",
+        help="seconds a page has to connect to its session (default 300)",
+    )
+    p.add_argument(
+        "--check-unused-sessions",
+        type=int,
+        default=17000,
+        metavar="MS",
+        help="how often to look for closed sessions [ms] (default 17000)",
+    )
+    p.add_argument(
+        "--unused-session-lifetime",
+        type=int,
+        default=15000,
+        metavar="MS",
+        help="discard a closed session's state after this long [ms] (default 15000)",
+    )
+    p.set_defaults(func=_cmd_explore)
     return parser
 
 
