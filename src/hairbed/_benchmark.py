@@ -15,7 +15,7 @@ machines better than the raw times; no timing is asserted anywhere in the tests.
    units of one scalar ``ellipkinc(0.5, 0.3)`` call (target <= 5);
 4. ``hairbed.solve_all(200, 0.5, 0.1)`` (7 states) in scalar ellipkinc calls (target <= 50);
 5. ``Solution.profile(200)`` of a scalar solution in scalar ellipkinc calls (target <= 20);
-6. ``hairbed.numerics.finite_difference(..., N=80)`` (the paper's baseline) over scalar
+6. ``hairbed.numerics.finite_difference(..., num=80)`` (the paper's baseline) over scalar
    ``solve`` at the same inputs, median over five inputs (target >= 100);
 7. peak memory of ``hairbed.solve(np.logspace(-3, 3, 10**6), 0.9, -1.5)``: ru_maxrss of a
    fresh subprocess that warms the kernels and solves, minus that of one that only warms them
@@ -73,6 +73,7 @@ row  measured  value unit target result
 
 from __future__ import annotations
 
+import functools
 import gc
 import json
 import os
@@ -111,7 +112,7 @@ ROWS: dict[str, tuple[str, str, float | None, str]] = {
     "3": ("scalar solve / scalar ellipkinc", "calls", 5.0, "<="),
     "4": ("solve_all(200, 0.5, 0.1) / scalar ellipkinc", "calls", 50.0, "<="),
     "5": ("Solution.profile(200) / scalar ellipkinc", "calls", 20.0, "<="),
-    "6": ("finite_difference(N=80) / scalar solve", "x", 100.0, ">="),
+    "6": ("finite_difference(num=80) / scalar solve", "x", 100.0, ">="),
     "7": ("peak memory of solve(logspace(-3, 3, n), 0.9, -1.5)", "MB", 1000.0, "<="),
     "8": ("2 threads / 1 thread, speedup", "x", 1.8, ">="),
     "9": ("solve_all(1e8, 0.5) wall time", "s", 1.0, "<="),
@@ -370,7 +371,7 @@ def measure(
         solve_all(1e4, 0.5)
         solve(2.0, 0.5).profile(200)
         if 6 in chosen:
-            finite_difference(2.0, 0.5, 0.0, N=80)
+            finite_difference(2.0, 0.5, 0.0, num=80)
         if chosen & {1, 2, 3, 4, 5, 6}:
             special.ellipkinc(0.5, 0.3)
             special.ellipkinc(np.full(10, 0.5), np.full(10, 0.3))
@@ -386,7 +387,7 @@ def measure(
             ns = {"ellipkinc_ns": t_ell * 1e9, "n": n}
             for k, args in ((1, row1), (2, row2)):
                 if k in chosen:
-                    t_b = best_of(lambda a=args: solve(*a), repeat, collect=True) / n
+                    t_b = best_of(functools.partial(solve, *args), repeat, collect=True) / n
                     out.append(Row.of(str(k), t_b / t_ell, solve_ns=t_b * 1e9, **ns))
 
         # rows 3-6: scalar latencies in units of one scalar ellipkinc call
@@ -397,7 +398,7 @@ def measure(
             scalar = {"ellipkinc_us": unit * 1e6}
         if 3 in chosen:
             per_input = [
-                best_of(lambda w=w, e=e, t=t: solve(w, e, t), 5)
+                best_of(functools.partial(solve, w, e, t), 5)
                 for w, e, t in zip(*(a[:n_scalar].tolist() for a in row1))
             ]
             t_scalar = statistics.median(per_input)
@@ -414,16 +415,18 @@ def measure(
         if 6 in chosen:
             ratios, fd_ms, success = [], [], []
             for w, e, t in FD_INPUTS:
-                t_fd = best_of(lambda w=w, e=e, t=t: finite_difference(w, e, t, N=80), 3)
-                t_an = median_call(lambda w=w, e=e, t=t: solve(w, e, t), calls)
+                t_fd = best_of(functools.partial(finite_difference, w, e, t, num=80), 3)
+                t_an = median_call(functools.partial(solve, w, e, t), calls)
                 ratios.append(t_fd / t_an)
                 fd_ms.append(t_fd * 1e3)
-                success.append(bool(finite_difference(w, e, t, N=80).success))
+                success.append(bool(finite_difference(w, e, t, num=80).success))
             fd = {"ratios": ratios, "fd_ms": fd_ms, "fd_success": success, "inputs": FD_INPUTS}
             out.append(Row.of("6", statistics.median(ratios), **fd))
 
         # share of one core this process got in the single-threaded rows: below 1, it waited
-        cpu_share = (time.process_time() - cpu0) / max(time.perf_counter() - wall0, 1e-9)
+        cpu_share: float | None = (time.process_time() - cpu0) / max(
+            time.perf_counter() - wall0, 1e-9
+        )
         if not chosen & {1, 2, 3, 4, 5, 6}:
             cpu_share = None
         lap("rows 1-6")

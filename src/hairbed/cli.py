@@ -156,11 +156,7 @@ def _bed(args: argparse.Namespace) -> Any | None:
     if missing:
         names = ", ".join("--" + k.replace("_", "-") for k in missing)
         raise UsageError(f"physical inputs need also {names}")
-    try:
-        from hairbed.units import HairBed
-    except ImportError as exc:  # pragma: no cover - depends on the package state
-        raise UsageError(f"physical inputs need hairbed.units ({exc})") from exc
-    return HairBed(**given)
+    return hairbed.HairBed(**given)
 
 
 # -- subcommands ----------------------------------------------------------------------------
@@ -412,28 +408,6 @@ def _distributed(address: str, build: Any, chunks: int, progress: bool) -> Any:
         return persisted.compute()
 
 
-def _omega2_from_x1(x1: float, eps: float, theta0: float) -> Any:
-    """Solution whose tip deflection is x1 (hairbed.inverse, else a bracketed root in t)."""
-    try:
-        from hairbed.inverse import solution_from_tip_deflection
-    except ImportError:
-        from scipy.optimize import brentq
-
-        hairbed.solve(0.0, eps, theta0)  # validates eps and theta0
-        if not math.sin(theta0) < x1 < 1.0:
-            raise ValueError(
-                f"tip deflection must lie in (sin(theta0), 1) = ({math.sin(theta0):.6g}, 1), "
-                f"got {x1!r}"
-            ) from None
-
-        def f(t: float) -> float:
-            return float(hairbed.from_parameter(t, eps, theta0).tip_deflection) - x1
-
-        t = brentq(f, -60.0, 60.0, xtol=1e-14, rtol=4e-16)
-        return hairbed.from_parameter(t, eps, theta0)
-    return solution_from_tip_deflection(x1, eps, theta0)
-
-
 def _cmd_invert(args: argparse.Namespace) -> int:
     bed = _bed(args)
     if bed is not None:
@@ -456,7 +430,7 @@ def _cmd_invert(args: argparse.Namespace) -> int:
     if args.eps is None:
         raise UsageError("give --eps (or the physical inputs of a bed)")
     theta0 = 0.0 if args.theta0 is None else args.theta0
-    sol = _omega2_from_x1(args.tip_deflection, args.eps, theta0)
+    sol = hairbed.inverse.solution_from_tip_deflection(args.tip_deflection, args.eps, theta0)
     if args.json:
         print(json.dumps(_jsonable(sol.as_dict())))
     else:
