@@ -1,5 +1,6 @@
 """HairBed: the dimensionless groups, the SI state, the mirror image and validation."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -192,9 +193,11 @@ def test_fit_profile_in_metres():
     bed = make_bed(base_angle=0.1)
     state = bed.deform(0.25)
     x, z = state.profile(15)
-    fit, v = bed.fit_profile(x, z)
-    assert fit.theta0 == 0.1
-    assert v == pytest.approx(0.25, rel=1e-9)
+    res = bed.fit_profile(x, z)
+    assert res.fit.theta0 == 0.1
+    assert res.velocity == pytest.approx(0.25, rel=1e-9)
+    assert res.velocity_stderr == pytest.approx(res.fit.omega2_stderr * bed.velocity_scale)
+    assert res.success and res.status > 0 and res.message == res.fit.message
 
 
 def test_equality_and_repr():
@@ -202,3 +205,12 @@ def test_equality_and_repr():
     assert make_bed() != make_bed(base_angle=0.1)
     assert hash(make_bed()) == hash(make_bed())
     assert "spacing=0.0004" in repr(make_bed())
+    # the repr builds the same bed again (spacing only: packing_fraction is derived)
+    assert "packing_fraction" not in repr(make_bed())
+    assert eval(repr(make_bed()), {"HairBed": HairBed}) == make_bed()
+    # frozen, with the given one of spacing / packing fraction filled in
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        make_bed().length = 2.0
+    by_phi = make_bed(spacing=None, packing_fraction=make_bed().packing_fraction)
+    assert by_phi.spacing == pytest.approx(make_bed().spacing, rel=1e-14)
+    assert isinstance(make_bed(base_angle=0).base_angle, float)

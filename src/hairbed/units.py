@@ -38,19 +38,20 @@ from __future__ import annotations
 import math
 import numbers
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ._core.solver import solve
-from ._core.validation import as_float_array, check_root
+from ._core.validation import as_float_array, check_root, float_or_array
 
 if TYPE_CHECKING:  # pragma: no cover
-    from hairbed.inverse import ProfileFit
+    from .inverse import ProfileFit
 
 __all__ = [
     "CLOSE_PACKING_FRACTION",
+    "BedProfileFit",
     "HairBed",
     "HairState",
 ]
@@ -59,12 +60,6 @@ __all__ = [
 CLOSE_PACKING_FRACTION = math.pi / (2.0 * math.sqrt(3.0))
 
 FloatOrArray = float | NDArray[np.float64]
-
-
-def _scalar(value: Any) -> FloatOrArray:
-    """Return 0-d arrays as Python floats, leave other arrays alone."""
-    arr = np.asarray(value, dtype=np.float64)
-    return float(arr) if arr.ndim == 0 else arr
 
 
 def _positive(value: Any, name: str, unit: str) -> float:
@@ -77,6 +72,34 @@ def _positive(value: Any, name: str, unit: str) -> float:
     if value <= 0.0:
         raise ValueError(f"{name} must be positive, got {value!r} {unit}")
     return value
+
+
+@dataclass(frozen=True)
+class BedProfileFit:
+    """A flow fitted to a measured hair profile, in SI units (from :meth:`HairBed.fit_profile`).
+
+    Attributes
+    ----------
+    velocity : float
+        The fitted wall speed, omega^2 times :attr:`HairBed.velocity_scale` [m/s].
+    velocity_stderr : float
+        Its standard uncertainty [m/s].
+    fit : ProfileFit
+        The dimensionless fit (omega^2, theta0, their standard errors, the residual).
+    success : bool
+        Whether the optimiser reports convergence.
+    status : int
+        The optimiser's status (:func:`scipy.optimize.least_squares`: > 0 converged).
+    message : str
+        The optimiser's message.
+    """
+
+    velocity: float
+    velocity_stderr: float
+    fit: ProfileFit = field(repr=False)
+    success: bool
+    status: int
+    message: str
 
 
 @dataclass(frozen=True)
@@ -142,6 +165,7 @@ class HairState:
         return direction * scale * np.asarray(x), scale * np.asarray(z)
 
 
+@dataclass(frozen=True)
 class HairBed:
     """A dense bed of elastic hairs at the bottom of a channel flow, in SI units.
 
@@ -193,48 +217,37 @@ class HairBed:
     0.0574
     """
 
-    __slots__ = (
-        "_base_angle",
-        "_channel_height",
-        "_length",
-        "_packing_fraction",
-        "_radius",
-        "_spacing",
-        "_viscosity",
-        "_youngs_modulus",
-    )
+    length: float
+    radius: float
+    youngs_modulus: float
+    channel_height: float
+    viscosity: float
+    spacing: float | None = None
+    #: not in the repr: the repr gives ``spacing``, and a bed is built from one of the two
+    packing_fraction: float | None = field(default=None, repr=False)
+    base_angle: float = 0.0
 
-    def __init__(
-        self,
-        length: float,
-        radius: float,
-        youngs_modulus: float,
-        channel_height: float,
-        viscosity: float,
-        spacing: float | None = None,
-        packing_fraction: float | None = None,
-        base_angle: float = 0.0,
-    ) -> None:
-        self._length = _positive(length, "length", "[m]")
-        self._radius = _positive(radius, "radius", "[m]")
-        self._youngs_modulus = _positive(youngs_modulus, "youngs_modulus", "[Pa]")
-        self._channel_height = _positive(channel_height, "channel_height", "[m]")
-        self._viscosity = _positive(viscosity, "viscosity", "[Pa s]")
+    def __post_init__(self) -> None:
+        """Validate the inputs and fill in the one of spacing / packing fraction not given."""
+        length = _positive(self.length, "length", "[m]")
+        radius = _positive(self.radius, "radius", "[m]")
+        youngs_modulus = _positive(self.youngs_modulus, "youngs_modulus", "[Pa]")
+        channel_height = _positive(self.channel_height, "channel_height", "[m]")
+        viscosity = _positive(self.viscosity, "viscosity", "[Pa s]")
+        spacing, packing_fraction = self.spacing, self.packing_fraction
         if (spacing is None) == (packing_fraction is None):
             raise ValueError(
                 "give exactly one of spacing [m] and packing_fraction [-], "
                 f"got spacing={spacing!r}, packing_fraction={packing_fraction!r}"
             )
         if spacing is not None:
-            self._spacing = _positive(spacing, "spacing", "[m]")
-            if self._radius >= 0.5 * self._spacing:
+            spacing = _positive(spacing, "spacing", "[m]")
+            if radius >= 0.5 * spacing:
                 raise ValueError(
-                    f"radius ({self._radius!r} m) must be less than half the spacing "
-                    f"({self._spacing!r} m): neighbouring hairs would overlap"
+                    f"radius ({radius!r} m) must be less than half the spacing "
+                    f"({spacing!r} m): neighbouring hairs would overlap"
                 )
-            self._packing_fraction = (
-                2.0 * math.pi / math.sqrt(3.0) * (self._radius / self._spacing) ** 2
-            )
+            phi = 2.0 * math.pi / math.sqrt(3.0) * (radius / spacing) ** 2
         else:
             phi = _positive(packing_fraction, "packing_fraction", "[-]")
             if phi >= CLOSE_PACKING_FRACTION:
@@ -242,107 +255,63 @@ class HairBed:
                     f"packing_fraction ({phi!r}) must be less than hexagonal close packing, "
                     f"pi/(2 sqrt 3) = {CLOSE_PACKING_FRACTION:.6f}: hairs would overlap"
                 )
-            self._packing_fraction = phi
-            self._spacing = self._radius * math.sqrt(2.0 * math.pi / (math.sqrt(3.0) * phi))
-        if self._length >= self._channel_height:
+            spacing = radius * math.sqrt(2.0 * math.pi / (math.sqrt(3.0) * phi))
+        if length >= channel_height:
             raise ValueError(
-                f"length ({self._length!r} m) must be less than channel_height "
-                f"({self._channel_height!r} m): eps = L/H must be < 1, or the hairs would "
+                f"length ({length!r} m) must be less than channel_height "
+                f"({channel_height!r} m): eps = L/H must be < 1, or the hairs would "
                 "reach the top wall"
             )
+        base_angle = self.base_angle
         if isinstance(base_angle, bool) or not isinstance(base_angle, numbers.Real):
             raise ValueError(f"base_angle must be a real number in [rad], got {base_angle!r}")
         base_angle = float(base_angle)
         if not (abs(base_angle) < 0.5 * math.pi):
             raise ValueError(f"base_angle must lie in (-pi/2, pi/2) [rad], got {base_angle!r}")
-        self._base_angle = base_angle
+        # frozen: the normalised values (floats, both of spacing and packing fraction) are set
+        # once, here
+        for name, value in (
+            ("length", length),
+            ("radius", radius),
+            ("youngs_modulus", youngs_modulus),
+            ("channel_height", channel_height),
+            ("viscosity", viscosity),
+            ("spacing", spacing),
+            ("packing_fraction", phi),
+            ("base_angle", base_angle),
+        ):
+            object.__setattr__(self, name, value)
 
     # -- the bed -------------------------------------------------------------------------------
 
     @property
-    def length(self) -> float:
-        """Hair length L [m]."""
-        return self._length
-
-    @property
-    def radius(self) -> float:
-        """Hair radius a [m]."""
-        return self._radius
-
-    @property
-    def youngs_modulus(self) -> float:
-        """Young's modulus E [Pa]."""
-        return self._youngs_modulus
-
-    @property
-    def channel_height(self) -> float:
-        """Channel height H [m]."""
-        return self._channel_height
-
-    @property
-    def viscosity(self) -> float:
-        """Fluid viscosity eta [Pa s]."""
-        return self._viscosity
-
-    @property
-    def spacing(self) -> float:
-        """Hexagonal spacing delta [m] (computed if a packing fraction was given)."""
-        return self._spacing
-
-    @property
-    def packing_fraction(self) -> float:
-        """Packing fraction phi = (2 pi / sqrt 3) a^2 / delta^2 [-]."""
-        return self._packing_fraction
-
-    @property
-    def base_angle(self) -> float:
-        """Base angle theta0 from the wall normal towards +x [rad]."""
-        return self._base_angle
-
-    @property
     def eps(self) -> float:
         """Confinement eps = L / H [-]."""
-        return self._length / self._channel_height
+        return self.length / self.channel_height
 
     @property
     def second_moment(self) -> float:
         """Second moment of area of the hair cross-section, I = pi a^4 / 4 [m^4]."""
-        return 0.25 * math.pi * self._radius**4
+        return 0.25 * math.pi * self.radius**4
 
     @property
     def bending_stiffness(self) -> float:
         """Bending stiffness E I [N m^2]."""
-        return self._youngs_modulus * self.second_moment
+        return self.youngs_modulus * self.second_moment
 
     @property
     def wall_area_per_hair(self) -> float:
         """Wall area per hair, pi a^2 / phi = (sqrt 3 / 2) delta^2 [m^2]."""
-        return math.pi * self._radius**2 / self._packing_fraction
+        return math.pi * self.radius**2 / cast(float, self.packing_fraction)  # set by post-init
 
     @property
     def velocity_scale(self) -> float:
         """Wall speed of unit forcing, E I H phi / (pi a^2 L^2 eta) [m/s]: omega^2 = v / it."""
         return (
             self.bending_stiffness
-            * self._channel_height
-            / (self.wall_area_per_hair * self._length**2 * self._viscosity)
+            * self.channel_height
+            / (self.wall_area_per_hair * self.length**2 * self.viscosity)
         )
-
-    def __repr__(self) -> str:
-        return (
-            f"HairBed(length={self._length!r}, radius={self._radius!r}, "
-            f"youngs_modulus={self._youngs_modulus!r}, channel_height={self._channel_height!r}, "
-            f"viscosity={self._viscosity!r}, spacing={self._spacing!r}, "
-            f"base_angle={self._base_angle!r})"
-        )
-
-    def __eq__(self, other: object) -> bool:
-        if not isinstance(other, HairBed):
-            return NotImplemented
-        return all(getattr(self, s) == getattr(other, s) for s in self.__slots__)
-
-    def __hash__(self) -> int:
-        return hash(tuple(getattr(self, s) for s in self.__slots__))
 
     # -- forward: velocity -> state ------------------------------------------------------------
 
@@ -360,7 +329,7 @@ class HairBed:
             omega^2 [-], of the shape of ``velocity``.
         """
         v = as_float_array(velocity, "velocity")
-        return _scalar(np.abs(v) / self.velocity_scale)
+        return float_or_array(np.abs(v) / self.velocity_scale)
 
     def _direction(self, v: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.where(v < 0.0, -1.0, 1.0)
@@ -386,7 +355,7 @@ class HairBed:
         v = as_float_array(velocity, "velocity")
         direction = self._direction(v)
         omega2 = np.abs(v) / self.velocity_scale
-        sol = solve(omega2, self.eps, direction * self._base_angle, root=root)
+        sol = solve(omega2, self.eps, direction * self.base_angle, root=root)
         return self._state(v, direction, omega2, sol)
 
     def _state(
@@ -396,22 +365,22 @@ class HairBed:
         omega2: NDArray[np.float64],
         sol: Any,
     ) -> HairState:
-        length = self._length
+        length = self.length
         h1 = np.asarray(sol.tip_height, dtype=np.float64)
-        gap = self._channel_height - h1 * length
-        tau = self._viscosity * v / gap
+        gap = self.channel_height - h1 * length
+        tau = self.viscosity * v / gap
         return HairState(
             bed=self,
-            velocity=_scalar(v),
-            omega2=_scalar(omega2),
+            velocity=float_or_array(v),
+            omega2=float_or_array(omega2),
             solution=sol,
-            direction=_scalar(direction),
-            tip_deflection=_scalar(direction * length * np.asarray(sol.tip_deflection)),
-            tip_height=_scalar(length * h1),
-            tip_angle=_scalar(direction * np.asarray(sol.tip_angle)),
-            wall_shear_stress=_scalar(tau),
-            force_per_hair=_scalar(tau * self.wall_area_per_hair),
-            stress_ratio=_scalar(self._channel_height / gap),
+            direction=float_or_array(direction),
+            tip_deflection=float_or_array(direction * length * np.asarray(sol.tip_deflection)),
+            tip_height=float_or_array(length * h1),
+            tip_angle=float_or_array(direction * np.asarray(sol.tip_angle)),
+            wall_shear_stress=float_or_array(tau),
+            force_per_hair=float_or_array(tau * self.wall_area_per_hair),
+            stress_ratio=float_or_array(self.channel_height / gap),
         )
 
     def wall_shear_stress(self, velocity: Any, *, root: str = "low") -> FloatOrArray:
@@ -444,9 +413,9 @@ class HairBed:
         See :func:`hairbed.rheology.rectification_ratio`; "with the grain" is flow towards +x
         (along a positive base angle).
         """
-        from hairbed.rheology import rectification_ratio
+        from .rheology import rectification_ratio
 
-        return rectification_ratio(self.omega2(speed), self.eps, self._base_angle, root=root)
+        return rectification_ratio(self.omega2(speed), self.eps, self.base_angle, root=root)
 
     # -- inverse: tip deflection -> velocity (the sensor's calibration) -------------------------
 
@@ -454,21 +423,21 @@ class HairBed:
         self, deflection: Any
     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], Any]:
         """Velocity, direction, omega^2 and the dimensionless solution of a tip deflection."""
-        from hairbed.inverse import solution_from_tip_deflection
+        from .inverse import solution_from_tip_deflection
 
         d = as_float_array(deflection, "deflection")
-        length = self._length
+        length = self.length
         bad = np.abs(d) >= length
         if np.any(bad):
             raise ValueError(
                 f"tip deflection must lie in (-length, length) = ({-length!r}, {length!r}) m, "
                 f"got {d[bad].flat[0]!r}"
             )
-        rest = length * math.sin(self._base_angle)
+        rest = length * math.sin(self.base_angle)
         # a tip behind its rest position means flow towards -x: the mirror image
         direction = np.where(d < rest, -1.0, 1.0)
         sol = solution_from_tip_deflection(
-            direction * d / length, self.eps, direction * self._base_angle
+            direction * d / length, self.eps, direction * self.base_angle
         )
         omega2 = np.asarray(sol.omega2, dtype=np.float64)
         v = direction * omega2 * self.velocity_scale
@@ -494,7 +463,7 @@ class HairBed:
         ValueError
             If ``|deflection| >= length``.
         """
-        return _scalar(self._solve_tip_deflection(deflection)[0])
+        return float_or_array(self._solve_tip_deflection(deflection)[0])
 
     def wall_shear_stress_from_tip_deflection(self, deflection: Any) -> FloatOrArray:
         """Wall shear stress tau = eta v / (H - h1 L) [Pa] read from a tip deflection [m]."""
@@ -508,12 +477,12 @@ class HairBed:
         :func:`hairbed.inverse.tip_deflection_slope`); the same line holds for v < 0. Compare
         with :meth:`velocity_from_tip_deflection` to see where it fails.
         """
-        from hairbed.inverse import tip_deflection_slope
+        from .inverse import tip_deflection_slope
 
         d = as_float_array(deflection, "deflection")
-        slope = tip_deflection_slope(self.eps, self._base_angle)
-        x1 = d / self._length - math.sin(self._base_angle)
-        return _scalar(x1 / slope * self.velocity_scale)
+        slope = tip_deflection_slope(self.eps, self.base_angle)
+        x1 = d / self.length - math.sin(self.base_angle)
+        return float_or_array(x1 / slope * self.velocity_scale)
 
     def linear_wall_shear_stress_from_tip_deflection(self, deflection: Any) -> FloatOrArray:
         """The linear calibration of the wall shear stress [Pa]: eta v_lin / (H - L cos theta0).
@@ -521,10 +490,10 @@ class HairBed:
         v_lin is :meth:`linear_velocity_from_tip_deflection`; the gap is that of the hair at rest.
         """
         v = np.asarray(self.linear_velocity_from_tip_deflection(deflection))
-        gap = self._channel_height - self._length * math.cos(self._base_angle)
-        return _scalar(self._viscosity * v / gap)
+        gap = self.channel_height - self.length * math.cos(self.base_angle)
+        return float_or_array(self.viscosity * v / gap)
 
-    def fit_profile(self, x: Any, z: Any, **kwargs: Any) -> tuple[ProfileFit, float]:
+    def fit_profile(self, x: Any, z: Any, **kwargs: Any) -> BedProfileFit:
         """Fit the flow to measured points (x, z) [m] along one hair, base at the origin.
 
         Calls :func:`hairbed.inverse.fit_profile` on (x/L, z/L) with the bed's eps and, unless
@@ -533,15 +502,21 @@ class HairBed:
 
         Returns
         -------
-        fit : ProfileFit
-            The dimensionless fit (omega^2, theta0 and their standard errors).
-        velocity : float
-            The fitted wall speed omega^2 * :attr:`velocity_scale` [m/s].
+        BedProfileFit
+            The fitted wall speed and its standard error [m/s], the dimensionless fit and how
+            the optimiser ended.
         """
-        from hairbed.inverse import fit_profile
+        from .inverse import fit_profile
 
-        kwargs.setdefault("theta0", self._base_angle)
-        x = as_float_array(x, "x") / self._length
-        z = as_float_array(z, "z") / self._length
+        kwargs.setdefault("theta0", self.base_angle)
+        x = as_float_array(x, "x") / self.length
+        z = as_float_array(z, "z") / self.length
         fit = fit_profile(x, z, self.eps, **kwargs)
-        return fit, fit.omega2 * self.velocity_scale
+        return BedProfileFit(
+            velocity=fit.omega2 * self.velocity_scale,
+            velocity_stderr=fit.omega2_stderr * self.velocity_scale,
+            fit=fit,
+            success=fit.success,
+            status=fit.status,
+            message=fit.message,
+        )
