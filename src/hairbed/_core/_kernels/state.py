@@ -206,7 +206,7 @@ def find_folds(eps, theta0, sign, n, tables, folds, grid):
     return scan_folds(eps, theta0, sign, n, folds, grid)
 
 
-@kernel
+@kernel(inline="always")  # a call would copy and refcount every array of `tables`
 def solve_one(
     omega2, eps, theta0, sign, n, root, folds, n_folds, roots, status, out, tables, grid
 ):
