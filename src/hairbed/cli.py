@@ -276,6 +276,8 @@ def _legacy_grid(args: argparse.Namespace, name: str, lo: float | None, hi: floa
         if lo is None or hi is None or lo <= 0 or hi <= 0:
             raise UsageError(f"--log needs positive --{name}-min and --{name}-max")
         return np.geomspace(lo, hi, num)
+    if lo is None or hi is None:
+        raise UsageError(f"give --{name}-min and --{name}-max")
     return np.linspace(lo, hi, num)
 
 

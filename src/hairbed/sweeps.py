@@ -325,8 +325,8 @@ def _bed_block(
     values["status"] = sol.status
     names = (*_BED_COORDS, *_BED_VARIABLES)
     out = np.empty((len(names), v.size))
-    for k, name in enumerate(names):
-        out[k] = values[name]
+    for row, name in enumerate(names):
+        out[row] = values[name]
     if progress is not None:
         progress.update(v.size)
     return out

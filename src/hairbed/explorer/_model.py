@@ -388,7 +388,8 @@ def compute(p: Params) -> Snapshot:
     w, e, th = p.omega2, p.eps, p.theta0
     low = hairbed.solve(w, e, th)
     sols = [
-        (r, low if r == "low" else hairbed.solve(w, e, th, root=r)) for r in _roots(low.n_roots)
+        (r, low if r == "low" else hairbed.solve(w, e, th, root=r))
+        for r in _roots(int(low.n_roots))
     ]
     twirling_sols = (
         [s for s in hairbed.solve_all(w, e, th) if not (s.sign == 1 and s.n == 0)]
