@@ -78,7 +78,7 @@ def test_linear_slope_against_the_exact_solution():
         sol = hairbed.solve(w, eps, theta0)
         slope = (sol.tip_deflection - math.sin(theta0)) / w
         assert slope == pytest.approx(inverse.tip_deflection_slope(eps, theta0), rel=1e-5)
-    # the cantilever under uniform load: 1 / (3 (1 - eps)) for upright hairs
+    # the cantilever under a point load at the tip: 1 / (3 (1 - eps)) for upright hairs
     assert inverse.tip_deflection_slope(0.5) == pytest.approx(2 / 3, rel=1e-15)
 
 

@@ -19,16 +19,32 @@ from ._core.solution import Solution
 from ._core.solver import from_parameter, from_xi, solve, solve_all
 
 if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
-    from . import branches, inverse, numerics, quasistatic, rheology, stability, sweeps, units
+    from . import (
+        branches,
+        calibration,
+        inverse,
+        numerics,
+        quasistatic,
+        rheology,
+        sensitivity,
+        stability,
+        sweeps,
+        units,
+    )
+    from ._warnings import ModelValidityWarning
     from .explorer import explore
+    from .sensitivity import derivatives
     from .sweeps import sweep
     from .units import HairBed, HairState
 
 __all__ = [
     "HairBed",
     "HairState",
+    "ModelValidityWarning",
     "Solution",
     "branches",
+    "calibration",
+    "derivatives",
     "explore",
     "from_parameter",
     "from_xi",
@@ -37,6 +53,7 @@ __all__ = [
     "quasistatic",
     "rheology",
     "solve",
+    "sensitivity",
     "solve_all",
     "stability",
     "sweep",
@@ -49,17 +66,26 @@ __version__ = "0.1.0"
 _LAZY_MODULES = frozenset(
     {
         "branches",
+        "calibration",
         "inverse",
         "numerics",
         "quasistatic",
         "rheology",
+        "sensitivity",
         "stability",
         "sweeps",
         "units",
     }
 )
 #: Names imported on first access: name -> submodule that defines it.
-_LAZY_NAMES = {"HairBed": "units", "HairState": "units", "explore": "explorer", "sweep": "sweeps"}
+_LAZY_NAMES = {
+    "HairBed": "units",
+    "HairState": "units",
+    "ModelValidityWarning": "_warnings",
+    "derivatives": "sensitivity",
+    "explore": "explorer",
+    "sweep": "sweeps",
+}
 
 
 def __getattr__(name: str) -> Any:

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, cast
 
@@ -45,6 +46,7 @@ from numpy.typing import NDArray
 
 from ._core.solver import solve
 from ._core.validation import as_float_array, check_root, float_or_array
+from ._warnings import ModelValidityWarning
 
 if TYPE_CHECKING:  # pragma: no cover
     from .inverse import ProfileFit
@@ -60,6 +62,21 @@ __all__ = [
 CLOSE_PACKING_FRACTION = math.pi / (2.0 * math.sqrt(3.0))
 
 FloatOrArray = float | NDArray[np.float64]
+
+
+def _warn_reynolds(reynolds: NDArray[np.float64]) -> None:
+    """A :class:`ModelValidityWarning` where the gap's Reynolds number exceeds 1."""
+    high = reynolds > 1.0
+    if np.any(high):
+        worst = float(np.max(reynolds[high]))
+        where = "" if reynolds.ndim == 0 else f" at {int(np.count_nonzero(high))} point(s)"
+        warnings.warn(
+            f"Reynolds number of the gap flow {worst:.3g} > 1{where}: the model assumes Stokes "
+            "(viscous) flow; inertia of the fluid is not negligible here and the results are "
+            "outside the model's validity",
+            ModelValidityWarning,
+            stacklevel=4,
+        )
 
 
 def _positive(value: Any, name: str, unit: str) -> float:
@@ -131,6 +148,13 @@ class HairState:
         Horizontal force of the flow on one hair, tau pi a^2 / phi [N] (signed like v).
     stress_ratio : float or ndarray
         tau / (eta v / H) = 1 / (1 - eps h1) [-]: the stress relative to a bare channel.
+    tip_displacement : float or ndarray
+        Horizontal displacement of the tip from its position at rest, (x1 - sin theta0) L [m]
+        (along +x), accurate relative to itself at weak forcing.
+    reynolds_number : float or ndarray
+        Reynolds number of the gap flow above the bed, rho abs(v) (H - h1 L) / eta [-]; NaN
+        when the bed has no ``density``. The model assumes Stokes flow: above 1 a
+        :class:`hairbed.ModelValidityWarning` is issued.
     """
 
     bed: HairBed = field(repr=False)
@@ -144,6 +168,8 @@ class HairState:
     wall_shear_stress: FloatOrArray
     force_per_hair: FloatOrArray
     stress_ratio: FloatOrArray
+    tip_displacement: FloatOrArray
+    reynolds_number: FloatOrArray
 
     def profile(self, num: int = 200) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The shape of the hair in metres, from base (0, 0) to tip.
@@ -188,7 +214,12 @@ class HairBed:
         ``packing_fraction``; they are related by phi = (2 pi / sqrt 3) a^2 / delta^2.
     base_angle : float, optional
         Angle theta0 of the hairs at the wall, from the wall normal towards +x [rad], in
-        (-pi/2, pi/2). Positive leans the hairs along the flow of a positive velocity.
+        (-pi/2, pi/2). Positive leans the hairs along the flow of a positive velocity; negative
+        leans them into it (where a tight channel can hold three states, theory.md §5).
+    density : float, optional
+        Density rho of the fluid [kg/m^3]. Only used to check the model's Stokes-flow
+        assumption: states then carry the gap's Reynolds number, and a
+        :class:`hairbed.ModelValidityWarning` is issued where it exceeds 1.
 
     Raises
     ------
@@ -226,6 +257,7 @@ class HairBed:
     #: not in the repr: the repr gives ``spacing``, and a bed is built from one of the two
     packing_fraction: float | None = field(default=None, repr=False)
     base_angle: float = 0.0
+    density: float | None = None
 
     def __post_init__(self) -> None:
         """Validate the inputs and fill in the one of spacing / packing fraction not given."""
@@ -281,6 +313,8 @@ class HairBed:
             ("base_angle", base_angle),
         ):
             object.__setattr__(self, name, value)
+        if self.density is not None:
+            object.__setattr__(self, "density", _positive(self.density, "density", "[kg/m^3]"))
 
     # -- the bed -------------------------------------------------------------------------------
 
@@ -369,6 +403,11 @@ class HairBed:
         h1 = np.asarray(sol.tip_height, dtype=np.float64)
         gap = self.channel_height - h1 * length
         tau = self.viscosity * v / gap
+        if self.density is None:
+            reynolds = np.full(np.shape(gap), np.nan)
+        else:
+            reynolds = self.density * np.abs(v) * gap / self.viscosity
+            _warn_reynolds(reynolds)
         return HairState(
             bed=self,
             velocity=float_or_array(v),
@@ -381,6 +420,8 @@ class HairBed:
             wall_shear_stress=float_or_array(tau),
             force_per_hair=float_or_array(tau * self.wall_area_per_hair),
             stress_ratio=float_or_array(self.channel_height / gap),
+            tip_displacement=float_or_array(direction * length * np.asarray(sol.tip_displacement)),
+            reynolds_number=float_or_array(reynolds),
         )
 
     def wall_shear_stress(self, velocity: Any, *, root: str = "low") -> FloatOrArray:
@@ -472,7 +513,8 @@ class HairBed:
     def linear_velocity_from_tip_deflection(self, deflection: Any) -> FloatOrArray:
         """The small-deflection (linear) calibration: v [m/s] from a tip deflection [m].
 
-        To first order in the forcing the hair is a cantilever under a uniform load, and
+        To first order in the forcing the hair is a cantilever under a point load at its tip
+        (x1 L = F L^3/(3 E I) for an upright hair), and
         x1 = sin(theta0) + omega^2 cos^2(theta0) / (3 (1 - eps cos theta0)) (see
         :func:`hairbed.inverse.tip_deflection_slope`); the same line holds for v < 0. Compare
         with :meth:`velocity_from_tip_deflection` to see where it fails.

@@ -1,0 +1,683 @@
+"""Calibration of a pillar (hair) wall-shear-stress sensor, with uncertainties.
+
+A sensor is a :class:`~hairbed.HairBed` whose tip deflection is read out. Calibrating it means
+fitting the bed's unknown parameters (Young's modulus, base angle, length, ...) to tip
+deflections measured at known wall speeds or known wall shear stresses; measuring with it means
+inverting the calibrated curve for the stress and the speed of a new deflection, with an error
+bar that carries the deflection's noise and the calibration's covariance.
+
+The model is the exact one (theory.md §2, §7): at wall speed v the forcing is
+omega^2 = v / ``bed.velocity_scale`` and the tip deflection L x1(omega^2, eps, theta0). At a
+known wall shear stress tau the load on one hair is F = tau pi a^2/phi, a point load at the tip,
+so that omega_eps^2 = F L^2/(E I) and the deflection L x1 is that of the collapsed branch at
+omega_eps (it depends on neither the channel height nor the viscosity, which stress data cannot
+determine). Every Jacobian is exact: the derivatives of :func:`hairbed.derivatives` (implicit
+differentiation of the branch equation) through the chain rule of the SI scaling, no finite
+differences. Positive parameters are fitted in their logarithms (the base angle as itself);
+standard errors are returned in the parameters' own units (the linearisation, delta method).
+
+The weak-forcing limit is a cantilever under a point load at the tip, x1 - sin(theta0) =
+omega_eps^2 cos^2(theta0)/3 (F L^3/(3 E I) in metres); :func:`linear_range` says up to which
+deflection that line is within a tolerance of the exact calibration.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.optimize import least_squares
+
+from ._bracketing import find_root
+from ._core.solver import from_parameter, solve
+from ._core.validation import as_float_array, float_or_array
+from .sensitivity import derivatives_at
+from .units import CLOSE_PACKING_FRACTION, HairBed, HairState
+
+__all__ = [
+    "FREE_PARAMETERS",
+    "CalibrationFit",
+    "LinearRange",
+    "Measurement",
+    "fit",
+    "linear_range",
+    "measure",
+    "model_tip_deflection",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Parameters of a bed that a calibration may fit, with their units.
+FREE_PARAMETERS: dict[str, str] = {
+    "length": "m",
+    "radius": "m",
+    "youngs_modulus": "Pa",
+    "channel_height": "m",
+    "viscosity": "Pa s",
+    "spacing": "m",
+    "packing_fraction": "-",
+    "base_angle": "rad",
+}
+_LINEAR = ("base_angle",)  # fitted as themselves; the others in their logarithms
+_HALF_PI = 0.5 * math.pi
+
+
+# -- the model and its exact Jacobian ---------------------------------------------------------
+
+
+def _rebuild(bed: HairBed, geometry: str, **changes: float) -> HairBed:
+    """A copy of ``bed`` with ``changes``; ``geometry`` ("spacing" or "packing_fraction") is
+    the one of the two that stays fixed when the radius changes."""
+    if geometry == "spacing":
+        return replace(bed, packing_fraction=None, **changes)
+    return replace(bed, spacing=None, **changes)
+
+
+def _log_slopes(geometry: str, kind: str) -> dict[str, tuple[float, float]]:
+    """(d ln X/d ln P, d ln eps/d ln P) for each positive parameter P, where X is omega^2
+    (velocity data) or omega_eps^2 (stress data)."""
+    radius = -4.0 if geometry == "spacing" else -2.0
+    if kind == "velocity":  # omega^2 = 4 L^2 eta v/(E a^2 H phi), eps = L/H
+        return {
+            "length": (2.0, 1.0),
+            "radius": (radius, 0.0),
+            "youngs_modulus": (-1.0, 0.0),
+            "channel_height": (-1.0, -1.0),
+            "viscosity": (1.0, 0.0),
+            "spacing": (2.0, 0.0),
+            "packing_fraction": (-1.0, 0.0),
+        }
+    # omega_eps^2 = F L^2/(E I) = 4 L^2 tau/(E a^2 phi): neither H nor eta
+    return {
+        "length": (2.0, 0.0),
+        "radius": (radius, 0.0),
+        "youngs_modulus": (-1.0, 0.0),
+        "channel_height": (0.0, 0.0),
+        "viscosity": (0.0, 0.0),
+        "spacing": (2.0, 0.0),
+        "packing_fraction": (-1.0, 0.0),
+    }
+
+
+def _model(
+    bed: HairBed, kind: str, x: FloatArray, free: Sequence[str], geometry: str
+) -> tuple[FloatArray, FloatArray, FloatArray, Any]:
+    """Tip deflection D [m] at wall speeds or stresses ``x``, dD/dP for each free parameter P
+    (in P's units; shape (len(x), len(free))) and dD/dx; and the derivatives used."""
+    direction = np.where(x < 0.0, -1.0, 1.0)
+    theta0 = direction * bed.base_angle
+    length = bed.length
+    if kind == "velocity":
+        forcing = np.abs(x) / bed.velocity_scale  # omega^2
+        sol = solve(forcing, bed.eps, theta0)
+    else:  # omega_eps^2 = tau (wall area per hair) L^2/(E I); x1 does not depend on eps
+        forcing = np.abs(x) * bed.wall_area_per_hair * length**2 / bed.bending_stiffness
+        sol = solve(forcing, 0.0, theta0)
+    der = derivatives_at(sol)
+    x1 = np.asarray(sol.tip_deflection, dtype=np.float64)
+    dx1 = der["tip_deflection"]
+    dx1_w = np.asarray(dx1["omega2"], dtype=np.float64)
+    dx1_e = np.asarray(dx1["eps"], dtype=np.float64)
+    dx1_t = np.asarray(dx1["theta0"], dtype=np.float64)
+    deflection = direction * length * x1
+    slopes = _log_slopes(geometry, kind)
+    eps = bed.eps
+    jac = np.empty((x.size, len(free)))
+    for j, name in enumerate(free):
+        if name == "base_angle":
+            jac[:, j] = length * dx1_t  # direction^2 = 1
+            continue
+        value = float(getattr(bed, name))
+        lw, le = slopes[name]
+        dlog = dx1_w * forcing * lw + (dx1_e * eps * le if kind == "velocity" else 0.0)
+        d_lnp = direction * (length * dlog + (x1 * length if name == "length" else 0.0))
+        jac[:, j] = d_lnp / value
+    # dD/dx: dD/d forcing times d forcing/d|x| times d|x|/dx (= direction): direction^2 = 1
+    if kind == "velocity":
+        d_forcing = np.full_like(forcing, 1.0 / bed.velocity_scale)
+    else:
+        d_forcing = np.full_like(
+            forcing, bed.wall_area_per_hair * length**2 / bed.bending_stiffness
+        )
+    dx = length * dx1_w * d_forcing
+    return deflection, jac, dx, der
+
+
+def model_tip_deflection(
+    bed: HairBed, *, velocity: ArrayLike | None = None, wall_shear_stress: ArrayLike | None = None
+) -> Any:
+    """The bed's tip deflection [m] at wall speeds [m/s] or at wall shear stresses [Pa].
+
+    The calibration curve itself (flow towards +x for positive values, its mirror image for
+    negative ones; the low state where several coexist at one speed). Give exactly one of
+    ``velocity`` and ``wall_shear_stress``.
+    """
+    kind, x = _known(velocity, wall_shear_stress)
+    return float_or_array(_model(bed, kind, x.reshape(-1), (), "spacing")[0].reshape(x.shape))
+
+
+def _known(velocity: Any, stress: Any) -> tuple[str, FloatArray]:
+    if (velocity is None) == (stress is None):
+        raise ValueError(
+            "give exactly one of velocity [m/s] and wall_shear_stress [Pa], "
+            f"got velocity={velocity!r}, wall_shear_stress={stress!r}"
+        )
+    if velocity is not None:
+        return "velocity", as_float_array(velocity, "velocity")
+    return "wall_shear_stress", as_float_array(stress, "wall_shear_stress")
+
+
+# -- fit ---------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class CalibrationFit:
+    """The result of :func:`fit`: the calibrated bed and the uncertainty of its parameters.
+
+    Attributes
+    ----------
+    bed : HairBed
+        The bed with the fitted parameters.
+    parameters : tuple of str
+        The free parameters, in the order of ``covariance``.
+    values : Mapping[str, float]
+        Fitted value of each free parameter, in its unit (:data:`FREE_PARAMETERS`).
+    stderr : Mapping[str, float]
+        Its standard error (square root of the covariance's diagonal), same unit.
+    covariance : ndarray, shape (k, k)
+        Covariance of the fitted parameters in their units (linearised at the fit). With
+        ``sigma`` given it is (J^T W J)^-1; without, scaled by chi2/dof.
+    residuals : ndarray
+        Measured minus fitted tip deflection at each calibration point [m].
+    chi2 : float
+        Sum of the squared residuals over sigma^2 [-] (over 1 m^2 when no sigma was given).
+    dof : int
+        Degrees of freedom: number of points minus number of free parameters.
+    kind : str
+        What the deflections were measured at: "velocity" or "wall_shear_stress".
+    success : bool
+        The optimiser converged and the parameters are determined by the data.
+    status : int
+        scipy.optimize.least_squares's status (> 0 converged), or -2 when the data do not
+        determine every free parameter (singular Jacobian).
+    message : str
+        What happened.
+    nfev : int
+        Number of evaluations of the model.
+    """
+
+    bed: HairBed
+    parameters: tuple[str, ...]
+    values: Mapping[str, float]
+    stderr: Mapping[str, float]
+    covariance: FloatArray
+    residuals: FloatArray
+    chi2: float
+    dof: int
+    kind: str
+    success: bool
+    status: int
+    message: str
+    nfev: int
+    #: the one of spacing / packing fraction held fixed when the radius varies
+    geometry: str = field(default="spacing", repr=False)
+
+    @property
+    def reduced_chi2(self) -> float:
+        """chi2 / dof (about 1 for a good model with correct sigma); NaN when dof = 0."""
+        return self.chi2 / self.dof if self.dof > 0 else float("nan")
+
+
+def _check_free(free: Any) -> tuple[str, ...]:
+    if isinstance(free, str):
+        free = tuple(p.strip() for p in free.split(",") if p.strip())
+    try:
+        names = tuple(free)
+    except TypeError:
+        raise ValueError(f"free must be a sequence of parameter names, got {free!r}") from None
+    if not names:
+        raise ValueError("free must name at least one parameter of the bed")
+    for name in names:
+        if name not in FREE_PARAMETERS:
+            raise ValueError(
+                f"free: unknown parameter {name!r}; allowed: {', '.join(FREE_PARAMETERS)}"
+            )
+    if len(set(names)) != len(names):
+        raise ValueError(f"free names a parameter twice: {names!r}")
+    if "spacing" in names and "packing_fraction" in names:
+        raise ValueError(
+            "free: spacing and packing_fraction are one parameter (phi = (2 pi/sqrt 3) a^2/"
+            "delta^2); free at most one of them"
+        )
+    return names
+
+
+def _bounds(bed: HairBed, free: tuple[str, ...], geometry: str) -> tuple[FloatArray, FloatArray]:
+    """Bounds of the fitted coordinates that keep the bed valid (L < H, a < delta/2, ...)."""
+    lo = np.full(len(free), -np.inf)
+    hi = np.full(len(free), np.inf)
+    margin = 1e-9
+    for j, name in enumerate(free):
+        if name == "base_angle":
+            lo[j], hi[j] = -_HALF_PI + margin, _HALF_PI - margin
+        elif name == "length" and "channel_height" not in free:
+            hi[j] = math.log(bed.channel_height) - margin
+        elif name == "channel_height" and "length" not in free:
+            lo[j] = math.log(bed.length) + margin
+        elif name == "radius" and geometry == "spacing" and "spacing" not in free:
+            hi[j] = math.log(0.5 * float(bed.spacing)) - margin  # type: ignore[arg-type]
+        elif name == "spacing" and "radius" not in free:
+            lo[j] = math.log(2.0 * bed.radius) + margin
+        elif name == "packing_fraction":
+            hi[j] = math.log(CLOSE_PACKING_FRACTION) - margin
+    return lo, hi
+
+
+def fit(
+    bed: HairBed,
+    tip_deflection: ArrayLike,
+    *,
+    wall_shear_stress: ArrayLike | None = None,
+    velocity: ArrayLike | None = None,
+    sigma: ArrayLike | None = None,
+    free: Sequence[str] | str = ("youngs_modulus",),
+) -> CalibrationFit:
+    """Fit a bed's unknown parameters to tip deflections measured at known flows.
+
+    Weighted least squares on the exact calibration curve (Levenberg-Marquardt-type trust
+    region, :func:`scipy.optimize.least_squares`, with the exact Jacobian of
+    :func:`hairbed.derivatives` through the SI scaling; module docstring). The bed's current
+    values are the starting point and the values of the parameters not fitted.
+
+    Parameters
+    ----------
+    bed : HairBed
+        The sensor, with its best prior values.
+    tip_deflection : array_like
+        Measured tip deflections [m] along +x, one per calibration point.
+    wall_shear_stress : array_like, optional
+        The known wall shear stress of each point [Pa]. Give this or ``velocity``.
+    velocity : array_like, optional
+        The known top-wall speed of each point [m/s].
+    sigma : float or array_like, optional
+        Standard deviation of each measured deflection [m], > 0. Without it the errors are
+        estimated from the scatter of the residuals (chi2/dof).
+    free : sequence of str or comma-separated str
+        Parameters to fit, from :data:`FREE_PARAMETERS` (``"youngs_modulus"`` by default).
+        Stress data do not determine ``channel_height`` or ``viscosity``.
+
+    Returns
+    -------
+    CalibrationFit
+        The fitted bed, values, standard errors, covariance, residuals, chi2, and how the
+        optimiser ended (``success``, ``status``, ``message``).
+
+    Raises
+    ------
+    ValueError
+        For inconsistent inputs (lengths, non-positive sigma, unknown parameter names,
+        fewer points than free parameters).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from hairbed import HairBed
+    >>> true = HairBed(length=1e-3, radius=50e-6, youngs_modulus=1.3e6,
+    ...                channel_height=2e-3, viscosity=1.0, spacing=400e-6)
+    >>> v = np.linspace(0.01, 0.2, 8)
+    >>> d = model_tip_deflection(true, velocity=v)
+    >>> guess = HairBed(length=1e-3, radius=50e-6, youngs_modulus=1e6,
+    ...                 channel_height=2e-3, viscosity=1.0, spacing=400e-6)
+    >>> result = fit(guess, d, velocity=v, sigma=1e-6)
+    >>> round(result.values["youngs_modulus"] / 1e6, 9), result.success
+    (1.3, True)
+    """
+    if not isinstance(bed, HairBed):
+        raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
+    names = _check_free(free)
+    kind, x = _known(velocity, wall_shear_stress)
+    d = as_float_array(tip_deflection, "tip_deflection").reshape(-1)
+    x = x.reshape(-1)
+    if x.size != d.size:
+        name = "velocity" if kind == "velocity" else "wall_shear_stress"
+        raise ValueError(
+            f"tip_deflection and {name} must have the same length, got {d.size} and {x.size}"
+        )
+    if d.size < len(names):
+        raise ValueError(
+            f"a fit of {len(names)} parameter(s) needs at least as many points, got {d.size}"
+        )
+    if sigma is None:  # unit weights, in units of the hair length (well-scaled optimiser)
+        weights = np.full(d.size, 1.0 / bed.length)
+    else:
+        s = as_float_array(sigma, "sigma")
+        s = np.broadcast_to(s, d.shape) if s.ndim == 0 else s.reshape(-1)
+        if s.size != d.size:
+            raise ValueError(f"sigma must be a number or one per point ({d.size}), got {s.size}")
+        if np.any(s <= 0.0):
+            raise ValueError(f"sigma must be > 0 [m], got {float(s[s <= 0.0][0])!r}")
+        weights = 1.0 / s
+    geometry = "packing_fraction" if "packing_fraction" in names else "spacing"
+
+    def coords_to_bed(p: FloatArray) -> HairBed:
+        changes = {
+            name: (float(v) if name in _LINEAR else math.exp(float(v)))
+            for name, v in zip(names, p)
+        }
+        return _rebuild(bed, geometry, **changes)
+
+    def scale(b: HairBed) -> FloatArray:  # dP/dp of each coordinate
+        return np.array([1.0 if nm in _LINEAR else float(getattr(b, nm)) for nm in names])
+
+    cache: dict[bytes, tuple[FloatArray, FloatArray]] = {}
+
+    def evaluate(p: FloatArray) -> tuple[FloatArray, FloatArray]:
+        key = p.tobytes()
+        if key not in cache:
+            b = coords_to_bed(p)
+            model, jac, _, _ = _model(b, kind, x, names, geometry)
+            cache.clear()
+            cache[key] = (weights * (model - d), weights[:, None] * jac * scale(b))
+        return cache[key]
+
+    p0 = np.array(
+        [float(getattr(bed, nm)) if nm in _LINEAR else math.log(getattr(bed, nm)) for nm in names]
+    )
+    lo, hi = _bounds(bed, names, geometry)
+    p0 = np.clip(p0, lo, hi)
+    try:
+        res = least_squares(
+            lambda p: evaluate(p)[0],
+            p0,
+            jac=lambda p: evaluate(p)[1],
+            bounds=(lo, hi),
+            method="trf",
+            xtol=1e-12,
+            ftol=1e-12,
+            gtol=1e-12,
+        )
+    except ValueError as exc:  # a trial bed outside the admissible range (L >= H, ...)
+        raise ValueError(f"the fit left the admissible parameters of the bed: {exc}") from None
+    fitted = coords_to_bed(res.x)
+    r, jw = evaluate(res.x)
+    chi2 = float(r @ r)  # of the internal weights: the scatter estimate below uses it
+    dof = d.size - len(names)
+    jn = jw / scale(fitted)  # weighted Jacobian in the parameters' own units
+    u, sv, vt = np.linalg.svd(jn, full_matrices=False)
+    rank_ok = sv.size > 0 and sv[-1] > sv[0] * 1e-10
+    status, success, message = int(res.status), bool(res.success), str(res.message)
+    if rank_ok:
+        cov = (vt.T / sv**2) @ vt
+    else:
+        cov = np.full((len(names), len(names)), np.inf)
+        status, success = -2, False
+        message = (
+            "the data do not determine every free parameter (singular Jacobian): "
+            + (
+                "stress data carry no information on channel_height or viscosity; "
+                if kind != "velocity"
+                else ""
+            )  # fmt: skip
+            + "fix some of "
+            + ", ".join(names)
+        )
+    if sigma is None:
+        cov = cov * (chi2 / dof if dof > 0 else np.inf)
+        chi2 *= bed.length**2  # [m^2]: the sum of squared residuals
+    stderr = np.sqrt(np.diag(cov))
+    values = {nm: float(getattr(fitted, nm)) for nm in names}
+    return CalibrationFit(
+        bed=fitted,
+        parameters=names,
+        values=MappingProxyType(values),
+        stderr=MappingProxyType({nm: float(e) for nm, e in zip(names, stderr)}),
+        covariance=cov,
+        residuals=-r / weights,
+        chi2=chi2,
+        dof=dof,
+        kind=kind,
+        success=success,
+        status=status,
+        message=message,
+        nfev=int(res.nfev),
+        geometry=geometry,
+    )
+
+
+# -- measure -----------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Measurement:
+    """A flow read from a tip deflection, with standard errors (from :func:`measure`).
+
+    Attributes
+    ----------
+    tip_deflection : float or ndarray
+        The measured deflection [m].
+    wall_shear_stress, wall_shear_stress_stderr : float or ndarray
+        Wall shear stress tau [Pa] and its standard error [Pa].
+    velocity, velocity_stderr : float or ndarray
+        Top-wall speed v [m/s] and its standard error [m/s].
+    state : HairState
+        The state of the bed at that deflection.
+    success : bool
+        True when every error is finite (no fold, no singular calibration).
+    status : int
+        0 ok; 1 a standard error is infinite (at a fold of the bed, or an undetermined fit).
+    message : str
+        What happened.
+    """
+
+    tip_deflection: Any
+    wall_shear_stress: Any
+    wall_shear_stress_stderr: Any
+    velocity: Any
+    velocity_stderr: Any
+    state: HairState = field(repr=False)
+    success: bool
+    status: int
+    message: str
+
+
+def measure(
+    bed: HairBed,
+    tip_deflection: ArrayLike,
+    *,
+    sigma: ArrayLike = 0.0,
+    fit: CalibrationFit | None = None,
+) -> Measurement:
+    """Wall shear stress and wall speed from a measured tip deflection, with standard errors.
+
+    The exact inversion of :meth:`HairBed.state_from_tip_deflection` (the deflection fixes the
+    state uniquely, theory.md §5). The standard errors propagate, to first order, the
+    deflection's ``sigma`` and, when ``fit`` is given, the covariance of its fitted
+    parameters: var = (dy/dD sigma)^2 + g^T C g with g = dy/dP at fixed D.
+
+    Parameters
+    ----------
+    bed : HairBed
+        The calibrated sensor (usually ``fit.bed``).
+    tip_deflection : array_like
+        Measured tip deflection D [m] along +x, in (-L, L).
+    sigma : float or array_like
+        Its standard deviation [m], >= 0.
+    fit : CalibrationFit, optional
+        The calibration whose parameter covariance is propagated too.
+
+    Returns
+    -------
+    Measurement
+    """
+    if not isinstance(bed, HairBed):
+        raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
+    d = as_float_array(tip_deflection, "tip_deflection")
+    s = as_float_array(sigma, "sigma")
+    if np.any(s < 0.0):
+        raise ValueError(f"sigma must be >= 0 [m], got {float(s[s < 0.0].flat[0])!r}")
+    state = bed.state_from_tip_deflection(d)
+    v = np.asarray(state.velocity, dtype=np.float64).reshape(-1)
+    tau = np.asarray(state.wall_shear_stress, dtype=np.float64).reshape(-1)
+    names = fit.parameters if fit is not None else ()
+    geometry = fit.geometry if fit is not None else "spacing"
+    _, jac_v, dd_dv, _ = _model(bed, "velocity", v, names, geometry)
+    _, jac_t, dd_dt, _ = _model(bed, "wall_shear_stress", tau, names, geometry)
+    sig = np.broadcast_to(s, d.shape).reshape(-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        var_v = (sig / dd_dv) ** 2
+        var_t = (sig / dd_dt) ** 2
+        if fit is not None:
+            g_v = -jac_v / dd_dv[:, None]
+            g_t = -jac_t / dd_dt[:, None]
+            var_v = var_v + np.einsum("ij,jk,ik->i", g_v, fit.covariance, g_v)
+            var_t = var_t + np.einsum("ij,jk,ik->i", g_t, fit.covariance, g_t)
+    ev, et = np.sqrt(var_v), np.sqrt(var_t)
+    finite = bool(np.all(np.isfinite(ev)) and np.all(np.isfinite(et)))
+    shape = d.shape
+    return Measurement(
+        tip_deflection=float_or_array(d),
+        wall_shear_stress=state.wall_shear_stress,
+        wall_shear_stress_stderr=float_or_array(et.reshape(shape)),
+        velocity=state.velocity,
+        velocity_stderr=float_or_array(ev.reshape(shape)),
+        state=state,
+        success=finite,
+        status=0 if finite else 1,
+        message="ok"
+        if finite
+        else "a standard error is infinite (a fold of the bed, or an undetermined fit)",
+    )
+
+
+# -- linear range ------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class LinearRange:
+    """Where the linear (point-load) calibration is good enough (from :func:`linear_range`).
+
+    Attributes
+    ----------
+    tip_deflection : float
+        The largest tip deflection [m] (from the base, along +x) up to which the linear
+        calibration of both the wall speed and the wall shear stress is within ``tolerance``
+        (relative) of the exact one.
+    velocity : float
+        The exact wall speed at that deflection [m/s].
+    wall_shear_stress : float
+        The exact wall shear stress there [Pa].
+    tolerance : float
+        The relative tolerance asked for.
+    velocity_error, wall_shear_stress_error : float
+        Relative errors of the linear calibrations there, linear/exact - 1 (signed).
+    success : bool
+        True when the tolerance is reached at a finite deflection (status 0).
+    status : int
+        0 found; 1 the linear calibration stays within the tolerance over the whole searched
+        range (forcing up to about omega^2 = 1e7): the values are at its end.
+    message : str
+        What happened.
+    """
+
+    tip_deflection: float
+    velocity: float
+    wall_shear_stress: float
+    tolerance: float
+    velocity_error: float
+    wall_shear_stress_error: float
+    success: bool
+    status: int
+    message: str
+
+
+def _linear_errors(t: FloatArray, eps: float, theta0: float) -> tuple[Any, FloatArray, FloatArray]:
+    """(states, relative error of the linear velocity, ... of the linear stress) at t."""
+    sol = from_parameter(t, eps, theta0)
+    c = math.cos(theta0)
+    gap0 = 1.0 - eps * c
+    slope = c * c / (3.0 * gap0)
+    w_lin = np.asarray(sol.tip_displacement) / slope  # linear omega^2
+    err_v = w_lin / np.asarray(sol.omega2) - 1.0
+    err_t = w_lin / (gap0 * np.asarray(sol.omega_eps) ** 2) - 1.0
+    return sol, err_v, err_t
+
+
+def _excess(t: FloatArray, eps: Any, theta0: Any, tol: Any) -> FloatArray:
+    _, ev, et = _linear_errors(t, float(np.ravel(eps)[0]), float(np.ravel(theta0)[0]))
+    return np.maximum(np.abs(ev), np.abs(et)) - tol
+
+
+def linear_range(bed: HairBed, tolerance: float = 0.1) -> LinearRange:
+    """The largest deflection at which the linear calibration is within ``tolerance``.
+
+    The linear calibration is that of a cantilever under a point load at the tip:
+    x1 - sin(theta0) = omega^2 cos^2(theta0)/(3 (1 - eps cos theta0)) for the speed
+    (:meth:`HairBed.linear_velocity_from_tip_deflection`) and the stress of the gap at rest
+    (:meth:`HairBed.linear_wall_shear_stress_from_tip_deflection`). Along the physical branch
+    from rest (flow towards +x) the first deflection where either relative error reaches
+    ``tolerance`` is found by a bracketed root search.
+
+    Parameters
+    ----------
+    bed : HairBed
+        The sensor.
+    tolerance : float
+        Relative tolerance, in (0, 1).
+
+    Returns
+    -------
+    LinearRange
+    """
+    if not isinstance(bed, HairBed):
+        raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
+    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float, np.floating)):
+        raise ValueError(f"tolerance must be a number in (0, 1), got {tolerance!r}")
+    tol = float(tolerance)
+    if not (0.0 < tol < 1.0):
+        raise ValueError(f"tolerance must lie in (0, 1), got {tol!r}")
+    eps, theta0 = bed.eps, bed.base_angle
+    grid = np.arange(-30.0, 40.0 + 1e-9, 0.1)
+    _, ev, et = _linear_errors(grid, eps, theta0)
+    over = np.flatnonzero(np.maximum(np.abs(ev), np.abs(et)) > tol)
+    if over.size == 0:
+        t_star, status = float(grid[-1]), 1
+        message = "the linear calibration stays within the tolerance over the whole range"
+    elif over[0] == 0:
+        raise ValueError(
+            f"tolerance {tol!r} is below the linear calibration's error at the weakest forcing"
+        )
+    else:
+        i = int(over[0])
+        t_star = float(
+            np.ravel(
+                find_root(
+                    _excess,
+                    grid[i - 1],
+                    grid[i],
+                    args=(eps, theta0, tol),
+                    xatol=1e-13,
+                    what="the end of the linear range",
+                ).x
+            )[0]
+        )
+        status, message = 0, "found"
+    sol, ev1, et1 = _linear_errors(np.array([t_star]), eps, theta0)
+    omega2 = float(np.ravel(sol.omega2)[0])
+    oe2 = float(np.ravel(sol.omega_eps)[0]) ** 2
+    velocity = omega2 * bed.velocity_scale
+    return LinearRange(
+        tip_deflection=bed.length * float(np.ravel(sol.tip_deflection)[0]),
+        velocity=velocity,
+        wall_shear_stress=bed.viscosity * bed.velocity_scale * oe2 / bed.channel_height,
+        tolerance=tol,
+        velocity_error=float(ev1[0]),
+        wall_shear_stress_error=float(et1[0]),
+        success=status == 0,
+        status=status,
+        message=message,
+    )

@@ -1,0 +1,406 @@
+"""Exact derivatives of a state with respect to the forcing, the confinement and the base angle.
+
+Every state lies on the explicit curve of its branch in the parameter t of
+:func:`hairbed.from_parameter` (theory.md §2, §9),
+
+    xi - sin(theta0) = (1 - sin theta0) expit(t),    1 - xi = (1 - sin theta0) expit(-t),
+
+and at fixed t the energy xi, omega_eps, the tip height h1, the tip angle and the tip deflection
+do not depend on eps; the forcing is an output, omega^2 = omega_eps^2 (1 - eps h1) (eq. (34) of
+arXiv:2203.04169). The state at given (omega2, eps, theta0) is the root t of
+
+    R(t; omega2, eps, theta0) = ln omega^2(t; eps, theta0) - ln omega2 = 0,
+
+so by implicit differentiation dt/dp = -(dR/dp)/(dR/dt) for p in (omega2, eps, theta0), and the
+total derivative of every output Y is
+
+    dY/dp = (dY/dp)_t + (dY/dt) dt/dp.
+
+All the partial derivatives are closed forms in K(mu), E(mu), F(phi0 | mu) and E(phi0 | mu)
+(mu = (1 + xi)/2, sin(phi0) = sin(pi/4 + theta0/2)/sqrt(mu)), through (DLMF 19.4.1, 19.4.2)
+
+    dK/dm = (E - (1 - m) K)/(2 m (1 - m)),   dE/dm = (E - K)/(2 m),
+    dF/dphi = 1/Delta,   dF/dm = (E(phi) - (1 - m) F)/(2 m (1 - m)) - sin cos/(2 (1 - m) Delta),
+    dE(phi)/dphi = Delta,   dE(phi)/dm = (E(phi) - F)/(2 m),   Delta = sqrt(1 - m sin^2 phi),
+
+and, at fixed t, dmu/dt = p expit(t), dmu/dtheta0 = p cos(theta0)/(1 - sin theta0),
+dphi0/dt = -sin(phi0) cos(phi0) expit(-t)/2 and dphi0/dtheta0 = sqrt(expit(t))/(2 mu), with
+p = 1 - mu: every 1/p of the derivatives in m is absorbed. The incomplete integrals are the
+Carlson forms of theory.md §6 (no loss near mu = 1). Nothing is differenced numerically.
+
+Accuracy: 1e-14 to 1e-12 relative against mpmath on every branch (tests/test_sensitivity.py).
+At very weak forcing the derivatives of tip_height, tip_deflection and tip_displacement are
+differences of terms of order omega_eps and lose absolute accuracy like 1e-16/omega^2 (1e-10 at
+omega^2 = 1e-6); omega2 = 0 itself is exact (the limits of the linear theory).
+
+At a fold of the branch (a state where dR/dt = 0: it appears or disappears as the inputs vary,
+theory.md §5) the derivatives through dt/dp are infinite: they are returned as +-inf and the
+element's ``status`` is 1 ("at a fold").
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy import special
+
+from ._core.solution import Solution
+from ._core.solver import solve
+from ._core.validation import check_branch, check_inputs, check_root
+
+__all__ = [
+    "INPUTS",
+    "OUTPUTS",
+    "STATUS_MESSAGES",
+    "Derivatives",
+    "derivatives",
+    "derivatives_at",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: The outputs whose derivatives are returned (fields of :class:`hairbed.Solution`).
+OUTPUTS = (
+    "xi",
+    "omega_eps",
+    "energy",
+    "tip_height",
+    "tip_deflection",
+    "tip_displacement",
+    "tip_angle",
+    "base_curvature",
+)
+#: The inputs they are differentiated with respect to.
+INPUTS = ("omega2", "eps", "theta0")
+
+#: Meaning of ``Derivatives.status``.
+STATUS_MESSAGES = {
+    0: "exact derivatives",
+    1: "at a fold: d/d omega2, d/d eps and d/d theta0 are infinite (dR/dt = 0)",
+    -1: "no such state: the solve found no state to differentiate (see solution.status)",
+}
+#: |dR/dt| below this (relative to its two terms) counts as a fold: there the derivatives are
+#: larger than 1/FOLD_RTOL and every digit of them is rounding error.
+FOLD_RTOL = 1.0e-8
+
+
+def _out(a: Any) -> Any:
+    a = np.asarray(a)
+    return a.item() if a.ndim == 0 else a
+
+
+@dataclass(frozen=True, eq=False)
+class Derivatives(Mapping[str, Mapping[str, Any]]):
+    """Exact partial derivatives of the outputs of a state (returned by :func:`derivatives`).
+
+    A read-only mapping ``{output: {"omega2": ..., "eps": ..., "theta0": ...}}`` over
+    :data:`OUTPUTS` (xi, omega_eps, energy, tip_height, tip_deflection, tip_displacement,
+    tip_angle, base_curvature): ``d["tip_deflection"]["omega2"]`` is d x1/d omega^2 at fixed
+    eps and theta0. Units: per unit of the input ([-] for omega2 and eps, [1/rad] for theta0),
+    times the output's unit ([rad] for tip_angle, [L] for lengths). Floats for scalar inputs,
+    arrays of the broadcast shape otherwise.
+
+    Attributes
+    ----------
+    solution : Solution
+        The state differentiated.
+    table : Mapping
+        The nested mapping itself (what indexing the object reads).
+    dt : Mapping
+        dt/d omega2, dt/d eps, dt/d theta0 of the branch parameter t.
+    status : int or ndarray
+        0 exact derivatives; 1 at a fold (the derivatives are +-inf); -1 no such state (NaN).
+        See :data:`STATUS_MESSAGES`.
+    """
+
+    solution: Solution
+    table: Mapping[str, Mapping[str, Any]]
+    dt: Mapping[str, Any]
+    status: Any
+
+    def __getitem__(self, key: str) -> Mapping[str, Any]:
+        return self.table[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.table)
+
+    def __len__(self) -> int:
+        return len(self.table)
+
+    @property
+    def success(self) -> Any:
+        """True where the derivatives are finite and exact (status 0)."""
+        return _out(np.asarray(self.status) == 0)
+
+    @property
+    def at_fold(self) -> Any:
+        """True where the state sits at a fold (status 1: infinite derivatives)."""
+        return _out(np.asarray(self.status) == 1)
+
+    @property
+    def message(self) -> str | list[Any]:
+        """``STATUS_MESSAGES`` of ``status`` (a nested list for arrays)."""
+        st = np.asarray(self.status)
+        if st.ndim == 0:
+            return STATUS_MESSAGES[int(st)]
+        return np.vectorize(STATUS_MESSAGES.__getitem__, otypes=[object])(st).tolist()
+
+    def as_dict(self) -> dict[str, dict[str, Any]]:
+        """Plain nested dicts (arrays as lists), e.g. for JSON."""
+        return {
+            o: {p: (v.tolist() if isinstance(v, np.ndarray) else v) for p, v in m.items()}
+            for o, m in self.table.items()
+        }
+
+
+def _partials(
+    t: FloatArray, theta0: FloatArray, sign: int, n: int, sol: Solution
+) -> tuple[dict[str, FloatArray], dict[str, FloatArray], dict[str, FloatArray]]:
+    """Values and partial derivatives in t and in theta0 at fixed t of every t-function.
+
+    Returns (val, d_t, d_th) over the keys of OUTPUTS plus "h1" and "ln_oe" (ln omega_eps);
+    ``val`` takes the accurate values of the solution (omega_eps, h1, x1) where it has them.
+    """
+    c = np.cos(theta0)
+    # 1 -+ sin(theta0) without cancellation near +-pi/2 (as the kernels)
+    oms = 2.0 * np.sin(0.5 * (0.5 * np.pi - theta0)) ** 2
+    ops = 2.0 * np.sin(0.5 * (0.5 * np.pi + theta0)) ** 2
+    q = special.expit(t)
+    qc = special.expit(-t)
+    d = oms * q  # xi - sin(theta0)
+    p = 0.5 * oms * qc  # (1 - xi)/2
+    mu = 1.0 - p
+    two_mu = ops + d
+    sn0 = np.sqrt(ops / two_mu)
+    cn0 = np.sqrt(d / two_mu)
+    cn0_2 = d / two_mu
+    dn0 = np.sqrt(0.5 * oms)
+    dn0_2 = 0.5 * oms
+    # complete and incomplete integrals, Carlson forms (theory.md §6)
+    k = special.ellipkm1(p)
+    e = special.ellipe(mu)
+    rf0 = special.elliprf(cn0_2, dn0_2, 1.0)
+    rd0 = special.elliprd(cn0_2, dn0_2, 1.0)
+    v0 = sn0 * rf0  # F(phi0 | mu)
+    e0 = v0 - mu / 3.0 * sn0**3 * rd0  # E(phi0 | mu), DLMF 19.25.9
+    pk = np.where(p > 0.0, p * np.where(np.isfinite(k), k, 0.0), 0.0)  # p K -> 0 as p -> 0
+    pv0 = p * v0
+    odd = 2.0 * n + 1.0
+
+    # dmu = p r: r_t = expit(t), r_th = cos/(1 - sin)
+    r = {"t": q, "th": c / oms}
+    dphi = {"t": -0.5 * sn0 * cn0 * qc, "th": np.sqrt(q) / two_mu}
+    out_t: dict[str, FloatArray] = {}
+    out_th: dict[str, FloatArray] = {}
+
+    oe = np.asarray(sol.omega_eps, dtype=np.float64)
+    h1 = np.asarray(sol.tip_height, dtype=np.float64)
+    x1 = np.asarray(sol.tip_deflection, dtype=np.float64)
+    xi = np.asarray(sol.xi, dtype=np.float64)
+    root2d = np.sqrt(2.0 * d)
+    # sqrt(1 - xi^2) = 2 sqrt(p mu)
+    tip_turns = sign * (1 - 2 * (n % 2)) < 0  # tip_angle = -pi - arcsin(xi)
+    angle_sign = -1.0 if tip_turns else 1.0
+    for key, out in (("t", out_t), ("th", out_th)):
+        rk = r[key]
+        dk = rk * (e - pk) / (2.0 * mu)  # dK = K_m dmu
+        de = (e * p - pk) * rk / (2.0 * mu)  # dE = E_m dmu
+        dv0 = dphi[key] / dn0 + rk * ((e0 - pv0) / (2.0 * mu) - sn0 * cn0 / (2.0 * dn0))
+        de0 = dn0 * dphi[key] + (e0 - v0) * p * rk / (2.0 * mu)
+        doe = odd * dk - sign * dv0
+        if key == "t":
+            dxi = 2.0 * p * q
+            dlog_root2d = 0.5 * qc  # d ln sqrt(2 d)
+            dshift: Any = 0.0  # d sin(theta0)
+        else:
+            dxi = c * qc
+            dlog_root2d = -c / (2.0 * oms)
+            dshift = c
+        g = doe / oe  # d ln omega_eps
+        dh1 = h1 * (dlog_root2d - g)
+        dnum = odd * (dk - 2.0 * de) - sign * (dv0 - 2.0 * de0)  # d (x1 omega_eps)
+        dx1 = (dnum - x1 * doe) / oe
+        if key == "t":
+            dangle = q * np.sqrt(p / mu)
+        else:
+            dangle = np.sqrt(ops * qc / two_mu)
+        out["xi"] = dxi
+        out["omega_eps"] = doe
+        out["energy"] = dxi * oe * oe + 2.0 * xi * oe * doe
+        out["tip_height"] = dh1
+        out["h1"] = dh1
+        out["ln_oe"] = g
+        out["tip_deflection"] = dx1
+        out["tip_displacement"] = dx1 - dshift
+        out["tip_angle"] = angle_sign * dangle
+        out["base_curvature"] = sign * root2d * oe * (g + dlog_root2d)
+    val = {"h1": h1, "oe": oe, "root2d": root2d}
+    return val, out_t, out_th
+
+
+def derivatives_at(sol: Solution) -> Derivatives:
+    """Exact derivatives of the outputs of the states ``sol`` (a :class:`hairbed.Solution`).
+
+    See :func:`derivatives`; this takes a solution already at hand (any branch, any shape).
+    """
+    if not isinstance(sol, Solution):
+        raise TypeError(f"sol must be a hairbed.Solution, got {type(sol).__name__}")
+    shape = sol.shape
+    t = np.broadcast_to(np.asarray(sol.t, dtype=np.float64), shape)
+    eps = np.broadcast_to(np.asarray(sol.eps, dtype=np.float64), shape)
+    theta0 = np.broadcast_to(np.asarray(sol.theta0, dtype=np.float64), shape)
+    omega2 = np.broadcast_to(np.asarray(sol.omega2, dtype=np.float64), shape)
+    ok = np.asarray(sol.status) == 0
+    ok = np.broadcast_to(ok, shape)
+    rest = ok & (t == -np.inf)  # omega2 = 0 on the physical branch: the hair at rest
+    live = ok & np.isfinite(t)
+    tt = np.where(live, t, 0.0)
+    with np.errstate(all="ignore"):
+        sol_live = sol if np.all(live) else _masked(sol, live)
+        val, d_t, d_th = _partials(tt, theta0, sol.sign, sol.n, sol_live)
+        h1 = val["h1"]
+        one_minus = 1.0 - eps * h1
+        # R = 2 ln omega_eps + ln(1 - eps h1) - ln omega2
+        term_k = 2.0 * d_t["ln_oe"]
+        term_h = -eps * d_t["h1"] / one_minus
+        r_t = term_k + term_h
+        r_p = {
+            "omega2": -1.0 / omega2,
+            "eps": -h1 / one_minus,
+            "theta0": 2.0 * d_th["ln_oe"] - eps * d_th["h1"] / one_minus,
+        }
+        fold = live & (np.abs(r_t) <= FOLD_RTOL * (np.abs(term_k) + np.abs(term_h)))
+        r_t = np.where(fold, 0.0, r_t)
+        dt = {name: -r_p[name] / r_t for name in INPUTS}
+        values: dict[str, Mapping[str, Any]] = {}
+        for o in OUTPUTS:
+            row = {}
+            for name in INPUTS:
+                partial = d_th[o] if name == "theta0" else 0.0
+                total = partial + d_t[o] * dt[name]
+                total = np.where(live, total, np.nan)
+                row[name] = total
+            values[o] = row
+    status = np.where(ok, np.where(fold, 1, 0), -1).astype(np.int64)
+    if np.any(rest):
+        _rest_values(values, dt, rest, eps, theta0)
+    frozen = {
+        o: MappingProxyType({name: _out(v) for name, v in row.items()})
+        for o, row in values.items()
+    }
+    dt_out = MappingProxyType({name: _out(np.where(live, v, np.nan)) for name, v in dt.items()})
+    return Derivatives(sol, MappingProxyType(frozen), dt_out, _out(status))
+
+
+def _masked(sol: Solution, live: NDArray[np.bool_]) -> Solution:
+    """The solution with its value fields replaced by finite stand-ins where not ``live``."""
+    from dataclasses import replace
+
+    fill: dict[str, Any] = {}
+    for name in ("omega_eps", "tip_height", "tip_deflection", "xi"):
+        v = np.broadcast_to(np.asarray(getattr(sol, name), dtype=np.float64), live.shape)
+        fill[name] = np.where(live, v, 1.0)
+    return replace(sol, **fill)
+
+
+def _rest_values(
+    values: dict[str, Mapping[str, Any]],
+    dt: dict[str, FloatArray],
+    rest: NDArray[np.bool_],
+    eps: FloatArray,
+    theta0: FloatArray,
+) -> None:
+    """The derivatives at omega2 = 0 (the hair at rest), from the linear theory of weak forcing.
+
+    theta = theta0 + omega_eps^2 cos(theta0) (sigma - sigma^2/2): xi = s + omega_eps^2 c^2/2,
+    h1 = c - omega_eps^2 s c/3, x1 = s + omega_eps^2 c^2/3 (a point load at the tip) and
+    omega_eps^2 = omega2/(1 - eps c) to first order; d omega_eps/d omega2 is infinite there.
+    """
+    s, c = np.sin(theta0), np.cos(theta0)
+    g = 1.0 / (1.0 - eps * c)  # d omega_eps^2 / d omega2 at rest
+    d_w = {
+        "xi": 0.5 * c * c * g,
+        "omega_eps": np.full_like(g, np.inf),
+        "energy": s * g,
+        "tip_height": -s * c * g / 3.0,
+        "tip_deflection": c * c * g / 3.0,
+        "tip_displacement": c * c * g / 3.0,
+        "tip_angle": 0.5 * c * g,
+        "base_curvature": c * g,
+    }
+    d_th = {
+        "xi": c,
+        "omega_eps": 0.0 * c,
+        "energy": 0.0 * c,
+        "tip_height": -s,
+        "tip_deflection": c,
+        "tip_displacement": 0.0 * c,
+        "tip_angle": 1.0 + 0.0 * c,
+        "base_curvature": 0.0 * c,
+    }
+    for o in OUTPUTS:
+        row = values[o]
+        assert isinstance(row, dict)
+        row["omega2"] = np.where(rest, d_w[o], row["omega2"])
+        row["eps"] = np.where(rest, 0.0, row["eps"])
+        row["theta0"] = np.where(rest, d_th[o], row["theta0"])
+    for name in INPUTS:
+        dt[name] = np.where(rest, np.inf if name == "omega2" else 0.0, dt[name])
+
+
+def derivatives(
+    omega2: ArrayLike,
+    eps: ArrayLike,
+    theta0: ArrayLike = 0.0,
+    *,
+    sign: int = 1,
+    n: int = 0,
+    root: str = "low",
+) -> Derivatives:
+    """Exact partial derivatives of a state's outputs in omega2, eps and theta0.
+
+    Solves the state with :func:`hairbed.solve` and differentiates the branch equation
+    implicitly (module docstring): closed forms, vectorised over arrays, no finite differences.
+
+    Parameters
+    ----------
+    omega2, eps, theta0 : array_like
+        Forcing omega^2 [-] (>= 0), confinement eps = L/H [-] (in [0, 1)) and base angle [rad]
+        (in (-pi/2, pi/2); negative leans into the flow), broadcast together.
+    sign, n, root :
+        Branch and root selection, as in :func:`hairbed.solve`.
+
+    Returns
+    -------
+    Derivatives
+        A mapping ``{output: {"omega2": ..., "eps": ..., "theta0": ...}}`` over xi, omega_eps,
+        energy, tip_height, tip_deflection, tip_displacement, tip_angle, base_curvature, with
+        ``solution``, ``dt`` and ``status`` / ``success`` / ``message``. At a fold (status 1)
+        the derivatives are +-inf; where the state does not exist (status -1) NaN. At
+        omega2 = 0 (the hair at rest) the limits of weak forcing (d omega_eps/d omega2 = inf).
+
+    Raises
+    ------
+    ValueError
+        For inputs outside their ranges (the message names the parameter).
+
+    Examples
+    --------
+    The slope of the calibration curve of a pillar sensor at omega^2 = 2, eps = 0.5:
+
+    >>> import hairbed
+    >>> d = hairbed.derivatives(2.0, 0.5)
+    >>> round(d["tip_deflection"]["omega2"], 10)
+    0.1017297125
+    >>> round(hairbed.derivatives(0.0, 0.5)["tip_deflection"]["omega2"], 12)  # 1/(3 (1 - eps))
+    0.666666666667
+    """
+    check_inputs(omega2, eps, theta0)
+    sign, n = check_branch(sign, n)
+    root = check_root(root)
+    return derivatives_at(solve(omega2, eps, theta0, sign=sign, n=n, root=root))

@@ -1,0 +1,235 @@
+"""Sensor calibration (hairbed.calibration): recovery, coverage, Jacobian, measure, linear range.
+
+References: simulated data from the forward model with known parameters (recovery and the
+coverage of the reported 1-sigma intervals over many noise seeds), central finite differences
+of the model for the exact Jacobian, finite differences of HairBed's inversion for the
+propagated errors, and HairBed's own linear calibration for the linear range.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+import hairbed
+from hairbed import HairBed
+from hairbed.calibration import (
+    FREE_PARAMETERS,
+    _model,
+    fit,
+    linear_range,
+    measure,
+    model_tip_deflection,
+)
+
+#: A soft micropillar sensor: 1 mm hairs, radius 50 um, 400 um spacing, under 2 mm of glycerol.
+TRUE = HairBed(
+    length=1e-3,
+    radius=50e-6,
+    youngs_modulus=1.3e6,
+    channel_height=2e-3,
+    viscosity=1.0,
+    spacing=400e-6,
+    base_angle=0.1,
+)
+GUESS = replace(TRUE, packing_fraction=None, youngs_modulus=1.0e6, base_angle=0.0)
+#: The guess with the true base angle, for fits of the modulus alone.
+GUESS_E = replace(GUESS, packing_fraction=None, base_angle=0.1)
+VELOCITY = np.linspace(0.01, 0.3, 10)
+SIGMA = 2e-6  # [m]
+SEEDS = 200
+
+
+def _coverage_tolerance(p: float, n: int) -> float:
+    """Three binomial standard deviations of a fraction of n trials."""
+    return 3.0 * math.sqrt(p * (1.0 - p) / n)
+
+
+def test_recovers_exact_parameters_without_noise() -> None:
+    d = model_tip_deflection(TRUE, velocity=VELOCITY)
+    res = fit(GUESS, d, velocity=VELOCITY, sigma=SIGMA, free=("youngs_modulus", "base_angle"))
+    assert res.success and res.status > 0
+    assert res.values["youngs_modulus"] == pytest.approx(1.3e6, rel=1e-10)
+    assert res.values["base_angle"] == pytest.approx(0.1, abs=1e-10)
+    assert res.chi2 < 1e-12 and res.dof == 8
+    assert res.bed.youngs_modulus == res.values["youngs_modulus"]
+    assert res.covariance.shape == (2, 2)
+    assert np.allclose(np.sqrt(np.diag(res.covariance)), list(res.stderr.values()))
+
+
+def test_coverage_over_seeds() -> None:
+    """The reported 1-sigma interval holds the true value in ~68 % of noisy calibrations."""
+    clean = model_tip_deflection(TRUE, velocity=VELOCITY)
+    inside = {"youngs_modulus": 0, "base_angle": 0}
+    chi2 = []
+    for seed in range(SEEDS):
+        noise = np.random.default_rng(seed).normal(0.0, SIGMA, VELOCITY.size)
+        res = fit(
+            GUESS,
+            clean + noise,
+            velocity=VELOCITY,
+            sigma=SIGMA,
+            free=("youngs_modulus", "base_angle"),
+        )
+        assert res.success
+        chi2.append(res.chi2)
+        for name, true in (("youngs_modulus", 1.3e6), ("base_angle", 0.1)):
+            inside[name] += abs(res.values[name] - true) <= res.stderr[name]
+    tol = _coverage_tolerance(0.6827, SEEDS)
+    for name, count in inside.items():
+        assert abs(count / SEEDS - 0.6827) < tol, (name, count / SEEDS)
+    # chi2 follows a chi-square law with dof = 8: mean 8, sd of the mean 4/sqrt(200)
+    assert abs(np.mean(chi2) - 8.0) < 3 * 4.0 / math.sqrt(SEEDS)
+
+
+def test_coverage_stress_data() -> None:
+    """Stress-calibrated sensors (a known wall shear stress at each point)."""
+    tau = np.asarray(TRUE.deform(VELOCITY).wall_shear_stress)
+    clean = model_tip_deflection(TRUE, wall_shear_stress=tau)
+    assert np.allclose(clean, TRUE.deform(VELOCITY).tip_deflection, rtol=1e-12)
+    inside = 0
+    seeds = 100
+    for seed in range(seeds):
+        noise = np.random.default_rng(1000 + seed).normal(0.0, SIGMA, VELOCITY.size)
+        res = fit(
+            GUESS_E, clean + noise, wall_shear_stress=tau, sigma=SIGMA, free="youngs_modulus"
+        )
+        assert res.success and res.kind == "wall_shear_stress"
+        inside += abs(res.values["youngs_modulus"] - 1.3e6) <= res.stderr["youngs_modulus"]
+    assert abs(inside / seeds - 0.6827) < _coverage_tolerance(0.6827, seeds)
+
+
+def test_scatter_estimate_without_sigma() -> None:
+    clean = model_tip_deflection(TRUE, velocity=VELOCITY)
+    noise = np.random.default_rng(7).normal(0.0, SIGMA, VELOCITY.size)
+    with_sigma = fit(GUESS_E, clean + noise, velocity=VELOCITY, sigma=SIGMA)
+    without = fit(GUESS_E, clean + noise, velocity=VELOCITY)
+    assert without.values["youngs_modulus"] == pytest.approx(
+        with_sigma.values["youngs_modulus"], rel=1e-9
+    )
+    ratio = without.stderr["youngs_modulus"] / with_sigma.stderr["youngs_modulus"]
+    assert ratio == pytest.approx(math.sqrt(with_sigma.chi2 / with_sigma.dof), rel=1e-6)
+    assert without.chi2 == pytest.approx(with_sigma.chi2 * SIGMA**2, rel=1e-6)  # [m^2]
+
+
+@pytest.mark.parametrize("kind", ["velocity", "wall_shear_stress"])
+@pytest.mark.parametrize("geometry", ["spacing", "packing_fraction"])
+def test_jacobian_against_finite_differences(kind: str, geometry: str) -> None:
+    x = VELOCITY if kind == "velocity" else np.linspace(1.0, 200.0, 6)
+    x = np.concatenate([x, -x[:2]])  # flow against the grain too
+    free = tuple(p for p in FREE_PARAMETERS if p != ("packing_fraction" if geometry ==
+                 "spacing" else "spacing"))  # fmt: skip
+    _, jac, dx, _ = _model(TRUE, kind, x, free, geometry)
+    keep = "packing_fraction" if geometry == "spacing" else "spacing"
+
+    def model(bed: HairBed, xx: np.ndarray) -> np.ndarray:
+        return _model(bed, kind, xx, (), geometry)[0]
+
+    for j, name in enumerate(free):
+        value = float(getattr(TRUE, name))
+        h = 1e-6 * max(abs(value), 1e-3)
+        up = replace(TRUE, **{keep: None, name: value + h})
+        down = replace(TRUE, **{keep: None, name: value - h})
+        ref = (model(up, x) - model(down, x)) / (2 * h)
+        scale = np.max(np.abs(ref)) + 1e-300
+        assert np.max(np.abs(jac[:, j] - ref)) / scale < 1e-6, name
+    h = 1e-6 * np.abs(x)
+    ref = (model(TRUE, x + h) - model(TRUE, x - h)) / (2 * h)
+    assert np.max(np.abs(dx - ref) / np.abs(ref)) < 1e-6
+
+
+def test_measure_propagates_sigma_and_covariance() -> None:
+    clean = model_tip_deflection(TRUE, velocity=VELOCITY)
+    noise = np.random.default_rng(3).normal(0.0, SIGMA, VELOCITY.size)
+    cal = fit(GUESS_E, clean + noise, velocity=VELOCITY, sigma=SIGMA, free="youngs_modulus")
+    bed = cal.bed
+    d = 3e-4
+    m = measure(bed, d, sigma=SIGMA)
+    st = bed.state_from_tip_deflection(d)
+    assert m.velocity == st.velocity and m.wall_shear_stress == st.wall_shear_stress
+    # sigma alone: |dv/dD| sigma, dv/dD by central differences of the exact inversion
+    h = 1e-9
+    dv = (bed.velocity_from_tip_deflection(d + h) - bed.velocity_from_tip_deflection(d - h)) / (
+        2 * h
+    )
+    dtau = (
+        bed.wall_shear_stress_from_tip_deflection(d + h)
+        - bed.wall_shear_stress_from_tip_deflection(d - h)
+    ) / (2 * h)
+    assert m.velocity_stderr == pytest.approx(abs(dv) * SIGMA, rel=1e-6)
+    assert m.wall_shear_stress_stderr == pytest.approx(abs(dtau) * SIGMA, rel=1e-6)
+    # with the calibration's covariance: + (dv/dE)^2 var(E) at fixed D
+    mf = measure(bed, d, sigma=SIGMA, fit=cal)
+    e = bed.youngs_modulus
+    he = 1e-6 * e
+
+    def at(modulus: float) -> HairBed:
+        return replace(bed, packing_fraction=None, youngs_modulus=modulus)
+
+    dv_de = (
+        at(e + he).velocity_from_tip_deflection(d) - at(e - he).velocity_from_tip_deflection(d)
+    ) / (2 * he)
+    var_e = cal.stderr["youngs_modulus"] ** 2
+    expect = math.sqrt((dv * SIGMA) ** 2 + dv_de**2 * var_e)
+    assert mf.velocity_stderr == pytest.approx(expect, rel=1e-6)
+    # the stress read from a deflection does not depend on the modulus only through v
+    assert mf.wall_shear_stress_stderr > m.wall_shear_stress_stderr
+    assert mf.success and mf.status == 0
+    # arrays
+    arr = measure(bed, np.array([1e-4, 3e-4]), sigma=SIGMA)
+    assert np.asarray(arr.velocity_stderr).shape == (2,)
+    assert arr.velocity_stderr[1] == pytest.approx(m.velocity_stderr, rel=1e-12)
+
+
+def test_linear_range() -> None:
+    for tol in (0.01, 0.1):
+        lr = linear_range(TRUE, tol)
+        assert lr.success and lr.status == 0
+        d = lr.tip_deflection
+        exact_v = TRUE.velocity_from_tip_deflection(d)
+        lin_v = TRUE.linear_velocity_from_tip_deflection(d)
+        exact_t = TRUE.wall_shear_stress_from_tip_deflection(d)
+        lin_t = TRUE.linear_wall_shear_stress_from_tip_deflection(d)
+        errors = (lin_v / exact_v - 1.0, lin_t / exact_t - 1.0)
+        assert max(abs(e) for e in errors) == pytest.approx(tol, rel=1e-6)
+        assert lr.velocity == pytest.approx(exact_v, rel=1e-9)
+        assert lr.wall_shear_stress == pytest.approx(exact_t, rel=1e-9)
+        # below it, within the tolerance
+        d2 = 0.5 * (d + TRUE.length * math.sin(TRUE.base_angle))
+        err2 = TRUE.linear_velocity_from_tip_deflection(d2) / TRUE.velocity_from_tip_deflection(d2)
+        assert abs(err2 - 1.0) < tol
+
+
+def test_singular_fit_is_reported() -> None:
+    tau = np.asarray(TRUE.deform(VELOCITY).wall_shear_stress)
+    d = model_tip_deflection(TRUE, wall_shear_stress=tau)
+    res = fit(GUESS, d, wall_shear_stress=tau, sigma=SIGMA, free=("youngs_modulus", "viscosity"))
+    assert not res.success and res.status == -2
+    assert "viscosity" in res.message
+
+
+def test_bad_input() -> None:
+    d = model_tip_deflection(TRUE, velocity=VELOCITY)
+    with pytest.raises(ValueError, match="unknown parameter"):
+        fit(GUESS, d, velocity=VELOCITY, free=("stiffness",))
+    with pytest.raises(ValueError, match="exactly one"):
+        fit(GUESS, d, velocity=VELOCITY, wall_shear_stress=VELOCITY)
+    with pytest.raises(ValueError, match="same length"):
+        fit(GUESS, d[:3], velocity=VELOCITY)
+    with pytest.raises(ValueError, match="sigma"):
+        fit(GUESS, d, velocity=VELOCITY, sigma=-1.0)
+    with pytest.raises(ValueError, match="one parameter"):
+        fit(GUESS, d, velocity=VELOCITY, free=("spacing", "packing_fraction"))
+    with pytest.raises(ValueError, match="tolerance"):
+        linear_range(TRUE, 1.5)
+    with pytest.raises(ValueError, match="sigma"):
+        measure(TRUE, 1e-4, sigma=-1.0)
+    with pytest.raises(TypeError, match="HairBed"):
+        fit(object(), d, velocity=VELOCITY)  # type: ignore[arg-type]
+
+
+def test_lazy_export() -> None:
+    assert hairbed.calibration.fit is fit
