@@ -224,7 +224,7 @@ def test_bench_rows_and_progress():
     [
         (["--repeat", "0"], "--repeat"),
         (["--n", "0"], "--n"),
-        (["--rows", "11"], "--rows"),
+        (["--rows", "12"], "--rows"),
         (["--quick", "--full"], "--full"),
     ],
 )
