@@ -59,7 +59,8 @@ async ([value, shown]) => {
     }
     return null;
   };
-  const input = find(document, '.hb-omega2 input');
+  const host = find(document, '.hb-omega2');  // the widget; its input is in its shadow root
+  const input = find(host.shadowRoot || host, 'input');
   const frame = () => new Promise(r => requestAnimationFrame(r));
   const t0 = performance.now();
   input.value = value;
