@@ -106,3 +106,23 @@ def test_strong_forcing_and_empty_path():
 def test_invalid_input_raises(call):
     with pytest.raises(ValueError):
         call()
+
+
+def test_sweep_reports_the_true_number_of_roots():
+    """n_roots counts every physical state at each omega^2, as solve does (3 in a window)."""
+    path = np.linspace(0.3, 0.7, 9)
+    s = sweep(path, 0.95, -1.2)
+    assert s.n_roots.tolist() == hairbed.solve(path, 0.95, -1.2).n_roots.tolist()
+    assert s.n_roots.tolist() == [1, 1, 1, 1, 3, 3, 1, 1, 1]
+
+
+def test_sweep_marks_direction_jumps_and_stability():
+    up_down = np.concatenate([np.linspace(0.8, 1.6, 9), np.linspace(1.6, 0.8, 9)])
+    run = sweep_with_jumps(up_down, 0.9, -1.5)
+    assert run.direction.tolist() == [0] + [1] * 8 + [0] + [-1] * 8
+    assert np.flatnonzero(run.jumped).tolist() == run.jumps.tolist() == [7, 16]
+    assert run.stable.all()
+    # the states followed are the stable ones of the relaxation dynamics (independent check)
+    inside = np.flatnonzero(run.solution.n_roots == 3)
+    assert inside.size > 0
+    assert bool(np.all(hairbed.stability.is_stable(run.solution[inside])))

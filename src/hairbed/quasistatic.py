@@ -16,7 +16,7 @@ back (theory.md §5): a hysteresis loop.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 
 from ._bracketing import find_root
 from ._core.solution import Solution
-from ._core.solver import fold_parameters, from_parameter
+from ._core.solver import fold_parameters, from_parameter, solve
 from ._core.validation import check_inputs
 
 __all__ = ["QuasistaticSweep", "sweep", "sweep_with_jumps"]
@@ -44,10 +44,26 @@ class QuasistaticSweep:
     jumps : ndarray of int
         Indices i at which the state jumped between i - 1 and i (a fold was passed),
         increasing.
+    direction : ndarray of int
+        Direction of the ramp at each point: +1 where omega^2 rose from the previous point, -1
+        where it fell, 0 where it stayed (and at the first point).
+    stable : ndarray of bool
+        Whether each state followed is stable. A quasi-static path only visits the pieces of
+        the physical branch where omega^2 increases with xi, which are exactly the stable
+        ones (module docstring; :func:`hairbed.stability.is_stable` agrees): True
+        throughout, except NaN states.
+    jumped : ndarray of bool
+        True at the indices of ``jumps``.
+
+    The ``solution``'s ``n_roots`` is the number of physical states that coexist at each
+    point (3 inside a bistable window), as :func:`hairbed.solve` counts them.
     """
 
     solution: Solution
     jumps: NDArray[np.intp]
+    direction: NDArray[np.int64]
+    stable: NDArray[np.bool_]
+    jumped: NDArray[np.bool_]
 
 
 def _omega2(t: NDArray[np.float64], eps: float, theta0: float) -> NDArray[np.float64]:
@@ -163,7 +179,16 @@ def sweep_with_jumps(
             what="the branch parameter along a sweep",
         ).x
     jumps = np.nonzero(piece[1:] != piece[:-1])[0] + 1
-    return QuasistaticSweep(from_parameter(t, eps, theta0), jumps.astype(np.intp))
+    # from_parameter knows the state, not how many others share its omega^2: count them as
+    # solve does (the branch's roots at each omega^2 of the path)
+    n_roots = np.asarray(solve(path, eps, theta0).n_roots, dtype=np.int64).reshape(path.shape)
+    sol = replace(from_parameter(t, eps, theta0), n_roots=n_roots)
+    direction = np.zeros(path.shape, dtype=np.int64)
+    direction[1:] = np.sign(np.diff(path)).astype(np.int64)
+    jumped = np.zeros(path.shape, dtype=bool)
+    jumped[jumps] = True
+    stable = np.asarray(sol.status) == 0
+    return QuasistaticSweep(sol, jumps.astype(np.intp), direction, stable, jumped)
 
 
 def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "low") -> Solution:
@@ -188,7 +213,8 @@ def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "lo
     Returns
     -------
     Solution
-        The state at every point of the path, shape (len(omega2_path),).
+        The state at every point of the path, shape (len(omega2_path),); its ``n_roots`` is
+        the number of physical states at each omega^2 (3 inside a bistable window).
 
     Examples
     --------
