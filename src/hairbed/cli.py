@@ -1,10 +1,11 @@
 """The ``hairbed`` command line: a thin layer over the library.
 
-Subcommands: ``solve``, ``sweep``, ``invert``, ``figures``, ``bench``, ``demo``,
-``explore``. Run
-``hairbed <command> --help`` for the options and examples of each. Bad input ends with one line
-``hairbed: error: <message>`` on stderr and exit status 2; Ctrl-C with the one line
-``hairbed: interrupted`` and exit status 130, leaving no partial file behind.
+Subcommands: ``solve``, ``sweep``, ``invert``, ``bistability``, ``calibrate``, ``measure``,
+``figures``, ``bench``, ``demo``, ``explore``. Run ``hairbed <command> --help`` for the options
+and examples of each. Bad input ends with one line ``hairbed: error: <message>`` on stderr and
+exit status 2; Ctrl-C with the one line ``hairbed: interrupted`` and exit status 130, leaving
+no partial file behind; a warning of the library (a flow outside the model's validity) is the
+one line ``hairbed: warning: <message>`` on stderr.
 
 Examples
 --------
@@ -20,6 +21,7 @@ import json
 import math
 import sys
 import time
+import warnings
 from collections.abc import Sequence
 from typing import Any
 
@@ -58,7 +60,11 @@ BED_OPTIONS: dict[str, tuple[str, str]] = {
     "--viscosity": ("viscosity", "dynamic viscosity eta [Pa s]"),
     "--spacing": ("spacing", "hexagonal hair spacing delta [m] (or --packing-fraction)"),
     "--packing-fraction": ("packing_fraction", "packing fraction phi [-] (or --spacing)"),
-    "--base-angle": ("base_angle", "base angle theta0 [rad] (default 0)"),
+    "--base-angle": (
+        "base_angle",
+        "base angle theta0 [rad] (default 0; negative leans into a flow towards +x)",
+    ),
+    "--density": ("density", "fluid density rho [kg/m^3] (optional: checks Re < 1)"),
 }
 _BED_REQUIRED = ("length", "radius", "youngs_modulus", "channel_height", "viscosity")
 
@@ -171,7 +177,7 @@ def _cmd_solve(args: argparse.Namespace) -> int:
             )
         if args.velocity is None:
             raise UsageError("physical inputs need --velocity [m/s]")
-        state = bed.deform(args.velocity, root=args.root)
+        state = bed.deform(args.velocity, root=args.root or "low")
         si = {
             "velocity": state.velocity,
             "omega2": state.omega2,
@@ -182,7 +188,10 @@ def _cmd_solve(args: argparse.Namespace) -> int:
             "wall_shear_stress_Pa": state.wall_shear_stress,
             "force_per_hair_N": state.force_per_hair,
             "stress_ratio": state.stress_ratio,
+            "tip_displacement_m": state.tip_displacement,
         }
+        if bed.density is not None:
+            si["reynolds_number"] = state.reynolds_number
         sols = [state.solution]
         if args.json:
             print(json.dumps(_jsonable({**si, "solution": state.solution.as_dict()})))
@@ -198,24 +207,30 @@ def _cmd_solve(args: argparse.Namespace) -> int:
         if args.all_branches:
             hairbed.solve(args.omega2, args.eps, theta0)  # validates the inputs
             sols = hairbed.solve_all(args.omega2, args.eps, theta0)
-            if args.json:
-                print(json.dumps(_jsonable([s.as_dict() for s in sols])))
-            else:
-                print(
-                    f"{len(sols)} state(s) at omega2={args.omega2:g}, eps={args.eps:g}, "
-                    f"theta0={theta0:g}:"
-                )
-                for s in sols:
-                    print(
-                        f"branch sign={s.sign:+d}, n={s.n}" + (" (physical)" if s.physical else "")
-                    )
-                    print(_solution_table(s))
+            head = (
+                f"{len(sols)} state(s) at omega2={args.omega2:g}, eps={args.eps:g}, "
+                f"theta0={theta0:g}:"
+            )
+            _print_states(_labelled(sols), args.json, head)
         else:
             s = hairbed.solve(
-                args.omega2, args.eps, theta0, sign=args.sign, n=args.n, root=args.root
+                args.omega2, args.eps, theta0, sign=args.sign, n=args.n, root=args.root or "low"
             )
             sols = [s]
-            if args.json:
+            if args.root is None and s.success and s.n_roots > 1:
+                # inside a window: every state of the branch, labelled, with its stability
+                roots = ("low", "mid", "high") if s.n_roots == 3 else ("low", "high")
+                sols = [
+                    hairbed.solve(args.omega2, args.eps, theta0, sign=args.sign, n=args.n, root=r)
+                    for r in roots
+                ]
+                head = (
+                    f"{len(sols)} states on branch sign={args.sign:+d}, n={args.n} at "
+                    f"omega2={args.omega2:g}, eps={args.eps:g}, theta0={theta0:g} "
+                    "(a bistable window; --root selects one):"
+                )
+                _print_states(_labelled(sols), args.json, head)
+            elif args.json:
                 print(json.dumps(_jsonable(s.as_dict())))
             else:
                 print(_solution_table(s))
@@ -369,10 +384,30 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         return hairbed.sweep(omega2, eps, theta0, chunks=chunks, progress=progress, **kwargs)
 
     if args.quasistatic:
-        from hairbed.quasistatic import sweep as follow
+        from hairbed.quasistatic import sweep_with_jumps
 
-        path = follow(omega2, eps, theta0, start=args.root)
-        ds = sweeps.path_dataset(path, kind="quasistatic", root=args.root, omega2=omega2)
+        run = sweep_with_jumps(omega2, eps, theta0, start=args.root)
+        ds = sweeps.path_dataset(run.solution, kind="quasistatic", root=args.root, omega2=omega2)
+        # the ramp's direction, its jumps at folds and the stability of the states followed
+        ds["direction"] = (
+            "step",
+            run.direction,
+            {
+                "units": "1",
+                "long_name": "ramp direction "
+                "(+1 omega2 rising, -1 falling, 0 first point or unchanged)",
+            },
+        )
+        ds["jump"] = (
+            "step",
+            run.jumped.astype(np.int8),
+            {
+                "units": "1",
+                "long_name": "1 where the state jumped at a fold since the previous point",
+            },
+        )
+        ds["stable"] = ("step", run.stable.astype(np.int8), {"units": "1", "long_name": "1 "
+                        "where the state followed is linearly stable"})  # fmt: skip
     elif args.scheduler is not None:
         ds = _distributed(args.scheduler, build, args.chunks, args.progress)
     else:
@@ -514,6 +549,285 @@ def _cmd_demo(args: argparse.Namespace) -> int:
     return 0
 
 
+# -- states, stability, bistability (issue 12) ---------------------------------------------
+
+#: Help text of a base angle: its sign convention.
+THETA0_HELP = (
+    "base angle theta0 [rad], in (-pi/2, pi/2); default 0. Positive leans with the flow, "
+    "negative leans into it (where a tight channel can hold three states)"
+)
+
+
+def _root_labels(count: int) -> list[str]:
+    """Labels of the states of one branch in increasing xi: low/mid/high (or 'only')."""
+    return {1: ["only"], 2: ["low", "high"], 3: ["low", "mid", "high"]}.get(
+        count, [f"root {i + 1}" for i in range(count)]
+    )
+
+
+def _stable(sol: Any) -> bool | None:
+    """Linear stability of one state (None where it cannot be classified)."""
+    from hairbed.stability import linear_stability
+
+    result = linear_stability(sol, num=100 if sol.n == 0 else 200, k=1)
+    return bool(result.stable) if result.success else None
+
+
+def _labelled(sols: list[Any]) -> list[tuple[Any, str, bool | None]]:
+    """Each state with its root label within its branch and its stability."""
+    out = []
+    i = 0
+    while i < len(sols):
+        j = i
+        while j < len(sols) and (sols[j].sign, sols[j].n) == (sols[i].sign, sols[i].n):
+            j += 1
+        labels = _root_labels(j - i)
+        out += [(s, lab, _stable(s)) for s, lab in zip(sols[i:j], labels)]
+        i = j
+    return out
+
+
+def _stability_word(stable: bool | None) -> str:
+    return {True: "stable", False: "unstable", None: "not classified"}[stable]
+
+
+def _print_states(labelled: list[tuple[Any, str, bool | None]], as_json: bool, head: str) -> None:
+    if as_json:
+        print(json.dumps(_jsonable([{**s.as_dict(), "root": lab, "stable": st}
+                                    for s, lab, st in labelled])))  # fmt: skip
+        return
+    print(head)
+    for s, lab, st in labelled:
+        branch = f"branch sign={s.sign:+d}, n={s.n}" + (" (physical)" if s.physical else "")
+        print(f"{branch}, {lab} state ({_stability_word(st)}):")
+        print(_solution_table(s))
+
+
+def _cmd_bistability(args: argparse.Namespace) -> int:
+    from hairbed import branches
+
+    eps, theta0 = args.eps, args.theta0
+    hairbed.solve(0.0, eps, theta0)  # validates the inputs, with their messages
+    cusp = float(branches.cusp(theta0))
+    f = branches.folds(eps, theta0)
+    tip = np.asarray(hairbed.from_parameter(f.t, eps, theta0).tip_deflection).reshape(-1)
+    folds = [
+        {"omega2": float(w), "xi": float(x), "tip_deflection": float(d), "t": float(t)}
+        for w, x, d, t in zip(f.omega2, f.xi, tip, f.t)
+    ]
+    win = branches.bistable_window(eps, theta0)
+    window = [win.lower, win.upper] if win.exists else None
+    if args.json:
+        out = {"eps": eps, "theta0": theta0, "cusp_eps": cusp, "folds": folds, "window": window}
+        print(json.dumps(_jsonable(out)))
+        return 0
+    lean = "into the flow" if theta0 < 0 else ("upright" if theta0 == 0 else "with the flow")
+    print(f"hair bed at eps = {eps:g}, theta0 = {theta0:g} (leaning {lean})")
+    if cusp < 1.0:
+        print(f"  cusp: folds exist for eps > eps_c(theta0) = {cusp:.12g}")
+    else:
+        print("  cusp: none (the physical branch is monotone for every eps < 1 at this theta0)")
+    if window is None:
+        print("  no folds: one physical state at every omega^2 (no bistable window)")
+        return 0
+    for name, fold in zip(("lower", "upper"), folds):
+        print(
+            f"  {name} fold: omega2 = {fold['omega2']:.12g}, xi = {fold['xi']:.12g}, "
+            f"tip deflection = {fold['tip_deflection']:.12g} [L]"
+        )
+    print(
+        f"  window: three physical states (low and high stable, mid unstable) for "
+        f"{window[0]:.12g} < omega2 < {window[1]:.12g}"
+    )
+    return 0
+
+
+# -- calibration (issue 12) --------------------------------------------------------------------
+
+
+def _read_calibration_csv(path: str) -> dict[str, np.ndarray]:
+    """Columns tip_deflection and velocity or wall_shear_stress (optional sigma) of a CSV."""
+    import csv
+
+    try:
+        with open(path, newline="") as fh:
+            rows = list(csv.reader(fh))
+    except OSError as exc:
+        raise UsageError(f"--data: cannot read {path}: {exc.strerror or exc}") from None
+    rows = [r for r in rows if r and not r[0].lstrip().startswith("#")]
+    if len(rows) < 2:
+        raise UsageError(f"--data {path}: needs a header line and at least one row")
+    header = [h.strip().lower() for h in rows[0]]
+    allowed = ("tip_deflection", "velocity", "wall_shear_stress", "sigma")
+    for h in header:
+        if h not in allowed:
+            raise UsageError(f"--data {path}: unknown column {h!r}; allowed: {', '.join(allowed)}")
+    columns: dict[str, list[float]] = {h: [] for h in header}
+    for i, row in enumerate(rows[1:], start=2):
+        if len(row) != len(header):
+            raise UsageError(f"--data {path}: line {i} has {len(row)} fields, not {len(header)}")
+        for h, cell in zip(header, row):
+            try:
+                columns[h].append(float(cell))
+            except ValueError:
+                raise UsageError(f"--data {path}: line {i}, {h}: not a number: {cell!r}") from None
+    if "tip_deflection" not in columns:
+        raise UsageError(f"--data {path}: needs a tip_deflection column [m]")
+    if ("velocity" in columns) == ("wall_shear_stress" in columns):
+        raise UsageError(
+            f"--data {path}: needs exactly one of the columns velocity [m/s] and "
+            "wall_shear_stress [Pa]"
+        )
+    return {h: np.array(v) for h, v in columns.items()}
+
+
+def _need_bed(args: argparse.Namespace, what: str) -> Any:
+    bed = _bed(args)
+    if bed is None:
+        raise UsageError(f"{what} needs the physical inputs of a bed (--length, --radius, ...)")
+    return bed
+
+
+def _cmd_calibrate(args: argparse.Namespace) -> int:
+    from hairbed import calibration
+
+    bed = _need_bed(args, "calibrate")
+    data = _read_calibration_csv(args.data)
+    sigma: Any = data.get("sigma")
+    if args.sigma is not None:
+        if sigma is not None:
+            raise UsageError("give --sigma or a sigma column in --data, not both")
+        sigma = args.sigma
+    result = calibration.fit(
+        bed,
+        data["tip_deflection"],
+        velocity=data.get("velocity"),
+        wall_shear_stress=data.get("wall_shear_stress"),
+        sigma=sigma,
+        free=args.free,
+    )
+    units = calibration.FREE_PARAMETERS
+    if args.json:
+        out = {
+            "parameters": {
+                p: {"value": result.values[p], "stderr": result.stderr[p], "unit": units[p]}
+                for p in result.parameters
+            },
+            "covariance": result.covariance,
+            "chi2": result.chi2,
+            "dof": result.dof,
+            "residuals": result.residuals,
+            "points": int(result.residuals.size),
+            "kind": result.kind,
+            "geometry": result.geometry,
+            "success": result.success,
+            "status": result.status,
+            "message": result.message,
+        }
+        print(json.dumps(_jsonable(out)))
+    else:
+        print(f"calibration of {result.residuals.size} points ({result.kind} known):")
+        width = max(len(p) for p in result.parameters)
+        for p in result.parameters:
+            print(
+                f"  {p:<{width}}  {result.values[p]:.10g} +- {result.stderr[p]:.3g} [{units[p]}]"
+            )
+        print(f"  chi2 = {result.chi2:.6g} for {result.dof} degrees of freedom")
+        print(f"  {'converged' if result.success else 'NOT converged'}: {result.message}")
+    if not result.success:
+        print(f"{PROG}: warning: the fit did not succeed: {result.message}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _load_calibration(path: str, bed: Any) -> Any:
+    """The CalibrationFit of a ``hairbed calibrate --json`` output, applied to ``bed``."""
+    from dataclasses import replace
+
+    from hairbed import calibration
+
+    try:
+        with open(path) as fh:
+            data = json.load(fh)
+        params = data["parameters"]
+        names = tuple(params)
+        values = {p: float(params[p]["value"]) for p in names}
+        stderr = {p: float(params[p]["stderr"]) for p in names}
+        cov = np.array(data["covariance"], dtype=np.float64)
+        geometry = data.get("geometry", "spacing")
+    except OSError as exc:
+        raise UsageError(f"--calibration: cannot read {path}: {exc.strerror or exc}") from None
+    except (ValueError, KeyError, TypeError) as exc:
+        raise UsageError(
+            f"--calibration {path}: not the JSON of 'hairbed calibrate --json' ({exc})"
+        ) from None
+    if cov.shape != (len(names), len(names)):
+        raise UsageError(f"--calibration {path}: covariance is not {len(names)} x {len(names)}")
+    for p in names:
+        if p not in calibration.FREE_PARAMETERS:
+            raise UsageError(f"--calibration {path}: unknown parameter {p!r}")
+    other = "packing_fraction" if geometry == "spacing" else "spacing"
+    fitted = replace(bed, **{other: None}, **values)
+    return calibration.CalibrationFit(
+        bed=fitted,
+        parameters=names,
+        values=values,
+        stderr=stderr,
+        covariance=cov,
+        residuals=np.asarray(data.get("residuals", []), dtype=np.float64),
+        chi2=float(data.get("chi2", math.nan)),
+        dof=int(data.get("dof", 0)),
+        kind=str(data.get("kind", "velocity")),
+        success=bool(data.get("success", True)),
+        status=int(data.get("status", 1)),
+        message=str(data.get("message", "")),
+        nfev=0,
+        geometry=geometry,
+    )
+
+
+def _cmd_measure(args: argparse.Namespace) -> int:
+    from hairbed import calibration
+
+    bed = _need_bed(args, "measure")
+    fit = None if args.calibration is None else _load_calibration(args.calibration, bed)
+    if fit is not None:
+        bed = fit.bed
+    m = calibration.measure(bed, args.tip_deflection, sigma=args.sigma, fit=fit)
+    st = m.state
+    if args.json:
+        out = {
+            "tip_deflection": m.tip_deflection,
+            "sigma": args.sigma,
+            "wall_shear_stress": m.wall_shear_stress,
+            "wall_shear_stress_stderr": m.wall_shear_stress_stderr,
+            "velocity": m.velocity,
+            "velocity_stderr": m.velocity_stderr,
+            "omega2": st.omega2,
+            "reynolds_number": st.reynolds_number,
+            "success": m.success,
+            "message": m.message,
+        }
+        print(json.dumps(_jsonable(out)))
+        return 0
+    print(f"tau = {m.wall_shear_stress:.6g} +- {m.wall_shear_stress_stderr:.2g} Pa")
+    print(f"v   = {m.velocity:.6g} +- {m.velocity_stderr:.2g} m/s")
+    return 0
+
+
+def _show_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: Any = None,
+    line: str | None = None,
+) -> None:
+    """warnings.showwarning of the command line: one line ``hairbed: warning: ...``."""
+    text = " ".join(str(message).split())
+    print(f"{PROG}: warning: {text}", file=sys.stderr)
+
+
 # -- parser ---------------------------------------------------------------------------------
 
 
@@ -550,7 +864,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--omega2", type=float, help="forcing omega^2 [-], >= 0")
     p.add_argument("--eps", type=float, help="confinement eps = L/H [-], in [0, 1)")
-    p.add_argument("--theta0", type=float, help="base angle [rad], in (-pi/2, pi/2); default 0")
+    p.add_argument("--theta0", type=float, help=THETA0_HELP)
     p.add_argument(
         "--sign",
         type=int,
@@ -561,11 +875,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--n", type=int, default=0, help="interior turning points (default 0)")
     p.add_argument(
         "--root",
-        default="low",
         choices=("low", "mid", "high"),
-        help="which state where several coexist (default low)",
+        help="which state where several coexist (default: inside a bistable window, all of "
+        "them, labelled low/mid/high with their stability; elsewhere the one state)",
     )
-    p.add_argument("--all-branches", action="store_true", help="every state on every branch")
+    p.add_argument(
+        "--all-branches",
+        action="store_true",
+        help="every state on every branch, labelled low/mid/high and stable/unstable",
+    )
     p.add_argument("--json", action="store_true", help="print JSON (fields by API names)")
     p.add_argument("--plot", metavar="FILE", help="also draw the profile(s) into FILE (PNG)")
     _add_bed_options(p)
@@ -596,7 +914,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--omega2", metavar="SPEC", help="forcing omega^2 [-], >= 0")
     p.add_argument("--eps", metavar="SPEC", help="confinement eps = L/H [-], in [0, 1)")
-    p.add_argument("--theta0", metavar="SPEC", help="base angle [rad] (default 0)")
+    p.add_argument(
+        "--theta0",
+        metavar="SPEC",
+        help="base angle [rad] (default 0; negative leans into the flow)",
+    )
     p.add_argument("--velocity", metavar="SPEC", help="top wall speed v [m/s] (with a bed)")
     p.add_argument(
         "--sign", type=int, choices=(1, -1), help="sign of the base curvature (default 1)"
@@ -654,7 +976,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="tip deflection x1 [L] (in metres when a bed is given)",
     )
     p.add_argument("--eps", type=float, help="confinement eps = L/H [-], in [0, 1)")
-    p.add_argument("--theta0", type=float, help="base angle [rad] (default 0)")
+    p.add_argument("--theta0", type=float, help=THETA0_HELP)
     p.add_argument("--json", action="store_true", help="print JSON")
     _add_bed_options(p, velocity=False)
     p.set_defaults(func=_cmd_invert)
@@ -760,11 +1082,103 @@ def build_parser() -> argparse.ArgumentParser:
         help="discard a closed session's state after this long [ms] (default 15000)",
     )
     p.set_defaults(func=_cmd_explore)
+
+    p = sub.add_parser(
+        "bistability",
+        help="cusp, folds and bistable window of a hair bed (eps, theta0)",
+        formatter_class=_formatter,
+        description="The cusp confinement eps_c(theta0) above which the physical branch folds, "
+        "its fold points (omega2, xi, tip deflection) and the window of omega2 in which three "
+        "physical states coexist (or that there is none). Negative theta0 leans the hairs into "
+        "the flow: only then (and for eps > eps_c) is there a window (theory.md §5).",
+        epilog="examples:\n"
+        "  hairbed bistability --eps 0.95 --theta0=-1.2\n"
+        "  hairbed bistability --eps 0.9 --theta0=-1.5 --json\n"
+        "JSON keys: cusp_eps, folds (list of {omega2, xi, tip_deflection, t}), window "
+        "([lower, upper] or null)",
+    )
+    p.add_argument("--eps", type=float, required=True, help="confinement eps = L/H [-], in [0, 1)")
+    p.add_argument("--theta0", type=float, required=True, help=THETA0_HELP)
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=_cmd_bistability)
+
+    p = sub.add_parser(
+        "calibrate",
+        help="fit a sensor's unknown parameters to measured tip deflections",
+        formatter_class=_formatter,
+        description="Fit the free parameters of a bed (by default Young's modulus) to tip "
+        "deflections measured at known wall speeds or wall shear stresses, by weighted least "
+        "squares on the exact calibration curve with its exact Jacobian "
+        "(hairbed.calibration.fit). --data is a CSV file with a header line: tip_deflection "
+        "[m] and either velocity [m/s] or wall_shear_stress [Pa], optionally sigma [m] (the "
+        "standard deviation of each deflection). The bed options give the starting values and "
+        "the fixed parameters. Exit status 1 when the fit does not succeed.",
+        epilog="examples:\n"
+        "  hairbed calibrate --data points.csv --length 1e-3 --radius 50e-6 \\\n"
+        "      --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6\n"
+        "  hairbed calibrate --data points.csv --free youngs_modulus,base_angle --sigma 1e-6 "
+        "... --json",
+    )
+    p.add_argument("--data", required=True, metavar="FILE.csv", help="calibration points (CSV)")
+    p.add_argument(
+        "--free",
+        default="youngs_modulus",
+        metavar="P1,P2",
+        help="parameters to fit, comma-separated: length, radius, youngs_modulus, "
+        "channel_height, viscosity, spacing, packing_fraction, base_angle "
+        "(default youngs_modulus)",
+    )
+    p.add_argument(
+        "--sigma", type=float, metavar="S", help="standard deviation of every deflection [m]"
+    )
+    p.add_argument("--json", action="store_true", help="print JSON")
+    _add_bed_options(p, velocity=False)
+    p.set_defaults(func=_cmd_calibrate)
+
+    p = sub.add_parser(
+        "measure",
+        help="wall shear stress and speed (+- sigma) from a tip deflection",
+        formatter_class=_formatter,
+        description="Read the wall shear stress and the wall speed of a flow from the measured "
+        "tip deflection of a bed (hairbed.calibration.measure), with standard errors from the "
+        "deflection's --sigma and, with --calibration, the covariance of a calibration.",
+        epilog="examples:\n"
+        "  hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --length 1e-3 --radius 50e-6 \\\n"
+        "      --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6\n"
+        "  hairbed calibrate --data points.csv ... --json > cal.json\n"
+        "  hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --calibration cal.json ...",
+    )
+    p.add_argument(
+        "--calibration",
+        metavar="FILE.json",
+        help="the output of 'hairbed calibrate --json': its fitted values replace the bed's, "
+        "its covariance enters the errors",
+    )
+    p.add_argument(
+        "--tip-deflection", type=float, required=True, metavar="X", help="tip deflection [m]"
+    )
+    p.add_argument(
+        "--sigma", type=float, default=0.0, metavar="S", help="its standard deviation [m]"
+    )
+    p.add_argument("--json", action="store_true", help="print JSON")
+    _add_bed_options(p, velocity=False)
+    p.set_defaults(func=_cmd_measure)
+
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status (0 ok, 2 bad input, 130 Ctrl-C)."""
+    """Run the command line; returns the exit status (0 ok, 2 bad input, 130 Ctrl-C).
+
+    Warnings of the library (such as :class:`hairbed.ModelValidityWarning`) are printed as one
+    line ``hairbed: warning: <message>`` on stderr.
+    """
+    with warnings.catch_warnings():
+        warnings.showwarning = _show_warning
+        return _run(argv)
+
+
+def _run(argv: Sequence[str] | None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
