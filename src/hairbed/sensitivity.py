@@ -28,10 +28,11 @@ dphi0/dt = -sin(phi0) cos(phi0) expit(-t)/2 and dphi0/dtheta0 = sqrt(expit(t))/(
 p = 1 - mu: every 1/p of the derivatives in m is absorbed. The incomplete integrals are the
 Carlson forms of theory.md §6 (no loss near mu = 1). Nothing is differenced numerically.
 
-Accuracy: 1e-14 to 1e-12 relative against mpmath on every branch (tests/test_sensitivity.py).
-At very weak forcing the derivatives of tip_height, tip_deflection and tip_displacement are
-differences of terms of order omega_eps and lose absolute accuracy like 1e-16/omega^2 (1e-10 at
-omega^2 = 1e-6); omega2 = 0 itself is exact (the limits of the linear theory).
+Accuracy: within 4e-15 relative of mpmath on every branch tested, from omega^2 ~ 1e-2 to 1e3
+(tests/test_sensitivity.py). At weak forcing the derivatives of tip_height, tip_deflection and
+tip_displacement are differences of terms of order omega_eps and lose absolute accuracy like
+1e-16/omega^2 (2e-13 at omega^2 = 3e-4, 1e-10 at omega^2 = 1e-6); omega2 = 0 itself is exact
+(the limits of the linear theory).
 
 At a fold of the branch (a state where dR/dt = 0: it appears or disappears as the inputs vary,
 theory.md §5) the derivatives through dt/dp are infinite: they are returned as +-inf and the
@@ -83,6 +84,7 @@ STATUS_MESSAGES = {
     0: "exact derivatives",
     1: "at a fold: d/d omega2, d/d eps and d/d theta0 are infinite (dR/dt = 0)",
     -1: "no such state: the solve found no state to differentiate (see solution.status)",
+    2: "the end t = -inf of a twirling branch: not differentiable there (NaN)",
 }
 #: |dR/dt| below this (relative to its two terms) counts as a fold: there the derivatives are
 #: larger than 1/FOLD_RTOL and every digit of them is rounding error.
@@ -114,8 +116,8 @@ class Derivatives(Mapping[str, Mapping[str, Any]]):
     dt : Mapping
         dt/d omega2, dt/d eps, dt/d theta0 of the branch parameter t.
     status : int or ndarray
-        0 exact derivatives; 1 at a fold (the derivatives are +-inf); -1 no such state (NaN).
-        See :data:`STATUS_MESSAGES`.
+        0 exact derivatives; 1 at a fold (the derivatives are +-inf); -1 no such state (NaN);
+        2 the end t = -inf of a twirling branch (NaN). See :data:`STATUS_MESSAGES`.
     """
 
     solution: Solution
@@ -257,7 +259,9 @@ def derivatives_at(sol: Solution) -> Derivatives:
     omega2 = np.broadcast_to(np.asarray(sol.omega2, dtype=np.float64), shape)
     ok = np.asarray(sol.status) == 0
     ok = np.broadcast_to(ok, shape)
-    rest = ok & (t == -np.inf)  # omega2 = 0 on the physical branch: the hair at rest
+    physical = sol.sign == 1 and sol.n == 0
+    rest = ok & (t == -np.inf) & physical  # omega2 = 0 on the physical branch: at rest
+    branch_end = ok & (t == -np.inf) & (not physical)
     live = ok & np.isfinite(t)
     tt = np.where(live, t, 0.0)
     with np.errstate(all="ignore"):
@@ -286,7 +290,7 @@ def derivatives_at(sol: Solution) -> Derivatives:
                 total = np.where(live, total, np.nan)
                 row[name] = total
             values[o] = row
-    status = np.where(ok, np.where(fold, 1, 0), -1).astype(np.int64)
+    status = np.where(ok, np.where(fold, 1, np.where(branch_end, 2, 0)), -1).astype(np.int64)
     if np.any(rest):
         _rest_values(values, dt, rest, eps, theta0)
     frozen = {

@@ -1,0 +1,189 @@
+"""Exact derivatives (hairbed.derivatives) against mpmath and finite differences of solve.
+
+References, both independent of the implicit differentiation under test:
+
+* ``tests/data/derivatives_mpmath.json`` (``tests/reference/generate_derivatives.py``, nothing
+  from hairbed): mpmath.diff at 32 digits of the composite map inputs -> root t of the branch
+  equation -> outputs, the tip height and deflection by quadrature of the closed-form shape;
+* fourth-order central differences of :func:`hairbed.solve` in double precision.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import hairbed
+from hairbed.sensitivity import INPUTS, OUTPUTS, STATUS_MESSAGES, derivatives_at
+
+DATA = Path(__file__).parent / "data" / "derivatives_mpmath.json"
+#: Measured against the mpmath set: at most 4e-15 relative on every case and output except at
+#: weak forcing (t = -8, omega2 = 3.4e-4), where the derivatives of the tip height and
+#: deflection lose absolute accuracy like 1e-16/omega2 (module docstring of
+#: hairbed.sensitivity): 2.3e-13 absolute on d h1/d omega2 = -1.8e-4, 2.4e-15 absolute on
+#: d(tip_displacement)/d theta0 = -1.4e-7 (1.7e-8 relative).
+MPMATH_RTOL = 1e-13
+MPMATH_ATOL = 1e-14
+
+
+def _atol(omega2: float) -> float:
+    """The absolute tolerance: the documented loss at weak forcing, 1e-16/omega2, times 10."""
+    return MPMATH_ATOL + 1e-15 / omega2
+
+
+#: Finite differences of solve: truncation h^4 ~ 1e-16, rounding 1e-16/h ~ 1e-12 relative to
+#: the output, far more relative to a small derivative (hence the scale).
+FD_RTOL = 1e-6
+
+
+def _cases() -> list[dict]:
+    return json.loads(DATA.read_text())["cases"]
+
+
+@pytest.mark.parametrize("case", _cases(), ids=lambda c: f"t{c['t']}_e{c['eps']}_th{c['theta0']}")
+def test_against_mpmath(case: dict) -> None:
+    sol = hairbed.from_parameter(
+        case["t"], case["eps"], case["theta0"], sign=case["sign"], n=case["n"]
+    )
+    assert sol.omega2 == pytest.approx(float(case["omega2"]), rel=1e-13)
+    d = derivatives_at(sol)
+    assert d.status == 0 and d.success
+    for o in OUTPUTS:
+        for p in INPUTS:
+            ref = float(case["derivatives"][o][p])
+            tol = MPMATH_RTOL * abs(ref) + _atol(sol.omega2)
+            assert abs(d[o][p] - ref) <= tol, (o, p, d[o][p], ref)
+
+
+def test_against_mpmath_through_solve() -> None:
+    """derivatives(omega2, ...) on the physical branch (monotone cases) gives the same."""
+    for case in _cases():
+        if case["sign"] != 1 or case["n"] != 0 or case["theta0"] < 0:
+            continue
+        d = hairbed.derivatives(float(case["omega2"]), case["eps"], case["theta0"])
+        for o in OUTPUTS:
+            for p in INPUTS:
+                ref = float(case["derivatives"][o][p])
+                # the forcing rounded to a double: the state moves by ~1e-16 relative
+                tol = 1e-12 * abs(ref) + _atol(float(case["omega2"]))
+                assert abs(d[o][p] - ref) <= tol, (case, o, p)
+
+
+FD_CASES = [
+    (2.0, 0.5, 0.0, {}),
+    (0.3, 0.9, 0.4, {}),
+    (50.0, 0.3, -0.7, {}),
+    (0.01, 0.2, 1.2, {}),
+    (1.2, 0.9, -1.5, {"root": "low"}),
+    (1.2, 0.9, -1.5, {"root": "mid"}),
+    (1.2, 0.9, -1.5, {"root": "high"}),
+    (60.0, 0.5, 0.2, {"sign": -1}),
+    (200.0, 0.5, 0.1, {"n": 1}),
+    (300.0, 0.5, 0.1, {"sign": -1, "n": 1}),
+]
+
+
+def _fd(w: float, e: float, th: float, name: str, h: float, kw: dict) -> np.ndarray:
+    def f(dx: float) -> np.ndarray:
+        a = {"omega2": w, "eps": e, "theta0": th}
+        a[name] += dx
+        s = hairbed.solve(a["omega2"], a["eps"], a["theta0"], **kw)
+        return np.array([getattr(s, o) for o in OUTPUTS])
+
+    return (-f(2 * h) + 8 * f(h) - 8 * f(-h) + f(-2 * h)) / (12 * h)
+
+
+@pytest.mark.parametrize("w, e, th, kw", FD_CASES)
+def test_against_finite_differences(w: float, e: float, th: float, kw: dict) -> None:
+    d = hairbed.derivatives(w, e, th, **kw)
+    assert d.success
+    for name in INPUTS:
+        h = 1e-4 * max(1.0, abs(w)) if name == "omega2" else 1e-4
+        ref = _fd(w, e, th, name, h, kw)
+        got = np.array([d[o][name] for o in OUTPUTS])
+        err = np.abs(got - ref) / np.maximum(np.abs(ref), 1e-3)
+        assert np.all(err < FD_RTOL), (name, dict(zip(OUTPUTS, err)))
+
+
+def test_vectorised_equals_elementwise() -> None:
+    w = np.array([[0.5, 1.2], [1.0, 1.4]])
+    e = np.array([0.9, 0.95])
+    th = -1.5
+    d = hairbed.derivatives(w, e, th, root="high")
+    assert np.shape(d["xi"]["omega2"]) == (2, 2)
+    for i in range(2):
+        for j in range(2):
+            one = hairbed.derivatives(float(w[i, j]), float(e[j]), th, root="high")
+            for o in OUTPUTS:
+                for p in INPUTS:
+                    assert d[o][p][i, j] == pytest.approx(one[o][p], rel=1e-13, abs=1e-300)
+
+
+def test_mapping_interface() -> None:
+    d = hairbed.derivatives(2.0, 0.5)
+    assert list(d) == list(OUTPUTS) and len(d) == 8
+    assert all(list(d[o]) == list(INPUTS) for o in d)
+    assert isinstance(d["xi"]["eps"], float)
+    with pytest.raises(TypeError):
+        d["xi"]["eps"] = 0.0  # type: ignore[index]
+    plain = d.as_dict()
+    assert json.dumps(plain)
+    assert d.message == STATUS_MESSAGES[0]
+
+
+def test_infinite_at_a_fold() -> None:
+    f = hairbed.branches.folds(0.9, -1.5)
+    sol = hairbed.from_parameter(f.t, 0.9, -1.5)
+    d = derivatives_at(sol)
+    assert np.all(d.status == 1) and np.all(d.at_fold)
+    assert not np.any(d.success)
+    assert d.message == [STATUS_MESSAGES[1]] * 2
+    for o in OUTPUTS:
+        for p in INPUTS:
+            assert np.all(np.isinf(d[o][p])), (o, p)
+    # next to the fold the derivatives are finite and grow like 1/sqrt(distance)
+    near = hairbed.from_parameter(f.t + 1e-4, 0.9, -1.5)
+    assert np.all(derivatives_at(near).success)
+
+
+def test_no_such_state_is_nan() -> None:
+    d = hairbed.derivatives(5.0, 0.9, -1.5, root="mid")  # outside the window
+    assert d.status == -1 and np.isnan(d["xi"]["omega2"])
+    assert d.message == STATUS_MESSAGES[-1]
+
+
+def test_at_rest_limits() -> None:
+    """omega2 = 0: the weak-forcing limits, continuous with small omega2."""
+    for e, th in ((0.5, 0.0), (0.3, 0.7), (0.9, -1.0)):
+        d0 = hairbed.derivatives(0.0, e, th)
+        d1 = hairbed.derivatives(1e-8, e, th)  # differs by O(omega2)
+        assert d0.success
+        c = np.cos(th)
+        # the cantilever under a point load at the tip: x1 - sin theta0 = omega_eps^2 c^2/3
+        assert d0["tip_deflection"]["omega2"] == pytest.approx(c * c / (3 * (1 - e * c)))
+        assert d0["omega_eps"]["omega2"] == np.inf
+        for o in OUTPUTS:
+            if o == "omega_eps":
+                continue
+            for p in INPUTS:
+                assert d0[o][p] == pytest.approx(d1[o][p], rel=1e-5, abs=1e-6), (o, p)
+
+
+def test_rejects_bad_input() -> None:
+    with pytest.raises(ValueError, match="eps"):
+        hairbed.derivatives(1.0, 1.0)
+    with pytest.raises(ValueError, match="root"):
+        hairbed.derivatives(1.0, 0.5, root="middle")
+    with pytest.raises(TypeError, match="Solution"):
+        derivatives_at(object())  # type: ignore[arg-type]
+
+
+def test_end_of_a_twirling_branch_is_said() -> None:
+    d = derivatives_at(hairbed.from_parameter(-np.inf, 0.5, 0.2, sign=-1))
+    assert d.status == 2 and not d.success and np.isnan(d["xi"]["eps"])
+    assert d.message == STATUS_MESSAGES[2]
+    # the physical branch's end is the hair at rest: the limits of weak forcing
+    assert derivatives_at(hairbed.from_parameter(-np.inf, 0.5, 0.2)).success
