@@ -31,7 +31,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
         sweeps,
         units,
     )
-    from ._warnings import ModelValidityWarning
+    from ._warnings import ModelValidityWarning, UnitsWarning
     from .explorer import explore
     from .sensitivity import derivatives
     from .sweeps import sweep
@@ -42,6 +42,7 @@ __all__ = [
     "HairState",
     "ModelValidityWarning",
     "Solution",
+    "UnitsWarning",
     "branches",
     "calibration",
     "derivatives",
@@ -82,6 +83,7 @@ _LAZY_NAMES = {
     "HairBed": "units",
     "HairState": "units",
     "ModelValidityWarning": "_warnings",
+    "UnitsWarning": "_warnings",
     "derivatives": "sensitivity",
     "explore": "explorer",
     "sweep": "sweeps",

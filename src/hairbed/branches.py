@@ -27,7 +27,13 @@ from numpy.typing import NDArray
 from ._bracketing import find_minimum, find_root
 from ._core.solution import Solution
 from ._core.solver import fold_parameters, from_parameter
-from ._core.validation import as_float_array, check_branch, check_inputs, float_or_array
+from ._core.validation import (
+    as_float_array,
+    check_branch,
+    check_inputs,
+    check_int,
+    float_or_array,
+)
 
 __all__ = [
     "BistableWindow",
@@ -43,6 +49,8 @@ __all__ = [
 #: Default range of the parameter t for curves: xi - sin(theta0) ~ 3e-7 (omega^2 ~ 1e-6) at the
 #: weak end, 1 - xi ~ 1e-13 (omega^2 of a few hundred) at the strong end.
 T_SPAN = (-15.0, 30.0)
+#: The most points :func:`curve` returns.
+MAX_POINTS = 10_000_000
 #: Where folds are searched. Folds measured here lie in t in [-5, 1]; the window is wide on both
 #: sides but stops before weak forcing, where omega^2 ~ e^t is tiny and 1 - eps h1 may cancel.
 _T_SEARCH = (-20.0, 12.0)
@@ -184,7 +192,7 @@ def curve(
         Branch label: sign of theta'(0) and number of interior turning points (theory.md
         §2). The default is the physical branch.
     num : int
-        Number of points, evenly spaced in t.
+        Number of points, evenly spaced in t, in [2, ``MAX_POINTS`` = 10^7].
     t_span : (float, float)
         Range of t. The default covers omega^2 from about 1e-6 to a few hundred on the
         physical branch.
@@ -204,12 +212,14 @@ def curve(
     """
     eps, theta0 = _scalar_params(eps, theta0)
     sign, n = check_branch(sign, n)
-    if int(num) < 2:
-        raise ValueError(f"num must be at least 2, got {num!r}")
-    lo, hi = (float(v) for v in t_span)
-    if not (np.isfinite(lo) and np.isfinite(hi) and lo < hi):
-        raise ValueError(f"t_span must be two finite increasing numbers, got {t_span!r}")
-    t = np.linspace(lo, hi, int(num))
+    num = check_int(num, "num", 2, MAX_POINTS)
+    span = as_float_array(t_span, "t_span")
+    if span.shape != (2,) or not span[0] < span[1]:
+        raise ValueError(
+            "t_span must be two finite increasing numbers (t_min, t_max), got "
+            + (f"shape {span.shape}" if span.shape != (2,) else f"{span.tolist()!r}")
+        )
+    t = np.linspace(float(span[0]), float(span[1]), num)
     return from_parameter(t, eps, theta0, sign=sign, n=n)
 
 

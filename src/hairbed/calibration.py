@@ -35,7 +35,7 @@ from scipy.optimize import least_squares
 
 from ._bracketing import find_root
 from ._core.solver import from_parameter, solve
-from ._core.validation import as_float_array, float_or_array
+from ._core.validation import as_float_array, check_number, check_sigma, float_or_array
 from .sensitivity import derivatives_at
 from .units import CLOSE_PACKING_FRACTION, HairBed, HairState
 
@@ -168,8 +168,8 @@ def _known(velocity: Any, stress: Any) -> tuple[str, FloatArray]:
             f"got velocity={velocity!r}, wall_shear_stress={stress!r}"
         )
     if velocity is not None:
-        return "velocity", as_float_array(velocity, "velocity")
-    return "wall_shear_stress", as_float_array(stress, "wall_shear_stress")
+        return "velocity", as_float_array(velocity, "velocity", unit="m/s")
+    return "wall_shear_stress", as_float_array(stress, "wall_shear_stress", unit="Pa")
 
 
 # -- fit ---------------------------------------------------------------------------------------
@@ -341,7 +341,7 @@ def fit(
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
     names = _check_free(free)
     kind, x = _known(velocity, wall_shear_stress)
-    d = as_float_array(tip_deflection, "tip_deflection").reshape(-1)
+    d = as_float_array(tip_deflection, "tip_deflection", unit="m").reshape(-1)
     x = x.reshape(-1)
     if x.size != d.size:
         name = "velocity" if kind == "velocity" else "wall_shear_stress"
@@ -355,13 +355,7 @@ def fit(
     if sigma is None:  # unit weights, in units of the hair length (well-scaled optimiser)
         weights = np.full(d.size, 1.0 / bed.length)
     else:
-        s = as_float_array(sigma, "sigma")
-        s = np.broadcast_to(s, d.shape) if s.ndim == 0 else s.reshape(-1)
-        if s.size != d.size:
-            raise ValueError(f"sigma must be a number or one per point ({d.size}), got {s.size}")
-        if np.any(s <= 0.0):
-            raise ValueError(f"sigma must be > 0 [m], got {float(s[s <= 0.0][0])!r}")
-        weights = 1.0 / s
+        weights = 1.0 / check_sigma(sigma, "sigma", d.shape, unit="m")
     geometry = "packing_fraction" if "packing_fraction" in names else "spacing"
 
     def coords_to_bed(p: FloatArray) -> HairBed:
@@ -516,10 +510,8 @@ def measure(
     """
     if not isinstance(bed, HairBed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
-    d = as_float_array(tip_deflection, "tip_deflection")
-    s = as_float_array(sigma, "sigma")
-    if np.any(s < 0.0):
-        raise ValueError(f"sigma must be >= 0 [m], got {float(s[s < 0.0].flat[0])!r}")
+    d = as_float_array(tip_deflection, "tip_deflection", unit="m")
+    s = check_sigma(sigma, "sigma", d.shape, unit="m", allow_zero=True)
     state = bed.state_from_tip_deflection(d)
     v = np.asarray(state.velocity, dtype=np.float64).reshape(-1)
     tau = np.asarray(state.wall_shear_stress, dtype=np.float64).reshape(-1)
@@ -635,11 +627,7 @@ def linear_range(bed: HairBed, tolerance: float = 0.1) -> LinearRange:
     """
     if not isinstance(bed, HairBed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
-    if isinstance(tolerance, bool) or not isinstance(tolerance, (int, float, np.floating)):
-        raise ValueError(f"tolerance must be a number in (0, 1), got {tolerance!r}")
-    tol = float(tolerance)
-    if not (0.0 < tol < 1.0):
-        raise ValueError(f"tolerance must lie in (0, 1), got {tol!r}")
+    tol = check_number(tolerance, "tolerance", low=0.0, high=1.0, low_open=True, high_open=True)
     eps, theta0 = bed.eps, bed.base_angle
     grid = np.arange(-30.0, 40.0 + 1e-9, 0.1)
     _, ev, et = _linear_errors(grid, eps, theta0)

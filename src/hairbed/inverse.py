@@ -49,8 +49,10 @@ from ._core.solution import Solution
 from ._core.solver import from_parameter, solve
 from ._core.validation import (
     HALF_PI,
+    _first_index,
     as_float_array,
     check_inputs,
+    check_number,
     check_state_inputs,
     float_or_array,
 )
@@ -173,6 +175,19 @@ def _t_where_tip_rounds_to_one(theta0: FloatArray) -> FloatArray:
     return np.asarray(res.bracket[1], dtype=np.float64)  # the end where x1 >= 1
 
 
+def _check_tip_range(x1: FloatArray, theta0: FloatArray) -> None:
+    """x1 in [sin(theta0), 1]: where the flow (towards +x) can put the tip."""
+    s = np.sin(theta0)
+    bad = (x1 < s) | (x1 > 1.0)
+    if np.any(bad):
+        i = np.flatnonzero(bad.ravel())[0]
+        raise ValueError(
+            f"x1 must lie in [sin(theta0), 1] = [{float(s.ravel()[i])!r}, 1], got "
+            f"{float(x1.ravel()[i])!r}{_first_index(bad)}: the flow bends a hair from its rest "
+            "position towards +x, never past flat"
+        )
+
+
 def solution_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> Solution:
     """The physical state whose tip deflection is ``x1`` (see :func:`omega2_from_tip_deflection`).
 
@@ -183,15 +198,7 @@ def solution_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> Soluti
         to 1.
     """
     x1, eps, theta0 = _check_tip_inputs(x1, "x1", eps, theta0)
-    s = np.sin(theta0)
-    bad = (x1 < s) | (x1 > 1.0)
-    if np.any(bad):
-        i = np.flatnonzero(bad.ravel())[0]
-        raise ValueError(
-            f"x1 must lie in [sin(theta0), 1] = [{float(s.ravel()[i])!r}, 1], got "
-            f"{float(x1.ravel()[i])!r}: the flow bends a hair from its rest position towards "
-            "+x, never past flat"
-        )
+    _check_tip_range(x1, theta0)
     t = _t_from_tip_deflection(x1, theta0)
     return from_parameter(t, eps, theta0)
 
@@ -262,6 +269,7 @@ def linear_omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> F
     also widens the gap (see the tests).
     """
     x1, e, th = _check_tip_inputs(x1, "x1", eps, theta0)
+    _check_tip_range(x1, th)
     return float_or_array((x1 - np.sin(th)) / np.asarray(tip_deflection_slope(e, th)))
 
 
@@ -384,8 +392,8 @@ def omega2_from_tip_height(h1: Any, eps: Any, theta0: Any = 0.0) -> FloatArray:
     if np.any(bad):
         i = np.flatnonzero(bad)[0]
         raise ValueError(
-            f"h1 must lie in (0, {h_max[i]!r}] for theta0 = {th[i]!r} (the highest tip of a "
-            f"physical state), got {h[i]!r}"
+            f"h1 must lie in (0, {float(h_max[i])!r}] for theta0 = {float(th[i])!r} (the "
+            f"highest tip of a physical state), got {float(h[i])!r}{_first_index(bad)}"
         )
     h = np.minimum(h, h_max)
     cos0 = np.cos(th)
@@ -491,6 +499,9 @@ class ProfileFit:
     nfev: int
 
 
+#: The farthest a measured point may lie from the base [hair lengths]: the curve is continued
+#: along its end tangents, so points a little beyond the tip fit; far beyond is not a hair.
+_MAX_COORDINATE = 10.0
 #: Base angles the fit may visit: the closed form needs |theta0| < pi/2.
 _THETA0_LIMIT = HALF_PI - 1e-9
 
@@ -520,6 +531,16 @@ def _curve(
     x = x + beyond * np.sin(theta)
     z = z + beyond * np.cos(theta)
     return (x, z, theta) if angle else (x, z)
+
+
+def _scalar_theta0(value: Any, eps: float, name: str) -> float:
+    """A single base angle in (-pi/2, pi/2) [rad], the message naming ``name``."""
+    th = as_float_array(value, name, unit="rad")
+    if th.ndim:
+        raise ValueError(f"{name} must be a single number [rad], got shape {th.shape}")
+    if not abs(float(th)) < HALF_PI:
+        raise ValueError(f"{name} must lie in (-pi/2, pi/2), got {float(th)!r}")
+    return float(th)
 
 
 def fit_profile(
@@ -576,6 +597,12 @@ def fit_profile(
     z = as_float_array(z, "z").ravel()
     if x.shape != z.shape:
         raise ValueError(f"x and z must have the same number of points, got {x.size}, {z.size}")
+    if np.max(np.abs(np.concatenate([x, z])), initial=0.0) > _MAX_COORDINATE:
+        i = int(np.argmax(np.maximum(np.abs(x), np.abs(z)) > _MAX_COORDINATE))
+        raise ValueError(
+            f"x and z must be points along a hair, within {_MAX_COORDINATE:g} hair lengths of "
+            f"its base, got ({float(x[i])!r}, {float(z[i])!r}) (first at index {i})"
+        )
     _, e_arr, _ = check_inputs(0.0, eps, 0.0)
     if e_arr.ndim:
         raise ValueError("eps must be a single number for fit_profile")
@@ -586,8 +613,11 @@ def fit_profile(
     if m < k + 1:
         raise ValueError(f"need at least {k + 1} points to fit {k} parameter(s), got {m}")
     if not fit_theta:
-        _, _, th_arr = check_inputs(0.0, eps, theta0)
-        theta_fixed = float(th_arr)
+        theta_fixed = _scalar_theta0(theta0, eps, "theta0")
+    if omega2_guess is not None:
+        omega2_guess = check_number(omega2_guess, "omega2_guess", low=0.0)
+    if theta0_guess is not None:
+        theta0_guess = _scalar_theta0(theta0_guess, eps, "theta0_guess")
 
     # -- starting point: a grid search on curves sampled in arc length
     num = 101
@@ -595,7 +625,7 @@ def fit_profile(
     if not fit_theta:
         th_cands = np.array([theta_fixed])
     elif theta0_guess is not None:
-        th_cands = np.atleast_1d(check_inputs(0.0, eps, theta0_guess)[2])
+        th_cands = np.array([theta0_guess])
     else:
         th_cands = np.linspace(-1.4, 1.4, 15)
     best = (np.inf, 0.0, 0.0, s_grid[:m])
@@ -670,14 +700,13 @@ def fit_profile(
         cov_p = s2 * np.linalg.pinv(normal.T @ normal)
     # Jacobian of (omega2, theta0) with respect to (t, theta0)
     ht, hth = 1e-6 * max(1.0, abs(t)), 1e-6
+    th_hi, th_lo = min(th + hth, _THETA0_LIMIT), max(th - hth, -_THETA0_LIMIT)  # inside
     w = np.asarray(
-        _physical(
-            np.array([t + ht, t - ht, t, t]), eps, np.array([th, th, th + hth, th - hth])
-        ).omega2
+        _physical(np.array([t + ht, t - ht, t, t]), eps, np.array([th, th, th_hi, th_lo])).omega2
     )
     dw_dt = (w[0] - w[1]) / (2.0 * ht)
     if fit_theta:
-        dw_dth = (w[2] - w[3]) / (2.0 * hth)
+        dw_dth = (w[2] - w[3]) / (th_hi - th_lo)
         jmap = np.array([[dw_dt, dw_dth], [0.0, 1.0]])
         cov = jmap @ cov_p @ jmap.T
     else:

@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 from ._bracketing import find_root
 from ._core.solution import Solution
 from ._core.solver import fold_parameters, from_parameter, solve
-from ._core.validation import check_inputs
+from ._core.validation import _first_index, as_float_array, check_choice, check_inputs
 
 __all__ = ["QuasistaticSweep", "sweep", "sweep_with_jumps"]
 
@@ -146,15 +146,19 @@ def sweep_with_jumps(
     >>> run.jumps.tolist()
     [7, 16]
     """
-    path = np.asarray(omega2_path, dtype=np.float64)
+    path = as_float_array(omega2_path, "omega2_path")
     if path.ndim != 1:
         raise ValueError(f"omega2_path must be one-dimensional, got shape {path.shape}")
-    if np.ndim(eps) or np.ndim(theta0):
+    bad = path < 0.0
+    if np.any(bad):
+        raise ValueError(
+            f"omega2_path must lie in [0, inf), got {float(path[bad][0])!r}{_first_index(bad)}"
+        )
+    _, e, th = check_inputs(0.0, eps, theta0)
+    if e.ndim or th.ndim:
         raise ValueError("eps and theta0 must be scalars")
-    path = check_inputs(path, eps, theta0)[0]
-    if start not in ("low", "high"):
-        raise ValueError(f"start must be 'low' or 'high', got {start!r}")
-    eps, theta0 = float(eps), float(theta0)
+    start = check_choice(start, "start", ("low", "high"))
+    eps, theta0 = float(e), float(th)
 
     t_lo, t_hi, w_lo, w_hi = _stable_pieces(eps, theta0)
     piece = _choose_pieces(path, w_lo, w_hi, start)

@@ -53,7 +53,14 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.integrate import solve_ivp
 
-from ._core.validation import check_inputs
+from ._core.solution import Solution
+from ._core.validation import (
+    as_float_array,
+    check_choice,
+    check_inputs,
+    check_int,
+    check_positive,
+)
 from .numerics._banded import HairOperator
 
 __all__ = [
@@ -136,7 +143,7 @@ def equilibrium(
         theta at the num + 1 nodes sigma_i = i / num (the first is replaced by theta0), or a
         function of sigma such as ``Solution.theta``.
     num : int
-        Number of segments, at least 2.
+        Number of segments, in [2, ``MAX_SEGMENTS`` = 10^6].
     xtol : float
         Convergence tolerance on the largest Newton update [rad].
     maxiter : int
@@ -158,7 +165,9 @@ def equilibrium(
     """
     omega2, eps, theta0 = _scalars(omega2, eps, theta0)
     num = _check_num(num)
-    u = _initial(guess, num)[1:]
+    xtol = check_positive(xtol, "xtol", "rad")
+    maxiter = check_int(maxiter, "maxiter", 1, MAX_ITER)
+    u = _initial(guess, num, "guess")[1:]
     op = HairOperator(omega2, eps, theta0, num)
     status, message, nit = 1, f"iteration limit reached ({maxiter} Newton steps)", maxiter
     for it in range(1, int(maxiter) + 1):
@@ -187,24 +196,29 @@ def _scalars(omega2: Any, eps: Any, theta0: Any) -> tuple[float, float, float]:
     return float(w), float(e), float(t)
 
 
-def _check_num(num: Any) -> int:
-    if isinstance(num, bool) or not isinstance(num, (int, np.integer)) or num < 2:
-        raise ValueError(f"num must be an integer >= 2, got {num!r}")
-    return int(num)
+#: Largest grid (segments) of :func:`equilibrium` (banded: O(num) work).
+MAX_SEGMENTS = 1_000_000
+#: Largest grid of :func:`linear_stability` and :func:`relax` (dense Jacobians: O(num^2)
+#: memory, O(num^3) eigenvalues).
+MAX_DENSE_SEGMENTS = 4000
+#: Largest Newton iteration limit.
+MAX_ITER = 1_000_000
 
 
-def _initial(guess: Any, n_seg: int) -> FloatArray:
-    n_seg = _check_num(n_seg)
+def _check_num(num: Any, high: int = MAX_SEGMENTS) -> int:
+    return check_int(num, "num", 2, high)
+
+
+def _initial(guess: Any, n_seg: int, name: str) -> FloatArray:
+    """theta at the n_seg + 1 nodes from an array or a function of sigma (``name`` in errors)."""
     if callable(guess):
-        values = np.asarray(guess(_grid(n_seg)), dtype=np.float64)
+        values = as_float_array(guess(_grid(n_seg)), f"{name}(sigma)")
     else:
-        values = np.asarray(guess, dtype=np.float64)
+        values = as_float_array(guess, name)
     if values.shape != (n_seg + 1,):
         raise ValueError(
-            f"theta must be given at the num + 1 = {n_seg + 1} nodes, got {values.shape}"
+            f"{name} must give theta at the num + 1 = {n_seg + 1} nodes, got shape {values.shape}"
         )
-    if not np.all(np.isfinite(values)):
-        raise ValueError("theta must be finite")
     return values.copy()
 
 
@@ -264,9 +278,9 @@ def linear_stability(solution: Any, num: int = 100, k: int = 4) -> Stability:
     solution : Solution
         Static states (any shape; any branch, though states that twirl need larger num).
     num : int
-        Number of segments of the discretisation.
+        Number of segments of the discretisation, in [2, ``MAX_DENSE_SEGMENTS`` = 4000].
     k : int
-        How many leading eigenvalues to return.
+        How many leading eigenvalues to return, in [1, num].
 
     Returns
     -------
@@ -279,11 +293,17 @@ def linear_stability(solution: Any, num: int = 100, k: int = 4) -> Stability:
     >>> [bool(linear_stability(s).stable) for s in states]
     [True, False, True]
     """
+    if not isinstance(solution, Solution):
+        raise TypeError(
+            "solution must be a hairbed.Solution (from hairbed.solve, from_parameter, ...), "
+            f"got {type(solution).__name__}"
+        )
+    num = _check_num(num, MAX_DENSE_SEGMENTS)
+    k = check_int(k, "k", 1, num)
     omega2 = np.asarray(solution.omega2, dtype=np.float64)
     shape = omega2.shape
     eps = np.broadcast_to(np.asarray(solution.eps, dtype=np.float64), shape)
     theta0 = np.broadcast_to(np.asarray(solution.theta0, dtype=np.float64), shape)
-    num = _check_num(num)
     profiles = _profiles(solution, _grid(num), shape)
     stable = np.zeros(shape, dtype=bool)
     growth = np.full(shape, np.nan)
@@ -358,6 +378,9 @@ class Relaxation:
     message: str
 
 
+_STIFF_METHODS = ("BDF", "Radau", "LSODA")
+
+
 def _trapezoid(values: FloatArray) -> FloatArray:
     n_seg = values.shape[-1] - 1
     return (values.sum(axis=-1) - 0.5 * (values[..., 0] + values[..., -1])) / n_seg
@@ -388,7 +411,7 @@ def relax(
     t_end : float
         Final time [bending relaxation times].
     num : int
-        Number of segments, at least 2.
+        Number of segments, in [2, ``MAX_DENSE_SEGMENTS`` = 4000].
     t_eval : array, optional
         Output times; default: the integrator's own steps.
     method : str
@@ -407,10 +430,24 @@ def relax(
     0.733
     """
     omega2, eps, theta0 = _scalars(omega2, eps, theta0)
-    if not (np.isfinite(t_end) and t_end > 0.0):
-        raise ValueError(f"t_end must be positive, got {t_end!r}")
-    num = _check_num(num)
-    u0 = _initial(theta_initial, num)[1:]
+    t_end = check_positive(t_end, "t_end")
+    num = _check_num(num, MAX_DENSE_SEGMENTS)
+    method = check_choice(method, "method", _STIFF_METHODS)
+    rtol = check_positive(rtol, "rtol")
+    atol = check_positive(atol, "atol", "rad")
+    if t_eval is not None:
+        t_eval = as_float_array(t_eval, "t_eval")
+        if t_eval.ndim != 1:
+            raise ValueError(f"t_eval must be one-dimensional, got shape {t_eval.shape}")
+        bad = (t_eval < 0.0) | (t_eval > t_end)
+        bad[1:] |= np.diff(t_eval) < 0.0
+        if np.any(bad):
+            i = int(np.argmax(bad))
+            raise ValueError(
+                f"t_eval must be increasing times in [0, t_end] = [0, {t_end!r}], got "
+                f"{float(t_eval[i])!r} (first at index {i})"
+            )
+    u0 = _initial(theta_initial, num, "theta_initial")[1:]
     op = HairOperator(omega2, eps, theta0, num)
     res = solve_ivp(
         lambda _t, u: op.rhs(u),

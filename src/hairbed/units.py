@@ -36,7 +36,6 @@ References
 from __future__ import annotations
 
 import math
-import numbers
 import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, cast
@@ -45,14 +44,23 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._core.solver import solve
-from ._core.validation import as_float_array, check_root, float_or_array
-from ._warnings import ModelValidityWarning
+from ._core.validation import (
+    HALF_PI,
+    _first_index,
+    as_float_array,
+    check_number,
+    check_positive,
+    check_root,
+    float_or_array,
+)
+from ._warnings import ModelValidityWarning, UnitsWarning
 
 if TYPE_CHECKING:  # pragma: no cover
     from .inverse import ProfileFit
 
 __all__ = [
     "CLOSE_PACKING_FRACTION",
+    "PLAUSIBLE_RANGES",
     "BedProfileFit",
     "HairBed",
     "HairState",
@@ -79,16 +87,61 @@ def _warn_reynolds(reynolds: NDArray[np.float64]) -> None:
         )
 
 
+#: Plausible ranges of a bed's SI inputs (low, high, unit, the likely slip below, above):
+#: outside them :class:`HairBed` issues a :class:`hairbed.UnitsWarning` (and still builds the
+#: bed). Hairs and pillars from tens of nanometres to a metre, under channels up to 10 m;
+#: moduli from soft gels (~1 kPa) to diamond (~1.2e12 Pa); viscosities from gases
+#: (~1e-5 Pa s) to pastes; densities from gases to osmium (2.26e4 kg/m^3).
+PLAUSIBLE_RANGES: dict[str, tuple[float, float, str, str, str]] = {
+    "length": (1e-8, 1.0, "m", "metres converted twice?", "micrometres given as metres?"),
+    "radius": (1e-9, 0.1, "m", "metres converted twice?", "micrometres given as metres?"),
+    "channel_height": (
+        1e-8,
+        10.0,
+        "m",
+        "metres converted twice?",
+        "micrometres (or millimetres) given as metres?",
+    ),
+    "spacing": (1e-9, 1.0, "m", "metres converted twice?", "micrometres given as metres?"),
+    "youngs_modulus": (
+        1e3,
+        1e13,
+        "Pa",
+        "a modulus in kPa, MPa or GPa given as Pa? (1 MPa = 1e6 Pa)",
+        "stiffer than diamond (~1.2e12 Pa): a modulus in Pa multiplied twice?",
+    ),
+    "viscosity": (
+        1e-6,
+        1e5,
+        "Pa s",
+        "a kinematic viscosity [m^2/s] given for the dynamic one [Pa s]?",
+        "a viscosity in mPa s (cP) given as Pa s? (1 cP = 1e-3 Pa s)",
+    ),
+    "density": (
+        1e-2,
+        3e4,
+        "kg/m^3",
+        "a density in g/cm^3 given as kg/m^3? (water: 1000 kg/m^3)",
+        "denser than osmium (2.26e4 kg/m^3): a density in g/m^3 given as kg/m^3?",
+    ),
+}
+
+
 def _positive(value: Any, name: str, unit: str) -> float:
-    """A finite real number > 0, or a ValueError that names it."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise ValueError(f"{name} must be a real number in {unit}, got {value!r}")
-    value = float(value)
-    if not math.isfinite(value):
-        raise ValueError(f"{name} must be finite (not NaN or infinity), got {value!r}")
-    if value <= 0.0:
-        raise ValueError(f"{name} must be positive, got {value!r} {unit}")
-    return value
+    """A finite real number > 0 in SI ``unit`` (a pint quantity is converted), or a
+    ValueError that names it; a :class:`UnitsWarning` outside :data:`PLAUSIBLE_RANGES`."""
+    x = check_positive(value, name, unit)
+    if name in PLAUSIBLE_RANGES:
+        low, high, shown, below, above = PLAUSIBLE_RANGES[name]
+        if not low <= x <= high:
+            warnings.warn(
+                f"{name} = {x:g} {shown} is outside the plausible range [{low:g}, {high:g}] "
+                f"{shown}: {below if x < low else above} HairBed takes SI units (or pint "
+                "quantities)",
+                UnitsWarning,
+                stacklevel=4,
+            )
+    return x
 
 
 @dataclass(frozen=True)
@@ -261,11 +314,11 @@ class HairBed:
 
     def __post_init__(self) -> None:
         """Validate the inputs and fill in the one of spacing / packing fraction not given."""
-        length = _positive(self.length, "length", "[m]")
-        radius = _positive(self.radius, "radius", "[m]")
-        youngs_modulus = _positive(self.youngs_modulus, "youngs_modulus", "[Pa]")
-        channel_height = _positive(self.channel_height, "channel_height", "[m]")
-        viscosity = _positive(self.viscosity, "viscosity", "[Pa s]")
+        length = _positive(self.length, "length", "m")
+        radius = _positive(self.radius, "radius", "m")
+        youngs_modulus = _positive(self.youngs_modulus, "youngs_modulus", "Pa")
+        channel_height = _positive(self.channel_height, "channel_height", "m")
+        viscosity = _positive(self.viscosity, "viscosity", "Pa*s")
         spacing, packing_fraction = self.spacing, self.packing_fraction
         if (spacing is None) == (packing_fraction is None):
             raise ValueError(
@@ -273,7 +326,7 @@ class HairBed:
                 f"got spacing={spacing!r}, packing_fraction={packing_fraction!r}"
             )
         if spacing is not None:
-            spacing = _positive(spacing, "spacing", "[m]")
+            spacing = _positive(spacing, "spacing", "m")
             if radius >= 0.5 * spacing:
                 raise ValueError(
                     f"radius ({radius!r} m) must be less than half the spacing "
@@ -281,7 +334,7 @@ class HairBed:
                 )
             phi = 2.0 * math.pi / math.sqrt(3.0) * (radius / spacing) ** 2
         else:
-            phi = _positive(packing_fraction, "packing_fraction", "[-]")
+            phi = _positive(packing_fraction, "packing_fraction", "")
             if phi >= CLOSE_PACKING_FRACTION:
                 raise ValueError(
                     f"packing_fraction ({phi!r}) must be less than hexagonal close packing, "
@@ -294,11 +347,8 @@ class HairBed:
                 f"({channel_height!r} m): eps = L/H must be < 1, or the hairs would "
                 "reach the top wall"
             )
-        base_angle = self.base_angle
-        if isinstance(base_angle, bool) or not isinstance(base_angle, numbers.Real):
-            raise ValueError(f"base_angle must be a real number in [rad], got {base_angle!r}")
-        base_angle = float(base_angle)
-        if not (abs(base_angle) < 0.5 * math.pi):
+        base_angle = check_number(self.base_angle, "base_angle", unit="rad")
+        if not (abs(base_angle) < HALF_PI):
             raise ValueError(f"base_angle must lie in (-pi/2, pi/2) [rad], got {base_angle!r}")
         # frozen: the normalised values (floats, both of spacing and packing fraction) are set
         # once, here
@@ -314,7 +364,7 @@ class HairBed:
         ):
             object.__setattr__(self, name, value)
         if self.density is not None:
-            object.__setattr__(self, "density", _positive(self.density, "density", "[kg/m^3]"))
+            object.__setattr__(self, "density", _positive(self.density, "density", "kg/m**3"))
 
     # -- the bed -------------------------------------------------------------------------------
 
@@ -362,7 +412,7 @@ class HairBed:
         float or ndarray
             omega^2 [-], of the shape of ``velocity``.
         """
-        v = as_float_array(velocity, "velocity")
+        v = as_float_array(velocity, "velocity", unit="m/s")
         return float_or_array(np.abs(v) / self.velocity_scale)
 
     def _direction(self, v: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -386,7 +436,7 @@ class HairBed:
             Tip position, wall shear stress and force in SI, and the dimensionless solution.
         """
         root = check_root(root)
-        v = as_float_array(velocity, "velocity")
+        v = as_float_array(velocity, "velocity", unit="m/s")
         direction = self._direction(v)
         omega2 = np.abs(v) / self.velocity_scale
         sol = solve(omega2, self.eps, direction * self.base_angle, root=root)
@@ -460,20 +510,26 @@ class HairBed:
 
     # -- inverse: tip deflection -> velocity (the sensor's calibration) -------------------------
 
+    def _deflection(self, deflection: Any) -> NDArray[np.float64]:
+        """A tip deflection [m] (pint quantities converted) in (-length, length)."""
+        d = as_float_array(deflection, "deflection", unit="m")
+        length = self.length
+        bad = np.abs(d) >= length
+        if np.any(bad):
+            raise ValueError(
+                f"tip deflection must lie in (-length, length) = ({-length!r}, {length!r}) m, "
+                f"got {float(d[bad].flat[0])!r}{_first_index(bad)}"
+            )
+        return d
+
     def _solve_tip_deflection(
         self, deflection: Any
     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], Any]:
         """Velocity, direction, omega^2 and the dimensionless solution of a tip deflection."""
         from .inverse import solution_from_tip_deflection
 
-        d = as_float_array(deflection, "deflection")
+        d = self._deflection(deflection)
         length = self.length
-        bad = np.abs(d) >= length
-        if np.any(bad):
-            raise ValueError(
-                f"tip deflection must lie in (-length, length) = ({-length!r}, {length!r}) m, "
-                f"got {d[bad].flat[0]!r}"
-            )
         rest = length * math.sin(self.base_angle)
         # a tip behind its rest position means flow towards -x: the mirror image
         direction = np.where(d < rest, -1.0, 1.0)
@@ -521,7 +577,7 @@ class HairBed:
         """
         from .inverse import tip_deflection_slope
 
-        d = as_float_array(deflection, "deflection")
+        d = self._deflection(deflection)
         slope = tip_deflection_slope(self.eps, self.base_angle)
         x1 = d / self.length - math.sin(self.base_angle)
         return float_or_array(x1 / slope * self.velocity_scale)
@@ -551,8 +607,8 @@ class HairBed:
         from .inverse import fit_profile
 
         kwargs.setdefault("theta0", self.base_angle)
-        x = as_float_array(x, "x") / self.length
-        z = as_float_array(z, "z") / self.length
+        x = as_float_array(x, "x", unit="m") / self.length
+        z = as_float_array(z, "z", unit="m") / self.length
         fit = fit_profile(x, z, self.eps, **kwargs)
         return BedProfileFit(
             velocity=fit.omega2 * self.velocity_scale,

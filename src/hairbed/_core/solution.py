@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._kernels import FIELDS
-from .validation import as_float_array
+from .validation import _first_index, as_float_array, broadcast_named, check_int
 
 __all__ = ["STATUS_MESSAGES", "Solution"]
 
@@ -237,12 +237,23 @@ class Solution:
         s = as_float_array(sigma, "sigma")
         bad = (s < 0.0) | (s > 1.0)
         if np.any(bad):
-            raise ValueError(f"sigma must lie in [0, 1], got {float(s[bad].flat[0])!r}")
-        t, e, th, s = np.broadcast_arrays(
-            np.asarray(self.t, dtype=np.float64),
-            np.asarray(self.eps, dtype=np.float64),
-            np.asarray(self.theta0, dtype=np.float64),
-            s,
+            raise ValueError(
+                f"sigma must lie in [0, 1], got {float(s[bad].flat[0])!r}{_first_index(bad)}"
+            )
+        t = np.asarray(self.t, dtype=np.float64)
+        try:
+            np.broadcast_shapes(t.shape, s.shape)
+        except ValueError:
+            raise ValueError(
+                f"sigma must broadcast against the solution's shape {t.shape}, got shape "
+                f"{s.shape} (for the same arc lengths on every state, add axes: "
+                "sigma[:, None] ... or use profile(num))"
+            ) from None
+        t, e, th, s = broadcast_named(
+            ("the solution's t", t),
+            ("eps", np.asarray(self.eps, dtype=np.float64)),
+            ("theta0", np.asarray(self.theta0, dtype=np.float64)),
+            ("sigma", s),
         )
         shape = t.shape
         size = t.size
@@ -291,9 +302,7 @@ class Solution:
 
         Returns arrays of shape ``self.shape + (num,)``, from the base (sigma = 0) to the tip.
         """
-        if isinstance(num, bool) or not isinstance(num, (int, np.integer)) or num < 2:
-            raise ValueError(f"num must be an integer >= 2, got {num!r}")
-        num = int(num)
+        num = check_int(num, "num", 2)
         kernels = _shape_kernels()
         if type(self.t) is float:  # a single state: no numpy broadcasting (~10 us a call)
             xs, zs = kernels.profile_array(

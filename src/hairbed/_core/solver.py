@@ -21,6 +21,7 @@ from .validation import (
     broadcast_named,
     check_branch,
     check_inputs,
+    check_int,
     check_root,
     check_state_inputs,
 )
@@ -34,6 +35,8 @@ _U_NODES = 1025
 #: Tables of Newton's start: ln(omega_eps^2) in [-8, 8] and theta0 in [-1.5, 1.5].
 _X_LO, _X_HI, _DX = -8.0, 8.0, 1.0 / 16.0
 _TH_MAX, _TH_NODES = 1.5, 129
+#: The most values of n :func:`solve_all` searches without an explicit ``max_n``.
+MAX_BRANCHES = 10_000
 _state: Any = None
 _table: tuple[Any, ...] | None = None
 
@@ -280,7 +283,9 @@ def solve_all(
     omega2, eps, theta0 : float
         As in :func:`solve`, scalars.
     max_n : int, optional
-        Search only branches with n <= max_n (default: every branch that can have a state).
+        Search only branches with n <= max_n (default: every branch that can have a state;
+        a ValueError where that is more than ``MAX_BRANCHES`` = 10^4 values of n, i.e.
+        omega^2 above ~1e9 (1 - eps)).
 
     Returns
     -------
@@ -303,11 +308,16 @@ def solve_all(
         if w.ndim != 0:
             raise ValueError("solve_all takes scalar omega2, eps and theta0; use solve for arrays")
         wf, ef, tf = float(w), float(e), float(t0)
-    bound = int(math.floor(math.sqrt(wf / (1.0 - ef)) / math.pi)) + 1
+    bound_f = math.floor(math.sqrt(wf / (1.0 - ef)) / math.pi) + 1.0
     if max_n is not None:
-        if isinstance(max_n, bool) or not isinstance(max_n, (int, np.integer)) or max_n < 0:
-            raise ValueError(f"max_n must be a whole number >= 0, got {max_n!r}")
-        bound = min(bound, int(max_n))
+        bound = int(min(bound_f, check_int(max_n, "max_n", 0)))
+    elif bound_f > MAX_BRANCHES:
+        raise ValueError(
+            f"omega2 = {wf!r} has states on {bound_f:.3g} branches (n <= sqrt(omega2/(1 - eps))"
+            f"/pi); solve_all searches at most {MAX_BRANCHES} of them unless max_n is given"
+        )
+    else:
+        bound = int(bound_f)
     rows, signs, ns = _kernels().solve_all_kernel(wf, ef, tf, bound, _tables())
     build = Solution._from_row
     return [

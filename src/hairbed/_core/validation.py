@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import numbers
 from typing import Any
 
@@ -12,10 +13,20 @@ __all__ = [
     "as_float_array",
     "broadcast_named",
     "check_branch",
+    "check_choice",
+    "check_flag",
     "check_inputs",
+    "check_int",
+    "check_number",
+    "check_positive",
+    "check_real_array",
     "check_root",
+    "check_sigma",
     "check_state_inputs",
     "float_or_array",
+    "node_values",
+    "show",
+    "to_si",
 ]
 
 HALF_PI = 0.5 * np.pi
@@ -35,38 +46,164 @@ def _first_index(mask: NDArray[np.bool_]) -> str:
     return f" (first at index {idx[0] if len(idx) == 1 else idx})"
 
 
-def as_float_array(value: Any, name: str, allow_minus_inf: bool = False) -> NDArray[np.float64]:
+def show(value: Any) -> str:
+    """A value as a message shows it: numbers as plain Python reprs (never ``np.float64(...)``),
+    anything else by its repr, cut to 60 characters."""
+    if isinstance(value, np.generic) and value.dtype.kind in "biufc":
+        value = value.item()
+    if isinstance(value, float):
+        return repr(value)
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _is_quantity(value: Any) -> bool:
+    """A pint quantity (duck-typed: it has ``.to`` and ``.magnitude``)?"""
+    return hasattr(value, "magnitude") and hasattr(value, "to")
+
+
+def to_si(value: Any, name: str, unit: str | None) -> Any:
+    """A pint quantity converted to its magnitude in ``unit`` (SI); anything else unchanged.
+
+    pint is imported only when ``value`` looks like a quantity (has ``.to`` and
+    ``.magnitude``), so it is optional at run time. ``unit`` is a pint unit expression
+    ("m", "Pa", "m/s", "Pa*s", "kg/m**3", "rad"); "" or None means dimensionless.
+
+    Raises
+    ------
+    ValueError
+        If the quantity's dimensions do not convert to ``unit``, naming ``name`` and the unit.
+    """
+    if not _is_quantity(value):
+        return value
+    try:
+        import pint
+    except ImportError:  # not a pint quantity after all
+        return value
+    target = unit or "dimensionless"
+    try:
+        return value.to(target).magnitude
+    except pint.DimensionalityError:
+        shown = f"[{unit}]" if unit else "dimensionless"
+        raise ValueError(
+            f"{name} must be a quantity in {shown} (or a plain number in SI units), got one in "
+            f"{value.units:~}"
+        ) from None
+
+
+def _not_real(element: Any) -> bool:
+    return isinstance(element, (bool, np.bool_)) or not isinstance(element, numbers.Real)
+
+
+def _what(element: Any) -> str:
+    if isinstance(element, (bool, np.bool_)):
+        return f"a boolean ({element!r})"
+    if isinstance(element, (complex, np.complexfloating)):
+        return f"a complex number ({show(element)}; the imaginary part is never dropped)"
+    if isinstance(element, (str, bytes)):
+        return f"a string ({show(element)})"
+    if isinstance(element, (np.timedelta64, np.datetime64)):
+        return f"a {type(element).__name__} ({element!s})"
+    if element is None:
+        return "None"
+    if isinstance(element, (list, tuple, np.ndarray)):
+        return "a nested sequence of another length (a ragged array)"
+    return f"a {type(element).__name__}"
+
+
+def _where(index: tuple[int, ...]) -> str:
+    if not index:
+        return ""
+    return f" (first at index {index[0] if len(index) == 1 else index})"
+
+
+def check_real_array(value: Any, name: str, unit: str | None = None) -> NDArray[Any]:
+    """``value`` as a numpy array of real numbers (integer or float dtype), or an error.
+
+    The one gate of every numeric input: refuses None, strings and bytes, booleans, complex
+    numbers (never dropping an imaginary part silently), ``timedelta64`` / ``datetime64``,
+    objects that are not real numbers and ragged nested sequences, naming the parameter and
+    (for arrays) the first offending index in array (C) order. A pint quantity is converted
+    to its magnitude in ``unit`` first (:func:`to_si`). NaN and infinity pass (see
+    :func:`as_float_array`).
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not real-numeric.
+    """
+    value = to_si(value, name, unit)
+    expected = f"{name} must be a real number or an array of real numbers"
+    if isinstance(value, (str, bytes)) or value is None:
+        raise ValueError(f"{expected}, got {show(value)}")
+    try:
+        arr = np.asarray(value)
+    except (ValueError, TypeError):  # ragged lists and the like
+        arr = None
+    if arr is not None and arr.dtype.kind in "iuf":
+        return arr
+    if arr is not None and arr.dtype.kind in "bc":
+        flat = arr.reshape(-1)
+        if arr.dtype.kind == "c" and np.any(flat.imag != 0.0):
+            i = int(np.argmax(flat.imag != 0.0))
+        else:
+            i = 0
+        if flat.size == 0:
+            raise ValueError(f"{expected}, got an empty array of dtype {arr.dtype}")
+        index = tuple(int(k) for k in np.unravel_index(i, arr.shape))
+        element = flat[i]
+        raise ValueError(f"{expected}, got {_what(element)}{_where(index)}")
+    if arr is not None and arr.dtype.kind in "mM":
+        raise ValueError(
+            f"{expected}, got dtype {arr.dtype} (a {'time' if arr.dtype.kind == 'm' else 'date'}"
+            " is not a number: convert it to seconds first)"
+        )
+    # strings, objects, ragged sequences: look at the elements themselves, in order
+    try:
+        obj = np.empty(np.shape(np.asarray(value, dtype=object)), dtype=object)
+        obj[...] = np.asarray(value, dtype=object)
+    except (ValueError, TypeError):
+        obj = None
+    if obj is not None:
+        for i, element in enumerate(obj.reshape(-1)):
+            element = to_si(element, name, unit)
+            if _not_real(element) or (
+                isinstance(element, np.generic) and element.dtype.kind in "mM"
+            ):
+                index = tuple(int(k) for k in np.unravel_index(i, obj.shape)) if obj.ndim else ()
+                raise ValueError(f"{expected}, got {_what(element)}{_where(index)}")
+        try:
+            with np.errstate(over="ignore"):
+                return np.array([float(v) for v in obj.reshape(-1)]).reshape(obj.shape)
+        except OverflowError:
+            raise ValueError(f"{name} must be finite: an integer too large for a float") from None
+    raise ValueError(f"{expected} (a rectangular array, not a ragged nested sequence)")
+
+
+def as_float_array(
+    value: Any, name: str, allow_minus_inf: bool = False, unit: str | None = None
+) -> NDArray[np.float64]:
     """Convert ``value`` to a float array, refusing non-numbers, NaN and infinity.
 
     Parameters
     ----------
     value : array_like
-        What the user passed.
+        What the user passed (a pint quantity is converted to ``unit`` first).
     name : str
         Parameter name used in the error message.
     allow_minus_inf : bool, optional
         Accept -inf (the end of a branch parameter's range); NaN and +inf stay refused.
+    unit : str, optional
+        The SI unit a pint quantity is converted to (:func:`to_si`); dimensionless by default.
 
     Raises
     ------
     ValueError
-        If ``value`` is not real-numeric, or holds NaN or infinity.
+        If ``value`` is not real-numeric (:func:`check_real_array`), or holds NaN or infinity.
     """
-    if isinstance(value, (str, bytes)) or value is None:
-        raise ValueError(
-            f"{name} must be a real number or an array of real numbers, got {value!r}"
-        )
-    try:
-        arr = np.asarray(value)
-    except Exception as exc:  # ragged lists and the like
-        raise ValueError(f"{name} must be a real number or an array of real numbers") from exc
-    if arr.dtype == np.bool_ or not (
-        np.issubdtype(arr.dtype, np.integer) or np.issubdtype(arr.dtype, np.floating)
-    ):
-        raise ValueError(
-            f"{name} must be a real number or an array of real numbers, got dtype {arr.dtype}"
-        )
-    arr = arr.astype(np.float64)
+    arr = check_real_array(value, name, unit)
+    with np.errstate(over="ignore"):  # float128 beyond the float64 range: infinite, refused
+        arr = arr.astype(np.float64)
     bad = ~np.isfinite(arr)
     if allow_minus_inf:
         bad &= arr != -np.inf
@@ -78,6 +215,171 @@ def as_float_array(value: Any, name: str, allow_minus_inf: bool = False) -> NDAr
         )
         raise ValueError(f"{name} must be {what}{_first_index(bad)}")
     return arr
+
+
+def _range_text(low: float | None, high: float | None, low_open: bool, high_open: bool) -> str:
+    lo = "-inf" if low is None else f"{low:g}"
+    hi = "inf" if high is None else f"{high:g}"
+    left = "(" if low_open or low is None else "["
+    right = ")" if high_open or high is None else "]"
+    return f"{left}{lo}, {hi}{right}"
+
+
+def check_number(
+    value: Any,
+    name: str,
+    *,
+    low: float | None = None,
+    high: float | None = None,
+    low_open: bool = False,
+    high_open: bool = False,
+    unit: str | None = None,
+) -> float:
+    """A single finite real number in the range given, as a float (a tolerance, a time, ...).
+
+    ``low``/``high`` bound the range (None: unbounded), closed unless ``low_open`` /
+    ``high_open``; ``unit`` is the SI unit of the number ("" or None: dimensionless), used to
+    convert a pint quantity and shown in the message.
+
+    Raises
+    ------
+    ValueError
+        Naming ``name`` and its range, for non-numbers, booleans, arrays, NaN, infinity and
+        values outside the range.
+    """
+    rng = _range_text(low, high, low_open, high_open) + (f" [{unit}]" if unit else "")
+    arr = check_real_array(value, name, unit)
+    if arr.ndim != 0:
+        raise ValueError(
+            f"{name} must be a single number in {rng}, got an array of shape {arr.shape}"
+        )
+    with np.errstate(over="ignore"):
+        x = float(arr)
+    if not math.isfinite(x):
+        raise ValueError(f"{name} must be finite, in {rng}, got {x!r}")
+    if (low is not None and (x < low or (low_open and x == low))) or (
+        high is not None and (x > high or (high_open and x == high))
+    ):
+        raise ValueError(f"{name} must lie in {rng}, got {x!r}")
+    return x
+
+
+def check_positive(value: Any, name: str, unit: str | None = None) -> float:
+    """A single finite real number > 0 (a size, a tolerance), as a float; see
+    :func:`check_number`."""
+    x = check_number(value, name, unit=unit)
+    if not x > 0.0:
+        raise ValueError(f"{name} must be positive, got {x!r}" + (f" [{unit}]" if unit else ""))
+    return x
+
+
+def check_int(value: Any, name: str, low: int | None = None, high: int | None = None) -> int:
+    """A whole number in [low, high] (None: unbounded), as an int: a grid size, an iteration
+    limit, a count. Integers of any kind and integral floats (``200.0``) are accepted;
+    booleans, fractions, NaN, infinity, strings and arrays are not.
+
+    Raises
+    ------
+    ValueError
+        Naming ``name`` and its range.
+    """
+    if low is not None and high is not None:
+        rng = f"an integer in [{low}, {high}]"
+    elif low is not None:
+        rng = f"an integer >= {low}"
+    elif high is not None:
+        rng = f"an integer <= {high}"
+    else:
+        rng = "an integer"
+    if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
+        k = int(value)
+    elif (
+        isinstance(value, (float, np.floating))
+        and math.isfinite(float(value))
+        and float(value).is_integer()
+    ):
+        k = int(value)
+    else:
+        raise ValueError(f"{name} must be {rng}, got {show(value)}")
+    if (low is not None and k < low) or (high is not None and k > high):
+        raise ValueError(f"{name} must be {rng}, got {k!r}")
+    return k
+
+
+def check_flag(value: Any, name: str) -> bool:
+    """True or False (numpy's bools too), nothing else."""
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    raise ValueError(f"{name} must be True or False, got {show(value)}")
+
+
+def check_choice(value: Any, name: str, choices: tuple[str, ...]) -> str:
+    """One of the strings ``choices``."""
+    if not isinstance(value, str) or value not in choices:
+        listed = ", ".join(repr(c) for c in choices)
+        raise ValueError(f"{name} must be one of {listed}, got {show(value)}")
+    return value
+
+
+def node_values(guess: Any, name: str, sigma: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Finite values at the nodes ``sigma`` from a number or a function of sigma (a starting
+    guess of theta [rad]), as a new float array of ``sigma``'s shape."""
+    if callable(guess):
+        values = as_float_array(guess(sigma), f"{name}(sigma)")
+        try:
+            return np.broadcast_to(values, sigma.shape).copy()
+        except ValueError:
+            raise ValueError(
+                f"{name}(sigma) must give one value per node ({sigma.size}), got shape "
+                f"{values.shape}"
+            ) from None
+    values = as_float_array(guess, name)
+    if values.ndim:
+        raise ValueError(
+            f"{name} must be a number [rad] or a function of sigma, got an array of shape "
+            f"{values.shape}"
+        )
+    return np.full(sigma.shape, float(values))
+
+
+def check_sigma(
+    sigma: Any,
+    name: str,
+    shape: tuple[int, ...],
+    *,
+    unit: str | None = None,
+    allow_zero: bool = False,
+) -> NDArray[np.float64]:
+    """Standard uncertainties of data points of ``shape``: one number for all, or one per point.
+
+    Returns a float array of ``shape`` (an array with one value per point, whatever its own
+    shape, is read in C order). Each must be finite and > 0 (>= 0 with ``allow_zero``), in
+    ``unit`` (a pint quantity is converted to it).
+
+    Raises
+    ------
+    ValueError
+        For a number of values other than 1 or one per point, or a value out of range, naming
+        ``name`` and the first offending index.
+    """
+    s = as_float_array(sigma, name, unit=unit)
+    size = math.prod(shape)
+    if s.ndim == 0:
+        s = np.full(shape, float(s))
+    elif s.size == size:
+        s = s.reshape(shape)
+    else:
+        raise ValueError(
+            f"{name} must be a single number or one per point ({size}), got shape {s.shape}"
+        )
+    bad = s < 0.0 if allow_zero else s <= 0.0
+    if np.any(bad):
+        rng = ">= 0" if allow_zero else "> 0"
+        u = f" [{unit}]" if unit else ""
+        raise ValueError(
+            f"{name} must be {rng}{u}, got {float(s[bad].flat[0])!r}{_first_index(bad)}"
+        )
+    return s
 
 
 def _check_range(arr: NDArray[np.float64], bad: NDArray[np.bool_], name: str, rng: str) -> None:
@@ -148,14 +450,14 @@ def check_branch(sign: Any, n: Any) -> tuple[int, int]:
     if type(sign) is int and type(n) is int and (sign == 1 or sign == -1) and n >= 0:
         return sign, n  # the common case, without the abstract-base-class checks
     if isinstance(sign, bool) or not isinstance(sign, numbers.Real) or sign not in (1, -1):
-        raise ValueError(f"sign must be +1 or -1, got {sign!r}")
+        raise ValueError(f"sign must be +1 or -1, got {show(sign)}")
     if (
         isinstance(n, bool)
         or not isinstance(n, numbers.Real)
         or not float(n).is_integer()
         or n < 0
     ):
-        raise ValueError(f"n must be a whole number >= 0, got {n!r}")
+        raise ValueError(f"n must be a whole number >= 0, got {show(n)}")
     return (1 if sign == 1 else -1), int(float(n))
 
 
@@ -164,6 +466,4 @@ ROOTS = ("low", "mid", "high")
 
 def check_root(root: Any) -> str:
     """Validate the root selector of a multi-valued branch."""
-    if not isinstance(root, str) or root not in ROOTS:
-        raise ValueError(f"root must be one of 'low', 'mid', 'high', got {root!r}")
-    return root
+    return check_choice(root, "root", ROOTS)

@@ -9,12 +9,15 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.integrate import solve_bvp
 
+from .._core.validation import check_int, check_positive, node_values
 from ._result import NumericalResult, branch_label, scalar_inputs
 
 __all__ = ["collocation"]
 
 FloatArray = NDArray[np.float64]
 
+#: Largest mesh (and output grid) of :func:`collocation`.
+MAX_NODES = 1_000_000
 _GUESS_TIP_FRACTION = 0.9  # of the way from theta0 to pi/2, at strong forcing
 
 
@@ -110,11 +113,12 @@ def collocation(
         starting theta' is its finite-difference slope, z and x its quadratures and h1 = z(1).
         Twirling guesses can reach non-physical branches; ``sign`` and ``n`` say which.
     nodes : int, optional
-        Number of equally spaced initial mesh nodes.
+        Number of equally spaced initial mesh nodes, in [3, max_nodes].
     max_nodes : int, optional
-        Mesh size limit passed to ``solve_bvp``.
+        Mesh size limit passed to ``solve_bvp``, in [3, ``MAX_NODES`` = 10^6].
     num : int, optional
-        Number of equally spaced output nodes (from the C1 cubic interpolant).
+        Number of equally spaced output nodes (from the C1 cubic interpolant), in
+        [3, 10^6].
 
     Returns
     -------
@@ -138,24 +142,18 @@ def collocation(
     0.73270696
     """
     omega2, eps, theta0 = scalar_inputs(omega2, eps, theta0)
-    if not (tol > 0):
-        raise ValueError(f"tol must be positive, got {tol!r}")
-    if nodes < 3 or num < 3:
-        raise ValueError(f"nodes and num must be at least 3, got {nodes!r} and {num!r}")
+    tol = check_positive(tol, "tol")
+    max_nodes = check_int(max_nodes, "max_nodes", 3, MAX_NODES)
+    nodes = check_int(nodes, "nodes", 3, max_nodes)
+    num = check_int(num, "num", 3, MAX_NODES)
 
     def bc(ya: FloatArray, yb: FloatArray, p: FloatArray) -> FloatArray:
         return np.array([ya[0] - theta0, ya[2], ya[3], yb[1], yb[2] - p[0]])
 
-    mesh = np.linspace(0.0, 1.0, int(nodes))
+    mesh = np.linspace(0.0, 1.0, nodes)
     if guess is None:
         guess = _default_guess(omega2, theta0)
-    th = (
-        np.broadcast_to(np.asarray(guess(mesh), dtype=np.float64), mesh.shape).copy()
-        if callable(guess)
-        else np.full(mesh.shape, float(guess))
-    )
-    if not np.all(np.isfinite(th)):
-        raise ValueError("guess must give finite values of theta at every node")
+    th = node_values(guess, "guess", mesh)
     # A consistent starting state: slope and quadratures of the guessed angle.
     th[0] = theta0
     dth = np.gradient(th, mesh)

@@ -9,6 +9,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy import optimize
 
+from .._core.validation import check_choice, check_int, check_positive, node_values
 from ._banded import HairOperator
 from ._result import NumericalResult, branch_label, scalar_inputs
 
@@ -17,18 +18,14 @@ __all__ = ["finite_difference"]
 FloatArray = NDArray[np.float64]
 
 _METHODS = ("newton", "root")
+#: Largest grid (segments) and iteration limit of :func:`finite_difference`.
+MAX_SEGMENTS = 1_000_000
+MAX_ITER = 1_000_000
 _MAX_STEP = 1.0  # [rad], largest Newton update of any theta_i
 
 
 def _initial_guess(guess: float | Callable[[FloatArray], Any], sigma: FloatArray) -> FloatArray:
-    if callable(guess):
-        g = np.asarray(guess(sigma), dtype=np.float64)
-        g = np.broadcast_to(g, sigma.shape).copy()
-    else:
-        g = np.full(sigma.shape, float(guess))
-    if not np.all(np.isfinite(g)):
-        raise ValueError("guess must give finite values of theta at every node")
-    return g
+    return node_values(guess, "guess", sigma)
 
 
 def _newton(
@@ -94,7 +91,8 @@ def finite_difference(
     theta0 : float, optional
         Base angle [rad], in (-pi/2, pi/2).
     num : int, optional
-        Number of segments N (N unknowns theta_1..theta_N), at least 2.
+        Number of segments N (N unknowns theta_1..theta_N), in [2, ``MAX_SEGMENTS`` = 10^6]
+        (``"root"``, with its dense Jacobian, is only practical for a few hundred).
     guess : float or callable, optional
         Starting value of theta [rad] at every node, or a function of sigma giving it
         (vectorised). The default 0 is the paper's. A twirling guess such as
@@ -109,7 +107,7 @@ def finite_difference(
         Convergence tolerance on the step (``"newton"``) or ``xtol`` of ``scipy.optimize.root``
         (``"root"``) [rad].
     maxiter : int, optional
-        Newton iteration limit (``"newton"`` only).
+        Newton iteration limit (``"newton"`` only), in [1, 10^6].
 
     Returns
     -------
@@ -131,13 +129,10 @@ def finite_difference(
     0.73271
     """
     omega2, eps, theta0 = scalar_inputs(omega2, eps, theta0)
-    if isinstance(num, bool) or not isinstance(num, (int, np.integer)) or num < 2:
-        raise ValueError(f"num must be an integer >= 2, got {num!r}")
-    if method not in _METHODS:
-        raise ValueError(f"method must be one of {_METHODS}, got {method!r}")
-    if not (xtol > 0):
-        raise ValueError(f"xtol must be positive, got {xtol!r}")
-    num = int(num)
+    num = check_int(num, "num", 2, MAX_SEGMENTS)
+    method = check_choice(method, "method", _METHODS)
+    xtol = check_positive(xtol, "xtol", "rad")
+    maxiter = check_int(maxiter, "maxiter", 1, MAX_ITER)
     disc = HairOperator(omega2, eps, theta0, num)
     sigma = np.linspace(0.0, 1.0, num + 1)
     th0 = _initial_guess(guess, sigma[1:])

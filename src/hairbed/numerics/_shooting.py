@@ -10,6 +10,7 @@ from numpy.typing import NDArray
 from scipy.integrate import solve_ivp
 
 from .._bracketing import find_root
+from .._core.validation import check_int, check_number, check_positive
 from ._result import NumericalResult, branch_label, scalar_inputs
 
 __all__ = ["shooting"]
@@ -19,6 +20,9 @@ FloatArray = NDArray[np.float64]
 _RTOL = 1e-12  # solve_ivp tolerances: near the limit of DOP853 in double precision
 _ATOL = 1e-13
 _MACHEPS = float(np.finfo(np.float64).eps)
+#: Largest output grid and Newton iteration limit of :func:`shooting`.
+MAX_POINTS = 1_000_000
+MAX_ITER = 1_000_000
 #: Status 3 when 1 - xi (the distance of the tip angle from pi/2) is resolved worse than this.
 _GAP_RTOL = 1e-3
 #: Status 3 when the integrated tip height and the identity (eq. (29)) disagree by more.
@@ -196,9 +200,9 @@ def shooting(
     tol : float, optional
         Newton convergence tolerance on abs(theta'(1)) relative to max(1, abs(theta'(0))).
     maxiter : int, optional
-        Newton iteration limit.
+        Newton iteration limit, in [1, 10^6].
     num : int, optional
-        Number of equally spaced output nodes.
+        Number of equally spaced output nodes, in [3, 10^6].
 
     Returns
     -------
@@ -220,10 +224,11 @@ def shooting(
     0.732706963
     """
     omega2, eps, theta0 = scalar_inputs(omega2, eps, theta0)
-    if num < 3:
-        raise ValueError(f"num must be at least 3, got {num!r}")
-    if base_curvature is not None and not np.isfinite(base_curvature):
-        raise ValueError(f"base_curvature must be finite, got {base_curvature!r}")
+    num = check_int(num, "num", 3, MAX_POINTS)
+    if base_curvature is not None:
+        base_curvature = check_number(base_curvature, "base_curvature")
+    tol = check_positive(tol, "tol")
+    maxiter = check_int(maxiter, "maxiter", 1, MAX_ITER)
     shooter = _Shooter(omega2, eps, theta0)
     c_lo, c_hi = _separatrix_bounds(omega2, eps, theta0)
 
