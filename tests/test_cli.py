@@ -28,9 +28,9 @@ BED = [
 ]  # fmt: skip
 
 
-def run(*args: str) -> subprocess.CompletedProcess[str]:
+def run(*args: str, timeout: float = 120) -> subprocess.CompletedProcess[str]:
     return subprocess.run(
-        [sys.executable, "-m", "hairbed", *args], capture_output=True, text=True, timeout=120
+        [sys.executable, "-m", "hairbed", *args], capture_output=True, text=True, timeout=timeout
     )
 
 
@@ -197,7 +197,8 @@ def test_bench_runs_every_row_of_the_table(tmp_path):
     from hairbed import _benchmark
 
     out = tmp_path / "sub" / "bench.json"
-    proc = run("bench", "--quick", "--n", "1000", "--repeat", "1", "--json", str(out))
+    # every row, whole processes and a LocalCluster included: minutes on a loaded machine
+    proc = run("bench", "--quick", "--n", "1000", "--repeat", "1", "--json", str(out), timeout=600)
     assert proc.returncode == 0, proc.stderr
     # 10b (cold cache) needs --cold, 11e (a second cluster) a full run
     numbers = [k for k in _benchmark.ROWS if k not in ("10b", "11e")]
