@@ -40,7 +40,9 @@ class QuasistaticSweep:
     ----------
     solution : Solution
         The state at every point of the path, shape (len(omega2_path),), on the physical
-        branch. Its ``omega2`` equals the path to rounding.
+        branch. Its ``omega2`` equals the path to rounding; its ``n_roots`` is the number of
+        physical states that coexist at each point (3 inside a bistable window), as
+        :func:`hairbed.solve` counts them.
     jumps : ndarray of int
         Indices i at which the state jumped between i - 1 and i (a fold was passed),
         increasing.
@@ -54,9 +56,6 @@ class QuasistaticSweep:
         throughout, except NaN states.
     jumped : ndarray of bool
         True at the indices of ``jumps``.
-
-    The ``solution``'s ``n_roots`` is the number of physical states that coexist at each
-    point (3 inside a bistable window), as :func:`hairbed.solve` counts them.
     """
 
     solution: Solution
