@@ -263,6 +263,11 @@ def fig_fd_convergence(
     return fig
 
 
+def _row_group(number: str) -> str:
+    """The row of a sub-row ("10e" -> "10"): a reference sub-row is scaled by its target."""
+    return number.rstrip("abcdefghijklmnopqrstuvwxyz")
+
+
 @styled
 def fig_speed(
     n: int = 100_000,
@@ -290,9 +295,9 @@ def fig_speed(
         from hairbed import _benchmark
 
         results = _benchmark.run(quick=True, rows=rows, n=n, repeat=repeat)
-    scale = {r.number.rstrip("abcd"): r.target for r in results if r.target is not None}
-    shown = [r for r in results if scale.get(r.number.rstrip("abcd")) or r.target]
-    ratios = np.array([r.value / (r.target or scale[r.number.rstrip("abcd")]) for r in shown])
+    scale = {_row_group(r.number): r.target for r in results if r.target is not None}
+    shown = [r for r in results if scale.get(_row_group(r.number)) or r.target]
+    ratios = np.array([r.value / (r.target or scale[_row_group(r.number)]) for r in shown])
     fig, ax = new_figure(size=(7.2, 0.8 + 0.36 * max(len(shown), 1)))
     if not shown:
         ax.set_xlabel("measured / target")
