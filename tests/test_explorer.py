@@ -14,6 +14,7 @@ import json
 import math
 import subprocess
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -41,6 +42,26 @@ def _library_message(func, *args, **kwargs) -> str:
     return str(info.value)
 
 
+def _library_warnings(func, *args, **kwargs) -> tuple[object, list[str]]:
+    """What the library returns and every warning it issues, as the page words them:
+    "Category: message" (whitespace collapsed), each once."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        out = func(*args, **kwargs)
+    texts = [f"{w.category.__name__}: {' '.join(str(w.message).split())}" for w in caught]
+    return out, list(dict.fromkeys(texts))
+
+
+def _deform_warnings(bed, velocity) -> list[str]:
+    """The library's warnings for every coexisting state of a bed at a wall speed."""
+    n = hairbed.solve(bed.omega2(velocity), bed.eps, math.copysign(1, velocity) * bed.base_angle)
+    roots = ("low", "mid", "high") if n.n_roots == 3 else ("low",)
+    out: list[str] = []
+    for root in roots:
+        out += _library_warnings(bed.deform, velocity, root=root)[1]
+    return list(dict.fromkeys(out))
+
+
 # -- importing -----------------------------------------------------------------------------------
 
 
@@ -56,16 +77,17 @@ def test_import_hairbed_imports_no_web_framework():
 
 
 def test_missing_app_extra_is_one_line_naming_the_extra():
-    # panel made unimportable: the command says how to install it, in one line, exit 2
+    # panel made unimportable: the command says how to install it, in one line, exit 1 (as
+    # every missing extra of the command line, tests/test_cli_promises.py)
     code = (
         "import sys; sys.modules['panel'] = None; from hairbed.cli import main; "
         "sys.exit(main(['explore', '--no-browser', '--port', '0']))"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
-    assert out.returncode == 2
+    assert out.returncode == 1
     lines = out.stderr.strip().splitlines()
     assert len(lines) == 1, out.stderr
-    assert lines[0].startswith("hairbed: error: ")
+    assert lines[0].startswith("hairbed: ") and "panel" in lines[0]
     assert "pip install 'hairbed[app]'" in lines[0]
 
 
@@ -153,8 +175,11 @@ def test_bad_velocity_and_density():
     with pytest.raises(ValueError, match="velocity") as info:
         model.validate({"si": "1", "velocity": "fast"})
     assert str(info.value) == expected
-    with pytest.raises(ValueError, match=r"density must be a positive number in \[kg/m\^3\]"):
-        model.validate({"si": "1", "density": "-1"})
+    for text, value in (("-1", -1.0), ("0", 0.0), ("dense", "dense"), ("inf", math.inf)):
+        expected = _library_message(hairbed.HairBed, **BED, base_angle=-1.5, density=value)
+        with pytest.raises(ValueError, match="density") as info:
+            model.validate({"si": "1", "density": text})
+        assert str(info.value) == expected
     with pytest.raises(ValueError, match="unknown parameter 'foo'"):
         model.validate({"foo": "1"})
     with pytest.raises(ValueError, match="si must be 0 or 1"):
@@ -198,26 +223,65 @@ def test_twirling_states_are_every_other_state_of_solve_all():
 def test_si_mode_is_the_beds_state():
     raw = {"si": "1", "velocity": "-0.3", "theta0": "0.4", "density": "1000"}
     p = model.validate(raw)
-    bed = hairbed.HairBed(**BED, base_angle=0.4)
+    bed = hairbed.HairBed(**BED, base_angle=0.4, density=1000.0)
+    assert p.bed == bed
     assert p.omega2 == bed.omega2(0.3) and p.eps == 0.5 and p.theta0 == -0.4  # mirrored
     snap = model.compute(p)
     st = bed.deform(-0.3)
     view = snap.states[0]
     assert view.si.wall_shear_stress == st.wall_shear_stress
     assert view.si.tip_deflection == st.tip_deflection < 0.0
+    # the library's Reynolds number, and it is the closed form rho |v| (H - h1 L) / eta
+    assert view.si.reynolds_number == st.reynolds_number
     gap = 2e-3 - st.tip_height
-    assert view.reynolds == pytest.approx(1000 * 0.3 * gap / 1.0, rel=1e-14)
-    assert snap.warnings == []
-    # warnings where the model's assumptions fail
-    fast = model.compute(model.validate({"si": "1", "velocity": "500", "density": "1000"}))
-    assert any("Reynolds" in w for w in fast.warnings)
-    fat = model.compute(
-        model.validate({"si": "1", "radius": "0.00015", "spacing": "0.0012", "velocity": "0.1"})
+    assert view.si.reynolds_number == pytest.approx(1000 * 0.3 * gap / 1.0, rel=1e-14)
+    assert snap.warnings == _deform_warnings(bed, -0.3) == []  # Re ~ 0.4: Stokes flow
+
+
+@pytest.mark.parametrize("velocity", [0.5, 2.0, -3.0, 500.0])
+def test_si_warnings_are_the_librarys(velocity):
+    """Whatever the library warns about (Reynolds number above its threshold), the page shows,
+    word for word; where it says nothing, the page says nothing."""
+    raw = {"si": "1", "velocity": repr(velocity), "density": "1000"}
+    snap = model.compute(model.validate(raw))
+    bed = hairbed.HairBed(**BED, base_angle=-1.5, density=1000.0)
+    expected = _deform_warnings(bed, velocity)
+    assert snap.warnings == expected
+    reynolds = [s.si.reynolds_number for s in snap.states]
+    # the library warns exactly when a state's gap flow leaves the Stokes regime, Re > 1
+    assert bool(expected) == (max(reynolds) > 1.0)
+    assert all(w.startswith("ModelValidityWarning: ") for w in expected)
+    if velocity == 0.5:
+        assert expected == []
+    else:
+        assert expected and "Reynolds" in expected[0]
+
+
+def test_si_units_warning_of_the_bed_is_shown():
+    raw = {"si": "1", "youngs_modulus": "100", "density": "", "velocity": "1e-5"}
+    bed, expected = _library_warnings(
+        hairbed.HairBed, **{**BED, "youngs_modulus": 100.0}, base_angle=-1.5
     )
-    assert any("slender" in w for w in fat.warnings) and any("dense" in w for w in fat.warnings)
-    nodens = model.compute(model.validate({"si": "1", "density": ""}))
-    assert math.isnan(nodens.states[0].reynolds)
-    assert any("density" in w for w in nodens.warnings)
+    assert expected and expected[0].startswith("UnitsWarning: youngs_modulus")
+    p = model.validate(raw)
+    assert list(p.warnings) == expected
+    snap = model.compute(p)
+    assert snap.warnings == expected + _deform_warnings(bed, 1e-5)
+    # no density: no Reynolds number, and no warning about it from the library
+    assert math.isnan(snap.states[0].si.reynolds_number)
+    assert _deform_warnings(bed, 1e-5) == []
+
+
+def test_no_warnings_the_library_does_not_issue():
+    """A stubby, sparse bed: the library has no check of slenderness or density of the bed,
+    so the page shows none (one implementation of the model's validity)."""
+    raw = {"si": "1", "radius": "0.00015", "spacing": "0.0012", "velocity": "0.1"}
+    snap = model.compute(model.validate(raw))
+    bed, built = _library_warnings(
+        hairbed.HairBed, **{**BED, "radius": 15e-5, "spacing": 12e-4}, base_angle=-1.5,
+        density=1260.0,
+    )  # fmt: skip
+    assert snap.warnings == built + _deform_warnings(bed, 0.1)
 
 
 # -- exports and the URL ------------------------------------------------------------------------
@@ -318,6 +382,7 @@ def test_si_switch_and_twirl():
     assert v == pytest.approx(2.0 * bed.velocity_scale, rel=1e-5)
     assert page.snapshot.states[0].si.velocity == v
     assert "wall shear stress" in page.table.object
+    assert "hb-warn" not in page.table.object  # Re ~ 0.2 at the defaults: no warning
     page.twirl.value = True
     page.si.value = False
     page.text["omega2"].value = "200"
@@ -328,3 +393,16 @@ def test_si_switch_and_twirl():
     assert f'data-count="{n}"' in page.twirl_table.object
     doc = json.loads(page._json_file().read())
     assert len(doc["twirling"]) == n
+
+
+def test_page_shows_the_librarys_warnings():
+    import html
+
+    page = _page("?si=1&velocity=2&density=1000")
+    bed = hairbed.HairBed(**BED, base_angle=-1.5, density=1000.0)
+    expected = _deform_warnings(bed, 2.0)
+    assert expected and page.snapshot.warnings == expected
+    for text in expected:
+        assert f"<li>{html.escape(text)}</li>" in page.table.object
+    page.text["velocity"].value = "0.1"
+    assert page.snapshot.warnings == [] and "hb-warn" not in page.table.object

@@ -29,6 +29,7 @@ import subprocess
 import sys
 import time
 import urllib.request
+import warnings
 from pathlib import Path
 from urllib.parse import urlparse
 
@@ -403,7 +404,7 @@ def test_si_mode(browser, server, shots):
         f"{k}={v!r}" for k, v in BED.items()
     )
     page = _open(browser, server, query)
-    bed = hairbed.HairBed(**BED, base_angle=0.2)
+    bed = hairbed.HairBed(**BED, base_angle=0.2, density=1000.0)
     st = bed.deform(0.3)
 
     def shown():
@@ -417,9 +418,24 @@ def test_si_mode(browser, server, shots):
     )
     gap = bed.channel_height - st.tip_height
     reynolds = float(_cells(page, "si_reynolds_number")["low"])
+    assert reynolds == pytest.approx(st.reynolds_number, rel=1e-11)
     assert reynolds == pytest.approx(1000.0 * 0.3 * gap / bed.viscosity, rel=1e-11)
     assert page.locator(".hb-eps input").input_value() == repr(bed.eps)
+    assert page.locator("ul.hb-warn").count() == 0  # Re ~ 0.4: the library warns of nothing
     page.screenshot(path=str(shots / "explorer-si.png"), full_page=True)
+    # faster: the gap flow leaves the Stokes regime; the page shows the library's warning
+    _type(page, "velocity", "3")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        bed.deform(3.0)
+    expected = [f"{w.category.__name__}: {' '.join(str(w.message).split())}" for w in caught]
+    assert expected and "Reynolds" in expected[0]
+    _until(
+        lambda: page.locator("ul.hb-warn li").all_text_contents() == expected,
+        "the library's warning",
+    )
+    _type(page, "velocity", "0.3")
+    _until(lambda: page.locator("ul.hb-warn").count() == 0, "the warning to go")
     _type(page, "length", "-1e-3")
     with pytest.raises(ValueError) as info:
         hairbed.HairBed(**{**BED, "length": -1e-3})

@@ -19,7 +19,9 @@ import json
 import math
 import threading
 import time
-from collections.abc import Mapping
+import warnings
+from collections.abc import Iterator, Mapping
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 from urllib.parse import parse_qsl, urlencode
@@ -94,9 +96,6 @@ DEFAULTS: dict[str, str] = {
 }
 #: Quantities plotted against omega2 in the branch diagram.
 Y_CHOICES = {"x1": "tip_deflection", "xi": "xi"}
-#: Gap Reynolds number above which plane Couette flow is no longer reliably laminar
-#: (transition is observed from Re ~ 325 on, Re = rho v (H - h1 L) / eta).
-RE_TURBULENT = 300.0
 
 
 def _number(text: str) -> Any:
@@ -136,10 +135,11 @@ class Params:
         The bed (SI mode only).
     velocity : float or None
         Wall speed v [m/s] (SI mode only).
-    density : float or None
-        Fluid density rho [kg/m^3], for the Reynolds number (optional).
     raw : dict
         The inputs as text, exactly as validated (what the URL carries).
+    warnings : tuple of str
+        The warnings the library issued while validating (e.g. :class:`hairbed.UnitsWarning`
+        of :class:`hairbed.HairBed` for an implausible size), as "Category: message".
     """
 
     omega2: float
@@ -150,8 +150,33 @@ class Params:
     twirl: bool
     bed: Any = None
     velocity: float | None = None
-    density: float | None = None
     raw: dict[str, str] = field(default_factory=dict)
+    warnings: tuple[str, ...] = ()
+
+
+@contextmanager
+def _recording() -> Iterator[list[str]]:
+    """Record every warning issued inside (each time, not once per place) as
+    "Category: message" with the whitespace of the message collapsed.
+
+    The warnings filters are process-wide: this relies on the page's callbacks running one at
+    a time on the server's event loop (Panel's default).
+    """
+    out: list[str] = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            yield out
+        finally:
+            for w in caught:
+                text = f"{w.category.__name__}: {' '.join(str(w.message).split())}"
+                if text not in out:
+                    out.append(text)
+
+
+def _merge(*groups: Any) -> list[str]:
+    """The warnings of several groups, in order, each once."""
+    return list(dict.fromkeys(w for g in groups for w in g))
 
 
 def validate(raw: Mapping[str, str]) -> Params:
@@ -190,8 +215,11 @@ def validate(raw: Mapping[str, str]) -> Params:
     si, twirl = _flag(full, "si"), _flag(full, "twirl")
     if not si:
         w, e, th = (_number(full[k]) for k in ("omega2", "eps", "theta0"))
-        hairbed.solve(w, e, th)  # the library's checks, with its messages
-        return Params(float(w), float(e), float(th), y, si, twirl, raw=full)
+        with _recording() as caught:
+            hairbed.solve(w, e, th)  # the library's checks, with its messages
+        return Params(
+            float(w), float(e), float(th), y, si, twirl, raw=full, warnings=tuple(caught)
+        )
     bed_args: dict[str, Any] = {
         k: _number(full[k])
         for k in ("length", "radius", "youngs_modulus", "channel_height", "viscosity")
@@ -199,18 +227,17 @@ def validate(raw: Mapping[str, str]) -> Params:
     for k in ("spacing", "packing_fraction"):  # give exactly one: HairBed says so otherwise
         bed_args[k] = _number(full[k]) if full[k].strip() else None
     bed_args["base_angle"] = _number(full["theta0"])
-    bed = hairbed.HairBed(**bed_args)
-    velocity = _number(full["velocity"])
-    omega2 = float(bed.omega2(velocity))  # checks the wall speed by name
+    # optional: without it the states carry no Reynolds number (NaN) and no check of it
+    bed_args["density"] = _number(full["density"]) if full["density"].strip() else None
+    with _recording() as caught:
+        bed = hairbed.HairBed(**bed_args)  # checks every size and the density by name
+        velocity = _number(full["velocity"])
+        omega2 = float(bed.omega2(velocity))  # checks the wall speed by name
     velocity = float(velocity)
-    density = None
-    if full["density"].strip():
-        rho = _number(full["density"])
-        if not isinstance(rho, float) or not math.isfinite(rho) or rho <= 0.0:
-            raise ValueError(f"density must be a positive number in [kg/m^3], got {rho!r}")
-        density = rho
     theta0 = -bed.base_angle if velocity < 0.0 else bed.base_angle
-    return Params(omega2, bed.eps, theta0, y, si, twirl, bed, velocity, density, raw=full)
+    return Params(
+        omega2, bed.eps, theta0, y, si, twirl, bed, velocity, raw=full, warnings=tuple(caught)
+    )
 
 
 def inputs_from_query(query: str) -> dict[str, str]:
@@ -254,9 +281,8 @@ class StateView:
     growth_rate : float
         Largest real part of the eigenvalues [1 / bending relaxation time]; NaN if not computed.
     si : HairState or None
-        The state in SI units (SI mode, physical states).
-    reynolds : float
-        Gap Reynolds number rho |v| (H - h1 L) / eta [-]; NaN without a density.
+        The state in SI units (SI mode, physical states; :meth:`hairbed.HairBed.deform`), with
+        the library's gap Reynolds number ``si.reynolds_number`` (NaN without a density).
     """
 
     label: str
@@ -264,7 +290,6 @@ class StateView:
     stable: bool | None
     growth_rate: float
     si: Any = None
-    reynolds: float = float("nan")
 
 
 @dataclass(frozen=True)
@@ -285,7 +310,10 @@ class Snapshot:
     folds_omega2, folds_y : ndarray
         The folds of the physical branch (:func:`hairbed.branches.folds`).
     warnings : list of str
-        Model-validity warnings (SI mode).
+        Every warning the library issued for this view, as "Category: message", each once:
+        those of validation (:attr:`Params.warnings`) and of solving, classifying and
+        deforming (e.g. :class:`hairbed.ModelValidityWarning` of :meth:`hairbed.HairBed.deform`
+        where the gap's Reynolds number exceeds the Stokes regime).
     timings : dict of str to float
         Wall times of the computation [ms]: "solve" (every state), "stability", "total".
     """
@@ -311,25 +339,30 @@ def _roots(n_roots: int) -> tuple[str, ...]:
 
 
 @functools.lru_cache(maxsize=64)
-def _branch_curve(eps: float, theta0: float, sign: int, n: int, y: str) -> tuple[Any, Any]:
-    """(omega2, y) along a branch: the exact parametric curve of :func:`hairbed.branches.curve`."""
-    c = hairbed.branches.curve(eps, theta0, sign=sign, n=n, num=600)
+def _branch_curve(
+    eps: float, theta0: float, sign: int, n: int, y: str
+) -> tuple[Any, Any, tuple[str, ...]]:
+    """(omega2, y) along a branch (the exact parametric curve of
+    :func:`hairbed.branches.curve`) and the warnings computing it issued (cached with it)."""
+    with _recording() as caught:
+        c = hairbed.branches.curve(eps, theta0, sign=sign, n=n, num=600)
     w = np.asarray(c.omega2, dtype=np.float64)
     v = np.asarray(getattr(c, Y_CHOICES[y]), dtype=np.float64)
     keep = np.isfinite(w) & np.isfinite(v) & (w > 0.0)
-    return w[keep], v[keep]
+    return w[keep], v[keep], tuple(caught)
 
 
 @functools.lru_cache(maxsize=64)
-def _folds(eps: float, theta0: float, y: str) -> tuple[Any, Any]:
-    """(omega2, y) at the folds of the physical branch."""
-    f = hairbed.branches.folds(eps, theta0)
-    t = np.asarray(f.t, dtype=np.float64).reshape(-1)
-    if t.size == 0:
-        return np.empty(0), np.empty(0)
-    s = hairbed.from_parameter(t, eps, theta0)
-    w = np.asarray(s.omega2, dtype=np.float64).reshape(-1)
-    return w, np.asarray(getattr(s, Y_CHOICES[y]), dtype=np.float64).reshape(-1)
+def _folds(eps: float, theta0: float, y: str) -> tuple[Any, Any, tuple[str, ...]]:
+    """(omega2, y) at the folds of the physical branch, and the warnings (cached with them)."""
+    w, v = np.empty(0), np.empty(0)
+    with _recording() as caught:
+        t = np.asarray(hairbed.branches.folds(eps, theta0).t, dtype=np.float64).reshape(-1)
+        if t.size:
+            s = hairbed.from_parameter(t, eps, theta0)
+            w = np.asarray(s.omega2, dtype=np.float64).reshape(-1)
+            v = np.asarray(getattr(s, Y_CHOICES[y]), dtype=np.float64).reshape(-1)
+    return w, v, tuple(caught)
 
 
 def _stability(sol: Any) -> tuple[bool | None, float]:
@@ -340,43 +373,12 @@ def _stability(sol: Any) -> tuple[bool | None, float]:
     return bool(np.asarray(res.stable)), float(np.asarray(res.growth_rate))
 
 
-def _reynolds(p: Params, h1: float) -> float:
-    if p.density is None or p.bed is None or p.velocity is None:
-        return float("nan")
-    gap = p.bed.channel_height - h1 * p.bed.length
-    return p.density * abs(p.velocity) * gap / p.bed.viscosity
-
-
-def _warnings(p: Params, states: list[StateView]) -> list[str]:
-    """Where the bed leaves the assumptions of the model (theory.md §7), in words."""
-    if not p.si or p.bed is None:
-        return []
-    out = []
-    bed = p.bed
-    re = max((s.reynolds for s in states), default=float("nan"))
-    if p.density is None:
-        out.append("no fluid density given: the Reynolds number is not computed")
-    elif re > RE_TURBULENT:
-        out.append(
-            f"gap Reynolds number {re:.3g} > {RE_TURBULENT:g}: plane Couette flow may turn "
-            "turbulent (from about 325 on); the model assumes the laminar linear shear above "
-            "the tips"
-        )
-    if bed.radius > 0.1 * bed.length:
-        out.append(
-            f"radius / length = {bed.radius / bed.length:.3g} > 0.1: the hairs are not slender "
-            "rods; the elastica (Euler-Bernoulli bending) of the model is approximate"
-        )
-    if bed.spacing > bed.length:
-        out.append(
-            f"spacing / length = {bed.spacing / bed.length:.3g} > 1: the bed is not dense; the "
-            "model treats it as a wall at the tip height that the flow does not penetrate"
-        )
-    return out
-
-
 def compute(p: Params) -> Snapshot:
     """Solve every state of one view and classify each physical state's stability.
+
+    Every warning the library issues on the way (and in :func:`validate`) is kept in
+    :attr:`Snapshot.warnings`: the page shows exactly the library's judgement of the model's
+    validity (e.g. the Reynolds number of :meth:`hairbed.HairBed.deform`).
 
     Examples
     --------
@@ -386,33 +388,36 @@ def compute(p: Params) -> Snapshot:
     """
     t0 = time.perf_counter()
     w, e, th = p.omega2, p.eps, p.theta0
-    low = hairbed.solve(w, e, th)
-    sols = [
-        (r, low if r == "low" else hairbed.solve(w, e, th, root=r))
-        for r in _roots(int(low.n_roots))
-    ]
-    twirling_sols = (
-        [s for s in hairbed.solve_all(w, e, th) if not (s.sign == 1 and s.n == 0)]
-        if p.twirl
-        else []
-    )
-    t1 = time.perf_counter()
-    states = []
-    for root, sol in sols:
-        stable, growth = _stability(sol)
-        si = p.bed.deform(p.velocity, root=root) if p.si else None
-        states.append(
-            StateView(root, sol, stable, growth, si, _reynolds(p, float(sol.tip_height)))
+    with _recording() as caught:
+        low = hairbed.solve(w, e, th)
+        sols = [
+            (r, low if r == "low" else hairbed.solve(w, e, th, root=r))
+            for r in _roots(int(low.n_roots))
+        ]
+        twirling_sols = (
+            [s for s in hairbed.solve_all(w, e, th) if not (s.sign == 1 and s.n == 0)]
+            if p.twirl
+            else []
         )
-    t2 = time.perf_counter()
+        t1 = time.perf_counter()
+        states = []
+        for root, sol in sols:
+            stable, growth = _stability(sol)
+            si = p.bed.deform(p.velocity, root=root) if p.si else None
+            states.append(StateView(root, sol, stable, growth, si))
+        t2 = time.perf_counter()
     twirling = [
-        StateView(f"({s.sign:+d}, {s.n})", s, None, float("nan"), None, float("nan"))
-        for s in twirling_sols
+        StateView(f"({s.sign:+d}, {s.n})", s, None, float("nan"), None) for s in twirling_sols
     ]
-    cw, cy = _branch_curve(e, th, 1, 0, p.y)
+    cw, cy, curve_warnings = _branch_curve(e, th, 1, 0, p.y)
     branches = sorted({(s.sign, s.n) for s in twirling_sols})
-    twirl_curves = [(f"({sg:+d}, {n})", *_branch_curve(e, th, sg, n, p.y)) for sg, n in branches]
-    fw, fy = _folds(e, th, p.y)
+    twirl_curves: list[tuple[str, Any, Any]] = []
+    twirl_warnings: list[str] = []
+    for sg, n in branches:
+        bw, by, bwarn = _branch_curve(e, th, sg, n, p.y)
+        twirl_curves.append((f"({sg:+d}, {n})", bw, by))
+        twirl_warnings += bwarn
+    fw, fy, fold_warnings = _folds(e, th, p.y)
     t3 = time.perf_counter()
     return Snapshot(
         p,
@@ -423,7 +428,7 @@ def compute(p: Params) -> Snapshot:
         twirl_curves,
         fw,
         fy,
-        _warnings(p, states),
+        _merge(p.warnings, caught, curve_warnings, twirl_warnings, fold_warnings),
         {
             "solve": 1e3 * (t1 - t0),
             "stability": 1e3 * (t2 - t1),
@@ -480,6 +485,7 @@ SI_FIELDS: dict[str, str] = {
     "wall_shear_stress": "Pa",
     "force_per_hair": "N",
     "stress_ratio": "-",
+    "reynolds_number": "-",
 }
 
 
@@ -489,7 +495,6 @@ def _state_record(s: StateView) -> dict[str, Any]:
     if s.si is not None:
         for k in SI_FIELDS:
             rec[f"si_{k}"] = getattr(s.si, k)
-        rec["si_reynolds_number"] = s.reynolds
     return rec
 
 
@@ -517,7 +522,7 @@ def snapshot_json(snap: Snapshot) -> str:
             "spacing": bed.spacing,
             "packing_fraction": bed.packing_fraction,
             "base_angle": bed.base_angle,
-            "density": p.density,
+            "density": bed.density,
             "velocity": p.velocity,
         }
     return json.dumps(_plain_tree(doc), indent=2, allow_nan=False)

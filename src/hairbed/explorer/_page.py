@@ -73,6 +73,7 @@ SI_LABELS: dict[str, str] = {
     "wall_shear_stress": "wall shear stress tau [Pa]",
     "force_per_hair": "force per hair F [N]",
     "stress_ratio": "stress ratio tau/(eta v/H) [-]",
+    "reynolds_number": "gap Reynolds number rho|v|(H-h1 L)/eta [-] (nan: no density)",
 }
 TWIRL_COLUMNS = ("sign", "n", "xi", "omega_eps", "tip_height", "tip_deflection", "tip_angle")
 
@@ -133,7 +134,6 @@ def _table_html(snap: Snapshot) -> str:
     if snap.params.si:
         for key in SI_FIELDS:
             row(f"si_{key}", SI_LABELS[key], [getattr(s.si, key) for s in states])
-        row("si_reynolds_number", "gap Reynolds number [-]", [s.reynolds for s in states])
     out = [
         f'<table class="hb hb-states" data-count="{len(states)}">'
         f"<thead><tr><th>{len(states)} physical state{'s' if len(states) > 1 else ''}</th>"
