@@ -3,9 +3,12 @@
 Subcommands: ``solve``, ``sweep``, ``invert``, ``bistability``, ``calibrate``, ``measure``,
 ``figures``, ``bench``, ``demo``, ``explore``. Run ``hairbed <command> --help`` for the options
 and examples of each. Bad input ends with one line ``hairbed: error: <message>`` on stderr and
-exit status 2; Ctrl-C with the one line ``hairbed: interrupted`` and exit status 130, leaving
-no partial file behind; a warning of the library (a flow outside the model's validity) is the
-one line ``hairbed: warning: <message>`` on stderr.
+exit status 2; a file that cannot be written with ``hairbed: cannot write PATH: <reason>`` and
+a missing optional dependency with ``hairbed: <command> needs <module>: pip install
+'hairbed[<extra>]'``, both exit status 1; Ctrl-C with the one line ``hairbed: interrupted`` and
+exit status 130, leaving no partial file behind; a warning (of the library, such as a flow
+outside the model's validity, or of numpy) is the one line ``hairbed: warning: <message>`` on
+stderr. Negative numbers parse as values everywhere, in exponent form too (``--theta0 -1e-1``).
 
 Examples
 --------
@@ -19,6 +22,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import re
 import sys
 import time
 import warnings
@@ -73,8 +77,60 @@ class UsageError(Exception):
     """Bad command-line input: reported as one line, exit status 2."""
 
 
+class CommandError(Exception):
+    """The command cannot run here (a file not writable, an extra not installed): reported as
+    the one line ``hairbed: <message>``, exit status 1."""
+
+
+class WriteError(CommandError):
+    """``path`` cannot be written: ``hairbed: cannot write PATH: <reason>``."""
+
+    def __init__(self, path: Any, reason: Any) -> None:
+        if isinstance(reason, OSError):
+            reason = reason.strerror or str(reason)
+        super().__init__(f"cannot write {path}: {reason}")
+
+
+#: Optional module (top-level name) -> the extra of pyproject.toml that installs it.
+EXTRAS: dict[str, str] = {
+    "matplotlib": "plot",
+    "xarray": "sweep",
+    "dask": "sweep",
+    "distributed": "sweep",
+    "netCDF4": "sweep",
+    "zarr": "sweep",
+    "pyarrow": "sweep",
+    "tqdm": "sweep",
+    "panel": "app",
+    "bokeh": "app",
+    "param": "app",
+}
+
+
+def _need(module: str, what: str) -> None:
+    """Import ``module`` (an optional dependency) or raise the CommandError naming its extra."""
+    import importlib
+
+    try:
+        importlib.import_module(module)
+    except ImportError:
+        verb = "need" if what.endswith("s") else "needs"
+        extra = EXTRAS[module.split(".")[0]]
+        raise CommandError(f"{what} {verb} {module}: pip install 'hairbed[{extra}]'") from None
+
+
+#: A negative number as a value, not an option: -1, -.5, -1e-1, -1.2:1.2:25, -inf, -nan
+#: (argparse's own pattern, ``^-\d+$|^-\d*\.\d+$``, takes ``-1e-1`` for an option).
+NEGATIVE_NUMBER = re.compile(r"^-(?:\.?\d|inf(?:inity)?$|nan$)", re.IGNORECASE)
+
+
 class _Parser(argparse.ArgumentParser):
-    """argparse, but errors are one line on stderr (no usage block)."""
+    """argparse, but errors are one line on stderr (no usage block) and every negative number
+    (exponent form, SPEC, -inf) is a value."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
 
     def error(self, message: str) -> None:  # type: ignore[override]
         raise UsageError(message)
@@ -127,18 +183,60 @@ def _solution_table(sol: Any) -> str:
     return _table(sol.as_dict(), FIELDS)
 
 
-def _save_figure(fig: Any, path: str) -> None:
-    """Save a matplotlib figure whole or not at all (format from the extension)."""
+def _check_output(path: str, *, directory: bool = False, parents: bool = False) -> None:
+    """Refuse, before any work, an output ``path`` that cannot be written (a WriteError).
+
+    With ``parents`` the missing directories of ``path`` will be created: the nearest one
+    that exists is checked instead.
+    """
+    import os
+    import tempfile
     from pathlib import Path
 
-    from hairbed.safe_files import atomic_path
+    target = Path(path)
+    parent = target.parent if str(target.parent) else Path(".")
+    if parents:
+        while not parent.exists() and parent != parent.parent:
+            parent, target = parent.parent, parent
+    if not parent.exists():
+        raise WriteError(path, f"directory {str(parent)!r} does not exist")
+    if not parent.is_dir():
+        raise WriteError(path, f"{str(parent)!r} is not a directory")
+    if target.is_dir() and not directory:
+        raise WriteError(path, "it is a directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise WriteError(path, f"permission denied in {str(parent)!r}")
+    try:  # what access() cannot tell (a read-only or special file system, root's rights)
+        with tempfile.TemporaryFile(dir=parent, prefix=f".{target.name}.probe"):
+            pass
+    except OSError as exc:
+        raise WriteError(path, exc) from None
+
+
+def _figure_format(path: str, option: str) -> str:
+    """The image format of ``path`` from its extension (PNG without one), checked."""
+    from pathlib import Path
+
+    from matplotlib.backend_bases import FigureCanvasBase
 
     fmt = Path(path).suffix.lstrip(".").lower() or "png"
+    known = FigureCanvasBase.get_supported_filetypes()
+    if fmt not in known:
+        raise UsageError(
+            f"{option} {path}: unknown image format {fmt!r}; use one of .{', .'.join(known)}"
+        )
+    return fmt
+
+
+def _save_figure(fig: Any, path: str, fmt: str) -> None:
+    """Save a matplotlib figure whole or not at all."""
+    from hairbed.safe_files import atomic_path
+
     try:
         with atomic_path(path) as tmp:
             fig.savefig(tmp, dpi=150, format=fmt)
     except OSError as exc:
-        raise UsageError(f"could not write {path}: {exc}") from exc
+        raise WriteError(path, exc) from None
 
 
 # -- shared option groups -------------------------------------------------------------------
@@ -169,6 +267,11 @@ def _bed(args: argparse.Namespace) -> Any | None:
 
 
 def _cmd_solve(args: argparse.Namespace) -> int:
+    fmt = ""
+    if args.plot:  # checked before any work
+        _need("matplotlib", "solve --plot")
+        fmt = _figure_format(args.plot, "--plot")
+        _check_output(args.plot)
     bed = _bed(args)
     if bed is not None:
         if args.omega2 is not None or args.eps is not None or args.theta0 is not None:
@@ -237,8 +340,9 @@ def _cmd_solve(args: argparse.Namespace) -> int:
     if args.plot:
         from hairbed.plotting import fig_states
 
-        _save_figure(fig_states(sols), args.plot)
-        print(f"wrote {args.plot}", file=sys.stderr)
+        _save_figure(fig_states(sols), args.plot, fmt)
+        what = f"{len(sols)} profile{'s' if len(sols) > 1 else ''}"
+        print(f"wrote {args.plot} ({fmt.upper()}, {what})", file=sys.stderr)
     return 0
 
 
@@ -311,12 +415,8 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
     out = args.out
     to_stdout = out is None or out == "-"
     if not to_stdout:
-        sweeps.output_format(out)  # an unknown extension is refused here
-        from pathlib import Path
-
-        parent = Path(out).parent
-        if not parent.is_dir():
-            raise UsageError(f"--out: directory {str(parent)!r} does not exist")
+        kind = sweeps.output_format(out)  # an unknown extension is refused here
+        _check_output(out, directory=kind == "zarr")
     if args.chunks is not None and args.chunks < 1:
         raise UsageError(f"--chunks must be >= 1, got {args.chunks}")
     if args.scheduler is not None and args.chunks is None:
@@ -416,7 +516,10 @@ def _cmd_sweep(args: argparse.Namespace) -> int:
         sweeps.write_csv_stream(ds, sys.stdout)
         sys.stdout.flush()
         return 0
-    points = sweeps.write_dataset(ds, out)
+    try:
+        points = sweeps.write_dataset(ds, out)
+    except OSError as exc:
+        raise WriteError(out, exc) from None
     print(f"wrote {out} ({points} points)", file=sys.stderr)
     return 0
 
@@ -446,6 +549,9 @@ def _distributed(address: str, build: Any, chunks: int, progress: bool) -> Any:
 
 
 def _cmd_invert(args: argparse.Namespace) -> int:
+    sigma = args.sigma
+    if sigma is not None and not (math.isfinite(sigma) and sigma >= 0.0):
+        raise UsageError(f"--sigma must be finite and >= 0, got {sigma:g}")
     bed = _bed(args)
     if bed is not None:
         if args.eps is not None or args.theta0 is not None:
@@ -459,28 +565,66 @@ def _cmd_invert(args: argparse.Namespace) -> int:
             "force_per_hair_N": st.force_per_hair,
             "tip_height_m": st.tip_height,
         }
+        notes = {"velocity": "[m/s]", "omega2": "[-]"}
+        if sigma is not None:
+            # first order through the exact slope of the calibration curve
+            from hairbed import calibration
+
+            m = calibration.measure(bed, args.tip_deflection, sigma=sigma)
+            out["sigma_m"] = sigma
+            out["velocity_stderr"] = m.velocity_stderr
+            out["omega2_stderr"] = m.velocity_stderr / bed.velocity_scale
+            out["wall_shear_stress_stderr_Pa"] = m.wall_shear_stress_stderr
+            notes["velocity_stderr"] = "[m/s], from --sigma"
         if args.json:
             print(json.dumps(_jsonable(out)))
         else:
-            print(_table(out, {"velocity": "[m/s]", "omega2": "[-]"}))
+            print(_table(out, notes))
         return 0
     if args.eps is None:
         raise UsageError("give --eps (or the physical inputs of a bed)")
     theta0 = 0.0 if args.theta0 is None else args.theta0
     sol = hairbed.inverse.solution_from_tip_deflection(args.tip_deflection, args.eps, theta0)
+    stderr = None
+    if sigma is not None:
+        # first order: sigma / |d x1/d omega2|, the exact derivative (hairbed.derivatives)
+        slope = float(hairbed.sensitivity.derivatives_at(sol)["tip_deflection"]["omega2"])
+        stderr = sigma / abs(slope) if slope != 0.0 else math.inf
     if args.json:
-        print(json.dumps(_jsonable(sol.as_dict())))
+        out = sol.as_dict()
+        if stderr is not None:
+            out = {**out, "sigma": sigma, "omega2_stderr": stderr}
+        print(json.dumps(_jsonable(out)))
     else:
-        print(f"omega2 = {float(sol.omega2):.15g}")
+        if stderr is None:
+            print(f"omega2 = {float(sol.omega2):.15g}")
+        else:
+            print(f"omega2 = {float(sol.omega2):.15g} +- {stderr:.3g} (from --sigma {sigma:g})")
         print(_solution_table(sol))
     return 0
 
 
 def _cmd_figures(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    _need("matplotlib", "figures")
     from hairbed.plotting import make_all
 
+    if args.dpi < 1:
+        raise UsageError(f"--dpi must be >= 1, got {args.dpi}")
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise WriteError(args.out, "it exists and is not a directory")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise WriteError(args.out, exc) from None
+    _check_output(str(out / "figure.png"))
     start = time.perf_counter()
-    paths = make_all(args.out, dpi=args.dpi, only=args.only, verbose=not args.quiet)
+    try:
+        paths = make_all(args.out, dpi=args.dpi, only=args.only, verbose=not args.quiet)
+    except OSError as exc:
+        raise WriteError(exc.filename or args.out, exc) from None
     print(f"{len(paths)} figures in {args.out}/ ({time.perf_counter() - start:.1f} s)")
     return 0
 
@@ -494,9 +638,11 @@ def _cmd_bench(args: argparse.Namespace) -> int:
         raise UsageError(f"--n must be >= 2, got {args.n}")
     if args.repeat < 1:
         raise UsageError(f"--repeat must be >= 1, got {args.repeat}")
+    if args.seed < 0:
+        raise UsageError(f"--seed must be >= 0, got {args.seed}")
     out = None if args.json is None else Path(args.json)
-    if out is not None and out.is_dir():
-        raise UsageError(f"--json {out} is a directory")
+    if out is not None:
+        _check_output(args.json, parents=True)  # missing folders are created
 
     def progress(message: str) -> None:
         print(f"{PROG} bench: {message}", file=sys.stderr, flush=True)
@@ -515,13 +661,19 @@ def _cmd_bench(args: argparse.Namespace) -> int:
         try:
             _benchmark.write_json(result, out)
         except OSError as exc:
-            raise UsageError(f"could not write {out}: {exc}") from exc
+            raise WriteError(out, exc) from None
     return 0
 
 
 def _cmd_explore(args: argparse.Namespace) -> int:
     from hairbed.explorer import AppMissingError, serve
 
+    if not 0 <= args.port <= 65535:
+        raise UsageError(f"--port must be in [0, 65535], got {args.port}")
+    for flag in ("session_token_expiration", "check_unused_sessions", "unused_session_lifetime"):
+        if getattr(args, flag) < 1:
+            option = "--" + flag.replace("_", "-")
+            raise UsageError(f"{option} must be >= 1, got {getattr(args, flag)}")
     try:
         serve(
             port=args.port,
@@ -533,7 +685,7 @@ def _cmd_explore(args: argparse.Namespace) -> int:
             unused_session_lifetime=args.unused_session_lifetime,
         )
     except AppMissingError as exc:
-        raise UsageError(str(exc)) from None
+        raise CommandError(_one_line(exc)) from None  # names the module and the app extra
     except OSError as exc:  # the port is taken, the address is not ours, ...
         raise UsageError(
             f"cannot serve on {args.host}:{args.port}: {exc.strerror or exc}"
@@ -823,9 +975,17 @@ def _show_warning(
     file: Any = None,
     line: str | None = None,
 ) -> None:
-    """warnings.showwarning of the command line: one line ``hairbed: warning: ...``."""
+    """warnings.showwarning of the command line: one line ``hairbed: warning: ...``, once per
+    text (a warning raised in a loop is printed once)."""
     text = " ".join(str(message).split())
+    if text in _WARNED:
+        return
+    _WARNED.add(text)
     print(f"{PROG}: warning: {text}", file=sys.stderr)
+
+
+#: Texts of the warnings printed by this run of :func:`main`.
+_WARNED: set[str] = set()
 
 
 # -- parser ---------------------------------------------------------------------------------
@@ -895,7 +1055,7 @@ def build_parser() -> argparse.ArgumentParser:
         formatter_class=_formatter,
         description="Solve on the outer-product grid of --omega2, --eps and --theta0 (or over "
         "wall speeds, given a bed) and write a labelled table. SPEC is a value, a comma list "
-        "or start:stop:num[:log]; write --opt=SPEC for a SPEC that starts with '-'. The output "
+        "or start:stop:num[:log] (negative ones too: --theta0 -1.2:1.2:25). The output "
         "format follows the extension of --out: .nc (netCDF-4, CF attributes), .zarr, .csv "
         "(one row per grid point, units in the header; the default, to stdout) or .parquet; "
         "files are written whole or not at all.",
@@ -966,6 +1126,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="examples:\n"
         "  hairbed invert --tip-deflection 0.6158 --eps 0.5\n"
         "  hairbed invert --tip-deflection 0.3 --eps 0.9 --theta0 0.2 --json\n"
+        "  hairbed invert --tip-deflection 0.6158 --eps 0.5 --sigma 1e-3\n"
         "  hairbed invert --tip-deflection 3.7e-4 --length 1e-3 --radius 50e-6 \\\n"
         "      --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6",
     )
@@ -977,6 +1138,13 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--eps", type=float, help="confinement eps = L/H [-], in [0, 1)")
     p.add_argument("--theta0", type=float, help=THETA0_HELP)
+    p.add_argument(
+        "--sigma",
+        type=float,
+        metavar="S",
+        help="standard error of the tip deflection (same unit): adds the standard error of "
+        "omega2 (and of the wall speed and stress, given a bed), to first order",
+    )
     p.add_argument("--json", action="store_true", help="print JSON")
     _add_bed_options(p, velocity=False)
     p.set_defaults(func=_cmd_invert)
@@ -1168,28 +1336,57 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status (0 ok, 2 bad input, 130 Ctrl-C).
+    """Run the command line; returns the exit status (0 ok, 1 a file not writable or an extra
+    not installed, 2 bad input, 130 Ctrl-C).
 
-    Warnings of the library (such as :class:`hairbed.ModelValidityWarning`) are printed as one
-    line ``hairbed: warning: <message>`` on stderr.
+    Warnings (of the library, such as :class:`hairbed.ModelValidityWarning`, or of numpy) are
+    printed as one line ``hairbed: warning: <message>`` on stderr, each text once.
     """
-    with warnings.catch_warnings():
-        warnings.showwarning = _show_warning
-        return _run(argv)
+    _WARNED.clear()
+    try:
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            return _run(argv)
+    except KeyboardInterrupt:  # between the handlers of _run (e.g. leaving the warnings block)
+        print(f"{PROG}: interrupted", file=sys.stderr)
+        return 130
+
+
+def _one_line(exc: BaseException) -> str:
+    return " ".join(str(exc).split())  # one line, whatever the library wrote
 
 
 def _run(argv: Sequence[str] | None) -> int:
-    parser = build_parser()
+    command = "hairbed"
     try:
+        parser = build_parser()
         args = parser.parse_args(argv)
         if args.command is None:
             parser.print_help()
             return 0
+        command = args.command
         return int(args.func(args))
     except (UsageError, ValueError) as exc:
-        message = " ".join(str(exc).split())  # one line, whatever the library wrote
-        print(f"{PROG}: error: {message}", file=sys.stderr)
+        print(f"{PROG}: error: {_one_line(exc)}", file=sys.stderr)
         return 2
+    except ArithmeticError as exc:  # an overflow the library did not catch (a huge input)
+        print(f"{PROG}: error: numerical overflow ({_one_line(exc)})", file=sys.stderr)
+        return 2
+    except CommandError as exc:
+        print(f"{PROG}: {_one_line(exc)}", file=sys.stderr)
+        return 1
+    except ImportError as exc:  # an optional dependency missing deeper down
+        name = (getattr(exc, "name", None) or "").split(".")[0]
+        if "pip install" in str(exc):
+            print(f"{PROG}: {_one_line(exc)}", file=sys.stderr)
+        elif name in EXTRAS:
+            print(
+                f"{PROG}: {command} needs {name}: pip install 'hairbed[{EXTRAS[name]}]'",
+                file=sys.stderr,
+            )
+        else:
+            raise
+        return 1
     except BrokenPipeError:  # e.g. `hairbed sweep ... | head`
         return 0
     except KeyboardInterrupt:  # Ctrl-C: files are written whole or not at all

@@ -26,6 +26,7 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
+from ..safe_files import atomic_path
 from .extra import (
     fig_bistability,
     fig_calibration,
@@ -122,7 +123,8 @@ def make_all(
             continue
         fig = func()
         path = out / f"{name}.png"
-        fig.savefig(path, dpi=dpi)
+        with atomic_path(path) as tmp:  # whole or not at all
+            fig.savefig(tmp, dpi=dpi, format="png")
         paths.append(path)
         if verbose:
             print(f"wrote {path}")
