@@ -24,11 +24,11 @@ SMALL = {
     "fig_theta0s": {"theta0s": (-0.5, 0.0, 0.5), "num": 60},
     "fig_profiles": {"omega2s": (1.0, 8.0), "num": 20},
     "fig_twirling": {"omega2": 20.0},
-    "fig_bistability": {"n_theta": 3, "n_eps": 4},
+    "fig_bistability": {"n_theta": 40, "n_eps": 4},
     "fig_hysteresis": {"num": 40},
     "fig_rheology": {"eps_values": (0.5,), "num": 30},
     "fig_calibration": {"eps_values": (0.5,), "num": 40},
-    "fig_physical_units": {},
+    "fig_physical_units": {"num": 21, "base_angles": (0.0, 0.3)},
     "fig_fd_convergence": {"omega2s": (2.0,), "nums": (10, 20, 40)},
     "fig_speed": {"n": 200, "rows": {1, 3, 6}, "repeat": 1},
 }
@@ -61,7 +61,7 @@ def test_curves_are_the_exact_solution():
 
 def test_hysteresis_jumps_inside_the_window():
     fig = plotting.fig_hysteresis(num=200)
-    up = fig.axes[0].get_lines()[1]
+    (up,) = [ln for ln in fig.axes[0].get_lines() if ln.get_label().startswith("ramp up")]
     x, y = up.get_xdata(), up.get_ydata()
     j = int(np.argmax(np.abs(np.diff(y))))
     # the ramp up jumps at the upper fold of theory.md §5 (omega^2 = 1.4859)
@@ -117,3 +117,277 @@ def test_core_never_imports_matplotlib():
         "assert 'matplotlib' not in sys.modules, 'core imported matplotlib'"
     )
     subprocess.run([sys.executable, "-c", code], check=True, timeout=60)
+
+
+# -- issue 13, item 5: parameters, ax, and the fixes that can be checked ----------------------
+
+#: Axes each figure draws into when given ``ax`` (twirling: at least one per state).
+PANELS = {
+    "fig_pendulum": 2,
+    "fig_phase_portrait": 2,
+    "fig_solution": 3,
+    "fig_bistability": 2,
+    "fig_rheology": 2,
+    "fig_calibration": 2,
+    "fig_physical_units": 2,
+    "fig_twirling": 8,
+}
+
+
+@pytest.mark.parametrize("name", sorted(SMALL))
+def test_figure_draws_into_given_axes(name):
+    from hairbed.plotting._style import new_figure
+
+    k = PANELS.get(name, 1)
+    size = (9.0, 8.0) if name == "fig_speed" else (3.0 * k, 3.0)  # room for its row labels
+    host, axes = new_figure(1, k, size=size)
+    ax = axes if k == 1 else list(axes)
+    fig = getattr(plotting, name)(**SMALL[name], ax=ax)
+    assert fig is host
+    first = axes if k == 1 else axes[0]
+    assert first.has_data() or first.patches or first.lines
+    fig.canvas.draw()
+
+
+@pytest.mark.parametrize("name", ["fig_hysteresis", "fig_solution", "fig_calibration"])
+def test_wrong_ax_is_a_type_error_naming_ax(name):
+    with pytest.raises(TypeError, match="ax must be"):
+        getattr(plotting, name)(**SMALL[name], ax="axes")
+
+
+@pytest.mark.parametrize("name", sorted(SMALL))
+def test_no_text_or_legend_outside(name):
+    """Texts of an axes end inside it; legends inside the figure."""
+    fig = getattr(plotting, name)(**SMALL[name])
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    fbox = fig.bbox
+    for ax in fig.axes:
+        box = ax.get_window_extent(renderer)
+        for text in ax.texts:
+            if not text.get_text() or not text.get_visible():
+                continue
+            ext = text.get_window_extent(renderer)
+            assert box.x0 - 2 <= ext.x0 and ext.x1 <= box.x1 + 2, (name, text.get_text())
+        leg = ax.get_legend()
+        if leg is not None:
+            ext = leg.get_window_extent(renderer)
+            assert fbox.x0 - 1 <= ext.x0 and ext.x1 <= fbox.x1 + 1, name
+            assert fbox.y0 - 1 <= ext.y0 and ext.y1 <= fbox.y1 + 1, name
+
+
+def _labels(ax):
+    return [t.get_text() for t in ax.get_legend().get_texts()]
+
+
+def test_solution_weak_limit_is_its_curve_and_a_has_its_eps_key():
+    fig = plotting.fig_solution(eps_values=(0.0, 0.6), num=60)
+    a, b = fig.axes[0], fig.axes[1]
+    assert b.get_xscale() == "log"
+    (weak,) = [ln for ln in b.get_lines() if "omega_\\epsilon^2/2" in ln.get_label()]
+    x, y = np.asarray(weak.get_xdata()), np.asarray(weak.get_ydata())
+    assert x.size > 10  # a curve, not a straight segment on the log axis
+    np.testing.assert_allclose(y, x / 2.0)
+    # (a): a legend of the eps colours besides that of the line styles
+    legends = [c for c in a.get_children() if isinstance(c, matplotlib.legend.Legend)]
+    texts = {t.get_text() for leg in legends for t in leg.get_texts()}
+    assert {r"$\epsilon = 0$", r"$\epsilon = 0.6$"} <= texts
+
+
+def test_solution_weak_limit_agrees_with_the_solver():
+    """The dotted curve is the weak-forcing limit of the exact branch: xi -> omega_eps^2/2."""
+    s = hairbed.solve(1e-3, 0.0)
+    assert float(s.xi) == pytest.approx(float(s.omega_eps) ** 2 / 2.0, rel=1e-3)
+
+
+def test_pendulum_legend_covers_no_orbit():
+    fig = plotting.fig_pendulum()
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    box = ax.get_legend().get_window_extent(fig.canvas.get_renderer())
+    for line in ax.get_lines():
+        pts = ax.transData.transform(np.column_stack([line.get_xdata(), line.get_ydata()]))
+        inside = (
+            (pts[:, 0] > box.x0)
+            & (pts[:, 0] < box.x1)
+            & (pts[:, 1] > box.y0)
+            & (pts[:, 1] < box.y1)
+        )
+        assert not inside.any(), line.get_label()
+
+
+def test_bistability_legend_shading_and_cusp():
+    fig = plotting.fig_bistability(n_theta=200, n_eps=4)
+    ax = fig.axes[0]
+    labels = _labels(ax)
+    assert labels == [  # no entry for a table that is not drawn
+        "three states (bistable)",
+        r"cusp $\epsilon_c(\theta_0)$",
+        "slices drawn in (b)",
+    ]
+    assert "slices drawn in (b)" in labels
+    shade = ax.collections[0].get_paths()[0].vertices
+    assert shade[:, 0].min() == pytest.approx(-np.pi / 2, abs=1e-4)
+    assert shade[:, 0].max() == pytest.approx(0.0, abs=1e-12)
+    assert ax.get_xlim() == pytest.approx((-np.pi / 2, 0.0))
+    (cusp_line,) = [ln for ln in ax.get_lines() if "cusp" in ln.get_label()]
+    assert cusp_line.get_marker() in ("None", "", None) and cusp_line.get_xdata().size == 200
+    # the line is the cusp of hairbed.branches where it is drawn
+    th = np.asarray(cusp_line.get_xdata())
+    i = 100
+    assert cusp_line.get_ydata()[i] == pytest.approx(float(hairbed.branches.cusp(th[i])))
+
+
+def test_hysteresis_middle_branch_is_dashed_and_unstable():
+    from hairbed.stability import linear_stability
+
+    fig = plotting.fig_hysteresis(num=40)
+    ax = fig.axes[0]
+    unstable = [ln for ln in ax.get_lines() if ln.get_gid() == "unstable"]
+    stable = [ln for ln in ax.get_lines() if ln.get_gid() == "stable"]
+    assert len(unstable) == 1 and len(stable) == 2
+    assert unstable[0].get_linestyle() == "--"
+    assert all(ln.get_linestyle() == "-" for ln in stable)
+    lo, hi = hairbed.branches.bistable_window(0.9, -1.5).lower, 1.4859
+    w = np.asarray(unstable[0].get_xdata())
+    assert lo - 1e-6 <= w.min() and w.max() <= hi + 1e-3  # inside the window
+    # an independent state in the middle, found by root finding, is unstable
+    mid = hairbed.solve(0.5 * (lo + hi), 0.9, -1.5, root="mid")
+    assert not linear_stability(mid, num=100, k=1).stable
+    assert {"stable states", "unstable states"} <= set(_labels(ax))
+
+
+def test_profiles_say_which_line_is_numerical():
+    fig = plotting.fig_profiles(omega2s=(1.0,), num=20)
+    ax = fig.axes[0]
+    labels = _labels(ax)
+    assert any(t.startswith("numerical") for t in labels)
+    assert any(t.startswith("exact") for t in labels)
+    assert "numerical" in _labels(ax.child_axes[0])
+
+
+def test_calibration_error_axis_and_tau():
+    fig = plotting.fig_calibration(eps_values=(0.5, 0.9), num=40)
+    axe = fig.axes[1]
+    lo, hi = axe.get_ylim()
+    assert lo >= 1e-5 and hi <= 10.0  # the errors lie in (0, 1]: no empty decades above
+    dashed = [ln for ln in axe.get_lines() if ln.get_linestyle() == "--" and ln.get_xdata().size]
+    assert len(dashed) == 2  # the error in tau, one per eps
+    # and it does not depend on eps (the same curve of x1)
+    x0, y0 = dashed[0].get_xdata(), dashed[0].get_ydata()
+    np.testing.assert_allclose(np.interp(x0, dashed[1].get_xdata(), dashed[1].get_ydata()), y0,
+                               rtol=1e-6)  # fmt: skip
+
+
+def test_calibration_tau_error_against_the_bed():
+    """The relative error in tau of the figure is that of HairBed's two stress calibrations."""
+    from hairbed.units import HairBed
+
+    bed = HairBed(length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=2e-3,
+                  viscosity=1.0, spacing=400e-6)  # fmt: skip
+    d = 0.3e-3
+    exact = bed.wall_shear_stress_from_tip_deflection(d)
+    lin = bed.linear_wall_shear_stress_from_tip_deflection(d)
+    fig = plotting.fig_calibration(eps_values=(bed.eps,), num=400)
+    (tau,) = [ln for ln in fig.axes[1].get_lines() if ln.get_linestyle() == "--" and
+              ln.get_xdata().size]  # fmt: skip
+    got = np.interp(0.3, tau.get_xdata(), tau.get_ydata())
+    assert got == pytest.approx(abs(lin / exact - 1.0), rel=2e-2)
+
+
+def test_physical_units_plots_displacement_and_names_the_bed():
+    fig = plotting.fig_physical_units(num=21, base_angles=(0.3,), youngs_modulus=2e6)
+    ax = fig.axes[0]
+    assert "displacement" in ax.get_ylabel()
+    line = ax.get_lines()[0]
+    v, d = np.asarray(line.get_xdata()), np.asarray(line.get_ydata())
+    assert d[np.argmin(np.abs(v))] == pytest.approx(0.0, abs=1e-9)  # zero at rest
+    text = " ".join(t.get_text() for t in ax.texts)
+    assert "1 mm" in text and "2e+06 Pa" in text and "Pa s" in text
+
+
+def test_rheology_log_ticks_are_plain_numbers():
+    fig = plotting.fig_rheology(eps_values=(0.3, 0.9), num=30)
+    ax = fig.axes[0]
+    fig.canvas.draw()
+    labels = [t.get_text() for t in ax.get_yticklabels() if t.get_text()]
+    assert labels[:3] == ["1", "1.2", "1.5"] and "10" in labels
+    assert not any("^" in t for t in labels)
+
+
+def test_speed_values_fit_the_axis():
+    from hairbed._benchmark import ROWS, Row
+
+    values = {k: 0.5 * (ROWS[k][2] or 0.2) for k in ROWS}
+    values["1"] = 300.0  # far beyond its target: its text needs a wider axis
+    fig = plotting.fig_speed(results=[Row.of(k, v) for k, v in values.items()])
+    ax = fig.axes[0]
+    fig.canvas.draw()
+    right = ax.get_window_extent().x1
+    assert all(t.get_window_extent().x1 <= right + 1 for t in ax.texts)
+    labels = [t.get_text() for t in ax.get_yticklabels()]
+    assert any("-1.5" in t for t in labels)  # row 2 says it includes theta0 < 0
+
+
+def test_figure_parameters_and_settings():
+    assert plotting.parameters("hysteresis") == {"eps": 0.9, "theta0": -1.5, "num": 240}
+    got = plotting.parse_settings(["eps=0.95", "theta0=-1.2", "num=30"], only=["hysteresis"])
+    assert got == {"hysteresis": {"eps": 0.95, "theta0": -1.2, "num": 30}}
+    tup = plotting.parse_settings(["eps_values=0.3,0.9"], only=["rheology", "solution"])
+    assert tup == {"solution": {"eps_values": (0.3, 0.9)}, "rheology": {"eps_values": (0.3, 0.9)}}
+    for bad, words in [
+        (["eps"], "KEY=VALUE"),
+        (["nope=1"], "no figure"),
+        (["num=1.5"], "integer"),
+        (["eps=x"], "number"),
+    ]:
+        with pytest.raises(ValueError, match=words):
+            plotting.parse_settings(bad, only=["hysteresis"])
+
+
+@pytest.mark.parametrize(
+    ("name", "kwargs"),
+    [
+        ("fig_hysteresis", {"eps": 0.5, "theta0": 0.2}),  # no window
+        ("fig_hysteresis", {"num": 0}),
+        ("fig_solution", {"num": -3}),
+        ("fig_physical_units", {"max_velocity": -1.0}),
+        ("fig_model", {"eps": 0.0}),
+        ("fig_pendulum", {"omega2": 0.0}),
+        ("fig_fd_convergence", {"nums": (10, 1)}),
+    ],
+)
+def test_figure_parameters_are_checked(name, kwargs):
+    with pytest.raises(ValueError) as info:
+        getattr(plotting, name)(**kwargs)
+    message = str(info.value)
+    assert any(k in message for k in (*kwargs, "window", "nums[1]")), message
+
+
+def test_figures_command_passes_settings(tmp_path):
+    cmd = [
+        sys.executable,
+        "-m",
+        "hairbed",
+        "figures",
+        "--out",
+        str(tmp_path),
+        "--only",
+        "hysteresis",
+        "model",
+        "--set",
+        "eps=0.95",
+        "--set",
+        "theta0=-1.2",
+        "--dpi",
+        "40",
+    ]
+    out = subprocess.run(cmd, capture_output=True, text=True, timeout=300)  # fmt: skip
+    assert out.returncode == 0, out.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["hysteresis.png", "model.png"]
+    bad = subprocess.run([*cmd[:-2], "--set", "eps=1.5"], capture_output=True, text=True,
+                         timeout=300)  # fmt: skip
+    assert bad.returncode == 2
+    lines = bad.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("hairbed: error: ") and "eps" in lines[0]
+    assert "Traceback" not in bad.stderr

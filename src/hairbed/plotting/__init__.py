@@ -21,8 +21,10 @@ Write every figure into a folder:
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+import inspect
+from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
+from typing import Any
 
 from matplotlib.figure import Figure
 
@@ -65,10 +67,12 @@ __all__ = [
     "fig_theta0s",
     "fig_twirling",
     "make_all",
+    "parameters",
+    "parse_settings",
 ]
 
 #: File stem -> figure function, in the order of the guide (paper first).
-FIGURES: dict[str, Callable[[], Figure]] = {
+FIGURES: dict[str, Callable[..., Figure]] = {
     "model": fig_model,
     "pendulum": fig_pendulum,
     "phase_portrait": fig_phase_portrait,
@@ -86,12 +90,92 @@ FIGURES: dict[str, Callable[[], Figure]] = {
 }
 
 
+def _selected(only: Iterable[str] | None) -> list[str]:
+    wanted = None if only is None else {name.removeprefix("fig_") for name in only}
+    unknown = set() if wanted is None else wanted - set(FIGURES)
+    if unknown:
+        raise ValueError(f"unknown figure name(s) {sorted(unknown)}; choose from {list(FIGURES)}")
+    return [name for name in FIGURES if wanted is None or name in wanted]
+
+
+def parameters(name: str) -> dict[str, Any]:
+    """The parameters of figure ``name`` that can be set (numbers or tuples of numbers), with
+    their defaults.
+
+    >>> parameters("hysteresis")
+    {'eps': 0.9, 'theta0': -1.5, 'num': 240}
+    """
+    sig = inspect.signature(FIGURES[name.removeprefix("fig_")])
+    out = {}
+    for p in sig.parameters.values():
+        d = p.default
+        number = isinstance(d, (int, float)) and not isinstance(d, bool)
+        numbers = isinstance(d, tuple) and d and all(isinstance(v, (int, float)) for v in d)
+        if number or numbers:
+            out[p.name] = d
+    return out
+
+
+def _convert(text: str, default: Any, key: str) -> Any:
+    kind = type(default[0]) if isinstance(default, tuple) else type(default)
+    items = [t.strip() for t in text.split(",")] if isinstance(default, tuple) else [text.strip()]
+    values = []
+    for item in items:
+        try:
+            values.append(int(item) if kind is int else float(item))
+        except ValueError:
+            form = "integers" if kind is int else "numbers"
+            form = f"a comma list of {form}" if isinstance(default, tuple) else form[:-1]
+            form = form.replace("integer", "an integer").replace("number", "a number", 1)
+            raise ValueError(f"--set {key}: {text!r} is not {form}") from None
+    return tuple(values) if isinstance(default, tuple) else values[0]
+
+
+def parse_settings(
+    settings: Iterable[str], only: Iterable[str] | None = None
+) -> dict[str, dict[str, Any]]:
+    """The keyword arguments of each figure from ``KEY=VALUE`` texts (``hairbed figures
+    --set``): a value goes to every figure among ``only`` (default all) that has a parameter
+    KEY, converted to its type (a comma list for a tuple).
+
+    Raises
+    ------
+    ValueError
+        For a text without ``=``, a key that no selected figure takes (naming those it could
+        be) or a value that is not a number of the parameter's kind.
+
+    Examples
+    --------
+    >>> parse_settings(["eps=0.8", "theta0=-1.2"], only=["hysteresis", "model"])
+    {'model': {'eps': 0.8, 'theta0': -1.2}, 'hysteresis': {'eps': 0.8, 'theta0': -1.2}}
+    """
+    names = _selected(only)
+    table = {name: parameters(name) for name in names}
+    out: dict[str, dict[str, Any]] = {name: {} for name in names}
+    for text in settings:
+        key, sep, value = text.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise ValueError(f"--set takes KEY=VALUE, got {text!r}")
+        takers = [name for name in names if key in table[name]]
+        if not takers:
+            known = sorted({k for params in table.values() for k in params})
+            raise ValueError(
+                f"--set {key}: no figure among {', '.join(names)} takes {key!r}; "
+                f"they take {', '.join(known)}"
+            )
+        for name in takers:
+            out[name][key] = _convert(value, table[name][key], key)
+    return {name: kw for name, kw in out.items() if kw}
+
+
 def make_all(
     out_dir: str | Path,
     *,
     dpi: int = 150,
     only: Iterable[str] | None = None,
     verbose: bool = True,
+    settings: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> list[Path]:
     """Write every figure as ``<out_dir>/<name>.png`` and return the paths written.
 
@@ -105,23 +189,28 @@ def make_all(
         Names (keys of :data:`FIGURES`, with or without the ``fig_`` prefix) to make.
     verbose : bool, optional
         Print one line per figure on stdout.
+    settings : mapping, optional
+        Keyword arguments per figure name (as from :func:`parse_settings`).
 
     Returns
     -------
     list of Path
         The files written.
     """
+    names = _selected(only)
+    settings = settings or {}
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    wanted = None if only is None else {name.removeprefix("fig_") for name in only}
-    unknown = set() if wanted is None else wanted - set(FIGURES)
-    if unknown:
-        raise ValueError(f"unknown figure name(s) {sorted(unknown)}; choose from {list(FIGURES)}")
     paths = []
-    for name, func in FIGURES.items():
-        if wanted is not None and name not in wanted:
-            continue
-        fig = func()
+    for name in names:
+        kwargs = dict(settings.get(name, {}))
+        try:
+            fig = FIGURES[name](**kwargs)
+        except (ValueError, TypeError) as exc:
+            if not kwargs:
+                raise
+            given = ", ".join(f"{k}={v}" for k, v in kwargs.items())
+            raise ValueError(f"figure {name} ({given}): {exc}") from None
         path = out / f"{name}.png"
         with atomic_path(path) as tmp:  # whole or not at all
             fig.savefig(tmp, dpi=dpi, format="png")

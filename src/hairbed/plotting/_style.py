@@ -7,10 +7,12 @@ from collections.abc import Callable
 from typing import Any
 
 import matplotlib
+import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-__all__ = ["RC", "colors", "new_figure", "styled"]
+__all__ = ["RC", "check_count", "colors", "figure_axes", "new_figure", "styled"]
 
 RC: Any = {  # rcParams (matplotlib types its keys as literals)
     "font.size": 10,
@@ -48,6 +50,52 @@ def new_figure(
     FigureCanvasAgg(fig)
     axes = fig.subplots(nrows, ncols, **kw)
     return fig, axes
+
+
+def figure_axes(
+    ax: Any,
+    nrows: int = 1,
+    ncols: int = 1,
+    *,
+    size: tuple[float, float] = (5.0, 3.8),
+    at_least: bool = False,
+    **kw: Any,
+) -> tuple[Any, Any]:
+    """The figure and axes a figure function draws into: new ones when ``ax`` is None, else
+    those given (one Axes for a one-panel figure, a sequence of ``nrows * ncols`` Axes, or at
+    least that many with ``at_least``, for a figure of several panels).
+
+    Raises
+    ------
+    TypeError
+        If ``ax`` is not an Axes (or a sequence of the right number of Axes).
+    """
+    count = nrows * ncols
+    if ax is None:
+        return new_figure(nrows, ncols, size=size, **kw)
+    if count == 1 and not at_least:
+        if not isinstance(ax, Axes):
+            raise TypeError(f"ax must be a matplotlib Axes, got {type(ax).__name__}")
+        return ax.figure, ax
+    axes = [ax] if isinstance(ax, Axes) else list(np.ravel(np.asarray(ax, dtype=object)))
+    enough = len(axes) >= count if at_least else len(axes) == count
+    if not enough or not all(isinstance(a, Axes) for a in axes):
+        need = f"at least {count}" if at_least else f"{count}"
+        raise TypeError(f"ax must be a sequence of {need} matplotlib Axes (one per panel)")
+    arr = np.empty(len(axes), dtype=object)
+    arr[:] = axes
+    if kw.get("squeeze", True) and not at_least and (nrows == 1 or ncols == 1):
+        return axes[0].figure, arr
+    return axes[0].figure, arr.reshape(-1, ncols) if not at_least else arr.reshape(1, -1)
+
+
+def check_count(value: Any, name: str, minimum: int = 1) -> int:
+    """An integer count >= ``minimum`` (ValueError/TypeError naming ``name`` otherwise)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise TypeError(f"{name} must be an integer >= {minimum}, got {value!r}")
+    if value < minimum:
+        raise ValueError(f"{name} must be >= {minimum}, got {int(value)}")
+    return int(value)
 
 
 def styled(func: Callable[..., Figure]) -> Callable[..., Figure]:

@@ -16,7 +16,7 @@ from matplotlib.patches import FancyArrowPatch, Patch
 
 import hairbed
 
-from ._style import colors, new_figure, styled
+from ._style import check_count, colors, figure_axes, new_figure, styled
 
 __all__ = [
     "fig_bistability",
@@ -41,12 +41,16 @@ def _window(eps: float, theta0: float) -> tuple[float, float]:
 
 
 @styled
-def fig_bistability(n_theta: int = 12, n_eps: int = 24) -> Figure:
+def fig_bistability(
+    n_theta: int = 200, n_eps: int = 24, theta0s: tuple[float, ...] = (-1.5, -1.0), ax: Any = None
+) -> Figure:
     """Where the hair has three physical states: the cusp and the windows of forcing.
 
-    (a) The cusp eps_c(theta0) in the (theta0, eps) plane: above it (shaded) the physical
-    branch folds and a window of omega^2 with three states opens. (b) That window against eps
-    for two base angles (shaded between the lower and upper folds).
+    (a) The cusp eps_c(theta0) over the whole range of base angles leaning into the flow,
+    -pi/2 < theta0 <= 0 (``n_theta`` points): above it (shaded) the physical branch folds and
+    a window of omega^2 with three states opens; the vertical lines are the slices drawn in
+    (b). (b) That window against eps for the base angles ``theta0s`` (shaded between the
+    lower and upper folds, ``n_eps`` points from the cusp to eps = 0.985). ``ax``: two Axes.
 
     Examples
     --------
@@ -56,23 +60,33 @@ def fig_bistability(n_theta: int = 12, n_eps: int = 24) -> Figure:
     """
     from hairbed.branches import cusp
 
-    fig, (ax, axw) = new_figure(1, 2, size=(9.4, 3.9))
-    th = np.linspace(-1.5, -0.2, n_theta)
+    n_theta = check_count(n_theta, "n_theta", 2)
+    n_eps = check_count(n_eps, "n_eps", 2)
+    fig, (ax, axw) = figure_axes(ax, 1, 2, size=(9.4, 3.9))
+    lo = -0.5 * np.pi
+    # denser towards both ends, where eps_c runs to 0 and to 1
+    th = lo + (0.0 - lo) * 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, n_theta)))
+    th = np.clip(th, lo + 1e-6, 0.0)
     ec = np.asarray(cusp(th), dtype=float)
     ax.fill_between(th, ec, 1.0, color="C1", alpha=0.3, lw=0, label="three states (bistable)")
-    ax.plot(th, ec, "k-", marker="o", ms=3, label=r"cusp $\epsilon_c(\theta_0)$")
-    for k, (t0, e0) in enumerate(_TABLE):
-        ax.plot(
-            t0, e0, "s", color="C3", ms=5, label="windows of (b) and table" if k == 0 else None
-        )
-    ax.set_xlim(-np.pi / 2, 0.05)
-    ax.set_ylim(0.4, 1.0)
+    ax.plot(th, ec, "k-", lw=1.6, label=r"cusp $\epsilon_c(\theta_0)$")
+    cols = colors(len(theta0s), "coolwarm") if len(theta0s) > 2 else ["C0", "C3"][: len(theta0s)]
+    for t0, c in zip(theta0s, cols):
+        e_c = float(cusp(t0))
+        ax.plot([t0, t0], [e_c, 0.985], color=c, lw=2.0)
+    if len(theta0s):
+        ax.plot([], [], color="0.3", lw=2.0, label="slices drawn in (b)")
+    ax.set_xlim(lo, 0.0)
+    ax.set_ylim(0.0, 1.0)
+    ax.set_xticks([lo, -1.0, -0.5, 0.0], [r"$-\pi/2$", "-1", "-0.5", "0"])
     ax.set_xlabel(r"base angle $\theta_0$ [rad]")
     ax.set_ylabel(r"confinement $\epsilon = L/H$ [-]")
     ax.set_title("(a) bistable region (hair leaning into the flow)")
     ax.legend(loc="lower right")
-    for t0, c in zip((-1.5, -1.0), ("C0", "C3")):
+    for t0, c in zip(theta0s, cols):
         e_c = float(cusp(t0))
+        if not e_c < 0.985:
+            continue
         eps = np.linspace(e_c + 1e-3, 0.985, n_eps)
         win = np.array([_window(e, t0) for e in eps])
         axw.fill_between(eps, win[:, 0], win[:, 1], color=c, alpha=0.3, lw=0)
@@ -88,12 +102,16 @@ def fig_bistability(n_theta: int = 12, n_eps: int = 24) -> Figure:
 
 
 @styled
-def fig_hysteresis(eps: float = 0.9, theta0: float = -1.5, num: int = 240) -> Figure:
+def fig_hysteresis(
+    eps: float = 0.9, theta0: float = -1.5, num: int = 240, ax: Any = None
+) -> Figure:
     """Hysteresis loop of the tip deflection under a slow ramp of the forcing up and down.
 
-    The dotted curve is the whole physical branch (its middle, between the folds, is
-    unstable); the ramp up follows the low state to the upper fold and jumps, the ramp down
-    follows the high state to the lower fold and jumps back.
+    The thin curve is the whole physical branch, split at its folds into the low, middle and
+    high states; each piece is solid where :func:`hairbed.stability.linear_stability` finds
+    its state stable and dashed where unstable (the middle one). The ramp up follows the low
+    state to the upper fold and jumps, the ramp down follows the high state to the lower fold
+    and jumps back.
 
     Examples
     --------
@@ -101,25 +119,51 @@ def fig_hysteresis(eps: float = 0.9, theta0: float = -1.5, num: int = 240) -> Fi
     >>> len(fig.axes)
     1
     """
+    from hairbed.stability import linear_stability
+
+    num = check_count(num, "num", 3)
     lo, hi = _window(eps, theta0)
+    if not np.isfinite(lo):
+        raise ValueError(
+            f"no bistable window at eps = {eps:g}, theta0 = {theta0:g}: no hysteresis (needs "
+            "theta0 < 0 and eps above the cusp, hairbed bistability)"
+        )
     up = np.linspace(0.3 * lo, 1.4 * hi, num)
     down = up[::-1]
     sweep = hairbed.quasistatic.sweep
     s_up, s_down = sweep(up, eps, theta0, start="low"), sweep(down, eps, theta0, start="high")
     x_up, x_down = np.asarray(s_up.tip_deflection), np.asarray(s_down.tip_deflection)
-    branch = hairbed.from_parameter(np.linspace(-12, 6, 1200), eps, theta0)
-    fig, ax = new_figure(size=(5.8, 4.2))
+    fold_t = np.sort(np.asarray(hairbed.branches.folds(eps, theta0).t, dtype=float))
+    fig, ax = figure_axes(ax, size=(5.8, 4.2))
     ax.axvspan(lo, hi, color="0.9", lw=0, label="three states")
-    ax.plot(
-        branch.omega2,
-        branch.tip_deflection,
-        ":",
-        color="0.3",
-        lw=1.2,
-        label="physical branch (all states)",
+    # the branch in t: low states below the first fold, middle between, high above
+    pieces = (
+        np.linspace(fold_t[0] - 14.0, fold_t[0], 400),
+        np.linspace(fold_t[0], fold_t[1], 400),
+        np.linspace(fold_t[1], fold_t[1] + 10.0, 400),
     )
-    ax.plot(up, x_up, "-", color="C3", lw=3.2, alpha=0.7, label=r"ramp up ($\omega^2\uparrow$)")
-    ax.plot(down, x_down, "-", color="C0", lw=1.6, label=r"ramp down ($\omega^2\downarrow$)")
+    labelled = set()
+    for t in pieces:
+        branch = hairbed.from_parameter(t, eps, theta0)
+        middle = hairbed.from_parameter(float(t[t.size // 2]), eps, theta0)
+        result = linear_stability(middle, num=100, k=1)
+        stable = bool(result.stable) if result.success else None
+        style = {True: "-", False: "--", None: ":"}[stable]
+        label = {True: "stable states", False: "unstable states", None: "not classified"}[stable]
+        ax.plot(
+            branch.omega2,
+            branch.tip_deflection,
+            style,
+            color="0.25",
+            lw=1.1,
+            label=None if label in labelled else label,
+            gid="unstable" if stable is False else "stable" if stable else None,
+        )
+        labelled.add(label)
+    ax.plot(up, x_up, "-", color="C3", lw=3.2, alpha=0.6, label=r"ramp up ($\omega^2\uparrow$)")
+    ax.plot(
+        down, x_down, "-", color="C0", lw=1.6, alpha=0.8, label=r"ramp down ($\omega^2\downarrow$)"
+    )
     for xs, ws, c in ((x_up, up, "C3"), (x_down, down, "C0")):
         j = int(np.nanargmax(np.abs(np.diff(xs))))  # the jump is the largest step
         ax.add_patch(
@@ -142,7 +186,10 @@ def fig_hysteresis(eps: float = 0.9, theta0: float = -1.5, num: int = 240) -> Fi
 
 @styled
 def fig_rheology(
-    eps_values: tuple[float, ...] = (0.3, 0.6, 0.9), theta0: float = 0.5, num: int = 200
+    eps_values: tuple[float, ...] = (0.3, 0.6, 0.9),
+    theta0: float = 0.5,
+    num: int = 200,
+    ax: Any = None,
 ) -> Figure:
     """Wall stress of the bed against forcing: stress ratio and rectification.
 
@@ -156,8 +203,11 @@ def fig_rheology(
     >>> len(fig.axes)
     2
     """
+    from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator
+
+    num = check_count(num, "num", 2)
     w2 = np.logspace(-2, 3, num)
-    fig, (ax, axr) = new_figure(1, 2, size=(9.4, 3.9))
+    fig, (ax, axr) = figure_axes(ax, 1, 2, size=(9.4, 3.9))
     for eps, c in zip(eps_values, colors(len(eps_values))):
         ax.plot(
             w2,
@@ -175,6 +225,13 @@ def fig_rheology(
     ax.axhline(1.0, color="0.5", lw=0.7)
     ax.set_xscale("log")
     ax.set_yscale("log")
+    # readable ticks on a log axis spanning less than a decade or two: 1, 1.5, 2, 3, 5, 10, ...
+    top = 1.0 / (1.0 - max(eps_values)) if len(eps_values) else 2.0
+    ticks = [t for t in (1, 1.2, 1.5, 2, 3, 5, 10, 20, 50, 100) if t <= 1.15 * top]
+    ax.yaxis.set_major_locator(FixedLocator(ticks))
+    ax.yaxis.set_minor_locator(NullLocator())
+    ax.yaxis.set_minor_formatter(NullFormatter())
+    ax.set_yticks(ticks, [f"{t:g}" for t in ticks])
     ax.set_xlabel(r"forcing $\omega^2$ [-]")
     ax.set_ylabel(r"stress ratio $\tau/(\eta v/H) = 1/(1-\epsilon h_1)$")
     ax.set_title(r"(a) stress ratio, $\theta_0 = 0$ (dotted: at rest)")
@@ -190,12 +247,20 @@ def fig_rheology(
 
 @styled
 def fig_calibration(
-    eps_values: tuple[float, ...] = (0.0, 0.5, 0.9), theta0: float = 0.0, num: int = 400
+    eps_values: tuple[float, ...] = (0.0, 0.5, 0.9),
+    theta0: float = 0.0,
+    num: int = 400,
+    ax: Any = None,
 ) -> Figure:
     """Sensor calibration: forcing read from the tip deflection, exact and linear.
 
     (a) omega^2 against the measured x1 (exact branch curve, solid) and the small-deflection
-    cantilever line (dashed). (b) Relative error of the linear calibration.
+    cantilever line (dashed), omega^2_lin = (x1 - sin theta0)/slope. (b) Relative error of
+    the linear calibration, of the wall speed (omega^2, solid) and of the wall shear stress
+    (tau, dashed): tau is proportional to omega^2/(1 - eps h1) = omega_eps^2 exactly and to
+    omega^2_lin/(1 - eps cos theta0) in the linear calibration (the gap at rest), as in
+    :func:`hairbed.calibration.linear_range`. At fixed t both are independent of eps, so the
+    error in tau is one curve for every eps (the dashed lines coincide). ``ax``: two Axes.
 
     Examples
     --------
@@ -203,32 +268,40 @@ def fig_calibration(
     >>> len(fig.axes)
     2
     """
+    num = check_count(num, "num", 2)
     t = np.linspace(-12.0, 30.0, num)
-    fig, (ax, axe) = new_figure(1, 2, size=(9.4, 3.9))
+    fig, (ax, axe) = figure_axes(ax, 1, 2, size=(9.4, 3.9))
+    x_lo = float(np.sin(theta0))
     for eps, c in zip(eps_values, colors(len(eps_values))):
         s = hairbed.from_parameter(t, eps, theta0)
         x1, w2 = np.asarray(s.tip_deflection), np.asarray(s.omega2)
-        lin = (x1 - np.sin(theta0)) / hairbed.inverse.tip_deflection_slope(eps, theta0)
+        lin = (x1 - x_lo) / hairbed.inverse.tip_deflection_slope(eps, theta0)
+        tau_exact = np.asarray(s.omega_eps) ** 2
+        tau_lin = lin / (1.0 - eps * np.cos(theta0))
         ax.plot(x1, w2, color=c, label=rf"exact, $\epsilon = {eps:g}$")
         ax.plot(x1, lin, "--", color=c, lw=1.1)
         axe.plot(x1, np.abs(lin - w2) / w2, color=c, label=rf"$\epsilon = {eps:g}$")
+        axe.plot(x1, np.abs(tau_lin - tau_exact) / tau_exact, "--", color=c, lw=1.1)
     ax.plot([], [], "--", color="0.4", lw=1.1, label="linear (cantilever)")
     ax.set_yscale("log")
-    ax.set_xlim(0, 1)
+    ax.set_xlim(x_lo, 1)
     ax.set_ylim(1e-3, 1e3)
     ax.set_xlabel(r"measured tip deflection $x_1/L$ [-]")
     ax.set_ylabel(r"forcing $\omega^2 \propto v$ [-]")
     ax.set_title(rf"(a) calibration curve, $\theta_0 = {theta0:g}$")
     ax.legend(loc="lower right")
     axe.axhline(0.01, color="0.5", lw=0.7, ls=":")
-    axe.text(0.98, 0.006, "1 %", color="0.4", fontsize=8, ha="right", va="top")
+    axe.text(0.02, 0.0125, "1 %", color="0.4", fontsize=8, ha="left", va="bottom",
+             transform=axe.get_yaxis_transform())  # fmt: skip
+    axe.plot([], [], "-", color="0.4", label=r"wall speed ($\omega^2$)")
+    axe.plot([], [], "--", color="0.4", lw=1.1, label=r"stress $\tau$ (any $\epsilon$)")
     axe.set_yscale("log")
-    axe.set_xlim(0, 1)
-    axe.set_ylim(1e-6, 1e2)
+    axe.set_xlim(x_lo, 1)
+    axe.set_ylim(1e-4, 2.0)
     axe.set_xlabel(r"measured tip deflection $x_1/L$ [-]")
-    axe.set_ylabel(r"relative error of linear $\omega^2$ [-]")
-    axe.set_title("(b) error of the linear calibration")
-    axe.legend(loc="lower right")
+    axe.set_ylabel(r"relative error of the linear calibration [-]")
+    axe.set_title(r"(b) error of the linear calibration, $v$ and $\tau$")
+    axe.legend(loc="lower right", ncol=2)
     return fig
 
 
@@ -237,6 +310,7 @@ def fig_fd_convergence(
     omega2s: tuple[float, ...] = (0.5, 2.0, 8.0, 32.0),
     nums: tuple[int, ...] = (10, 20, 40, 80, 160, 320, 640),
     eps: float = 0.5,
+    ax: Any = None,
 ) -> Figure:
     """Second-order convergence of the paper's finite differences to the exact tip height.
 
@@ -248,8 +322,10 @@ def fig_fd_convergence(
     """
     from hairbed.numerics import finite_difference
 
+    for i, n in enumerate(nums):
+        check_count(n, f"nums[{i}]", 2)
     Ns_arr = np.asarray(nums, dtype=float)
-    fig, ax = new_figure(size=(5.6, 4.2))
+    fig, ax = figure_axes(ax, size=(5.6, 4.2))
     for w2, c in zip(omega2s, colors(len(omega2s), "plasma")):
         exact = hairbed.solve(w2, eps).tip_height
         err = [abs(finite_difference(w2, eps, num=int(n)).tip_height - exact) for n in nums]
@@ -274,6 +350,7 @@ def fig_speed(
     rows: Iterable[int] | None = None,
     results: Sequence[Any] | None = None,
     repeat: int = 3,
+    ax: Any = None,
 ) -> Figure:
     """Every row of the speed table (``benchmarks/bench_solve.py``, ``hairbed bench``) as its
     measured value over its target, on a log axis: a bar per row, the target at 1, green when
@@ -281,8 +358,10 @@ def fig_speed(
     of their row).
 
     The rows are measured here by the same code, ``hairbed._benchmark.run(quick=True)``, with
-    batch size ``n`` (only ``rows``, 1 to 10, if given); or passed in as ``results``, rows
-    of an earlier run.
+    batch size ``n`` (only ``rows``, 1 to 11, if given); or passed in as ``results``, rows
+    of an earlier run. The labels of the batch rows name their inputs' base angles (row 2
+    and row 7 lean into the flow, theta0 < 0, where the folds are); the axis is widened until
+    every value printed beside its bar lies inside it.
 
     Examples
     --------
@@ -292,13 +371,15 @@ def fig_speed(
     """
     measured = results is None
     if results is None:
+        check_count(n, "n", 2)
+        check_count(repeat, "repeat", 1)
         from hairbed import _benchmark
 
         results = _benchmark.run(quick=True, rows=rows, n=n, repeat=repeat)
     scale = {_row_group(r.number): r.target for r in results if r.target is not None}
     shown = [r for r in results if scale.get(_row_group(r.number)) or r.target]
     ratios = np.array([r.value / (r.target or scale[_row_group(r.number)]) for r in shown])
-    fig, ax = new_figure(size=(7.2, 0.8 + 0.36 * max(len(shown), 1)))
+    fig, ax = figure_axes(ax, size=(7.6, 0.8 + 0.36 * max(len(shown), 1)))
     if not shown:
         ax.set_xlabel("measured / target")
         ax.set_title("Speed: no rows measured")
@@ -313,7 +394,13 @@ def fig_speed(
         target = "" if r.target is None else f" ({r.op} {r.target:g})"
         text = f"{r.value:.3g} {r.unit}{target}"
         ax.text(max(q, 1.0) * 1.25, i, text, va="center", fontsize=7)
-    ax.set_yticks(y, [f"{r.number}  {r.label}" for r in shown], fontsize=7)
+    notes = {
+        "1": r" ($\theta_0 \in [0, 1.2]$)",
+        "2": r" ($\theta_0 \in [-1.5, 1.5]$)",
+        "6": r" ($\theta_0 \in [-0.3, 0.3]$)",
+    }
+    ax.set_yticks(y, [f"{r.number}  {r.label}{notes.get(r.number, '')}" for r in shown],
+                  fontsize=7)  # fmt: skip
     ax.invert_yaxis()
     ax.set_xscale("log")
     ax.set_xlim(min(ratios.min(), 1.0) / 3, max(ratios.max(), 1.0) * 30)
@@ -324,12 +411,33 @@ def fig_speed(
     ax.legend(handles=handles, loc="lower right", fontsize=7)
     sizes = " (quick sizes)" if measured else ""
     ax.set_title(f"Speed table: every row against its target{sizes}")
+    _fit_texts(ax)
     return fig
 
 
+def _fit_texts(ax: Any) -> None:
+    """Widen the x axis (log) until every text of ``ax`` ends inside it."""
+    fig = ax.figure
+    for _ in range(3):  # the layout moves the axes: measure again after each change
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        inv = ax.transData.inverted()
+        right = max(
+            (inv.transform(t.get_window_extent(renderer))[1, 0] for t in ax.texts), default=0.0
+        )
+        lo, hi = ax.get_xlim()
+        if right <= hi:
+            return
+        ax.set_xlim(lo, hi * (right / hi) ** 1.1)
+
+
 @styled
-def fig_twirling(omega2: float = 200.0, eps: float = 0.5) -> Figure:
+def fig_twirling(
+    omega2: float = 200.0, eps: float = 0.5, theta0: float = 0.0, ax: Any = None
+) -> Figure:
     """Every solution at one forcing: the physical hair and the twirling branches.
+
+    ``ax``: at least as many Axes as there are states (the others are switched off).
 
     Examples
     --------
@@ -337,11 +445,15 @@ def fig_twirling(omega2: float = 200.0, eps: float = 0.5) -> Figure:
     >>> len(fig.axes) >= 3
     True
     """
-    sols = sorted(hairbed.solve_all(omega2, eps), key=lambda s: (s.n, -s.sign))
+    sols = sorted(hairbed.solve_all(omega2, eps, theta0), key=lambda s: (s.n, -s.sign))
     k = len(sols)
-    ncols = min(k, 4)
-    nrows = int(np.ceil(k / ncols))
-    fig, axes = new_figure(nrows, ncols, size=(2.3 * ncols, 2.3 * nrows + 0.4), squeeze=False)
+    ncols = max(min(k, 4), 1)
+    nrows = max(int(np.ceil(k / ncols)), 1)
+    size = (2.3 * ncols, 2.3 * nrows + 0.4)
+    if ax is None:
+        fig, axes = new_figure(nrows, ncols, size=size, squeeze=False)
+    else:
+        fig, axes = figure_axes(ax, k, 1, at_least=True)
     for ax, s in zip(axes.flat, sols):
         x, z = s.profile(400)
         ax.plot(x, z, "-" if s.sign > 0 else "--", color="k" if s.physical else "C0", lw=1.6)
@@ -352,7 +464,7 @@ def fig_twirling(omega2: float = 200.0, eps: float = 0.5) -> Figure:
     for ax in axes.flat[k:]:
         ax.axis("off")
     fig.suptitle(
-        rf"All states at $\omega^2 = {omega2:g}$, $\epsilon = {eps:g}$ "
+        rf"All states at $\omega^2 = {omega2:g}$, $\epsilon = {eps:g}$, $\theta_0 = {theta0:g}$ "
         r"(axes $x/L$, $z/L$; physical in black)",
         fontsize=10,
     )
@@ -360,46 +472,71 @@ def fig_twirling(omega2: float = 200.0, eps: float = 0.5) -> Figure:
 
 
 @styled
-def fig_physical_units() -> Figure:
-    """A real bed in SI units: tip deflection and wall shear stress against wall speed.
+def fig_physical_units(
+    length: float = 1e-3,
+    radius: float = 50e-6,
+    youngs_modulus: float = 1e6,
+    channel_height: float = 2e-3,
+    viscosity: float = 1.0,
+    spacing: float = 400e-6,
+    base_angles: tuple[float, ...] = (0.0, 0.3),
+    max_velocity: float = 0.5,
+    num: int = 201,
+    ax: Any = None,
+) -> Figure:
+    """A real bed in SI units: tip displacement and wall shear stress against wall speed.
 
-    Soft 1 mm hairs (E = 1 MPa, radius 50 um, spacing 400 um) under 2 mm of glycerol, with
-    and without a base angle, for flow with and against the grain.
+    By default soft 1 mm hairs (E = 1 MPa, radius 50 um, spacing 400 um) under 2 mm of
+    glycerol, with and without a base angle, for flow with and against the grain (wall speeds
+    in [-max_velocity, max_velocity] [m/s]). (a) The tip displacement from the rest position
+    [um] (:attr:`hairbed.HairState.tip_displacement`; zero at rest whatever the base angle);
+    (b) the wall shear stress [Pa]. The bed's parameters are printed in (a). ``ax``: two Axes.
 
     Examples
     --------
-    >>> fig = fig_physical_units()
+    >>> fig = fig_physical_units(num=21)
     >>> len(fig.axes)
     2
     """
     from hairbed.units import HairBed
 
-    v = np.linspace(-0.5, 0.5, 201)
-    fig, (ax, axs) = new_figure(1, 2, size=(9.4, 3.9))
-    for th0, c in ((0.0, "k"), (0.3, "C3")):
+    num = check_count(num, "num", 2)
+    if not (np.isfinite(max_velocity) and max_velocity > 0):
+        raise ValueError(f"max_velocity must be finite and > 0 [m/s], got {max_velocity!r}")
+    v = np.linspace(-max_velocity, max_velocity, num)
+    fig, (ax, axs) = figure_axes(ax, 1, 2, size=(9.4, 4.1))
+    cols = ["k", "C3", "C0", "C2", "C1"]
+    bed = None
+    for i, th0 in enumerate(base_angles):
+        c = cols[i % len(cols)]
         bed = HairBed(
-            length=1e-3,
-            radius=50e-6,
-            youngs_modulus=1e6,
-            channel_height=2e-3,
-            viscosity=1.0,
-            spacing=400e-6,
+            length=length,
+            radius=radius,
+            youngs_modulus=youngs_modulus,
+            channel_height=channel_height,
+            viscosity=viscosity,
+            spacing=spacing,
             base_angle=th0,
         )
         st = bed.deform(v)
-        ax.plot(
-            v * 100,
-            np.asarray(st.tip_deflection) * 1e6,
-            color=c,
-            label=rf"$\theta_0 = {th0:g}$ rad",
+        label = rf"$\theta_0 = {th0:g}$ rad"
+        ax.plot(v * 100, np.asarray(st.tip_displacement) * 1e6, color=c, label=label)
+        axs.plot(v * 100, np.asarray(st.wall_shear_stress), color=c, label=label)
+    axs.plot(v * 100, viscosity * v / channel_height, ":", color="0.5",
+             label=r"no hairs, $\eta v/H$")  # fmt: skip
+    if bed is not None:
+        text = (
+            f"$L$ = {length * 1e3:g} mm, $a$ = {radius * 1e6:g} $\\mu$m\n"
+            f"$E$ = {youngs_modulus:.3g} Pa, $\\delta$ = {spacing * 1e6:g} $\\mu$m\n"
+            f"$H$ = {channel_height * 1e3:g} mm ($\\epsilon$ = {bed.eps:.3g})\n"
+            f"$\\eta$ = {viscosity:g} Pa s"
         )
-        axs.plot(
-            v * 100, np.asarray(st.wall_shear_stress), color=c, label=rf"$\theta_0 = {th0:g}$ rad"
-        )
-    axs.plot(v * 100, 1.0 * v / 2e-3, ":", color="0.5", label=r"no hairs, $\eta v/H$")
+        ax.text(0.97, 0.04, text, transform=ax.transAxes, ha="right", va="bottom", fontsize=7.5,
+                bbox={"boxstyle": "round", "fc": "white", "ec": "0.7"})  # fmt: skip
+    ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set_xlabel(r"wall speed $v$ [cm/s]")
-    ax.set_ylabel(r"tip deflection $x_1 L$ [$\mu$m]")
-    ax.set_title("(a) tip deflection")
+    ax.set_ylabel(r"tip displacement $x_1 - L\sin\theta_0$ [$\mu$m]")
+    ax.set_title("(a) tip displacement")
     ax.legend(loc="upper left")
     axs.set_xlabel(r"wall speed $v$ [cm/s]")
     axs.set_ylabel(r"wall shear stress $\tau$ [Pa]")
@@ -409,7 +546,7 @@ def fig_physical_units() -> Figure:
 
 
 @styled
-def fig_states(solutions: list) -> Figure:
+def fig_states(solutions: list, ax: Any = None) -> Figure:
     """Profiles of a few states (used by ``hairbed solve --plot``).
 
     Examples
@@ -418,7 +555,7 @@ def fig_states(solutions: list) -> Figure:
     >>> fig.axes[0].get_xlabel()
     '$x/L$'
     """
-    fig, ax = new_figure(size=(7.0, 3.8))
+    fig, ax = figure_axes(ax, size=(7.0, 3.8))
     for i, s in enumerate(solutions):
         c = f"C{i % 10}"
         x, z = s.profile(400)

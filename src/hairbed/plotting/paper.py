@@ -15,7 +15,7 @@ from matplotlib.patches import FancyArrowPatch, Rectangle
 
 import hairbed
 
-from ._style import colors, new_figure, styled
+from ._style import check_count, colors, figure_axes, styled
 
 __all__ = [
     "fig_model",
@@ -53,7 +53,9 @@ def _phase_velocity(sol: hairbed.Solution, sigma: np.ndarray) -> tuple[np.ndarra
 
 
 @styled
-def fig_model(omega2: float = 1.5, eps: float = 0.6) -> Figure:
+def fig_model(
+    omega2: float = 1.5, eps: float = 0.6, theta0: float = 0.0, ax: Any = None
+) -> Figure:
     """Model schematic (Fig. 1): a bed of hairs in a channel of height H.
 
     Undeformed hairs (dashed) stand at the base angle; deformed hairs (solid) are exact
@@ -66,17 +68,20 @@ def fig_model(omega2: float = 1.5, eps: float = 0.6) -> Figure:
     >>> len(fig.axes)
     1
     """
-    sol = hairbed.solve(omega2, eps)
+    sol = hairbed.solve(omega2, eps, theta0)
+    if eps <= 0.0:
+        raise ValueError(f"eps must be > 0 to draw the channel (H = L/eps), got {eps:g}")
     x, z = sol.profile(120)
     h1, height = float(sol.tip_height), 1.0 / eps
-    fig, ax = new_figure(size=(6.4, 3.1))
+    fig, ax = figure_axes(ax, size=(6.4, 3.1))
     ax.add_patch(Rectangle((-0.6, -0.12), 6.0, 0.12, color="0.55", hatch="///", fill=False))
     ax.add_patch(Rectangle((-0.6, height), 6.0, 0.12, color="0.55", hatch="///", fill=False))
     ax.plot([-0.6, 5.4], [0, 0], "k", lw=1.2)
     ax.plot([-0.6, 5.4], [height, height], "k", lw=1.2)
     bases = np.arange(5) * 0.75
     for i, b in enumerate(bases):
-        ax.plot([b, b], [0, 1], "--", color="0.45", lw=1.2, label="undeformed" if i == 0 else None)
+        rest = (b + np.array([0.0, np.sin(theta0)]), np.array([0.0, np.cos(theta0)]))
+        ax.plot(*rest, "--", color="0.45", lw=1.2, label="undeformed" if i == 0 else None)
         ax.plot(b + x, z, color="C0", lw=2.0, label="deformed" if i == 0 else None)
     ax.plot([-0.6, 5.4], [h1, h1], ":", color="0.3", lw=1.0)
     # Couette profile above the tips: zero at the tips, v at the moving top wall.
@@ -128,7 +133,7 @@ def fig_model(omega2: float = 1.5, eps: float = 0.6) -> Figure:
 
 
 @styled
-def fig_pendulum(omega2: float = 20.0) -> Figure:
+def fig_pendulum(omega2: float = 20.0, ax: Any = None) -> Figure:
     """Two pendulum orbits meeting the same conditions (Fig. 3).
 
     The (sign=+1, n=0) and (sign=+1, n=1) solutions at eps = 0, so both share omega_eps =
@@ -141,8 +146,10 @@ def fig_pendulum(omega2: float = 20.0) -> Figure:
     >>> len(fig.axes)
     2
     """
+    if not omega2 > 0.0:
+        raise ValueError(f"omega2 must be > 0 for the pendulum's orbits, got {omega2!r}")
     sols = {(s.sign, s.n): s for s in hairbed.solve_all(omega2, 0.0)}
-    fig, (ax, axp) = new_figure(1, 2, size=(8.6, 3.8), width_ratios=[1.6, 1.0])
+    fig, (ax, axp) = figure_axes(ax, 1, 2, size=(8.6, 4.4), width_ratios=[1.6, 1.0])
     w = float(np.sqrt(omega2))
     th = np.linspace(-np.pi - 0.3, np.pi / 2 + 0.4, 300)
     dth = np.linspace(-1.7 * w * np.sqrt(2), 1.7 * w * np.sqrt(2), 300)
@@ -172,7 +179,8 @@ def fig_pendulum(omega2: float = 20.0) -> Figure:
     ax.set_xlabel(r"angle $\theta$ [rad]")
     ax.set_ylabel(r"$\theta' = d\theta/d\sigma$ [-]")
     ax.set_title(rf"(a) phase plane, $\omega_\epsilon^2 = \omega^2 = {omega2:g}$")
-    ax.legend(loc="lower left", fontsize=8)
+    # below the plane, where it covers no orbit
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=3, fontsize=8)
     ax.set_xlim(th[0], th[-1])
     axp.axhline(0, color="0.4", lw=1)
     axp.set_aspect("equal", adjustable="datalim")
@@ -183,7 +191,9 @@ def fig_pendulum(omega2: float = 20.0) -> Figure:
 
 
 @styled
-def fig_phase_portrait(xis: tuple[float, ...] = (0.05, 0.2, 0.4, 0.6, 0.8, 0.95, 0.999)) -> Figure:
+def fig_phase_portrait(
+    xis: tuple[float, ...] = (0.05, 0.2, 0.4, 0.6, 0.8, 0.95, 0.999), ax: Any = None
+) -> Figure:
     """Phase portraits and profiles for 0 <= xi <= 1 at theta0 = 0 (Fig. 2).
 
     Each xi fixes omega_eps (eq. (34)); the ordinate is theta'/omega_eps^2 with theta'
@@ -204,7 +214,7 @@ def fig_phase_portrait(xis: tuple[float, ...] = (0.05, 0.2, 0.4, 0.6, 0.8, 0.95,
     ordinate = np.sqrt(np.clip(2.0 * (xi[:, None] - np.sin(theta)), 0.0, None)) / w
     x, z = sol.profile(200)
     x, z = np.reshape(x, (xi.size, -1)), np.reshape(z, (xi.size, -1))
-    fig, (ax, axp) = new_figure(1, 2, size=(8.6, 3.7))
+    fig, (ax, axp) = figure_axes(ax, 1, 2, size=(8.6, 3.7))
     for i, c in enumerate(colors(xi.size, "plasma")):
         ax.plot(theta[i], ordinate[i], color=c, label=rf"$\xi = {xi[i]:g}$")
         axp.plot(x[i], z[i], color=c)
@@ -228,13 +238,17 @@ _BRANCHES = ((1, 0), (-1, 0), (1, 1), (-1, 1), (1, 2), (-1, 2))
 
 
 @styled
-def fig_solution(eps_values: tuple[float, ...] = _EPS_SET, num: int = 600) -> Figure:
+def fig_solution(
+    eps_values: tuple[float, ...] = _EPS_SET, num: int = 600, ax: Any = None
+) -> Figure:
     """Solution structure at theta0 = 0 (Fig. 4).
 
     (a) energy E against omega^2 for several eps (uncollapsed); (b) xi against omega_eps^2,
     which collapses every eps, with numbered representative profiles (solid: positive base
     curvature, dashed: negative); (c) xi against omega^2/(1 - eps), the first three branches
-    and their negative-curvature counterparts. Every curve is an exact parametric branch.
+    and their negative-curvature counterparts. Every curve is an exact parametric branch; the
+    dotted curve of (b) is the weak-forcing limit xi = omega_eps^2/2 (theory.md §3), drawn as
+    the curve it is on the log axis. ``ax``: three Axes to draw (a), (b), (c) into.
 
     Examples
     --------
@@ -242,7 +256,8 @@ def fig_solution(eps_values: tuple[float, ...] = _EPS_SET, num: int = 600) -> Fi
     >>> len(fig.axes) >= 3
     True
     """
-    fig, axes = new_figure(1, 3, size=(13.0, 4.3))
+    num = check_count(num, "num", 2)
+    fig, axes = figure_axes(ax, 1, 3, size=(13.0, 4.3))
     cols = colors(len(eps_values))
     widths = {0: 2.0, 1: 1.3, 2: 0.9}
     for eps, c in zip(eps_values, cols):
@@ -259,6 +274,13 @@ def fig_solution(eps_values: tuple[float, ...] = _EPS_SET, num: int = 600) -> Fi
     ax.set_xlabel(r"forcing $\omega^2$ [-]")
     ax.set_ylabel(r"energy $\mathcal{E}$ [-]")
     ax.set_title(r"(a) $\mathcal{E}$ vs $\omega^2$")
+    eps_key = ax.legend(
+        handles=[
+            Line2D([], [], color=c, label=rf"$\epsilon = {e:g}$") for e, c in zip(eps_values, cols)
+        ],
+        loc="lower right",
+    )
+    ax.add_artist(eps_key)
     ax.legend(
         handles=[
             Line2D([], [], color="k", ls="-", label=r"$\theta'(0) > 0$"),
@@ -295,8 +317,8 @@ def fig_solution(eps_values: tuple[float, ...] = _EPS_SET, num: int = 600) -> Fi
             lw=widths[n],
             label=rf"$n = {n}$" if sign > 0 else None,
         )
-    ax.plot([1e-2, 0.6], [0.5e-2, 0.3], ":", color="0.5", lw=1)
-    ax.text(0.012, 0.06, r"$\xi \approx \omega_\epsilon^2/2$", color="0.4", fontsize=8.5)
+    weak = np.geomspace(1e-2, 0.7, 60)
+    ax.plot(weak, weak / 2.0, ":", color="0.45", lw=1.2, label=r"$\xi = \omega_\epsilon^2/2$")
     ax.set_xscale("log")
     ax.set_xlim(1e-2, 1e3)
     ax.set_ylim(0, 1.62)
@@ -335,6 +357,7 @@ def fig_theta0s(
     eps: float = 0.61,
     theta0s: tuple[float, ...] = (-1.2, -0.8, -0.4, 0.0, 0.4, 0.8, 1.2),
     num: int = 600,
+    ax: Any = None,
 ) -> Figure:
     """Angled hairs: xi against omega_eps for several base angles (Fig. 5).
 
@@ -344,7 +367,8 @@ def fig_theta0s(
     >>> len(fig.axes)
     1
     """
-    fig, ax = new_figure(size=(5.6, 4.0))
+    num = check_count(num, "num", 2)
+    fig, ax = figure_axes(ax, size=(5.6, 4.0))
     for th0, c in zip(theta0s, colors(len(theta0s), "coolwarm")):
         s = _curve(eps, th0, num=num)
         ax.plot(s.omega_eps, s.xi, color=c, label=rf"$\theta_0 = {th0:+.1f}$")
@@ -361,12 +385,16 @@ def fig_theta0s(
 
 @styled
 def fig_profiles(
-    omega2s: tuple[float, ...] = (0.5, 2.0, 8.0, 32.0, 128.0), eps: float = 0.0, num: int = 80
+    omega2s: tuple[float, ...] = (0.5, 2.0, 8.0, 32.0, 128.0),
+    eps: float = 0.0,
+    num: int = 80,
+    ax: Any = None,
 ) -> Figure:
     """Analytic against finite-difference profiles for several E (Fig. 6).
 
-    Solid: the paper's central differences on ``num`` segments from theta_i = 0; dashed: exact. The
-    inset starts the same scheme from theta_i = -0.1 at omega^2 = 32, where it converges to a
+    Thick coloured lines: the numerical solution, the paper's central differences on ``num``
+    segments from theta_i = 0; thin dashed black: the exact (analytic) profile. The inset
+    starts the same scheme from theta_i = -0.1 at omega^2 = 32, where it converges to a
     twirling branch, drawn with its exact counterpart.
 
     Examples
@@ -377,7 +405,8 @@ def fig_profiles(
     """
     from hairbed.numerics import finite_difference
 
-    fig, ax = new_figure(size=(6.4, 4.0))
+    num = check_count(num, "num", 2)
+    fig, ax = figure_axes(ax, size=(6.4, 4.0))
     for w2, c in zip(omega2s, colors(len(omega2s), "plasma")):
         exact = hairbed.solve(w2, eps)
         fd = finite_difference(w2, eps, num=num)
@@ -392,23 +421,26 @@ def fig_profiles(
         )
         x, z = exact.profile(300)
         ax.plot(x, z, "--", color="k", lw=1.0)
-    ax.plot([], [], "-", color="0.5", lw=2.2, label=rf"finite differences, $N = {num}$")
-    ax.plot([], [], "--", color="k", lw=1.0, label="analytic")
+    ax.plot([], [], "-", color="0.5", lw=2.2, label=rf"numerical: finite differences, $N = {num}$")
+    ax.plot([], [], "--", color="k", lw=1.0, label="exact (analytic)")
     ax.set_xlim(0, 1.9)
     ax.set_ylim(0, 1.05)
     ax.set_aspect("equal")
     ax.set_xlabel(r"$x/L$")
     ax.set_ylabel(r"$z/L$")
-    ax.set_title(rf"Profiles, $\theta_0 = 0$, $\epsilon = {eps:g}$, initial $\theta_i = 0$")
+    ax.set_title(
+        rf"Numerical (thick) and exact (dashed) profiles, $\epsilon = {eps:g}$, $\theta_i = 0$"
+    )
     ax.legend(loc="upper right", fontsize=7.5)
     ins = ax.inset_axes([0.53, 0.08, 0.44, 0.34])
     w2 = 32.0
     fd = finite_difference(w2, eps, num=num, guess=-0.1)
     twin = [s for s in hairbed.solve_all(w2, eps) if (s.sign, s.n) == (fd.sign, fd.n)]
-    ins.plot(fd.x, fd.z, "-", color="C0", lw=2.0, alpha=0.75)
+    ins.plot(fd.x, fd.z, "-", color="C0", lw=2.0, alpha=0.75, label="numerical")
     if twin:
         x, z = twin[0].profile(300)
-        ins.plot(x, z, "--", color="k", lw=1.0)
+        ins.plot(x, z, "--", color="k", lw=1.0, label="exact")
+    ins.legend(loc="upper right", fontsize=6.5)
     ins.axhline(0, color="0.5", lw=0.6)
     ins.set_aspect("equal", adjustable="datalim")
     ins.tick_params(labelsize=7)
