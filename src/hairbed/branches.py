@@ -28,6 +28,7 @@ from ._bracketing import find_minimum, find_root
 from ._core.solution import Solution
 from ._core.solver import fold_parameters, from_parameter
 from ._core.validation import (
+    _first_index,
     as_float_array,
     check_branch,
     check_inputs,
@@ -49,6 +50,8 @@ __all__ = [
 #: Default range of the parameter t for curves: xi - sin(theta0) ~ 3e-7 (omega^2 ~ 1e-6) at the
 #: weak end, 1 - xi ~ 1e-13 (omega^2 of a few hundred) at the strong end.
 T_SPAN = (-15.0, 30.0)
+#: The range of t of :func:`log_slope`: omega^2 ~ e^t underflows below -700.
+_T_MAX = 700.0
 #: The most points :func:`curve` returns.
 MAX_POINTS = 10_000_000
 #: Where folds are searched. Folds measured here lie in t in [-5, 1]; the window is wide on both
@@ -162,14 +165,21 @@ def log_slope(t: Any, eps: float, theta0: float = 0.0) -> NDArray[np.float64]:
     Parameters
     ----------
     t : array_like
-        Curve parameter of :func:`hairbed.from_parameter` [-].
+        Curve parameter of :func:`hairbed.from_parameter` [-], in [-700, 700].
     eps : float
         Confinement L/H [-], in [0, 1).
     theta0 : float
         Base angle [rad], in (-pi/2, pi/2).
     """
     eps, theta0 = _scalar_params(eps, theta0)
-    return _log_slope(as_float_array(t, "t"), eps, theta0)
+    tt = as_float_array(t, "t")
+    bad = np.abs(tt) > _T_MAX
+    if np.any(bad):
+        raise ValueError(
+            f"t must lie in [-{_T_MAX:g}, {_T_MAX:g}] (beyond, omega^2 under- or overflows), got "
+            f"{float(tt[bad].flat[0])!r}{_first_index(bad)}"
+        )
+    return _log_slope(tt, eps, theta0)
 
 
 def curve(

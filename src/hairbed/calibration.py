@@ -35,7 +35,14 @@ from scipy.optimize import least_squares
 
 from ._bracketing import find_root
 from ._core.solver import from_parameter, solve
-from ._core.validation import as_float_array, check_number, check_sigma, float_or_array
+from ._core.validation import (
+    as_float_array,
+    check_number,
+    check_sigma,
+    check_type,
+    float_or_array,
+    show,
+)
 from .sensitivity import derivatives_at
 from .units import CLOSE_PACKING_FRACTION, HairBed, HairState
 
@@ -65,6 +72,9 @@ FREE_PARAMETERS: dict[str, str] = {
 }
 _LINEAR = ("base_angle",)  # fitted as themselves; the others in their logarithms
 _HALF_PI = 0.5 * math.pi
+#: The smallest sigma of a fit, relative to the hair length (1e-12 L: far below any
+#: microscope; smaller weights overflow).
+_SIGMA_LOW = 1e-12
 
 
 # -- the model and its exact Jacobian ---------------------------------------------------------
@@ -157,19 +167,32 @@ def model_tip_deflection(
     negative ones; the low state where several coexist at one speed). Give exactly one of
     ``velocity`` and ``wall_shear_stress``.
     """
-    kind, x = _known(velocity, wall_shear_stress)
+    check_type(bed, "bed", HairBed, "a hairbed.HairBed")
+    kind, x = _known(bed, velocity, wall_shear_stress)
     return float_or_array(_model(bed, kind, x.reshape(-1), (), "spacing")[0].reshape(x.shape))
 
 
-def _known(velocity: Any, stress: Any) -> tuple[str, FloatArray]:
+def _known(bed: HairBed, velocity: Any, stress: Any) -> tuple[str, FloatArray]:
     if (velocity is None) == (stress is None):
         raise ValueError(
             "give exactly one of velocity [m/s] and wall_shear_stress [Pa], "
             f"got velocity={velocity!r}, wall_shear_stress={stress!r}"
         )
     if velocity is not None:
-        return "velocity", as_float_array(velocity, "velocity", unit="m/s")
-    return "wall_shear_stress", as_float_array(stress, "wall_shear_stress", unit="Pa")
+        return "velocity", bed._forcing(velocity, "velocity")[0]
+    tau = as_float_array(stress, "wall_shear_stress", unit="Pa")
+    with np.errstate(over="ignore"):
+        forcing = np.abs(tau) * bed.wall_area_per_hair * bed.length**2 / bed.bending_stiffness
+    bad = ~np.isfinite(forcing)
+    if np.any(bad):
+        limit = (
+            np.finfo(np.float64).max * bed.bending_stiffness / bed.wall_area_per_hair
+        ) / bed.length**2
+        raise ValueError(
+            f"wall_shear_stress must be below {limit:.3g} Pa for this bed (its forcing "
+            f"overflows), got {float(tau[bad].flat[0])!r}"
+        )
+    return "wall_shear_stress", tau
 
 
 # -- fit ---------------------------------------------------------------------------------------
@@ -239,13 +262,13 @@ def _check_free(free: Any) -> tuple[str, ...]:
     try:
         names = tuple(free)
     except TypeError:
-        raise ValueError(f"free must be a sequence of parameter names, got {free!r}") from None
+        raise ValueError(f"free must be a sequence of parameter names, got {show(free)}") from None
     if not names:
         raise ValueError("free must name at least one parameter of the bed")
     for name in names:
-        if name not in FREE_PARAMETERS:
+        if not isinstance(name, str) or name not in FREE_PARAMETERS:
             raise ValueError(
-                f"free: unknown parameter {name!r}; allowed: {', '.join(FREE_PARAMETERS)}"
+                f"free: unknown parameter {show(name)}; allowed: {', '.join(FREE_PARAMETERS)}"
             )
     if len(set(names)) != len(names):
         raise ValueError(f"free names a parameter twice: {names!r}")
@@ -305,8 +328,9 @@ def fit(
     velocity : array_like, optional
         The known top-wall speed of each point [m/s].
     sigma : float or array_like, optional
-        Standard deviation of each measured deflection [m], > 0. Without it the errors are
-        estimated from the scatter of the residuals (chi2/dof).
+        Standard deviation of each measured deflection [m], in [1e-12 L, L] (L the hair
+        length): one number, or one per point. Without it the errors are estimated from the
+        scatter of the residuals (chi2/dof).
     free : sequence of str or comma-separated str
         Parameters to fit, from :data:`FREE_PARAMETERS` (``"youngs_modulus"`` by default).
         Stress data do not determine ``channel_height`` or ``viscosity``.
@@ -340,7 +364,7 @@ def fit(
     if not isinstance(bed, HairBed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
     names = _check_free(free)
-    kind, x = _known(velocity, wall_shear_stress)
+    kind, x = _known(bed, velocity, wall_shear_stress)
     d = as_float_array(tip_deflection, "tip_deflection", unit="m").reshape(-1)
     x = x.reshape(-1)
     if x.size != d.size:
@@ -355,7 +379,9 @@ def fit(
     if sigma is None:  # unit weights, in units of the hair length (well-scaled optimiser)
         weights = np.full(d.size, 1.0 / bed.length)
     else:
-        weights = 1.0 / check_sigma(sigma, "sigma", d.shape, unit="m")
+        weights = 1.0 / check_sigma(
+            sigma, "sigma", d.shape, unit="m", low=_SIGMA_LOW * bed.length, high=bed.length
+        )
     geometry = "packing_fraction" if "packing_fraction" in names else "spacing"
 
     def coords_to_bed(p: FloatArray) -> HairBed:
@@ -500,7 +526,8 @@ def measure(
     tip_deflection : array_like
         Measured tip deflection D [m] along +x, in (-L, L).
     sigma : float or array_like
-        Its standard deviation [m], >= 0.
+        Its standard deviation [m]: 0 or in (0, L] (L the hair length), one number or one
+        per deflection.
     fit : CalibrationFit, optional
         The calibration whose parameter covariance is propagated too.
 
@@ -510,8 +537,10 @@ def measure(
     """
     if not isinstance(bed, HairBed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
-    d = as_float_array(tip_deflection, "tip_deflection", unit="m")
-    s = check_sigma(sigma, "sigma", d.shape, unit="m", allow_zero=True)
+    if fit is not None:
+        check_type(fit, "fit", CalibrationFit, "a CalibrationFit (from calibration.fit) or None")
+    d = bed._deflection(tip_deflection, "tip_deflection")
+    s = check_sigma(sigma, "sigma", d.shape, unit="m", allow_zero=True, high=bed.length)
     state = bed.state_from_tip_deflection(d)
     v = np.asarray(state.velocity, dtype=np.float64).reshape(-1)
     tau = np.asarray(state.wall_shear_stress, dtype=np.float64).reshape(-1)

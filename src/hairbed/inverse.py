@@ -275,6 +275,8 @@ def linear_omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> F
 
 # -- tip height ----------------------------------------------------------------------------------
 
+#: The lowest tip height inverted: the forcing omega^2 ~ 2/h1^2 overflows below.
+_H1_MIN = 1e-150
 #: Coarse grid on which the maximum of h1(t) is located before it is refined. The maximum lies
 #: near t ~ ln|theta0| for a slightly leaning hair, so the grid starts far out.
 _T_SCAN = np.arange(-60.0, 40.5, 0.5)
@@ -357,7 +359,8 @@ def omega2_from_tip_height(h1: Any, eps: Any, theta0: Any = 0.0) -> FloatArray:
     Parameters
     ----------
     h1 : array_like
-        Tip height z(1) [-] (in units of the hair length), in (0, :func:`max_tip_height`].
+        Tip height z(1) [-] (in units of the hair length), in [1e-150,
+        :func:`max_tip_height`] (below 1e-150 the forcing, ~2/h1^2, overflows).
     eps : array_like
         Confinement L/H [-], in [0, 1).
     theta0 : array_like
@@ -388,12 +391,13 @@ def omega2_from_tip_height(h1: Any, eps: Any, theta0: Any = 0.0) -> FloatArray:
     h, e, th = h1.ravel(), eps.ravel(), theta0.ravel()
     t_max, h_max = _t_of_max_tip_height(th)
     # the rounding of the peak search must not reject a state computed at the peak
-    bad = (h <= 0.0) | (h > h_max * (1.0 + 1e-14))
+    bad = (h < _H1_MIN) | (h > h_max * (1.0 + 1e-14))
     if np.any(bad):
         i = np.flatnonzero(bad)[0]
         raise ValueError(
-            f"h1 must lie in (0, {float(h_max[i])!r}] for theta0 = {float(th[i])!r} (the "
-            f"highest tip of a physical state), got {float(h[i])!r}{_first_index(bad)}"
+            f"h1 must lie in [{_H1_MIN:g}, {float(h_max[i])!r}] for theta0 = {float(th[i])!r} "
+            "(the highest tip of a physical state; below, omega2 ~ 2/h1^2 overflows), got "
+            f"{float(h[i])!r}{_first_index(bad.reshape(shape))}"
         )
     h = np.minimum(h, h_max)
     cos0 = np.cos(th)

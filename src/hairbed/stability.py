@@ -57,11 +57,13 @@ from ._core.solution import Solution
 from ._core.validation import (
     as_float_array,
     check_choice,
-    check_inputs,
     check_int,
+    check_number,
     check_positive,
+    check_scalar_inputs,
 )
 from .numerics._banded import HairOperator
+from .numerics._result import MAX_OMEGA2
 
 __all__ = [
     "STATUS_MESSAGES",
@@ -190,10 +192,13 @@ def equilibrium(
 
 
 def _scalars(omega2: Any, eps: Any, theta0: Any) -> tuple[float, float, float]:
-    w, e, t = check_inputs(omega2, eps, theta0)
-    if w.ndim or e.ndim or t.ndim:
-        raise ValueError("omega2, eps and theta0 must be scalars here")
-    return float(w), float(e), float(t)
+    return check_scalar_inputs(
+        omega2,
+        eps,
+        theta0,
+        omega2_max=MAX_OMEGA2,
+        why=" (the discretised dynamics cannot resolve the base layer of width 1/omega beyond)",
+    )
 
 
 #: Largest grid (segments) of :func:`equilibrium` (banded: O(num) work).
@@ -379,6 +384,10 @@ class Relaxation:
 
 
 _STIFF_METHODS = ("BDF", "Radau", "LSODA")
+#: The integrator's tolerances: solve_ivp raises rtol to 100 machine epsilons anyway, and an
+#: atol below ~1e-300 overflows in its error norm.
+_RTOL_MIN = 100.0 * float(np.finfo(np.float64).eps)
+_ATOL_MIN = 1e-30
 
 
 def _trapezoid(values: FloatArray) -> FloatArray:
@@ -417,7 +426,7 @@ def relax(
     method : str
         A stiff method of :func:`scipy.integrate.solve_ivp` ("BDF", "Radau" or "LSODA").
     rtol, atol : float
-        Integrator tolerances.
+        Integrator tolerances: rtol in [2.2e-14, 1), atol >= 1e-30 [rad].
 
     Returns
     -------
@@ -433,12 +442,12 @@ def relax(
     t_end = check_positive(t_end, "t_end")
     num = _check_num(num, MAX_DENSE_SEGMENTS)
     method = check_choice(method, "method", _STIFF_METHODS)
-    rtol = check_positive(rtol, "rtol")
-    atol = check_positive(atol, "atol", "rad")
+    rtol = check_number(rtol, "rtol", low=_RTOL_MIN, high=1.0, high_open=True)
+    atol = check_number(atol, "atol", low=_ATOL_MIN, unit="rad")
     if t_eval is not None:
         t_eval = as_float_array(t_eval, "t_eval")
-        if t_eval.ndim != 1:
-            raise ValueError(f"t_eval must be one-dimensional, got shape {t_eval.shape}")
+        if t_eval.ndim != 1 or t_eval.size == 0:
+            raise ValueError(f"t_eval must be a non-empty 1-D array, got shape {t_eval.shape}")
         bad = (t_eval < 0.0) | (t_eval > t_end)
         bad[1:] |= np.diff(t_eval) < 0.0
         if np.any(bad):

@@ -37,7 +37,6 @@ True
 from __future__ import annotations
 
 import json
-import numbers
 import os
 import sys
 import threading
@@ -50,7 +49,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._core.solver import _ROOT_CODES, _solve_arrays
-from ._core.validation import as_float_array, check_branch, check_inputs, check_root
+from ._core.validation import (
+    as_float_array,
+    check_branch,
+    check_flag,
+    check_inputs,
+    check_int,
+    check_root,
+    show,
+)
 from .safe_files import atomic_path
 
 __all__ = [
@@ -188,14 +195,7 @@ def _chunk_sizes(chunks: Any, sizes: Mapping[str, int]) -> dict[str, int]:
     """Chunk length per dimension from an int or a dict {dim: int} (missing: whole)."""
 
     def length(value: Any, where: str) -> int:
-        if (
-            isinstance(value, bool)
-            or not isinstance(value, numbers.Integral | float)
-            or not float(value).is_integer()
-            or value < 1
-        ):
-            raise ValueError(f"chunks{where} must be a whole number >= 1, got {value!r}")
-        return int(value)
+        return check_int(value, f"chunks{where}", 1, 2**40)
 
     if isinstance(chunks, Mapping):
         unknown = [k for k in chunks if k not in sizes]
@@ -461,8 +461,7 @@ def sweep(
     values["theta0"] = _axis(theta0, "theta0")
     sign, n = check_branch(sign, n)
     code = _ROOT_CODES[check_root(root)]
-    if not isinstance(progress, bool):
-        raise TypeError(f"progress must be True or False, got {progress!r}")
+    progress = check_flag(progress, "progress")
     dims = tuple(d for d in DIMS if values[d].ndim == 1)
     axes = [values[d] for d in dims]
     fixed = {d: float(values[d]) for d in DIMS if d not in dims}
@@ -545,14 +544,15 @@ def bed_sweep(
         parameters in the attributes. Values are bitwise those of ``bed.deform``.
     """
     xr = _need("xarray", "HairBed.sweep")
-    v = as_float_array(velocity, "velocity")
+    if not all(hasattr(bed, a) for a in ("deform", "velocity_scale", "eps", "length")):
+        raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
+    v = as_float_array(velocity, "velocity", unit="m/s")
     if v.ndim > 1:
         raise ValueError(f"velocity must be a scalar or a 1-D array, got shape {v.shape}")
     if v.ndim == 1 and v.size == 0:
         raise ValueError("velocity must not be empty")
     root = check_root(root)
-    if not isinstance(progress, bool):
-        raise TypeError(f"progress must be True or False, got {progress!r}")
+    progress = check_flag(progress, "progress")
     dims: tuple[str, ...] = ("velocity",) if v.ndim == 1 else ()
     if chunks is not None:
         _chunk_sizes(chunks, {d: v.size for d in dims})
@@ -676,11 +676,13 @@ def output_format(path: str | os.PathLike[str]) -> str:
     ValueError
         For any other extension (checked before any work is done).
     """
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path must be a file name (str or os.PathLike), got {show(path)}")
     suffix = Path(path).suffix.lower()
     if suffix not in FORMATS:
         known = ", ".join(FORMATS)
         raise ValueError(
-            f"unknown output format {suffix or '(no extension)'!r} of {str(path)!r}; "
+            f"unknown output format {suffix or '(no extension)'!r} of path {str(path)!r}; "
             f"use one of {known}"
         )
     return FORMATS[suffix]

@@ -129,19 +129,24 @@ PLAUSIBLE_RANGES: dict[str, tuple[float, float, str, str, str]] = {
 
 def _positive(value: Any, name: str, unit: str) -> float:
     """A finite real number > 0 in SI ``unit`` (a pint quantity is converted), or a
-    ValueError that names it; a :class:`UnitsWarning` outside :data:`PLAUSIBLE_RANGES`."""
-    x = check_positive(value, name, unit)
-    if name in PLAUSIBLE_RANGES:
-        low, high, shown, below, above = PLAUSIBLE_RANGES[name]
-        if not low <= x <= high:
+    ValueError that names it."""
+    return check_positive(value, name, unit)
+
+
+def _warn_implausible(bed: HairBed) -> None:
+    """A :class:`UnitsWarning` for each SI input of a valid bed outside
+    :data:`PLAUSIBLE_RANGES` (after every check has passed: an invalid bed gets only its
+    error)."""
+    for name, (low, high, shown, below, above) in PLAUSIBLE_RANGES.items():
+        x = getattr(bed, name)
+        if x is not None and not low <= x <= high:
             warnings.warn(
                 f"{name} = {x:g} {shown} is outside the plausible range [{low:g}, {high:g}] "
-                f"{shown}: {below if x < low else above} HairBed takes SI units (or pint "
+                f"{shown}: {below if x < low else above} (HairBed takes SI units or pint "
                 "quantities)",
                 UnitsWarning,
                 stacklevel=4,
             )
-    return x
 
 
 @dataclass(frozen=True)
@@ -365,6 +370,18 @@ class HairBed:
             object.__setattr__(self, name, value)
         if self.density is not None:
             object.__setattr__(self, "density", _positive(self.density, "density", "kg/m**3"))
+        try:
+            scales = (self.second_moment, self.wall_area_per_hair, self.velocity_scale)
+        except (ZeroDivisionError, OverflowError):  # Python floats raise instead of inf
+            scales = (math.nan, math.nan, math.nan)
+        if not all(0.0 < s < math.inf for s in scales):
+            raise ValueError(
+                "the bed's parameters (length, radius, youngs_modulus, channel_height, viscosity, "
+                "spacing or packing_fraction) give a velocity scale E I H phi/(pi a^2 L^2 eta) = "
+                f"{scales[2]:g} m/s, second moment {scales[0]:g} m^4 and wall area per hair "
+                f"{scales[1]:g} m^2 that under- or overflow double precision: check their units"
+            )
+        _warn_implausible(self)
 
     # -- the bed -------------------------------------------------------------------------------
 
@@ -412,8 +429,23 @@ class HairBed:
         float or ndarray
             omega^2 [-], of the shape of ``velocity``.
         """
-        v = as_float_array(velocity, "velocity", unit="m/s")
-        return float_or_array(np.abs(v) / self.velocity_scale)
+        return float_or_array(self._forcing(velocity, "velocity")[1])
+
+    def _forcing(
+        self, velocity: Any, name: str
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """(v [m/s], omega^2 [-]) of a wall speed, refusing speeds whose omega^2 overflows."""
+        v = as_float_array(velocity, name, unit="m/s")
+        with np.errstate(over="ignore"):
+            omega2 = np.abs(v) / self.velocity_scale
+        bad = ~np.isfinite(omega2)
+        if np.any(bad):
+            raise ValueError(
+                f"{name} must be below {np.finfo(np.float64).max * self.velocity_scale:.3g} m/s "
+                f"for this bed (its forcing omega2 overflows), got {float(v[bad].flat[0])!r}"
+                f"{_first_index(bad)}"
+            )
+        return v, omega2
 
     def _direction(self, v: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.where(v < 0.0, -1.0, 1.0)
@@ -436,9 +468,8 @@ class HairBed:
             Tip position, wall shear stress and force in SI, and the dimensionless solution.
         """
         root = check_root(root)
-        v = as_float_array(velocity, "velocity", unit="m/s")
+        v, omega2 = self._forcing(velocity, "velocity")
         direction = self._direction(v)
-        omega2 = np.abs(v) / self.velocity_scale
         sol = solve(omega2, self.eps, direction * self.base_angle, root=root)
         return self._state(v, direction, omega2, sol)
 
@@ -506,19 +537,20 @@ class HairBed:
         """
         from .rheology import rectification_ratio
 
-        return rectification_ratio(self.omega2(speed), self.eps, self.base_angle, root=root)
+        omega2 = self._forcing(speed, "speed")[1]
+        return rectification_ratio(float_or_array(omega2), self.eps, self.base_angle, root=root)
 
     # -- inverse: tip deflection -> velocity (the sensor's calibration) -------------------------
 
-    def _deflection(self, deflection: Any) -> NDArray[np.float64]:
+    def _deflection(self, deflection: Any, name: str = "deflection") -> NDArray[np.float64]:
         """A tip deflection [m] (pint quantities converted) in (-length, length)."""
-        d = as_float_array(deflection, "deflection", unit="m")
+        d = as_float_array(deflection, name, unit="m")
         length = self.length
         bad = np.abs(d) >= length
         if np.any(bad):
             raise ValueError(
-                f"tip deflection must lie in (-length, length) = ({-length!r}, {length!r}) m, "
-                f"got {float(d[bad].flat[0])!r}{_first_index(bad)}"
+                f"{name}: the tip deflection must lie in (-length, length) = ({-length!r}, "
+                f"{length!r}) m, got {float(d[bad].flat[0])!r}{_first_index(bad)}"
             )
         return d
 
@@ -607,8 +639,9 @@ class HairBed:
         from .inverse import fit_profile
 
         kwargs.setdefault("theta0", self.base_angle)
-        x = as_float_array(x, "x", unit="m") / self.length
-        z = as_float_array(z, "z", unit="m") / self.length
+        with np.errstate(over="ignore"):  # an overflow is infinite: refused, naming x or z
+            x = as_float_array(x, "x", unit="m") / self.length
+            z = as_float_array(z, "z", unit="m") / self.length
         fit = fit_profile(x, z, self.eps, **kwargs)
         return BedProfileFit(
             velocity=fit.omega2 * self.velocity_scale,

@@ -9,7 +9,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._kernels import FIELDS
-from .validation import _first_index, as_float_array, broadcast_named, check_int
+from .validation import _first_index, as_float_array, broadcast_named, check_int, show
 
 __all__ = ["STATUS_MESSAGES", "Solution"]
 
@@ -300,9 +300,10 @@ class Solution:
     def profile(self, num: int = 200) -> tuple[Any, Any]:
         """Points (x, z) along the hair for plotting, in units of L.
 
-        Returns arrays of shape ``self.shape + (num,)``, from the base (sigma = 0) to the tip.
+        Returns arrays of shape ``self.shape + (num,)``, from the base (sigma = 0) to the tip;
+        num in [2, 10^7].
         """
-        num = check_int(num, "num", 2)
+        num = check_int(num, "num", 2, 10**7)
         kernels = _shape_kernels()
         if type(self.t) is float:  # a single state: no numpy broadcasting (~10 us a call)
             xs, zs = kernels.profile_array(
@@ -328,6 +329,13 @@ class Solution:
         if self.shape == ():
             raise TypeError("a scalar Solution cannot be indexed")
         shape = self.shape
+        try:
+            np.empty(shape, dtype=np.bool_)[index]
+        except (IndexError, ValueError, TypeError, OverflowError) as exc:
+            raise IndexError(
+                f"index {show(index)} does not select states of a Solution of shape {shape} "
+                f"({exc})"
+            ) from None
         values: dict[str, Any] = {}
         for f in fields(self):
             v = getattr(self, f.name)

@@ -137,9 +137,14 @@ def _save_tables(**arrays: Any) -> None:
         Path(tmp).unlink(missing_ok=True)
 
 
+_BIG_INT = 2**1000
+
+
 def _scalar(value: Any) -> float | None:
     """A plain real number as a float (fast path of the validation), else None."""
-    if type(value) is float or type(value) is int or type(value) is np.float64:
+    if type(value) is float or type(value) is np.float64:
+        return float(value)
+    if type(value) is int and -_BIG_INT < value < _BIG_INT:  # else float() overflows
         return float(value)
     return None
 
@@ -308,7 +313,7 @@ def solve_all(
         if w.ndim != 0:
             raise ValueError("solve_all takes scalar omega2, eps and theta0; use solve for arrays")
         wf, ef, tf = float(w), float(e), float(t0)
-    bound_f = math.floor(math.sqrt(wf / (1.0 - ef)) / math.pi) + 1.0
+    bound_f = math.floor(math.sqrt(wf) / math.sqrt(1.0 - ef) / math.pi) + 1.0
     if max_n is not None:
         bound = int(min(bound_f, check_int(max_n, "max_n", 0)))
     elif bound_f > MAX_BRANCHES:

@@ -21,8 +21,10 @@ __all__ = [
     "check_positive",
     "check_real_array",
     "check_root",
+    "check_scalar_inputs",
     "check_sigma",
     "check_state_inputs",
+    "check_type",
     "float_or_array",
     "node_values",
     "show",
@@ -49,7 +51,11 @@ def _first_index(mask: NDArray[np.bool_]) -> str:
 def show(value: Any) -> str:
     """A value as a message shows it: numbers as plain Python reprs (never ``np.float64(...)``),
     anything else by its repr, cut to 60 characters."""
-    if isinstance(value, np.generic) and value.dtype.kind in "biufc":
+    if isinstance(value, np.ndarray):
+        return f"an array of shape {value.shape} and dtype {value.dtype}"
+    if isinstance(value, (np.timedelta64, np.datetime64)):
+        return f"{type(value).__name__} {value!s}"
+    if isinstance(value, np.generic):
         value = value.item()
     if isinstance(value, float):
         return repr(value)
@@ -273,6 +279,19 @@ def check_positive(value: Any, name: str, unit: str | None = None) -> float:
     return x
 
 
+def _whole(value: Any) -> int | None:
+    """``value`` as an int if it is a whole number (not a bool, a time or a fraction)."""
+    if isinstance(value, (bool, np.bool_, np.timedelta64, np.datetime64)):
+        return None
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        x = float(value)
+        if math.isfinite(x) and x.is_integer():
+            return int(x)
+    return None
+
+
 def check_int(value: Any, name: str, low: int | None = None, high: int | None = None) -> int:
     """A whole number in [low, high] (None: unbounded), as an int: a grid size, an iteration
     limit, a count. Integers of any kind and integral floats (``200.0``) are accepted;
@@ -284,22 +303,15 @@ def check_int(value: Any, name: str, low: int | None = None, high: int | None = 
         Naming ``name`` and its range.
     """
     if low is not None and high is not None:
-        rng = f"an integer in [{low}, {high}]"
+        rng = f"an integer >= {low} and <= {high}"
     elif low is not None:
         rng = f"an integer >= {low}"
     elif high is not None:
         rng = f"an integer <= {high}"
     else:
         rng = "an integer"
-    if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
-        k = int(value)
-    elif (
-        isinstance(value, (float, np.floating))
-        and math.isfinite(float(value))
-        and float(value).is_integer()
-    ):
-        k = int(value)
-    else:
+    k = _whole(value)
+    if k is None:
         raise ValueError(f"{name} must be {rng}, got {show(value)}")
     if (low is not None and k < low) or (high is not None and k > high):
         raise ValueError(f"{name} must be {rng}, got {k!r}")
@@ -310,7 +322,7 @@ def check_flag(value: Any, name: str) -> bool:
     """True or False (numpy's bools too), nothing else."""
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
-    raise ValueError(f"{name} must be True or False, got {show(value)}")
+    raise TypeError(f"{name} must be True or False, got {show(value)}")
 
 
 def check_choice(value: Any, name: str, choices: tuple[str, ...]) -> str:
@@ -321,25 +333,60 @@ def check_choice(value: Any, name: str, choices: tuple[str, ...]) -> str:
     return value
 
 
+#: The largest angle [rad] a starting guess may hold (about 160 turns: any twirling branch
+#: a discretisation can resolve).
+MAX_GUESS_ANGLE = 1000.0
+
+
 def node_values(guess: Any, name: str, sigma: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Finite values at the nodes ``sigma`` from a number or a function of sigma (a starting
-    guess of theta [rad]), as a new float array of ``sigma``'s shape."""
-    if callable(guess):
-        values = as_float_array(guess(sigma), f"{name}(sigma)")
-        try:
-            return np.broadcast_to(values, sigma.shape).copy()
-        except ValueError:
-            raise ValueError(
-                f"{name}(sigma) must give one value per node ({sigma.size}), got shape "
-                f"{values.shape}"
-            ) from None
-    values = as_float_array(guess, name)
-    if values.ndim:
+    """Finite angles [rad] (at most ``MAX_GUESS_ANGLE`` in size) at the nodes ``sigma`` from a
+    number or a function of sigma (a starting guess of theta), as a new array of ``sigma``'s
+    shape."""
+    label = f"{name}(sigma)" if callable(guess) else name
+    values = as_float_array(guess(sigma) if callable(guess) else guess, label, unit="rad")
+    if not callable(guess) and values.ndim:
         raise ValueError(
             f"{name} must be a number [rad] or a function of sigma, got an array of shape "
             f"{values.shape}"
         )
-    return np.full(sigma.shape, float(values))
+    try:
+        values = np.broadcast_to(values, sigma.shape).copy()
+    except ValueError:
+        raise ValueError(
+            f"{label} must give one value per node ({sigma.size}), got shape {values.shape}"
+        ) from None
+    _check_range(
+        values,
+        np.abs(values) > MAX_GUESS_ANGLE,
+        label,
+        f"[-{MAX_GUESS_ANGLE:g}, {MAX_GUESS_ANGLE:g}] [rad]",
+    )
+    return values
+
+
+def check_type(value: Any, name: str, kind: type | tuple[type, ...], what: str) -> Any:
+    """``value`` itself if it is an instance of ``kind``, else a TypeError naming ``name`` and
+    ``what`` it must be."""
+    if not isinstance(value, kind):
+        raise TypeError(f"{name} must be {what}, got {type(value).__name__}")
+    return value
+
+
+def check_scalar_inputs(
+    omega2: Any, eps: Any, theta0: Any, *, omega2_max: float | None = None, why: str = ""
+) -> tuple[float, float, float]:
+    """The three physical inputs as floats, checked like :func:`check_inputs`, for functions
+    that solve one state at a time; ``omega2_max`` bounds the forcing (``why`` says why)."""
+    w, e, t = check_inputs(omega2, eps, theta0)
+    if w.ndim or np.ndim(omega2) or np.ndim(eps) or np.ndim(theta0):
+        raise ValueError(
+            "omega2, eps and theta0 must be scalars here (one state per call); loop over "
+            "arrays yourself, or use hairbed.solve, which broadcasts"
+        )
+    wf = float(w)
+    if omega2_max is not None and wf > omega2_max:
+        raise ValueError(f"omega2 must lie in [0, {omega2_max:g}]{why}, got {wf!r}")
+    return wf, float(e), float(t)
 
 
 def check_sigma(
@@ -349,12 +396,16 @@ def check_sigma(
     *,
     unit: str | None = None,
     allow_zero: bool = False,
+    low: float = 0.0,
+    high: float = math.inf,
 ) -> NDArray[np.float64]:
     """Standard uncertainties of data points of ``shape``: one number for all, or one per point.
 
     Returns a float array of ``shape`` (an array with one value per point, whatever its own
     shape, is read in C order). Each must be finite and > 0 (>= 0 with ``allow_zero``), in
-    ``unit`` (a pint quantity is converted to it).
+    ``unit`` (a pint quantity is converted to it); nonzero values in [low, high] (the scale of
+    the data: an uncertainty beyond the largest possible value says nothing, one a trillion
+    times below the data's scale is not an uncertainty).
 
     Raises
     ------
@@ -373,11 +424,18 @@ def check_sigma(
             f"{name} must be a single number or one per point ({size}), got shape {s.shape}"
         )
     bad = s < 0.0 if allow_zero else s <= 0.0
+    u = f" [{unit}]" if unit else ""
     if np.any(bad):
         rng = ">= 0" if allow_zero else "> 0"
-        u = f" [{unit}]" if unit else ""
         raise ValueError(
             f"{name} must be {rng}{u}, got {float(s[bad].flat[0])!r}{_first_index(bad)}"
+        )
+    bad = (s != 0.0) & ((s < low) | (s > high))
+    if np.any(bad):
+        zero = "0 or " if allow_zero else ""
+        raise ValueError(
+            f"{name} must be {zero}in [{low:g}, {high:g}]{u}, got {float(s[bad].flat[0])!r}"
+            f"{_first_index(bad)}"
         )
     return s
 
@@ -445,20 +503,21 @@ def check_state_inputs(
     return v, e, t
 
 
+#: The largest interior turning-point count of a branch label (the kernels count in int64).
+MAX_N = 10**9
+
+
 def check_branch(sign: Any, n: Any) -> tuple[int, int]:
     """Validate a branch label: ``sign`` in {+1, -1}, ``n`` a whole number >= 0."""
-    if type(sign) is int and type(n) is int and (sign == 1 or sign == -1) and n >= 0:
+    if type(sign) is int and type(n) is int and (sign == 1 or sign == -1) and 0 <= n <= MAX_N:
         return sign, n  # the common case, without the abstract-base-class checks
-    if isinstance(sign, bool) or not isinstance(sign, numbers.Real) or sign not in (1, -1):
+    s = _whole(sign)
+    if s not in (1, -1):
         raise ValueError(f"sign must be +1 or -1, got {show(sign)}")
-    if (
-        isinstance(n, bool)
-        or not isinstance(n, numbers.Real)
-        or not float(n).is_integer()
-        or n < 0
-    ):
-        raise ValueError(f"n must be a whole number >= 0, got {show(n)}")
-    return (1 if sign == 1 else -1), int(float(n))
+    k = _whole(n)
+    if k is None or not 0 <= k <= MAX_N:
+        raise ValueError(f"n must be a whole number >= 0 (at most 10^9), got {show(n)}")
+    return s, k
 
 
 ROOTS = ("low", "mid", "high")

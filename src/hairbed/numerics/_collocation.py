@@ -9,13 +9,15 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.integrate import solve_bvp
 
-from .._core.validation import check_int, check_positive, node_values
+from .._core.validation import check_int, check_number, node_values
 from ._result import NumericalResult, branch_label, scalar_inputs
 
 __all__ = ["collocation"]
 
 FloatArray = NDArray[np.float64]
 
+#: The smallest tolerance: solve_bvp raises any below to 100 machine epsilons (with a warning).
+_TOL_MIN = 100.0 * float(np.finfo(np.float64).eps)
 #: Largest mesh (and output grid) of :func:`collocation`.
 MAX_NODES = 1_000_000
 _GUESS_TIP_FRACTION = 0.9  # of the way from theta0 to pi/2, at strong forcing
@@ -104,8 +106,8 @@ def collocation(
     theta0 : float, optional
         Base angle [rad], in (-pi/2, pi/2).
     tol : float, optional
-        ``solve_bvp`` tolerance on the relative collocation residual; tip values are then
-        accurate to about this.
+        ``solve_bvp`` tolerance on the relative collocation residual, in [2.2e-14, 1]; tip
+        values are then accurate to about this.
     guess : float or callable, optional
         Starting theta [rad] at the initial nodes, or a function of sigma giving it. Default: a
         monotone rise from theta0 with a base boundary layer of width 1/omega (see
@@ -142,9 +144,11 @@ def collocation(
     0.73270696
     """
     omega2, eps, theta0 = scalar_inputs(omega2, eps, theta0)
-    tol = check_positive(tol, "tol")
+    tol = check_number(tol, "tol", low=_TOL_MIN, high=1.0)
     max_nodes = check_int(max_nodes, "max_nodes", 3, MAX_NODES)
-    nodes = check_int(nodes, "nodes", 3, max_nodes)
+    nodes = check_int(nodes, "nodes", 3, MAX_NODES)
+    if nodes > max_nodes:
+        raise ValueError(f"nodes must not exceed max_nodes = {max_nodes}, got {nodes}")
     num = check_int(num, "num", 3, MAX_NODES)
 
     def bc(ya: FloatArray, yb: FloatArray, p: FloatArray) -> FloatArray:

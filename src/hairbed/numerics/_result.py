@@ -8,9 +8,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .._core.validation import check_inputs
+from .._core.validation import check_scalar_inputs
 
-__all__ = ["NumericalResult", "branch_label", "scalar_inputs"]
+__all__ = ["MAX_OMEGA2", "NumericalResult", "branch_label", "scalar_inputs"]
+
+#: The strongest forcing the numerical baselines take (omega = 10^4: a base boundary layer of
+#: width 1e-4, which needs grids of 10^5 and more; the exact solver has no such limit).
+MAX_OMEGA2 = 1e8
 
 FloatArray = NDArray[np.float64]
 
@@ -124,13 +128,15 @@ def scalar_inputs(omega2: Any, eps: Any, theta0: Any) -> tuple[float, float, flo
     Raises
     ------
     ValueError
-        If a value is out of range (message from :func:`hairbed._core.validation.check_inputs`) or
-        if any input is an array: the numerical baselines solve one state at a time.
+        If a value is out of range (message from :func:`hairbed._core.validation.check_inputs`),
+        omega2 > ``MAX_OMEGA2``, or any input is an array: the numerical baselines solve one
+        state at a time.
     """
-    w, e, t = check_inputs(omega2, eps, theta0)
-    if w.ndim or np.ndim(omega2) or np.ndim(eps) or np.ndim(theta0):
-        raise ValueError(
-            "the numerical solvers take scalar omega2, eps and theta0 (one state per call); "
-            "loop over arrays yourself, or use hairbed.solve, which broadcasts"
-        )
-    return float(w), float(e), float(t)
+    return check_scalar_inputs(
+        omega2,
+        eps,
+        theta0,
+        omega2_max=MAX_OMEGA2,
+        why=" (the boundary layer of width 1/omega is beyond any grid of a numerical baseline; "
+        "hairbed.solve is exact at any forcing)",
+    )

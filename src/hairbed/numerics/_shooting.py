@@ -20,6 +20,10 @@ FloatArray = NDArray[np.float64]
 _RTOL = 1e-12  # solve_ivp tolerances: near the limit of DOP853 in double precision
 _ATOL = 1e-13
 _MACHEPS = float(np.finfo(np.float64).eps)
+#: Strongest forcing and largest starting base curvature of :func:`shooting` (at omega2 = 1e4
+#: the physical root is already within rounding of the separatrix: status 2).
+MAX_OMEGA2 = 1e4
+MAX_CURVATURE = 1e3
 #: Largest output grid and Newton iteration limit of :func:`shooting`.
 MAX_POINTS = 1_000_000
 MAX_ITER = 1_000_000
@@ -190,13 +194,15 @@ def shooting(
     Parameters
     ----------
     omega2 : float
-        Forcing omega^2 [-], >= 0. Scalars only (one state per call).
+        Forcing omega^2 [-], in [0, ``MAX_OMEGA2`` = 10^4]. Scalars only (one state per call).
     eps : float
         Confinement eps = L/H [-], in [0, 1).
     theta0 : float, optional
         Base angle [rad], in (-pi/2, pi/2).
     base_curvature : float, optional
-        Starting value of theta'(0) [-] for Newton's method; default: bracket the physical root.
+        Starting value of theta'(0) [-] for Newton's method, in [-1000, 1000] (a hair
+        twirling ~10 times; beyond, each integration takes minutes); default: bracket the
+        physical root.
     tol : float, optional
         Newton convergence tolerance on abs(theta'(1)) relative to max(1, abs(theta'(0))).
     maxiter : int, optional
@@ -224,9 +230,16 @@ def shooting(
     0.732706963
     """
     omega2, eps, theta0 = scalar_inputs(omega2, eps, theta0)
+    if omega2 > MAX_OMEGA2:
+        raise ValueError(
+            f"omega2 must lie in [0, {MAX_OMEGA2:g}] for shooting (beyond, no double-precision "
+            f"theta'(0) turns at the tip; hairbed.solve is exact at any forcing), got {omega2!r}"
+        )
     num = check_int(num, "num", 3, MAX_POINTS)
     if base_curvature is not None:
-        base_curvature = check_number(base_curvature, "base_curvature")
+        base_curvature = check_number(
+            base_curvature, "base_curvature", low=-MAX_CURVATURE, high=MAX_CURVATURE
+        )
     tol = check_positive(tol, "tol")
     maxiter = check_int(maxiter, "maxiter", 1, MAX_ITER)
     shooter = _Shooter(omega2, eps, theta0)

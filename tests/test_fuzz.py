@@ -1,0 +1,802 @@
+"""A property-based fuzzer: every public function and CLI command against hostile input.
+
+Every public callable (from ``__all__`` of ``hairbed`` and of each public module, and the
+public methods of ``Solution``, ``HairBed`` and ``HairState``) gets a table of valid
+arguments; one argument at a time is replaced by a hostile value (NaN, +-inf, negative,
+huge, tiny/subnormal, zero, empty and 0-d arrays, wrong dtypes, wrong shapes and ragged
+lists, strings, None, objects), first from a fixed catalogue (every class, for every
+argument) and then from hypothesis strategies under the ``fuzz`` profile of
+``tests/conftest.py`` (a fixed ``max_examples``, ``derandomize=True``). Each call must
+
+- return a result whose bare numbers are finite (NaN only where a result says so: fields of
+  objects with a ``status``, and the documented NaN padding of ``omega2_from_tip_height``),
+  with no warning other than the library's own (``ModelValidityWarning``, ``UnitsWarning``);
+- or raise ``ValueError``/``TypeError`` whose message names the fuzzed parameter (as a whole
+  word) and shows no ``np.float64(...)``-style repr;
+
+within ``TIMEOUT`` seconds. The command line gets the same treatment through
+``hairbed.cli.main([...])`` in-process (and a few commands through a subprocess): exit 0, or
+a non-zero exit with exactly one line on stderr and no "Traceback" or "Warning" in it.
+
+Set ``HAIRBED_FUZZ_REPORT=path.json`` to write how many hostile inputs each function got
+and how each class of input ended.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import importlib
+import inspect
+import io
+import json
+import math
+import os
+import re
+import signal
+import subprocess
+import sys
+import warnings
+from collections import Counter, defaultdict
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
+
+import hairbed
+from hairbed import (
+    branches,
+    calibration,
+    inverse,
+    numerics,
+    quasistatic,
+    rheology,
+    sensitivity,
+    stability,
+    sweeps,
+    units,
+)
+from hairbed.cli import main as cli_main
+
+#: The fixed budget of the generated examples (tests/conftest.py).
+FUZZ = settings.get_profile("fuzz")
+#: Seconds a single call may take before it counts as a hang.
+TIMEOUT = 20.0
+#: The library's own warnings (documented, one per finding); anything else is a leak.
+OWN_WARNINGS = (hairbed.ModelValidityWarning, hairbed.UnitsWarning)
+
+
+class _Opaque:
+    """An object that is not a number."""
+
+    def __repr__(self) -> str:
+        return "<opaque>"
+
+
+#: (class, value): every class of hostile input, tried on every argument.
+CATALOGUE: list[tuple[str, Any]] = [
+    ("nan", float("nan")),
+    ("nan", np.float64("nan")),
+    ("nan", [0.5, float("nan")]),
+    ("inf", float("inf")),
+    ("inf", -float("inf")),
+    ("inf", np.array([0.1, np.inf])),
+    ("negative", -1.0),
+    ("negative", -1),
+    ("negative", -1e-300),
+    ("negative", np.array([0.2, -0.5])),
+    ("huge", 1e300),
+    ("huge", 1.7e308),
+    ("huge", 2**63),
+    ("huge", 10**400),
+    ("huge", np.float32(3e38)),
+    ("huge", np.longdouble("1e4000") if np.finfo(np.longdouble).max > 1e4000 else 1e308),
+    ("tiny", 5e-324),
+    ("tiny", 1e-310),
+    ("tiny", np.array([1e-320, 1e-300])),
+    ("zero", 0),
+    ("zero", 0.0),
+    ("zero", -0.0),
+    ("empty", np.array([])),
+    ("empty", []),
+    ("empty", np.empty((0, 3))),
+    ("0-d", np.array(0.3)),
+    ("0-d", np.array(-0.7)),
+    ("dtype", True),
+    ("dtype", np.bool_(False)),
+    ("dtype", np.array([True, False])),
+    ("dtype", 0.5 + 1j),
+    ("dtype", np.array([0.5 + 0j])),
+    ("dtype", np.array([0.5 + 9j])),
+    ("dtype", np.int8(3)),
+    ("dtype", np.array([1, 2], dtype=np.int8)),
+    ("dtype", np.float16(0.5)),
+    ("dtype", np.array([0.5], dtype=object)),
+    ("dtype", np.array(["0.5"])),
+    ("dtype", np.timedelta64(1, "s")),
+    ("dtype", np.datetime64("2020-01-01")),
+    ("dtype", np.array([1, 2], dtype="m8[s]")),
+    ("shape", [[0.1, 0.2], [0.3]]),
+    ("shape", np.full((2, 3), 0.4)),
+    ("shape", np.full(5, 0.3)),
+    ("shape", [[[0.5]]]),
+    ("string", "0.5"),
+    ("string", ""),
+    ("string", "nan"),
+    ("string", b"1"),
+    ("none", None),
+    ("object", _Opaque()),
+    ("object", {}),
+    ("object", [None]),
+    ("object", [0.5, "a"]),
+    ("object", {0.5}),
+]
+
+
+def _classify(value: Any) -> str:
+    """The class of a generated value (for the report)."""
+    arr = np.asarray(value) if not isinstance(value, (list, str, bytes)) else None
+    if arr is not None and arr.dtype.kind not in "iuf":
+        return "dtype"
+    if arr is not None and arr.ndim == 0:
+        x = float(arr)
+        if math.isnan(x):
+            return "nan"
+        if math.isinf(x):
+            return "inf"
+        if x == 0.0:
+            return "zero"
+        if x < 0.0:
+            return "negative"
+        if abs(x) > 1e100:
+            return "huge"
+        if abs(x) < 1e-100:
+            return "tiny"
+        return "number"
+    if arr is not None:
+        return "empty" if arr.size == 0 else "array"
+    return "other"
+
+
+_FLOATS = st.floats(allow_nan=True, allow_infinity=True, allow_subnormal=True)
+#: Generated hostile values: floats and integers of every size, small arrays of every dtype
+#: and shape (including empty ones), strings and lists.
+GENERATED = st.one_of(
+    _FLOATS,
+    st.integers(min_value=-(2**80), max_value=2**80),
+    hnp.arrays(
+        dtype=st.sampled_from([np.float64, np.float32, np.int64, np.int8, np.uint8]),
+        shape=hnp.array_shapes(min_dims=0, max_dims=3, min_side=0, max_side=4),
+    ),
+    hnp.arrays(
+        dtype=hnp.scalar_dtypes(),
+        shape=hnp.array_shapes(min_dims=0, max_dims=2, min_side=0, max_side=3),
+    ),
+    st.lists(_FLOATS, max_size=4),
+    st.text(max_size=5),
+    st.complex_numbers(),
+    st.booleans(),
+    st.none(),
+)
+
+
+# -- the table of public functions ----------------------------------------------------------------
+
+
+@dataclass
+class Target:
+    """One public callable, with valid arguments; each name in ``fuzz`` is fuzzed in turn."""
+
+    name: str
+    call: Callable[..., Any]
+    args: dict[str, Any]
+    fuzz: tuple[str, ...] = ()
+    #: bare NaN in the result is documented (padding of a fixed-size answer)
+    nan_ok: bool = False
+    #: the exceptions that are documented answers to bad input
+    errors: tuple[type[Exception], ...] = (ValueError, TypeError)
+    tally: dict[str, Counter[str]] = field(default_factory=lambda: defaultdict(Counter))
+
+    def __post_init__(self) -> None:
+        if not self.fuzz:
+            self.fuzz = tuple(self.args)
+
+
+BED_KW = dict(
+    length=1e-3,
+    radius=50e-6,
+    youngs_modulus=1e6,
+    channel_height=2e-3,
+    viscosity=1.0,
+    spacing=400e-6,
+    base_angle=0.1,
+)
+BED = hairbed.HairBed(**BED_KW)
+SOL = hairbed.solve(2.0, 0.5, 0.1)
+SOLS = hairbed.solve([1.0, 2.0, 3.0], 0.5)
+STATE = BED.deform(0.1)
+X5, Z5 = SOL.profile(5)
+D3 = [float(BED.deform(v).tip_deflection) for v in (0.02, 0.05, 0.1)]
+THETA81 = np.zeros(41)
+FIT = calibration.fit(BED, D3, velocity=[0.02, 0.05, 0.1], sigma=1e-6)
+
+
+def _method(obj: Any, name: str) -> Callable[..., Any]:
+    return lambda **kw: getattr(obj, name)(**kw)
+
+
+TARGETS: list[Target] = [
+    # the core
+    Target("solve", hairbed.solve, dict(omega2=2.0, eps=0.5, theta0=0.1, sign=1, n=0, root="low")),
+    Target("solve_all", hairbed.solve_all, dict(omega2=20.0, eps=0.5, theta0=0.1, max_n=None)),
+    Target(
+        "from_parameter", hairbed.from_parameter, dict(t=0.5, eps=0.5, theta0=0.1, sign=1, n=0)
+    ),
+    Target("from_xi", hairbed.from_xi, dict(xi=0.6, eps=0.5, theta0=0.1, sign=1, n=0)),
+    Target("Solution.theta", _method(SOL, "theta"), dict(sigma=0.5)),
+    Target("Solution.x", _method(SOL, "x"), dict(sigma=[0.0, 1.0])),
+    Target("Solution.z", _method(SOLS, "z"), dict(sigma=0.5)),
+    Target("Solution.displacement", _method(SOL, "displacement"), dict(sigma=0.5)),
+    Target("Solution.profile", _method(SOL, "profile"), dict(num=20)),
+    Target(
+        "Solution.__getitem__",
+        lambda index: SOLS[index],
+        dict(index=1),
+        errors=(ValueError, TypeError, IndexError),  # the sequence protocol's error
+    ),
+    # derivatives
+    Target(
+        "derivatives",
+        hairbed.derivatives,
+        dict(omega2=2.0, eps=0.5, theta0=0.1, sign=1, n=0, root="low"),
+    ),
+    Target("sensitivity.derivatives_at", sensitivity.derivatives_at, dict(sol=SOL)),
+    # branches
+    Target("branches.log_slope", branches.log_slope, dict(t=0.0, eps=0.9, theta0=-1.5)),
+    Target(
+        "branches.curve",
+        branches.curve,
+        dict(eps=0.5, theta0=0.1, sign=1, n=0, num=7, t_span=(-5.0, 5.0)),
+    ),
+    Target("branches.folds", branches.folds, dict(eps=0.9, theta0=-1.5)),
+    Target("branches.bistable_window", branches.bistable_window, dict(eps=0.9, theta0=-1.5)),
+    Target("branches.cusp", branches.cusp, dict(theta0=-1.0)),
+    # inverse
+    Target(
+        "inverse.omega2_from_tip_deflection",
+        inverse.omega2_from_tip_deflection,
+        dict(x1=0.5, eps=0.5, theta0=0.1),
+    ),
+    Target(
+        "inverse.solution_from_tip_deflection",
+        inverse.solution_from_tip_deflection,
+        dict(x1=0.5, eps=0.5, theta0=0.1),
+    ),
+    Target(
+        "inverse.linear_omega2_from_tip_deflection",
+        inverse.linear_omega2_from_tip_deflection,
+        dict(x1=0.5, eps=0.5, theta0=0.1),
+    ),
+    Target(
+        "inverse.tip_deflection_slope", inverse.tip_deflection_slope, dict(eps=0.5, theta0=0.1)
+    ),
+    Target("inverse.max_tip_height", inverse.max_tip_height, dict(theta0=-0.5)),
+    Target(
+        "inverse.omega2_from_tip_height",
+        inverse.omega2_from_tip_height,
+        dict(h1=0.9, eps=0.5, theta0=-0.5),
+        nan_ok=True,
+    ),
+    Target(
+        "inverse.fit_profile",
+        inverse.fit_profile,
+        dict(x=X5, z=Z5, eps=0.5, theta0=0.1, omega2_guess=2.0, theta0_guess=None),
+    ),
+    # the numerical baselines
+    Target(
+        "numerics.finite_difference",
+        numerics.finite_difference,
+        dict(
+            omega2=2.0,
+            eps=0.5,
+            theta0=0.1,
+            num=20,
+            guess=0.0,
+            method="newton",
+            xtol=1e-10,
+            maxiter=50,
+        ),
+    ),
+    Target(
+        "numerics.shooting",
+        numerics.shooting,
+        dict(omega2=2.0, eps=0.5, theta0=0.1, base_curvature=None, tol=1e-8, maxiter=20, num=5),
+    ),
+    Target(
+        "numerics.collocation",
+        numerics.collocation,
+        dict(
+            omega2=2.0, eps=0.5, theta0=0.1, tol=1e-6, guess=None, nodes=11, max_nodes=2000, num=5
+        ),
+    ),
+    # quasi-static sweeps, rheology
+    Target(
+        "quasistatic.sweep",
+        quasistatic.sweep,
+        dict(omega2_path=[1.2, 1.6, 1.2], eps=0.9, theta0=-1.5, start="low"),
+    ),
+    Target(
+        "quasistatic.sweep_with_jumps",
+        quasistatic.sweep_with_jumps,
+        dict(omega2_path=[1.2, 1.6], eps=0.9, theta0=-1.5, start="high"),
+    ),
+    Target(
+        "rheology.stress_ratio",
+        rheology.stress_ratio,
+        dict(omega2=2.0, eps=0.5, theta0=0.1, root="low"),
+    ),
+    Target("rheology.rest_stress_ratio", rheology.rest_stress_ratio, dict(eps=0.5, theta0=0.1)),
+    Target(
+        "rheology.rectification_ratio",
+        rheology.rectification_ratio,
+        dict(omega2=2.0, eps=0.5, theta0=0.1, root="low"),
+    ),
+    # stability
+    Target(
+        "stability.equilibrium",
+        stability.equilibrium,
+        dict(omega2=2.0, eps=0.5, theta0=0.0, guess=THETA81, num=40, xtol=1e-10, maxiter=20),
+    ),
+    Target(
+        "stability.linear_stability", stability.linear_stability, dict(solution=SOL, num=20, k=2)
+    ),
+    Target("stability.is_stable", stability.is_stable, dict(solution=SOL, num=20)),
+    Target(
+        "stability.relax",
+        stability.relax,
+        dict(
+            omega2=2.0,
+            eps=0.5,
+            theta0=0.0,
+            theta_initial=THETA81,
+            t_end=0.5,
+            num=40,
+            t_eval=None,
+            method="BDF",
+            rtol=1e-4,
+            atol=1e-6,
+        ),
+    ),
+    # the bed in SI units
+    Target("HairBed", hairbed.HairBed, dict(BED_KW, density=1000.0)),
+    Target("HairBed.omega2", _method(BED, "omega2"), dict(velocity=0.1)),
+    Target("HairBed.deform", _method(BED, "deform"), dict(velocity=0.1, root="low")),
+    Target("HairBed.wall_shear_stress", _method(BED, "wall_shear_stress"), dict(velocity=0.1)),
+    Target("HairBed.rectification_ratio", _method(BED, "rectification_ratio"), dict(speed=0.1)),
+    Target(
+        "HairBed.state_from_tip_deflection",
+        _method(BED, "state_from_tip_deflection"),
+        dict(deflection=3e-4),
+    ),
+    Target(
+        "HairBed.velocity_from_tip_deflection",
+        _method(BED, "velocity_from_tip_deflection"),
+        dict(deflection=3e-4),
+    ),
+    Target(
+        "HairBed.wall_shear_stress_from_tip_deflection",
+        _method(BED, "wall_shear_stress_from_tip_deflection"),
+        dict(deflection=3e-4),
+    ),
+    Target(
+        "HairBed.linear_velocity_from_tip_deflection",
+        _method(BED, "linear_velocity_from_tip_deflection"),
+        dict(deflection=3e-4),
+    ),
+    Target(
+        "HairBed.linear_wall_shear_stress_from_tip_deflection",
+        _method(BED, "linear_wall_shear_stress_from_tip_deflection"),
+        dict(deflection=3e-4),
+    ),
+    Target(
+        "HairBed.fit_profile",
+        _method(BED, "fit_profile"),
+        dict(x=X5 * 1e-3, z=Z5 * 1e-3, omega2_guess=2.0),
+    ),
+    Target("HairState.profile", _method(STATE, "profile"), dict(num=10)),
+    # calibration
+    Target(
+        "calibration.model_tip_deflection",
+        calibration.model_tip_deflection,
+        dict(bed=BED, velocity=[0.05, 0.1]),
+    ),
+    Target(
+        "calibration.fit",
+        calibration.fit,
+        dict(bed=BED, tip_deflection=D3, velocity=[0.02, 0.05, 0.1], sigma=1e-6),
+        fuzz=("bed", "tip_deflection", "velocity", "sigma", "free"),
+    ),
+    Target(
+        "calibration.measure",
+        calibration.measure,
+        dict(bed=BED, tip_deflection=3e-4, sigma=1e-6, fit=FIT),
+    ),
+    Target("calibration.linear_range", calibration.linear_range, dict(bed=BED, tolerance=0.1)),
+    # labelled sweeps (xarray)
+    Target(
+        "sweep",
+        hairbed.sweep,
+        dict(
+            omega2=[0.5, 1.0],
+            eps=0.5,
+            theta0=0.1,
+            sign=1,
+            n=0,
+            root="low",
+            chunks=None,
+            progress=False,
+        ),
+    ),
+    Target(
+        "sweeps.bed_sweep",
+        sweeps.bed_sweep,
+        dict(bed=BED, velocity=[0.05, 0.1], root="low", chunks=None, progress=False),
+    ),
+    Target("sweeps.output_format", sweeps.output_format, dict(path="grid.nc")),
+    Target("HairBed.sweep", _method(BED, "sweep"), dict(velocity=[0.05, 0.1])),
+]
+
+#: Public callables not fuzzed here, and why.
+NOT_FUZZED = {
+    "explore": "starts a web server (the explorer's own tests feed it bad input)",
+    "hairbed.explorer.serve": "starts a web server",
+    "hairbed.explorer.explore": "starts a web server",
+    "hairbed.sweeps.path_dataset": "internal glue of the CLI, given a Solution it made",
+    "hairbed.sweeps.write_dataset": "file output: tested in test_cli_sweep/test_sweeps",
+    "hairbed.sweeps.write_csv_stream": "file output: tested in test_cli_sweep/test_sweeps",
+    "hairbed.sweeps.read_table": "file input: OSError is its documented error",
+    "Solution.as_dict": "no input",
+}
+
+PUBLIC_MODULES = (
+    "hairbed",
+    "hairbed.branches",
+    "hairbed.calibration",
+    "hairbed.inverse",
+    "hairbed.numerics",
+    "hairbed.quasistatic",
+    "hairbed.rheology",
+    "hairbed.sensitivity",
+    "hairbed.stability",
+    "hairbed.sweeps",
+    "hairbed.units",
+)
+#: Classes whose public methods take input.
+CLASSES_WITH_METHODS = {"Solution", "HairBed", "HairState"}
+
+
+def test_every_public_function_is_fuzzed_or_excused():
+    """Enumerate __all__ of hairbed and of each public module: nothing may be forgotten."""
+    known = {t.name for t in TARGETS}
+    missing = []
+    for modname in PUBLIC_MODULES:
+        mod = importlib.import_module(modname)
+        short = "" if modname == "hairbed" else modname.removeprefix("hairbed.") + "."
+        for name in mod.__all__:
+            obj = getattr(mod, name)
+            if inspect.isfunction(obj):
+                label = short + name
+                if (
+                    label not in known
+                    and name not in known
+                    and f"{modname}.{name}" not in (NOT_FUZZED)
+                    and name not in NOT_FUZZED
+                ):
+                    missing.append(label)
+            elif inspect.isclass(obj) and name in CLASSES_WITH_METHODS:
+                if name == "HairBed" and "HairBed" not in known:
+                    missing.append("HairBed")
+                for meth, fn in vars(obj).items():
+                    if inspect.isfunction(fn) and not meth.startswith("_"):
+                        label = f"{name}.{meth}"
+                        if label not in known and label not in NOT_FUZZED:
+                            missing.append(label)
+    assert not missing, f"public callables with no fuzz target: {sorted(set(missing))}"
+
+
+# -- running one call ---------------------------------------------------------------------------
+
+
+class _Hang(Exception):
+    pass
+
+
+def _alarm(_signum: int, _frame: Any) -> None:
+    raise _Hang
+
+
+_NUMPY_REPR = re.compile(r"\bnp\.[a-z]+[0-9]*\(")
+
+
+def _bare_numbers(value: Any) -> list[Any]:
+    """The numbers of a bare result (floats, float arrays, tuples/lists of them)."""
+    if isinstance(value, (float, np.floating)):
+        return [value]
+    if isinstance(value, np.ndarray) and value.dtype.kind in "fc":
+        return [value]
+    if isinstance(value, (tuple, list)):
+        return [v for item in value for v in _bare_numbers(item)]
+    return []
+
+
+def _outcome(target: Target, param: str, kwargs: dict[str, Any]) -> tuple[str, str | None]:
+    """("returned" | "ValueError" | "TypeError", failure or None) of one call."""
+    old = signal.signal(signal.SIGALRM, _alarm)
+    signal.setitimer(signal.ITIMER_REAL, TIMEOUT)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                result = target.call(**kwargs)
+            except target.errors as exc:
+                kind, message, result = type(exc).__name__, str(exc), None
+            except _Hang:
+                return "hang", f"no answer within {TIMEOUT:g} s"
+            except Exception as exc:  # noqa: BLE001 - anything else is the finding
+                return "crash", f"{type(exc).__name__}: {exc}"
+            else:
+                kind, message = "returned", None
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, old)
+    leaked = [w for w in caught if not issubclass(w.category, OWN_WARNINGS)]
+    if leaked:
+        w = leaked[0]
+        return kind, f"leaked {w.category.__name__}: {w.message}"
+    if message is not None:
+        if not re.search(rf"(?<![\w.]){re.escape(param)}(?!\w)", message):
+            return kind, f"{kind} does not name {param!r}: {message}"
+        if _NUMPY_REPR.search(message):
+            return kind, f"numpy repr in the message: {message}"
+        return kind, None
+    if not target.nan_ok:
+        for v in _bare_numbers(result):
+            a = np.asarray(v)
+            if not np.all(np.isfinite(a)):
+                return kind, f"non-finite bare result {a!r}"
+    return kind, None
+
+
+def _run(target: Target, param: str, cls: str, value: Any) -> str | None:
+    kwargs = dict(target.args)
+    kwargs[param] = value
+    kind, failure = _outcome(target, param, kwargs)
+    target.tally[cls][kind if failure is None else "FAILED"] += 1
+    if failure is None:
+        return None
+    shown = repr(value)
+    shown = shown if len(shown) < 80 else shown[:77] + "..."
+    return f"{target.name}({param}={shown}) [{cls}]: {failure}"
+
+
+PAIRS = [(t, p) for t in TARGETS for p in t.fuzz]
+IDS = [f"{t.name}-{p}" for t, p in PAIRS]
+
+
+@pytest.mark.parametrize(("target", "param"), PAIRS, ids=IDS)
+def test_catalogue(target: Target, param: str):
+    """Every class of the catalogue on this argument."""
+    failures = [f for cls, v in CATALOGUE if (f := _run(target, param, cls, v)) is not None]
+    assert not failures, "\n".join(failures)
+
+
+@pytest.mark.parametrize(("target", "param"), PAIRS, ids=IDS)
+@FUZZ
+@given(value=GENERATED)
+def test_generated(target: Target, param: str, value: Any):
+    """Values drawn by hypothesis (the ``fuzz`` profile: fixed budget, derandomized)."""
+    failure = _run(target, param, _classify(value), value)
+    assert failure is None, failure
+
+
+# -- the command line ---------------------------------------------------------------------------
+
+BED_ARGS = [
+    "--length=1e-3",
+    "--radius=50e-6",
+    "--youngs-modulus=1e6",
+    "--channel-height=2e-3",
+    "--viscosity=1",
+    "--spacing=400e-6",
+]
+#: command -> (valid argv, options to fuzz: each replaced by --opt=VALUE)
+COMMANDS: dict[str, tuple[list[str], tuple[str, ...]]] = {
+    "solve": (
+        ["solve", "--omega2=2", "--eps=0.5", "--theta0=0.1"],
+        ("--omega2", "--eps", "--theta0", "--sign", "--n", "--root"),
+    ),
+    "solve-bed": (
+        ["solve", *BED_ARGS, "--velocity=0.1"],
+        ("--length", "--radius", "--youngs-modulus", "--viscosity", "--velocity", "--density"),
+    ),
+    "sweep": (
+        ["sweep", "--omega2=0:2:3", "--eps=0.5", "--theta0=0.1"],
+        ("--omega2", "--eps", "--theta0", "--n", "--chunks"),
+    ),
+    "sweep-quasistatic": (
+        ["sweep", "--omega2=0.5:2:4", "--eps=0.9", "--theta0=-1.5", "--quasistatic"],
+        ("--omega2", "--eps", "--theta0"),
+    ),
+    "invert": (
+        ["invert", "--tip-deflection=0.3", "--eps=0.5", "--theta0=0.1"],
+        ("--tip-deflection", "--eps", "--theta0"),
+    ),
+    "invert-bed": (
+        ["invert", "--tip-deflection=3e-4", *BED_ARGS],
+        ("--tip-deflection", "--spacing", "--channel-height", "--packing-fraction"),
+    ),
+    "bistability": (
+        ["bistability", "--eps=0.9", "--theta0=-1.5"],
+        ("--eps", "--theta0"),
+    ),
+    "measure": (
+        ["measure", "--tip-deflection=3e-4", "--sigma=1e-6", *BED_ARGS],
+        ("--tip-deflection", "--sigma", "--base-angle"),
+    ),
+}
+#: Command-line spellings of the hostile classes.
+CLI_VALUES: list[tuple[str, str]] = [
+    ("nan", "nan"),
+    ("nan", "NaN"),
+    ("inf", "inf"),
+    ("inf", "-inf"),
+    ("inf", "1e400"),
+    ("negative", "-1"),
+    ("negative", "-1e-1"),
+    ("huge", "1e308"),
+    ("huge", "9" * 30),
+    ("tiny", "5e-324"),
+    ("tiny", "1e-320"),
+    ("zero", "0"),
+    ("zero", "-0.0"),
+    ("empty", ""),
+    ("string", "abc"),
+    ("string", "0x10"),
+    ("string", "1,2,,3"),
+    ("string", "1:2"),
+    ("string", "1:2:x"),
+    ("string", "0:1:0"),
+    ("string", "0:1:-3:log"),
+    ("string", "1j"),
+    ("string", "None"),
+    ("string", "True"),
+    ("string", " 0.5 "),
+    ("string", "0.5\n1"),
+]
+
+
+def _cli(argv: list[str]) -> tuple[int, str, str]:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        with warnings.catch_warnings():
+            warnings.simplefilter("default")
+            try:
+                code = cli_main(argv)
+            except SystemExit as exc:  # argparse's --help and the like
+                code = exc.code if isinstance(exc.code, int) else 1
+    return code, out.getvalue(), err.getvalue()
+
+
+def _cli_failure(argv: list[str], code: int, err: str) -> str | None:
+    lines = err.splitlines()
+    if "Traceback" in err or "Warning" in err:
+        return f"{argv}: traceback or warning text on stderr: {err!r}"
+    if code == 0:
+        stray = [line for line in lines if not line.startswith("hairbed: warning: ")]
+        return f"{argv}: exit 0 with stderr {stray!r}" if stray else None
+    if len(lines) != 1 or not lines[0].startswith("hairbed"):
+        return f"{argv}: exit {code} with {len(lines)} stderr lines: {err!r}"
+    return None
+
+
+CLI_TALLY: dict[str, Counter[str]] = defaultdict(Counter)
+
+
+def _with(argv: list[str], option: str, value: str) -> list[str]:
+    kept = [a for a in argv if not a.startswith(option + "=")]
+    return [*kept, f"{option}={value}"]
+
+
+@pytest.mark.parametrize("command", list(COMMANDS))
+def test_cli_catalogue(command: str, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # whatever a command might write stays here
+    base, options = COMMANDS[command]
+    code, _, err = _cli(base)
+    assert code == 0, err
+    failures = []
+    for option in options:
+        for _cls, value in CLI_VALUES:
+            argv = _with(base, option, value)
+            code, _, err = _cli(argv)
+            failure = _cli_failure(argv, code, err)
+            CLI_TALLY[command][
+                ("exit 0" if code == 0 else f"exit {code}") if not failure else "FAILED"
+            ] += 1
+            if failure:
+                failures.append(failure)
+    assert not failures, "\n".join(failures)
+
+
+_CLI_TEXT = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.integers(min_value=-(10**30), max_value=10**30).map(str),
+    st.text(alphabet="0123456789.eE+-:,lognaif x", max_size=12),
+)
+
+
+@pytest.mark.parametrize("command", list(COMMANDS))
+@FUZZ
+@given(data=st.data())
+def test_cli_generated(command: str, data, tmp_path_factory):
+    base, options = COMMANDS[command]
+    option = data.draw(st.sampled_from(options))
+    value = data.draw(_CLI_TEXT)
+    argv = _with(base, option, value)
+    cwd = os.getcwd()
+    os.chdir(tmp_path_factory.getbasetemp())
+    try:
+        code, _, err = _cli(argv)
+    finally:
+        os.chdir(cwd)
+    failure = _cli_failure(argv, code, err)
+    CLI_TALLY[command]["FAILED" if failure else ("exit 0" if code == 0 else f"exit {code}")] += 1
+    assert failure is None, failure
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["solve", "--omega2=nan", "--eps=0.5"],
+        ["solve", "--omega2=1e308", "--eps=0.5"],
+        ["sweep", "--omega2=0:1:-3", "--eps=0.5"],
+        ["invert", "--tip-deflection=2", "--eps=0.5"],
+        ["solve", *BED_ARGS, "--youngs-modulus=1", "--velocity=0.1"],
+    ],
+)
+def test_cli_subprocess(argv, tmp_path):
+    """A few commands as a user runs them: a fresh interpreter, real stderr."""
+    proc = subprocess.run(
+        [sys.executable, "-m", "hairbed", *argv],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        timeout=120,
+    )
+    failure = _cli_failure(argv, proc.returncode, proc.stderr)
+    assert failure is None, failure
+    CLI_TALLY["subprocess"]["exit 0" if proc.returncode == 0 else f"exit {proc.returncode}"] += 1
+
+
+# -- the report ---------------------------------------------------------------------------------
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _report():
+    yield
+    path = os.environ.get("HAIRBED_FUZZ_REPORT")
+    if not path:
+        return
+    report = {
+        "functions": {t.name: {c: dict(k) for c, k in t.tally.items()} for t in TARGETS},
+        "cli": {c: dict(k) for c, k in CLI_TALLY.items()},
+    }
+    with open(path, "w", encoding="utf-8") as fh:
+        json.dump(report, fh, indent=1, sort_keys=True)
+
+
+# keep ``units`` imported for the enumeration above (HairBed's module)
+assert units.HairBed is hairbed.HairBed
