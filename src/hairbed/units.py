@@ -121,7 +121,7 @@ PLAUSIBLE_RANGES: dict[str, tuple[float, float, str, str, str]] = {
         1e-2,
         3e4,
         "kg/m^3",
-        "a density in g/cm^3 given as kg/m^3? (water: 1000 kg/m^3)",
+        "below any gas at ordinary pressure (air: 1.2 kg/m^3; water: 1000 kg/m^3)?",
         "denser than osmium (2.26e4 kg/m^3): a density in g/m^3 given as kg/m^3?",
     ),
 }

@@ -103,7 +103,7 @@ def _not_real(element: Any) -> bool:
 
 def _what(element: Any) -> str:
     if isinstance(element, (bool, np.bool_)):
-        return f"a boolean ({element!r})"
+        return f"a boolean ({show(element)})"
     if isinstance(element, (complex, np.complexfloating)):
         return f"a complex number ({show(element)}; the imaginary part is never dropped)"
     if isinstance(element, (str, bytes)):
