@@ -217,7 +217,7 @@ def test_pendulum_legend_covers_no_orbit():
 
 
 def test_bistability_legend_shading_and_cusp():
-    fig = plotting.fig_bistability(n_theta=200, n_eps=4)
+    fig = plotting.fig_bistability(n_theta=30, n_eps=4)
     ax = fig.axes[0]
     labels = _labels(ax)
     assert labels == [  # no entry for a table that is not drawn
@@ -231,11 +231,11 @@ def test_bistability_legend_shading_and_cusp():
     assert shade[:, 0].max() == pytest.approx(0.0, abs=1e-12)
     assert ax.get_xlim() == pytest.approx((-np.pi / 2, 0.0))
     (cusp_line,) = [ln for ln in ax.get_lines() if "cusp" in ln.get_label()]
-    assert cusp_line.get_marker() in ("None", "", None) and cusp_line.get_xdata().size == 200
-    # the line is the cusp of hairbed.branches where it is drawn
-    th = np.asarray(cusp_line.get_xdata())
-    i = 100
-    assert cusp_line.get_ydata()[i] == pytest.approx(float(hairbed.branches.cusp(th[i])))
+    assert cusp_line.get_marker() in ("None", "", None) and cusp_line.get_xdata().size >= 200
+    # the smooth line is the cusp of hairbed.branches between its 30 exact nodes too
+    th, ec = np.asarray(cusp_line.get_xdata()), np.asarray(cusp_line.get_ydata())
+    for i in (37, 150, 333):
+        assert ec[i] == pytest.approx(float(hairbed.branches.cusp(th[i])), abs=2e-3)
 
 
 def test_hysteresis_middle_branch_is_dashed_and_unstable():

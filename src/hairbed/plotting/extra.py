@@ -42,12 +42,13 @@ def _window(eps: float, theta0: float) -> tuple[float, float]:
 
 @styled
 def fig_bistability(
-    n_theta: int = 200, n_eps: int = 24, theta0s: tuple[float, ...] = (-1.5, -1.0), ax: Any = None
+    n_theta: int = 40, n_eps: int = 24, theta0s: tuple[float, ...] = (-1.5, -1.0), ax: Any = None
 ) -> Figure:
     """Where the hair has three physical states: the cusp and the windows of forcing.
 
     (a) The cusp eps_c(theta0) over the whole range of base angles leaning into the flow,
-    -pi/2 < theta0 <= 0 (``n_theta`` points): above it (shaded) the physical branch folds and
+    -pi/2 < theta0 <= 0 (exact at ``n_theta`` base angles, denser towards both ends, and a
+    monotone cubic through them, PCHIP, for a smooth line): above it (shaded) the branch folds and
     a window of omega^2 with three states opens; the vertical lines are the slices drawn in
     (b). (b) That window against eps for the base angles ``theta0s`` (shaded between the
     lower and upper folds, ``n_eps`` points from the cusp to eps = 0.985). ``ax``: two Axes.
@@ -68,6 +69,11 @@ def fig_bistability(
     th = lo + (0.0 - lo) * 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, n_theta)))
     th = np.clip(th, lo + 1e-6, 0.0)
     ec = np.asarray(cusp(th), dtype=float)
+    if n_theta > 2:  # eps_c is smooth and monotone in theta0: a monotone cubic between nodes
+        from scipy.interpolate import PchipInterpolator
+
+        fine = np.linspace(th[0], th[-1], 400)
+        th, ec = fine, np.clip(PchipInterpolator(th, ec)(fine), 0.0, 1.0)
     ax.fill_between(th, ec, 1.0, color="C1", alpha=0.3, lw=0, label="three states (bistable)")
     ax.plot(th, ec, "k-", lw=1.6, label=r"cusp $\epsilon_c(\theta_0)$")
     cols = colors(len(theta0s), "coolwarm") if len(theta0s) > 2 else ["C0", "C3"][: len(theta0s)]

@@ -368,7 +368,7 @@ def fig_theta0s(
     1
     """
     num = check_count(num, "num", 2)
-    fig, ax = figure_axes(ax, size=(5.6, 4.0))
+    fig, ax = figure_axes(ax, size=(6.4, 4.0))
     for th0, c in zip(theta0s, colors(len(theta0s), "coolwarm")):
         s = _curve(eps, th0, num=num)
         ax.plot(s.omega_eps, s.xi, color=c, label=rf"$\theta_0 = {th0:+.1f}$")
@@ -379,7 +379,7 @@ def fig_theta0s(
     ax.set_xlabel(r"$\omega_\epsilon$ [-]")
     ax.set_ylabel(r"$\xi = \sin\theta_1$ [-]")
     ax.set_title(rf"Angled hairs, $\epsilon = {eps:g}$")
-    ax.legend(loc="lower right", ncol=2)
+    ax.legend(loc="center left", bbox_to_anchor=(1.02, 0.5))  # beside: it covers no curve
     return fig
 
 
