@@ -28,6 +28,7 @@ from typing import Any
 
 from matplotlib.figure import Figure
 
+from .._core.validation import check_int
 from ..safe_files import atomic_path
 from .extra import (
     fig_bistability,
@@ -70,6 +71,9 @@ __all__ = [
     "parameters",
     "parse_settings",
 ]
+
+#: The largest resolution :func:`make_all` writes [dots per inch].
+MAX_DPI = 1200
 
 #: File stem -> figure function, in the order of the guide (paper first).
 FIGURES: dict[str, Callable[..., Figure]] = {
@@ -184,7 +188,8 @@ def make_all(
     out_dir : str or Path
         Folder, created if needed.
     dpi : int, optional
-        Resolution of the PNGs [dots per inch].
+        Resolution of the PNGs [dots per inch], in [1, ``MAX_DPI`` = 1200] (a 10-inch
+        figure at 1200 dpi is already a 12000-pixel image).
     only : iterable of str, optional
         Names (keys of :data:`FIGURES`, with or without the ``fig_`` prefix) to make.
     verbose : bool, optional
@@ -197,6 +202,7 @@ def make_all(
     list of Path
         The files written.
     """
+    dpi = check_int(dpi, "dpi", 1, MAX_DPI)
     names = _selected(only)
     settings = settings or {}
     out = Path(out_dir)

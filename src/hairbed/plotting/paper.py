@@ -69,8 +69,10 @@ def fig_model(
     1
     """
     sol = hairbed.solve(omega2, eps, theta0)
-    if eps <= 0.0:
-        raise ValueError(f"eps must be > 0 to draw the channel (H = L/eps), got {eps:g}")
+    if not eps >= 1e-3:  # a subnormal eps makes H = L/eps infinite: nothing to draw
+        raise ValueError(
+            f"eps must be >= 0.001 to draw the channel (H = L/eps at most 1000 L), got {eps:g}"
+        )
     x, z = sol.profile(120)
     h1, height = float(sol.tip_height), 1.0 / eps
     fig, ax = figure_axes(ax, size=(6.4, 3.1))
