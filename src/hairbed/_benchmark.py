@@ -28,7 +28,9 @@ machines better than the raw times; no timing is asserted anywhere in the tests.
 10. the whole process ``python -m hairbed solve --omega2 2 --eps 0.5`` with a warm numba
     cache, median of 5 runs (target <= 0.5 s); the same once with a cold cache (a fresh empty
     ``NUMBA_CACHE_DIR``; no target); and, for reference, ``python -c "import numba"`` and
-    ``python -c "pass"`` (median of 5 each).
+    ``python -c "pass"`` (median of 5 each), and the floor of any numba program: a process
+    that imports numba and calls one trivial ``njit(cache=True)`` function loaded from a warm
+    cache (row 10e, median of 5).
 
 11. sweeps (:func:`hairbed.sweep`): (a) the eager sweep of a 100 x 40 x 25 grid (omega2
     log-uniform in [1e-3, 1e3], eps in [0, 0.95], theta0 in [-1.2, 1.2]) over one
@@ -120,6 +122,7 @@ ROWS: dict[str, tuple[str, str, float | None, str]] = {
     "10b": ("`python -m hairbed solve`, cold cache", "s", None, ""),
     "10c": ('`python -c "import numba"` (reference)', "s", None, ""),
     "10d": ('`python -c "pass"` (reference)', "s", None, ""),
+    "10e": ("one trivial cached numba kernel, whole process (ref.)", "s", None, ""),
     "11a": ("sweep 100x40x25 / one solve of its points", "x", 1.2, "<="),
     "11b": ("sweep 100x40x25, wall time", "s", None, ""),
     "11c": ("1e7-point sweep: dask threads (2) / serial, speedup", "x", 1.8, ">="),
@@ -483,6 +486,7 @@ def measure(
         for num, code in (("10c", "import numba"), ("10d", "pass")):
             runs = [wall([sys.executable, "-c", code]) for _ in range(5)]
             out.append(Row.of(num, statistics.median(runs)))
+        out.append(Row.of("10e", _trivial_kernel_process()))
         lap("row 10")
     if 11 in chosen:
         say("row 11: sweeps (eager grid; threads and a LocalCluster against serial blocks)")
@@ -513,6 +517,24 @@ def measure(
         "time": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
     }
     return Result(tuple(out), meta)
+
+
+_TRIVIAL_KERNEL = """import numba
+@numba.njit(cache=True, nogil=True)
+def f(x):
+    return 2.0 * x + 1.0
+f(1.0)
+"""
+
+
+def _trivial_kernel_process() -> float:
+    """Median wall time of a process that calls one trivial cached numba kernel (warm)."""
+    with tempfile.TemporaryDirectory(prefix="hairbed-floor-") as tmp:
+        script = Path(tmp) / "trivial_kernel.py"
+        script.write_text(_TRIVIAL_KERNEL)
+        env = {**os.environ, "NUMBA_CACHE_DIR": str(Path(tmp) / "cache")}
+        wall([sys.executable, str(script)], env=env)  # untimed: compiles and caches
+        return statistics.median(wall([sys.executable, str(script)], env=env) for _ in range(5))
 
 
 def _sweep_axes(points: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
