@@ -650,6 +650,11 @@ def test_pint_quantities_are_converted_to_si():
     v = U.Quantity(36, "cm/s")
     assert bed.deform(v).tip_deflection == pytest.approx(si.deform(0.36).tip_deflection, 1e-13)
     assert bed.omega2(v) == pytest.approx(si.omega2(0.36), rel=1e-14)
+    mixed = [U.Quantity(10, "cm/s"), U.Quantity(0.2, "m/s")]  # a list of quantities
+    np.testing.assert_allclose(bed.omega2(mixed), si.omega2([0.1, 0.2]), rtol=1e-14)
+    np.testing.assert_allclose(
+        bed.omega2(U.Quantity([10.0, 20.0], "cm/s")), si.omega2([0.1, 0.2]), rtol=1e-14
+    )
     d = U.Quantity(300, "um")
     assert bed.velocity_from_tip_deflection(d) == pytest.approx(
         si.velocity_from_tip_deflection(3e-4), rel=1e-12

@@ -171,16 +171,18 @@ def check_real_array(value: Any, name: str, unit: str | None = None) -> NDArray[
     except (ValueError, TypeError):
         obj = None
     if obj is not None:
+        elements = []
         for i, element in enumerate(obj.reshape(-1)):
-            element = to_si(element, name, unit)
+            element = to_si(element, name, unit)  # a list of quantities, element by element
             if _not_real(element) or (
                 isinstance(element, np.generic) and element.dtype.kind in "mM"
             ):
                 index = tuple(int(k) for k in np.unravel_index(i, obj.shape)) if obj.ndim else ()
                 raise ValueError(f"{expected}, got {_what(element)}{_where(index)}")
+            elements.append(element)
         try:
             with np.errstate(over="ignore"):
-                return np.array([float(v) for v in obj.reshape(-1)]).reshape(obj.shape)
+                return np.array([float(v) for v in elements]).reshape(obj.shape)
         except OverflowError:
             raise ValueError(f"{name} must be finite: an integer too large for a float") from None
     raise ValueError(f"{expected} (a rectangular array, not a ragged nested sequence)")
