@@ -10,7 +10,16 @@
    network) on the page; a new exact omega2 is written into the text field from within the
    page (``change`` event, as typing and Enter do) and the time is taken in the page from the
    event until the table shows the new value, plus one animation frame (the canvas of the
-   figures is painted in the frame after the update). Playwright's own overhead is not in it.
+   figures is painted in the frame after the update). Playwright's own overhead is not in it,
+   nor the search for the table through the page's shadow roots (done once, before the
+   clock starts: the table's pane keeps its element and re-writes only its content).
+   Also reported: when the server's document patch (the new picture) reaches the page
+   (``browser_patch_*``: the served update, serialisation and the websocket; the rest is the
+   browser applying and painting it), and the served page's own server time per update
+   (``served_total_*``, its ``timings["total"]``, read from the page).
+
+The machine's load average (:func:`os.getloadavg`, 1 min) is reported before and after each
+part: other work on the two cores slows both the server and the browser.
 
 Targets (issue 14): <= 50 ms server time per update, <= 150 ms until the browser shows the new
 picture, on this machine (2 shared cores).
@@ -47,8 +56,26 @@ CHROMIUM_ARGS = [
     "--no-first-run",
     "--proxy-server=http://127.0.0.1:9",
 ]
-# Finds an element through the open shadow roots of Bokeh's components, sets the omega2 field,
-# waits for the table to show it (polling once per frame) and one frame more.
+# Records when each websocket message from the server arrives (installed before the page's
+# scripts run), to tell the server's part of an update from the browser's.
+_JS_INIT = """
+(() => {
+  window.__hb_received = [];
+  const Socket = window.WebSocket;
+  window.WebSocket = class extends Socket {
+    constructor(...args) {
+      super(...args);
+      this.addEventListener('message', ev => {
+        if (typeof ev.data === 'string' && ev.data.includes('"PATCH-DOC"'))
+          window.__hb_received.push(performance.now());
+      });
+    }
+  };
+})();
+"""
+# Finds the omega2 field and the table's pane through the open shadow roots of Bokeh's
+# components (before the clock starts), sets the field, waits for the table to show it
+# (polling once per frame) and one frame more.
 _JS_UPDATE = """
 async ([value, shown]) => {
   const find = (root, sel) => {
@@ -61,18 +88,25 @@ async ([value, shown]) => {
   };
   const host = find(document, '.hb-omega2');  // the widget; its input is in its shadow root
   const input = find(host.shadowRoot || host, 'input');
+  const pane = find(document, '.hb-table');  // kept across updates; its content is replaced
+  const table = pane.shadowRoot || pane;
   const frame = () => new Promise(r => requestAnimationFrame(r));
+  window.__hb_received = [];
   const t0 = performance.now();
   input.value = value;
   input.dispatchEvent(new Event('change', {bubbles: true}));
   for (;;) {
     await frame();
-    const cell = find(document, 'table.hb-states td[data-field="omega2"]');
+    const cell = table.querySelector('table.hb-states td[data-field="omega2"]');
     if (cell && cell.textContent === shown) break;
-    if (performance.now() - t0 > 20000) return -1;
+    if (performance.now() - t0 > 20000) return null;
   }
   await frame();
-  return performance.now() - t0;
+  const t1 = performance.now();
+  const patch = window.__hb_received.length ? window.__hb_received[0] - t0 : NaN;
+  const status = find(document, '.hb-status');
+  const timing = (status.shadowRoot || status).querySelector('.hb-timing');
+  return [t1 - t0, patch, timing ? Number(timing.dataset.totalMs) : NaN];
 }
 """
 
@@ -81,10 +115,14 @@ def _pct(values: list[float], q: float) -> float:
     return float(np.percentile(np.asarray(values), q))
 
 
+def _load() -> float:
+    return float(os.getloadavg()[0])
+
+
 def server_times(steps: int) -> dict[str, float]:
     from hairbed.explorer._page import ExplorerPage
 
-    out: dict[str, float] = {}
+    out: dict[str, float] = {"server_load_before": _load()}
     for twirl in (False, True):
         page = ExplorerPage(f"?omega2=0.8&eps=0.9&theta0=-1.5&twirl={int(twirl)}")
         logs = np.concatenate(
@@ -106,6 +144,7 @@ def server_times(steps: int) -> dict[str, float]:
         out[f"{tag}_max_states"] = float(max(counts))
         if twirl:
             out["twirl_states_at_end"] = float(len(page.snapshot.twirling))
+    out["server_load_after"] = _load()
     return out
 
 
@@ -140,21 +179,26 @@ def browser_times(steps: int) -> dict[str, float]:
                 args=CHROMIUM_ARGS,
                 viewport={"width": 1400, "height": 1500},
             )
+            ctx.add_init_script(_JS_INIT)
             page = ctx.new_page()
             page.goto(base + "?omega2=0.8&eps=0.9&theta0=-1.5")
             page.locator("table.hb-states td[data-field='xi']").first.wait_for(timeout=120000)
             page.wait_for_timeout(1000)
             values = np.geomspace(0.8, 2.0, steps)
-            times = []
+            times, patches, served = [], [], []
+            load_before = _load()
             for k, w in enumerate(values):
                 text = f"{w:.6g}"
                 shown = f"{float(text):.12g}"
                 if k and shown == f"{float(f'{values[k - 1]:.6g}'):.12g}":
                     continue
-                ms = page.evaluate(_JS_UPDATE, [text, shown])
-                if ms < 0:
+                res = page.evaluate(_JS_UPDATE, [text, shown])
+                if res is None:
                     raise RuntimeError(f"the page did not show omega2 = {text}")
-                times.append(ms)
+                times.append(res[0])
+                patches.append(res[1])
+                served.append(res[2])
+            load_after = _load()
             ctx.close()
     finally:
         proc.terminate()
@@ -162,7 +206,13 @@ def browser_times(steps: int) -> dict[str, float]:
     return {
         "browser_median_ms": statistics.median(times),
         "browser_p90_ms": _pct(times, 90),
+        "browser_patch_median_ms": float(np.nanmedian(patches)),
+        "browser_patch_p90_ms": float(np.nanpercentile(patches, 90)),
+        "served_total_median_ms": float(np.nanmedian(served)),
+        "served_total_p90_ms": float(np.nanpercentile(served, 90)),
         "browser_updates": float(len(times)),
+        "browser_load_before": load_before,
+        "browser_load_after": load_after,
     }
 
 

@@ -1,8 +1,10 @@
 """The explorer's live views as Bokeh figures, built once and updated in place.
 
-Every update replaces the ``data`` of a few ``ColumnDataSource`` objects (and the ranges of the
-channel view); Bokeh sends only those to the browser, which redraws its canvas: no figure is
-rebuilt and no image is rendered on the server.
+Every update replaces the ``data`` of the ``ColumnDataSource`` objects whose content changed
+(and moves a range only where the data left it); Bokeh sends only those to the browser, which
+redraws just the figures that changed: no figure is rebuilt, no image is rendered on the server
+and no range is fitted in the browser (a browser-fitted range is sent back to the server and
+re-lays out the axes on every update).
 """
 
 from __future__ import annotations
@@ -31,6 +33,10 @@ _FRAME_W, _FRAME_H = 460, 330
 _PROFILE_POINTS = 200
 _TWIRL_POINTS = 400
 _PHASE_POINTS = 200
+#: Render level of everything that moves with the flow: Bokeh repaints only this layer of a
+#: figure when only such renderers changed, and keeps the axes, grid, legend and the fixed
+#: curves painted (a full repaint of a figure costs tens of ms in a software-rendered canvas).
+_LIVE = "overlay"
 
 
 def _empty_lines() -> dict[str, list[Any]]:
@@ -69,19 +75,74 @@ def _style_legend(f: Any, items: list[tuple[str, list[Any]]], location: str) -> 
 _NAN = [float("nan")]
 
 
-def _legend_lines(f: Any) -> dict[str, Any]:
+def _legend_lines(f: Any, *keys: str) -> dict[str, Any]:
     """Renderers for the legend only: fixed styles and one NaN point each (nothing on the plot;
     Bokeh draws no legend sample for a renderer without data, and the real renderers take
-    their colours from the data)."""
-    return {
-        "stable": f.line(_NAN, _NAN, color="black", line_width=3),
-        "unstable": f.line(_NAN, _NAN, color="black", line_width=3, line_dash="dashed"),
-        "twirling": f.line(_NAN, _NAN, color=TWIRL_COLOR, line_width=1.5, line_dash="dotted"),
-        "rest": f.line(_NAN, _NAN, color="#bdbdbd", line_width=2, line_dash="dotted"),
-        "curve": f.line(_NAN, _NAN, color="black", line_width=2),
-        "folds": f.scatter(_NAN, _NAN, marker="x", size=12, line_width=3, color="#CC79A7"),
-        "state": f.scatter(_NAN, _NAN, color="white", size=10, line_color="black"),
+    their colours from the data). Only those of ``keys``: every renderer costs paint time."""
+    make = {
+        "stable": lambda: f.line(_NAN, _NAN, color="black", line_width=3),
+        "unstable": lambda: f.line(_NAN, _NAN, color="black", line_width=3, line_dash="dashed"),
+        "twirling": lambda: f.line(
+            _NAN, _NAN, color=TWIRL_COLOR, line_width=1.5, line_dash="dotted"
+        ),
+        "rest": lambda: f.line(_NAN, _NAN, color="#bdbdbd", line_width=2, line_dash="dotted"),
+        "curve": lambda: f.line(_NAN, _NAN, color="black", line_width=2),
+        "folds": lambda: f.scatter(_NAN, _NAN, marker="x", size=12, line_width=3, color="#CC79A7"),
+        "state": lambda: f.scatter(_NAN, _NAN, color="white", size=10, line_color="black"),
     }
+    return {k: make[k]() for k in keys}
+
+
+def _equal(a: Any, b: Any) -> bool:
+    """Whether two columns (or column entries) hold the same values (NaN equal to NaN)."""
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        x, y = np.asarray(a), np.asarray(b)
+        if x.shape != y.shape or x.dtype.kind != y.dtype.kind:
+            return False
+        return bool(np.array_equal(x, y, equal_nan=x.dtype.kind in "fc"))
+    if isinstance(a, (list, tuple)) and isinstance(b, (list, tuple)):
+        return len(a) == len(b) and all(_equal(u, v) for u, v in zip(a, b))
+    if isinstance(a, float) and isinstance(b, float) and a != a and b != b:
+        return True
+    return bool(a == b)
+
+
+def _plain(column: Any) -> Any:
+    """A column as (nested) Python lists: sent inside the patch's one JSON message. Bokeh
+    sends every numpy array as a binary buffer of its own, two websocket frames each: tens of
+    frames per update, each one written by the server and handled by the browser in turn."""
+    if isinstance(column, np.ndarray):
+        return column.tolist()
+    if isinstance(column, (list, tuple)):
+        return [v.tolist() if isinstance(v, np.ndarray) else v for v in column]
+    return column
+
+
+def _bounds(*arrays: Any) -> tuple[float, float] | None:
+    """(min, max) of the finite values of the arrays, or None."""
+    finite = [v[np.isfinite(v)] for v in (np.asarray(a, dtype=np.float64) for a in arrays)]
+    finite = [v for v in finite if v.size]
+    if not finite:
+        return None
+    return float(min(v.min() for v in finite)), float(max(v.max() for v in finite))
+
+
+def _fit(rng: Any, bounds: tuple[float, float] | None, sticky: bool) -> None:
+    """Set a Range1d to ``bounds`` with 5 % padding (a flat range gets a unit's width).
+
+    ``sticky``: leave the range where it is while the data stays inside it and fills at least
+    half of it, so that a slider move does not re-lay out the axes on every step.
+    """
+    if bounds is None:
+        return
+    lo, hi = bounds
+    span = hi - lo
+    if sticky and rng.start <= lo and hi <= rng.end and span >= 0.5 * (rng.end - rng.start):
+        return
+    pad = 0.05 * span if span > 0.0 else 0.5 * max(abs(lo), 1.0)
+    if sticky:
+        pad *= 2.0  # room to move before the next change of range
+    rng.start, rng.end = lo - pad, hi + pad
 
 
 def _phase(sol: Any, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -97,6 +158,8 @@ class Views:
     """The four live figures (channel, branch diagram, bistability map, phase portrait)."""
 
     def __init__(self) -> None:
+        #: The data last given to each source (by id): an unchanged source is not re-sent.
+        self._shown: dict[int, dict[str, Any]] = {}
         self.channel = self._channel()
         self.branch = self._branch()
         self.bistability = self._bistability()
@@ -124,32 +187,40 @@ class Views:
         )
         self.ch_roof.glyph.line_color = "black"
         self.ch_flow = ColumnDataSource({"x0": [], "y0": [], "x1": [], "y1": []})
-        f.segment("x0", "y0", "x1", "y1", source=self.ch_flow, color="#9ecae1", line_width=2)
+        f.segment(
+            "x0", "y0", "x1", "y1", source=self.ch_flow, level=_LIVE, color="#9ecae1", line_width=2
+        )
         f.scatter(
-            "x1", "y1", source=self.ch_flow, marker="triangle", angle=-np.pi / 2, size=7,
-            color="#9ecae1",
+            "x1", "y1", source=self.ch_flow, level=_LIVE, marker="triangle", angle=-np.pi / 2,
+            size=7, color="#9ecae1",
         )  # fmt: skip
         self.ch_rest = ColumnDataSource({"x": [], "y": []})
-        f.line("x", "y", source=self.ch_rest, color="#bdbdbd", line_width=2,
+        f.line("x", "y", source=self.ch_rest, level=_LIVE, color="#bdbdbd", line_width=2,
                       line_dash="dotted")  # fmt: skip
         self.ch_twirl = ColumnDataSource(_empty_lines())
         f.multi_line(
-            "xs", "ys", source=self.ch_twirl, color=TWIRL_COLOR, line_width=1,
+            "xs", "ys", source=self.ch_twirl, level=_LIVE, color=TWIRL_COLOR, line_width=1,
             line_dash="dotted", alpha=0.8,
         )  # fmt: skip
         self.ch_stable = ColumnDataSource(_empty_lines())
-        f.multi_line("xs", "ys", source=self.ch_stable, color="color", line_width=3)
+        f.multi_line("xs", "ys", source=self.ch_stable, level=_LIVE, color="color", line_width=3)
         self.ch_unstable = ColumnDataSource(_empty_lines())
         f.multi_line(
-            "xs", "ys", source=self.ch_unstable, color="color", line_width=3, line_dash="dashed"
+            "xs",
+            "ys",
+            source=self.ch_unstable,
+            level=_LIVE,
+            color="color",
+            line_width=3,
+            line_dash="dashed",
         )
         self.ch_tips = ColumnDataSource({"x": [], "y": [], "color": [], "label": []})
-        f.scatter("x", "y", source=self.ch_tips, color="color", size=7)
+        f.scatter("x", "y", source=self.ch_tips, level=_LIVE, color="color", size=7)
         f.text(
-            "x", "y", text="label", source=self.ch_tips, text_font_size="11px",
+            "x", "y", text="label", source=self.ch_tips, level=_LIVE, text_font_size="11px",
             x_offset=6, y_offset=-4, text_color="color",
         )  # fmt: skip
-        sample = _legend_lines(f)
+        sample = _legend_lines(f, "stable", "unstable", "twirling", "rest")
         _style_legend(
             f,
             [
@@ -170,9 +241,11 @@ class Views:
             "tip deflection x1/L [-]",
             x_axis_type="log",
             x_range=Range1d(1e-3, 1e3),
+            y_range=Range1d(-1.0, 1.0),
             width=470,
             height=360,
         )
+        self.br_y = f.y_range
         self.br_curve = ColumnDataSource({"x": [], "y": []})
         f.line("x", "y", source=self.br_curve, color="black", line_width=2)
         self.br_twirl = ColumnDataSource(_empty_lines())
@@ -182,14 +255,14 @@ class Views:
         f.scatter("x", "y", source=self.br_folds, marker="x", size=12, line_width=3,
                           color="#CC79A7")  # fmt: skip
         self.br_now = Span(dimension="height", location=1.0, line_color="#999999",
-                           line_dash="dashed")  # fmt: skip
+                           line_dash="dashed", level=_LIVE)  # fmt: skip
         f.add_layout(self.br_now)
         self.br_states = ColumnDataSource({"x": [], "y": [], "color": [], "label": []})
-        f.scatter("x", "y", source=self.br_states, color="color", size=10,
+        f.scatter("x", "y", source=self.br_states, level=_LIVE, color="color", size=10,
                   line_color="black")  # fmt: skip
-        sample = _legend_lines(f)
+        sample = _legend_lines(f, "curve", "folds", "state", "twirling")
         self.br_twirl_states = ColumnDataSource({"x": [], "y": []})
-        f.scatter("x", "y", source=self.br_twirl_states, color=TWIRL_COLOR, size=6)
+        f.scatter("x", "y", source=self.br_twirl_states, level=_LIVE, color=TWIRL_COLOR, size=6)
         _style_legend(
             f,
             [
@@ -216,14 +289,14 @@ class Views:
         region = f.varea(x=th, y1=ec, y2=np.ones_like(ec), fill_color="#E69F00", fill_alpha=0.35)
         cusp = f.line(th, ec, color="black", line_width=2)
         self.bi_now = ColumnDataSource({"x": [], "y": [], "color": []})
-        f.scatter("x", "y", source=self.bi_now, size=12, color="color",
+        f.scatter("x", "y", source=self.bi_now, level=_LIVE, size=12, color="color",
                   line_color="black", marker="circle")  # fmt: skip
         _style_legend(
             f,
             [
                 ("three states (folded branch)", [region]),
                 ("cusp eps_c(theta0)", [cusp]),
-                ("current (theta0, eps)", [_legend_lines(f)["state"]]),
+                ("current (theta0, eps)", [_legend_lines(f, "state")["state"]]),
             ],
             "bottom_right",
         )
@@ -234,19 +307,26 @@ class Views:
             "phase portraits (square: base, circle: tip)",
             "angle theta [rad]",
             "curvature theta' [1/L]",
+            x_range=Range1d(-1.0, 1.0),
+            y_range=Range1d(-1.0, 1.0),
             width=470,
             height=360,
         )
+        self.ph_x, self.ph_y = f.x_range, f.y_range
         self.ph_twirl = ColumnDataSource(_empty_lines())
-        f.multi_line("xs", "ys", source=self.ph_twirl, color=TWIRL_COLOR, line_dash="dotted")
+        f.multi_line(
+            "xs", "ys", source=self.ph_twirl, level=_LIVE, color=TWIRL_COLOR, line_dash="dotted"
+        )
         self.ph_stable = ColumnDataSource(_empty_lines())
-        f.multi_line("xs", "ys", source=self.ph_stable, color="color", line_width=3)
+        f.multi_line("xs", "ys", source=self.ph_stable, level=_LIVE, color="color", line_width=3)
         self.ph_unstable = ColumnDataSource(_empty_lines())
-        f.multi_line("xs", "ys", source=self.ph_unstable, color="color",
+        f.multi_line("xs", "ys", source=self.ph_unstable, level=_LIVE, color="color",
                                 line_width=3, line_dash="dashed")  # fmt: skip
         self.ph_ends = ColumnDataSource({"x": [], "y": [], "color": [], "marker": []})
-        f.scatter("x", "y", source=self.ph_ends, color="color", marker="marker", size=8)
-        sample = _legend_lines(f)
+        f.scatter(
+            "x", "y", source=self.ph_ends, level=_LIVE, color="color", marker="marker", size=8
+        )
+        sample = _legend_lines(f, "stable", "unstable")
         _style_legend(
             f,
             [("stable", [sample["stable"]]), ("unstable", [sample["unstable"]])],
@@ -255,6 +335,16 @@ class Views:
         return f
 
     # -- update -----------------------------------------------------------------------------
+
+    def _set(self, source: Any, data: dict[str, Any]) -> None:
+        """Give ``source`` new data, unless it holds exactly these values already (then nothing
+        is sent and its figure is not repainted)."""
+        last = self._shown.get(id(source))
+        if last is not None and last.keys() == data.keys():
+            if all(_equal(last[k], data[k]) for k in data):
+                return
+        self._shown[id(source)] = data
+        source.data = {k: _plain(v) for k, v in data.items()}
 
     def update(self, snap: Snapshot) -> None:
         """Show a snapshot: new data for every source of the four figures."""
@@ -266,11 +356,14 @@ class Views:
             scale, unit = p.bed.length * 1e3, "mm"
         self._update_channel(p, phys, twirl, scale, unit)
         self._update_branch(snap, phys, twirl)
-        self.bi_now.data = {
-            "x": [p.theta0],
-            "y": [p.eps],
-            "color": [STATE_COLORS["mid"] if len(phys) >= 3 else STATE_COLORS["low"]],
-        }
+        self._set(
+            self.bi_now,
+            {
+                "x": [p.theta0],
+                "y": [p.eps],
+                "color": [STATE_COLORS["mid"] if len(phys) >= 3 else STATE_COLORS["low"]],
+            },
+        )
         self._update_phase(phys, twirl)
 
     def _update_channel(
@@ -294,8 +387,8 @@ class Views:
             tips["color"].append(STATE_COLORS[label])
             tips["label"].append(label)
             top_tip = max(top_tip, float(z[-1]))
-        self.ch_stable.data = lines[True]
-        self.ch_unstable.data = lines[False]
+        self._set(self.ch_stable, lines[True])
+        self._set(self.ch_unstable, lines[False])
         tw = _empty_lines()
         for sol in twirl:
             x, z = sol.profile(_TWIRL_POINTS)
@@ -303,13 +396,16 @@ class Views:
             tw["ys"].append(scale * np.asarray(z))
             tw["color"].append(TWIRL_COLOR)
             tw["label"].append(f"({sol.sign:+d}, {sol.n})")
-        self.ch_twirl.data = tw
-        self.ch_tips.data = tips
+        self._set(self.ch_twirl, tw)
+        self._set(self.ch_tips, tips)
         base = mirror * p.theta0
-        self.ch_rest.data = {
-            "x": [0.0, scale * np.sin(base)],
-            "y": [0.0, scale * np.cos(base)],
-        }
+        self._set(
+            self.ch_rest,
+            {
+                "x": [0.0, scale * np.sin(base)],
+                "y": [0.0, scale * np.cos(base)],
+            },
+        )
         # to scale: equal units on both axes; the top wall shown when it is within 4 L
         height = scale / p.eps if p.eps > 0.0 else np.inf
         shown = height <= 4.0 * scale
@@ -335,7 +431,7 @@ class Views:
                 flow["y0"].append(zf)
                 flow["x1"].append(x0 + length)
                 flow["y1"].append(zf)
-        self.ch_flow.data = flow
+        self._set(self.ch_flow, flow)
         note = f"top wall at z = H = {height:.3g} {unit}" + ("" if shown else " (above)")
         if p.eps == 0.0:
             note = "no top wall (eps = 0)"
@@ -349,26 +445,38 @@ class Views:
         self.branch.yaxis.axis_label = (
             "tip deflection x1/L [-]" if p.y == "x1" else "xi = sin(theta1) [-]"
         )
-        self.br_curve.data = {"x": snap.curve_omega2, "y": snap.curve_y}
+        self._set(self.br_curve, {"x": snap.curve_omega2, "y": snap.curve_y})
         tw = _empty_lines()
         for label, w, y in snap.twirl_curves:
             tw["xs"].append(w)
             tw["ys"].append(y)
             tw["color"].append(TWIRL_COLOR)
             tw["label"].append(label)
-        self.br_twirl.data = tw
-        self.br_folds.data = {"x": snap.folds_omega2, "y": snap.folds_y}
+        self._set(self.br_twirl, tw)
+        self._set(self.br_folds, {"x": snap.folds_omega2, "y": snap.folds_y})
         self.br_now.location = p.omega2 if p.omega2 > 0.0 else 1e-3
-        self.br_states.data = {
-            "x": [p.omega2] * len(phys),
-            "y": [float(getattr(s, key)) for _, s, _ in phys],
-            "color": [STATE_COLORS[label] for label, _, _ in phys],
-            "label": [label for label, _, _ in phys],
-        }
-        self.br_twirl_states.data = {
-            "x": [p.omega2] * len(twirl),
-            "y": [float(getattr(s, key)) for s in twirl],
-        }
+        self._set(
+            self.br_states,
+            {
+                "x": [p.omega2] * len(phys),
+                "y": [float(getattr(s, key)) for _, s, _ in phys],
+                "color": [STATE_COLORS[label] for label, _, _ in phys],
+                "label": [label for label, _, _ in phys],
+            },
+        )
+        self._set(
+            self.br_twirl_states,
+            {
+                "x": [p.omega2] * len(twirl),
+                "y": [float(getattr(s, key)) for s in twirl],
+            },
+        )
+        # the whole branch (and the twirling ones shown), fixed while only omega2 moves
+        _fit(
+            self.br_y,
+            _bounds(snap.curve_y, *(y for _, _, y in snap.twirl_curves), self.br_states.data["y"]),
+            sticky=False,
+        )
 
     def _update_phase(self, phys: list[Any], twirl: list[Any]) -> None:
         sigma = np.linspace(0.0, 1.0, _PHASE_POINTS)
@@ -386,8 +494,8 @@ class Views:
                 ends["y"].append(float(dth[i]))
                 ends["color"].append(STATE_COLORS[label])
                 ends["marker"].append(marker)
-        self.ph_stable.data = lines[True]
-        self.ph_unstable.data = lines[False]
+        self._set(self.ph_stable, lines[True])
+        self._set(self.ph_unstable, lines[False])
         tw = _empty_lines()
         for sol in twirl:
             th, dth = _phase(sol, np.linspace(0.0, 1.0, _TWIRL_POINTS))
@@ -395,5 +503,9 @@ class Views:
             tw["ys"].append(dth)
             tw["color"].append(TWIRL_COLOR)
             tw["label"].append(f"({sol.sign:+d}, {sol.n})")
-        self.ph_twirl.data = tw
-        self.ph_ends.data = ends
+        self._set(self.ph_twirl, tw)
+        self._set(self.ph_ends, ends)
+        shown = [*lines[True]["xs"], *lines[False]["xs"], *tw["xs"]]
+        _fit(self.ph_x, _bounds(*shown), sticky=True)
+        shown = [*lines[True]["ys"], *lines[False]["ys"], *tw["ys"]]
+        _fit(self.ph_y, _bounds(*shown), sticky=True)
