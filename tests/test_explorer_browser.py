@@ -346,9 +346,13 @@ def test_typed_values_and_bad_input(browser, server, shots):
     _type(page, "theta0", "-1")
     _type(page, "eps", "0.95")
     _type(page, "omega2", "0.3")
-    _until(
-        lambda: _cells(page, "eps").get("low") == "0.95" and _cells(page, "theta0")["low"] == "-1",
-        "the typed eps and theta0",
+    _until(  # all three typed values, omega2 (typed last) included
+        lambda: (
+            _cells(page, "eps").get("low") == "0.95"
+            and _cells(page, "theta0")["low"] == "-1"
+            and _shown_omega2(page) == 0.3
+        ),
+        "the typed eps, theta0 and omega2",
     )
     _check_states(page, 0.3, 0.95, -1.0)
     page.close()
