@@ -11,7 +11,7 @@ DATA = TESTS / "data"
 #: The fuzzer's fixed budget (tests/test_fuzz.py): examples per fuzzed argument, drawn in the
 #: same order on every run (derandomized, no example database), so that `make test` does the
 #: same work every time.
-FUZZ_EXAMPLES = 12
+FUZZ_EXAMPLES = 8
 settings.register_profile(
     "fuzz",
     max_examples=FUZZ_EXAMPLES,
