@@ -1,10 +1,8 @@
 """``python -m hairbed``: the command line of :mod:`hairbed.cli`."""
 
-import sys
-
-from hairbed.cli import main
+from hairbed.cli import run_and_exit
 
 __all__: list[str] = []
 
 if __name__ == "__main__":
-    sys.exit(main())
+    run_and_exit()

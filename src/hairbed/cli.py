@@ -22,6 +22,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import re
 import sys
 import time
@@ -33,7 +34,7 @@ import numpy as np
 
 import hairbed
 
-__all__ = ["main"]
+__all__ = ["main", "run_and_exit"]
 
 PROG = "hairbed"
 
@@ -1371,6 +1372,22 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 130
 
 
+def run_and_exit() -> None:
+    """The ``hairbed`` command: :func:`main`, then exit with its status.
+
+    After Ctrl-C the process ends at once (``os._exit`` once stdout and stderr are flushed):
+    the interpreter's normal shutdown would join the worker threads of a chunked sweep, which
+    go on computing the blocks already queued, and a second Ctrl-C there would end in a
+    traceback. Files are already whole or removed by then (``hairbed.safe_files``).
+    """
+    code = main()
+    if code == 130:
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(130)
+    sys.exit(code)
+
+
 def _one_line(exc: BaseException) -> str:
     return " ".join(str(exc).split())  # one line, whatever the library wrote
 
@@ -1414,4 +1431,4 @@ def _run(argv: Sequence[str] | None) -> int:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    run_and_exit()
