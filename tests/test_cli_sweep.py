@@ -255,10 +255,17 @@ def _interrupt(tmp_path: Path, target: Path, args: list[str], wait_for_temporary
     return proc.returncode, out, err
 
 
+#: Known gap (issue 11, open): Ctrl-C during a chunked netCDF write sometimes does not end the
+#: process within 2 minutes (seen once in a fresh clone; the other formats never).
+_NC_HANG = pytest.mark.xfail(
+    reason="issue 11: Ctrl-C in a chunked netCDF write can hang past 120 s", strict=False
+)
+
+
 @pytest.mark.parametrize(
     ("ext", "existing"),
-    [(".nc", False), (".zarr", False), (".csv", False), (".parquet", False),
-     (".nc", True), (".zarr", True)],
+    [pytest.param(".nc", False, marks=_NC_HANG), (".zarr", False), (".csv", False),
+     (".parquet", False), pytest.param(".nc", True, marks=_NC_HANG), (".zarr", True)],
 )  # fmt: skip
 def test_sigint_during_a_write_leaves_no_partial_file(tmp_path, ext, existing):
     target = tmp_path / f"grid{ext}"
