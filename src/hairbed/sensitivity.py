@@ -52,7 +52,13 @@ from scipy import special
 
 from ._core.solution import Solution
 from ._core.solver import solve
-from ._core.validation import check_branch, check_inputs, check_root
+from ._core.validation import (
+    check_branch,
+    check_inputs,
+    check_root,
+    scalar_or_array,
+    status_messages,
+)
 
 __all__ = [
     "INPUTS",
@@ -91,9 +97,7 @@ STATUS_MESSAGES = {
 FOLD_RTOL = 1.0e-8
 
 
-def _out(a: Any) -> Any:
-    a = np.asarray(a)
-    return a.item() if a.ndim == 0 else a
+_out = scalar_or_array
 
 
 @dataclass(frozen=True, eq=False)
@@ -147,10 +151,7 @@ class Derivatives(Mapping[str, Mapping[str, Any]]):
     @property
     def message(self) -> str | list[Any]:
         """``STATUS_MESSAGES`` of ``status`` (a nested list for arrays)."""
-        st = np.asarray(self.status)
-        if st.ndim == 0:
-            return STATUS_MESSAGES[int(st)]
-        return np.vectorize(STATUS_MESSAGES.__getitem__, otypes=[object])(st).tolist()
+        return status_messages(self.status, STATUS_MESSAGES)
 
     def as_dict(self) -> dict[str, dict[str, Any]]:
         """Plain nested dicts (arrays as lists), e.g. for JSON."""

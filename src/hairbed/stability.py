@@ -61,6 +61,7 @@ from ._core.validation import (
     check_number,
     check_positive,
     check_scalar_inputs,
+    status_messages,
 )
 from .numerics._banded import HairOperator
 from .numerics._result import MAX_OMEGA2
@@ -262,9 +263,7 @@ class Stability:
     @property
     def message(self) -> str | list[Any]:
         """``STATUS_MESSAGES`` of ``status`` (a nested list for arrays)."""
-        if self.status.ndim == 0:
-            return STATUS_MESSAGES[int(self.status)]
-        return np.vectorize(STATUS_MESSAGES.__getitem__, otypes=[object])(self.status).tolist()
+        return status_messages(self.status, STATUS_MESSAGES)
 
 
 #: Meaning of ``Stability.status``.

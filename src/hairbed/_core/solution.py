@@ -9,7 +9,15 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._kernels import FIELDS
-from .validation import _first_index, as_float_array, broadcast_named, check_int, show
+from .validation import (
+    _first_index,
+    as_float_array,
+    broadcast_named,
+    check_int,
+    scalar_or_array,
+    show,
+    status_messages,
+)
 
 __all__ = ["STATUS_MESSAGES", "Solution"]
 
@@ -72,10 +80,8 @@ def _shape_kernels() -> Any:
     return _SHAPE_KERNELS
 
 
-def _out(a: Any) -> Any:
-    """0-d arrays become Python scalars (floats, bools, ints)."""
-    a = np.asarray(a)
-    return a.item() if a.ndim == 0 else a
+#: 0-d arrays become Python scalars (floats, bools, ints).
+_out = scalar_or_array
 
 
 @dataclass(frozen=True, eq=False)
@@ -228,10 +234,7 @@ class Solution:
     @property
     def message(self) -> str | list[Any]:
         """``STATUS_MESSAGES`` of ``status`` (a nested list for array solutions)."""
-        st = np.asarray(self.status)
-        if st.ndim == 0:
-            return STATUS_MESSAGES[int(st)]
-        return np.vectorize(STATUS_MESSAGES.__getitem__, otypes=[object])(st).tolist()
+        return status_messages(self.status, STATUS_MESSAGES)
 
     def _shape_values(self, sigma: ArrayLike) -> FloatArray:
         s = as_float_array(sigma, "sigma")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import numbers
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
@@ -26,12 +27,28 @@ __all__ = [
     "check_state_inputs",
     "check_type",
     "float_or_array",
+    "scalar_or_array",
+    "status_messages",
     "node_values",
     "show",
     "to_si",
 ]
 
 HALF_PI = 0.5 * np.pi
+
+
+def scalar_or_array(value: Any) -> Any:
+    """A 0-d value as a Python scalar (float, int, bool), anything else as an array."""
+    arr = np.asarray(value)
+    return arr.item() if arr.ndim == 0 else arr
+
+
+def status_messages(status: Any, messages: Mapping[int, str]) -> str | list[Any]:
+    """``messages`` of a status code, or a nested list of them for an array of codes."""
+    st = np.asarray(status)
+    if st.ndim == 0:
+        return messages[int(st)]
+    return np.vectorize(messages.__getitem__, otypes=[object])(st).tolist()
 
 
 def float_or_array(value: Any) -> float | NDArray[np.float64]:
