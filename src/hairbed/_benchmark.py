@@ -41,8 +41,12 @@ machines better than the raw times; no timing is asserted anywhere in the tests.
     after the other (the synchronous scheduler; target >= 1.8), (d) a 2-worker
     ``dask.distributed.LocalCluster`` of processes (1 thread each) over the same serial run,
     with the nanny's default ``MALLOC_TRIM_THRESHOLD_=65536``, and (e) the same with that
-    setting removed (glibc's own trimming; not in quick runs). Needs ``hairbed[sweep]``;
-    ``quick`` and ``n`` scale the sizes (the big sweep has 10 n points, the grid min(n, 1e5)).
+    setting removed (glibc's own trimming; not in quick runs), and (f) the cluster of (d) with
+    blocks of ~1e6 points (not in quick runs): on 2 cores the scheduler and the client share
+    the CPUs with the workers, and each block of the dataset is 2 x 13 tasks (a slice and a
+    sum per variable), so fewer, larger blocks are what lets processes pay. Needs
+    ``hairbed[sweep]``; ``quick`` and ``n`` scale the sizes (the big sweep has 10 n points,
+    the grid min(n, 1e5)).
 
 If the kernel sources are edited while this runs, the numba cache goes stale: to keep that out,
 rows 7 and 10 start with an untimed child that refreshes it, and a warning is printed when the
@@ -78,6 +82,7 @@ from __future__ import annotations
 import functools
 import gc
 import json
+import logging
 import os
 import platform
 import statistics
@@ -128,6 +133,7 @@ ROWS: dict[str, tuple[str, str, float | None, str]] = {
     "11c": ("1e7-point sweep: dask threads (2) / serial, speedup", "x", 1.8, ">="),
     "11d": ("1e7-point sweep: LocalCluster 2 processes / serial", "x", None, ""),
     "11e": ("the same, nanny without MALLOC_TRIM_THRESHOLD_", "x", None, ""),
+    "11f": ("the same cluster, blocks of ~1e6 points / serial", "x", None, ""),
 }
 #: The rows of the issue, 1 to 10 (row 10 is the table rows 10a-10d), and the sweeps' 11.
 NUMBERS = tuple(range(1, 12))
@@ -575,35 +581,43 @@ def sweep_rows(n: int, repeat: int, quick: bool = False) -> list[Row]:
     if chunks["eps"] * w.size * t.size > 150_000:
         chunks["theta0"] = max(1, round(100_000 / (w.size * chunks["eps"])))
 
-    def total(**compute: Any) -> float:
+    def total(blocks: Mapping[str, int], **compute: Any) -> float:
         gc.collect()
         start = time.perf_counter()
-        sweep(w, e, t, chunks=chunks).sum().compute(**compute)
+        sweep(w, e, t, chunks=blocks).sum().compute(**compute)
         return time.perf_counter() - start
 
-    t_serial = total(scheduler="synchronous")
+    t_serial = total(chunks, scheduler="synchronous")
     cpu, t0 = time.process_time(), time.perf_counter()
-    t_threads = total(scheduler="threads", num_workers=2)
+    t_threads = total(chunks, scheduler="threads", num_workers=2)
     cpu_per_wall = (time.process_time() - cpu) / (time.perf_counter() - t0)
     detail = {"points": points, "chunks": chunks, "serial_s": t_serial}
     rows.append(
         Row.of("11c", t_serial / t_threads, threads_s=t_threads, cpu_per_wall=cpu_per_wall,
                **detail)
     )  # fmt: skip
-    for number, trim in (("11d", "default"), ("11e", None))[: 1 if quick else 2]:
+    # ~1e6-point blocks for row 11f: a tenth as many tasks for the scheduler to hand out
+    big = dict(chunks, eps=min(e.size, max(1, round(1_000_000 / (w.size * chunks["theta0"])))))
+    for numbers, trim in ((("11d", "11f"), "default"), (("11e",), None))[: 1 if quick else 2]:
         config = {} if trim == "default" else {KEY_TRIM: None}
         with dask.config.set(config), distributed.LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+            silence_logs=logging.CRITICAL,  # a heartbeat racing the shutdown logs a traceback
         ) as cluster, distributed.Client(cluster) as client:  # fmt: skip
             client.run(lambda: sweep(1.0, 0.5).xi.values)  # each worker loads the kernels
             env = client.run(lambda: os.environ.get("MALLOC_TRIM_THRESHOLD_"))
-            t_cluster = total()
-        rows.append(
-            Row.of(number, t_serial / t_cluster, cluster_s=t_cluster,
-                   malloc_trim_threshold=sorted(set(map(str, env.values()))), **detail)
-        )  # fmt: skip
-    return rows
+            trims = sorted(set(map(str, env.values())))
+            for number in numbers if not quick else numbers[:1]:
+                blocks = big if number == "11f" else chunks
+                t_cluster = total(blocks)
+                rows.append(
+                    Row.of(number, t_serial / t_cluster, cluster_s=t_cluster,
+                           malloc_trim_threshold=trims, **dict(detail, chunks=blocks))
+                )  # fmt: skip
+    return sorted(rows, key=lambda r: r.number)
 
+
+_CLUSTER_LABEL = {"11d": "", "11e": " untrimmed", "11f": " (1e6-point blocks)"}
 
 #: The nanny's environment setting of glibc's trim threshold (dask's configuration key).
 KEY_TRIM = "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"
@@ -699,8 +713,8 @@ def format_report(result: Result) -> str:
             f"{d['11c']['points']:.1e}-point sweep: serial {d['11c']['serial_s']:.1f} s, "
             f"2 threads {d['11c']['threads_s']:.1f} s (CPU/wall {d['11c']['cpu_per_wall']:.2f})"
             + "".join(
-                f", LocalCluster{'' if k == '11d' else ' untrimmed'} {d[k]['cluster_s']:.1f} s"
-                for k in ("11d", "11e")
+                f", LocalCluster{_CLUSTER_LABEL[k]} {d[k]['cluster_s']:.1f} s"
+                for k in ("11d", "11e", "11f")
                 if k in d
             )
         )
