@@ -324,6 +324,54 @@ def test_atomic_file_whole_or_not_at_all(tmp_path):
         pass
 
 
+def test_remove_unfinished_takes_only_the_temporaries(tmp_path):
+    """What a hard-exit Ctrl-C handler calls: the temporaries go, the targets stay."""
+    target = tmp_path / "t.csv"
+    safe_files.write_text(target, "old\n")
+    store = tmp_path / "s.zarr"
+    with pytest.raises(RuntimeError), safe_files.atomic_path(target) as tmp:
+        tmp.write_text("half")
+        with safe_files.atomic_path(store, directory=True) as tmp_store:
+            tmp_store.mkdir()
+            (tmp_store / "part").write_text("half")
+            assert sorted(safe_files.remove_unfinished()) == sorted([tmp, tmp_store])
+            assert not tmp.exists() and not tmp_store.exists()
+            assert safe_files.remove_unfinished() == []  # nothing twice
+            raise RuntimeError
+    assert target.read_text() == "old\n" and sorted(tmp_path.iterdir()) == [target]
+    assert safe_files.remove_unfinished() == []
+
+
+def test_sigint_during_the_renames_of_a_store_runs_after_them(tmp_path, monkeypatch):
+    """Ctrl-C between the two renames of a store is held back until both are done."""
+    target = tmp_path / "s.zarr"
+    with safe_files.atomic_path(target, directory=True) as tmp:
+        tmp.mkdir()
+        (tmp / "part").write_text("one")
+    real_replace = os.replace
+    seen: list[list[str]] = []
+
+    def replace(src, dst):
+        if not seen:
+            signal.raise_signal(signal.SIGINT)  # arrives between the renames
+        real_replace(src, dst)
+
+    def handler(signum, frame):  # what the hairbed command does: clean up, then stop
+        seen.append([p.name for p in safe_files.remove_unfinished()])
+
+    monkeypatch.setattr(safe_files.os, "replace", replace)
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        with safe_files.atomic_path(target, directory=True) as tmp:
+            tmp.mkdir()
+            (tmp / "part").write_text("two")
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert len(seen) == 1  # once, after the renames: only the old store was left to remove
+    assert len(seen[0]) == 1 and seen[0][0].endswith(".tmp.old")
+    assert (target / "part").read_text() == "two" and sorted(tmp_path.iterdir()) == [target]
+
+
 def test_atomic_directory_store(tmp_path):
     target = tmp_path / "s.zarr"
     for content in ("one", "two"):

@@ -35,10 +35,29 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-__all__ = ["atomic_path", "temporary_names", "write_bytes", "write_text"]
+__all__ = ["atomic_path", "remove_unfinished", "temporary_names", "write_bytes", "write_text"]
 
 #: Marker in the names of the temporaries (``.<name>.<random>.tmp<suffix>``).
 TMP_MARK = ".tmp"
+
+#: The temporaries of the writes under way in this process (for :func:`remove_unfinished`).
+_UNFINISHED: dict[Path, None] = {}
+
+
+def remove_unfinished() -> list[Path]:
+    """Remove the temporaries of every write still under way; returns their paths.
+
+    For a program that ends at once on Ctrl-C (``os._exit`` in a signal handler, as the
+    ``hairbed`` command does) instead of unwinding: a library that is mid-write (a chunked
+    netCDF file, whose worker threads hold its locks) need not be waited for, and no
+    temporary is left behind. Targets are never touched: a rename onto a target runs with
+    Ctrl-C held back (see the module docstring), so a handler runs before it or after it.
+    """
+    paths = list(_UNFINISHED)
+    for path in paths:
+        _remove(path)
+        _UNFINISHED.pop(path, None)
+    return paths
 
 
 def temporary_names(target: str | os.PathLike[str]) -> list[Path]:
@@ -99,8 +118,8 @@ def _sigint_held() -> Iterator[None]:
         yield
     finally:
         signal.signal(signal.SIGINT, previous)
-        if caught:
-            raise KeyboardInterrupt
+        if caught:  # now the handler that was held back: whatever it does (or ignoring it)
+            signal.raise_signal(signal.SIGINT)
 
 
 @contextmanager
@@ -144,6 +163,7 @@ def atomic_path(target: str | os.PathLike[str], *, directory: bool = False) -> I
         fd, name = tempfile.mkstemp(prefix=prefix, suffix=suffix, dir=parent)
         os.close(fd)
         tmp = Path(name)
+    _UNFINISHED[tmp] = None
     try:
         yield tmp
         if directory:
@@ -152,17 +172,26 @@ def atomic_path(target: str | os.PathLike[str], *, directory: bool = False) -> I
             _fsync_tree(tmp)
             old: Path | None = None
             try:
-                with _sigint_held():
-                    if target.exists():
-                        old = Path(tempfile.mkdtemp(prefix=prefix, suffix=".tmp.old", dir=parent))
-                        os.replace(target, old)  # onto an empty directory: allowed
-                    os.replace(tmp, target)
+                with _sigint_held():  # the two renames (and a restore): all or nothing
+                    try:
+                        if target.exists():
+                            old = Path(
+                                tempfile.mkdtemp(prefix=prefix, suffix=".tmp.old", dir=parent)
+                            )
+                            _UNFINISHED[old] = None  # garbage once both renames are done
+                            os.replace(target, old)  # onto an empty directory: allowed
+                        os.replace(tmp, target)
+                        _UNFINISHED.pop(tmp, None)
+                    except BaseException:
+                        if old is not None and not target.exists():  # put the old store back
+                            os.replace(old, target)
+                            _UNFINISHED.pop(old, None)
+                            old = None
+                        raise
             finally:
                 if old is not None:
-                    if target.exists():
-                        _remove(old)
-                    else:  # the second rename failed: put the old store back
-                        os.replace(old, target)
+                    _remove(old)
+                    _UNFINISHED.pop(old, None)
         else:
             _fsync_path(tmp)
             try:  # mkstemp makes the file private (0600); give it the usual permissions
@@ -172,10 +201,13 @@ def atomic_path(target: str | os.PathLike[str], *, directory: bool = False) -> I
             except OSError:
                 pass
             os.replace(tmp, target)
+            _UNFINISHED.pop(tmp, None)
         _fsync_path(parent, directory=True)
     except BaseException:
         _remove(tmp)
         raise
+    finally:
+        _UNFINISHED.pop(tmp, None)
 
 
 def write_bytes(target: str | os.PathLike[str], data: bytes) -> None:
