@@ -3,22 +3,26 @@
 The numerical core (everything here except ``hairbed.plotting`` and ``hairbed.cli``) needs
 numpy, scipy and numba (its kernels); ``hairbed.plotting`` needs matplotlib.
 
-Importing hairbed loads only the solver's wrappers (numpy, no compiled kernel, no scipy).
-The lab modules (``branches``, ``inverse``, ``quasistatic``, ``rheology``, ``stability``,
-``numerics``, ``units``, ``sweeps``) and the names ``HairBed``, ``HairState`` and ``sweep``
-are imported on first attribute access (PEP 562), so a command imports only what it needs
-(``import hairbed`` imports neither xarray nor dask).
+Importing hairbed imports nothing heavy (not even numpy): every public name is imported on
+first attribute access (PEP 562), the solver's (``Solution``, ``solve``, ``solve_all``,
+``from_parameter``, ``from_xi``: numpy and the solver's wrappers, no compiled kernel, no
+scipy) as well as the lab modules (``branches``, ``inverse``, ``quasistatic``, ``rheology``,
+``stability``, ``numerics``, ``units``, ``sweeps``, ...) and the names ``HairBed``,
+``HairState`` and ``sweep``. So a command imports only what it needs (``import hairbed``
+imports neither xarray nor dask), and ``hairbed.cli`` can take over Ctrl-C before numpy is
+imported (a one-line ``hairbed: interrupted`` from the first milliseconds of the command).
 """
 
 from __future__ import annotations
 
 import importlib
-from typing import TYPE_CHECKING, Any
 
-from ._core.solution import Solution
-from ._core.solver import from_parameter, from_xi, solve, solve_all
-
+#: False at run time, true for type checkers (``typing.TYPE_CHECKING`` without importing
+#: ``typing``, about 15 ms of the command's start-up before it can take over Ctrl-C).
+TYPE_CHECKING = False
 if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
+    from typing import Any
+
     from . import (
         branches,
         calibration,
@@ -31,6 +35,8 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
         sweeps,
         units,
     )
+    from ._core.solution import Solution
+    from ._core.solver import from_parameter, from_xi, solve, solve_all
     from ._warnings import ModelValidityWarning, UnitsWarning
     from .explorer import explore
     from .sensitivity import derivatives
@@ -80,6 +86,11 @@ _LAZY_MODULES = frozenset(
 )
 #: Names imported on first access: name -> submodule that defines it.
 _LAZY_NAMES = {
+    "Solution": "_core.solution",
+    "from_parameter": "_core.solver",
+    "from_xi": "_core.solver",
+    "solve": "_core.solver",
+    "solve_all": "_core.solver",
     "HairBed": "units",
     "HairState": "units",
     "ModelValidityWarning": "_warnings",
