@@ -28,10 +28,15 @@ dphi0/dt = -sin(phi0) cos(phi0) expit(-t)/2 and dphi0/dtheta0 = sqrt(expit(t))/(
 p = 1 - mu: every 1/p of the derivatives in m is absorbed. The incomplete integrals are the
 Carlson forms of theory.md §6 (no loss near mu = 1). Nothing is differenced numerically.
 
-Accuracy: within 4e-15 relative of mpmath on every branch tested, from omega^2 ~ 1e-2 to 1e3
-(tests/test_sensitivity.py). At weak forcing the derivatives of tip_height, tip_deflection and
-tip_displacement are differences of terms of order omega_eps and lose absolute accuracy like
-1e-16/omega^2 (2e-13 at omega^2 = 3e-4, 1e-10 at omega^2 = 1e-6); omega2 = 0 itself is exact
+On the physical branch the tip height, the displacements and omega_eps are taken in the
+Carlson forms of the short arc from phi0 to pi/2 (see ``_short_arc``), whose gradients come
+from :mod:`hairbed._carlson_gradients`, and where omega_eps^2 <= 0.003 from the weak-forcing
+series of the kernels, differentiated exactly (see ``_weak_tip``): the closed forms above take
+the small changes of a barely bent hair as differences of O(1) terms.
+
+Accuracy: within 1.1e-14 relative of mpmath (in most cases 3e-15) on every output, input and
+branch tested, from omega^2 = 1e-13 to 1e3, leaning both ways, including the derivatives that
+vanish to first order at theta0 = 0 (tests/test_sensitivity.py); omega2 = 0 itself is exact
 (the limits of the linear theory).
 
 At a fold of the branch (a state where dR/dt = 0: it appears or disappears as the inputs vary,
@@ -50,6 +55,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import special
 
+from ._carlson_gradients import rd_gradient, rf_gradient
 from ._core.solution import Solution
 from ._core.solver import solve
 from ._core.validation import (
@@ -242,8 +248,77 @@ def _partials(
         out["tip_displacement"] = dx1 - dshift
         out["tip_angle"] = angle_sign * dangle
         out["base_curvature"] = sign * root2d * oe * (g + dlog_root2d)
+    if sign == 1 and n == 0:
+        _short_arc(out_t, out_th, q, qc, c, oms, p, d, two_mu, ops, oe, xi, root2d)
     val = {"h1": h1, "oe": oe, "root2d": root2d}
     return val, out_t, out_th
+
+
+def _short_arc(
+    out_t: dict[str, FloatArray],
+    out_th: dict[str, FloatArray],
+    q: FloatArray,
+    qc: FloatArray,
+    c: FloatArray,
+    oms: FloatArray,
+    p: FloatArray,
+    d: FloatArray,
+    two_mu: FloatArray,
+    ops: FloatArray,
+    oe: FloatArray,
+    xi: FloatArray,
+    root2d: FloatArray,
+) -> None:
+    """The physical branch's tip height and displacements without cancellation (in place).
+
+    On the physical branch the arc from phi0 to pi/2 is short at weak forcing, and the forms
+    above take the small tip displacement x1 - sin(theta0) and the slow change of h1 as
+    differences of O(1) terms. With the Carlson forms of the arc (theory.md §6), with
+    X = p sn0^2, Y = dn0^2 = (1 - sin theta0)/2 and Z = p (all positive),
+
+        omega_eps = K - F0 = cn0 R_F(X, Y, Z),   h1 = 2 sqrt(mu) / R_F(X, Y, Z),
+        x1 - sin(theta0) = d (1 - p R_D(X, Y, Z) / (3 R_F(X, Y, Z))),   d = xi - sin(theta0),
+
+    (from E - E0 = p (K - F0) + mu int cos^2/Delta and DLMF 19.25.9) where nothing cancels:
+    1 - p R_D/(3 R_F) -> 2/3 at weak forcing, and d ln omega_eps = d ln cn0 + d ln R_F
+    replaces dK - dF0 (whose terms are O(1) for a difference O(cn0)); omega_eps, the energy
+    and the base curvature omega_eps^2 h1 follow. Their derivatives come from the gradients of
+    R_F and R_D (:mod:`hairbed._carlson_gradients`, forward differentiation of the
+    duplication, which keeps its relative accuracy where the closed forms of the partials
+    would difference R_D(Y, Z, X) - R_D(X, Y, Z) as X -> Z).
+    """
+    sn0_2 = ops / two_mu
+    x, y, z = p * sn0_2, 0.5 * oms, p
+    rf, grad_f = rf_gradient(x, y, z)
+    rd, grad_d = rd_gradient(x, y, z)
+    mu = 1.0 - p
+    w = p * rd / rf  # -> 1 at weak forcing
+    # d/dt and d/dtheta0 at fixed t of p, d, X, Y, Z (module docstring)
+    dp = {"t": -p * q, "th": -0.5 * c * qc}
+    dd = {"t": 2.0 * p * q, "th": -c * q}
+    dsn0_2 = {"t": -sn0_2 * 2.0 * p * q / two_mu, "th": 2.0 * c * q / (two_mu * two_mu)}
+    # d ln cn0 = (d ln d - d ln(2 mu))/2, with d = (1 - sin theta0) expit(t)
+    dln_cn0 = {"t": 0.5 * (qc - 2.0 * p * q / two_mu), "th": 0.5 * (-c / oms - c * qc / two_mu)}
+    for key, out in (("t", out_t), ("th", out_th)):
+        dx = dp[key] * sn0_2 + p * dsn0_2[key]
+        dy = 0.0 * q if key == "t" else -0.5 * c
+        dz = dp[key]
+        drf = grad_f[0] * dx + grad_f[1] * dy + grad_f[2] * dz
+        drd = grad_d[0] * dx + grad_d[1] * dy + grad_d[2] * dz
+        dln_h1 = -0.5 * dp[key] / mu - drf / rf
+        h1 = 2.0 * np.sqrt(mu) / rf
+        dw = (dp[key] * rd + p * drd) / rf - w * drf / rf
+        dshift = d * 0.0 if key == "t" else c  # d sin(theta0)
+        ddisp = dd[key] * (1.0 - w / 3.0) - d * dw / 3.0
+        g = dln_cn0[key] + drf / rf  # d ln omega_eps
+        out["ln_oe"] = g
+        out["omega_eps"] = g * oe
+        out["energy"] = out["xi"] * oe * oe + 2.0 * xi * oe * oe * g
+        out["base_curvature"] = root2d * oe * (2.0 * g + dln_h1)
+        out["tip_height"] = h1 * dln_h1
+        out["h1"] = out["tip_height"]
+        out["tip_displacement"] = ddisp
+        out["tip_deflection"] = ddisp + dshift
 
 
 def derivatives_at(sol: Solution) -> Derivatives:
@@ -292,6 +367,15 @@ def derivatives_at(sol: Solution) -> Derivatives:
                 row[name] = total
             values[o] = row
     status = np.where(ok, np.where(fold, 1, np.where(branch_end, 2, 0)), -1).astype(np.int64)
+    if physical:
+        _weak_tip(
+            values,
+            live & ~fold,
+            theta0,
+            eps,
+            np.asarray(val["oe"]),
+            np.broadcast_to(np.asarray(sol_live.xi, dtype=np.float64), shape),
+        )
     if np.any(rest):
         _rest_values(values, dt, rest, eps, theta0)
     frozen = {
@@ -300,6 +384,106 @@ def derivatives_at(sol: Solution) -> Derivatives:
     }
     dt_out = MappingProxyType({name: _out(np.where(live, v, np.nan)) for name, v in dt.items()})
     return Derivatives(sol, MappingProxyType(frozen), dt_out, _out(status))
+
+
+class _Dual:
+    """A value and its derivative in one direction (forward differentiation of a polynomial)."""
+
+    __slots__ = ("v", "d")
+
+    def __init__(self, v: Any, d: Any) -> None:
+        self.v, self.d = v, d
+
+    def __add__(self, o: Any) -> _Dual:
+        return (
+            _Dual(self.v + o.v, self.d + o.d)
+            if isinstance(o, _Dual)
+            else _Dual(self.v + o, self.d)
+        )
+
+    __radd__ = __add__
+
+    def __sub__(self, o: Any) -> _Dual:
+        return self + (-o)
+
+    def __rsub__(self, o: Any) -> _Dual:
+        return (-self) + o
+
+    def __neg__(self) -> _Dual:
+        return _Dual(-self.v, -self.d)
+
+    def __mul__(self, o: Any) -> _Dual:
+        if isinstance(o, _Dual):
+            return _Dual(self.v * o.v, self.v * o.d + self.d * o.v)
+        return _Dual(self.v * o, self.d * o)
+
+    __rmul__ = __mul__
+
+
+def _weak_tip(
+    values: dict[str, Mapping[str, Any]],
+    where: NDArray[np.bool_],
+    theta0: FloatArray,
+    eps: FloatArray,
+    oe: FloatArray,
+    xi: FloatArray,
+) -> None:
+    """The tip's derivatives from the weak-forcing series where omega_eps^2 <= WEAK_MAX.
+
+    At theta0 -> 0 some of them are of second order: the tip height's change is
+    h1 - cos(theta0) ~ -b/20 with b = omega_eps^4 cos^2 (the series of the kernels,
+    theory.md §7), and d(x1 - sin theta0)/d theta0 ~ -2 E s c/3 + O(E^2) with E =
+    omega_eps^2; the Carlson forms take them as differences of first-order terms (relative
+    accuracy ~1e-16/E there). The series dx, dz(E, theta0) at sigma = 1 are polynomials,
+    differentiated exactly (forward differentiation), and dY/dp = Y_E dE/dp + Y_theta0
+    [p = theta0], with dE/dp from omega2 = E (1 - eps h1(E, theta0)) differentiated
+    implicitly in the series, and Y = omega_eps = sqrt(E), h1 = cos + dz, x1 = sin + dx,
+    x1 - sin = dx (physical branch only); the base curvature E h1 and the energy xi E follow.
+    """
+    from ._core._kernels.weak import WEAK_MAX, weak_shape
+
+    e2 = oe * oe
+    weak = where & (e2 <= WEAK_MAX)
+    if not np.any(weak):
+        return
+    shape_fn = getattr(weak_shape, "py_func", weak_shape)  # plain Python: arrays and duals
+    th = theta0[weak]
+    e = e2[weak]
+    xi_w = xi[weak]
+    s, c = np.sin(th), np.cos(th)
+    zero = np.zeros_like(e)
+    one = np.ones_like(e)
+    _, dx_e, dz_e = shape_fn(1.0, _Dual(e, one), _Dual(s, zero), _Dual(c, zero))
+    _, dx_th, dz_th = shape_fn(1.0, _Dual(e, zero), _Dual(s, c), _Dual(c, -s))
+    partials = {  # (d/dE, d/dtheta0 at fixed E)
+        "tip_height": (dz_e.d, dz_th.d - s),
+        "tip_deflection": (dx_e.d, dx_th.d + c),
+        "tip_displacement": (dx_e.d, dx_th.d),
+    }
+    # E from omega2 = E (1 - eps h1(E, theta0)), differentiated implicitly in the series
+    ew = eps[weak]
+    h1 = c + dz_e.v
+    g_e = 1.0 - ew * h1 - e * ew * dz_e.d
+    de = {"omega2": 1.0 / g_e, "eps": e * h1 / g_e, "theta0": e * ew * (dz_th.d - s) / g_e}
+    oe_w = oe[weak]
+    partials["omega_eps"] = (0.5 / oe_w, 0.0 * e)
+    for output, (y_e, y_th) in partials.items():
+        row = values[output]
+        assert isinstance(row, dict)
+        for name in INPUTS:
+            new = np.array(row[name], dtype=np.float64, copy=True)
+            new[weak] = y_e * de[name] + (y_th if name == "theta0" else 0.0)
+            row[name] = new
+    for output in ("base_curvature", "energy"):  # E h1 and xi E
+        row = values[output]
+        assert isinstance(row, dict)
+        for name in INPUTS:
+            new = np.array(row[name], dtype=np.float64, copy=True)
+            if output == "base_curvature":
+                new[weak] = h1 * de[name] + e * np.asarray(values["tip_height"][name])[weak]
+            else:
+                new[weak] = xi_w * de[name] + e * np.asarray(values["xi"][name])[weak]
+            row[name] = new
 
 
 def _masked(sol: Solution, live: NDArray[np.bool_]) -> Solution:
