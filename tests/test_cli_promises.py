@@ -321,3 +321,84 @@ def test_ctrl_c_is_one_line_and_130(tmp_path):
     assert proc.returncode == 130, (out, err)
     assert err == "hairbed: interrupted\n"
     assert not [p for p in tmp_path.iterdir() if ".tmp" in p.name]  # no partial file left
+
+
+# Ctrl-C while the command starts. Measured (idle 2-core machine; tests/ cannot assert it): a
+# SIGINT in the interpreter's first ~11 ms ends the process by the signal, silently (status
+# -2 here, 130 in a shell); one in the next ~6 ms (``site``, the console script's first import;
+# ~12 ms without compiled bytecode, as under PYTHONDONTWRITEBYTECODE) ends in Python's own
+# traceback. From then on hairbed._command's handler is in place (before: tracebacks up to
+# 0.25 s, 0.5 s without compiled bytecode). No delay from start-up is safe on a loaded machine,
+# so the SIGINTs below are timed from the moment numpy's core library is mapped into the
+# process (/proc/PID/maps): the command is then inside hairbed.cli's imports, in the window
+# hairbed controls, and every delay after it must end in the one line.
+_NUMPY_CORE = "_multiarray_umath"
+_HAIRBED = Path(sys.executable).with_name("hairbed")
+#: The user's warning filters, not ENV's "default": a SIGINT that lands inside an import between
+#: importlib's open() of a file and its ``with`` (seen once in ~200 runs) leaves the file to
+#: the garbage collector, and a ResourceWarning, which only a developer's filter shows (as its
+#: one line ``hairbed: warning: unclosed file ...`` before ``hairbed: interrupted``).
+_USER_ENV = {k: v for k, v in os.environ.items() if k != "PYTHONWARNINGS"}
+
+
+def _wait_until_mapped(proc: subprocess.Popen, name: str, timeout: float = 120) -> bool:
+    """Poll /proc/PID/maps until a mapped file's name contains ``name`` (False: it ended)."""
+    maps = Path(f"/proc/{proc.pid}/maps")
+    deadline = time.monotonic() + timeout
+    while proc.poll() is None:
+        try:
+            if name in maps.read_text():
+                return True
+        except OSError:  # the process has just ended
+            break
+        assert time.monotonic() < deadline, "the command never imported numpy"
+        time.sleep(0.001)
+    return False
+
+
+def test_hairbed_command_imports_nothing_before_its_handler():
+    """The console script's module takes over Ctrl-C with nothing heavy imported before."""
+    code = (
+        "import sys; before = set(sys.modules); import hairbed._command\n"
+        "print(' '.join(sorted(set(sys.modules) - before)))"
+    )
+    out = run(code=code)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["__future__", "hairbed", "hairbed._command"]
+
+
+@pytest.mark.skipif(not Path("/proc/self/maps").exists(), reason="needs Linux's /proc/PID/maps")
+@pytest.mark.parametrize(
+    ("entry", "delay"),
+    [("script", d) for d in (0.0, 0.02, 0.05, 0.1, 0.2, 0.4)] + [("-m", 0.0), ("-m", 0.1)],
+)
+def test_ctrl_c_while_the_command_starts(entry, delay):
+    """SIGINT ``delay`` s after numpy starts loading in ``hairbed solve`` (the console script
+    or ``python -m hairbed``): exit status 130 with the one line, or 0 if it had finished."""
+    if entry == "script":
+        if not _HAIRBED.exists():
+            pytest.skip(f"no console script {_HAIRBED}")
+        cmd = [str(_HAIRBED)]
+    else:
+        cmd = [sys.executable, "-m", "hairbed"]
+    proc = subprocess.Popen(
+        [*cmd, "solve", "--omega2", "2", "--eps", "0.5"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=_USER_ENV,
+    )
+    try:
+        if _wait_until_mapped(proc, _NUMPY_CORE):
+            time.sleep(delay)
+            proc.send_signal(signal.SIGINT)
+        out, err = proc.communicate(timeout=120)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert "Traceback" not in err, err
+    if proc.returncode == 0:  # the command finished before the signal
+        assert "omega2" in out and "Warning" not in err, (out, err)
+    else:
+        assert proc.returncode == 130, (proc.returncode, out, err)
+        assert err == "hairbed: interrupted\n", err

@@ -26,6 +26,7 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "hairbed"
 OUTER = (
     "hairbed.cli",
     "hairbed.__main__",
+    "hairbed._command",
     "hairbed._benchmark",
     "hairbed.plotting",
     "hairbed.explorer",

@@ -9,13 +9,11 @@ first attribute access (PEP 562), the solver's (``Solution``, ``solve``, ``solve
 scipy) as well as the lab modules (``branches``, ``inverse``, ``quasistatic``, ``rheology``,
 ``stability``, ``numerics``, ``units``, ``sweeps``, ...) and the names ``HairBed``,
 ``HairState`` and ``sweep``. So a command imports only what it needs (``import hairbed``
-imports neither xarray nor dask), and ``hairbed.cli`` can take over Ctrl-C before numpy is
-imported (a one-line ``hairbed: interrupted`` from the first milliseconds of the command).
+imports neither xarray nor dask), and the ``hairbed`` command takes over Ctrl-C before numpy is
+imported (``hairbed._command``: a one-line ``hairbed: interrupted`` from its first milliseconds).
 """
 
 from __future__ import annotations
-
-import importlib
 
 #: False at run time, true for type checkers (``typing.TYPE_CHECKING`` without importing
 #: ``typing``, about 15 ms of the command's start-up before it can take over Ctrl-C).
@@ -103,6 +101,8 @@ _LAZY_NAMES = {
 
 def __getattr__(name: str) -> Any:
     """Import a lab module (or a name of one) on first access, then cache it here."""
+    import importlib  # here, not above: ``import hairbed`` imports nothing the interpreter has not
+
     if name in _LAZY_MODULES:
         value = importlib.import_module(f"{__name__}.{name}")
     elif name in _LAZY_NAMES:

@@ -1,6 +1,6 @@
 """``python -m hairbed``: the command line of :mod:`hairbed.cli`."""
 
-from hairbed.cli import run_and_exit
+from hairbed._command import run_and_exit
 
 __all__: list[str] = []
 

@@ -24,6 +24,7 @@ import json
 import math
 import os
 import re
+import signal
 import sys
 import time
 import warnings
@@ -1378,13 +1379,28 @@ def run_and_exit() -> None:
     After Ctrl-C the process ends at once (``os._exit`` once stdout and stderr are flushed):
     the interpreter's normal shutdown would join the worker threads of a chunked sweep, which
     go on computing the blocks already queued, and a second Ctrl-C there would end in a
-    traceback. Files are already whole or removed by then (``hairbed.safe_files``).
+    traceback. Files are already whole or removed by then (``hairbed.safe_files``). A Ctrl-C
+    after the command has done its work (while the interpreter shuts down) ends the process at
+    once with the command's own status, silently. The console script starts the command with
+    ``hairbed._command.run_and_exit``, which also handles a Ctrl-C while this module is
+    imported.
     """
     code = main()
     if code == 130:
         sys.stdout.flush()
         sys.stderr.flush()
         os._exit(130)
+
+    def finished(signum: int, frame: object) -> None:
+        try:
+            sys.stdout.flush()
+            sys.stderr.flush()
+        except (OSError, ValueError):  # a closed pipe (``hairbed sweep ... | head``)
+            pass
+        os._exit(code)
+
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        signal.signal(signal.SIGINT, finished)
     sys.exit(code)
 
 
