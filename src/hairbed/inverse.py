@@ -568,7 +568,9 @@ def fit_profile(
     ----------
     x, z : array_like
         Measured points [-] in units of the hair length, with the base at the origin and the
-        flow towards +x; at least three points (two for fixed ``theta0``), in any order.
+        flow towards +x; at least three points (two for fixed ``theta0``), in any order, and at
+        least one above the wall (``z > 0``): heights all zero, a hair lying on the wall, are
+        the limit omega^2 -> inf or theta0 -> +-pi/2, not a state, and raise ValueError.
     eps : float
         Confinement L/H [-] (enters omega^2 only, not the shape).
     theta0 : float, optional
@@ -606,6 +608,17 @@ def fit_profile(
         raise ValueError(
             f"x and z must be points along a hair, within {_MAX_COORDINATE:g} hair lengths of "
             f"its base, got ({float(x[i])!r}, {float(z[i])!r}) (first at index {i})"
+        )
+    if x.size and not np.any(z > 0.0):
+        # dz/dsigma = cos(theta) > 0 along every physical state (|theta| < pi/2): a hair of
+        # the model rises from its base. Heights all on (or below) the wall are a hair lying
+        # on it, the limit omega2 -> inf (at eps = 0.5 the tip height falls like
+        # 1.4/sqrt(omega2)) or theta0 -> +-pi/2 that no state reaches: a fit would run to the
+        # edge of the base-angle range and stop there (success=False, or a theta0 at the edge).
+        raise ValueError(
+            "z must have a point above the wall (z > 0): a hair rises from its base "
+            f"(dz/dsigma = cos(theta) > 0), got all {x.size} heights <= 0 (a hair lying on the "
+            "wall is the limit omega2 -> inf or theta0 -> +-pi/2, not a state of the model)"
         )
     _, e_arr, _ = check_inputs(0.0, eps, 0.0)
     if e_arr.ndim:
