@@ -20,19 +20,21 @@ import hairbed
 from hairbed.sensitivity import INPUTS, OUTPUTS, STATUS_MESSAGES, derivatives_at
 
 DATA = Path(__file__).parent / "data" / "derivatives_mpmath.json"
-#: Measured against the mpmath set (21 cases, omega2 from 1e-13 to 1e3, every branch): at most
+#: Measured against the mpmath set (22 cases, omega2 from 1e-13 to 1e3, every branch): at most
 #: 1.1e-14 relative on every output and input (d base_curvature/d theta0 at theta0 = -1.5), in
-#: most cases 3e-15, including weak forcing (t = -8 ... -30), where the derivatives are small
-#: and some vanish to first order at theta0 = 0 (module docstring of hairbed.sensitivity).
+#: most cases 3e-15, including weak forcing (t = -8 ... -30). The exception is a derivative
+#: that vanishes to first order, as d omega_eps/d theta0 and d(tip_displacement)/d theta0 do
+#: near theta0 = 0 at moderate forcing (the case t = -2.5, theta0 = -0.05; at weak forcing the
+#: series takes over): it is a sum of terms as large as the output's other partials, so its
+#: error is a few ulps of those (2e-17 absolute, 1e-13 relative on -2.1e-4).
 MPMATH_RTOL = 5e-14
-#: An absolute floor only for references that are zero (e.g. d omega_eps/d theta0 = -1e-42 at
-#: eps = 0, exactly 0 here): far below every non-zero reference (the smallest is 5.6e-15).
-MPMATH_ATOL = 1e-30
+#: ... hence the absolute floor: this many times the largest partial of the same output.
+MPMATH_ULPS = 2e-16
 
 
-def _atol(omega2: float) -> float:
-    """The absolute tolerance: only for references that vanish (independent of omega2)."""
-    return MPMATH_ATOL
+def _tolerance(case: dict, output: str, ref: float) -> float:
+    scale = max(abs(float(v)) for v in case["derivatives"][output].values())
+    return MPMATH_RTOL * abs(ref) + MPMATH_ULPS * scale
 
 
 #: Finite differences of solve: truncation h^4 ~ 1e-16, rounding 1e-16/h ~ 1e-12 relative to
@@ -55,7 +57,7 @@ def test_against_mpmath(case: dict) -> None:
     for o in OUTPUTS:
         for p in INPUTS:
             ref = float(case["derivatives"][o][p])
-            tol = MPMATH_RTOL * abs(ref) + _atol(sol.omega2)
+            tol = _tolerance(case, o, ref)
             assert abs(d[o][p] - ref) <= tol, (o, p, d[o][p], ref)
 
 
@@ -69,7 +71,7 @@ def test_against_mpmath_through_solve() -> None:
             for p in INPUTS:
                 ref = float(case["derivatives"][o][p])
                 # the forcing rounded to a double: the state moves by ~1e-16 relative
-                tol = 1e-12 * abs(ref) + _atol(float(case["omega2"]))
+                tol = 1e-12 * abs(ref) + _tolerance(case, o, ref)
                 assert abs(d[o][p] - ref) <= tol, (case, o, p)
 
 

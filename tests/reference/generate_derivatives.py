@@ -76,6 +76,8 @@ CASES = (
     (-16.0, 0.3, -0.8, 1, 0),
     (-20.0, 0.7, 0.3, 1, 0),
     (-30.0, 0.5, 1.0, 1, 0),
+    # moderate forcing near theta0 = 0, where d(x1 - sin theta0)/d theta0 vanishes to first order
+    (-2.5, 0.25, -0.05, 1, 0),
 )
 
 
