@@ -189,6 +189,12 @@ ROWS = [
         r"num must be an integer >= 2 and <= 10000000, got 1",
     ),
     (
+        "Solution.profile num huge (an integral float shown as given, not as 309 digits)",
+        lambda: SOL.profile(1e308),
+        ValueError,
+        r"num must be an integer >= 2 and <= 10000000, got 1e\+308$",
+    ),
+    (
         "Solution.profile num float",
         lambda: SOL.profile(2.5),
         ValueError,

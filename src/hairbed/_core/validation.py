@@ -333,7 +333,7 @@ def check_int(value: Any, name: str, low: int | None = None, high: int | None = 
     if k is None:
         raise ValueError(f"{name} must be {rng}, got {show(value)}")
     if (low is not None and k < low) or (high is not None and k > high):
-        raise ValueError(f"{name} must be {rng}, got {k!r}")
+        raise ValueError(f"{name} must be {rng}, got {show(value)}")  # 1e+308, not 309 digits
     return k
 
 

@@ -12,7 +12,12 @@ from matplotlib.axes import Axes
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-__all__ = ["RC", "check_count", "colors", "figure_axes", "new_figure", "styled"]
+__all__ = ["MAX_POINTS", "RC", "colors", "figure_axes", "new_figure", "styled"]
+
+#: The most points a figure's curve or grid may take (``num``, ``n_theta``, ...): more than a
+#: figure can show, 10 inches at the largest resolution of ``make_all`` (1200 dpi) being
+#: 12 000 pixels.
+MAX_POINTS = 100_000
 
 RC: Any = {  # rcParams (matplotlib types its keys as literals)
     "font.size": 10,
@@ -87,15 +92,6 @@ def figure_axes(
     if kw.get("squeeze", True) and not at_least and (nrows == 1 or ncols == 1):
         return axes[0].figure, arr
     return axes[0].figure, arr.reshape(-1, ncols) if not at_least else arr.reshape(1, -1)
-
-
-def check_count(value: Any, name: str, minimum: int = 1) -> int:
-    """An integer count >= ``minimum`` (ValueError/TypeError naming ``name`` otherwise)."""
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise TypeError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    if value < minimum:
-        raise ValueError(f"{name} must be >= {minimum}, got {int(value)}")
-    return int(value)
 
 
 def styled(func: Callable[..., Figure]) -> Callable[..., Figure]:

@@ -16,7 +16,8 @@ from matplotlib.patches import FancyArrowPatch, Patch
 
 import hairbed
 
-from ._style import check_count, colors, figure_axes, new_figure, styled
+from .._core.validation import check_int
+from ._style import MAX_POINTS, colors, figure_axes, new_figure, styled
 
 __all__ = [
     "fig_bistability",
@@ -61,8 +62,8 @@ def fig_bistability(
     """
     from hairbed.branches import cusp
 
-    n_theta = check_count(n_theta, "n_theta", 2)
-    n_eps = check_count(n_eps, "n_eps", 2)
+    n_theta = check_int(n_theta, "n_theta", 2, MAX_POINTS)
+    n_eps = check_int(n_eps, "n_eps", 2, MAX_POINTS)
     fig, (ax, axw) = figure_axes(ax, 1, 2, size=(9.4, 3.9))
     lo = -0.5 * np.pi
     # denser towards both ends, where eps_c runs to 0 and to 1
@@ -127,7 +128,7 @@ def fig_hysteresis(
     """
     from hairbed.stability import linear_stability
 
-    num = check_count(num, "num", 3)
+    num = check_int(num, "num", 3, MAX_POINTS)
     lo, hi = _window(eps, theta0)
     if not np.isfinite(lo):
         raise ValueError(
@@ -211,7 +212,7 @@ def fig_rheology(
     """
     from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator
 
-    num = check_count(num, "num", 2)
+    num = check_int(num, "num", 2, MAX_POINTS)
     w2 = np.logspace(-2, 3, num)
     fig, (ax, axr) = figure_axes(ax, 1, 2, size=(9.4, 3.9))
     for eps, c in zip(eps_values, colors(len(eps_values))):
@@ -274,7 +275,7 @@ def fig_calibration(
     >>> len(fig.axes)
     2
     """
-    num = check_count(num, "num", 2)
+    num = check_int(num, "num", 2, MAX_POINTS)
     t = np.linspace(-12.0, 30.0, num)
     fig, (ax, axe) = figure_axes(ax, 1, 2, size=(9.4, 3.9))
     x_lo = float(np.sin(theta0))
@@ -328,8 +329,7 @@ def fig_fd_convergence(
     """
     from hairbed.numerics import finite_difference
 
-    for i, n in enumerate(nums):
-        check_count(n, f"nums[{i}]", 2)
+    nums = tuple(check_int(n, f"nums[{i}]", 2, MAX_POINTS) for i, n in enumerate(nums))
     Ns_arr = np.asarray(nums, dtype=float)
     fig, ax = figure_axes(ax, size=(5.6, 4.2))
     for w2, c in zip(omega2s, colors(len(omega2s), "plasma")):
@@ -343,6 +343,12 @@ def fig_fd_convergence(
     ax.set_title(rf"Finite-difference convergence, $\epsilon = {eps:g}$")
     ax.legend(loc="lower left")
     return fig
+
+
+#: The largest batch size and number of repeats :func:`fig_speed` measures (ten times the
+#: batch of ``hairbed bench --full``; the best of 100 runs is as good as any).
+_MAX_BATCH = 10_000_000
+_MAX_REPEAT = 100
 
 
 def _row_group(number: str) -> str:
@@ -377,8 +383,8 @@ def fig_speed(
     """
     measured = results is None
     if results is None:
-        check_count(n, "n", 2)
-        check_count(repeat, "repeat", 1)
+        n = check_int(n, "n", 2, _MAX_BATCH)
+        repeat = check_int(repeat, "repeat", 1, _MAX_REPEAT)
         from hairbed import _benchmark
 
         results = _benchmark.run(quick=True, rows=rows, n=n, repeat=repeat)
@@ -506,7 +512,7 @@ def fig_physical_units(
     """
     from hairbed.units import HairBed
 
-    num = check_count(num, "num", 2)
+    num = check_int(num, "num", 2, MAX_POINTS)
     if not (np.isfinite(max_velocity) and max_velocity > 0):
         raise ValueError(f"max_velocity must be finite and > 0 [m/s], got {max_velocity!r}")
     v = np.linspace(-max_velocity, max_velocity, num)

@@ -15,7 +15,8 @@ from matplotlib.patches import FancyArrowPatch, Rectangle
 
 import hairbed
 
-from ._style import check_count, colors, figure_axes, styled
+from .._core.validation import check_int
+from ._style import MAX_POINTS, colors, figure_axes, styled
 
 __all__ = [
     "fig_model",
@@ -258,7 +259,7 @@ def fig_solution(
     >>> len(fig.axes) >= 3
     True
     """
-    num = check_count(num, "num", 2)
+    num = check_int(num, "num", 2, MAX_POINTS)
     fig, axes = figure_axes(ax, 1, 3, size=(13.0, 4.3))
     cols = colors(len(eps_values))
     widths = {0: 2.0, 1: 1.3, 2: 0.9}
@@ -369,7 +370,7 @@ def fig_theta0s(
     >>> len(fig.axes)
     1
     """
-    num = check_count(num, "num", 2)
+    num = check_int(num, "num", 2, MAX_POINTS)
     fig, ax = figure_axes(ax, size=(6.4, 4.0))
     for th0, c in zip(theta0s, colors(len(theta0s), "coolwarm")):
         s = _curve(eps, th0, num=num)
@@ -407,7 +408,7 @@ def fig_profiles(
     """
     from hairbed.numerics import finite_difference
 
-    num = check_count(num, "num", 2)
+    num = check_int(num, "num", 2, MAX_POINTS)
     fig, ax = figure_axes(ax, size=(6.4, 4.0))
     for w2, c in zip(omega2s, colors(len(omega2s), "plasma")):
         exact = hairbed.solve(w2, eps)
