@@ -1384,7 +1384,18 @@ def run_and_exit() -> None:
     once with the command's own status, silently. The console script starts the command with
     ``hairbed._command.run_and_exit``, which also handles a Ctrl-C while this module is
     imported.
+
+    While the command runs, Ctrl-C does not unwind the stack (a ``KeyboardInterrupt``) but
+    ends the process from the signal handler: the temporaries of the files being written are
+    removed (:func:`hairbed.safe_files.remove_unfinished`; a rename onto a target holds the
+    signal back until it is done), the one line is printed, exit status 130. Unwinding could
+    wait without end: a chunked netCDF write closes its file on the way out, which needs the
+    locks that its worker threads hold while they go on with the blocks already queued.
     """
+    import hairbed.safe_files  # noqa: F401 (for the handler, which must not import)
+
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        signal.signal(signal.SIGINT, _interrupted)
     code = main()
     if code == 130:
         sys.stdout.flush()
@@ -1402,6 +1413,21 @@ def run_and_exit() -> None:
     if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
         signal.signal(signal.SIGINT, finished)
     sys.exit(code)
+
+
+def _interrupted(signum: int, frame: object) -> None:
+    """Ctrl-C while a command runs: remove partial files, one line, exit 130, at once."""
+    sys.modules["hairbed.safe_files"].remove_unfinished()  # imported with the handler
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # a closed pipe: nothing to keep
+            pass
+    try:
+        print(f"{PROG}: interrupted", file=sys.stderr, flush=True)
+    except (OSError, ValueError):
+        pass
+    os._exit(130)
 
 
 def _one_line(exc: BaseException) -> str:

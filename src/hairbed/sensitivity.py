@@ -40,7 +40,7 @@ vanish to first order at theta0 = 0 (tests/test_sensitivity.py); omega2 = 0 itse
 (the limits of the linear theory). Above the series' range (omega_eps^2 > 0.003) such a
 derivative near theta0 = 0 (d omega_eps/d theta0, d(tip_displacement)/d theta0) is a sum of
 terms as large as the output's other partials and keeps a few ulps of those: 2e-17 absolute,
-1e-13 relative, at omega2 = 0.07, theta0 = -0.05.
+1e-13 relative, at omega2 = 0.12, theta0 = -0.05.
 
 At a fold of the branch (a state where dR/dt = 0: it appears or disappears as the inputs vary,
 theory.md §5) the derivatives through dt/dp are infinite: they are returned as +-inf and the
