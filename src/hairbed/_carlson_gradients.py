@@ -92,7 +92,8 @@ def _spread(a0: FloatArray, args: tuple[FloatArray, ...]) -> FloatArray:
 def _converged(spread: FloatArray, m: int, a: FloatArray) -> bool:
     """Carlson's test for every element: 4^-m max|A0 - x_i| < _SCALE |A_m|."""
     with np.errstate(invalid="ignore"):
-        return bool(np.all(~(spread * 4.0**-m >= _SCALE * np.abs(a))))
+        # A_m = 0 (two arguments 0: R_F or R_D infinite) never converges: nothing to refine
+        return bool(np.all(~(np.ldexp(spread, -2 * m) >= _SCALE * np.abs(a)) | (a == 0.0)))
 
 
 def rf_gradient(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray, Gradient]:
@@ -119,7 +120,7 @@ def rf_gradient(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray
         lam = _mul(sx, sy) + _mul(sy, sz) + _mul(sz, sx)
         xm, ym, zm, A = (xm + lam) / 4.0, (ym + lam) / 4.0, (zm + lam) / 4.0, (A + lam) / 4.0
         m += 1
-    inv = _recip(A) / 4.0**m
+    inv = np.ldexp(_recip(A), -2 * m)
     # (A0 - x0)/(4^m A_m): the exact small deviations, without the difference A_m - x_m
     dx, dy = _mul(A0 - X, inv), _mul(A0 - Y, inv)
     dz = -(dx + dy)
@@ -162,7 +163,7 @@ def rd_gradient(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray
         fac /= 4.0
         xm, ym, zm, A = (xm + lam) / 4.0, (ym + lam) / 4.0, (zm + lam) / 4.0, (A + lam) / 4.0
         m += 1
-    inv = _recip(A) / 4.0**m
+    inv = np.ldexp(_recip(A), -2 * m)
     dx, dy = _mul(A0 - X, inv), _mul(A0 - Y, inv)
     dz = -(dx + dy) / 3.0
     xy = _mul(dx, dy)

@@ -290,8 +290,9 @@ def _short_arc(
     duplication, which keeps its relative accuracy where the closed forms of the partials
     would difference R_D(Y, Z, X) - R_D(X, Y, Z) as X -> Z).
     """
+    arc = p > 0.0
     sn0_2 = ops / two_mu
-    x, y, z = p * sn0_2, 0.5 * oms, p
+    x, y, z = np.where(arc, p * sn0_2, 1.0), 0.5 * oms, np.where(arc, p, 1.0)
     rf, grad_f = rf_gradient(x, y, z)
     rd, grad_d = rd_gradient(x, y, z)
     mu = 1.0 - p
@@ -314,14 +315,18 @@ def _short_arc(
         dshift = d * 0.0 if key == "t" else c  # d sin(theta0)
         ddisp = dd[key] * (1.0 - w / 3.0) - d * dw / 3.0
         g = dln_cn0[key] + drf / rf  # d ln omega_eps
-        out["ln_oe"] = g
-        out["omega_eps"] = g * oe
-        out["energy"] = out["xi"] * oe * oe + 2.0 * xi * oe * oe * g
-        out["base_curvature"] = root2d * oe * (2.0 * g + dln_h1)
-        out["tip_height"] = h1 * dln_h1
-        out["h1"] = out["tip_height"]
-        out["tip_displacement"] = ddisp
-        out["tip_deflection"] = ddisp + dshift
+        new = {
+            "ln_oe": g,
+            "omega_eps": g * oe,
+            "energy": out["xi"] * oe * oe + 2.0 * xi * oe * oe * g,
+            "base_curvature": root2d * oe * (2.0 * g + dln_h1),
+            "tip_height": h1 * dln_h1,
+            "h1": h1 * dln_h1,
+            "tip_displacement": ddisp,
+            "tip_deflection": ddisp + dshift,
+        }
+        for name, value in new.items():  # p = 0 (xi = 1 in doubles): the forms above
+            out[name] = np.where(arc, value, out[name])
 
 
 def derivatives_at(sol: Solution) -> Derivatives:
