@@ -406,3 +406,96 @@ def test_page_shows_the_librarys_warnings():
         assert f"<li>{html.escape(text)}</li>" in page.table.object
     page.text["velocity"].value = "0.1"
     assert page.snapshot.warnings == [] and "hb-warn" not in page.table.object
+
+
+def _search(**kw: str) -> str:
+    """A full query of the dimensionless view, written here (not by the explorer)."""
+    args = {"omega2": "0.8", "eps": "0.9", "theta0": "-1.5", "y": "x1", "si": "0", "twirl": "0"}
+    args.update(kw)
+    return "?" + "&".join(f"{k}={v}" for k, v in args.items())
+
+
+def _shows(page, omega2: float, eps: float, theta0: float) -> None:
+    """Fields and states are those of the inputs (states: hairbed.solve's roots)."""
+    assert [float(page.text[k].value) for k in ("omega2", "eps", "theta0")] == [
+        omega2,
+        eps,
+        theta0,
+    ]
+    n = hairbed.solve(omega2, eps, theta0).n_roots
+    states = page.snapshot.states
+    assert [s.label for s in states] == (["low", "mid", "high"] if n == 3 else ["low"])
+    for s in states:
+        assert s.solution.xi == hairbed.solve(omega2, eps, theta0, root=s.label).xi
+
+
+def test_url_follows_every_good_change():
+    page = _page("?omega2=0.8&eps=0.9")
+    assert page.history.search == _search()  # the loaded link written out whole
+    page.text["omega2"].value = "1.2"
+    assert page.history.search == _search(omega2="1.2")
+    page.text["eps"].value = "1.5"  # bad: the URL stays the one of the view on screen
+    assert page.error and page.history.search == _search(omega2="1.2")
+    page = _page("?eps=1.5")  # a bad link stays in the address bar, with its message
+    assert page.error and page.history.search == "?eps=1.5"
+    page = _page()
+    assert page.history.search == _search()
+
+
+def test_back_and_forward_show_the_view_of_the_url():
+    """The browser's Back/Forward set ``history.search``: the page shows that URL's view."""
+    page = _page("?omega2=0.8&eps=0.9&theta0=-1.5")
+    page.text["omega2"].value = "1.2"
+    page.text["omega2"].value = "2.5"
+    _shows(page, 2.5, 0.9, -1.5)
+    for w in (1.2, 0.8, 1.2, 2.5):
+        page.history.search = _search(omega2=str(w))
+        _shows(page, w, 0.9, -1.5)
+        assert page.history.search == _search(omega2=str(w))  # no other URL sent back
+        assert page.error == ""
+    # a history URL naming only some inputs: the others take their defaults, as in a page
+    # loaded from it (not the values of the view left)
+    page.text["eps"].value = "0.5"
+    page.text["theta0"].value = "0"
+    page.history.search = "?omega2=1.2"
+    _shows(page, 1.2, float(model.DEFAULTS["eps"]), float(model.DEFAULTS["theta0"]))
+    assert page.history.search == _search(omega2="1.2")  # written out whole
+    # from an SI view back to a dimensionless one: the bed's fields as in a fresh page
+    page.si.value = True
+    page.text["velocity"].value = "0.2"
+    assert page.snapshot.params.si and "si=1" in page.history.search
+    page.history.search = _search(omega2="0.8")
+    assert not page.si.value and not page._bed_column.visible
+    assert page.text["velocity"].value == model.DEFAULTS["velocity"]
+    _shows(page, 0.8, 0.9, -1.5)
+
+
+def test_bad_history_url_keeps_the_last_good_state():
+    page = _page("?omega2=1.2&eps=0.9&theta0=-1.5")
+    good = page.snapshot
+    page.history.search = "?omega2=2&eps=1.5"
+    assert page.error == _library_message(hairbed.solve, 2.0, 1.5, -1.5)
+    assert page.snapshot is good and page.history.search == "?omega2=2&eps=1.5"
+    page.history.search = "?omega2=2&colour=red"
+    assert "unknown parameter 'colour'" in page.error and page.snapshot is good
+    page.history.search = _search(omega2="1.3")  # Forward to a good URL again
+    assert page.error == "" and page.history.search == _search(omega2="1.3")
+    _shows(page, 1.3, 0.9, -1.5)
+    # a typed change after the bad URL reaches the address bar even when it is the view's
+    # last good URL (the address bar shows the bad one)
+    page.history.search = "?eps=1.5"
+    page.text["omega2"].value = "1.3"
+    page.text["eps"].value = "0.9"
+    assert page.history.search == _search(omega2="1.3")
+
+
+def test_url_component_only_on_a_served_page():
+    """Served: the history component is on the page; in a notebook (not served) it is not
+    (the notebook's own URL is left alone)."""
+    from hairbed.explorer._page import ExplorerPage
+
+    page = _page()
+    assert page.history not in page.layout.objects
+
+    page = ExplorerPage("?omega2=1.2", served=True)
+    assert page.history in page.layout.objects and not page.history.visible

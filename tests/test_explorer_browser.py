@@ -358,6 +358,80 @@ def test_typed_values_and_bad_input(browser, server, shots):
     page.close()
 
 
+INPUTS = ("omega2", "eps", "theta0")
+
+
+def _url_inputs(page) -> tuple[float, float, float]:
+    """omega2, eps, theta0 of the page's URL (read in the page: Playwright's ``page.url``
+    follows a ``pushState`` only while Playwright waits on something)."""
+    from urllib.parse import parse_qs
+
+    args = parse_qs(page.evaluate("window.location.search").lstrip("?"))
+    return float(args["omega2"][0]), float(args["eps"][0]), float(args["theta0"][0])
+
+
+def _view_follows_url(page) -> tuple[float, float, float]:
+    """Wait until the view shows the URL's inputs: the fields, the table's omega2, eps and
+    theta0 and its states those of ``hairbed.solve`` there."""
+
+    def agree():
+        omega2, eps, theta0 = _url_inputs(page)
+        fields = tuple(float(page.locator(f".hb-{k} input").input_value()) for k in INPUTS)
+        table = tuple(set(_cells(page, k).values()) for k in INPUTS)
+        if fields == (omega2, eps, theta0) and all(
+            len(t) == 1 and float(t.pop()) == v for t, v in zip(table, fields)
+        ):
+            return omega2, eps, theta0
+        return None
+
+    inputs = _until(agree, "the view of the URL")
+    _check_states(page, *inputs)
+    return inputs
+
+
+def test_back_and_forward_restore_the_view(browser, server):
+    """Two typed changes of omega2, each a history entry of its own (further apart than
+    SETTLE_MS); Back and Forward move the address bar and the view together (the states of
+    ``hairbed.solve`` at the URL's inputs) and add no entry."""
+    from hairbed.explorer._history import SETTLE_MS
+
+    page = _open(browser, server, "?omega2=0.8&eps=0.9&theta0=-1.5")
+    _until(lambda: _shown_omega2(page) == 0.8, "the view at omega2 = 0.8")
+    # the loaded link is written out whole, in place (no new entry)
+    _until(lambda: "twirl=0" in page.evaluate("window.location.search"), "the whole query")
+    length = page.evaluate("history.length")
+    for w in (1.2, 2.5):
+        page.wait_for_timeout(2 * SETTLE_MS)  # a settled view: the next change is an entry
+        _type(page, "omega2", str(w))
+        _until(lambda w=w: _shown_omega2(page) == w, f"the typed omega2 = {w}")
+        _until(lambda w=w: _url_inputs(page)[0] == w, f"the URL of omega2 = {w}")
+    assert page.evaluate("history.length") == length + 2
+    counts = {0.8: 1, 1.2: 3, 2.5: 1}  # across the window of three states and out above it
+    for move, w in (
+        (page.go_back, 1.2),
+        (page.go_back, 0.8),
+        (page.go_forward, 1.2),
+        (page.go_forward, 2.5),
+        (page.go_back, 1.2),
+    ):
+        move()
+        _until(lambda w=w: _url_inputs(page)[0] == w, f"the URL of omega2 = {w}")
+        assert _view_follows_url(page) == (w, 0.9, -1.5)
+        assert len(_cells(page, "xi")) == counts[w]
+        assert _error_text(page) == ""
+    page.wait_for_timeout(2 * SETTLE_MS)  # the server's answers to Back/Forward add nothing
+    assert page.evaluate("history.length") == length + 2
+    assert _url_inputs(page)[0] == 1.2
+    # a change after going back starts a new branch of the history: Forward leads nowhere
+    _type(page, "omega2", "1.3")
+    _until(lambda: _url_inputs(page)[0] == 1.3, "the URL of omega2 = 1.3")
+    assert _view_follows_url(page) == (1.3, 0.9, -1.5)
+    page.go_back()
+    _until(lambda: _url_inputs(page)[0] == 1.2, "the URL of omega2 = 1.2")
+    assert _view_follows_url(page) == (1.2, 0.9, -1.5)
+    page.close()
+
+
 def test_bad_url_shows_the_message_and_the_defaults(browser, server):
     page = _open(browser, server, "?omega2=2&eps=1.5")
     expected = _library_message(2.0, 1.5, -1.5)

@@ -21,6 +21,7 @@ import panel as pn
 from bokeh.models import CustomJSTickFormatter
 
 from ._figures import STATE_COLORS, Views
+from ._history import BrowserHistory
 from ._model import (
     BED_KEYS,
     DEFAULTS,
@@ -171,10 +172,33 @@ class ExplorerPage:
     ----------
     query : str, optional
         A URL query string ('?omega2=1.2&eps=0.9'): the inputs to start from.
+    served : bool, optional
+        Keep the browser's address bar and history in step with the view
+        (:class:`~._history.BrowserHistory`): by default when the page is served (a
+        ``hairbed explore`` session), not in a Jupyter notebook, whose URL is the notebook's.
     """
 
-    def __init__(self, query: str = "") -> None:
+    def __init__(self, query: str = "", *, served: bool | None = None) -> None:
         self._syncing = False
+        self._url_live = False  # the first (default) view does not touch the URL
+        self._setting_url = False
+        #: The query string of the browser's address bar (set both ways).
+        self.history = BrowserHistory(
+            search="?" + query.lstrip("?") if query.strip("?") else "",
+            visible=False,
+            css_classes=["hb-history"],
+        )
+        if served is None:
+            doc = pn.state.curdoc
+            served = doc is not None and doc.session_context is not None
+        self._served = served
+        if served:
+            # Panel makes the session's Location from the request on first use and, doing so,
+            # empties the document's stylesheet cache: made after the panes, it would have the
+            # first update re-create every pane's stylesheets (a re-walk of the whole document,
+            # ~250 ms, long enough to lose a slider drag under way). Made now, before the page's
+            # models exist.
+            _ = pn.state.location
         self.snapshot: Snapshot | None = None
         #: Server time of the last update [ms]: solve, stability, views, total.
         self.timings: dict[str, float] = {}
@@ -184,11 +208,12 @@ class ExplorerPage:
         self._build_layout()
         # the first view: the defaults, so that a bad URL still leaves a good state on screen
         self.refresh()
-        self._location = pn.state.location
+        self._url_live = True
         if query.strip("?"):
             self._apply_query(query)
         elif self.snapshot is not None:
             self._set_url(query_from_inputs(self.snapshot.params))
+        self.history.param.watch(self._on_history, "search")
 
     # -- widgets ------------------------------------------------------------------------------
 
@@ -342,6 +367,7 @@ class ExplorerPage:
                     self.twirl_table,
                 ),
             ),
+            *([self.history] if self._served else []),
         )
 
     # -- events -----------------------------------------------------------------------------
@@ -378,9 +404,17 @@ class ExplorerPage:
         raw["y"] = str(self.y_choice.value)
         return raw
 
-    def _apply_query(self, query: str) -> None:
+    def _on_history(self, event: Any) -> None:
+        """Back or Forward in the browser: show the view of the URL it went to."""
+        if not self._setting_url:
+            self._apply_query(event.new, restore=True)
+
+    def _apply_query(self, query: str, *, restore: bool = False) -> None:
         """Inputs from a URL query: put them into the fields and refresh. Unknown names or
-        bad values show the library's message; the defaults stay on screen."""
+        bad values show the library's message; the last good state stays on screen.
+
+        With ``restore`` (a URL of the browser's history), the inputs the query does not name
+        take their defaults, as in a page loaded from that URL."""
         args = inputs_from_query(query)
         unknown = sorted(set(args) - set(INPUT_KEYS))
         if unknown:
@@ -388,6 +422,8 @@ class ExplorerPage:
                 f"unknown parameter {unknown[0]!r} in the URL; known: {', '.join(INPUT_KEYS)}"
             )
             return
+        if restore:
+            args = {**{k: DEFAULTS[k] for k in INPUT_KEYS}, **args}
         self._syncing = True
         try:
             for k, v in args.items():
@@ -482,9 +518,13 @@ class ExplorerPage:
             self._syncing = False
 
     def _set_url(self, query: str) -> None:
-        loc = self._location if hasattr(self, "_location") else None
-        if loc is not None and loc.search != query:
-            loc.search = query
+        """The address bar to ``query`` (the browser adds or replaces the history entry)."""
+        if self._url_live and self.history.search != query:
+            self._setting_url = True
+            try:
+                self.history.search = query
+            finally:
+                self._setting_url = False
 
     # -- downloads ------------------------------------------------------------------------
 
