@@ -9,7 +9,8 @@ request every twirling state (:func:`hairbed.solve_all`) on each change of an in
 the physical states with :func:`hairbed.stability.linear_stability`, and shows them in the
 channel to scale, on the branch diagram (:mod:`hairbed.branches`), on the map of the cusp and in
 the phase plane, with a table of every :class:`hairbed.Solution` field. The inputs live in the
-page's URL; the current state downloads as JSON and CSV.
+page's URL, and the browser's Back and Forward show the view of the URL they go to
+(:mod:`._history`); the current state downloads as JSON and CSV.
 """
 
 from __future__ import annotations
