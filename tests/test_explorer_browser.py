@@ -6,8 +6,9 @@ What is checked against the library (expectations computed here with ``hairbed.s
 after dragging the omega2 slider across both folds of a bistable case and after typing; the
 library's own error message for bad typed and URL input, with the last good state kept; the URL
 after a change and a fresh page opened from it; Back and Forward (the view follows the URL,
-restoring adds no history entry); the JSON and CSV downloads; SI mode; twirling states. Also: the page makes no request outside 127.0.0.1, the server writes no traceback, and
-Ctrl-C stops it with one line and exit status 130. A screenshot of each view is saved (in
+restoring adds no history entry); the JSON and CSV downloads; SI mode; twirling states.
+Also: the page makes no request outside 127.0.0.1, the server writes no traceback, and Ctrl-C
+stops it with one line and exit status 130. A screenshot of each view is saved (in
 ``HAIRBED_SCREENSHOTS`` when set, else in pytest's temporary directory).
 
 Needs the ``app`` extra (panel, playwright) and Chromium at /usr/bin/chromium (Debian package
