@@ -296,6 +296,7 @@ def _short_arc(
     rf, grad_f = rf_gradient(x, y, z)
     rd, grad_d = rd_gradient(x, y, z)
     mu = 1.0 - p
+    h1 = 2.0 * np.sqrt(mu) / rf
     w = p * rd / rf  # -> 1 at weak forcing
     # d/dt and d/dtheta0 at fixed t of p, d, X, Y, Z (module docstring)
     dp = {"t": -p * q, "th": -0.5 * c * qc}
@@ -310,7 +311,6 @@ def _short_arc(
         drf = grad_f[0] * dx + grad_f[1] * dy + grad_f[2] * dz
         drd = grad_d[0] * dx + grad_d[1] * dy + grad_d[2] * dz
         dln_h1 = -0.5 * dp[key] / mu - drf / rf
-        h1 = 2.0 * np.sqrt(mu) / rf
         dw = (dp[key] * rd + p * drd) / rf - w * drf / rf
         dshift = d * 0.0 if key == "t" else c  # d sin(theta0)
         ddisp = dd[key] * (1.0 - w / 3.0) - d * dw / 3.0
