@@ -1,0 +1,360 @@
+"""The one table of hairbed's variables: name -> CF units, long name, short label, group.
+
+Every list of fields in the package (the columns of a sweep and their CF attributes, the
+outputs of :func:`hairbed.derivatives`, the rows of the explorer's and the CLI's tables, the
+parameters of a bed) is built from the three mappings here, so adding a variable means
+adding one entry (and, for a state field, the kernel's column in
+``hairbed._core._kernels.FIELDS``, which a test holds equal to :data:`SOLUTION`).
+
+- :data:`SOLUTION`: the dimensionless problem of the paper, every field of
+  :class:`hairbed.Solution` in its order, then quantities derived from a state;
+- :data:`BED`: the SI parameters of a :class:`hairbed.units.HairBed` (its dataclass fields,
+  then its derived properties);
+- :data:`SI`: the SI state of a bed, the fields of :class:`hairbed.units.HairState`.
+
+``units`` are udunits strings as CF conventions want them ("1" for dimensionless; lengths in
+units of the hair length L are dimensionless too, as udunits reads "L" as a litre), while
+``unit`` is the unit as people read it in a table ("L", "1/L", "-", "m/s", "" for counts and
+flags). Like sgkit's ``variables.py``, this module imports nothing: the core may use it.
+
+Examples
+--------
+>>> SOLUTION["tip_height"].units, SOLUTION["tip_height"].heading
+('1', 'tip height h1 [L]')
+>>> names(SOLUTION, "input")
+('omega2', 'eps', 'theta0')
+>>> cf_attrs(SI["wall_shear_stress"])
+{'units': 'Pa', 'long_name': 'shear stress on the top wall, eta v / (H - h1 L)'}
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+
+__all__ = [
+    "BED",
+    "GROUPS",
+    "SI",
+    "SOLUTION",
+    "Variable",
+    "cf_attrs",
+    "names",
+]
+
+#: The groups of variables, each with what it holds.
+GROUPS: Mapping[str, str] = MappingProxyType(
+    {
+        "input": "the three inputs of the dimensionless problem",
+        "branch": "the label (sign, n) of the branch a state lies on",
+        "state": "the state's scalar outputs, differentiable in the inputs",
+        "solve": "how the state was found: root count, physicality, status, branch parameter",
+        "derived": "a quantity computed from a state, not a field of Solution",
+        "bed": "a parameter of a hair bed in SI units (a field of HairBed)",
+        "bed_derived": "a property of a hair bed computed from its parameters",
+        "si": "a state of a bed in SI units (a field of HairState)",
+    }
+)
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One variable of hairbed: how to name, label and unit it.
+
+    Attributes
+    ----------
+    name : str
+        Its name in the API (a dataclass field, a dataset variable, a CSV column).
+    group : str
+        One of :data:`GROUPS`.
+    units : str
+        CF units (udunits): "1" for dimensionless, "rad", "m", "m s-1", "Pa s", ...
+    long_name : str
+        CF ``long_name``: what it is, with its formula.
+    label : str
+        Short label for tables and axes, without the unit ("tip height h1").
+    unit : str
+        The unit as shown to people ("L", "1/L", "-", "rad", "m/s"; "" for counts and flags).
+    description : str
+        One line on what it means.
+    dtype : str
+        "float64", "int64" or "bool".
+    """
+
+    name: str
+    group: str
+    units: str
+    long_name: str
+    label: str
+    unit: str
+    description: str
+    dtype: str = "float64"
+
+    @property
+    def heading(self) -> str:
+        """The label with its unit in brackets, "tip height h1 [L]" (no brackets if none)."""
+        return f"{self.label} [{self.unit}]" if self.unit else self.label
+
+
+def _table(*entries: Variable) -> Mapping[str, Variable]:
+    table = {v.name: v for v in entries}
+    if len(table) != len(entries):  # pragma: no cover - a typo in this file
+        raise ValueError("a variable is named twice")
+    for v in entries:
+        if v.group not in GROUPS:  # pragma: no cover - a typo in this file
+            raise ValueError(f"{v.name}: unknown group {v.group!r}")
+    return MappingProxyType(table)
+
+
+_V = Variable
+
+#: The dimensionless problem: every :class:`hairbed.Solution` field in the dataclass's order
+#: (groups input, branch, state, solve), then the derived stress ratio.
+SOLUTION: Mapping[str, Variable] = _table(
+    _V(
+        "omega2", "input", "1",
+        "forcing omega^2 = pi a^2 L^2 eta v / (E I H phi)",
+        "forcing omega^2", "-",
+        "the flow's load on a hair relative to its bending stiffness",
+    ),
+    _V(
+        "eps", "input", "1",
+        "confinement eps = L/H (hair length over channel height)",
+        "confinement eps = L/H", "-",
+        "how much of the channel the hairs fill at rest, in [0, 1)",
+    ),
+    _V(
+        "theta0", "input", "rad",
+        "base angle theta0 from the wall normal",
+        "base angle theta0", "rad",
+        "clamping angle of the hair at the wall, in (-pi/2, pi/2); negative leans into the flow",
+    ),
+    _V(
+        "sign", "branch", "1",
+        "sign of the base curvature theta'(0) of the branch",
+        "sign of theta'(0)", "",
+        "+1 on the physical branch; -1 on the branches that bend back first",
+        "int64",
+    ),
+    _V(
+        "n", "branch", "1",
+        "number of interior turning points of the branch",
+        "interior turning points n", "",
+        "points inside 0 < sigma < 1 where theta' = 0; 0 on the physical branch",
+        "int64",
+    ),
+    _V(
+        "xi", "state", "1",
+        "scaled energy xi = E/omega_eps^2 = sin(theta1)",
+        "xi = E/omega_eps^2 = sin(theta1)", "-",
+        "the one number that fixes the closed-form state (eq. (14)); rounds to 1 when forced hard",
+    ),
+    _V(
+        "omega_eps", "state", "1",
+        "effective frequency omega_eps = omega / sqrt(1 - eps h1)",
+        "effective frequency omega_eps", "-",
+        "the pendulum's frequency: the forcing raised by the gap narrowed by the tips (eq. (5))",
+    ),
+    _V(
+        "energy", "state", "1",
+        "Hamiltonian E = theta'^2/2 + omega_eps^2 sin(theta)",
+        "Hamiltonian E", "-",
+        "the conserved energy of the pendulum equation along the hair (eq. (7))",
+    ),
+    _V(
+        "tip_height", "state", "1",
+        "tip height h1 = z(1) in units of the hair length L",
+        "tip height h1", "L",
+        "height of the tip above the wall, int_0^1 cos(theta) dsigma (eq. (30)); at most 1",
+    ),
+    _V(
+        "tip_deflection", "state", "1",
+        "tip deflection x1 = x(1) in units of the hair length L",
+        "tip deflection x1", "L",
+        "horizontal position of the tip relative to the base, int_0^1 sin(theta) dsigma",
+    ),
+    _V(
+        "tip_displacement", "state", "1",
+        "tip displacement x1 - sin(theta0) from the hair at rest, in units of the hair length L",
+        "tip displacement x1 - sin(theta0)", "L",
+        "how far the flow moved the tip, accurate relative to itself at weak forcing",
+    ),
+    _V(
+        "tip_angle", "state", "rad",
+        "tip angle theta1 = theta(1) from the wall normal",
+        "tip angle theta1", "rad",
+        "angle of the hair at its free end",
+    ),
+    _V(
+        "base_curvature", "state", "1",
+        "base curvature theta'(0) in units of 1/L",
+        "base curvature theta'(0)", "1/L",
+        "curvature at the clamp, omega_eps^2 h1 (eq. (29)): the bending moment there",
+    ),
+    _V(
+        "n_roots", "solve", "1",
+        "number of states on this branch at these inputs",
+        "states on this branch", "",
+        "how many roots the branch equation has here (3 in a bistable window)",
+        "int64",
+    ),
+    _V(
+        "physical", "solve", "1",
+        "state exists on the physical branch (sign +1, n 0)",
+        "physical branch", "",
+        "True where the state exists on the branch of a hair that rises and never twirls",
+        "bool",
+    ),
+    _V(
+        "status", "solve", "1",
+        "solver status: 0 converged, -1 no such state, -2 iteration limit",
+        "status (0 converged)", "",
+        "how the solve of this state ended (Solution.message says it in words)",
+        "int64",
+    ),
+    _V(
+        "t", "solve", "1",
+        "branch parameter t = logit((xi - sin theta0)/(1 - sin theta0))",
+        "branch parameter t", "-",
+        "the coordinate along the branch that the root finder solves for; -inf is rest",
+    ),
+    _V(
+        "stress_ratio", "derived", "1",
+        "wall shear stress over that of the bare channel, 1/(1 - eps h1)",
+        "stress ratio 1/(1 - eps h1)", "-",
+        "how much the bed raises the wall shear stress at the same wall speed",
+    ),
+)  # fmt: skip
+
+#: A hair bed's SI parameters: :class:`hairbed.units.HairBed`'s fields in its order (group
+#: bed), then its derived properties (group bed_derived).
+BED: Mapping[str, Variable] = _table(
+    _V("length", "bed", "m", "hair length L", "hair length L", "m", "length of one hair"),
+    _V(
+        "radius", "bed", "m", "hair radius a", "hair radius a", "m",
+        "radius of a hair's circular cross-section (not its diameter)",
+    ),
+    _V(
+        "youngs_modulus", "bed", "Pa", "Young's modulus E of the hair material",
+        "Young's modulus E", "Pa", "stiffness of the hair material",
+    ),
+    _V(
+        "channel_height", "bed", "m", "channel height H", "channel height H", "m",
+        "distance from the wall of the bed to the moving top wall; more than L",
+    ),
+    _V(
+        "viscosity", "bed", "Pa s", "dynamic viscosity eta of the fluid", "viscosity eta",
+        "Pa s", "dynamic (not kinematic) viscosity of the fluid",
+    ),
+    _V(
+        "spacing", "bed", "m", "spacing delta of the hexagonal array of hairs",
+        "spacing delta", "m", "distance between neighbouring hairs (or the packing fraction)",
+    ),
+    _V(
+        "packing_fraction", "bed", "1",
+        "packing fraction phi = (2 pi / sqrt 3) a^2 / delta^2",
+        "packing fraction phi", "-", "fraction of the wall covered by hair bases",
+    ),
+    _V(
+        "base_angle", "bed", "rad", "base angle theta0 from the wall normal towards +x",
+        "base angle theta0", "rad", "the hairs' clamping angle; negative leans into v > 0",
+    ),
+    _V(
+        "density", "bed", "kg m-3", "density rho of the fluid", "fluid density rho",
+        "kg/m^3", "optional: only used for the gap's Reynolds number (Stokes flow if < 1)",
+    ),
+    _V(
+        "eps", "bed_derived", "1", "confinement eps = L/H", "confinement eps = L/H", "-",
+        "the bed's dimensionless confinement",
+    ),
+    _V(
+        "second_moment", "bed_derived", "m4", "second moment of area I = pi a^4 / 4",
+        "second moment I", "m^4", "of the hair's cross-section",
+    ),
+    _V(
+        "bending_stiffness", "bed_derived", "N m2", "bending stiffness E I",
+        "bending stiffness E I", "N m^2", "resistance of one hair to bending",
+    ),
+    _V(
+        "wall_area_per_hair", "bed_derived", "m2",
+        "wall area per hair pi a^2 / phi = (sqrt 3 / 2) delta^2",
+        "wall area per hair", "m^2", "the share of the wall whose stress one hair carries",
+    ),
+    _V(
+        "velocity_scale", "bed_derived", "m s-1",
+        "wall speed of unit forcing E I H phi / (pi a^2 L^2 eta)",
+        "velocity scale", "m/s", "omega^2 = abs(v) / velocity_scale",
+    ),
+)  # fmt: skip
+
+#: A bed's state in SI units: the fields of :class:`hairbed.units.HairState` (all but the
+#: ``bed`` and ``solution`` objects) in its order.
+SI: Mapping[str, Variable] = _table(
+    _V(
+        "velocity", "si", "m s-1", "speed of the top wall v (negative: flow towards -x)",
+        "wall speed v", "m/s", "drives the shear flow over the bed",
+    ),
+    _V(
+        "omega2", "si", "1", SOLUTION["omega2"].long_name, "forcing omega^2 of |v|", "-",
+        "the forcing of the wall speed's magnitude",
+    ),
+    _V(
+        "direction", "si", "1", "+1 where v >= 0, -1 where v < 0", "flow direction", "-",
+        "maps the solved (mirrored for v < 0) problem's x to the bed's",
+    ),
+    _V(
+        "tip_deflection", "si", "m", "tip position along +x relative to the base, x1 L",
+        "tip deflection x1 L", "m", "what a pillar sensor reads out",
+    ),
+    _V(
+        "tip_height", "si", "m", "tip height above the wall, h1 L", "tip height h1 L", "m",
+        "sets the gap H - h1 L that carries the shear",
+    ),
+    _V(
+        "tip_angle", "si", "rad", "tip angle from the wall normal towards +x",
+        "tip angle, bed frame", "rad", "angle of the free end in the bed's own frame",
+    ),
+    _V(
+        "wall_shear_stress", "si", "Pa", "shear stress on the top wall, eta v / (H - h1 L)",
+        "wall shear stress tau", "Pa", "signed like v",
+    ),
+    _V(
+        "force_per_hair", "si", "N", "horizontal force of the flow on one hair, tau pi a^2 / phi",
+        "force per hair F", "N", "signed like v",
+    ),
+    _V(
+        "stress_ratio", "si", "1",
+        "wall shear stress over that of the bare channel, H / (H - h1 L)",
+        "stress ratio tau/(eta v/H)", "-", SOLUTION["stress_ratio"].description,
+    ),
+    _V(
+        "tip_displacement", "si", "m", "tip displacement along +x from the hair at rest",
+        "tip displacement", "m", "(x1 - sin theta0) L, accurate relative to itself when weak",
+    ),
+    _V(
+        "reynolds_number", "si", "1",
+        "Reynolds number of the gap flow, rho abs(v) (H - h1 L) / eta",
+        "gap Reynolds number rho|v|(H-h1 L)/eta", "-",
+        "NaN without a fluid density; above 1 the Stokes-flow model does not hold",
+    ),
+)  # fmt: skip
+
+
+def names(table: Mapping[str, Variable], *groups: str) -> tuple[str, ...]:
+    """The names of ``table`` in its order, only those of ``groups`` if any are given.
+
+    Raises
+    ------
+    ValueError
+        If a group is not one of :data:`GROUPS`.
+    """
+    for g in groups:
+        if g not in GROUPS:
+            raise ValueError(f"groups must be among {sorted(GROUPS)}, got {g!r}")
+    return tuple(k for k, v in table.items() if not groups or v.group in groups)
+
+
+def cf_attrs(variable: Variable) -> dict[str, str]:
+    """The CF attributes ``{"units", "long_name"}`` of a variable (for xarray, netCDF)."""
+    return {"units": variable.units, "long_name": variable.long_name}

@@ -1,0 +1,132 @@
+"""The variables table (hairbed._variables) against what the code actually holds.
+
+The table is the one place that names, units and labels the fields; these tests hold it equal
+to the kernel's output columns, the :class:`hairbed.Solution`, :class:`hairbed.units.HairBed`
+and :class:`hairbed.units.HairState` dataclasses, and the types a solve really returns.
+"""
+
+from __future__ import annotations
+
+import ast
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import hairbed
+from hairbed import _variables
+from hairbed._core._kernels import FIELDS
+from hairbed._variables import BED, GROUPS, SI, SOLUTION, Variable, cf_attrs, names
+from hairbed.units import HairBed, HairState
+
+#: Solution fields that no kernel writes: the inputs passed through, the branch label and
+#: ``physical``, which the wrapper computes from the branch and the status.
+SOLUTION_ONLY = {"eps", "theta0", "sign", "n", "physical"}
+
+
+def _bed() -> HairBed:
+    return HairBed(
+        length=1e-3,
+        radius=50e-6,
+        youngs_modulus=1e6,
+        channel_height=2e-3,
+        viscosity=1.0,
+        spacing=400e-6,
+        density=1000.0,
+    )
+
+
+def test_the_solution_groups_are_the_solution_fields_in_order():
+    fields = tuple(f.name for f in dataclasses.fields(hairbed.Solution))
+    assert names(SOLUTION, "input", "branch", "state", "solve") == fields
+
+
+def test_the_table_names_exactly_the_kernel_fields():
+    kernel = set(FIELDS)
+    assert len(kernel) == len(FIELDS)
+    solution = set(names(SOLUTION, "input", "branch", "state", "solve"))
+    assert kernel <= solution, kernel - solution
+    assert solution - kernel == SOLUTION_ONLY
+
+
+def test_the_bed_group_is_the_hairbed_fields_in_order():
+    assert names(BED, "bed") == tuple(f.name for f in dataclasses.fields(HairBed))
+
+
+def test_every_derived_bed_variable_is_a_hairbed_property():
+    bed = _bed()
+    for name in names(BED, "bed_derived"):
+        assert isinstance(getattr(HairBed, name), property), name
+        assert math.isfinite(getattr(bed, name)) and getattr(bed, name) > 0, name
+
+
+def test_the_si_table_is_the_hairstate_fields_in_order():
+    fields = tuple(f.name for f in dataclasses.fields(HairState))
+    assert names(SI) == tuple(f for f in fields if f not in ("bed", "solution"))
+    assert set(names(SI, "si")) == set(SI)
+
+
+def test_the_dtypes_are_those_a_solve_returns():
+    for value in (2.0, np.array([0.5, 2.0])):
+        sol = hairbed.solve(value, 0.5)
+        for name in names(SOLUTION, "input", "branch", "state", "solve"):
+            got = np.asarray(getattr(sol, name))
+            want = np.dtype(SOLUTION[name].dtype)
+            assert got.dtype.kind == want.kind, (name, got.dtype, want)
+
+
+def test_the_si_values_are_floats():
+    state = _bed().deform(np.array([-0.1, 0.1]))
+    for name, v in SI.items():
+        assert v.dtype == "float64"
+        assert np.asarray(getattr(state, name)).dtype == np.float64, name
+
+
+def test_entries_are_complete():
+    for table in (SOLUTION, BED, SI):
+        for key, v in table.items():
+            assert isinstance(v, Variable) and v.name == key
+            assert v.group in GROUPS
+            assert v.units and v.long_name and v.label and v.description, key
+            assert v.dtype in ("float64", "int64", "bool"), key
+            assert "[" not in v.label, key  # the unit goes in ``unit``, shown by ``heading``
+            # dimensionless in CF exactly when people read no physical unit
+            assert (v.units == "1") == (v.unit in ("", "-", "L", "1/L")), key
+
+
+def test_counts_and_flags_have_no_unit_shown():
+    for v in SOLUTION.values():
+        if v.dtype != "float64":
+            assert v.unit == "" and v.heading == v.label, v.name
+    assert SOLUTION["tip_height"].heading == "tip height h1 [L]"
+    assert SOLUTION["sign"].heading == "sign of theta'(0)"
+
+
+def test_cf_attrs():
+    assert cf_attrs(SOLUTION["theta0"]) == {
+        "units": "rad",
+        "long_name": "base angle theta0 from the wall normal",
+    }
+
+
+def test_names_refuses_an_unknown_group():
+    with pytest.raises(ValueError, match="groups must be among .* got 'states'"):
+        names(SOLUTION, "states")
+
+
+def test_the_entries_cannot_change():
+    with pytest.raises(TypeError):
+        SOLUTION["xi"] = SOLUTION["eps"]  # type: ignore[index]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        SOLUTION["xi"].units = "m"  # type: ignore[misc]
+
+
+def test_the_module_imports_nothing_of_hairbed():
+    tree = ast.parse(Path(_variables.__file__).read_text())
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            assert node.level == 0 and not (node.module or "").startswith("hairbed"), node.module
+        elif isinstance(node, ast.Import):
+            assert all(not a.name.startswith("hairbed") for a in node.names)
