@@ -8,11 +8,17 @@ propagated errors, and HairBed's own linear calibration for the linear range.
 
 from __future__ import annotations
 
+import contextlib
+import io
+import json
 import math
+from collections.abc import Callable
 from dataclasses import replace
+from typing import Any
 
 import numpy as np
 import pytest
+from tolerances import FINITE_DIFFERENCE_RTOL
 
 import hairbed
 from hairbed import HairBed
@@ -24,6 +30,7 @@ from hairbed.calibration import (
     measure,
     model_tip_deflection,
 )
+from hairbed.cli import main
 
 #: A soft micropillar sensor: 1 mm hairs, radius 50 um, 400 um spacing, under 2 mm of glycerol.
 TRUE = HairBed(
@@ -182,6 +189,76 @@ def test_measure_propagates_sigma_and_covariance() -> None:
     arr = measure(bed, np.array([1e-4, 3e-4]), sigma=SIGMA)
     assert np.asarray(arr.velocity_stderr).shape == (2,)
     assert arr.velocity_stderr[1] == pytest.approx(m.velocity_stderr, rel=1e-12)
+
+
+#: A bed with three states at one speed: eps = 0.95, hairs leaning into the flow (issue 22).
+BISTABLE = HairBed(
+    length=1e-3,
+    radius=50e-6,
+    youngs_modulus=1e6,
+    channel_height=1e-3 / 0.95,
+    viscosity=1.0,
+    spacing=400e-6,
+    base_angle=-1.2,
+)
+BISTABLE_OMEGA2 = 0.5135
+
+
+def _central(f: Callable[[float], Any], x: float, h: float) -> float:
+    return float((f(x + h) - f(x - h)) / (2.0 * h))
+
+
+@pytest.mark.parametrize("root", ["low", "mid", "high"])
+def test_measure_errors_are_those_of_the_state_the_deflection_fixes(root: str) -> None:
+    """Inside a bistable window the deflection picks the state; its errors are its own.
+
+    Reference: central differences of the exact inversion (HairBed's velocity and stress from
+    a tip deflection), which share no code with the derivatives. A re-solve at the speed with
+    the low root gave the low state's slope for the high one (5.55e-8 against 2.40e-8).
+    """
+    bed = BISTABLE
+    sol = hairbed.solve(BISTABLE_OMEGA2, bed.eps, bed.base_angle, root=root)
+    assert sol.status == 0 and sol.n_roots == 3
+    d = bed.length * float(sol.tip_deflection)
+    sigma = 1e-9
+    m = measure(bed, d, sigma=sigma)
+    assert m.success and m.status == 0
+    assert m.velocity == pytest.approx(BISTABLE_OMEGA2 * bed.velocity_scale, rel=1e-9)
+    h = 1e-6 * bed.length
+    dv = _central(bed.velocity_from_tip_deflection, d, h)
+    dtau = _central(bed.wall_shear_stress_from_tip_deflection, d, h)
+    assert m.velocity_stderr == pytest.approx(abs(dv) * sigma, rel=FINITE_DIFFERENCE_RTOL)
+    assert m.wall_shear_stress_stderr == pytest.approx(
+        abs(dtau) * sigma, rel=FINITE_DIFFERENCE_RTOL
+    )
+    # all three at once, as an array: each keeps its own state
+    if root == "high":
+        states = [
+            hairbed.solve(BISTABLE_OMEGA2, bed.eps, bed.base_angle, root=r)
+            for r in ("low", "mid", "high")
+        ]
+        ds = np.array([bed.length * float(s.tip_deflection) for s in states])
+        arr = measure(bed, ds, sigma=sigma)
+        ref = [abs(_central(bed.velocity_from_tip_deflection, x, h)) * sigma for x in ds]
+        assert np.asarray(arr.velocity_stderr) == pytest.approx(ref, rel=FINITE_DIFFERENCE_RTOL)
+        assert len({round(float(e), 12) for e in arr.velocity_stderr}) == 3
+
+
+def test_invert_sigma_with_a_bed_is_that_of_the_high_state() -> None:
+    """``hairbed invert --sigma`` with a bed goes through measure: the same state's errors."""
+    bed = BISTABLE
+    sol = hairbed.solve(BISTABLE_OMEGA2, bed.eps, bed.base_angle, root="high")
+    d = bed.length * float(sol.tip_deflection)
+    args = ["--length", "1e-3", "--radius", "50e-6", "--youngs-modulus", "1e6"]
+    args += ["--channel-height", repr(bed.channel_height), "--viscosity", "1"]
+    args += ["--spacing", "400e-6", "--base-angle=-1.2"]
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        code = main(["invert", "--tip-deflection", repr(d), "--sigma", "1e-9", "--json", *args])
+    assert code == 0
+    got = json.loads(out.getvalue())
+    dv = _central(bed.velocity_from_tip_deflection, d, 1e-6 * bed.length)
+    assert got["velocity_stderr"] == pytest.approx(abs(dv) * 1e-9, rel=FINITE_DIFFERENCE_RTOL)
 
 
 def test_linear_range() -> None:

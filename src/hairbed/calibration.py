@@ -114,26 +114,47 @@ def _log_slopes(geometry: str, kind: str) -> dict[str, tuple[float, float]]:
     }
 
 
+def _forcing(bed: HairBed, kind: str, x: FloatArray) -> tuple[FloatArray, FloatArray, float]:
+    """(direction, forcing, d forcing/d|x|) of wall speeds or stresses ``x``: the forcing is
+    omega^2 (velocity data) or omega_eps^2 (stress data), linear in |x|."""
+    direction = np.where(x < 0.0, -1.0, 1.0)
+    if kind == "velocity":
+        scale = 1.0 / bed.velocity_scale
+    else:  # omega_eps^2 = tau (wall area per hair) L^2/(E I)
+        scale = bed.wall_area_per_hair * bed.length**2 / bed.bending_stiffness
+    return direction, np.abs(x) * scale, scale
+
+
 def _model(
     bed: HairBed, kind: str, x: FloatArray, free: Sequence[str], geometry: str
 ) -> tuple[FloatArray, FloatArray, FloatArray, Any]:
+    """:func:`_model_at` of the calibration curve's state at ``x``: the low root where several
+    states share one speed (stress data have one state: x1 does not depend on eps, and at
+    eps = 0 the branch is monotone)."""
+    direction, forcing, _ = _forcing(bed, kind, x)
+    eps = bed.eps if kind == "velocity" else 0.0
+    sol = solve(forcing, eps, direction * bed.base_angle)
+    return _model_at(bed, kind, x, sol, free, geometry)
+
+
+def _model_at(
+    bed: HairBed, kind: str, x: FloatArray, sol: Any, free: Sequence[str], geometry: str
+) -> tuple[FloatArray, FloatArray, FloatArray, Any]:
     """Tip deflection D [m] at wall speeds or stresses ``x``, dD/dP for each free parameter P
-    (in P's units; shape (len(x), len(free))) and dD/dx; and the derivatives used."""
-    direction = np.where(x < 0.0, -1.0, 1.0)
-    theta0 = direction * bed.base_angle
+    (in P's units; shape (len(x), len(free))) and dD/dx; and the derivatives used.
+
+    ``sol`` is the dimensionless state at each x (forcing of :func:`_forcing`, base angle
+    direction * theta0; eps = 0 for stress data): the one the derivatives are taken on, so
+    that inside a bistable window they are those of the state meant, not of another root.
+    """
+    direction, forcing, d_forcing = _forcing(bed, kind, x)
     length = bed.length
-    if kind == "velocity":
-        forcing = np.abs(x) / bed.velocity_scale  # omega^2
-        sol = solve(forcing, bed.eps, theta0)
-    else:  # omega_eps^2 = tau (wall area per hair) L^2/(E I); x1 does not depend on eps
-        forcing = np.abs(x) * bed.wall_area_per_hair * length**2 / bed.bending_stiffness
-        sol = solve(forcing, 0.0, theta0)
     der = derivatives_at(sol)
-    x1 = np.asarray(sol.tip_deflection, dtype=np.float64)
+    x1 = np.asarray(sol.tip_deflection, dtype=np.float64).reshape(-1)
     dx1 = der["tip_deflection"]
-    dx1_w = np.asarray(dx1["omega2"], dtype=np.float64)
-    dx1_e = np.asarray(dx1["eps"], dtype=np.float64)
-    dx1_t = np.asarray(dx1["theta0"], dtype=np.float64)
+    dx1_w, dx1_e, dx1_t = (
+        np.asarray(dx1[name], dtype=np.float64).reshape(-1) for name in ("omega2", "eps", "theta0")
+    )
     deflection = direction * length * x1
     slopes = _log_slopes(geometry, kind)
     eps = bed.eps
@@ -148,12 +169,6 @@ def _model(
         d_lnp = direction * (length * dlog + (x1 * length if name == "length" else 0.0))
         jac[:, j] = d_lnp / value
     # dD/dx: dD/d forcing times d forcing/d|x| times d|x|/dx (= direction): direction^2 = 1
-    if kind == "velocity":
-        d_forcing = np.full_like(forcing, 1.0 / bed.velocity_scale)
-    else:
-        d_forcing = np.full_like(
-            forcing, bed.wall_area_per_hair * length**2 / bed.bending_stiffness
-        )
     dx = length * dx1_w * d_forcing
     return deflection, jac, dx, der
 
@@ -546,8 +561,12 @@ def measure(
     tau = np.asarray(state.wall_shear_stress, dtype=np.float64).reshape(-1)
     names = fit.parameters if fit is not None else ()
     geometry = fit.geometry if fit is not None else "spacing"
-    _, jac_v, dd_dv, _ = _model(bed, "velocity", v, names, geometry)
-    _, jac_t, dd_dt, _ = _model(bed, "wall_shear_stress", tau, names, geometry)
+    # the derivatives of the state the deflection fixes (any root of a bistable window), not
+    # of a forward solve at its speed; the stress model's state is the same t at eps = 0
+    sol = state.solution
+    _, jac_v, dd_dv, _ = _model_at(bed, "velocity", v, sol, names, geometry)
+    collapsed = from_parameter(sol.t, 0.0, sol.theta0)
+    _, jac_t, dd_dt, _ = _model_at(bed, "wall_shear_stress", tau, collapsed, names, geometry)
     sig = np.broadcast_to(s, d.shape).reshape(-1)
     with np.errstate(divide="ignore", invalid="ignore"):
         var_v = (sig / dd_dv) ** 2
