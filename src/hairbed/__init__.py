@@ -15,6 +15,8 @@ imported (``hairbed._command``: a one-line ``hairbed: interrupted`` from its fir
 
 from __future__ import annotations
 
+from ._version import __version__ as __version__
+
 #: False at run time, true for type checkers (``typing.TYPE_CHECKING`` without importing
 #: ``typing``, about 15 ms of the command's start-up before it can take over Ctrl-C).
 TYPE_CHECKING = False
@@ -65,7 +67,6 @@ __all__ = [
     "sweeps",
     "units",
 ]
-__version__ = "0.1.0"
 
 #: Submodules imported on first access as ``hairbed.<name>``.
 _LAZY_MODULES = frozenset(

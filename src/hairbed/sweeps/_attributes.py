@@ -1,0 +1,89 @@
+"""The names and CF attributes of a sweep's dimensions, variables and dataset, from the one
+variables table (:mod:`hairbed._variables`)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from .._variables import BED, SI, SOLUTION, names
+from .._version import __version__
+
+__all__ = ["ATTRS", "BED_ATTRS", "DIMS", "VARIABLES"]
+
+#: The grid's dimensions, in their order.
+DIMS = ("omega2", "eps", "theta0")
+
+#: Data variables of :func:`hairbed.sweep`, in order: every Solution field that is not a
+#: coordinate or the branch label, then the stress ratio.
+VARIABLES = names(SOLUTION, "state", "solve", "derived")
+
+#: CF attributes of every coordinate and variable of the dimensionless sweep: name -> (units,
+#: long_name). "1" is CF's dimensionless unit; lengths in units of the hair length L are
+#: dimensionless too (udunits reads "L" as a litre), which their long_name says.
+ATTRS: dict[str, tuple[str, str]] = {
+    k: (SOLUTION[k].units, SOLUTION[k].long_name) for k in (*DIMS, *VARIABLES)
+}
+
+#: The variables stored as integers (the others are float64, ``physical`` bool).
+INTEGER = tuple(k for k in VARIABLES if SOLUTION[k].dtype == "int64")
+#: CF flags of ``status``.
+STATUS_FLAGS = {
+    "flag_values": np.array([0, -1, -2], dtype=np.int64),
+    "flag_meanings": "converged no_such_state iteration_limit",
+}
+
+_MIRRORED = " (mirrored frame for v < 0)"
+#: The SI fields of a bed's sweep and the dimensionless fields kept beside them.
+_BED_SI = ("tip_deflection", "tip_displacement", "tip_height", "tip_angle")
+_BED_SCALED = ("tip_height", "tip_deflection", "tip_displacement", "tip_angle")
+_BED_DIMENSIONLESS = ("xi", "omega_eps", "energy", "base_curvature", "t")
+
+#: SI sweep of a bed (:func:`hairbed.sweeps.bed_sweep`): name -> (units, long_name).
+BED_ATTRS: dict[str, tuple[str, str]] = {
+    "velocity": (SI["velocity"].units, SI["velocity"].long_name),
+    "omega2": ATTRS["omega2"],
+    "theta0": ("rad", "base angle of the solved problem, sign(v) theta0 (mirrored for v < 0)"),
+    **{
+        k: (SI[k].units, SI[k].long_name)
+        for k in ("direction", *_BED_SI, "wall_shear_stress", "force_per_hair", "stress_ratio")
+    },
+    **{f"scaled_{k}": (ATTRS[k][0], ATTRS[k][1] + _MIRRORED) for k in _BED_SCALED},
+    **{k: ATTRS[k] for k in (*_BED_DIMENSIONLESS, "n_roots", "physical", "status")},
+}
+#: Coordinates of a bed's sweep besides ``velocity``, and its data variables, in order.
+BED_COORDS = ("omega2", "theta0", "direction")
+BED_VARIABLES = tuple(k for k in BED_ATTRS if k != "velocity" and k not in BED_COORDS)
+#: The bed's parameters recorded in a bed sweep's attributes (``bed_<name>`` and its units).
+BED_PARAMETERS = (*(k for k in names(BED, "bed") if k != "density"), "velocity_scale")
+#: Their CF units.
+BED_UNITS = {k: BED[k].units for k in BED_PARAMETERS}
+
+
+def cf(pair: tuple[str, str]) -> dict[str, Any]:
+    """``{"units", "long_name"}`` of an (units, long_name) pair."""
+    return {"units": pair[0], "long_name": pair[1]}
+
+
+def variable_attrs(pair: tuple[str, str], name: str) -> dict[str, Any]:
+    """CF attributes of a data variable (the flags too, for ``status``)."""
+    attrs = cf(pair)
+    if name == "status":
+        attrs.update(STATUS_FLAGS)
+    return attrs
+
+
+def dataset_attrs(title: str, source: str, sign: int, n: int, root: str) -> dict[str, Any]:
+    """The global attributes of every sweep: CF, provenance, the branch and root choice."""
+    return {
+        "title": title,
+        "Conventions": "CF-1.8",
+        "source": f"hairbed {__version__}{source}",
+        "references": "arXiv:2203.04169",
+        "hairbed_version": __version__,
+        "branch_sign": np.int64(sign),
+        "branch_n": np.int64(n),
+        "physical_branch": np.int64(sign == 1 and n == 0),
+        "root": root,
+    }

@@ -1,0 +1,175 @@
+"""The computation of a sweep: the grid cut into blocks, each solved by one kernel call,
+stacked into one (variables, *grid) array, numpy now or dask later.
+
+The kernels work element by element, so a block is bitwise the same points solved alone,
+and a chunked sweep bitwise the eager one.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .._core.solver import _solve_arrays
+from .._core.validation import check_int
+from .._optional import optional_import
+from ._attributes import BED_COORDS, BED_VARIABLES, DIMS, INTEGER, VARIABLES
+from ._progress import Progress
+
+
+def chunk_sizes(chunks: Any, sizes: Mapping[str, int]) -> dict[str, int]:
+    """Chunk length per dimension from an int or a dict {dim: int} (missing: whole)."""
+
+    def length(value: Any, where: str) -> int:
+        return check_int(value, f"chunks{where}", 1, 2**40)
+
+    if isinstance(chunks, Mapping):
+        unknown = [k for k in chunks if k not in sizes]
+        if unknown:
+            dims = ", ".join(sizes) or "none (every input is a scalar)"
+            raise ValueError(
+                f"chunks has unknown dimension {unknown[0]!r}; the grid's dimensions are {dims}"
+            )
+        return {d: length(chunks[d], f"[{d!r}]") if d in chunks else n for d, n in sizes.items()}
+    c = length(chunks, "")
+    return dict.fromkeys(sizes, c)
+
+
+def grid_block(
+    *axes: NDArray[np.float64],
+    dims: tuple[str, ...],
+    fixed: Mapping[str, float],
+    sign: int,
+    n: int,
+    code: int,
+    progress: Any,
+) -> NDArray[np.float64]:
+    """One block of the grid: (len(VARIABLES), *block shape) float64, one kernel call."""
+    if progress is not None:
+        progress.start()
+    shape = tuple(a.size for a in axes)
+    full = []
+    for name in DIMS:
+        if name in dims:
+            i = dims.index(name)
+            idx = [1] * len(dims)
+            idx[i] = shape[i]
+            full.append(np.broadcast_to(np.asarray(axes[i], dtype=np.float64).reshape(idx), shape))
+        else:
+            full.append(np.full(shape, fixed[name]))
+    w, e, t0 = (np.array(a, dtype=np.float64) for a in full)  # contiguous copies
+    sol = _solve_arrays(w, e, t0, sign, n, code)
+    out = np.empty((len(VARIABLES), *shape))
+    for k, name in enumerate(VARIABLES[:-1]):
+        out[k] = getattr(sol, name)
+    h1 = np.asarray(sol.tip_height, dtype=np.float64)
+    out[-1] = 1.0 / (1.0 - e * h1)  # the expression of hairbed.rheology.stress_ratio
+    if progress is not None:
+        progress.update(int(np.prod(shape, dtype=np.int64)))
+    return out
+
+
+def bed_block(
+    v: NDArray[np.float64], *, bed: Any, root: str, progress: Any
+) -> NDArray[np.float64]:
+    """One block of a bed's sweep: (3 + len(BED_VARIABLES), len(v)), via ``bed.deform``."""
+    if progress is not None:
+        progress.start()
+    st = bed.deform(np.asarray(v, dtype=np.float64), root=root)
+    sol = st.solution
+    direction = np.asarray(st.direction, dtype=np.float64)
+    values = {
+        "omega2": st.omega2,
+        "theta0": sol.theta0,
+        "direction": direction,
+        "tip_deflection": st.tip_deflection,
+        "tip_displacement": direction * bed.length * np.asarray(sol.tip_displacement),
+        "tip_height": st.tip_height,
+        "tip_angle": st.tip_angle,
+        "wall_shear_stress": st.wall_shear_stress,
+        "force_per_hair": st.force_per_hair,
+        "stress_ratio": st.stress_ratio,
+    }
+    for k in ("tip_height", "tip_deflection", "tip_displacement", "tip_angle"):
+        values[f"scaled_{k}"] = getattr(sol, k)
+    for k in ("xi", "omega_eps", "energy", "base_curvature", "t", "n_roots", "physical"):
+        values[k] = getattr(sol, k)
+    values["status"] = sol.status
+    names = (*BED_COORDS, *BED_VARIABLES)
+    out = np.empty((len(names), v.size))
+    for row, name in enumerate(names):
+        out[row] = values[name]
+    if progress is not None:
+        progress.update(v.size)
+    return out
+
+
+def stacked(
+    block: Any,
+    axes: list[NDArray[np.float64]],
+    names: tuple[str, ...],
+    nfields: int,
+    chunks: Any,
+    progress: Progress | None,
+    /,
+    **kwargs: Any,
+) -> Any:
+    """The (nfields, *grid) array of all variables: numpy (eager) or dask (chunked)."""
+    sizes = {d: a.size for d, a in zip(names, axes)}
+    if chunks is None:
+        if progress is None or not names:
+            return block(*axes, progress=progress, **kwargs)
+        # eager with a progress bar: blocks along the first dimension of ~1e4 points each
+        first = axes[0]
+        rest = int(np.prod([a.size for a in axes[1:]], dtype=np.int64))
+        step = max(1, 10_000 // max(rest, 1))
+        parts = [
+            block(first[i : i + step], *axes[1:], progress=progress, **kwargs)
+            for i in range(0, first.size, step)
+        ]
+        return np.concatenate(parts, axis=1)
+    da = optional_import("dask.array", "a chunked sweep", "sweep")
+    lengths = chunk_sizes(chunks, sizes)
+    if not names:  # every input a scalar: one block
+        import dask
+
+        value = dask.delayed(block, pure=True)(progress=progress, **kwargs)
+        return da.from_delayed(value, shape=(nfields,), dtype=np.float64)
+    inputs = []
+    index = "abcdefghijklmnopqrstuvwxy"[: len(names)]
+    for d, a, letter in zip(names, axes, index):
+        inputs += [da.from_array(a, chunks=lengths[d], name=f"hairbed-{d}-{_token(a)}"), letter]
+    with warnings.catch_warnings():  # many small blocks are what was asked for
+        warnings.simplefilter("ignore", da.PerformanceWarning)
+        return da.blockwise(
+            block,
+            "z" + index,
+            *inputs,
+            new_axes={"z": nfields},
+            dtype=np.float64,
+            concatenate=True,
+            meta=np.empty((0,) * (len(names) + 1)),
+            progress=progress,
+            **kwargs,
+        )
+
+
+def _token(a: NDArray[np.float64]) -> str:
+    import hashlib
+
+    return hashlib.sha1(np.ascontiguousarray(a).tobytes()).hexdigest()[:16]
+
+
+def variable(
+    stacked: Any, k: int, name: str, dims: tuple[str, ...], attrs: Mapping[str, Any]
+) -> tuple[tuple[str, ...], Any, dict[str, Any]]:
+    data = stacked[k]
+    if name in INTEGER:
+        data = data.astype(np.int64)
+    elif name == "physical":
+        data = data.astype(np.bool_)
+    return dims, data, dict(attrs)

@@ -1,0 +1,264 @@
+"""The sweeps: the exact solution on a grid of inputs (or along a path) as a labelled
+xarray Dataset, eager or dask-backed, with CF attributes on every variable."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .._core.solver import _ROOT_CODES
+from .._core.validation import (
+    as_float_array,
+    check_branch,
+    check_flag,
+    check_inputs,
+    check_root,
+)
+from .._optional import optional_import
+from ._attributes import (
+    ATTRS,
+    BED_ATTRS,
+    BED_COORDS,
+    BED_PARAMETERS,
+    BED_UNITS,
+    BED_VARIABLES,
+    DIMS,
+    VARIABLES,
+    cf,
+    dataset_attrs,
+    variable_attrs,
+)
+from ._blocks import bed_block, chunk_sizes, grid_block, stacked, variable
+from ._progress import Progress
+
+__all__ = ["bed_sweep", "path_dataset", "sweep"]
+
+
+def _axis(value: Any, name: str) -> NDArray[np.float64]:
+    """A scalar (0-d) or non-empty 1-D float array, checked for its range."""
+    arr = as_float_array(value, name)
+    if arr.ndim > 1:
+        raise ValueError(f"{name} must be a scalar or a 1-D array, got shape {arr.shape}")
+    if arr.ndim == 1 and arr.size == 0:
+        raise ValueError(f"{name} must not be empty")
+    args = {"omega2": 0.0, "eps": 0.0, "theta0": 0.0, name: arr}
+    check_inputs(args["omega2"], args["eps"], args["theta0"])
+    return arr
+
+
+def sweep(
+    omega2: Any,
+    eps: Any,
+    theta0: Any = 0.0,
+    *,
+    sign: int = 1,
+    n: int = 0,
+    root: str = "low",
+    chunks: int | Mapping[str, int] | None = None,
+    progress: bool = False,
+) -> Any:
+    """The exact solution on the outer-product grid of the inputs, as an xarray Dataset.
+
+    Parameters
+    ----------
+    omega2 : float or 1-D array_like
+        Forcing omega^2 [-], >= 0.
+    eps : float or 1-D array_like
+        Confinement eps = L/H [-], in [0, 1).
+    theta0 : float or 1-D array_like, optional
+        Base angle [rad], in (-pi/2, pi/2). Default 0.
+    sign, n : int, optional
+        Branch, as in :func:`hairbed.solve` (default the physical branch +1, 0).
+    root : {"low", "mid", "high"}, optional
+        State where several coexist, as in :func:`hairbed.solve`.
+    chunks : int or dict, optional
+        Return a lazy, dask-backed dataset cut into blocks of this many points along every
+        dimension (an int) or along the named ones (a dict ``{dim: length}``; the others
+        whole). Computed by the active dask scheduler (threads by default, a
+        ``dask.distributed`` cluster when a ``Client`` exists). Default: computed now.
+    progress : bool, optional
+        Show a progress bar with an ETA on stderr once the work has run about a second
+        (for a chunked dataset: while it is computed in this process, e.g. by the threaded
+        scheduler; a cluster's workers report nothing, use distributed's dashboard there).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions: those of the 1-D inputs, in the order omega2, eps, theta0 (the scalars
+        are scalar coordinates). Data variables :data:`VARIABLES`: every
+        :class:`~hairbed.Solution` field (``physical`` bool, ``n_roots`` and ``status``
+        int64) and ``stress_ratio`` = 1/(1 - eps h1). Every variable and coordinate has CF
+        ``units`` and ``long_name``; the attributes record the branch (``branch_sign``,
+        ``branch_n``), ``root`` and ``hairbed_version``. Values are bitwise those of
+        :func:`hairbed.solve` at the same points.
+
+    Raises
+    ------
+    ValueError
+        For inputs out of range (naming the parameter and the first bad index), inputs of
+        more than one dimension or empty, a bad branch, root or ``chunks``.
+    ImportError
+        Without xarray (or dask, for ``chunks``): ``pip install "hairbed[sweep]"``.
+    """
+    xr = optional_import("xarray", "hairbed.sweep", "sweep")
+    values = {"omega2": _axis(omega2, "omega2"), "eps": _axis(eps, "eps")}
+    values["theta0"] = _axis(theta0, "theta0")
+    sign, n = check_branch(sign, n)
+    code = _ROOT_CODES[check_root(root)]
+    progress = check_flag(progress, "progress")
+    dims = tuple(d for d in DIMS if values[d].ndim == 1)
+    axes = [values[d] for d in dims]
+    fixed = {d: float(values[d]) for d in DIMS if d not in dims}
+    sizes = {d: values[d].size for d in dims}
+    if chunks is not None:
+        chunk_sizes(chunks, sizes)  # fail before any work
+    total = int(np.prod(list(sizes.values()), dtype=np.int64))
+    bar = Progress(total) if progress else None
+    data = stacked(
+        grid_block,
+        axes,
+        dims,
+        len(VARIABLES),
+        chunks,
+        bar,
+        dims=dims,
+        fixed=fixed,
+        sign=sign,
+        n=n,
+        code=code,
+    )
+    data_vars = {
+        name: variable(data, k, name, dims, variable_attrs(ATTRS[name], name))
+        for k, name in enumerate(VARIABLES)
+    }
+    coords = {d: ((d,) if d in dims else (), values[d], cf(ATTRS[d])) for d in DIMS}
+    attrs = dataset_attrs(
+        "hairbed sweep: exact deformation of a boundary hair in channel flow",
+        " (hairbed.sweep)",
+        sign,
+        n,
+        root,
+    )
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def bed_sweep(
+    bed: Any,
+    velocity: Any,
+    *,
+    root: str = "low",
+    chunks: int | Mapping[str, int] | None = None,
+    progress: bool = False,
+) -> Any:
+    """A bed's states over wall speeds, in SI units, as an xarray Dataset (``HairBed.sweep``).
+
+    Parameters
+    ----------
+    bed : HairBed
+        The bed (its eps = L/H and base angle are fixed).
+    velocity : float or 1-D array_like
+        Speed of the top wall v [m/s], the dimension ``velocity``; negative for flow towards
+        -x (the mirror image, :mod:`hairbed.units`).
+    root, chunks, progress
+        As in :func:`sweep` (``chunks`` an int or ``{"velocity": length}``).
+
+    Returns
+    -------
+    xarray.Dataset
+        Coordinates ``velocity`` [m s-1], ``omega2``, ``theta0`` (sign(v) times the base
+        angle: the problem solved) and ``direction``; data variables tip deflection,
+        displacement and height [m], tip angle [rad], wall shear stress [Pa], force per
+        hair [N], the stress ratio H/(H - h1 L), and the dimensionless fields beside them
+        (``scaled_tip_height`` ... in units of L, ``xi``, ``omega_eps``, ``energy``,
+        ``base_curvature``, ``t``, ``n_roots``, ``physical``, ``status``); the bed's
+        parameters in the attributes. Values are bitwise those of ``bed.deform``.
+    """
+    xr = optional_import("xarray", "HairBed.sweep", "sweep")
+    if not all(hasattr(bed, a) for a in ("deform", "velocity_scale", "eps", "length")):
+        raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
+    v = as_float_array(velocity, "velocity", unit="m/s")
+    if v.ndim > 1:
+        raise ValueError(f"velocity must be a scalar or a 1-D array, got shape {v.shape}")
+    if v.ndim == 1 and v.size == 0:
+        raise ValueError("velocity must not be empty")
+    root = check_root(root)
+    progress = check_flag(progress, "progress")
+    dims: tuple[str, ...] = ("velocity",) if v.ndim == 1 else ()
+    if chunks is not None:
+        chunk_sizes(chunks, {d: v.size for d in dims})
+    bar = Progress(v.size) if progress else None
+    names = (*BED_COORDS, *BED_VARIABLES)
+    if dims:
+        data = stacked(bed_block, [v], dims, len(names), chunks, bar, bed=bed, root=root)
+    else:
+        data = stacked(
+            lambda progress, **kw: bed_block(v.reshape(1), progress=progress, **kw)[:, 0],
+            [],
+            (),
+            len(names),
+            None,
+            bar,
+            bed=bed,
+            root=root,
+        )
+        if chunks is not None:
+            da = optional_import("dask.array", "a chunked sweep", "sweep")
+            data = da.from_array(data, chunks=-1)
+    coords: dict[str, Any] = {"velocity": (dims, v, cf(BED_ATTRS["velocity"]))}
+    data_vars = {}
+    for k, name in enumerate(names):
+        var = variable(data, k, name, dims, variable_attrs(BED_ATTRS[name], name))
+        if name in BED_COORDS:
+            coords[name] = var
+        else:
+            data_vars[name] = var
+    attrs = dataset_attrs(
+        "hairbed sweep of a hair bed over the wall speed (SI units)",
+        " (HairBed.sweep)",
+        1,
+        0,
+        root,
+    )
+    attrs.update(bed=repr(bed), eps=float(bed.eps))
+    for name in BED_PARAMETERS:
+        attrs[f"bed_{name}"] = float(getattr(bed, name))
+        attrs[f"bed_{name}_units"] = BED_UNITS[name]
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def path_dataset(solution: Any, *, kind: str, root: str, omega2: Any = None) -> Any:
+    """A 1-D :class:`~hairbed.Solution` along a path of forcing as a Dataset (dimension ``step``).
+
+    For the quasi-static sweeps of :mod:`hairbed.quasistatic`, whose forcing path may go up
+    and down (so omega2 is a coordinate along ``step``, not a dimension): ``omega2`` is the
+    path as requested (default the solution's own omega2, equal to rounding). The variables
+    and attributes are those of :func:`sweep`, plus ``kind``.
+    """
+    xr = optional_import("xarray", "a sweep dataset", "sweep")
+    w = solution.omega2 if omega2 is None else omega2
+    w = np.atleast_1d(np.asarray(w, dtype=np.float64))
+    dims = ("step",)
+    size = w.size
+    data_vars = {}
+    for name in VARIABLES:
+        if name == "stress_ratio":
+            e = np.broadcast_to(np.asarray(solution.eps, dtype=np.float64), (size,))
+            h1 = np.atleast_1d(np.asarray(solution.tip_height, dtype=np.float64))
+            value = 1.0 / (1.0 - e * h1)
+        else:
+            value = np.atleast_1d(np.asarray(getattr(solution, name)))
+        data_vars[name] = (dims, value, variable_attrs(ATTRS[name], name))
+    coords = {
+        "step": (dims, np.arange(size), {"units": "1", "long_name": "index along the path"}),
+        "omega2": (dims, w, cf(ATTRS["omega2"])),
+        "eps": ((), float(np.asarray(solution.eps).flat[0]), cf(ATTRS["eps"])),
+        "theta0": ((), float(np.asarray(solution.theta0).flat[0]), cf(ATTRS["theta0"])),
+    }
+    attrs = dataset_attrs(
+        f"hairbed {kind} sweep along a path of forcing", "", solution.sign, solution.n, root
+    )
+    attrs["kind"] = kind
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
