@@ -14,6 +14,12 @@ A directory cannot be renamed onto a non-empty one, so a store that already exis
 first renamed aside, the new one renamed into place, then the old one removed; Ctrl-C is
 held back during those two renames, so an interrupt cannot leave the target missing.
 
+A full disk is reported as what it is. Some writers turn the ``ENOSPC`` of the operating
+system into an error of their own (netCDF-4/HDF5: ``RuntimeError: NetCDF: HDF error``): when a
+writer fails with anything but an ``OSError`` while the target's file system has no space left
+for it, :func:`atomic_path` raises ``OSError(ENOSPC)`` naming the target instead (the writer's
+error chained as its cause), so a caller needs to catch ``OSError`` only.
+
 Examples
 --------
 >>> import pathlib, tempfile
@@ -26,6 +32,7 @@ Examples
 
 from __future__ import annotations
 
+import errno
 import os
 import shutil
 import signal
@@ -102,6 +109,34 @@ def _remove(path: Path) -> None:
             pass
 
 
+#: Free space [bytes] under which a writer's failure is taken for a full file system.
+FULL_BELOW = 1 << 20
+
+
+def _disk_full(parent: Path) -> bool:
+    """True when the file system of ``parent`` has (nearly) no space left for a writer.
+
+    Asked while the writer's temporary still exists (it holds the space it took). Nearly: a
+    writer stops at the first block it cannot allocate, which need not be the last free byte.
+    """
+    try:
+        st = os.statvfs(parent)
+    except (OSError, AttributeError):  # no statvfs (Windows) or the directory is gone
+        return False
+    return st.f_bavail * st.f_frsize < FULL_BELOW
+
+
+def _names_nothing_or_tmp(exc: OSError, tmp: Path) -> bool:
+    """True when ``exc`` names no file (a failed ``write``) or the temporary (or within it)."""
+    if exc.filename is None:
+        return True
+    try:
+        name = Path(os.fsdecode(exc.filename))
+    except TypeError:  # a file descriptor
+        return False
+    return name == tmp or tmp in name.parents
+
+
 @contextmanager
 def _sigint_held() -> Iterator[None]:
     """Defer Ctrl-C until the block ends (main thread only; elsewhere a no-op)."""
@@ -146,6 +181,9 @@ def atomic_path(target: str | os.PathLike[str], *, directory: bool = False) -> I
         If the target's directory does not exist.
     IsADirectoryError, NotADirectoryError
         If the target exists and is a directory where a file is expected or vice versa.
+    OSError
+        Whatever the writer or the rename raises; ``errno.ENOSPC`` (with ``filename`` the
+        target) also when the writer fails otherwise on a full file system (module docstring).
     """
     target = Path(target)
     parent = target.parent if str(target.parent) else Path(".")
@@ -156,13 +194,16 @@ def atomic_path(target: str | os.PathLike[str], *, directory: bool = False) -> I
         error = IsADirectoryError if target.is_dir() else NotADirectoryError
         raise error(f"{str(target)!r} exists and is {kind}")
     prefix, suffix = f".{target.name}.", f"{TMP_MARK}{target.suffix}"
-    if directory:
-        tmp = Path(tempfile.mkdtemp(prefix=prefix, suffix=suffix, dir=parent))
-        tmp.rmdir()  # the writer creates it (stores refuse to write into an existing one)
-    else:
-        fd, name = tempfile.mkstemp(prefix=prefix, suffix=suffix, dir=parent)
-        os.close(fd)
-        tmp = Path(name)
+    try:
+        if directory:
+            tmp = Path(tempfile.mkdtemp(prefix=prefix, suffix=suffix, dir=parent))
+            tmp.rmdir()  # the writer creates it (stores refuse to write into an existing one)
+        else:
+            fd, name = tempfile.mkstemp(prefix=prefix, suffix=suffix, dir=parent)
+            os.close(fd)
+            tmp = Path(name)
+    except OSError as exc:  # read-only, full, no permission: say so of the target
+        raise type(exc)(exc.errno, exc.strerror, str(target)) from None
     _UNFINISHED[tmp] = None
     try:
         yield tmp
@@ -203,6 +244,15 @@ def atomic_path(target: str | os.PathLike[str], *, directory: bool = False) -> I
             os.replace(tmp, target)
             _UNFINISHED.pop(tmp, None)
         _fsync_path(parent, directory=True)
+    except Exception as exc:
+        full = not isinstance(exc, OSError) and _disk_full(parent)
+        _remove(tmp)
+        if isinstance(exc, OSError) and _names_nothing_or_tmp(exc, tmp):
+            exc.filename = str(target)  # the file the caller asked for, not a temporary
+        if full:
+            reason = f"{os.strerror(errno.ENOSPC)} ({type(exc).__name__}: {exc})"
+            raise OSError(errno.ENOSPC, reason, str(target)) from exc
+        raise
     except BaseException:
         _remove(tmp)
         raise
