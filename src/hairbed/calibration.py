@@ -43,6 +43,7 @@ from ._core.validation import (
     float_or_array,
     show,
 )
+from ._variables import BED, names
 from .sensitivity import derivatives_at
 from .units import CLOSE_PACKING_FRACTION, HairBed, HairState
 
@@ -60,16 +61,7 @@ __all__ = [
 FloatArray = NDArray[np.float64]
 
 #: Parameters of a bed that a calibration may fit, with their units.
-FREE_PARAMETERS: dict[str, str] = {
-    "length": "m",
-    "radius": "m",
-    "youngs_modulus": "Pa",
-    "channel_height": "m",
-    "viscosity": "Pa s",
-    "spacing": "m",
-    "packing_fraction": "-",
-    "base_angle": "rad",
-}
+FREE_PARAMETERS: dict[str, str] = {k: BED[k].unit for k in names(BED, "bed") if k != "density"}
 _LINEAR = ("base_angle",)  # fitted as themselves; the others in their logarithms
 _HALF_PI = 0.5 * math.pi
 #: The smallest sigma of a fit, relative to the hair length (1e-12 L: far below any

@@ -68,6 +68,7 @@ from ._core.validation import (
     scalar_or_array,
     status_messages,
 )
+from ._variables import SOLUTION, names
 
 __all__ = [
     "INPUTS",
@@ -80,19 +81,10 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 
-#: The outputs whose derivatives are returned (fields of :class:`hairbed.Solution`).
-OUTPUTS = (
-    "xi",
-    "omega_eps",
-    "energy",
-    "tip_height",
-    "tip_deflection",
-    "tip_displacement",
-    "tip_angle",
-    "base_curvature",
-)
+#: The outputs whose derivatives are returned: the state fields of :class:`hairbed.Solution`.
+OUTPUTS = names(SOLUTION, "state")
 #: The inputs they are differentiated with respect to.
-INPUTS = ("omega2", "eps", "theta0")
+INPUTS = names(SOLUTION, "input")
 
 #: Meaning of ``Derivatives.status``.
 STATUS_MESSAGES = {

@@ -12,7 +12,6 @@ Everything here is plain Python and numpy, so it is tested without a browser.
 from __future__ import annotations
 
 import csv
-import dataclasses
 import functools
 import io
 import json
@@ -29,6 +28,7 @@ from urllib.parse import parse_qsl, urlencode
 import numpy as np
 
 import hairbed
+from hairbed._variables import BED, SI, SOLUTION, names
 
 __all__ = [
     "BED_KEYS",
@@ -50,24 +50,22 @@ __all__ = [
 ]
 
 #: Every field of a :class:`hairbed.Solution`, in the dataclass's order.
-SOLUTION_FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(hairbed.Solution))
+SOLUTION_FIELDS: tuple[str, ...] = names(SOLUTION, "input", "branch", "state", "solve")
 
 #: Segments of the discretisation of :func:`hairbed.stability.linear_stability` used live. Its
 #: leading eigenvalue converges as 1/N^2; 60 segments classify the physical states as 100 do
 #: (away from a fold, where no N is reliable) in about a third of the time.
 STABILITY_SEGMENTS = 60
 
-#: Inputs of a bed in SI units: key -> (label, unit). Keys are :class:`hairbed.HairBed`'s.
+#: Inputs of a bed in SI units: key -> (label, unit). Keys are :class:`hairbed.HairBed`'s
+#: (but the base angle, which is theta0's field) and the wall speed.
 BED_KEYS: dict[str, tuple[str, str]] = {
-    "length": ("hair length L", "m"),
-    "radius": ("hair radius a", "m"),
-    "youngs_modulus": ("Young's modulus E", "Pa"),
-    "channel_height": ("channel height H", "m"),
-    "viscosity": ("viscosity eta", "Pa s"),
-    "spacing": ("spacing delta", "m"),
-    "packing_fraction": ("packing fraction phi", "-"),
-    "density": ("fluid density rho (optional)", "kg/m^3"),
-    "velocity": ("wall speed v", "m/s"),
+    **{
+        k: (BED[k].label + (" (optional)" if k == "density" else ""), BED[k].unit)
+        for k in names(BED, "bed")
+        if k != "base_angle"
+    },
+    "velocity": (SI["velocity"].label, SI["velocity"].unit),
 }
 #: Switches of the page (0 or 1).
 FLAG_KEYS = ("si", "twirl")
@@ -476,17 +474,7 @@ def _plain(value: Any) -> Any:
 
 
 #: SI fields of a :class:`hairbed.HairState`, with their units.
-SI_FIELDS: dict[str, str] = {
-    "velocity": "m/s",
-    "omega2": "-",
-    "tip_deflection": "m",
-    "tip_height": "m",
-    "tip_angle": "rad",
-    "wall_shear_stress": "Pa",
-    "force_per_hair": "N",
-    "stress_ratio": "-",
-    "reynolds_number": "-",
-}
+SI_FIELDS: dict[str, str] = {k: v.unit for k, v in SI.items()}
 
 
 def _state_record(s: StateView) -> dict[str, Any]:
@@ -513,18 +501,8 @@ def snapshot_json(snap: Snapshot) -> str:
     }
     if p.si and p.bed is not None:
         bed = p.bed
-        doc["bed"] = {
-            "length": bed.length,
-            "radius": bed.radius,
-            "youngs_modulus": bed.youngs_modulus,
-            "channel_height": bed.channel_height,
-            "viscosity": bed.viscosity,
-            "spacing": bed.spacing,
-            "packing_fraction": bed.packing_fraction,
-            "base_angle": bed.base_angle,
-            "density": bed.density,
-            "velocity": p.velocity,
-        }
+        doc["bed"] = {k: getattr(bed, k) for k in names(BED, "bed")}
+        doc["bed"]["velocity"] = p.velocity
     return json.dumps(_plain_tree(doc), indent=2, allow_nan=False)
 
 

@@ -20,6 +20,8 @@ from typing import Any
 import panel as pn
 from bokeh.models import CustomJSTickFormatter
 
+from hairbed._variables import SI, SOLUTION
+
 from ._figures import STATE_COLORS, Views
 from ._history import BrowserHistory
 from ._model import (
@@ -46,36 +48,8 @@ LOG_OMEGA2_RANGE = (-3.0, 3.0)
 _THETA0_MAX = 1.57
 
 #: Rows of the table: Solution field -> description [unit].
-FIELD_LABELS: dict[str, str] = {
-    "omega2": "forcing omega^2 [-]",
-    "eps": "confinement eps = L/H [-]",
-    "theta0": "base angle theta0 [rad]",
-    "sign": "sign of theta'(0)",
-    "n": "interior turning points n",
-    "xi": "xi = E/omega_eps^2 = sin(theta1) [-]",
-    "omega_eps": "effective frequency omega_eps [-]",
-    "energy": "Hamiltonian E [-]",
-    "tip_height": "tip height h1 [L]",
-    "tip_deflection": "tip deflection x1 [L]",
-    "tip_displacement": "tip displacement x1 - sin(theta0) [L]",
-    "tip_angle": "tip angle theta1 [rad]",
-    "base_curvature": "base curvature theta'(0) [1/L]",
-    "n_roots": "states on this branch",
-    "physical": "physical branch",
-    "status": "status (0 converged)",
-    "t": "branch parameter t [-]",
-}
-SI_LABELS: dict[str, str] = {
-    "velocity": "wall speed v [m/s]",
-    "omega2": "forcing omega^2 of |v| [-]",
-    "tip_deflection": "tip deflection x1 L [m]",
-    "tip_height": "tip height h1 L [m]",
-    "tip_angle": "tip angle, bed frame [rad]",
-    "wall_shear_stress": "wall shear stress tau [Pa]",
-    "force_per_hair": "force per hair F [N]",
-    "stress_ratio": "stress ratio tau/(eta v/H) [-]",
-    "reynolds_number": "gap Reynolds number rho|v|(H-h1 L)/eta [-] (nan: no density)",
-}
+FIELD_LABELS: dict[str, str] = {k: SOLUTION[k].heading for k in SOLUTION_FIELDS}
+SI_LABELS: dict[str, str] = {k: SI[k].heading for k in SI_FIELDS}
 TWIRL_COLUMNS = ("sign", "n", "xi", "omega_eps", "tip_height", "tip_deflection", "tip_angle")
 
 _CSS = """
