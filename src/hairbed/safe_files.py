@@ -15,10 +15,11 @@ first renamed aside, the new one renamed into place, then the old one removed; C
 held back during those two renames, so an interrupt cannot leave the target missing.
 
 A full disk is reported as what it is. Some writers turn the ``ENOSPC`` of the operating
-system into an error of their own (netCDF-4/HDF5: ``RuntimeError: NetCDF: HDF error``): when a
-writer fails with anything but an ``OSError`` while the target's file system has no space left
-for it, :func:`atomic_path` raises ``OSError(ENOSPC)`` naming the target instead (the writer's
-error chained as its cause), so a caller needs to catch ``OSError`` only.
+system into an error of their own (netCDF-4/HDF5: ``RuntimeError: NetCDF: HDF error``, and
+now and then ``PermissionError`` on the temporary it was just given): when a writer fails with
+anything but ``ENOSPC`` while the target's file system has no space left for it,
+:func:`atomic_path` raises ``OSError(ENOSPC)`` naming the target instead (the writer's error
+chained as its cause), so a caller needs to catch ``OSError`` only.
 
 Examples
 --------
@@ -183,7 +184,7 @@ def atomic_path(target: str | os.PathLike[str], *, directory: bool = False) -> I
         If the target exists and is a directory where a file is expected or vice versa.
     OSError
         Whatever the writer or the rename raises; ``errno.ENOSPC`` (with ``filename`` the
-        target) also when the writer fails otherwise on a full file system (module docstring).
+        target) whenever the writer fails on a full file system (module docstring).
     """
     target = Path(target)
     parent = target.parent if str(target.parent) else Path(".")
@@ -245,7 +246,8 @@ def atomic_path(target: str | os.PathLike[str], *, directory: bool = False) -> I
             _UNFINISHED.pop(tmp, None)
         _fsync_path(parent, directory=True)
     except Exception as exc:
-        full = not isinstance(exc, OSError) and _disk_full(parent)
+        enospc = isinstance(exc, OSError) and exc.errno == errno.ENOSPC
+        full = not enospc and _disk_full(parent)
         _remove(tmp)
         if isinstance(exc, OSError) and _names_nothing_or_tmp(exc, tmp):
             exc.filename = str(target)  # the file the caller asked for, not a temporary
