@@ -550,7 +550,9 @@ def test_tip_deflection_never_exceeds_one() -> None:
 def test_inverse_accepts_every_tip_deflection_solve_returns() -> None:
     """Including x1 a few ulp below sin(theta0) at omega2 = 5e-324. Not tested: omega2 above
     ~1e32, where 1 - x1 < 1e-16 and x1 rounds to 1.0, and theta0 within 2e-8 of pi/2, where
-    sin(theta0) rounds to 1.0: the range [sin(theta0), 1) of the inverse is empty there."""
+    sin(theta0) rounds to 1.0: the range [sin(theta0), 1) of the inverse is empty there.
+    Where solve's x1 rounds to 1.0 above sin(theta0) (theta0 = 1.5707963 from omega2 ~ 1e4),
+    the inverse refuses it as a hair lying flat, the limit omega2 -> inf (issue 19)."""
     w = [0.0, 5e-324, 1e-320, 1e-300, 1e-100, 1e-30, 1e-16, 1e-12, 1e-8, 1e-4, 1.0, 100.0, 1e4]
     w += [1e8, 1e12, 1e16]
     lines = []
@@ -559,7 +561,11 @@ def test_inverse_accepts_every_tip_deflection_solve_returns() -> None:
             for root in ROOT_NAMES:
                 sol = hairbed.solve(np.array(w), eps, theta0, root=root)
                 x1 = np.asarray(sol.tip_deflection)
-                idx = np.flatnonzero(~np.isnan(x1))
+                flat = (x1 == 1.0) & (np.sin(theta0) < 1.0)
+                for i in np.flatnonzero(flat):
+                    with pytest.raises(ValueError, match=r"x1 = 1 is a hair lying flat"):
+                        inverse.omega2_from_tip_deflection(x1[i], eps, theta0)
+                idx = np.flatnonzero(~np.isnan(x1) & ~flat)
                 x1 = x1[idx]
                 try:  # all at once; one by one only to name the rejected ones
                     back = np.asarray(inverse.omega2_from_tip_deflection(x1, eps, theta0))

@@ -68,7 +68,7 @@ ROWS = [
         "linear inverse below rest",
         lambda: inverse.linear_omega2_from_tip_deflection(-0.5, 0.5, 0.1),
         ValueError,
-        r"x1 must lie in \[sin\(theta0\), 1\] = \[0\.0998\d*, 1\], got -0\.5",
+        r"x1 must lie in \[sin\(theta0\), 1\) = \[0\.0998\d*, 1\), got -0\.5",
     ),
     (
         "linear bed calibration beyond the hair",

@@ -98,21 +98,47 @@ def test_where_the_linear_calibration_fails():
 
 @pytest.mark.parametrize("bad", [1.0000000000000002, 1.5, -0.01])
 def test_tip_deflection_out_of_range(bad):
-    with pytest.raises(ValueError, match=r"x1 must lie in \[sin\(theta0\), 1\]"):
+    with pytest.raises(ValueError, match=r"x1 must lie in \[sin\(theta0\), 1\)"):
         inverse.omega2_from_tip_deflection(bad, 0.5, 0.0)
 
 
-def test_tip_deflection_that_rounds_to_one():
-    """Near theta0 = pi/2 solve returns x1 = 1.0 exactly; the inverse gives the smallest
-    forcing with that tip deflection (just below it, x1 < 1). Where even sin(theta0) rounds
-    to 1, that is the hair at rest."""
-    assert inverse.solution_from_tip_deflection(1.0, 0.5, 1.5707963267948963).t == -np.inf
-    theta0 = 1.5707963
-    assert hairbed.solve(1e4, 0.5, theta0).tip_deflection == 1.0
-    sol = inverse.solution_from_tip_deflection(1.0, 0.5, theta0)
-    assert sol.tip_deflection == 1.0
-    below = hairbed.from_parameter(sol.t - 1e-9 * max(1.0, abs(sol.t)), 0.5, theta0)
-    assert below.tip_deflection < 1.0
+FLAT = r"x1 must lie in \[sin\(theta0\), 1\) .*got 1\.0.*lying flat.*omega2 -> inf"
+
+
+@pytest.mark.parametrize("theta0", [0.0, -1.2, 0.7, 1.5707963])
+def test_a_flat_hair_is_refused_by_every_inverse(theta0):
+    """x1 = 1 is the limit omega2 -> inf (issue 19): no inverse returns it as a state (it gave
+    omega2 = 8.7e31 at theta0 = 0). Near pi/2 solve's x1 rounds to 1 at moderate forcing;
+    just below 1 the inverse still answers, and gives back the state's tip deflection."""
+    with pytest.raises(ValueError, match=FLAT):
+        inverse.omega2_from_tip_deflection(1.0, 0.5, theta0)
+    with pytest.raises(ValueError, match=FLAT):
+        inverse.solution_from_tip_deflection(1.0, 0.5, theta0)
+    with pytest.raises(ValueError, match=FLAT):
+        inverse.linear_omega2_from_tip_deflection(1.0, 0.5, theta0)
+    with pytest.raises(ValueError, match=r"x1 must lie .*\(first at index 1\)"):
+        inverse.omega2_from_tip_deflection(np.array([np.sin(theta0), 1.0]), 0.5, theta0)
+    below = float(np.nextafter(1.0, 0.0))
+    if below > np.sin(theta0):
+        sol = inverse.solution_from_tip_deflection(below, 0.5, theta0)
+        assert sol.status == 0 and np.isfinite(sol.omega2) and sol.tip_deflection == below
+    # the tip height and the bed refuse the same limit
+    with pytest.raises(ValueError, match=r"h1 must lie in \[1e-150"):
+        inverse.omega2_from_tip_height(0.0, 0.5, min(theta0, 1.5))
+    bed = hairbed.HairBed(
+        length=1e-3, radius=5e-5, youngs_modulus=1e6, channel_height=2e-3, viscosity=1.0,
+        spacing=4e-4, base_angle=min(theta0, 1.5),
+    )  # fmt: skip
+    for d in (1e-3, -1e-3, float(np.nextafter(1e-3, 0.0))):
+        if abs(d) / 1e-3 >= 1.0:
+            with pytest.raises(ValueError, match=r"must lie in \(-length, length\).*flat"):
+                bed.velocity_from_tip_deflection(d)
+
+
+def test_a_deflection_that_rounds_to_sin_theta0_at_one_is_the_rest_state():
+    """Where even sin(theta0) rounds to 1, x1 = 1 is the hair at rest (omega2 = 0)."""
+    sol = inverse.solution_from_tip_deflection(1.0, 0.5, 1.5707963267948963)
+    assert sol.t == -np.inf and sol.omega2 == 0.0
 
 
 def test_tip_deflection_input_validation():

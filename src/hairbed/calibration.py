@@ -34,13 +34,13 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import least_squares
 
 from ._bracketing import find_root
-from ._core.solver import from_parameter, solve
+from ._core.outputs import float_or_array
+from ._core.solver import _from_parameter, _solve_checked
 from ._core.validation import (
     as_float_array,
     check_number,
     check_sigma,
     check_type,
-    float_or_array,
     show,
 )
 from ._variables import BED, names
@@ -124,8 +124,10 @@ def _model(
     states share one speed (stress data have one state: x1 does not depend on eps, and at
     eps = 0 the branch is monotone)."""
     direction, forcing, _ = _forcing(bed, kind, x)
+    if not np.all(np.isfinite(forcing)):  # a fit's trial bed far from the data's scale
+        raise ValueError(f"the forcing of {kind} {float(np.max(np.abs(x)))!r} overflows")
     eps = bed.eps if kind == "velocity" else 0.0
-    sol = solve(forcing, eps, direction * bed.base_angle)
+    sol = _solve_checked(forcing, eps, direction * bed.base_angle)
     return _model_at(bed, kind, x, sol, free, geometry)
 
 
@@ -548,16 +550,16 @@ def measure(
         check_type(fit, "fit", CalibrationFit, "a CalibrationFit (from calibration.fit) or None")
     d = bed._deflection(tip_deflection, "tip_deflection")
     s = check_sigma(sigma, "sigma", d.shape, unit="m", allow_zero=True, high=bed.length)
-    state = bed.state_from_tip_deflection(d)
-    v = np.asarray(state.velocity, dtype=np.float64).reshape(-1)
+    v, direction, omega2, sol = bed._invert(d)  # d checked: no check again on the way down
+    state = bed._state(v, direction, omega2, sol)
+    v = v.reshape(-1)
     tau = np.asarray(state.wall_shear_stress, dtype=np.float64).reshape(-1)
     names = fit.parameters if fit is not None else ()
     geometry = fit.geometry if fit is not None else "spacing"
     # the derivatives of the state the deflection fixes (any root of a bistable window), not
     # of a forward solve at its speed; the stress model's state is the same t at eps = 0
-    sol = state.solution
     _, jac_v, dd_dv, _ = _model_at(bed, "velocity", v, sol, names, geometry)
-    collapsed = from_parameter(sol.t, 0.0, sol.theta0)
+    collapsed = _from_parameter(sol.t, 0.0, sol.theta0)
     _, jac_t, dd_dt, _ = _model_at(bed, "wall_shear_stress", tau, collapsed, names, geometry)
     sig = np.broadcast_to(s, d.shape).reshape(-1)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -629,7 +631,7 @@ class LinearRange:
 
 def _linear_errors(t: FloatArray, eps: float, theta0: float) -> tuple[Any, FloatArray, FloatArray]:
     """(states, relative error of the linear velocity, ... of the linear stress) at t."""
-    sol = from_parameter(t, eps, theta0)
+    sol = _from_parameter(t, eps, theta0)
     c = math.cos(theta0)
     gap0 = 1.0 - eps * c
     slope = c * c / (3.0 * gap0)

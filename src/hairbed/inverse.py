@@ -17,6 +17,13 @@ while t and the tip values stay exact.
   and then bends it over, so :func:`omega2_from_tip_height` can have two answers.
 - :func:`fit_profile` fits (omega^2, theta0) to measured points along a whole hair.
 
+A hair lying flat (x1 = 1, h1 = 0, every height of a profile 0) is the limit omega^2 -> inf,
+not a state: every inverse refuses it with a ValueError naming the reachable range, x1 in
+[sin(theta0), 1), h1 in [1e-150, :func:`max_tip_height`] (below, omega^2 ~ 2/h1^2
+overflows), and :class:`hairbed.HairBed` a tip deflection in (-L, L). A tip deflection that
+rounds to 1 in double precision (omega^2 above ~1e32 at theta0 = 0, sooner near pi/2) has no
+finite forcing to give back.
+
 To first order in the forcing the hair is a cantilever under a point load at its tip (the
 horizontal force F = omega_eps^2 E I/L^2, of which cos(theta0) bends it): theta = theta0 +
 omega_eps^2 cos(theta0) (sigma - sigma^2/2), the textbook x1 = F L^3/(3 E I) tilted by theta0, so
@@ -45,8 +52,9 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import optimize
 
 from ._bracketing import find_minimum, find_root
+from ._core.outputs import float_or_array
 from ._core.solution import Solution
-from ._core.solver import from_parameter, solve
+from ._core.solver import _from_parameter, _solve_checked
 from ._core.validation import (
     HALF_PI,
     _first_index,
@@ -54,7 +62,7 @@ from ._core.validation import (
     check_inputs,
     check_number,
     check_state_inputs,
-    float_or_array,
+    check_tip_deflection,
 )
 
 __all__ = [
@@ -80,27 +88,22 @@ _TINY = float(np.finfo(np.float64).tiny)
 
 
 def _physical(t: ArrayLike, eps: ArrayLike, theta0: ArrayLike) -> Solution:
-    """The physical-branch state at parameter t (theory.md §2, §3)."""
-    return from_parameter(t, eps, theta0)
+    """The physical-branch state at parameter t (theory.md §2, §3), of checked inputs."""
+    return _from_parameter(t, eps, theta0)
 
 
 # -- tip deflection ------------------------------------------------------------------------------
 
 
-def _check_tip_inputs(
-    value: Any, name: str, eps: Any, theta0: Any
-) -> tuple[FloatArray, FloatArray, FloatArray]:
-    return check_state_inputs(value, name, eps, theta0)
-
-
 def _t_from_tip_deflection(x1: FloatArray, theta0: FloatArray) -> FloatArray:
-    """Branch parameter t with x1(t) = x1, -inf where x1 = sin(theta0) (the hair at rest)."""
+    """Branch parameter t with x1(t) = x1, -inf where x1 = sin(theta0) (the hair at rest).
+
+    x1 is checked (:func:`~hairbed._core.validation.check_tip_deflection`): in
+    [sin(theta0), 1), or sin(theta0) itself.
+    """
     s = np.sin(theta0)
     flat_x1, flat_th, flat_s = x1.ravel(), theta0.ravel(), s.ravel()
     out = np.full(flat_x1.shape, -np.inf)
-    flat = np.flatnonzero((flat_x1 >= 1.0) & (flat_x1 > flat_s))
-    if flat.size:
-        out[flat] = _t_where_tip_rounds_to_one(flat_th[flat])
     work = np.flatnonzero((flat_x1 > flat_s) & (flat_x1 < 1.0))
     if work.size == 0:
         return out.reshape(x1.shape)
@@ -148,46 +151,6 @@ def _tip_deflection_residual(
     return np.log(np.maximum(x - s, _TINY)) - np.log1p(-x) - target
 
 
-def _tip_at_one(t: FloatArray, theta0: FloatArray) -> FloatArray:
-    """+1 where the tip deflection at t rounds to 1, -1 below: a step at the wanted t."""
-    x = np.asarray(_physical(t, 0.0, theta0).tip_deflection, dtype=np.float64)
-    return np.where(x >= 1.0, 1.0, -1.0)
-
-
-def _t_where_tip_rounds_to_one(theta0: FloatArray) -> FloatArray:
-    """The smallest t at which the tip deflection rounds to 1 in double precision.
-
-    Near theta0 = pi/2, or at enormous forcing, x1 = 1 - (1 - x1) rounds to 1 over a whole
-    range of t: the smallest forcing consistent with the measured value is the answer given.
-    The tip deflection does not depend on eps, and rises with t: a bracketed search for the
-    step of x1(t) >= 1, to one ulp in t.
-    """
-    # x1(-50) < 1 unless theta0 rounds to pi/2; the bracket grows geometrically both ways
-    res = find_root(
-        _tip_at_one,
-        -50.0,
-        1.0,
-        args=(theta0,),
-        grow=True,
-        xrtol=2.0 * np.finfo(np.float64).eps,
-        what="the branch parameter where the tip deflection rounds to 1",
-    )
-    return np.asarray(res.bracket[1], dtype=np.float64)  # the end where x1 >= 1
-
-
-def _check_tip_range(x1: FloatArray, theta0: FloatArray) -> None:
-    """x1 in [sin(theta0), 1]: where the flow (towards +x) can put the tip."""
-    s = np.sin(theta0)
-    bad = (x1 < s) | (x1 > 1.0)
-    if np.any(bad):
-        i = np.flatnonzero(bad.ravel())[0]
-        raise ValueError(
-            f"x1 must lie in [sin(theta0), 1] = [{float(s.ravel()[i])!r}, 1], got "
-            f"{float(x1.ravel()[i])!r}{_first_index(bad)}: the flow bends a hair from its rest "
-            "position towards +x, never past flat"
-        )
-
-
 def solution_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> Solution:
     """The physical state whose tip deflection is ``x1`` (see :func:`omega2_from_tip_deflection`).
 
@@ -197,10 +160,15 @@ def solution_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> Soluti
         From :func:`hairbed.from_parameter`, so that its omega2 is exact even where xi rounds
         to 1.
     """
-    x1, eps, theta0 = _check_tip_inputs(x1, "x1", eps, theta0)
-    _check_tip_range(x1, theta0)
+    x1, eps, theta0 = check_tip_deflection(x1, eps, theta0)
+    return _solution_from_tip_deflection(x1, eps, theta0)
+
+
+def _solution_from_tip_deflection(x1: FloatArray, eps: Any, theta0: FloatArray) -> Solution:
+    """:func:`solution_from_tip_deflection` of checked inputs (x1 in [sin theta0, 1], eps and
+    theta0 in range, x1 and theta0 of one shape), trusted."""
     t = _t_from_tip_deflection(x1, theta0)
-    return from_parameter(t, eps, theta0)
+    return _physical(t, eps, theta0)
 
 
 def omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrArray:
@@ -209,8 +177,9 @@ def omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrA
     Parameters
     ----------
     x1 : array_like
-        Tip deflection x(1) [-] (in units of the hair length), in [sin(theta0), 1]; where x1
-        rounds to 1 (theta0 near pi/2, enormous forcing) the smallest forcing that gives it.
+        Tip deflection x(1) [-] (in units of the hair length), in [sin(theta0), 1). x1 = 1
+        is a hair lying flat, the limit omega2 -> inf and no state: a ValueError, like every
+        inverse here at that limit (module docstring).
     eps : array_like
         Confinement L/H [-], in [0, 1).
     theta0 : array_like
@@ -224,7 +193,7 @@ def omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrA
     Raises
     ------
     ValueError
-        If x1 is outside [sin(theta0), 1] or eps, theta0 are outside their ranges.
+        If x1 is outside [sin(theta0), 1) or eps, theta0 are outside their ranges.
 
     Notes
     -----
@@ -238,7 +207,8 @@ def omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrA
     >>> round(omega2_from_tip_deflection(0.615831536923675, 0.5), 10)  # theory.md §3
     2.0
     """
-    return float_or_array(solution_from_tip_deflection(x1, eps, theta0).omega2)
+    sol = solution_from_tip_deflection(x1, eps, theta0)
+    return float_or_array(sol.omega2)
 
 
 def tip_deflection_slope(eps: Any, theta0: Any = 0.0) -> FloatOrArray:
@@ -254,8 +224,13 @@ def tip_deflection_slope(eps: Any, theta0: Any = 0.0) -> FloatOrArray:
     0.666666666667
     """
     _, e, th = check_inputs(0.0, eps, theta0)
-    c = np.cos(th)
-    return float_or_array(c * c / (3.0 * (1.0 - e * c)))
+    return float_or_array(_slope(e, th))
+
+
+def _slope(eps: Any, theta0: Any) -> Any:
+    """:func:`tip_deflection_slope` of checked inputs."""
+    c = np.cos(theta0)
+    return c * c / (3.0 * (1.0 - eps * c))
 
 
 def linear_omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrArray:
@@ -268,9 +243,8 @@ def linear_omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> F
     tight channel (1% at x1 = 0.040, 10% at x1 = 0.13 for eps = 0.9), because the bending hair
     also widens the gap (see the tests).
     """
-    x1, e, th = _check_tip_inputs(x1, "x1", eps, theta0)
-    _check_tip_range(x1, th)
-    return float_or_array((x1 - np.sin(th)) / np.asarray(tip_deflection_slope(e, th)))
+    x1, e, th = check_tip_deflection(x1, eps, theta0)
+    return float_or_array((x1 - np.sin(th)) / _slope(e, th))
 
 
 # -- tip height ----------------------------------------------------------------------------------
@@ -386,7 +360,7 @@ def omega2_from_tip_height(h1: Any, eps: Any, theta0: Any = 0.0) -> FloatArray:
     >>> round(float(w[0]), 10), bool(np.isnan(w[1]))
     (2.0, True)
     """
-    h1, eps, theta0 = _check_tip_inputs(h1, "h1", eps, theta0)
+    h1, eps, theta0 = check_state_inputs(h1, "h1", eps, theta0)
     shape = h1.shape
     h, e, th = h1.ravel(), eps.ravel(), theta0.ravel()
     t_max, h_max = _t_of_max_tip_height(th)
@@ -451,7 +425,7 @@ def omega2_from_tip_height(h1: Any, eps: Any, theta0: Any = 0.0) -> FloatArray:
     for col, t in enumerate((first, second)):
         ok = ~np.isnan(t)
         if np.any(ok):
-            sol = from_parameter(t[ok], e[ok], th[ok])
+            sol = _physical(t[ok], e[ok], th[ok])
             out[ok, col] = np.asarray(sol.omega2, dtype=np.float64)
     return out.reshape(shape + (2,))
 
@@ -648,7 +622,7 @@ def fit_profile(
     best = (np.inf, 0.0, 0.0, s_grid[:m])
     for th in th_cands:
         if omega2_guess is not None:
-            sol0 = solve(float(omega2_guess), eps, th)
+            sol0 = _solve_checked(float(omega2_guess), eps, float(th))
             x1_0 = np.atleast_1d(np.asarray(sol0.tip_deflection, dtype=np.float64))
             tc = _t_from_tip_deflection(x1_0, np.atleast_1d(th))
             tc = np.where(np.isfinite(tc), tc, -30.0)

@@ -25,8 +25,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from ._core.outputs import float_or_array
 from ._core.solver import solve
-from ._core.validation import check_inputs, check_root, float_or_array
+from ._core.validation import check_inputs, check_root
 
 __all__ = [
     "rectification_ratio",

@@ -43,7 +43,8 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from ._core.solver import solve
+from ._core.outputs import float_or_array
+from ._core.solver import _solve_checked
 from ._core.validation import (
     HALF_PI,
     _first_index,
@@ -51,7 +52,6 @@ from ._core.validation import (
     check_number,
     check_positive,
     check_root,
-    float_or_array,
 )
 from ._warnings import ModelValidityWarning, UnitsWarning
 
@@ -470,7 +470,8 @@ class HairBed:
         root = check_root(root)
         v, omega2 = self._forcing(velocity, "velocity")
         direction = self._direction(v)
-        sol = solve(omega2, self.eps, direction * self.base_angle, root=root)
+        # checked: omega2 finite >= 0 (_forcing), eps and the base angle by the bed itself
+        sol = _solve_checked(omega2, self.eps, direction * self.base_angle, root=root)
         return self._state(v, direction, omega2, sol)
 
     def _state(
@@ -546,11 +547,14 @@ class HairBed:
         """A tip deflection [m] (pint quantities converted) in (-length, length)."""
         d = as_float_array(deflection, name, unit="m")
         length = self.length
-        bad = np.abs(d) >= length
+        # |d| >= L, or |d|/L rounding to 1: a hair lying flat, the limit v -> inf (no state)
+        with np.errstate(over="ignore"):
+            bad = np.abs(d) / length >= 1.0
         if np.any(bad):
             raise ValueError(
                 f"{name}: the tip deflection must lie in (-length, length) = ({-length!r}, "
-                f"{length!r}) m, got {float(d[bad].flat[0])!r}{_first_index(bad)}"
+                f"{length!r}) m, got {float(d[bad].flat[0])!r}{_first_index(bad)} (a tip at "
+                "the full length is a hair lying flat, reached only as the speed -> inf)"
             )
         return d
 
@@ -558,14 +562,20 @@ class HairBed:
         self, deflection: Any
     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], Any]:
         """Velocity, direction, omega^2 and the dimensionless solution of a tip deflection."""
-        from .inverse import solution_from_tip_deflection
+        return self._invert(self._deflection(deflection))
 
-        d = self._deflection(deflection)
+    def _invert(
+        self, d: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], Any]:
+        """:meth:`_solve_tip_deflection` of a checked deflection d [m] in (-L, L), trusted."""
+        from .inverse import _solution_from_tip_deflection
+
         length = self.length
         rest = length * math.sin(self.base_angle)
-        # a tip behind its rest position means flow towards -x: the mirror image
+        # a tip behind its rest position means flow towards -x: the mirror image. Either way
+        # x1 = direction d/L lies in [sin(direction theta0), 1): no check to repeat
         direction = np.where(d < rest, -1.0, 1.0)
-        sol = solution_from_tip_deflection(
+        sol = _solution_from_tip_deflection(
             direction * d / length, self.eps, direction * self.base_angle
         )
         omega2 = np.asarray(sol.omega2, dtype=np.float64)

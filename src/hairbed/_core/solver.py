@@ -360,11 +360,32 @@ def from_parameter(
     _, e, t0 = check_inputs(0.0, eps, theta0)
     sign, n = check_branch(sign, n)
     tt, e, t0 = broadcast_named(("t", tt), ("eps", e), ("theta0", t0))
+    return _from_parameter(tt, e, t0, sign, n)
+
+
+def _from_parameter(t: Any, eps: Any, theta0: Any, sign: int = 1, n: int = 0) -> Solution:
+    """:func:`from_parameter` of checked inputs, trusted (root-finding loops call this one):
+    t real or -inf, eps in [0, 1), |theta0| < pi/2, broadcastable; a valid branch label."""
+    tt, e, t0 = (np.array(a, dtype=np.float64) for a in np.broadcast_arrays(t, eps, theta0))
     k = _kernels()
-    shape = tt.shape
     out = np.empty((k.NFIELDS, tt.size))
     k.fields_array(tt.reshape(-1), e.reshape(-1), t0.reshape(-1), sign, n, out)
-    return Solution._from_columns(out, shape, e, t0, sign, n, None)
+    return Solution._from_columns(out, tt.shape, e, t0, sign, n, None)
+
+
+def _solve_checked(
+    omega2: Any, eps: Any, theta0: Any, sign: int = 1, n: int = 0, root: str = "low"
+) -> Solution:
+    """:func:`solve` of checked inputs, trusted: omega2 >= 0 finite, eps in [0, 1),
+    |theta0| < pi/2, broadcastable; a valid branch label and root. Plain floats take the
+    scalar kernel (bitwise the same states)."""
+    code = _ROOT_CODES[root]
+    if np.ndim(omega2) == 0 and np.ndim(eps) == 0 and np.ndim(theta0) == 0:
+        wf, ef, tf = float(omega2), float(eps), float(theta0)
+        row = _kernels().solve_scalar(wf, ef, tf, sign, n, code, _tables())
+        return Solution._from_row(row, ef, tf, sign, n, wf)
+    w, e, t0 = (np.array(a, dtype=np.float64) for a in np.broadcast_arrays(omega2, eps, theta0))
+    return _solve_arrays(w, e, t0, sign, n, code)
 
 
 def from_xi(

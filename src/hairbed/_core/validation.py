@@ -10,6 +10,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .outputs import float_or_array, scalar_or_array  # re-exported: their old home
+
 __all__ = [
     "as_float_array",
     "broadcast_named",
@@ -25,6 +27,7 @@ __all__ = [
     "check_scalar_inputs",
     "check_sigma",
     "check_state_inputs",
+    "check_tip_deflection",
     "check_type",
     "float_or_array",
     "scalar_or_array",
@@ -37,24 +40,12 @@ __all__ = [
 HALF_PI = 0.5 * np.pi
 
 
-def scalar_or_array(value: Any) -> Any:
-    """A 0-d value as a Python scalar (float, int, bool), anything else as an array."""
-    arr = np.asarray(value)
-    return arr.item() if arr.ndim == 0 else arr
-
-
 def status_messages(status: Any, messages: Mapping[int, str]) -> str | list[Any]:
     """``messages`` of a status code, or a nested list of them for an array of codes."""
     st = np.asarray(status)
     if st.ndim == 0:
         return messages[int(st)]
     return np.vectorize(messages.__getitem__, otypes=[object])(st).tolist()
-
-
-def float_or_array(value: Any) -> float | NDArray[np.float64]:
-    """A 0-d result as a Python float, anything else as a float64 array (the lab's returns)."""
-    arr = np.asarray(value, dtype=np.float64)
-    return float(arr) if arr.ndim == 0 else arr
 
 
 def _first_index(mask: NDArray[np.bool_]) -> str:
@@ -519,6 +510,35 @@ def check_state_inputs(
     v = as_float_array(value, name)
     _, e, t = check_inputs(0.0, eps, theta0)
     v, e, t = broadcast_named((name, v), ("eps", e), ("theta0", t))
+    return v, e, t
+
+
+def check_tip_deflection(
+    x1: Any, eps: Any, theta0: Any, name: str = "x1"
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """A tip deflection x1 [-] that a flow towards +x can give, with eps and theta0, broadcast.
+
+    x1 lies in [sin(theta0), 1): from the hair at rest (x1 = sin(theta0), also where that
+    rounds to 1) to, but not including, a hair lying flat. x1 = 1 is reached only in the
+    limit omega2 -> inf, so a value of 1 (or one that a state's x1 rounds to) has no finite
+    forcing to give back: a ValueError, as a tip at the bed's full length is for
+    :class:`hairbed.HairBed` and a tip height below 1e-150 for the tip-height inverse.
+    """
+    v, e, t = check_state_inputs(x1, name, eps, theta0)
+    s = np.sin(t)
+    bad = ((v < s) | (v >= 1.0)) & (v != s)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad.ravel())[0])
+        got = float(v.ravel()[i])
+        why = (
+            ": x1 = 1 is a hair lying flat, reached only in the limit omega2 -> inf"
+            if got == 1.0
+            else ": the flow bends a hair from its rest position towards +x, never past flat"
+        )
+        raise ValueError(
+            f"{name} must lie in [sin(theta0), 1) = [{float(s.ravel()[i])!r}, 1), got "
+            f"{got!r}{_first_index(bad)}{why}"
+        )
     return v, e, t
 
 
