@@ -82,3 +82,45 @@ def test_valid_edge_values_are_accepted():
     assert hairbed.solve(0.0, 0.0).xi == 0.0
     assert np.isfinite(hairbed.solve(1.0, 0.999999, 1.5707).xi)
     assert np.isfinite(hairbed.solve(1.0, 0.5, -1.5707).xi)
+
+
+def test_one_status_table_for_every_result():
+    """0 ok, negative a failure, positive ok with a caveat (issue 22 item 4): every result
+    type takes its messages from the one table, and the codes mean the same everywhere."""
+    import hairbed.numerics._collocation as col
+    from hairbed import calibration, sensitivity, stability
+    from hairbed._core import solution
+    from hairbed._core.validation import STATUS_MESSAGES, least_squares_status
+
+    for module in (solution, sensitivity, stability):
+        assert module.STATUS_MESSAGES is STATUS_MESSAGES
+    assert STATUS_MESSAGES[-2] == "iteration limit reached"
+    assert [least_squares_status(c) for c in (-1, 0, 1, 2, 3, 4)] == [-6, -2, 0, 0, 0, 0]
+    assert set(col._BVP_STATUS.values()) <= set(STATUS_MESSAGES)
+    # an iteration limit is -2 everywhere: the core, the numerical baselines, stability
+    from hairbed.numerics import finite_difference
+
+    fd = finite_difference(100.0, 0.5, num=80, maxiter=2)
+    eq = stability.equilibrium(2.0, 0.5, 0.0, np.zeros(41), 40, maxiter=1)
+    assert fd.status == eq.status == -2
+    assert calibration.Measurement.__doc__ is not None and "2 a standard error" in (
+        calibration.Measurement.__doc__
+    )
+
+
+def test_numerical_result_iterations_is_a_deprecated_alias_of_nit():
+    from hairbed.numerics import shooting
+
+    res = shooting(2.0, 0.5)
+    with pytest.warns(FutureWarning, match="use NumericalResult.nit"):
+        assert res.iterations == res.nit
+    assert res.nfev > 0
+
+
+def test_collocation_counts_its_evaluations_and_keeps_solve_bvps_code():
+    from hairbed.numerics._collocation import collocation
+
+    ok = collocation(2.0, 0.5)
+    assert ok.status == 0 and ok.solver_status == 0 and ok.nfev > ok.nit > 0
+    tight = collocation(200.0, 0.5, max_nodes=5, nodes=5)
+    assert tight.solver_status == 1 and tight.status == -2 and not tight.success

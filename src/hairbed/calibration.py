@@ -41,6 +41,7 @@ from ._core.validation import (
     check_number,
     check_sigma,
     check_type,
+    least_squares_status,
     show,
 )
 from ._variables import BED, names
@@ -235,12 +236,17 @@ class CalibrationFit:
     success : bool
         The optimiser converged and the parameters are determined by the data.
     status : int
-        scipy.optimize.least_squares's status (> 0 converged), or -2 when the data do not
-        determine every free parameter (singular Jacobian).
+        0 converged; -2 the evaluation limit; -4 the data do not determine every free
+        parameter (singular Jacobian) (:data:`~hairbed._core.validation.STATUS_MESSAGES`).
     message : str
         What happened.
     nfev : int
         Number of evaluations of the model.
+    nit : int
+        Iterations of the optimiser (its evaluations of the Jacobian).
+    solver_status : int
+        :func:`scipy.optimize.least_squares`'s own status (1 to 4: which tolerance stopped
+        it, 0 the evaluation limit, -1 improper input).
     """
 
     bed: HairBed
@@ -256,6 +262,8 @@ class CalibrationFit:
     status: int
     message: str
     nfev: int
+    nit: int = 0
+    solver_status: int = 0
     #: the one of spacing / packing fraction held fixed when the radius varies
     geometry: str = field(default="spacing", repr=False)
 
@@ -439,12 +447,16 @@ def fit(
     jn = jw / scale(fitted)  # weighted Jacobian in the parameters' own units
     u, sv, vt = np.linalg.svd(jn, full_matrices=False)
     rank_ok = sv.size > 0 and sv[-1] > sv[0] * 1e-10
-    status, success, message = int(res.status), bool(res.success), str(res.message)
+    status, success, message = (
+        least_squares_status(int(res.status)),
+        bool(res.success),
+        str(res.message),
+    )
     if rank_ok:
         cov = (vt.T / sv**2) @ vt
     else:
         cov = np.full((len(names), len(names)), np.inf)
-        status, success = -2, False
+        status, success = -4, False
         message = (
             "the data do not determine every free parameter (singular Jacobian): "
             + (
@@ -474,6 +486,8 @@ def fit(
         status=status,
         message=message,
         nfev=int(res.nfev),
+        nit=int(res.njev or 0),
+        solver_status=int(res.status),
         geometry=geometry,
     )
 
@@ -498,7 +512,8 @@ class Measurement:
     success : bool
         True when every error is finite (no fold, no singular calibration).
     status : int
-        0 ok; 1 a standard error is infinite (at a fold of the bed, or an undetermined fit).
+        0 ok; 2 a standard error is infinite (at a fold of the bed, or an undetermined fit)
+        (:data:`~hairbed._core.validation.STATUS_MESSAGES`).
     message : str
         What happened.
     """
@@ -581,7 +596,7 @@ def measure(
         velocity_stderr=float_or_array(ev.reshape(shape)),
         state=state,
         success=finite,
-        status=0 if finite else 1,
+        status=0 if finite else 2,
         message="ok"
         if finite
         else "a standard error is infinite (a fold of the bed, or an undetermined fit)",
@@ -612,8 +627,9 @@ class LinearRange:
     success : bool
         True when the tolerance is reached at a finite deflection (status 0).
     status : int
-        0 found; 1 the linear calibration stays within the tolerance over the whole searched
-        range (forcing up to about omega^2 = 1e7): the values are at its end.
+        0 found; 4 the linear calibration stays within the tolerance over the whole searched
+        range (forcing up to about omega^2 = 1e7): the values are at its end
+        (:data:`~hairbed._core.validation.STATUS_MESSAGES`).
     message : str
         What happened.
     """
@@ -675,7 +691,7 @@ def linear_range(bed: HairBed, tolerance: float = 0.1) -> LinearRange:
     _, ev, et = _linear_errors(grid, eps, theta0)
     over = np.flatnonzero(np.maximum(np.abs(ev), np.abs(et)) > tol)
     if over.size == 0:
-        t_star, status = float(grid[-1]), 1
+        t_star, status = float(grid[-1]), 4
         message = "the linear calibration stays within the tolerance over the whole range"
     elif over[0] == 0:
         raise ValueError(

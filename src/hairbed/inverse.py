@@ -63,6 +63,7 @@ from ._core.validation import (
     check_number,
     check_state_inputs,
     check_tip_deflection,
+    least_squares_status,
 )
 
 __all__ = [
@@ -455,12 +456,17 @@ class ProfileFit:
     success : bool
         Whether the optimiser reports convergence.
     status : int
-        The optimiser's status (:func:`scipy.optimize.least_squares`: > 0 converged, 0 the
-        evaluation limit, -1 improper input).
+        0 converged, -2 the evaluation limit, -6 improper input
+        (:data:`~hairbed._core.validation.STATUS_MESSAGES`).
     message : str
         The optimiser's message.
     nfev : int
         Number of residual evaluations.
+    nit : int
+        Iterations of the optimiser (its evaluations of the Jacobian).
+    solver_status : int
+        :func:`scipy.optimize.least_squares`'s own status (> 0 converged, 0 the evaluation
+        limit, -1 improper input).
     """
 
     omega2: float
@@ -475,6 +481,8 @@ class ProfileFit:
     status: int
     message: str
     nfev: int
+    nit: int = 0
+    solver_status: int = 0
 
 
 #: The farthest a measured point may lie from the base [hair lengths]: the curve is continued
@@ -713,7 +721,9 @@ def fit_profile(
         solution=sol,
         sigma=np.asarray(sg, dtype=np.float64),
         success=bool(res.success),
-        status=int(res.status),
+        status=least_squares_status(int(res.status)),
         message=str(res.message),
         nfev=int(res.nfev),
+        nit=int(res.njev or 0),
+        solver_status=int(res.status),
     )

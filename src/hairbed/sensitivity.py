@@ -62,6 +62,7 @@ from ._carlson_gradients import rd_gradient, rf_gradient
 from ._core.solution import Solution
 from ._core.solver import solve
 from ._core.validation import (
+    STATUS_MESSAGES,
     check_branch,
     check_inputs,
     check_root,
@@ -86,13 +87,6 @@ OUTPUTS = names(SOLUTION, "state")
 #: The inputs they are differentiated with respect to.
 INPUTS = names(SOLUTION, "input")
 
-#: Meaning of ``Derivatives.status``.
-STATUS_MESSAGES = {
-    0: "exact derivatives",
-    1: "at a fold: d/d omega2, d/d eps and d/d theta0 are infinite (dR/dt = 0)",
-    -1: "no such state: the solve found no state to differentiate (see solution.status)",
-    2: "the end t = -inf of a twirling branch: not differentiable there (NaN)",
-}
 #: |dR/dt| below this (relative to its two terms) counts as a fold: there the derivatives are
 #: larger than 1/FOLD_RTOL and every digit of them is rounding error.
 FOLD_RTOL = 1.0e-8
@@ -122,7 +116,8 @@ class Derivatives(Mapping[str, Mapping[str, Any]]):
         dt/d omega2, dt/d eps, dt/d theta0 of the branch parameter t.
     status : int or ndarray
         0 exact derivatives; 1 at a fold (the derivatives are +-inf); -1 no such state (NaN);
-        2 the end t = -inf of a twirling branch (NaN). See :data:`STATUS_MESSAGES`.
+        -5 the end t = -inf of a twirling branch (NaN). See :data:`STATUS_MESSAGES`, the one
+        table of every result.
     """
 
     solution: Solution
@@ -366,7 +361,7 @@ def derivatives_at(sol: Solution) -> Derivatives:
                 total = np.where(live, total, np.nan)
                 row[name] = total
             values[o] = row
-    status = np.where(ok, np.where(fold, 1, np.where(branch_end, 2, 0)), -1).astype(np.int64)
+    status = np.where(ok, np.where(fold, 1, np.where(branch_end, -5, 0)), -1).astype(np.int64)
     if physical:
         _weak_tip(
             values,

@@ -55,6 +55,7 @@ from scipy.integrate import solve_ivp
 
 from ._core.solution import Solution
 from ._core.validation import (
+    STATUS_MESSAGES,
     as_float_array,
     check_choice,
     check_int,
@@ -111,7 +112,8 @@ class Equilibrium:
     success : bool
         Whether Newton's method converged.
     status : int
-        0 converged; 1 iteration limit reached; 2 a non-finite Newton step (singular Jacobian).
+        0 converged; -2 iteration limit reached; -3 a non-finite Newton step (singular
+        Jacobian) (:data:`STATUS_MESSAGES`).
     message : str
         Human-readable description of ``status``.
     nit : int
@@ -172,11 +174,11 @@ def equilibrium(
     maxiter = check_int(maxiter, "maxiter", 1, MAX_ITER)
     u = _initial(guess, num, "guess")[1:]
     op = HairOperator(omega2, eps, theta0, num)
-    status, message, nit = 1, f"iteration limit reached ({maxiter} Newton steps)", maxiter
+    status, message, nit = -2, f"iteration limit reached ({maxiter} Newton steps)", maxiter
     for it in range(1, int(maxiter) + 1):
         du = op.newton_step(u, op.residual(u))
         if not np.all(np.isfinite(du)):
-            status, message, nit = 2, "singular Newton step (Jacobian not invertible)", it
+            status, message, nit = -3, "singular Newton step (Jacobian not invertible)", it
             break
         u = u + du
         if np.max(np.abs(du)) < xtol:
@@ -244,8 +246,9 @@ class Stability:
         The k eigenvalues of largest real part, in decreasing order of real part.
     status : ndarray of int, shape S
         How each classification ended: 0 classified; -1 no such state (the solution's
-        values are NaN); 1 the discrete equilibrium near the state did not converge (values
-        NaN, ``stable`` False; see ``STATUS_MESSAGES``).
+        values are NaN); -2 or -3 the discrete equilibrium near the state did not converge
+        (iteration limit, singular step: values NaN, ``stable`` False; see
+        ``STATUS_MESSAGES``).
     """
 
     stable: NDArray[np.bool_]
@@ -264,14 +267,6 @@ class Stability:
     def message(self) -> str | list[Any]:
         """``STATUS_MESSAGES`` of ``status`` (a nested list for arrays)."""
         return status_messages(self.status, STATUS_MESSAGES)
-
-
-#: Meaning of ``Stability.status``.
-STATUS_MESSAGES = {
-    0: "classified",
-    -1: "no such state at these inputs",
-    1: "the discrete equilibrium near the state did not converge",
-}
 
 
 def linear_stability(solution: Any, num: int = 100, k: int = 4) -> Stability:
@@ -321,7 +316,7 @@ def linear_stability(solution: Any, num: int = 100, k: int = 4) -> Stability:
         w, e, t0 = float(omega2[idx]), float(eps[idx]), float(theta0[idx])
         eq = equilibrium(w, e, t0, prof, num)
         if not eq.success:
-            status[idx] = 1
+            status[idx] = eq.status  # -2 or -3: the discrete equilibrium near it failed
             continue
         lam = np.linalg.eigvals(HairOperator(w, e, t0, num).rhs_jacobian(eq.theta[1:]))
         lam = lam[np.argsort(-lam.real)]
@@ -366,10 +361,13 @@ class Relaxation:
     success : bool
         Whether the integrator reached the end.
     status : int
-        The integrator's status (:func:`scipy.integrate.solve_ivp`): 0 reached ``t_end``, -1
-        the integration step failed.
+        0 reached ``t_end``; -3 an integration step failed (:data:`STATUS_MESSAGES`).
     message : str
         The integrator's message.
+    solver_status : int
+        :func:`scipy.integrate.solve_ivp`'s own status (0 reached the end, -1 a step failed).
+    nfev : int
+        Evaluations of the right-hand side.
     """
 
     t: FloatArray
@@ -380,6 +378,8 @@ class Relaxation:
     success: bool
     status: int
     message: str
+    solver_status: int = 0
+    nfev: int = 0
 
 
 _STIFF_METHODS = ("BDF", "Radau", "LSODA")
@@ -475,6 +475,8 @@ def relax(
         tip_height=_trapezoid(np.cos(theta)),
         tip_deflection=_trapezoid(np.sin(theta)),
         success=bool(res.success),
-        status=int(res.status),
+        status=0 if res.status == 0 else -3,
         message=str(res.message),
+        solver_status=int(res.status),
+        nfev=int(res.nfev),
     )

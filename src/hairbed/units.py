@@ -164,7 +164,7 @@ class BedProfileFit:
     success : bool
         Whether the optimiser reports convergence.
     status : int
-        The optimiser's status (:func:`scipy.optimize.least_squares`: > 0 converged).
+        The fit's status (0 converged; see :class:`~hairbed.inverse.ProfileFit`).
     message : str
         The optimiser's message.
     """

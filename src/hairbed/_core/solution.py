@@ -10,6 +10,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._kernels import FIELDS
 from .validation import (
+    STATUS_MESSAGES,
     _first_index,
     as_float_array,
     broadcast_named,
@@ -27,12 +28,6 @@ Value = float | FloatArray
 IntValue = int | NDArray[np.int64]
 BoolValue = bool | NDArray[np.bool_]
 
-#: Meaning of ``Solution.status`` (as ``scipy.optimize.elementwise`` reports it).
-STATUS_MESSAGES = {
-    0: "converged",
-    -1: "no such state: the branch has fewer roots at these inputs than the one requested",
-    -2: "iteration limit reached",
-}
 
 # where each field sits in a kernel's output (a dict literal over these is ~1 us faster per
 # scalar solve than building the dict from FIELDS, a tenth of the call)

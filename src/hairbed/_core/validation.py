@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import numbers
 from collections.abc import Mapping
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -13,6 +14,7 @@ from numpy.typing import NDArray
 from .outputs import float_or_array, scalar_or_array  # re-exported: their old home
 
 __all__ = [
+    "STATUS_MESSAGES",
     "as_float_array",
     "broadcast_named",
     "check_branch",
@@ -31,6 +33,7 @@ __all__ = [
     "check_type",
     "float_or_array",
     "scalar_or_array",
+    "least_squares_status",
     "status_messages",
     "node_values",
     "show",
@@ -40,8 +43,36 @@ __all__ = [
 HALF_PI = 0.5 * np.pi
 
 
-def status_messages(status: Any, messages: Mapping[int, str]) -> str | list[Any]:
-    """``messages`` of a status code, or a nested list of them for an array of codes."""
+#: The one table of status codes of every result (scipy.optimize's convention): 0 ok;
+#: negative a failure (the values are NaN, or those of the last iterate); positive ok with a
+#: caveat that ``message`` names. An underlying solver's own code (scipy's least_squares,
+#: solve_bvp, solve_ivp, root) is kept apart, in a result's ``solver_status``.
+STATUS_MESSAGES: Mapping[int, str] = MappingProxyType(
+    {
+        0: "ok",
+        1: "at a fold: the derivatives with respect to the inputs are infinite (dR/dt = 0)",
+        2: "a standard error is infinite (at a fold of the bed, or an undetermined fit)",
+        3: "converged, but inaccurate: the answer is known to miss the tolerance (see message)",
+        4: "within the tolerance over the whole searched range: the values are at its end",
+        -1: "no such state: the branch has fewer roots at these inputs than the one requested",
+        -2: "iteration limit reached",
+        -3: "the iteration broke down (singular step, no descent, integrator failure)",
+        -4: "the data do not determine every free parameter (singular Jacobian)",
+        -5: "not differentiable: the end t = -inf of a twirling branch (NaN)",
+        -6: "improper input to the underlying solver",
+    }
+)
+
+
+def least_squares_status(code: int) -> int:
+    """:func:`scipy.optimize.least_squares`'s status in the one convention: its 1 to 4 (which
+    tolerance stopped it) 0, its 0 (evaluation limit) -2, its -1 (improper input) -6."""
+    return 0 if code > 0 else (-2 if code == 0 else -6)
+
+
+def status_messages(status: Any, messages: Mapping[int, str] = STATUS_MESSAGES) -> str | list[Any]:
+    """``messages`` (:data:`STATUS_MESSAGES`) of a status code, or a nested list of them for
+    an array of codes."""
     st = np.asarray(status)
     if st.ndim == 0:
         return messages[int(st)]

@@ -76,6 +76,10 @@ def _bc_jacobian(
     return dya, dyb, dp
 
 
+#: solve_bvp's status in the one convention (:data:`hairbed._core.validation.STATUS_MESSAGES`).
+_BVP_STATUS = {0: 0, 1: -2, 2: -3, 3: -2}
+
+
 def collocation(
     omega2: float,
     eps: float,
@@ -125,9 +129,10 @@ def collocation(
     Returns
     -------
     NumericalResult
-        ``iterations`` is ``solve_bvp``'s number of mesh refinements; ``status`` is its status
-        (0 converged, 1 node limit reached, 2 singular Jacobian, 3 tolerance not met near
-        machine precision), and ``success`` its flag.
+        ``nit`` is ``solve_bvp``'s number of mesh refinements and ``nfev`` the evaluations
+        of the right-hand side; ``status`` 0 converged, -2 a limit reached (solve_bvp's 1, the
+        node limit, or its 3, the boundary conditions' tolerance not met after its
+        iterations), -3 a singular Jacobian (its 2); ``solver_status`` is solve_bvp's own.
 
     Raises
     ------
@@ -165,8 +170,15 @@ def collocation(
     z = np.concatenate([[0.0], np.cumsum(0.5 * step * (np.cos(th[1:]) + np.cos(th[:-1])))])
     x = np.concatenate([[0.0], np.cumsum(0.5 * step * (np.sin(th[1:]) + np.sin(th[:-1])))])
 
+    system = _system(omega2, eps)
+    calls = [0]
+
+    def counted(s: FloatArray, y: FloatArray, p: FloatArray) -> FloatArray:
+        calls[0] += 1
+        return system(s, y, p)
+
     sol = solve_bvp(
-        _system(omega2, eps),
+        counted,
         bc,
         mesh,
         np.vstack([th, dth, z, x]),
@@ -189,9 +201,9 @@ def collocation(
     text = " ".join(str(sol.message).split())
     return NumericalResult(
         success=bool(sol.success),
-        status=int(sol.status),
+        status=_BVP_STATUS[int(sol.status)],
         message=f"solve_bvp: {text} ({sol.x.size} nodes)",
-        iterations=int(sol.niter),
+        nit=int(sol.niter),
         method="collocation",
         omega2=omega2,
         eps=eps,
@@ -207,5 +219,6 @@ def collocation(
         base_curvature=float(sol.y[1, 0]),
         sign=sign,
         n=n,
-        nfev=0,
+        nfev=calls[0],
+        solver_status=int(sol.status),
     )

@@ -39,7 +39,7 @@ def _newton(
     for it in range(1, maxiter + 1):
         dx = disc.newton_step(th, r)
         if not np.all(np.isfinite(dx)):
-            return th, 2, "singular Newton step (Jacobian not invertible)", it, nfev
+            return th, -3, "singular Newton step (Jacobian not invertible)", it, nfev
         size = float(np.max(np.abs(dx)))
         # Cap the step at _MAX_STEP rad: the linearisation of cos(theta) means nothing over
         # larger changes, and uncapped first steps from theta = 0 at strong forcing land on
@@ -59,8 +59,8 @@ def _newton(
         if step <= xtol * (1.0 + float(np.max(np.abs(th)))):
             return th, 0, "converged: Newton step below tolerance", it, nfev
         if lam < 1e-10 and f >= f_prev:
-            return th, 2, "line search failed: no descent direction (stalled)", it, nfev
-    return th, 1, f"iteration limit reached ({maxiter} Newton steps)", maxiter, nfev
+            return th, -3, "line search failed: no descent direction (stalled)", it, nfev
+    return th, -2, f"iteration limit reached ({maxiter} Newton steps)", maxiter, nfev
 
 
 def finite_difference(
@@ -139,6 +139,7 @@ def finite_difference(
 
     if method == "newton":
         th, status, message, iterations, nfev = _newton(disc, th0, xtol, int(maxiter))
+        solver_status = None
     else:
         sol = optimize.root(disc.residual, th0, method="hybr", options={"xtol": xtol})
         th = sol.x
@@ -147,12 +148,21 @@ def finite_difference(
         # hybr's own flag can be True at a point where the residual is not small; check it.
         res_norm = float(np.max(np.abs(disc.residual(th))))
         ok = bool(sol.success) and res_norm < 1e-8
-        status = 0 if ok else (1 if sol.status == 2 else 2)
+        solver_status = int(sol.status)
+        status = 0 if ok else (-2 if sol.status == 2 else -3)
         text = " ".join(str(sol.message).split())
         message = f"scipy.optimize.root (hybr): {text} (max |residual| {res_norm:.2e})"
 
     return _result(
-        disc, sigma, th, status, message, iterations, nfev, f"finite_difference/{method}"
+        disc,
+        sigma,
+        th,
+        status,
+        message,
+        iterations,
+        nfev,
+        f"finite_difference/{method}",
+        solver_status,
     )
 
 
@@ -165,6 +175,7 @@ def _result(
     iterations: int,
     nfev: int,
     method: str,
+    solver_status: int | None = None,
 ) -> NumericalResult:
     h = disc.h
     theta = np.concatenate([[disc.theta0], th])
@@ -181,7 +192,7 @@ def _result(
         success=status == 0,
         status=status,
         message=message,
-        iterations=iterations,
+        nit=iterations,
         method=method,
         omega2=disc.omega2,
         eps=disc.eps,
@@ -198,4 +209,5 @@ def _result(
         sign=sign,
         n=n,
         nfev=nfev,
+        solver_status=solver_status,
     )

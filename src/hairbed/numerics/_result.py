@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -31,14 +32,16 @@ class NumericalResult:
     success : bool
         True if the solver met its convergence criterion.
     status : int
-        0 converged; 1 iteration limit reached; 2 the iteration stalled or broke down
-        (singular step, no descent, integrator failure); 3 converged, but the answer is known to
-        be inaccurate (shooting at strong forcing, see its ``message``).
+        The package's one convention (:data:`hairbed._core.validation.STATUS_MESSAGES`): 0
+        converged; -2 iteration limit reached; -3 the iteration stalled or broke down
+        (singular step, no descent, integrator failure); 3 converged, but the answer is known
+        to be inaccurate (shooting at strong forcing, see ``message``; ``success`` is True).
     message : str
         Human-readable description of ``status``.
-    iterations : int
+    nit : int
         Nonlinear iterations taken (Newton steps, root-finder calls or collocation mesh
-        refinements, depending on the method).
+        refinements, depending on the method; MINPACK's hybr reports none: its ``nfev``).
+        ``iterations`` is its deprecated old name.
     method : str
         Which solver produced the result.
     omega2, eps, theta0 : float
@@ -66,12 +69,15 @@ class NumericalResult:
         The physical branch is ``sign == 1, n == 0``.
     nfev : int
         Evaluations of the residual or of the right-hand side.
+    solver_status : int or None
+        The underlying scipy solver's own status code (solve_bvp, root), None for the
+        package's own iterations.
     """
 
     success: bool
     status: int
     message: str
-    iterations: int
+    nit: int
     method: str
     omega2: float
     eps: float
@@ -88,6 +94,17 @@ class NumericalResult:
     sign: int
     n: int
     nfev: int = 0
+    solver_status: int | None = None
+
+    @property
+    def iterations(self) -> int:
+        """Deprecated: the old name of :attr:`nit`."""
+        warnings.warn(
+            "NumericalResult.iterations is deprecated; use NumericalResult.nit",
+            FutureWarning,
+            stacklevel=2,
+        )
+        return self.nit
 
     @property
     def physical(self) -> bool:

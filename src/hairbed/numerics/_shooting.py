@@ -21,7 +21,7 @@ _RTOL = 1e-12  # solve_ivp tolerances: near the limit of DOP853 in double precis
 _ATOL = 1e-13
 _MACHEPS = float(np.finfo(np.float64).eps)
 #: Strongest forcing and largest starting base curvature of :func:`shooting` (at omega2 = 1e4
-#: the physical root is already within rounding of the separatrix: status 2).
+#: the physical root is already within rounding of the separatrix: status -3).
 MAX_OMEGA2 = 1e4
 MAX_CURVATURE = 1e3
 #: Largest output grid and Newton iteration limit of :func:`shooting`.
@@ -129,12 +129,12 @@ def _newton(
     sol = shooter.integrate(c)
     for it in range(1, maxiter + 1):
         if not sol.success or not np.all(np.isfinite(sol.y[:, -1])):
-            return c, 2, f"integrator failed: {sol.message}", it
+            return c, -3, f"integrator failed: {sol.message}", it
         r, sens = float(sol.y[1, -1]), float(sol.y[5, -1])
         if abs(r) <= tol * max(1.0, abs(c)):
             return c, 0, f"converged (d theta'(1)/d theta'(0) = {sens:.3e})", it - 1
         if sens == 0.0:
-            return c, 2, "zero sensitivity d theta'(1)/d theta'(0)", it
+            return c, -3, "zero sensitivity d theta'(1)/d theta'(0)", it
         dc = -r / sens
         # No solution lies beyond the separatrix bounds; orbits past them rotate.
         if c + dc >= c_hi:
@@ -156,7 +156,7 @@ def _newton(
                     it,
                 )
         c, sol = c + lam * dc, trial
-    return c, 1, f"iteration limit reached ({maxiter} Newton steps)", maxiter
+    return c, -2, f"iteration limit reached ({maxiter} Newton steps)", maxiter
 
 
 def shooting(
@@ -189,7 +189,7 @@ def shooting(
     d theta'(1) / d theta'(0) grows like exp(omega_eps). Once that distance nears the
     integrator's tolerance the tip angle is not resolved (``status`` 3, with the estimate in
     ``message``); once it falls below rounding (omega_eps above about 18) no double-precision
-    theta'(0) turns at the tip and the solve fails (``status`` 2).
+    theta'(0) turns at the tip and the solve fails (``status`` -3).
 
     Parameters
     ----------
@@ -213,7 +213,8 @@ def shooting(
     Returns
     -------
     NumericalResult
-        ``iterations`` counts Newton steps, or initial value problems solved when bracketing.
+        ``nit`` counts Newton steps, or initial value problems solved when bracketing;
+        ``nfev`` the evaluations of the right-hand side over every integration.
 
     Raises
     ------
@@ -255,7 +256,7 @@ def shooting(
         bracket = _bracket_physical(shooter, c_hi)
         if bracket is None:
             c = c_hi * (1.0 - 8.0 * _MACHEPS)
-            status = 2
+            status = -3
             message = (
                 "no bracket: the physical theta'(0) is within rounding of the separatrix "
                 f"bound {c_hi:.17g} (exponential ill-conditioning at strong forcing)"
@@ -275,7 +276,7 @@ def shooting(
                 )
                 status, message = 0, "converged: bracketed the physical root (find_root)"
             except FloatingPointError as exc:  # NaN from a failed integration
-                c, status, message = 0.5 * (a + b), 2, f"root search failed: {exc}"
+                c, status, message = 0.5 * (a + b), -3, f"root search failed: {exc}"
             gap = (c_hi - c) / c_hi
             # The relative error of c is about the integrator tolerance; the tip angle depends
             # on c only through this gap (1 - xi is proportional to it).
@@ -293,14 +294,14 @@ def shooting(
     if final.success and final.y.shape[1] == sigma.size:
         theta, dtheta, z, x = final.y[0], final.y[1], final.y[2], final.y[3]
     else:  # the integration broke down: report what there is, padded with NaN
-        status = 2
+        status = -3
         message += f"; final integration failed: {final.message}"
         pad = np.full((6, sigma.size), np.nan)
         pad[:, : final.y.shape[1]] = final.y
         theta, dtheta, z, x = pad[0], pad[1], pad[2], pad[3]
     W = omega2 + eps * c
     if status in (0, 3) and abs(dtheta[-1]) > 1e-6 * max(1.0, abs(c)):
-        status = 2
+        status = -3
         message += f"; but |theta'(1)| = {abs(dtheta[-1]):.1e}: the boundary condition fails"
     # theta'(0) = omega_eps^2 h1 (eq. (29)) holds for the exact shape; the integrated z(1)
     # departs from it when the initial value problem amplifies integration error.
@@ -316,7 +317,7 @@ def shooting(
         success=status in (0, 3),
         status=status,
         message=message,
-        iterations=int(iterations),
+        nit=int(iterations),
         method="shooting",
         omega2=omega2,
         eps=eps,
