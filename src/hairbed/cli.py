@@ -540,14 +540,21 @@ def _distributed(address: str, build: Any, chunks: int, progress: bool) -> Any:
             f"--scheduler: could not connect to a dask scheduler at {address!r} ({message})"
         ) from exc
     with client:
-        # the workers' stderr is not ours: the bar follows the blocks' futures from here
-        persisted = build(chunks, False).persist()
-        futures = distributed.futures_of(persisted)
-        if progress:
-            with _progress_bar(len(futures)) as bar:
-                for _ in distributed.as_completed(futures):
-                    bar.update(1)
-        return persisted.compute()
+        try:
+            # the workers' stderr is not ours: the bar follows the blocks' futures from here
+            persisted = build(chunks, False).persist()
+            futures = distributed.futures_of(persisted)
+            if progress:
+                with _progress_bar(len(futures)) as bar:
+                    for _ in distributed.as_completed(futures):
+                        bar.update(1)
+            return persisted.compute()
+        except distributed.KilledWorker as exc:  # lost tasks are retried; this one no more
+            first = " ".join(str(exc).split()).split(". ")[0]
+            raise CommandError(
+                f"sweep: workers of the dask scheduler at {address} died while computing it, "
+                f"nothing written ({first})"
+            ) from None
 
 
 def _cmd_invert(args: argparse.Namespace) -> int:
