@@ -3,7 +3,8 @@
 The figure gallery is drawn while the configuration loads: every figure of
 :data:`hairbed.plotting.FIGURES` is written into ``docs/_generated/figures`` (git-ignored)
 and ``docs/_generated/gallery.md`` lists them with their docstrings. The figures are redrawn
-only when a source file of the package is newer than the gallery page.
+only when a source file of the package is newer than the gallery page. The tables of
+``hairbed._variables`` are written into ``docs/_generated/variables.rst`` (every build).
 """
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ from pathlib import Path
 DOCS = Path(__file__).resolve().parent
 ROOT = DOCS.parent
 sys.path.insert(0, str(ROOT / "src"))
+sys.path.insert(0, str(DOCS))  # cli_parser, for the command line's page
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 import hairbed  # noqa: E402
@@ -32,9 +34,10 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.napoleon",
     "sphinx.ext.viewcode",
+    "sphinxarg.ext",  # the command line's page, from hairbed.cli.build_parser
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "figures", "README.md"]
+exclude_patterns = ["_build", "figures", "README.md", "_generated/variables.rst"]
 myst_heading_anchors = 3
 suppress_warnings = ["myst.xref_missing"]
 
@@ -117,4 +120,34 @@ def make_gallery() -> None:
     page.write_text("\n".join(lines))
 
 
+def make_variables_table() -> None:
+    """Write every table of ``hairbed._variables`` as a list-table (included by the API)."""
+    from hairbed._variables import BED, SI, SOLUTION
+
+    out = DOCS / "_generated"
+    out.mkdir(exist_ok=True)
+    lines: list[str] = []
+    for title, table in (
+        ("The dimensionless problem (SOLUTION)", SOLUTION),
+        ("A bed's parameters (BED)", BED),
+        ("A bed's state in SI units (SI)", SI),
+    ):
+        lines += [title, "-" * len(title), "", ".. list-table::", "   :header-rows: 1", ""]
+        lines += [
+            f"   * - {h}" if i == 0 else f"     - {h}"
+            for i, h in enumerate(("name", "group", "CF units", "label [unit]", "description"))
+        ]
+        for v in table.values():
+            cells = (f"``{v.name}``", v.group, f"``{v.units}``", v.heading, v.description)
+            for i, cell in enumerate(cells):
+                text = cell.replace("*", "\\*").replace("|", "\\|")
+                lines.append(f"   * - {text}" if i == 0 else f"     - {text}")
+        lines.append("")
+    target = out / "variables.rst"
+    text = "\n".join(lines)
+    if not target.exists() or target.read_text() != text:  # unchanged: no rebuild of the page
+        target.write_text(text)
+
+
 make_gallery()
+make_variables_table()
