@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import hairbed
+from hairbed._core.solver import fold_parameters
 
 
 @pytest.mark.parametrize(
@@ -124,3 +125,22 @@ def test_collocation_counts_its_evaluations_and_keeps_solve_bvps_code():
     assert ok.status == 0 and ok.solver_status == 0 and ok.nfev > ok.nit > 0
     tight = collocation(200.0, 0.5, max_nodes=5, nodes=5)
     assert tight.solver_status == 1 and tight.status == -2 and not tight.success
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda: hairbed.solve_all([1.0, 2.0], 0.5), "omega2, eps and theta0 must be scalars"),
+        (lambda: hairbed.branches.folds([0.5, 0.6], 0.0), "eps and theta0 must be scalars"),
+        (lambda: fold_parameters(0.5, [0.0, 0.1]), "eps and theta0 must be scalars"),
+        (
+            lambda: hairbed.inverse.fit_profile([0.0, 0.1, 0.2], [0.1, 0.5, 0.9], [0.5, 0.6]),
+            "eps must be a scalar here",
+        ),
+    ],
+)
+def test_one_scalar_parameter_check(call, message):
+    """Issue 22 item 5: solve_all, fold_parameters, the branch functions and fit_profile
+    share validation.check_scalar_inputs, which names only the inputs the caller takes."""
+    with pytest.raises(ValueError, match=message):
+        call()

@@ -33,6 +33,7 @@ from ._core.validation import (
     check_branch,
     check_inputs,
     check_int,
+    check_scalar_inputs,
     float_or_array,
 )
 
@@ -143,10 +144,8 @@ class BistableWindow:
 
 
 def _scalar_params(eps: Any, theta0: Any) -> tuple[float, float]:
-    _, e, th = check_inputs(0.0, eps, theta0)
-    if e.ndim or th.ndim:
-        raise ValueError("eps and theta0 must be scalars here")
-    return float(e), float(th)
+    _, e, th = check_scalar_inputs(eps=eps, theta0=theta0, given=("eps", "theta0"))
+    return e, th
 
 
 def _log_slope(t: Any, eps: Any, theta0: Any) -> NDArray[np.float64]:

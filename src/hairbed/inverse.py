@@ -61,6 +61,7 @@ from ._core.validation import (
     as_float_array,
     check_inputs,
     check_number,
+    check_scalar_inputs,
     check_state_inputs,
     check_tip_deflection,
     least_squares_status,
@@ -519,14 +520,12 @@ def _curve(
     return (x, z, theta) if angle else (x, z)
 
 
-def _scalar_theta0(value: Any, eps: float, name: str) -> float:
+def _scalar_theta0(value: Any, name: str) -> float:
     """A single base angle in (-pi/2, pi/2) [rad], the message naming ``name``."""
-    th = as_float_array(value, name, unit="rad")
-    if th.ndim:
-        raise ValueError(f"{name} must be a single number [rad], got shape {th.shape}")
-    if not abs(float(th)) < HALF_PI:
-        raise ValueError(f"{name} must lie in (-pi/2, pi/2), got {float(th)!r}")
-    return float(th)
+    th = check_number(value, name, unit="rad")
+    if not abs(th) < HALF_PI:
+        raise ValueError(f"{name} must lie in (-pi/2, pi/2), got {th!r}")
+    return th
 
 
 def fit_profile(
@@ -602,21 +601,18 @@ def fit_profile(
             f"(dz/dsigma = cos(theta) > 0), got all {x.size} heights <= 0 (a hair lying on the "
             "wall is the limit omega2 -> inf or theta0 -> +-pi/2, not a state of the model)"
         )
-    _, e_arr, _ = check_inputs(0.0, eps, 0.0)
-    if e_arr.ndim:
-        raise ValueError("eps must be a single number for fit_profile")
-    eps = float(e_arr)
+    eps = check_scalar_inputs(eps=eps, given=("eps",))[1]
     fit_theta = theta0 is None
     k = 2 if fit_theta else 1
     m = x.size
     if m < k + 1:
         raise ValueError(f"need at least {k + 1} points to fit {k} parameter(s), got {m}")
     if not fit_theta:
-        theta_fixed = _scalar_theta0(theta0, eps, "theta0")
+        theta_fixed = _scalar_theta0(theta0, "theta0")
     if omega2_guess is not None:
         omega2_guess = check_number(omega2_guess, "omega2_guess", low=0.0)
     if theta0_guess is not None:
-        theta0_guess = _scalar_theta0(theta0_guess, eps, "theta0_guess")
+        theta0_guess = _scalar_theta0(theta0_guess, "theta0_guess")
 
     # -- starting point: a grid search on curves sampled in arc length
     num = 101

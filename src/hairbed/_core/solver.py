@@ -23,6 +23,7 @@ from .validation import (
     check_inputs,
     check_int,
     check_root,
+    check_scalar_inputs,
     check_state_inputs,
 )
 
@@ -309,10 +310,7 @@ def solve_all(
     if plain is not None:
         wf, ef, tf = plain
     else:
-        w, e, t0 = check_inputs(omega2, eps, theta0)
-        if w.ndim != 0:
-            raise ValueError("solve_all takes scalar omega2, eps and theta0; use solve for arrays")
-        wf, ef, tf = float(w), float(e), float(t0)
+        wf, ef, tf = check_scalar_inputs(omega2, eps, theta0)
     bound_f = math.floor(math.sqrt(wf) / math.sqrt(1.0 - ef) / math.pi) + 1.0
     if max_n is not None:
         bound = int(min(bound_f, check_int(max_n, "max_n", 0)))
@@ -420,13 +418,11 @@ def fold_parameters(eps: float, theta0: float = 0.0, *, sign: int = 1, n: int = 
 
     The compiled fold search of :func:`solve` (one implementation); increasing.
     """
-    _, e, t0 = check_inputs(0.0, eps, theta0)
-    if e.ndim != 0:
-        raise ValueError("fold_parameters takes scalar eps and theta0")
+    _, e, t0 = check_scalar_inputs(eps=eps, theta0=theta0, given=("eps", "theta0"))
     sign, n = check_branch(sign, n)
     k = _kernels()
-    ef = np.array([float(e)])
-    tf = np.array([float(t0)])
+    ef = np.array([e])
+    tf = np.array([t0])
     tables = _tables()
     if not k.needs_folds_array(ef, tf, sign, n, tables)[0]:
         return np.empty(0)

@@ -297,8 +297,9 @@ def check_number(
     rng = _range_text(low, high, low_open, high_open) + (f" [{unit}]" if unit else "")
     arr = check_real_array(value, name, unit)
     if arr.ndim != 0:
+        where = (f" [{unit}]" if unit else "") if low is None and high is None else f" in {rng}"
         raise ValueError(
-            f"{name} must be a single number in {rng}, got an array of shape {arr.shape}"
+            f"{name} must be a single number{where}, got an array of shape {arr.shape}"
         )
     with np.errstate(over="ignore"):
         x = float(arr)
@@ -414,15 +415,26 @@ def check_type(value: Any, name: str, kind: type | tuple[type, ...], what: str) 
 
 
 def check_scalar_inputs(
-    omega2: Any, eps: Any, theta0: Any, *, omega2_max: float | None = None, why: str = ""
+    omega2: Any = 0.0,
+    eps: Any = 0.0,
+    theta0: Any = 0.0,
+    *,
+    omega2_max: float | None = None,
+    why: str = "",
+    given: tuple[str, ...] = ("omega2", "eps", "theta0"),
 ) -> tuple[float, float, float]:
-    """The three physical inputs as floats, checked like :func:`check_inputs`, for functions
-    that solve one state at a time; ``omega2_max`` bounds the forcing (``why`` says why)."""
+    """The physical inputs as floats, checked like :func:`check_inputs`, for functions that
+    take one state (or one branch) at a time: the one scalar-parameter check. ``given`` names
+    the inputs the caller takes (the others stay at their defaults, out of the messages);
+    ``omega2_max`` bounds the forcing (``why`` says why)."""
     w, e, t = check_inputs(omega2, eps, theta0)
-    if w.ndim or np.ndim(omega2) or np.ndim(eps) or np.ndim(theta0):
+    values = {"omega2": omega2, "eps": eps, "theta0": theta0}
+    if any(np.ndim(values[name]) for name in given):
+        names = given[0] if len(given) == 1 else ", ".join(given[:-1]) + f" and {given[-1]}"
+        verb = "must be a scalar" if len(given) == 1 else "must be scalars"
         raise ValueError(
-            "omega2, eps and theta0 must be scalars here (one state per call); loop over "
-            "arrays yourself, or use hairbed.solve, which broadcasts"
+            f"{names} {verb} here (one state per call); loop over arrays yourself, or use "
+            "hairbed.solve, which broadcasts"
         )
     wf = float(w)
     if omega2_max is not None and wf > omega2_max:
