@@ -305,64 +305,7 @@ def test_bistable_window_matches_mpmath_folds(cell: dict[str, Any]) -> None:
 SHAPE_CASES = [c for c in SHAPES if c["sigma"] and "three_states" not in c["groups"]]
 
 
-#: Cases the compiled core does not yet meet (issue 9 stays open for them), as strict xfails:
-#: when one starts to pass, the run fails until it is taken off this list.
-#: - shapes: short arcs (sigma <= 1e-3) at omega_eps ~ 1e3 with theta0 near +pi/2, where x and
-#:   z are off by a few 1e-18 (absolute), above 4.5 ulp of the value;
-#: - displacement(): theta - theta0, x - sigma sin(theta0), z - sigma cos(theta0) relative to
-#:   themselves away from weak forcing (the method promises it at weak forcing only, where it
-#:   passes) and near theta0 = -pi/2.
-KNOWN_GAPS = {
-    "test_shape_matches_mpmath": {
-        "near_half_pi-w1e+06-e0.99-t1.55",
-        "near_half_pi-w1e+06-e0.5-t1.5707",
-        "near_half_pi-w1e+06-e0-t1.57079632",
-        "near_half_pi-w1e+06-e0.99-t1.5707963257948965",
-        "near_half_pi-w1e+06-e0.5-t1.5707963267948963",
-    },
-    "test_displacement_method_matches_mpmath": {
-        "three_states-w2.2305-e0.5-t-1.570795",
-        "near_half_pi-w400-e0-t1.55",
-        "near_half_pi-w10000-e0.5-t1.55",
-        "near_half_pi-w1-e0.99-t1.55",
-        "near_half_pi-w1e+06-e0.99-t1.55",
-        "near_half_pi-w10000-e0-t1.5707",
-        "near_half_pi-w1-e0.5-t1.5707",
-        "near_half_pi-w1e+06-e0.5-t1.5707",
-        "near_half_pi-w400-e0.99-t1.5707",
-        "near_half_pi-w1-e0-t1.57079632",
-        "near_half_pi-w1e+06-e0-t1.57079632",
-        "near_half_pi-w400-e0.5-t1.57079632",
-        "near_half_pi-w10000-e0.99-t1.57079632",
-        "near_half_pi-w400-e0-t1.5707963257948965",
-        "near_half_pi-w10000-e0.5-t1.5707963257948965",
-        "near_half_pi-w1-e0.99-t1.5707963257948965",
-        "near_half_pi-w1e+06-e0.99-t1.5707963257948965",
-        "near_half_pi-w10000-e0-t1.5707963267948963",
-        "near_half_pi-w1-e0.5-t1.5707963267948963",
-        "near_half_pi-w10000-e0.5-t1.5707963267948963",
-        "near_half_pi-w1e+06-e0.5-t1.5707963267948963",
-        "near_half_pi-w400-e0.99-t1.5707963267948963",
-    },
-}
-
-
-def _cases(name: str, cases: list[dict[str, Any]]) -> list[Any]:
-    """pytest params of ``cases``, the KNOWN_GAPS of test ``name`` marked strict xfail."""
-    gaps = KNOWN_GAPS.get(name, set())
-    out = []
-    for c in cases:
-        cid = _case_id(c)
-        marks = (
-            [pytest.mark.xfail(strict=True, reason="issue 9: not yet met (KNOWN_GAPS)")]
-            if cid in gaps
-            else []
-        )
-        out.append(pytest.param(c, id=cid, marks=marks))
-    return out
-
-
-@pytest.mark.parametrize("case", _cases("test_shape_matches_mpmath", SHAPE_CASES))
+@pytest.mark.parametrize("case", SHAPE_CASES, ids=[_case_id(c) for c in SHAPE_CASES])
 def test_shape_matches_mpmath(case: dict[str, Any]) -> None:
     """theta, x, z at 16 sigma to 1e-12 absolute and to DISP_RTOL of the displacement."""
     sigma = np.array(case["sigma"])
@@ -385,7 +328,7 @@ def test_shape_matches_mpmath(case: dict[str, Any]) -> None:
 WITH_SHAPE = [c for c in SHAPES if c["sigma"]]
 
 
-@pytest.mark.parametrize("case", _cases("test_displacement_method_matches_mpmath", WITH_SHAPE))
+@pytest.mark.parametrize("case", WITH_SHAPE, ids=[_case_id(c) for c in WITH_SHAPE])
 def test_displacement_method_matches_mpmath(case: dict[str, Any]) -> None:
     """Solution.displacement(sigma), where the core provides it: (theta - theta0,
     x - sigma sin(theta0), z - sigma cos(theta0)) to DISP_RTOL relative to themselves (values

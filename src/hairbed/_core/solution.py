@@ -289,8 +289,10 @@ class Solution:
         """Displacements from the hair at rest at arc length sigma.
 
         Returns (theta - theta0 [rad], x - sigma sin(theta0), z - sigma cos(theta0)) in units
-        of L [-], accurate relative to themselves at weak forcing, where they are far below
-        the rounding error of theta, x and z themselves.
+        of L [-]. On the physical branch each is accurate relative to itself (to ~1e-14 against
+        mpmath), also where it is far below the rounding error of theta, x and z themselves:
+        at weak forcing, on short arcs from the base, near theta0 = +-pi/2. On the twirling
+        branches they are theta - theta0, x - sigma sin(theta0), z - sigma cos(theta0).
         """
         v = self._shape_values(sigma)
         return _out(v[3]), _out(v[4]), _out(v[5])
