@@ -64,6 +64,31 @@ def test_folds_are_extrema_to_high_accuracy(theta0, eps):
 
 
 @pytest.mark.parametrize(
+    ("theta0", "eps"), [(0.0, 0.5), (-1.5, 0.9), (-0.5, 0.99), (1.2, 0.999), (-1.5707963, 0.3)]
+)
+def test_log_slope_is_the_derivative_of_ln_omega2(theta0, eps):
+    """Against a sixth-order difference of ln(omega^2) along from_parameter (a path that never
+    computes a slope): Richardson extrapolation of fourth-order central differences at steps
+    h and h/2, truncation ~h^6 ~ 1e-12 and rounding ~1e-16/h ~ 1e-14."""
+    t = np.concatenate([np.linspace(-20.0, 12.0, 65), [-300.0, 40.0, 300.0]])
+    h = 1e-2
+
+    def central(step):
+        f = np.log(
+            np.asarray(
+                hairbed.from_parameter(
+                    t[:, None] + step * np.array([-2.0, -1.0, 1.0, 2.0]), eps, theta0
+                ).omega2
+            )
+        )
+        return (f[:, 0] - 8.0 * f[:, 1] + 8.0 * f[:, 2] - f[:, 3]) / (12.0 * step)
+
+    fd = (16.0 * central(h / 2) - central(h)) / 15.0
+    got = np.asarray(log_slope(t, eps, theta0))
+    np.testing.assert_allclose(got, fd, rtol=1e-9, atol=1e-9)
+
+
+@pytest.mark.parametrize(
     ("theta0", "eps"), [(0.0, 0.5), (0.0, 0.99), (0.5, 0.999), (1.2, 0.9), (-1.0, 0.8)]
 )
 def test_monotone_branch_has_no_folds(theta0, eps):

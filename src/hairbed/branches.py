@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from ._bracketing import find_minimum, find_root
 from ._core.solution import Solution
-from ._core.solver import fold_parameters, from_parameter
+from ._core.solver import _log_slope, fold_parameters, from_parameter
 from ._core.validation import (
     _first_index,
     as_float_array,
@@ -60,9 +60,6 @@ MAX_POINTS = 10_000_000
 _T_SEARCH = (-20.0, 12.0)
 _T_STEP = 0.02
 _T_GRID = np.arange(_T_SEARCH[0], _T_SEARCH[1] + 0.5 * _T_STEP, _T_STEP)
-#: Step of the fourth-order central difference for d ln(omega^2)/dt: truncation ~ h^4 ~ 1e-12,
-#: rounding ~ 1e-16 / h ~ 1e-13.
-_H = 1e-3
 
 
 @dataclass(frozen=True)
@@ -148,18 +145,11 @@ def _scalar_params(eps: Any, theta0: Any) -> tuple[float, float]:
     return e, th
 
 
-def _log_slope(t: Any, eps: Any, theta0: Any) -> NDArray[np.float64]:
-    """d ln(omega^2)/dt by the fourth-order stencil; t, eps, theta0 broadcast together."""
-    stencil = np.asarray(t)[..., None] + _H * np.array([-2.0, -1.0, 1.0, 2.0])
-    w = from_parameter(stencil, np.asarray(eps)[..., None], np.asarray(theta0)[..., None])
-    f = np.log(np.asarray(w.omega2, dtype=np.float64))
-    return (f[..., 0] - 8.0 * f[..., 1] + 8.0 * f[..., 2] - f[..., 3]) / (12.0 * _H)
-
-
 def log_slope(t: Any, eps: float, theta0: float = 0.0) -> NDArray[np.float64]:
     """d ln(omega^2) / dt along the physical branch [-] (zero exactly at a fold).
 
-    Fourth-order central differences with step 1e-3 in t: accurate to about 1e-12.
+    The exact derivative of the closed form (the slope Newton's method uses in
+    :func:`hairbed.solve`: dK/dm and dF/dphi, dF/dm of DLMF 19.4), not a difference.
 
     Parameters
     ----------

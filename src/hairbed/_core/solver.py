@@ -371,6 +371,16 @@ def _from_parameter(t: Any, eps: Any, theta0: Any, sign: int = 1, n: int = 0) ->
     return Solution._from_columns(out, tt.shape, e, t0, sign, n, None)
 
 
+def _log_slope(t: Any, eps: Any, theta0: Any, sign: int = 1, n: int = 0) -> np.ndarray:
+    """d ln(omega^2)/dt along the branch (sign, n) at checked, broadcastable t, eps, theta0:
+    the kernel's exact slope (DLMF 19.4 derivatives of K and F), as an array of the broadcast
+    shape."""
+    tt, e, t0 = (np.array(a, dtype=np.float64) for a in np.broadcast_arrays(t, eps, theta0))
+    out = np.empty(tt.size)
+    _kernels().log_slope_array(tt.reshape(-1), e.reshape(-1), t0.reshape(-1), sign, n, out)
+    return out.reshape(tt.shape)
+
+
 def _solve_checked(
     omega2: Any, eps: Any, theta0: Any, sign: int = 1, n: int = 0, root: str = "low"
 ) -> Solution:

@@ -41,6 +41,7 @@ __all__ = [
     "ROOT_LOW",
     "ROOT_MID",
     "fields_array",
+    "log_slope_array",
     "fields_at",
     "fields_from",
     "folds_array",
@@ -348,6 +349,14 @@ def fields_array(t, eps, theta0, sign, n, out):
         write_state(row, t[i], 1, STATUS_CONVERGED, eps[i], theta0[i], sign, n)
         for k in range(NFIELDS):
             out[k, i] = row[k]
+
+
+@kernel
+def log_slope_array(t, eps, theta0, sign, n, out):
+    """d ln(omega^2)/dt of the branch at each t (``branch.evaluate_at``'s exact slope, the one
+    Newton uses): out has t's size."""
+    for i in range(t.size):
+        out[i] = evaluate_at(t[i], eps[i], base_terms(theta0[i]), sign, n, True)[1]
 
 
 @kernel
