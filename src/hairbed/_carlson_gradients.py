@@ -8,9 +8,10 @@ but the second is a difference that loses every digit as x -> z, which is where 
 forcing of a hair puts it (theory.md §6: the arguments p sn0^2 and p of the short arc of a
 barely bent hair). Here each function is evaluated by Carlson's duplication (DLMF 19.36.1;
 B. C. Carlson, Numer. Algorithms 10 (1995) 13) with every quantity carried as a value and its
-three partial derivatives (forward-mode automatic differentiation): the derivative of the
-algorithm is a sum of positive terms and of the small corrections of the final series, so the
-gradient has the relative accuracy of the value, for any arguments. Nothing is differenced.
+three partial derivatives (forward-mode automatic differentiation, :class:`hairbed._dual.Dual`):
+the derivative of the algorithm is a sum of positive terms and of the small corrections of the
+final series, so the gradient has the relative accuracy of the value, for any arguments.
+Nothing is differenced.
 
 The duplication runs until 4^-m max|A0 - x_i| < 2e-3 |A_m| (Carlson's test for a relative
 error of about 1e-16 of the series) holds for every element: a loop over iterations, not over
@@ -37,6 +38,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from ._dual import Dual
+
 __all__ = ["rd_gradient", "rf_gradient"]
 
 FloatArray = NDArray[np.float64]
@@ -49,40 +52,11 @@ _MAX_STEPS = 600
 #: (3 r)^(1/6) = 2.6e-3 for R_F and (r/4)^(1/6) = 1.7e-3 for R_D at r = 1e-16: the smaller.
 _SCALE = 1.7e-3
 
-# A dual number is an array of shape (4, ...): the value and its partials in x, y, z.
 
-
-def _mul(u: FloatArray, v: FloatArray) -> FloatArray:
-    out = np.empty_like(u)
-    out[0] = u[0] * v[0]
-    out[1:] = u[0] * v[1:] + v[0] * u[1:]
-    return out
-
-
-def _sqrt(u: FloatArray) -> FloatArray:
-    out = np.empty_like(u)
-    out[0] = np.sqrt(u[0])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        out[1:] = u[1:] / (2.0 * out[0])  # infinite at an argument 0: the true partial
-    return out
-
-
-def _recip(u: FloatArray) -> FloatArray:
-    out = np.empty_like(u)
-    out[0] = 1.0 / u[0]
-    out[1:] = -u[1:] * (out[0] * out[0])
-    return out
-
-
-def _seed(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray, ...]:
-    shape = np.broadcast(x, y, z).shape
-    duals = []
-    for k, a in enumerate((x, y, z)):
-        d = np.zeros((4, *shape))
-        d[0] = a
-        d[k + 1] = 1.0
-        duals.append(d)
-    return tuple(duals)
+def _seed(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[Dual, Dual, Dual]:
+    """x, y, z as duals in the three directions, broadcast to one shape."""
+    bx, by, bz = np.broadcast_arrays(x, y, z)
+    return Dual.variable(bx, 0, 3), Dual.variable(by, 1, 3), Dual.variable(bz, 2, 3)
 
 
 def _spread(a0: FloatArray, args: tuple[FloatArray, ...]) -> FloatArray:
@@ -111,26 +85,24 @@ def rf_gradient(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray
     """
     X, Y, Z = _seed(x, y, z)
     A0 = (X + Y + Z) / 3.0
-    A = A0.copy()
-    spread = _spread(A0[0], (X[0], Y[0], Z[0]))
-    xm, ym, zm = X.copy(), Y.copy(), Z.copy()
+    A = A0
+    spread = _spread(A0.value, (X.value, Y.value, Z.value))
+    xm, ym, zm = X, Y, Z
     m = 0
-    while m < _MAX_STEPS and not _converged(spread, m, A[0]):
-        sx, sy, sz = _sqrt(xm), _sqrt(ym), _sqrt(zm)
-        lam = _mul(sx, sy) + _mul(sy, sz) + _mul(sz, sx)
+    while m < _MAX_STEPS and not _converged(spread, m, A.value):
+        sx, sy, sz = xm.sqrt(), ym.sqrt(), zm.sqrt()
+        lam = sx * sy + sy * sz + sz * sx
         xm, ym, zm, A = (xm + lam) / 4.0, (ym + lam) / 4.0, (zm + lam) / 4.0, (A + lam) / 4.0
         m += 1
-    inv = np.ldexp(_recip(A), -2 * m)
+    inv = A.reciprocal().ldexp(-2 * m)
     # (A0 - x0)/(4^m A_m): the exact small deviations, without the difference A_m - x_m
-    dx, dy = _mul(A0 - X, inv), _mul(A0 - Y, inv)
+    dx, dy = (A0 - X) * inv, (A0 - Y) * inv
     dz = -(dx + dy)
-    e2 = _mul(dx, dy) - _mul(dz, dz)
-    e3 = _mul(_mul(dx, dy), dz)
-    one = np.zeros_like(e2)
-    one[0] = 1.0
-    series = one - e2 / 10.0 + e3 / 14.0 + _mul(e2, e2) / 24.0 - 3.0 * _mul(e2, e3) / 44.0
-    r = _mul(series, _recip(_sqrt(A)))
-    return r[0], (r[1], r[2], r[3])
+    e2 = dx * dy - dz * dz
+    e3 = dx * dy * dz
+    series = 1.0 - e2 / 10.0 + e3 / 14.0 + (e2 * e2) / 24.0 - 3.0 * (e2 * e3) / 44.0
+    r = series * A.sqrt().reciprocal()
+    return r.a[0], (r.a[1], r.a[2], r.a[3])
 
 
 def rd_gradient(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray, Gradient]:
@@ -150,39 +122,36 @@ def rd_gradient(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray
     """
     X, Y, Z = _seed(x, y, z)
     A0 = (X + Y + 3.0 * Z) / 5.0
-    A = A0.copy()
-    spread = _spread(A0[0], (X[0], Y[0], Z[0]))
-    xm, ym, zm = X.copy(), Y.copy(), Z.copy()
-    total = np.zeros_like(X)
+    A = A0
+    spread = _spread(A0.value, (X.value, Y.value, Z.value))
+    xm, ym, zm = X, Y, Z
+    total = 0.0 * X
     fac = 1.0
     m = 0
-    while m < _MAX_STEPS and not _converged(spread, m, A[0]):
-        sx, sy, sz = _sqrt(xm), _sqrt(ym), _sqrt(zm)
-        lam = _mul(sx, sy) + _mul(sy, sz) + _mul(sz, sx)
-        total = total + fac * _recip(_mul(sz, zm + lam))
+    while m < _MAX_STEPS and not _converged(spread, m, A.value):
+        sx, sy, sz = xm.sqrt(), ym.sqrt(), zm.sqrt()
+        lam = sx * sy + sy * sz + sz * sx
+        total = total + fac * (sz * (zm + lam)).reciprocal()
         fac /= 4.0
         xm, ym, zm, A = (xm + lam) / 4.0, (ym + lam) / 4.0, (zm + lam) / 4.0, (A + lam) / 4.0
         m += 1
-    inv = np.ldexp(_recip(A), -2 * m)
-    dx, dy = _mul(A0 - X, inv), _mul(A0 - Y, inv)
+    inv = A.reciprocal().ldexp(-2 * m)
+    dx, dy = (A0 - X) * inv, (A0 - Y) * inv
     dz = -(dx + dy) / 3.0
-    xy = _mul(dx, dy)
-    z2 = _mul(dz, dz)
+    xy = dx * dy
+    z2 = dz * dz
     e2 = xy - 6.0 * z2
-    e3 = _mul(3.0 * xy - 8.0 * z2, dz)
-    e4 = 3.0 * _mul(xy - z2, z2)
-    e5 = _mul(xy, _mul(z2, dz))
-    one = np.zeros_like(e2)
-    one[0] = 1.0
+    e3 = (3.0 * xy - 8.0 * z2) * dz
+    e4 = 3.0 * ((xy - z2) * z2)
+    e5 = xy * (z2 * dz)
     series = (
-        one
+        1.0
         - 3.0 * e2 / 14.0
         + e3 / 6.0
-        + 9.0 * _mul(e2, e2) / 88.0
+        + 9.0 * (e2 * e2) / 88.0
         - 3.0 * e4 / 22.0
-        - 9.0 * _mul(e2, e3) / 52.0
+        - 9.0 * (e2 * e3) / 52.0
         + 3.0 * e5 / 26.0
     )
-    a32 = _mul(A, _sqrt(A))  # A^(3/2)
-    r = fac * _mul(series, _recip(a32)) + 3.0 * total
-    return r[0], (r[1], r[2], r[3])
+    r = fac * (series * (A * A.sqrt()).reciprocal()) + 3.0 * total  # A^(3/2)
+    return r.a[0], (r.a[1], r.a[2], r.a[3])

@@ -16,8 +16,9 @@ total derivative of every output Y is
 
     dY/dp = (dY/dp)_t + (dY/dt) dt/dp.
 
-All the partial derivatives are closed forms in K(mu), E(mu), F(phi0 | mu) and E(phi0 | mu)
-(mu = (1 + xi)/2, sin(phi0) = sin(pi/4 + theta0/2)/sqrt(mu)), through (DLMF 19.4.1, 19.4.2)
+On the twirling branches all the partial derivatives are closed forms in K(mu), E(mu),
+F(phi0 | mu) and E(phi0 | mu) (mu = (1 + xi)/2, sin(phi0) = sin(pi/4 + theta0/2)/sqrt(mu)),
+through (DLMF 19.4.1, 19.4.2)
 
     dK/dm = (E - (1 - m) K)/(2 m (1 - m)),   dE/dm = (E - K)/(2 m),
     dF/dphi = 1/Delta,   dF/dm = (E(phi) - (1 - m) F)/(2 m (1 - m)) - sin cos/(2 (1 - m) Delta),
@@ -28,19 +29,24 @@ dphi0/dt = -sin(phi0) cos(phi0) expit(-t)/2 and dphi0/dtheta0 = sqrt(expit(t))/(
 p = 1 - mu: every 1/p of the derivatives in m is absorbed. The incomplete integrals are the
 Carlson forms of theory.md §6 (no loss near mu = 1). Nothing is differenced numerically.
 
-On the physical branch the tip height, the displacements and omega_eps are taken in the
-Carlson forms of the short arc from phi0 to pi/2 (see ``_short_arc``), whose gradients come
-from :mod:`hairbed._carlson_gradients`, and where omega_eps^2 <= 0.003 from the weak-forcing
-series of the kernels, differentiated exactly (see ``_weak_tip``): the closed forms above take
-the small changes of a barely bent hair as differences of O(1) terms.
+On the physical branch the closed forms above would take the small changes of a barely bent
+hair as differences of O(1) terms; its partials come instead from the Carlson forms of the
+short arc from phi0 to pi/2 (``_physical_partials``), in arguments scaled so that nothing
+under- or overflows at any forcing, with gradients from :mod:`hairbed._carlson_gradients` and
+exact limit forms once p/(1 - sin theta0) < 1e-21; and where omega_eps^2 <= 0.003 the tip's
+derivatives come from the weak-forcing series of the kernels, differentiated exactly
+(``_weak_tip``). The elliptic integrals are scipy.special's and the duplication's numpy
+(elementwise ufuncs over whole arrays), not the kernels' R_F, R_D, K, E, which are scalar
+functions callable only from compiled loops; both agree with mpmath to a few ulps.
 
-Accuracy: within 1.1e-14 relative of mpmath (in most cases 3e-15) on every output, input and
-branch tested, from omega^2 = 1e-13 to 1e3, leaning both ways, including the derivatives that
-vanish to first order at theta0 = 0 (tests/test_sensitivity.py); omega2 = 0 itself is exact
-(the limits of the linear theory). Above the series' range (omega_eps^2 > 0.003) such a
-derivative near theta0 = 0 (d omega_eps/d theta0, d(tip_displacement)/d theta0) is a sum of
-terms as large as the output's other partials and keeps a few ulps of those: 2e-17 absolute,
-1e-13 relative, at omega2 = 0.12, theta0 = -0.05.
+Accuracy: within 1.4e-14 relative of mpmath (in most cases 3e-15) on every output, input and
+branch tested, from omega^2 = 1e-13 to 1e8, leaning both ways, including the derivatives that
+vanish to first order at theta0 = 0 and those of xi and of the tip angle (of the order of
+1 - xi) at strong forcing (tests/test_sensitivity.py); omega2 = 0 itself is exact (the limits
+of the linear theory). Above the series' range (omega_eps^2 > 0.003) a derivative that vanishes
+to first order near theta0 = 0 (d omega_eps/d theta0, d(tip_displacement)/d theta0) is a sum
+of terms as large as the output's other partials and keeps a few ulps of those: 2e-17
+absolute, 1e-13 relative, at omega2 = 0.12, theta0 = -0.05.
 
 At a fold of the branch (a state where dR/dt = 0: it appears or disappears as the inputs vary,
 theory.md §5) the derivatives through dt/dp are infinite: they are returned as +-inf and the
@@ -69,6 +75,7 @@ from ._core.validation import (
     scalar_or_array,
     status_messages,
 )
+from ._dual import Dual
 from ._variables import SOLUTION, names
 
 __all__ = [
@@ -159,11 +166,12 @@ class Derivatives(Mapping[str, Mapping[str, Any]]):
 
 def _partials(
     t: FloatArray, theta0: FloatArray, sign: int, n: int, sol: Solution
-) -> tuple[dict[str, FloatArray], dict[str, FloatArray], dict[str, FloatArray]]:
-    """Values and partial derivatives in t and in theta0 at fixed t of every t-function.
+) -> tuple[FloatArray, dict[str, FloatArray], dict[str, FloatArray]]:
+    """Partial derivatives in t and in theta0 at fixed t of every t-function (Legendre forms).
 
-    Returns (val, d_t, d_th) over the keys of OUTPUTS plus "h1" and "ln_oe" (ln omega_eps);
-    ``val`` takes the accurate values of the solution (omega_eps, h1, x1) where it has them.
+    Returns (h1, d_t, d_th): the solution's tip height and the partials over the keys of
+    OUTPUTS plus "h1" and "ln_oe" (ln omega_eps), with the solution's values of omega_eps,
+    h1 and x1. For the twirling branches; the physical one has :func:`_physical_partials`.
     """
     c = np.cos(theta0)
     # 1 -+ sin(theta0) without cancellation near +-pi/2 (as the kernels)
@@ -238,82 +246,128 @@ def _partials(
         out["tip_displacement"] = dx1 - dshift
         out["tip_angle"] = angle_sign * dangle
         out["base_curvature"] = sign * root2d * oe * (g + dlog_root2d)
-    if sign == 1 and n == 0:
-        _short_arc(out_t, out_th, q, qc, c, oms, p, d, two_mu, ops, oe, xi, root2d)
-    val = {"h1": h1, "oe": oe, "root2d": root2d}
-    return val, out_t, out_th
+    return h1, out_t, out_th
 
 
-def _short_arc(
-    out_t: dict[str, FloatArray],
-    out_th: dict[str, FloatArray],
-    q: FloatArray,
-    qc: FloatArray,
-    c: FloatArray,
-    oms: FloatArray,
-    p: FloatArray,
-    d: FloatArray,
-    two_mu: FloatArray,
-    ops: FloatArray,
-    oe: FloatArray,
-    xi: FloatArray,
-    root2d: FloatArray,
-) -> None:
-    """The physical branch's tip height and displacements without cancellation (in place).
+#: Below this expit(-t) (t > 48) the short arc's integrals take their limit forms, exact to
+#: O(expit(-t) ln expit(-t)) < 1e-19 relative (``_arc_integrals``).
+ARC_LIMIT = 1.0e-21
 
-    On the physical branch the arc from phi0 to pi/2 is short at weak forcing, and the forms
-    above take the small tip displacement x1 - sin(theta0) and the slow change of h1 as
-    differences of O(1) terms. With the Carlson forms of the arc (theory.md §6), with
-    X = p sn0^2, Y = dn0^2 = (1 - sin theta0)/2 and Z = p (all positive),
+
+def _arc_integrals(
+    sn0_2: FloatArray, qc: FloatArray, lqc: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """The short arc's R_F and R_D in the scaled arguments (X, 1, Z) = (qc sn0^2, 1, qc).
+
+    Returns F = R_F(X, 1, Z), G = Z R_D(X, 1, Z) and their logarithmic derivatives
+    F_q = d ln F/d ln qc, F_s = d ln F/d ln sn0^2, G_q, G_s. Where qc >= ARC_LIMIT they come
+    from the gradients of :mod:`hairbed._carlson_gradients` (X dR/dX and Z dR/dZ: scale-free
+    and finite); below it the arguments X, Z -> 0 leave (DLMF §19.27(ii) for R_F; for R_D the
+    leading term 3/(sqrt(Y Z) (sqrt(X) + sqrt(Z))) of its integral; both off by O(qc ln qc))
+
+        F = L/2,  L = ln 16 - ln qc - 2 ln(1 + sn0),   G = 3/(1 + sn0),
+
+    with ln qc given (``lqc``), so that nothing underflows or overflows however strong the
+    forcing: F_q = -1/L, F_s = -sn0/((1 + sn0) L), G_q = 0, G_s = -sn0/(2 (1 + sn0)).
+    """
+    dup = qc >= ARC_LIMIT
+    x = np.where(dup, qc * sn0_2, 1.0)
+    z = np.where(dup, qc, 1.0)
+    one = np.ones_like(x)
+    rf, grad_f = rf_gradient(x, one, z)
+    rd, grad_d = rd_gradient(x, one, z)
+    s = np.sqrt(sn0_2)
+    big_l = np.log(16.0) - lqc - 2.0 * np.log1p(s)
+    f = np.where(dup, rf, 0.5 * big_l)
+    f_s = np.where(dup, x * grad_f[0] / rf, -s / ((1.0 + s) * big_l))
+    f_q = np.where(dup, (x * grad_f[0] + z * grad_f[2]) / rf, -1.0 / big_l)
+    g = np.where(dup, z * rd, 3.0 / (1.0 + s))
+    g_s = np.where(dup, x * grad_d[0] / rd, -0.5 * s / (1.0 + s))
+    g_q = np.where(dup, 1.0 + (x * grad_d[0] + z * grad_d[2]) / rd, 0.0)
+    return f, g, f_q, f_s, g_q, g_s
+
+
+def _physical_partials(
+    t: FloatArray, theta0: FloatArray, sol: Solution
+) -> tuple[FloatArray, dict[str, FloatArray], dict[str, FloatArray]]:
+    """:func:`_partials` of the physical branch, from the Carlson forms of its short arc.
+
+    The arc from phi0 to pi/2 is short at weak forcing, where the Legendre forms of
+    :func:`_partials` would take the small tip displacement x1 - sin(theta0) and the slow
+    change of h1 as differences of O(1) terms. With the Carlson forms of the arc (theory.md
+    §6), X = p sn0^2, Y = dn0^2 = (1 - sin theta0)/2 and Z = p, p = Y qc, qc = expit(-t),
 
         omega_eps = K - F0 = cn0 R_F(X, Y, Z),   h1 = 2 sqrt(mu) / R_F(X, Y, Z),
-        x1 - sin(theta0) = d (1 - p R_D(X, Y, Z) / (3 R_F(X, Y, Z))),   d = xi - sin(theta0),
+        x1 - sin(theta0) = d (1 - w/3),   w = p R_D(X, Y, Z) / R_F(X, Y, Z),
+        x1 = xi - d w/3,
 
-    (from E - E0 = p (K - F0) + mu int cos^2/Delta and DLMF 19.25.9) where nothing cancels:
-    1 - p R_D/(3 R_F) -> 2/3 at weak forcing, and d ln omega_eps = d ln cn0 + d ln R_F
-    replaces dK - dF0 (whose terms are O(1) for a difference O(cn0)); omega_eps, the energy
-    and the base curvature omega_eps^2 h1 follow. Their derivatives come from the gradients of
-    R_F and R_D (:mod:`hairbed._carlson_gradients`, forward differentiation of the
-    duplication, which keeps its relative accuracy where the closed forms of the partials
-    would difference R_D(Y, Z, X) - R_D(X, Y, Z) as X -> Z).
+    (from E - E0 = p (K - F0) + mu int cos^2/Delta and DLMF 19.25.9) nothing cancels:
+    1 - w/3 -> 2/3 at weak forcing, and d ln omega_eps = d ln cn0 + d ln R_F replaces
+    dK - dF0. R_F and R_D are homogeneous (degrees -1/2, -3/2), so R_F(X, Y, Z) =
+    Y^(-1/2) F and w = G/F in the arguments scaled by 1/Y (``_arc_integrals``), and their
+    derivatives are sums of logarithmic derivatives times d ln qc = -expit(t) dt,
+    d ln sn0^2 and d ln Y, all O(1): nothing is formed from p itself, which underflows at
+    t > 745 (omega^2 > 1.3e5) while 1/p^2 in the gradient overflows already at t > 350.
+    The gradients of R_F and R_D keep their relative accuracy where the closed forms of the
+    partials would difference R_D(Y, Z, X) - R_D(X, Y, Z) as X -> Z.
+
+    Returns (h1, d_t, d_th) as :func:`_partials`.
     """
-    arc = p > 0.0
+    c = np.cos(theta0)
+    oms = 2.0 * np.sin(0.5 * (0.5 * np.pi - theta0)) ** 2  # 1 - sin(theta0)
+    ops = 2.0 * np.sin(0.5 * (0.5 * np.pi + theta0)) ** 2  # 1 + sin(theta0)
+    q = special.expit(t)
+    lqc = special.log_expit(-t)
+    qc = np.where(t < 700.0, special.expit(-t), np.exp(lqc))  # expit flushes to 0 at t > 709
+    d = oms * q  # xi - sin(theta0)
+    p = 0.5 * oms * qc  # (1 - xi)/2 (its underflow at t > 745 is harmless below)
+    two_mu = ops + d
+    mu = 0.5 * two_mu
     sn0_2 = ops / two_mu
-    x, y, z = np.where(arc, p * sn0_2, 1.0), 0.5 * oms, np.where(arc, p, 1.0)
-    rf, grad_f = rf_gradient(x, y, z)
-    rd, grad_d = rd_gradient(x, y, z)
-    mu = 1.0 - p
-    h1 = 2.0 * np.sqrt(mu) / rf
-    w = p * rd / rf  # -> 1 at weak forcing
-    # d/dt and d/dtheta0 at fixed t of p, d, X, Y, Z (module docstring)
-    dp = {"t": -p * q, "th": -0.5 * c * qc}
-    dd = {"t": 2.0 * p * q, "th": -c * q}
-    dsn0_2 = {"t": -sn0_2 * 2.0 * p * q / two_mu, "th": 2.0 * c * q / (two_mu * two_mu)}
-    # d ln cn0 = (d ln d - d ln(2 mu))/2, with d = (1 - sin theta0) expit(t)
-    dln_cn0 = {"t": 0.5 * (qc - 2.0 * p * q / two_mu), "th": 0.5 * (-c / oms - c * qc / two_mu)}
+    oe = np.asarray(sol.omega_eps, dtype=np.float64)
+    h1 = np.asarray(sol.tip_height, dtype=np.float64)
+    xi = np.asarray(sol.xi, dtype=np.float64)
+    f, g, f_q, f_s, g_q, g_s = _arc_integrals(sn0_2, qc, lqc)
+    w = g / f
+    # sqrt(qc) = sqrt(p/Y) from ln qc where qc is subnormal or 0 (t > 690) but its root is not
+    sqrt_qc = np.where(qc > 1e-300, np.sqrt(qc), np.exp(0.5 * lqc))
+    # d/dt and d/dtheta0 at fixed t
+    dln_qc = {"t": -q, "th": 0.0 * q}
+    dln_sn0_2 = {"t": -2.0 * p * q / two_mu, "th": 2.0 * c * q / (ops * two_mu)}
+    dln_y = {"t": 0.0 * q, "th": -c / oms}
+    dln_mu = {"t": p * q / mu, "th": c * qc / two_mu}
+    # d ln(cn0/sqrt(Y)), cn0^2/Y = 2 expit(t)/(2 mu): the theta0-derivatives of ln cn0 and
+    # ln sqrt(Y), -c/(2 oms) each, cancel here in closed form, not in rounding
+    dln_cn0_y = {"t": 0.5 * (qc - 2.0 * p * q / two_mu), "th": -0.5 * c * qc / two_mu}
+    dd = {"t": oms * q * qc, "th": -c * q}
+    dxi = {"t": oms * q * qc, "th": c * qc}
+    # tip angle arcsin(xi): d/dt = 2 p q / sqrt(1 - xi^2), sqrt(1 - xi^2) = 2 sqrt(p mu)
+    dangle = {
+        "t": q * np.sqrt(0.5 * oms / mu) * sqrt_qc,
+        "th": np.sqrt(ops / two_mu) * sqrt_qc,
+    }
+    out_t: dict[str, FloatArray] = {}
+    out_th: dict[str, FloatArray] = {}
     for key, out in (("t", out_t), ("th", out_th)):
-        dx = dp[key] * sn0_2 + p * dsn0_2[key]
-        dy = 0.0 * q if key == "t" else -0.5 * c
-        dz = dp[key]
-        drf = grad_f[0] * dx + grad_f[1] * dy + grad_f[2] * dz
-        drd = grad_d[0] * dx + grad_d[1] * dy + grad_d[2] * dz
-        dln_h1 = -0.5 * dp[key] / mu - drf / rf
-        dw = (dp[key] * rd + p * drd) / rf - w * drf / rf
-        dshift = d * 0.0 if key == "t" else c  # d sin(theta0)
-        ddisp = dd[key] * (1.0 - w / 3.0) - d * dw / 3.0
-        g = dln_cn0[key] + drf / rf  # d ln omega_eps
-        new = {
-            "ln_oe": g,
-            "omega_eps": g * oe,
-            "energy": out["xi"] * oe * oe + 2.0 * xi * oe * oe * g,
-            "base_curvature": root2d * oe * (2.0 * g + dln_h1),
-            "tip_height": h1 * dln_h1,
-            "h1": h1 * dln_h1,
-            "tip_displacement": ddisp,
-            "tip_deflection": ddisp + dshift,
-        }
-        for name, value in new.items():  # p = 0 (xi = 1 in doubles): the forms above
-            out[name] = np.where(arc, value, out[name])
+        dln_f = f_q * dln_qc[key] + f_s * dln_sn0_2[key]
+        dln_rf = dln_f - 0.5 * dln_y[key]  # R_F(X, Y, Z) = Y^(-1/2) F
+        dln_w = g_q * dln_qc[key] + g_s * dln_sn0_2[key] - dln_f
+        dln_h1 = 0.5 * dln_mu[key] - dln_rf
+        dln_oe = dln_cn0_y[key] + dln_f  # omega_eps = cn0 R_F(X, Y, Z) = (cn0/sqrt(Y)) F
+        dwd = (dd[key] * w + d * w * dln_w) / 3.0  # d (d w/3)
+        out["xi"] = dxi[key]
+        out["tip_angle"] = dangle[key]
+        out["ln_oe"] = dln_oe
+        out["omega_eps"] = dln_oe * oe
+        out["energy"] = dxi[key] * oe * oe + 2.0 * xi * oe * oe * dln_oe
+        out["base_curvature"] = oe * oe * h1 * (2.0 * dln_oe + dln_h1)
+        out["tip_height"] = h1 * dln_h1
+        out["h1"] = out["tip_height"]
+        # x1 - sin(theta0) = d - d w/3 and x1 = xi - d w/3: neither sum cancels (x1 -> 1 and
+        # its theta0-derivative -> 0 at strong forcing, x1 - sin(theta0) -> 0 at weak)
+        out["tip_displacement"] = dd[key] - dwd
+        out["tip_deflection"] = dxi[key] - dwd
+    return h1, out_t, out_th
 
 
 def derivatives_at(sol: Solution) -> Derivatives:
@@ -337,8 +391,10 @@ def derivatives_at(sol: Solution) -> Derivatives:
     tt = np.where(live, t, 0.0)
     with np.errstate(all="ignore"):
         sol_live = sol if np.all(live) else _masked(sol, live)
-        val, d_t, d_th = _partials(tt, theta0, sol.sign, sol.n, sol_live)
-        h1 = val["h1"]
+        if physical:
+            h1, d_t, d_th = _physical_partials(tt, theta0, sol_live)
+        else:
+            h1, d_t, d_th = _partials(tt, theta0, sol.sign, sol.n, sol_live)
         one_minus = 1.0 - eps * h1
         # R = 2 ln omega_eps + ln(1 - eps h1) - ln omega2
         term_k = 2.0 * d_t["ln_oe"]
@@ -368,7 +424,7 @@ def derivatives_at(sol: Solution) -> Derivatives:
             live & ~fold,
             theta0,
             eps,
-            np.asarray(val["oe"]),
+            np.asarray(sol_live.omega_eps, dtype=np.float64),
             np.broadcast_to(np.asarray(sol_live.xi, dtype=np.float64), shape),
         )
     if np.any(rest):
@@ -379,40 +435,6 @@ def derivatives_at(sol: Solution) -> Derivatives:
     }
     dt_out = MappingProxyType({name: _out(np.where(live, v, np.nan)) for name, v in dt.items()})
     return Derivatives(sol, MappingProxyType(frozen), dt_out, _out(status))
-
-
-class _Dual:
-    """A value and its derivative in one direction (forward differentiation of a polynomial)."""
-
-    __slots__ = ("v", "d")
-
-    def __init__(self, v: Any, d: Any) -> None:
-        self.v, self.d = v, d
-
-    def __add__(self, o: Any) -> _Dual:
-        return (
-            _Dual(self.v + o.v, self.d + o.d)
-            if isinstance(o, _Dual)
-            else _Dual(self.v + o, self.d)
-        )
-
-    __radd__ = __add__
-
-    def __sub__(self, o: Any) -> _Dual:
-        return self + (-o)
-
-    def __rsub__(self, o: Any) -> _Dual:
-        return (-self) + o
-
-    def __neg__(self) -> _Dual:
-        return _Dual(-self.v, -self.d)
-
-    def __mul__(self, o: Any) -> _Dual:
-        if isinstance(o, _Dual):
-            return _Dual(self.v * o.v, self.v * o.d + self.d * o.v)
-        return _Dual(self.v * o, self.d * o)
-
-    __rmul__ = __mul__
 
 
 def _weak_tip(
@@ -430,7 +452,8 @@ def _weak_tip(
     theory.md §7), and d(x1 - sin theta0)/d theta0 ~ -2 E s c/3 + O(E^2) with E =
     omega_eps^2; the Carlson forms take them as differences of first-order terms (relative
     accuracy ~1e-16/E there). The series dx, dz(E, theta0) at sigma = 1 are polynomials,
-    differentiated exactly (forward differentiation), and dY/dp = Y_E dE/dp + Y_theta0
+    differentiated exactly (one pass on duals in E and theta0, :class:`hairbed._dual.Dual`),
+    and dY/dp = Y_E dE/dp + Y_theta0
     [p = theta0], with dE/dp from omega2 = E (1 - eps h1(E, theta0)) differentiated
     implicitly in the series, and Y = omega_eps = sqrt(E), h1 = cos + dz, x1 = sin + dx,
     x1 - sin = dx (physical branch only); the base curvature E h1 and the energy xi E follow.
@@ -448,18 +471,21 @@ def _weak_tip(
     s, c = np.sin(th), np.cos(th)
     zero = np.zeros_like(e)
     one = np.ones_like(e)
-    _, dx_e, dz_e = shape_fn(1.0, _Dual(e, one), _Dual(s, zero), _Dual(c, zero))
-    _, dx_th, dz_th = shape_fn(1.0, _Dual(e, zero), _Dual(s, c), _Dual(c, -s))
-    partials = {  # (d/dE, d/dtheta0 at fixed E)
-        "tip_height": (dz_e.d, dz_th.d - s),
-        "tip_deflection": (dx_e.d, dx_th.d + c),
-        "tip_displacement": (dx_e.d, dx_th.d),
+    # one pass in the two directions (d/dE, d/dtheta0 at fixed E)
+    _, dx, dz = shape_fn(
+        1.0, Dual.of(e, (one, zero)), Dual.of(s, (zero, c)), Dual.of(c, (zero, -s))
+    )
+    (dx_e, dx_th), (dz_e, dz_th) = dx.partials, dz.partials
+    partials = {
+        "tip_height": (dz_e, dz_th - s),
+        "tip_deflection": (dx_e, dx_th + c),
+        "tip_displacement": (dx_e, dx_th),
     }
     # E from omega2 = E (1 - eps h1(E, theta0)), differentiated implicitly in the series
     ew = eps[weak]
-    h1 = c + dz_e.v
-    g_e = 1.0 - ew * h1 - e * ew * dz_e.d
-    de = {"omega2": 1.0 / g_e, "eps": e * h1 / g_e, "theta0": e * ew * (dz_th.d - s) / g_e}
+    h1 = c + dz.value
+    g_e = 1.0 - ew * h1 - e * ew * dz_e
+    de = {"omega2": 1.0 / g_e, "eps": e * h1 / g_e, "theta0": e * ew * (dz_th - s) / g_e}
     oe_w = oe[weak]
     partials["omega_eps"] = (0.5 / oe_w, 0.0 * e)
     for output, (y_e, y_th) in partials.items():
