@@ -56,7 +56,7 @@ from ._core.validation import (
 from ._warnings import ModelValidityWarning, UnitsWarning
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .inverse import ProfileFit
+    from .profile_fit import ProfileFit
 
 __all__ = [
     "CLOSE_PACKING_FRACTION",
@@ -164,7 +164,7 @@ class BedProfileFit:
     success : bool
         Whether the optimiser reports convergence.
     status : int
-        The fit's status (0 converged; see :class:`~hairbed.inverse.ProfileFit`).
+        The fit's status (0 converged; see :class:`~hairbed.profile_fit.ProfileFit`).
     message : str
         The optimiser's message.
     """
@@ -636,7 +636,7 @@ class HairBed:
     def fit_profile(self, x: Any, z: Any, **kwargs: Any) -> BedProfileFit:
         """Fit the flow to measured points (x, z) [m] along one hair, base at the origin.
 
-        Calls :func:`hairbed.inverse.fit_profile` on (x/L, z/L) with the bed's eps and, unless
+        Calls :func:`hairbed.profile_fit.fit_profile` on (x/L, z/L) with the bed's eps and, unless
         ``theta0=None`` is passed, its base angle held fixed; keyword arguments are passed on.
         Only flow towards +x is fitted.
 
@@ -646,7 +646,7 @@ class HairBed:
             The fitted wall speed and its standard error [m/s], the dimensionless fit and how
             the optimiser ended.
         """
-        from .inverse import fit_profile
+        from .profile_fit import fit_profile
 
         kwargs.setdefault("theta0", self.base_angle)
         with np.errstate(over="ignore"):  # an overflow is infinite: refused, naming x or z
