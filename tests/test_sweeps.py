@@ -213,6 +213,21 @@ def test_bed_sweep_in_si_units():
     high = bed.sweep(v, root="high")
     for name in ds.variables:
         _assert_same(done[name].values, high[name].values)
+
+
+def test_a_bed_sweep_holds_every_hairstate_field():
+    from hairbed._variables import SI
+
+    bed = hairbed.HairBed(**BED, base_angle=-0.2, density=1260.0)
+    v = np.array([-0.05, 0.0, 0.02, 0.1])
+    ds, st = bed.sweep(v), bed.deform(v)
+    for name, var in SI.items():
+        _assert_same(ds[name].values, getattr(st, name))
+        assert ds[name].attrs["units"] == var.units, name
+    # independent: the gap's Reynolds number rho |v| (H - h1 L) / eta from its definition
+    gap = BED["channel_height"] - np.asarray(st.solution.tip_height) * BED["length"]
+    np.testing.assert_allclose(ds["reynolds_number"].values, 1260.0 * np.abs(v) * gap, rtol=1e-15)
+    assert np.all(np.isnan(hairbed.HairBed(**BED).sweep(v)["reynolds_number"].values))
     with pytest.raises(ValueError, match="velocity"):
         bed.sweep(np.ones((2, 2)))
     with pytest.raises(ValueError, match="chunks"):

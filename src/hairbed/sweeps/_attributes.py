@@ -35,22 +35,20 @@ STATUS_FLAGS = {
 }
 
 _MIRRORED = " (mirrored frame for v < 0)"
-#: The SI fields of a bed's sweep and the dimensionless fields kept beside them.
-_BED_SI = ("tip_deflection", "tip_displacement", "tip_height", "tip_angle")
-_BED_SCALED = ("tip_height", "tip_deflection", "tip_displacement", "tip_angle")
-_BED_DIMENSIONLESS = ("xi", "omega_eps", "energy", "base_curvature", "t")
+#: The dimensionless fields kept beside a bed's SI ones: the state's lengths and angle (as
+#: ``scaled_<name>``, in the solved, mirrored frame), the rest under their own names.
+BED_SCALED = ("tip_height", "tip_deflection", "tip_displacement", "tip_angle")
+_BED_DIMENSIONLESS = ("xi", "omega_eps", "energy", "base_curvature", "t", "n_roots")
 
-#: SI sweep of a bed (:func:`hairbed.sweeps.bed_sweep`): name -> (units, long_name).
+#: SI sweep of a bed (:func:`hairbed.sweeps.bed_sweep`): name -> (units, long_name). Every
+#: field of a HairState (``velocity`` the dimension), the solved base angle, then the
+#: dimensionless fields.
 BED_ATTRS: dict[str, tuple[str, str]] = {
-    "velocity": (SI["velocity"].units, SI["velocity"].long_name),
-    "omega2": ATTRS["omega2"],
+    **{k: (SI[k].units, SI[k].long_name) for k in ("velocity", "omega2")},
     "theta0": ("rad", "base angle of the solved problem, sign(v) theta0 (mirrored for v < 0)"),
-    **{
-        k: (SI[k].units, SI[k].long_name)
-        for k in ("direction", *_BED_SI, "wall_shear_stress", "force_per_hair", "stress_ratio")
-    },
-    **{f"scaled_{k}": (ATTRS[k][0], ATTRS[k][1] + _MIRRORED) for k in _BED_SCALED},
-    **{k: ATTRS[k] for k in (*_BED_DIMENSIONLESS, "n_roots", "physical", "status")},
+    **{k: (SI[k].units, SI[k].long_name) for k in names(SI) if k not in ("velocity", "omega2")},
+    **{f"scaled_{k}": (ATTRS[k][0], ATTRS[k][1] + _MIRRORED) for k in BED_SCALED},
+    **{k: ATTRS[k] for k in (*_BED_DIMENSIONLESS, "physical", "status")},
 }
 #: Coordinates of a bed's sweep besides ``velocity``, and its data variables, in order.
 BED_COORDS = ("omega2", "theta0", "direction")

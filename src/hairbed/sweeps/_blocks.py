@@ -17,7 +17,8 @@ from numpy.typing import NDArray
 from .._core.solver import _solve_arrays
 from .._core.validation import check_int
 from .._optional import optional_import
-from ._attributes import BED_COORDS, BED_VARIABLES, DIMS, INTEGER, VARIABLES
+from .._variables import SI
+from ._attributes import BED_COORDS, BED_SCALED, BED_VARIABLES, DIMS, INTEGER, VARIABLES
 from ._progress import Progress
 
 
@@ -81,24 +82,13 @@ def bed_block(
         progress.start()
     st = bed.deform(np.asarray(v, dtype=np.float64), root=root)
     sol = st.solution
-    direction = np.asarray(st.direction, dtype=np.float64)
-    values = {
-        "omega2": st.omega2,
-        "theta0": sol.theta0,
-        "direction": direction,
-        "tip_deflection": st.tip_deflection,
-        "tip_displacement": direction * bed.length * np.asarray(sol.tip_displacement),
-        "tip_height": st.tip_height,
-        "tip_angle": st.tip_angle,
-        "wall_shear_stress": st.wall_shear_stress,
-        "force_per_hair": st.force_per_hair,
-        "stress_ratio": st.stress_ratio,
-    }
-    for k in ("tip_height", "tip_deflection", "tip_displacement", "tip_angle"):
+    values = {k: getattr(st, k) for k in SI if k != "velocity"}
+    values["theta0"] = sol.theta0
+    for k in BED_SCALED:
         values[f"scaled_{k}"] = getattr(sol, k)
-    for k in ("xi", "omega_eps", "energy", "base_curvature", "t", "n_roots", "physical"):
-        values[k] = getattr(sol, k)
-    values["status"] = sol.status
+    for k in BED_VARIABLES:  # the dimensionless fields under their own names
+        if k not in values:
+            values[k] = getattr(sol, k)
     names = (*BED_COORDS, *BED_VARIABLES)
     out = np.empty((len(names), v.size))
     for row, name in enumerate(names):

@@ -169,9 +169,11 @@ def bed_sweep(
     -------
     xarray.Dataset
         Coordinates ``velocity`` [m s-1], ``omega2``, ``theta0`` (sign(v) times the base
-        angle: the problem solved) and ``direction``; data variables tip deflection,
-        displacement and height [m], tip angle [rad], wall shear stress [Pa], force per
-        hair [N], the stress ratio H/(H - h1 L), and the dimensionless fields beside them
+        angle: the problem solved) and ``direction``; data variables every other
+        :class:`~hairbed.units.HairState` field (tip deflection, height and displacement
+        [m], tip angle [rad], wall shear stress [Pa], force per hair [N], the stress ratio
+        H/(H - h1 L), the gap's Reynolds number, NaN without a fluid density), and the
+        dimensionless fields beside them
         (``scaled_tip_height`` ... in units of L, ``xi``, ``omega_eps``, ``energy``,
         ``base_curvature``, ``t``, ``n_roots``, ``physical``, ``status``); the bed's
         parameters in the attributes. Values are bitwise those of ``bed.deform``.
