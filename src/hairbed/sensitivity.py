@@ -39,7 +39,7 @@ derivatives come from the weak-forcing series of the kernels, differentiated exa
 (elementwise ufuncs over whole arrays), not the kernels' R_F, R_D, K, E, which are scalar
 functions callable only from compiled loops; both agree with mpmath to a few ulps.
 
-Accuracy: within 1.4e-14 relative of mpmath (in most cases 3e-15) on every output, input and
+Accuracy: within 1.3e-14 relative of mpmath (in most cases 3e-15) on every output, input and
 branch tested, from omega^2 = 1e-13 to 1e8, leaning both ways, including the derivatives that
 vanish to first order at theta0 = 0 and those of xi and of the tip angle (of the order of
 1 - xi) at strong forcing (tests/test_sensitivity.py); omega2 = 0 itself is exact (the limits
