@@ -78,3 +78,22 @@ def test_the_docs_extra_installs_every_sphinx_extension():
     providers = {"sphinx": "sphinx", "myst_parser": "myst-parser", "sphinxarg": "sphinx-argparse"}
     assert used <= set(providers), used - set(providers)
     assert {providers[u] for u in used} <= _requirement_names("docs")
+
+
+def test_the_cli_page_has_every_command():
+    """docs/api/cli.rst renders ``docs/cli_parser.parser()``: hairbed.cli.build_parser with
+    hand-laid text (indented examples) as literal blocks, every command with its help."""
+    import argparse
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("cli_parser", ROOT / "docs" / "cli_parser.py")
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    parser = module.parser()
+    (sub,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    assert {"solve", "sweep", "invert", "explore", "calibrate", "measure"} <= set(sub.choices)
+    for name, command in sub.choices.items():
+        for text in (command.description, command.epilog):
+            if text and "\n " in text:  # indented lines survive only inside a literal block
+                assert text.startswith(".. code-block:: text\n\n"), name
