@@ -226,3 +226,41 @@ def test_scan_no_silent_non_finite(branch: dict) -> None:
             assert not np.any(bad), (o, p, int(np.count_nonzero(bad)), where)
     for p in INPUTS:
         assert np.all(np.isfinite(d.dt[p])[ok]), p
+
+
+@pytest.mark.parametrize(
+    "branch",
+    [{}, {"sign": -1}, {"n": 1}, {"sign": -1, "n": 1}],
+    ids=["physical", "s-1", "n1", "both"],
+)
+def test_tip_angle_at_strong_forcing(branch: dict) -> None:
+    """The tip angle's derivatives ~ sqrt(1 - xi) ~ exp(-t/2) are normal doubles up to t = 1416,
+    while 1 - xi = (1 - sin theta0) expit(-t) underflows at t = 745: they must not vanish.
+
+    Reference: the tip angle's distance to +-pi/2 is delta = 2 arcsin(sqrt(p)),
+    p = Y expit(-t), Y = (1 - sin theta0)/2, so that delta_t = -sqrt(Y) exp(-t/2) and
+    delta_theta0 = -cos(theta0) exp(-t/2)/(2 sqrt(Y)) at fixed t (to relative O(exp(-t))),
+    and dt/d(omega2, eps, theta0) from central differences of omega2(t, eps, theta0).
+    """
+    e, th = 0.5, 0.3
+    y = (1.0 - np.sin(th)) / 2.0
+
+    def w2(t: float, ee: float, tth: float) -> float:
+        return float(hairbed.from_parameter(t, ee, tth, **branch).omega2)
+
+    for t in (600.0, 720.0, 800.0, 1200.0):
+        d = derivatives_at(hairbed.from_parameter(t, e, th, **branch))
+        assert d.success
+        h = 1e-4  # truncation ~1e-9, rounding ~1e-16 t/h ~ 1e-9 relative
+        w_t = (w2(t + h, e, th) - w2(t - h, e, th)) / (2 * h)
+        w_e = (w2(t, e + h, th) - w2(t, e - h, th)) / (2 * h)
+        w_th = (w2(t, e, th + h) - w2(t, e, th - h)) / (2 * h)
+        dt = {"omega2": 1.0 / w_t, "eps": -w_e / w_t, "theta0": -w_th / w_t}
+        delta_t = -np.sqrt(y) * np.exp(-t / 2)
+        delta_th = -np.cos(th) * np.exp(-t / 2) / (2.0 * np.sqrt(y))
+        for name in INPUTS:
+            ref = delta_t * dt[name] + (delta_th if name == "theta0" else 0.0)
+            assert abs(d["tip_angle"][name]) == pytest.approx(abs(ref), rel=1e-7, abs=0.0), (
+                t,
+                name,
+            )

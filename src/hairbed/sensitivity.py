@@ -164,6 +164,19 @@ class Derivatives(Mapping[str, Mapping[str, Any]]):
         }
 
 
+def _logistic(t: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """expit(t), expit(-t), ln expit(-t) and sqrt(expit(-t)), the last three at any t.
+
+    expit(-t) = 2 p/(1 - sin theta0) is subnormal from t = 708 (scipy's expit flushes it to 0
+    there) and 0 from t = 745, while its square root, which the tip angle's derivatives carry
+    (sqrt(1 - xi^2) = 2 sqrt(p mu)), stays normal up to t = 1416: both come from the logarithm.
+    """
+    lqc = special.log_expit(-t)
+    qc = np.where(t < 700.0, special.expit(-t), np.exp(lqc))
+    sqrt_qc = np.where(t < 700.0, np.sqrt(qc), np.exp(0.5 * lqc))
+    return special.expit(t), qc, lqc, sqrt_qc
+
+
 def _partials(
     t: FloatArray, theta0: FloatArray, sign: int, n: int, sol: Solution
 ) -> tuple[FloatArray, dict[str, FloatArray], dict[str, FloatArray]]:
@@ -177,8 +190,7 @@ def _partials(
     # 1 -+ sin(theta0) without cancellation near +-pi/2 (as the kernels)
     oms = 2.0 * np.sin(0.5 * (0.5 * np.pi - theta0)) ** 2
     ops = 2.0 * np.sin(0.5 * (0.5 * np.pi + theta0)) ** 2
-    q = special.expit(t)
-    qc = special.expit(-t)
+    q, qc, _, sqrt_qc = _logistic(t)
     d = oms * q  # xi - sin(theta0)
     p = 0.5 * oms * qc  # (1 - xi)/2
     mu = 1.0 - p
@@ -233,9 +245,9 @@ def _partials(
         dnum = odd * (dk - 2.0 * de) - sign * (dv0 - 2.0 * de0)  # d (x1 omega_eps)
         dx1 = (dnum - x1 * doe) / oe
         if key == "t":
-            dangle = q * np.sqrt(p / mu)
+            dangle = q * np.sqrt(0.5 * oms / mu) * sqrt_qc
         else:
-            dangle = np.sqrt(ops * qc / two_mu)
+            dangle = np.sqrt(ops / two_mu) * sqrt_qc
         out["xi"] = dxi
         out["omega_eps"] = doe
         out["energy"] = dxi * oe * oe + 2.0 * xi * oe * doe
@@ -316,9 +328,7 @@ def _physical_partials(
     c = np.cos(theta0)
     oms = 2.0 * np.sin(0.5 * (0.5 * np.pi - theta0)) ** 2  # 1 - sin(theta0)
     ops = 2.0 * np.sin(0.5 * (0.5 * np.pi + theta0)) ** 2  # 1 + sin(theta0)
-    q = special.expit(t)
-    lqc = special.log_expit(-t)
-    qc = np.where(t < 700.0, special.expit(-t), np.exp(lqc))  # expit flushes to 0 at t > 709
+    q, qc, lqc, sqrt_qc = _logistic(t)
     d = oms * q  # xi - sin(theta0)
     p = 0.5 * oms * qc  # (1 - xi)/2 (its underflow at t > 745 is harmless below)
     two_mu = ops + d
@@ -329,8 +339,6 @@ def _physical_partials(
     xi = np.asarray(sol.xi, dtype=np.float64)
     f, g, f_q, f_s, g_q, g_s = _arc_integrals(sn0_2, qc, lqc)
     w = g / f
-    # sqrt(qc) = sqrt(p/Y) from ln qc where qc is subnormal or 0 (t > 690) but its root is not
-    sqrt_qc = np.where(qc > 1e-300, np.sqrt(qc), np.exp(0.5 * lqc))
     # d/dt and d/dtheta0 at fixed t
     dln_qc = {"t": -q, "th": 0.0 * q}
     dln_sn0_2 = {"t": -2.0 * p * q / two_mu, "th": 2.0 * c * q / (ops * two_mu)}
