@@ -314,13 +314,20 @@ TARGETS: list[Target] = [
     Target(
         "numerics.shooting",
         numerics.shooting,
-        dict(omega2=2.0, eps=0.5, theta0=0.1, base_curvature=None, tol=1e-8, maxiter=20, num=5),
+        dict(omega2=2.0, eps=0.5, theta0=0.1, guess=None, rtol=1e-8, maxiter=20, num=5),
     ),
     Target(
         "numerics.collocation",
         numerics.collocation,
         dict(
-            omega2=2.0, eps=0.5, theta0=0.1, tol=1e-6, guess=None, nodes=11, max_nodes=2000, num=5
+            omega2=2.0,
+            eps=0.5,
+            theta0=0.1,
+            rtol=1e-6,
+            guess=None,
+            num_nodes=11,
+            max_nodes=2000,
+            num=5,
         ),
     ),
     # quasi-static sweeps, rheology

@@ -47,8 +47,8 @@ ROWS = [
         r"num must be an integer >= 2 and <= 10000000, got nan",
     ),
     (
-        "collocation nodes=None",
-        lambda: numerics.collocation(2, 0.5, nodes=None),
+        "collocation num_nodes=None",
+        lambda: numerics.collocation(2, 0.5, num_nodes=None),
         ValueError,
         r"nodes must be an integer >= 3 and <= 1000000, got None",
     ),
@@ -384,7 +384,7 @@ ROWS = [
     ),
     (
         "shooting tol",
-        lambda: numerics.shooting(2, 0.5, tol=float("nan")),
+        lambda: numerics.shooting(2, 0.5, rtol=float("nan")),
         ValueError,
         r"tol must be finite",
     ),
@@ -396,9 +396,9 @@ ROWS = [
     ),
     (
         "shooting base_curvature",
-        lambda: numerics.shooting(2, 0.5, base_curvature=1e5),
+        lambda: numerics.shooting(2, 0.5, guess=1e5),
         ValueError,
-        r"base_curvature must lie in \[-1000, 1000\], got 100000\.0",
+        r"guess must lie in \[-1000, 1000\], got 100000\.0",
     ),
     (
         "shooting omega2",
@@ -408,13 +408,13 @@ ROWS = [
     ),
     (
         "collocation tol",
-        lambda: numerics.collocation(2, 0.5, tol=1e-20),
+        lambda: numerics.collocation(2, 0.5, rtol=1e-20),
         ValueError,
         r"tol must lie in \[2\.22\d*e-14, 1\]",
     ),
     (
         "collocation nodes > max_nodes",
-        lambda: numerics.collocation(2, 0.5, nodes=50, max_nodes=40),
+        lambda: numerics.collocation(2, 0.5, num_nodes=50, max_nodes=40),
         ValueError,
         r"nodes must not exceed max_nodes = 40, got 50",
     ),

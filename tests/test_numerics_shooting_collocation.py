@@ -67,7 +67,7 @@ def test_shooting_reports_ill_conditioning():
 
 def test_shooting_newton_start_reaches_twirling_branch():
     # Newton from a base curvature well below the physical one finds the n = 1 branch.
-    res = shooting(20.0, 0.5, base_curvature=3.0)
+    res = shooting(20.0, 0.5, guess=3.0)
     assert res.success
     twin = hairbed.solve(20.0, 0.5, sign=res.sign, n=res.n)
     assert (res.sign, res.n) == (1, 1)

@@ -123,7 +123,7 @@ def test_collocation_counts_its_evaluations_and_keeps_solve_bvps_code():
 
     ok = collocation(2.0, 0.5)
     assert ok.status == 0 and ok.solver_status == 0 and ok.nfev > ok.nit > 0
-    tight = collocation(200.0, 0.5, max_nodes=5, nodes=5)
+    tight = collocation(200.0, 0.5, max_nodes=5, num_nodes=5)
     assert tight.solver_status == 1 and tight.status == -2 and not tight.success
 
 
@@ -144,3 +144,34 @@ def test_one_scalar_parameter_check(call, message):
     share validation.check_scalar_inputs, which names only the inputs the caller takes."""
     with pytest.raises(ValueError, match=message):
         call()
+
+
+# -- deprecated names (issue 22 item 7): each old keyword still works, warns, names the new --
+
+
+@pytest.mark.parametrize(
+    ("call", "old", "new"),
+    [
+        (lambda kw: hairbed.numerics.shooting(2.0, 0.5, **kw), {"tol": 1e-9}, {"rtol": 1e-9}),
+        (
+            lambda kw: hairbed.numerics.shooting(20.0, 0.5, **kw),
+            {"base_curvature": 3.0},
+            {"guess": 3.0},
+        ),
+        (lambda kw: hairbed.numerics.collocation(2.0, 0.5, **kw), {"tol": 1e-7}, {"rtol": 1e-7}),
+        (
+            lambda kw: hairbed.numerics.collocation(2.0, 0.5, **kw),
+            {"nodes": 11},
+            {"num_nodes": 11},
+        ),
+    ],
+)
+def test_a_renamed_parameter_keeps_working_and_names_the_new_one(call, old, new):
+    ((old_name, _),) = old.items()
+    ((new_name, _),) = new.items()
+    with pytest.warns(FutureWarning, match=f"'{old_name}' is deprecated.*use '{new_name}'"):
+        by_old = call(old)
+    by_new = call(new)
+    assert by_old.tip_height == by_new.tip_height and by_old.nit == by_new.nit
+    with pytest.raises(TypeError, match=f"give '{new_name}' only"):
+        call({**old, **new})

@@ -1,8 +1,16 @@
-"""Warnings of the lab layer: where the model's assumptions fail (no numerics here)."""
+"""Warnings of the lab layer: where the model's assumptions fail (no numerics here), and the
+deprecation of renamed parameters."""
 
 from __future__ import annotations
 
-__all__ = ["ModelValidityWarning", "UnitsWarning"]
+import functools
+import warnings
+from collections.abc import Callable
+from typing import Any, TypeVar, cast
+
+__all__ = ["ModelValidityWarning", "UnitsWarning", "renamed_parameters"]
+
+_F = TypeVar("_F", bound=Callable[..., Any])
 
 
 class ModelValidityWarning(UserWarning):
@@ -25,3 +33,35 @@ class UnitsWarning(UserWarning):
     ``warnings.simplefilter("ignore", hairbed.UnitsWarning)``, or pass pint quantities
     (``ureg.Quantity(500, "um")``), which are converted to SI.
     """
+
+
+def renamed_parameters(**renames: str) -> Callable[[_F], _F]:
+    """Keep a function's old keyword names working while they are deprecated.
+
+    Each ``old="new"`` maps a call with ``old=...`` to ``new=...`` and issues a FutureWarning
+    that names the new name (pvlib's ``renamed_kwarg_warning``); passing both is a TypeError.
+    The nomenclature these serve is the table in CONTRIBUTING.md.
+    """
+
+    def decorate(func: _F) -> _F:
+        @functools.wraps(func)
+        def wrapper(*args: Any, **kwargs: Any) -> Any:
+            for old, new in renames.items():
+                if old in kwargs:
+                    if new in kwargs:
+                        raise TypeError(
+                            f"{func.__name__}() got {old!r} (deprecated) and {new!r}: give "
+                            f"{new!r} only"
+                        )
+                    warnings.warn(
+                        f"{func.__name__}(): the parameter {old!r} is deprecated and will be "
+                        f"removed; use {new!r}",
+                        FutureWarning,
+                        stacklevel=2,
+                    )
+                    kwargs[new] = kwargs.pop(old)
+            return func(*args, **kwargs)
+
+        return cast(_F, wrapper)
+
+    return decorate

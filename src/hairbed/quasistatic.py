@@ -24,8 +24,8 @@ from numpy.typing import NDArray
 
 from ._bracketing import find_root
 from ._core.solution import Solution
-from ._core.solver import fold_parameters, from_parameter, solve
-from ._core.validation import _first_index, as_float_array, check_choice, check_inputs
+from ._core.solver import _from_parameter, _solve_checked, fold_parameters
+from ._core.validation import _first_index, as_float_array, check_choice, check_scalar_inputs
 
 __all__ = ["QuasistaticSweep", "sweep", "sweep_with_jumps"]
 
@@ -66,7 +66,7 @@ class QuasistaticSweep:
 
 
 def _omega2(t: NDArray[np.float64], eps: float, theta0: float) -> NDArray[np.float64]:
-    return np.asarray(from_parameter(t, eps, theta0).omega2, dtype=np.float64)
+    return np.asarray(_from_parameter(t, eps, theta0).omega2, dtype=np.float64)
 
 
 def _stable_pieces(
@@ -153,11 +153,8 @@ def sweep_with_jumps(
         raise ValueError(
             f"omega2_path must lie in [0, inf), got {float(path[bad][0])!r}{_first_index(bad)}"
         )
-    _, e, th = check_inputs(0.0, eps, theta0)
-    if e.ndim or th.ndim:
-        raise ValueError("eps and theta0 must be scalars")
+    _, eps, theta0 = check_scalar_inputs(eps=eps, theta0=theta0, given=("eps", "theta0"))
     start = check_choice(start, "start", ("low", "high"))
-    eps, theta0 = float(e), float(th)
 
     t_lo, t_hi, w_lo, w_hi = _stable_pieces(eps, theta0)
     piece = _choose_pieces(path, w_lo, w_hi, start)
@@ -184,8 +181,10 @@ def sweep_with_jumps(
     jumps = np.nonzero(piece[1:] != piece[:-1])[0] + 1
     # from_parameter knows the state, not how many others share its omega^2: count them as
     # solve does (the branch's roots at each omega^2 of the path)
-    n_roots = np.asarray(solve(path, eps, theta0).n_roots, dtype=np.int64).reshape(path.shape)
-    sol = replace(from_parameter(t, eps, theta0), n_roots=n_roots)
+    n_roots = np.asarray(_solve_checked(path, eps, theta0).n_roots, dtype=np.int64).reshape(
+        path.shape
+    )
+    sol = replace(_from_parameter(t, eps, theta0), n_roots=n_roots)
     direction = np.zeros(path.shape, dtype=np.int64)
     direction[1:] = np.sign(np.diff(path)).astype(np.int64)
     jumped = np.zeros(path.shape, dtype=bool)

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._core.outputs import float_or_array
-from ._core.solver import solve
+from ._core.solver import _solve_checked
 from ._core.validation import check_inputs, check_root
 
 __all__ = [
@@ -65,10 +65,15 @@ def stress_ratio(omega2: Any, eps: Any, theta0: Any = 0.0, *, root: str = "low")
     >>> round(stress_ratio(2.0, 0.5), 6)  # theory.md §3: h1 = 0.732706963462228
     1.578167
     """
-    check_root(root)
+    root = check_root(root)
     w, e, th = check_inputs(omega2, eps, theta0)
-    h1 = np.asarray(solve(w, e, th, root=root).tip_height, dtype=np.float64)
-    return float_or_array(1.0 / (1.0 - e * h1))
+    return float_or_array(_stress_ratio(w, e, th, root))
+
+
+def _stress_ratio(omega2: Any, eps: Any, theta0: Any, root: str) -> Any:
+    """:func:`stress_ratio` of checked inputs, trusted."""
+    h1 = np.asarray(_solve_checked(omega2, eps, theta0, root=root).tip_height, dtype=np.float64)
+    return 1.0 / (1.0 - eps * h1)
 
 
 def rest_stress_ratio(eps: Any, theta0: Any = 0.0) -> FloatOrArray:
@@ -105,8 +110,8 @@ def rectification_ratio(omega2: Any, eps: Any, theta0: Any, *, root: str = "low"
     >>> bool(rectification_ratio(1.0, 0.5, 0.3) > 1.0)
     True
     """
-    check_root(root)
+    root = check_root(root)
     w, e, th = check_inputs(omega2, eps, theta0)
-    against = np.asarray(stress_ratio(w, e, -th, root=root))
-    with_grain = np.asarray(stress_ratio(w, e, th, root=root))
+    against = np.asarray(_stress_ratio(w, e, -th, root))
+    with_grain = np.asarray(_stress_ratio(w, e, th, root))
     return float_or_array(against / with_grain)

@@ -10,6 +10,7 @@ from numpy.typing import NDArray
 from scipy.integrate import solve_bvp
 
 from .._core.validation import check_int, check_number, node_values
+from .._warnings import renamed_parameters
 from ._result import NumericalResult, branch_label, scalar_inputs
 
 __all__ = ["collocation"]
@@ -80,14 +81,15 @@ def _bc_jacobian(
 _BVP_STATUS = {0: 0, 1: -2, 2: -3, 3: -2}
 
 
+@renamed_parameters(tol="rtol", nodes="num_nodes")
 def collocation(
     omega2: float,
     eps: float,
     theta0: float = 0.0,
     *,
-    tol: float = 1e-8,
+    rtol: float = 1e-8,
     guess: float | Callable[[FloatArray], Any] | None = None,
-    nodes: int = 21,
+    num_nodes: int = 21,
     max_nodes: int = 20_000,
     num: int = 201,
 ) -> NumericalResult:
@@ -98,7 +100,7 @@ def collocation(
     so omega_eps^2 = omega^2 / (1 - eps h1) (eq. (5)) is a constant of the system. Five
     boundary conditions fix four components and the parameter: theta(0) = theta0, z(0) = 0,
     x(0) = 0, theta'(1) = 0 and z(1) = h1. ``solve_bvp`` (fourth-order collocation, Lobatto
-    IIIA) refines its mesh until the relative residual is below ``tol``; the exact Jacobians
+    IIIA) refines its mesh until the relative residual is below ``rtol``; the exact Jacobians
     of the system and the boundary conditions are supplied.
 
     Parameters
@@ -109,17 +111,18 @@ def collocation(
         Confinement eps = L/H [-], in [0, 1).
     theta0 : float, optional
         Base angle [rad], in (-pi/2, pi/2).
-    tol : float, optional
+    rtol : float, optional
         ``solve_bvp`` tolerance on the relative collocation residual, in [2.2e-14, 1]; tip
-        values are then accurate to about this.
+        values are then accurate to about this (``tol`` is its deprecated old name).
     guess : float or callable, optional
         Starting theta [rad] at the initial nodes, or a function of sigma giving it. Default: a
         monotone rise from theta0 with a base boundary layer of width 1/omega (see
         ``_default_guess``; from theta = const solve_bvp fails or twirls at strong forcing). The
         starting theta' is its finite-difference slope, z and x its quadratures and h1 = z(1).
         Twirling guesses can reach non-physical branches; ``sign`` and ``n`` say which.
-    nodes : int, optional
-        Number of equally spaced initial mesh nodes, in [3, max_nodes].
+    num_nodes : int, optional
+        Number of equally spaced initial mesh nodes, in [3, max_nodes] (``nodes`` is its
+        deprecated old name).
     max_nodes : int, optional
         Mesh size limit passed to ``solve_bvp``, in [3, ``MAX_NODES`` = 10^6].
     num : int, optional
@@ -149,17 +152,17 @@ def collocation(
     0.73270696
     """
     omega2, eps, theta0 = scalar_inputs(omega2, eps, theta0)
-    tol = check_number(tol, "tol", low=_TOL_MIN, high=1.0)
+    rtol = check_number(rtol, "rtol", low=_TOL_MIN, high=1.0)
     max_nodes = check_int(max_nodes, "max_nodes", 3, MAX_NODES)
-    nodes = check_int(nodes, "nodes", 3, MAX_NODES)
-    if nodes > max_nodes:
-        raise ValueError(f"nodes must not exceed max_nodes = {max_nodes}, got {nodes}")
+    num_nodes = check_int(num_nodes, "num_nodes", 3, MAX_NODES)
+    if num_nodes > max_nodes:
+        raise ValueError(f"num_nodes must not exceed max_nodes = {max_nodes}, got {num_nodes}")
     num = check_int(num, "num", 3, MAX_NODES)
 
     def bc(ya: FloatArray, yb: FloatArray, p: FloatArray) -> FloatArray:
         return np.array([ya[0] - theta0, ya[2], ya[3], yb[1], yb[2] - p[0]])
 
-    mesh = np.linspace(0.0, 1.0, nodes)
+    mesh = np.linspace(0.0, 1.0, num_nodes)
     if guess is None:
         guess = _default_guess(omega2, theta0)
     th = node_values(guess, "guess", mesh)
@@ -185,7 +188,7 @@ def collocation(
         p=np.array([z[-1]]),
         fun_jac=_jacobian(omega2, eps),
         bc_jac=_bc_jacobian,
-        tol=tol,
+        tol=rtol,
         max_nodes=int(max_nodes),
     )
 

@@ -11,6 +11,7 @@ from scipy.integrate import solve_ivp
 
 from .._bracketing import find_root
 from .._core.validation import check_int, check_number, check_positive
+from .._warnings import renamed_parameters
 from ._result import NumericalResult, branch_label, scalar_inputs
 
 __all__ = ["shooting"]
@@ -159,13 +160,14 @@ def _newton(
     return c, -2, f"iteration limit reached ({maxiter} Newton steps)", maxiter
 
 
+@renamed_parameters(base_curvature="guess", tol="rtol")
 def shooting(
     omega2: float,
     eps: float,
     theta0: float = 0.0,
     *,
-    base_curvature: float | None = None,
-    tol: float = 1e-10,
+    guess: float | None = None,
+    rtol: float = 1e-10,
     maxiter: int = 50,
     num: int = 201,
 ) -> NumericalResult:
@@ -178,7 +180,7 @@ def shooting(
     theta'(0) = omega_eps^2 h1, eq. (29)). The base curvature is adjusted until
     theta'(1) = 0:
 
-    * ``base_curvature=None``: the physical root, bracketed as the largest root below the
+    * ``guess=None``: the physical root, bracketed as the largest root below the
       separatrix (beyond which the hair rotates over the top), then the package's bracketed
       root search (``scipy.optimize.elementwise.find_root``, Chandrupatla's method).
     * a number: Newton's method from there, with the derivative from the variational
@@ -199,12 +201,13 @@ def shooting(
         Confinement eps = L/H [-], in [0, 1).
     theta0 : float, optional
         Base angle [rad], in (-pi/2, pi/2).
-    base_curvature : float, optional
-        Starting value of theta'(0) [-] for Newton's method, in [-1000, 1000] (a hair
-        twirling ~10 times; beyond, each integration takes minutes); default: bracket the
-        physical root.
-    tol : float, optional
-        Newton convergence tolerance on abs(theta'(1)) relative to max(1, abs(theta'(0))).
+    guess : float, optional
+        Starting value of the base curvature theta'(0) [-] for Newton's method, in
+        [-1000, 1000] (a hair twirling ~10 times; beyond, each integration takes minutes);
+        default: bracket the physical root. ``base_curvature`` is its deprecated old name.
+    rtol : float, optional
+        Newton convergence tolerance on abs(theta'(1)) relative to max(1, abs(theta'(0)))
+        (``tol`` is its deprecated old name).
     maxiter : int, optional
         Newton iteration limit, in [1, 10^6].
     num : int, optional
@@ -219,7 +222,7 @@ def shooting(
     Raises
     ------
     ValueError
-        If an input is out of range or not a scalar, or ``base_curvature`` is not finite.
+        If an input is out of range or not a scalar, or ``guess`` is not finite.
 
     Examples
     --------
@@ -237,20 +240,18 @@ def shooting(
             f"theta'(0) turns at the tip; hairbed.solve is exact at any forcing), got {omega2!r}"
         )
     num = check_int(num, "num", 3, MAX_POINTS)
-    if base_curvature is not None:
-        base_curvature = check_number(
-            base_curvature, "base_curvature", low=-MAX_CURVATURE, high=MAX_CURVATURE
-        )
-    tol = check_positive(tol, "tol")
+    if guess is not None:
+        guess = check_number(guess, "guess", low=-MAX_CURVATURE, high=MAX_CURVATURE)
+    rtol = check_positive(rtol, "rtol")
     maxiter = check_int(maxiter, "maxiter", 1, MAX_ITER)
     shooter = _Shooter(omega2, eps, theta0)
     c_lo, c_hi = _separatrix_bounds(omega2, eps, theta0)
 
-    if omega2 == 0.0 and base_curvature is None:
+    if omega2 == 0.0 and guess is None:
         c, status, message, iterations = 0.0, 0, "converged: no forcing, straight hair", 0
-    elif base_curvature is not None:
+    elif guess is not None:
         c, status, message, iterations = _newton(
-            shooter, float(base_curvature), c_lo, c_hi, tol, int(maxiter)
+            shooter, float(guess), c_lo, c_hi, rtol, int(maxiter)
         )
     else:
         bracket = _bracket_physical(shooter, c_hi)
