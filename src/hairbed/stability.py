@@ -128,6 +128,10 @@ class Equilibrium:
     nit: int
 
 
+#: Newton's defaults in :func:`equilibrium` and the classification of :func:`linear_stability`.
+_XTOL, _MAXITER = 1e-12, 50
+
+
 def equilibrium(
     omega2: float,
     eps: float,
@@ -135,8 +139,8 @@ def equilibrium(
     guess: FloatArray | Callable[[FloatArray], Any],
     num: int = 100,
     *,
-    xtol: float = 1e-12,
-    maxiter: int = 50,
+    xtol: float = _XTOL,
+    maxiter: int = _MAXITER,
 ) -> Equilibrium:
     """The static state of the discretised problem nearest a guess (Newton's method).
 
@@ -173,7 +177,13 @@ def equilibrium(
     xtol = check_positive(xtol, "xtol", "rad")
     maxiter = check_int(maxiter, "maxiter", 1, MAX_ITER)
     u = _initial(guess, num, "guess")[1:]
-    op = HairOperator(omega2, eps, theta0, num)
+    return _equilibrium(HairOperator(omega2, eps, theta0, num), u, xtol, maxiter)
+
+
+def _equilibrium(op: HairOperator, u: FloatArray, xtol: float, maxiter: int) -> Equilibrium:
+    """:func:`equilibrium` of checked inputs (the discretisation ``op``, theta at the nodes
+    after the base ``u``), trusted: the loop of :func:`linear_stability` calls this one."""
+    num, theta0 = op.num, op.theta0
     status, message, nit = -2, f"iteration limit reached ({maxiter} Newton steps)", maxiter
     for it in range(1, int(maxiter) + 1):
         du = op.newton_step(u, op.residual(u))
@@ -314,11 +324,12 @@ def linear_stability(solution: Any, num: int = 100, k: int = 4) -> Stability:
         if not (np.isfinite(omega2[idx]) and np.all(np.isfinite(prof))):
             continue
         w, e, t0 = float(omega2[idx]), float(eps[idx]), float(theta0[idx])
-        eq = equilibrium(w, e, t0, prof, num)
+        op = HairOperator(w, e, t0, num)
+        eq = _equilibrium(op, np.array(prof[1:], dtype=np.float64), _XTOL, _MAXITER)
         if not eq.success:
             status[idx] = eq.status  # -2 or -3: the discrete equilibrium near it failed
             continue
-        lam = np.linalg.eigvals(HairOperator(w, e, t0, num).rhs_jacobian(eq.theta[1:]))
+        lam = np.linalg.eigvals(op.rhs_jacobian(eq.theta[1:]))
         lam = lam[np.argsort(-lam.real)]
         stable[idx] = bool(lam[0].real < 0.0)
         growth[idx] = lam[0].real
