@@ -112,6 +112,9 @@ def rectification_ratio(omega2: Any, eps: Any, theta0: Any, *, root: str = "low"
     """
     root = check_root(root)
     w, e, th = check_inputs(omega2, eps, theta0)
-    against = np.asarray(_stress_ratio(w, e, -th, root))
-    with_grain = np.asarray(_stress_ratio(w, e, th, root))
-    return float_or_array(against / with_grain)
+    return float_or_array(_rectification_ratio(w, e, th, root))
+
+
+def _rectification_ratio(omega2: Any, eps: Any, theta0: Any, root: str) -> Any:
+    """:func:`rectification_ratio` of checked inputs, trusted."""
+    return _stress_ratio(omega2, eps, -theta0, root) / _stress_ratio(omega2, eps, theta0, root)

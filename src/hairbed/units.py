@@ -536,10 +536,11 @@ class HairBed:
         See :func:`hairbed.rheology.rectification_ratio`; "with the grain" is flow towards +x
         (along a positive base angle).
         """
-        from .rheology import rectification_ratio
+        from .rheology import _rectification_ratio
 
-        omega2 = self._forcing(speed, "speed")[1]
-        return rectification_ratio(float_or_array(omega2), self.eps, self.base_angle, root=root)
+        root = check_root(root)
+        omega2 = self._forcing(speed, "speed")[1]  # checked: the bed's eps and angle are too
+        return float_or_array(_rectification_ratio(omega2, self.eps, self.base_angle, root))
 
     # -- inverse: tip deflection -> velocity (the sensor's calibration) -------------------------
 
@@ -617,10 +618,10 @@ class HairBed:
         :func:`hairbed.inverse.tip_deflection_slope`); the same line holds for v < 0. Compare
         with :meth:`velocity_from_tip_deflection` to see where it fails.
         """
-        from .inverse import tip_deflection_slope
+        from .inverse import _slope
 
         d = self._deflection(deflection)
-        slope = tip_deflection_slope(self.eps, self.base_angle)
+        slope = _slope(self.eps, self.base_angle)
         x1 = d / self.length - math.sin(self.base_angle)
         return float_or_array(x1 / slope * self.velocity_scale)
 
