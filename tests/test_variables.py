@@ -18,7 +18,7 @@ import pytest
 import hairbed
 from hairbed import _variables
 from hairbed._core._kernels import FIELDS
-from hairbed._variables import BED, GROUPS, SI, SOLUTION, Variable, cf_attrs, names
+from hairbed._variables import BED, BED_REQUIRED, GROUPS, SI, SOLUTION, Variable, cf_attrs, names
 from hairbed.units import HairBed, HairState
 
 #: Solution fields that no kernel writes: the inputs passed through, the branch label and
@@ -53,6 +53,12 @@ def test_the_table_names_exactly_the_kernel_fields():
 
 def test_the_bed_group_is_the_hairbed_fields_in_order():
     assert names(BED, "bed") == tuple(f.name for f in dataclasses.fields(HairBed))
+
+
+def test_the_required_bed_parameters_are_the_fields_without_a_default():
+    fields = dataclasses.fields(HairBed)
+    assert BED_REQUIRED == tuple(f.name for f in fields if f.default is dataclasses.MISSING)
+    assert set(BED_REQUIRED) <= set(names(BED, "bed"))
 
 
 def test_every_derived_bed_variable_is_a_hairbed_property():

@@ -35,6 +35,7 @@ from types import MappingProxyType
 
 __all__ = [
     "BED",
+    "BED_REQUIRED",
     "GROUPS",
     "SI",
     "SOLUTION",
@@ -287,6 +288,10 @@ BED: Mapping[str, Variable] = _table(
         "velocity scale", "m/s", "omega^2 = abs(v) / velocity_scale",
     ),
 )  # fmt: skip
+
+#: The bed parameters without a default: every bed needs them (and one of spacing and
+#: packing_fraction; base_angle defaults to 0, density to none).
+BED_REQUIRED = ("length", "radius", "youngs_modulus", "channel_height", "viscosity")
 
 #: A bed's state in SI units: the fields of :class:`hairbed.units.HairState` (all but the
 #: ``bed`` and ``solution`` objects) in its order.

@@ -28,7 +28,7 @@ from urllib.parse import parse_qsl, urlencode
 import numpy as np
 
 import hairbed
-from hairbed._variables import BED, SI, SOLUTION, names
+from hairbed._variables import BED, BED_REQUIRED, SI, SOLUTION, names
 
 __all__ = [
     "BED_KEYS",
@@ -218,10 +218,7 @@ def validate(raw: Mapping[str, str]) -> Params:
         return Params(
             float(w), float(e), float(th), y, si, twirl, raw=full, warnings=tuple(caught)
         )
-    bed_args: dict[str, Any] = {
-        k: _number(full[k])
-        for k in ("length", "radius", "youngs_modulus", "channel_height", "viscosity")
-    }
+    bed_args: dict[str, Any] = {k: _number(full[k]) for k in BED_REQUIRED}
     for k in ("spacing", "packing_fraction"):  # give exactly one: HairBed says so otherwise
         bed_args[k] = _number(full[k]) if full[k].strip() else None
     bed_args["base_angle"] = _number(full["theta0"])
