@@ -135,7 +135,7 @@ SOLUTION: Mapping[str, Variable] = _table(
         "sign", "branch", "1",
         "sign of the base curvature theta'(0) of the branch",
         "sign of theta'(0)", "",
-        "+1 on the physical branch; -1 on the branches that bend back first",
+        "+1 on the physical branch; a twirling branch may have either sign",
         "int64",
     ),
     _V(
