@@ -11,7 +11,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from hairbed._carlson_gradients import rd_gradient, rf_gradient
+from hairbed._carlson_gradients import rd_gradient, rf_gradient, rf_rd_gradient
 
 POINTS = [
     (0.3, 1.2, 2.0),
@@ -24,8 +24,22 @@ POINTS = [
 ]
 
 
+def _rf_of_both(x, y, z):
+    return rf_rd_gradient(x, y, z)[0]
+
+
+def _rd_of_both(x, y, z):
+    return rf_rd_gradient(x, y, z)[1]
+
+
 @pytest.mark.parametrize(
-    ("numpy_fn", "mp_fn"), [(rf_gradient, mp.elliprf), (rd_gradient, mp.elliprd)]
+    ("numpy_fn", "mp_fn"),
+    [
+        (rf_gradient, mp.elliprf),
+        (rd_gradient, mp.elliprd),
+        (_rf_of_both, mp.elliprf),  # one duplication for both: R_F takes R_D's extra steps
+        (_rd_of_both, mp.elliprd),
+    ],
 )
 def test_value_and_gradient_against_mpmath(numpy_fn, mp_fn) -> None:
     x, y, z = (np.array(a) for a in zip(*POINTS))

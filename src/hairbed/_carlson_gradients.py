@@ -40,7 +40,7 @@ from numpy.typing import NDArray
 
 from ._dual import Dual
 
-__all__ = ["rd_gradient", "rf_gradient"]
+__all__ = ["rd_gradient", "rf_gradient", "rf_rd_gradient"]
 
 FloatArray = NDArray[np.float64]
 Gradient = tuple[FloatArray, FloatArray, FloatArray]
@@ -70,30 +70,34 @@ def _converged(spread: FloatArray, m: int, a: FloatArray) -> bool:
         return bool(np.all(~(np.ldexp(spread, -2 * m) >= _SCALE * np.abs(a)) | (a == 0.0)))
 
 
-def rf_gradient(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray, Gradient]:
-    """R_F(x, y, z) and its partial derivatives (dR_F/dx, dR_F/dy, dR_F/dz).
+def _duplicate(
+    X: Dual, Y: Dual, Z: Dual, a0: tuple[Dual, ...]
+) -> tuple[int, list[Dual], Dual, float]:
+    """Carlson's duplication of (X, Y, Z), carrying the means A of ``a0`` along, until each
+    mean passes the convergence test for every element.
 
-    Parameters
-    ----------
-    x, y, z : ndarray
-        Non-negative, at most one of them zero (broadcast together); trusted, not checked.
-
-    Returns
-    -------
-    (ndarray, (ndarray, ndarray, ndarray))
-        The value and the gradient, each of the broadcast shape.
+    Returns (m, [A_m for each mean], sum_k 4^-k / (sqrt(z_k) (z_k + lambda_k)), 4^-m): the
+    sum is R_D's; the steps, shared by R_F and R_D, are done once for both.
     """
-    X, Y, Z = _seed(x, y, z)
-    A0 = (X + Y + Z) / 3.0
-    A = A0
-    spread = _spread(A0.value, (X.value, Y.value, Z.value))
+    spreads = [_spread(a.value, (X.value, Y.value, Z.value)) for a in a0]
+    means = list(a0)
     xm, ym, zm = X, Y, Z
+    total = 0.0 * X
+    fac = 1.0
     m = 0
-    while m < _MAX_STEPS and not _converged(spread, m, A.value):
+    while m < _MAX_STEPS and not all(_converged(sp, m, a.value) for sp, a in zip(spreads, means)):
         sx, sy, sz = xm.sqrt(), ym.sqrt(), zm.sqrt()
         lam = sx * sy + sy * sz + sz * sx
-        xm, ym, zm, A = (xm + lam) / 4.0, (ym + lam) / 4.0, (zm + lam) / 4.0, (A + lam) / 4.0
+        total = total + fac * (sz * (zm + lam)).reciprocal()
+        fac /= 4.0
+        xm, ym, zm = (xm + lam) / 4.0, (ym + lam) / 4.0, (zm + lam) / 4.0
+        means = [(a + lam) / 4.0 for a in means]
         m += 1
+    return m, means, total, fac
+
+
+def _rf_series(X: Dual, Y: Dual, A0: Dual, A: Dual, m: int) -> Dual:
+    """R_F from the mean A = A_m after m steps (DLMF 19.36.1)."""
     inv = A.reciprocal().ldexp(-2 * m)
     # (A0 - x0)/(4^m A_m): the exact small deviations, without the difference A_m - x_m
     dx, dy = (A0 - X) * inv, (A0 - Y) * inv
@@ -101,40 +105,11 @@ def rf_gradient(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray
     e2 = dx * dy - dz * dz
     e3 = dx * dy * dz
     series = 1.0 - e2 / 10.0 + e3 / 14.0 + (e2 * e2) / 24.0 - 3.0 * (e2 * e3) / 44.0
-    r = series * A.sqrt().reciprocal()
-    return r.a[0], (r.a[1], r.a[2], r.a[3])
+    return series * A.sqrt().reciprocal()
 
 
-def rd_gradient(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray, Gradient]:
-    """R_D(x, y, z) and its partial derivatives (dR_D/dx, dR_D/dy, dR_D/dz).
-
-    Parameters
-    ----------
-    x, y : ndarray
-        Non-negative, not both zero; trusted.
-    z : ndarray
-        Positive; trusted.
-
-    Returns
-    -------
-    (ndarray, (ndarray, ndarray, ndarray))
-        The value and the gradient, each of the broadcast shape.
-    """
-    X, Y, Z = _seed(x, y, z)
-    A0 = (X + Y + 3.0 * Z) / 5.0
-    A = A0
-    spread = _spread(A0.value, (X.value, Y.value, Z.value))
-    xm, ym, zm = X, Y, Z
-    total = 0.0 * X
-    fac = 1.0
-    m = 0
-    while m < _MAX_STEPS and not _converged(spread, m, A.value):
-        sx, sy, sz = xm.sqrt(), ym.sqrt(), zm.sqrt()
-        lam = sx * sy + sy * sz + sz * sx
-        total = total + fac * (sz * (zm + lam)).reciprocal()
-        fac /= 4.0
-        xm, ym, zm, A = (xm + lam) / 4.0, (ym + lam) / 4.0, (zm + lam) / 4.0, (A + lam) / 4.0
-        m += 1
+def _rd_series(X: Dual, Y: Dual, A0: Dual, A: Dual, m: int, total: Dual, fac: float) -> Dual:
+    """R_D from the mean A = A_m after m steps and the sum of the steps (DLMF 19.36.2)."""
     inv = A.reciprocal().ldexp(-2 * m)
     dx, dy = (A0 - X) * inv, (A0 - Y) * inv
     dz = -(dx + dy) / 3.0
@@ -153,5 +128,59 @@ def rd_gradient(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray
         - 9.0 * (e2 * e3) / 52.0
         + 3.0 * e5 / 26.0
     )
-    r = fac * (series * (A * A.sqrt()).reciprocal()) + 3.0 * total  # A^(3/2)
+    return fac * (series * (A * A.sqrt()).reciprocal()) + 3.0 * total  # A^(3/2)
+
+
+def _split(r: Dual) -> tuple[FloatArray, Gradient]:
     return r.a[0], (r.a[1], r.a[2], r.a[3])
+
+
+def rf_gradient(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray, Gradient]:
+    """R_F(x, y, z) and its partial derivatives (dR_F/dx, dR_F/dy, dR_F/dz).
+
+    Parameters
+    ----------
+    x, y, z : ndarray
+        Non-negative, at most one of them zero (broadcast together); trusted, not checked.
+
+    Returns
+    -------
+    (ndarray, (ndarray, ndarray, ndarray))
+        The value and the gradient, each of the broadcast shape.
+    """
+    X, Y, Z = _seed(x, y, z)
+    a0 = (X + Y + Z) / 3.0
+    m, (a,), _, _ = _duplicate(X, Y, Z, (a0,))
+    return _split(_rf_series(X, Y, a0, a, m))
+
+
+def rd_gradient(x: FloatArray, y: FloatArray, z: FloatArray) -> tuple[FloatArray, Gradient]:
+    """R_D(x, y, z) and its partial derivatives (dR_D/dx, dR_D/dy, dR_D/dz).
+
+    Parameters
+    ----------
+    x, y : ndarray
+        Non-negative, not both zero; trusted.
+    z : ndarray
+        Positive; trusted.
+
+    Returns
+    -------
+    (ndarray, (ndarray, ndarray, ndarray))
+        The value and the gradient, each of the broadcast shape.
+    """
+    X, Y, Z = _seed(x, y, z)
+    a0 = (X + Y + 3.0 * Z) / 5.0
+    m, (a,), total, fac = _duplicate(X, Y, Z, (a0,))
+    return _split(_rd_series(X, Y, a0, a, m, total, fac))
+
+
+def rf_rd_gradient(
+    x: FloatArray, y: FloatArray, z: FloatArray
+) -> tuple[tuple[FloatArray, Gradient], tuple[FloatArray, Gradient]]:
+    """:func:`rf_gradient` and :func:`rd_gradient` at once, from one duplication (arguments
+    as for :func:`rd_gradient`): the steps run until both series converge."""
+    X, Y, Z = _seed(x, y, z)
+    af0, ad0 = (X + Y + Z) / 3.0, (X + Y + 3.0 * Z) / 5.0
+    m, (af, ad), total, fac = _duplicate(X, Y, Z, (af0, ad0))
+    return _split(_rf_series(X, Y, af0, af, m)), _split(_rd_series(X, Y, ad0, ad, m, total, fac))

@@ -64,7 +64,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy import special
 
-from ._carlson_gradients import rd_gradient, rf_gradient
+from ._carlson_gradients import rf_rd_gradient
 from ._core.solution import Solution
 from ._core.solver import solve
 from ._core.validation import (
@@ -286,8 +286,7 @@ def _arc_integrals(
     x = np.where(dup, qc * sn0_2, 1.0)
     z = np.where(dup, qc, 1.0)
     one = np.ones_like(x)
-    rf, grad_f = rf_gradient(x, one, z)
-    rd, grad_d = rd_gradient(x, one, z)
+    (rf, grad_f), (rd, grad_d) = rf_rd_gradient(x, one, z)
     s = np.sqrt(sn0_2)
     big_l = np.log(16.0) - lqc - 2.0 * np.log1p(s)
     f = np.where(dup, rf, 0.5 * big_l)
