@@ -300,7 +300,7 @@ def test_bad_input() -> None:
         fit(GUESS, d, velocity=VELOCITY, sigma=-1.0)
     with pytest.raises(ValueError, match="one parameter"):
         fit(GUESS, d, velocity=VELOCITY, free=("spacing", "packing_fraction"))
-    with pytest.raises(ValueError, match="tolerance"):
+    with pytest.raises(ValueError, match="rtol"):
         linear_range(TRUE, 1.5)
     with pytest.raises(ValueError, match="sigma"):
         measure(TRUE, 1e-4, sigma=-1.0)
@@ -310,3 +310,13 @@ def test_bad_input() -> None:
 
 def test_lazy_export() -> None:
     assert hairbed.calibration.fit is fit
+
+
+def test_linear_range_tolerance_is_a_deprecated_alias_of_rtol() -> None:
+    """Issue 22 item 7: the old keyword and field keep working, warn and name rtol."""
+    with pytest.warns(FutureWarning, match="'tolerance' is deprecated.*use 'rtol'"):
+        old = linear_range(TRUE, tolerance=0.05)
+    new = linear_range(TRUE, rtol=0.05)
+    assert old.tip_deflection == new.tip_deflection and new.rtol == 0.05
+    with pytest.warns(FutureWarning, match="use LinearRange.rtol"):
+        assert new.tolerance == 0.05

@@ -432,7 +432,7 @@ TARGETS: list[Target] = [
         calibration.measure,
         dict(bed=BED, tip_deflection=3e-4, sigma=1e-6, fit=FIT),
     ),
-    Target("calibration.linear_range", calibration.linear_range, dict(bed=BED, tolerance=0.1)),
+    Target("calibration.linear_range", calibration.linear_range, dict(bed=BED, rtol=0.1)),
     # labelled sweeps (xarray)
     Target(
         "sweep",

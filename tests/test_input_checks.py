@@ -555,10 +555,10 @@ ROWS = [
         r"velocity must be below .* m/s for this bed .*\(first at index 1\)",
     ),
     (
-        "linear_range tolerance",
-        lambda: calibration.linear_range(BED, tolerance=1.0),
+        "linear_range rtol",
+        lambda: calibration.linear_range(BED, rtol=1.0),
         ValueError,
-        r"tolerance must lie in \(0, 1\), got 1\.0",
+        r"rtol must lie in \(0, 1\), got 1\.0",
     ),
     (
         "sweep chunks",

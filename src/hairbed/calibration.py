@@ -24,6 +24,7 @@ deflection that line is within a tolerance of the exact calibration.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
@@ -45,6 +46,7 @@ from ._core.validation import (
     show,
 )
 from ._variables import BED, names
+from ._warnings import renamed_parameters
 from .sensitivity import derivatives_at
 from .units import CLOSE_PACKING_FRACTION, HairBed, HairState
 
@@ -614,14 +616,14 @@ class LinearRange:
     ----------
     tip_deflection : float
         The largest tip deflection [m] (from the base, along +x) up to which the linear
-        calibration of both the wall speed and the wall shear stress is within ``tolerance``
+        calibration of both the wall speed and the wall shear stress is within ``rtol``
         (relative) of the exact one.
     velocity : float
         The exact wall speed at that deflection [m/s].
     wall_shear_stress : float
         The exact wall shear stress there [Pa].
-    tolerance : float
-        The relative tolerance asked for.
+    rtol : float
+        The relative tolerance asked for (``tolerance`` is its deprecated old name).
     velocity_error, wall_shear_stress_error : float
         Relative errors of the linear calibrations there, linear/exact - 1 (signed).
     success : bool
@@ -637,12 +639,22 @@ class LinearRange:
     tip_deflection: float
     velocity: float
     wall_shear_stress: float
-    tolerance: float
+    rtol: float
     velocity_error: float
     wall_shear_stress_error: float
     success: bool
     status: int
     message: str
+
+    @property
+    def tolerance(self) -> float:
+        """Deprecated: the old name of :attr:`rtol`."""
+        warnings.warn(
+            "LinearRange.tolerance is deprecated; use LinearRange.rtol",
+            FutureWarning,
+            stacklevel=2,
+        )
+        return self.rtol
 
 
 def _linear_errors(t: FloatArray, eps: float, theta0: float) -> tuple[Any, FloatArray, FloatArray]:
@@ -662,22 +674,23 @@ def _excess(t: FloatArray, eps: Any, theta0: Any, tol: Any) -> FloatArray:
     return np.maximum(np.abs(ev), np.abs(et)) - tol
 
 
-def linear_range(bed: HairBed, tolerance: float = 0.1) -> LinearRange:
-    """The largest deflection at which the linear calibration is within ``tolerance``.
+@renamed_parameters(tolerance="rtol")
+def linear_range(bed: HairBed, rtol: float = 0.1) -> LinearRange:
+    """The largest deflection at which the linear calibration is within ``rtol``.
 
     The linear calibration is that of a cantilever under a point load at the tip:
     x1 - sin(theta0) = omega^2 cos^2(theta0)/(3 (1 - eps cos theta0)) for the speed
     (:meth:`HairBed.linear_velocity_from_tip_deflection`) and the stress of the gap at rest
     (:meth:`HairBed.linear_wall_shear_stress_from_tip_deflection`). Along the physical branch
     from rest (flow towards +x) the first deflection where either relative error reaches
-    ``tolerance`` is found by a bracketed root search.
+    ``rtol`` is found by a bracketed root search.
 
     Parameters
     ----------
     bed : HairBed
         The sensor.
-    tolerance : float
-        Relative tolerance, in (0, 1).
+    rtol : float
+        Relative tolerance, in (0, 1) (``tolerance`` is its deprecated old name).
 
     Returns
     -------
@@ -685,7 +698,7 @@ def linear_range(bed: HairBed, tolerance: float = 0.1) -> LinearRange:
     """
     if not isinstance(bed, HairBed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
-    tol = check_number(tolerance, "tolerance", low=0.0, high=1.0, low_open=True, high_open=True)
+    tol = check_number(rtol, "rtol", low=0.0, high=1.0, low_open=True, high_open=True)
     eps, theta0 = bed.eps, bed.base_angle
     grid = np.arange(-30.0, 40.0 + 1e-9, 0.1)
     _, ev, et = _linear_errors(grid, eps, theta0)
@@ -695,7 +708,7 @@ def linear_range(bed: HairBed, tolerance: float = 0.1) -> LinearRange:
         message = "the linear calibration stays within the tolerance over the whole range"
     elif over[0] == 0:
         raise ValueError(
-            f"tolerance {tol!r} is below the linear calibration's error at the weakest forcing"
+            f"rtol {tol!r} is below the linear calibration's error at the weakest forcing"
         )
     else:
         i = int(over[0])
@@ -720,7 +733,7 @@ def linear_range(bed: HairBed, tolerance: float = 0.1) -> LinearRange:
         tip_deflection=bed.length * float(np.ravel(sol.tip_deflection)[0]),
         velocity=velocity,
         wall_shear_stress=bed.viscosity * bed.velocity_scale * oe2 / bed.channel_height,
-        tolerance=tol,
+        rtol=tol,
         velocity_error=float(ev1[0]),
         wall_shear_stress_error=float(et1[0]),
         success=status == 0,
