@@ -33,11 +33,12 @@ On the physical branch the closed forms above would take the small changes of a 
 hair as differences of O(1) terms; its partials come instead from the Carlson forms of the
 short arc from phi0 to pi/2 (``_physical_partials``), in arguments scaled so that nothing
 under- or overflows at any forcing, with gradients from :mod:`hairbed._carlson_gradients` and
-exact limit forms once p/(1 - sin theta0) < 1e-21; and where omega_eps^2 <= 0.003 the tip's
-derivatives come from the weak-forcing series of the kernels, differentiated exactly
-(``_weak_tip``). The elliptic integrals are scipy.special's and the duplication's numpy
-(elementwise ufuncs over whole arrays), not the kernels' R_F, R_D, K, E, which are scalar
-functions callable only from compiled loops; both agree with mpmath to a few ulps.
+exact limit forms once expit(-t) = 2 p/(1 - sin theta0) < 1e-21; and where
+omega_eps^2 <= 0.003 the tip's derivatives come from the weak-forcing series of the kernels,
+differentiated exactly (``_weak_tip``). The elliptic integrals are scipy.special's and the
+duplication's numpy (elementwise ufuncs over whole arrays), not the kernels' R_F, R_D, K, E,
+which are scalar functions callable only from compiled loops; both agree with mpmath to a few
+ulps.
 
 Accuracy: within 1.3e-14 relative of mpmath (in most cases 3e-15) on every output, input and
 branch tested, from omega^2 = 1e-13 to 1e8, leaning both ways, including the derivatives that
