@@ -121,7 +121,7 @@ def test_equilibrium_reports_instead_of_raising(triple):
     # One Newton step from a poor guess cannot meet the tolerance: reported, not raised.
     eq = st.equilibrium(W, EPS, THETA0, np.zeros(41), 40, maxiter=1)
     assert not eq.success and eq.status == -2 and "iteration limit" in eq.message
-    assert eq.nit == 1 and eq.theta.shape == eq.sigma.shape == (41,)
+    assert eq.nit == eq.nfev == 1 and eq.theta.shape == eq.sigma.shape == (41,)
     assert eq.theta[0] == THETA0
     ok = st.equilibrium(W, EPS, THETA0, triple[0].theta, 40)
     assert ok.success and ok.status == 0 and ok.nit <= 5

@@ -118,6 +118,9 @@ class Equilibrium:
         Human-readable description of ``status``.
     nit : int
         Newton steps taken.
+    nfev : int
+        Evaluations of the residual (one per Newton step: it is also the step's right-hand
+        side).
     """
 
     sigma: FloatArray
@@ -126,6 +129,7 @@ class Equilibrium:
     status: int
     message: str
     nit: int
+    nfev: int = 0
 
 
 #: Newton's defaults in :func:`equilibrium` and the classification of :func:`linear_stability`.
@@ -201,6 +205,7 @@ def _equilibrium(op: HairOperator, u: FloatArray, xtol: float, maxiter: int) -> 
         status=status,
         message=message,
         nit=nit,
+        nfev=nit,
     )
 
 
