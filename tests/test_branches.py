@@ -1,10 +1,24 @@
 """Branches as parametric curves, folds and the cusp (theory.md §5)."""
 
+import json
+import math
+
 import numpy as np
 import pytest
+from conftest import DATA
+from tolerances import ATOL, RTOL
 
 import hairbed
 from hairbed.branches import bistable_window, curve, cusp, folds, log_slope
+
+#: tests/reference/generate_folds.py (mpmath only): states near the folds at eps >= 0.99, and
+#: the cusp eps_c(theta0) up to theta0 = -pi/2 + 1e-10.
+FOLDS_REF = json.loads((DATA / "folds_mpmath.json").read_text())
+NEAR_FOLDS = FOLDS_REF["near_folds"]
+#: Near a fold a state is ill-conditioned in omega2: a double-precision solver is held to
+#: max(NEAR_FOLD_RTOL |value|, ROUNDING_FACTOR x the change one ulp of an input makes).
+NEAR_FOLD_RTOL = 1e-10
+ROUNDING_FACTOR = 4.0
 
 # theory.md §5: windows of omega^2 with three physical states, computed independently
 # (quoted to 5 significant figures).
@@ -162,3 +176,56 @@ def test_curve_of_other_branches():
 def test_invalid_input_raises(call):
     with pytest.raises(ValueError):
         call()
+
+
+def _near_fold_id(c):
+    return f"eps{c['eps']:g}-t{c['theta0']!r}-{c['fold']}-d{c['delta']:g}"
+
+
+@pytest.mark.parametrize("case", NEAR_FOLDS, ids=[_near_fold_id(c) for c in NEAR_FOLDS])
+def test_states_near_folds_in_nearly_closed_channels(case):
+    """Every root within 1e-8 to 1e-12 (relative in omega2) of a fold at eps = 0.99 ... 0.999:
+    xi, tip angle, tip deflection, tip height and omega_eps to max(1e-10 relative, 4x the
+    change that rounding one input to its neighbouring double makes, from mpmath; where one
+    ulp of theta0 takes roots out of the window, ``removes_roots``, the largest change of the
+    other moves, a lower bound)."""
+    n = case["n_roots"]
+    names = ["low", "mid", "high"] if n == 3 else ["low", "high"][: max(n, 1)]
+    index = [0, 1, 2] if n == 3 else [0, n - 1][: max(n, 1)]
+    lines = []
+    for k, name in zip(index, names):
+        sol = hairbed.solve(case["omega2"], case["eps"], case["theta0"], root=name)
+        label = f"solve({case['omega2']!r}, {case['eps']!r}, {case['theta0']!r}, root={name!r})"
+        if sol.n_roots != n:
+            lines.append(f"{label}: n_roots {sol.n_roots}, mpmath {n}")
+            continue
+        ref = case["roots"][k]
+        for f in ("xi", "tip_angle", "tip_deflection", "tip_height", "omega_eps"):
+            want = float(ref[f])
+            change = ref["rounding_change"][f]
+            allowed = NEAR_FOLD_RTOL * abs(want)
+            if change is not None:
+                allowed = max(allowed, ROUNDING_FACTOR * float(change))
+            err = abs(getattr(sol, f) - want)
+            if not err <= allowed:
+                lines.append(
+                    f"{label}.{f} = {getattr(sol, f)!r}, mpmath {want!r}: error {err:.3e} "
+                    f"({err / abs(want):.2e} relative), allowed {allowed:.3e}"
+                )
+    assert not lines, "\n".join(lines)
+
+
+def test_cusp_matches_mpmath_up_to_minus_half_pi():
+    """eps_c(theta0) = min_t G(t) from mpmath, theta0 from -1 to -pi/2 + 1e-10 (where eps_c
+    ~ 6e-4 and one ulp of theta0 moves it by ~5e-10)."""
+    ref = FOLDS_REF["cusp"]
+    theta0 = np.array([c["theta0"] for c in ref])
+    want = np.array([float(c["eps_c"]) for c in ref])
+    got = np.asarray(cusp(theta0))
+    bad = ~np.isclose(got, want, rtol=RTOL, atol=ATOL)
+    lines = [
+        f"  cusp({t!r}) = {g!r}, mpmath {w!r} (diff {g - w:.3e})"
+        for t, g, w in zip(theta0[bad], got[bad], want[bad])
+    ]
+    assert not lines, "\n".join(lines)
+    assert math.isclose(float(cusp(theta0[0])), got[0], rel_tol=0.0, abs_tol=1e-15)
