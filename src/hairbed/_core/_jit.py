@@ -13,6 +13,15 @@ NaN, as in numpy, without a Python exception check on every division) with two s
   have crashed dask workers in other libraries, sgkit issues #869 and #1156). The cache lives in
   ``__pycache__`` beside the kernel sources, or in the user's cache directory when that is
   not writable (``NUMBA_CACHE_DIR`` is honoured).
+* **A damaged cache cannot stop a computation.** numba unpickles its index and data files
+  unguarded: a truncated or foreign file (a full disk, an interrupted copy, another version)
+  raised ``UnpicklingError`` from ``hairbed.solve``. Here a cache file that cannot be read is
+  removed and the kernel compiled anew (and cached again); a cache that cannot be written
+  costs the next process a compilation, never an error.
+* **No cache is said once.** In an install whose site-packages is read-only, with no writable
+  user cache directory either (a container's read-only HOME), every process compiles the
+  kernels again (about a minute); one line on stderr says so and names ``NUMBA_CACHE_DIR``,
+  once per process however many kernels there are (none with ``HAIRBED_NUMBA_CACHE=0``).
 
 Kernels compile lazily, on their first call, so ``import hairbed`` compiles nothing.
 ``NUMBA_DISABLE_JIT=1`` runs every kernel as plain Python (the tests use it for coverage).
@@ -23,12 +32,14 @@ from __future__ import annotations
 import functools
 import hashlib
 import os
+import sys
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
 
 import numba
 from numba.core import caching, config
+from numba.misc.appdirs import AppDirs
 
 __all__ = ["CACHE_ENABLED", "kernel", "kernel_sources_hash"]
 
@@ -82,6 +93,45 @@ class _KernelCacheImpl(caching.CompileResultCacheImpl):
 class _KernelCache(caching.FunctionCache):
     _impl_class = _KernelCacheImpl
 
+    def load_overload(self, sig: Any, target_context: Any) -> Any:
+        try:
+            return super().load_overload(sig, target_context)
+        except Exception:  # a damaged index or data file: drop them all, compile anew
+            index = Path(self._cache_file._index_path)
+            for path in [index, *index.parent.glob(f"{index.stem}.*.nbc")]:
+                try:
+                    path.unlink()
+                except OSError:
+                    pass
+            return None
+
+    def save_overload(self, sig: Any, data: Any) -> None:
+        try:
+            super().save_overload(sig, data)
+        except Exception:  # an unreadable old index, a full disk: the next run compiles
+            pass
+
+
+#: Set once the "cannot cache" line has been written (one line per process).
+_SAID_NO_CACHE: list[bool] = []
+
+
+def _say_no_cache() -> None:
+    """One line on stderr: the kernels cannot be cached here, and what to do about it."""
+    if _SAID_NO_CACHE:
+        return
+    _SAID_NO_CACHE.append(True)
+    user = AppDirs(appname="numba", appauthor=False).user_cache_dir
+    where = f"{_KERNEL_DIR / '__pycache__'} and {user}"
+    chosen = getattr(config, "CACHE_DIR", "")  # NUMBA_CACHE_DIR
+    if chosen:
+        where = f"{chosen}, {where}"
+    sys.stderr.write(
+        f"hairbed: cannot cache the compiled kernels (none of {where} is writable): every "
+        "process compiles them again (about a minute); set NUMBA_CACHE_DIR to a writable "
+        "directory (or HAIRBED_NUMBA_CACHE=0 to compile without this note)\n"
+    )
+
 
 def kernel(func: F | None = None, **options: Any) -> Any:
     """Compile ``func`` as a hairbed kernel: ``numba.njit(nogil=True)``, cached (see above).
@@ -96,7 +146,7 @@ def kernel(func: F | None = None, **options: Any) -> Any:
             try:
                 dispatcher._cache = _KernelCache(dispatcher.py_func)
             except RuntimeError:  # no writable cache location: compile every time
-                pass
+                _say_no_cache()
         return dispatcher
 
     return wrap(func) if func is not None else wrap
