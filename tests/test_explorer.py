@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 import hairbed
+from hairbed._variables import SI, SOLUTION, cf_attrs
 from hairbed.explorer import _model as model
 
 BED = {
@@ -158,11 +159,11 @@ def test_bad_dimensionless_input_gives_the_librarys_message(raw, args):
         ({"channel_height": "0.0005"}, {"channel_height": 0.0005}),
         ({"packing_fraction": "0.3"}, {"packing_fraction": 0.3}),
         ({"spacing": "0.00009"}, {"spacing": 0.00009}),
-        ({"theta0": "2"}, {"base_angle": 2.0}),
+        ({"base_angle": "2"}, {"base_angle": 2.0}),
     ],
 )
 def test_bad_bed_gives_the_librarys_message(change, bed_kw):
-    kw = {**BED, "base_angle": -1.5, **bed_kw}
+    kw = {**BED, "base_angle": 0.0, **bed_kw}
     expected = _library_message(hairbed.HairBed, **kw)
     with pytest.raises(ValueError) as info:
         model.validate({"si": "1", **change})
@@ -176,7 +177,7 @@ def test_bad_velocity_and_density():
         model.validate({"si": "1", "velocity": "fast"})
     assert str(info.value) == expected
     for text, value in (("-1", -1.0), ("0", 0.0), ("dense", "dense"), ("inf", math.inf)):
-        expected = _library_message(hairbed.HairBed, **BED, base_angle=-1.5, density=value)
+        expected = _library_message(hairbed.HairBed, **BED, density=value)
         with pytest.raises(ValueError, match="density") as info:
             model.validate({"si": "1", "density": text})
         assert str(info.value) == expected
@@ -221,7 +222,7 @@ def test_twirling_states_are_every_other_state_of_solve_all():
 
 
 def test_si_mode_is_the_beds_state():
-    raw = {"si": "1", "velocity": "-0.3", "theta0": "0.4", "density": "1000"}
+    raw = {"si": "1", "velocity": "-0.3", "base_angle": "0.4", "density": "1000"}
     p = model.validate(raw)
     bed = hairbed.HairBed(**BED, base_angle=0.4, density=1000.0)
     assert p.bed == bed
@@ -242,7 +243,7 @@ def test_si_mode_is_the_beds_state():
 def test_si_warnings_are_the_librarys(velocity):
     """Whatever the library warns about (Reynolds number above its threshold), the page shows,
     word for word; where it says nothing, the page says nothing."""
-    raw = {"si": "1", "velocity": repr(velocity), "density": "1000"}
+    raw = {"si": "1", "velocity": repr(velocity), "density": "1000", "base_angle": "-1.5"}
     snap = model.compute(model.validate(raw))
     bed = hairbed.HairBed(**BED, base_angle=-1.5, density=1000.0)
     expected = _deform_warnings(bed, velocity)
@@ -259,9 +260,7 @@ def test_si_warnings_are_the_librarys(velocity):
 
 def test_si_units_warning_of_the_bed_is_shown():
     raw = {"si": "1", "youngs_modulus": "100", "density": "", "velocity": "1e-5"}
-    bed, expected = _library_warnings(
-        hairbed.HairBed, **{**BED, "youngs_modulus": 100.0}, base_angle=-1.5
-    )
+    bed, expected = _library_warnings(hairbed.HairBed, **{**BED, "youngs_modulus": 100.0})
     assert expected and expected[0].startswith("UnitsWarning: youngs_modulus")
     p = model.validate(raw)
     assert list(p.warnings) == expected
@@ -278,7 +277,7 @@ def test_no_warnings_the_library_does_not_issue():
     raw = {"si": "1", "radius": "0.00015", "spacing": "0.0012", "velocity": "0.1"}
     snap = model.compute(model.validate(raw))
     bed, built = _library_warnings(
-        hairbed.HairBed, **{**BED, "radius": 15e-5, "spacing": 12e-4}, base_angle=-1.5,
+        hairbed.HairBed, **{**BED, "radius": 15e-5, "spacing": 12e-4}, base_angle=0.0,
         density=1260.0,
     )  # fmt: skip
     assert snap.warnings == built + _deform_warnings(bed, 0.1)
@@ -298,7 +297,7 @@ def test_json_and_csv_exports_hold_every_field():
         ref = hairbed.solve(1.2, 0.9, -1.5, root=root)
         for name in model.SOLUTION_FIELDS:
             expected = getattr(ref, name)
-            got_csv = row[name]
+            got_csv = row[_heading(name, SOLUTION)]
             if isinstance(expected, bool):
                 assert rec[name] is expected and got_csv == str(expected)
             else:
@@ -308,11 +307,57 @@ def test_json_and_csv_exports_hold_every_field():
 def test_si_export_holds_the_bed():
     snap = model.compute(model.validate({"si": "1", "velocity": "0.2"}))
     doc = json.loads(model.snapshot_json(snap))
-    st = hairbed.HairBed(**BED, base_angle=-1.5).deform(0.2)
+    st = hairbed.HairBed(**BED, base_angle=0.0).deform(0.2)
     assert doc["bed"]["velocity"] == 0.2
     assert doc["states"][0]["si_wall_shear_stress"] == st.wall_shear_stress
     row = next(csv.DictReader(io.StringIO(model.snapshot_csv(snap))))
-    assert float(row["si_force_per_hair"]) == st.force_per_hair
+    assert float(row["si_force_per_hair [N]"]) == st.force_per_hair
+
+
+def _heading(name: str, table) -> str:
+    """A CSV heading as hairbed's sweeps write it, "name [CF units]", from the variables
+    table (brackets only where there are units)."""
+    units = table[name].units
+    return f"{name} [{units}]" if units else name
+
+
+def test_downloads_carry_units_and_the_shape():
+    """Issue 23 item 14: the CSV headings carry the CF units of hairbed's variables table,
+    the JSON names each variable's units and long name, and both carry the hair's shape
+    (x, z), which is the library's profile (and, in SI, the bed's profile in metres)."""
+    snap = model.compute(model.validate({"si": "1", "velocity": "-0.2", "base_angle": "0.3"}))
+    bed = hairbed.HairBed(**BED, base_angle=0.3)
+    st = bed.deform(-0.2)
+    header = next(csv.reader(io.StringIO(model.snapshot_csv(snap))))
+    for name in ("tip_deflection", "tip_angle", "theta0", "xi"):
+        assert _heading(name, SOLUTION) in header
+    for name in ("wall_shear_stress", "tip_deflection", "velocity", "force_per_hair"):
+        assert f"si_{name} [{SI[name].units}]" in header
+    assert "si_wall_shear_stress [Pa]" in header and "tip_angle [rad]" in header
+    doc = json.loads(model.snapshot_json(snap))
+    assert doc["variables"]["si_wall_shear_stress"] == cf_attrs(SI["wall_shear_stress"])
+    assert doc["variables"]["tip_height"] == cf_attrs(SOLUTION["tip_height"])
+    assert doc["bed_variables"]["length"]["units"] == "m"
+    shape = doc["states"][0]["shape"]
+    n = len(shape["sigma"])
+    assert n >= 50 and shape["sigma"][0] == 0.0 and shape["sigma"][-1] == 1.0
+    sigma = np.asarray(shape["sigma"])
+    np.testing.assert_array_equal(shape["x"], st.solution.x(sigma))
+    np.testing.assert_array_equal(shape["z"], st.solution.z(sigma))
+    x_m, z_m = st.profile(n)
+    np.testing.assert_array_equal(shape["si_x"], x_m)
+    np.testing.assert_array_equal(shape["si_z"], z_m)
+    # the tip of the shape is the state's tip: metres, along +x of the bed (v < 0: mirrored)
+    assert shape["si_x"][-1] == pytest.approx(st.tip_deflection, rel=1e-12)
+    assert shape["si_z"][-1] == pytest.approx(st.tip_height, rel=1e-12)
+    assert doc["shape_variables"]["si_x"]["units"] == "m"
+    rows = list(csv.DictReader(io.StringIO(model.snapshot_shape_csv(snap))))
+    assert len(rows) == n * len(snap.states)
+    assert {"state", "sigma [1]", "x [1]", "z [1]", "theta [rad]", "si_x [m]", "si_z [m]"} == set(
+        rows[0]
+    )
+    assert [float(r["si_z [m]"]) for r in rows[:n]] == pytest.approx(z_m, rel=1e-15)
+    assert float(rows[n - 1]["x [1]"]) == pytest.approx(st.solution.tip_deflection, rel=1e-12)
 
 
 def test_query_round_trip():
@@ -383,7 +428,7 @@ def test_si_switch_and_twirl():
     assert page.snapshot.states[0].si.velocity == v
     assert "wall shear stress" in page.table.object
     assert "hb-warn" not in page.table.object  # Re ~ 0.2 at the defaults: no warning
-    page.twirl.value = True
+    page.twirl.value = list(page.twirl.options)  # ticked
     page.si.value = False
     page.text["omega2"].value = "200"
     page.text["eps"].value = "0.5"
@@ -399,13 +444,15 @@ def test_page_shows_the_librarys_warnings():
     import html
 
     page = _page("?si=1&velocity=2&density=1000")
-    bed = hairbed.HairBed(**BED, base_angle=-1.5, density=1000.0)
+    bed = hairbed.HairBed(**BED, density=1000.0)
     expected = _deform_warnings(bed, 2.0)
     assert expected and page.snapshot.warnings == expected
-    for text in expected:
-        assert f"<li>{html.escape(text)}</li>" in page.table.object
+    for text in expected:  # above the views (not below the table)
+        assert f"<li>{html.escape(text)}</li>" in page.notes.object
+    assert "hb-warn" not in page.table.object
+    assert page.layout.objects.index(page.notes) < page.layout.objects.index(page.alert) + 2
     page.text["velocity"].value = "0.1"
-    assert page.snapshot.warnings == [] and "hb-warn" not in page.table.object
+    assert page.snapshot.warnings == [] and "hb-warn" not in page.notes.object
 
 
 def _search(**kw: str) -> str:
@@ -430,7 +477,7 @@ def _shows(page, omega2: float, eps: float, theta0: float) -> None:
 
 
 def test_url_follows_every_good_change():
-    page = _page("?omega2=0.8&eps=0.9")
+    page = _page("?omega2=0.8&eps=0.9&theta0=-1.5")
     assert page.history.search == _search()  # the loaded link written out whole
     page.text["omega2"].value = "1.2"
     assert page.history.search == _search(omega2="1.2")
@@ -439,7 +486,7 @@ def test_url_follows_every_good_change():
     page = _page("?eps=1.5")  # a bad link stays in the address bar, with its message
     assert page.error and page.history.search == "?eps=1.5"
     page = _page()
-    assert page.history.search == _search()
+    assert page.history.search == _search(omega2="2", eps="0.5", theta0="0")
 
 
 def test_back_and_forward_show_the_view_of_the_url():
@@ -455,11 +502,13 @@ def test_back_and_forward_show_the_view_of_the_url():
         assert page.error == ""
     # a history URL naming only some inputs: the others take their defaults, as in a page
     # loaded from it (not the values of the view left)
-    page.text["eps"].value = "0.5"
-    page.text["theta0"].value = "0"
+    page.text["eps"].value = "0.7"
+    page.text["theta0"].value = "0.3"
     page.history.search = "?omega2=1.2"
-    _shows(page, 1.2, float(model.DEFAULTS["eps"]), float(model.DEFAULTS["theta0"]))
-    assert page.history.search == _search(omega2="1.2")  # written out whole
+    eps, theta0 = model.DEFAULTS["eps"], model.DEFAULTS["theta0"]
+    _shows(page, 1.2, float(eps), float(theta0))
+    # written out whole
+    assert page.history.search == _search(omega2="1.2", eps=eps, theta0=theta0)
     # from an SI view back to a dimensionless one: the bed's fields as in a fresh page
     page.si.value = True
     page.text["velocity"].value = "0.2"
@@ -484,8 +533,9 @@ def test_bad_history_url_keeps_the_last_good_state():
     # a typed change after the bad URL reaches the address bar even when it is the view's
     # last good URL (the address bar shows the bad one)
     page.history.search = "?eps=1.5"
+    assert page.text["eps"].value == "0.9"  # the fields show the view on screen again
+    page.text["omega2"].value = "1.25"
     page.text["omega2"].value = "1.3"
-    page.text["eps"].value = "0.9"
     assert page.history.search == _search(omega2="1.3")
 
 
@@ -499,3 +549,185 @@ def test_url_component_only_on_a_served_page():
 
     page = ExplorerPage("?omega2=1.2", served=True)
     assert page.history in page.layout.objects and not page.history.visible
+
+
+# -- issue 23: an explorer that opens where users start, errors in full, legible states ---------
+
+
+def test_opens_at_the_papers_worked_example():
+    """Item 11: the first view is the paper's worked example, omega2 = 2, eps = 0.5,
+    theta0 = 0 (its tip deflection 0.6158... of the README's quick start)."""
+    page = _page()
+    assert [page.text[k].value for k in ("omega2", "eps", "theta0")] == ["2", "0.5", "0"]
+    _shows(page, 2.0, 0.5, 0.0)
+    assert page.snapshot.states[0].solution.tip_deflection == pytest.approx(0.6158, abs=5e-5)
+
+
+def test_presets():
+    """Item 11: presets for a bistable window, twirling states and a sensor bed in SI."""
+    page = _page()
+    assert set(page.presets) == set(model.PRESETS)
+    page.presets["bistable window"].clicks += 1
+    w, e, th = (page.snapshot.params.omega2, page.snapshot.params.eps, page.snapshot.params.theta0)
+    assert hairbed.solve(w, e, th).n_roots == 3
+    _shows(page, w, e, th)
+    assert "twirl=0" in page.history.search and f"omega2={page.text['omega2'].value}" in (
+        page.history.search
+    )
+    page.presets["twirling states"].clicks += 1
+    p = page.snapshot.params
+    ref = [s for s in hairbed.solve_all(p.omega2, p.eps, p.theta0) if (s.sign, s.n) != (1, 0)]
+    assert p.twirl and len(page.snapshot.twirling) == len(ref) > 0
+    page.presets["sensor bed (SI)"].clicks += 1
+    p = page.snapshot.params
+    assert p.si and page._bed_column.visible and p.bed.base_angle == 0.0
+    st = p.bed.deform(p.velocity)
+    assert page.snapshot.states[0].si.wall_shear_stress == st.wall_shear_stress
+    assert max(s.si.reynolds_number for s in page.snapshot.states) < 1.0  # Stokes flow
+    page.presets["worked example"].clicks += 1
+    assert not page.snapshot.params.si
+    _shows(page, 2.0, 0.5, 0.0)
+
+
+def test_base_angle_is_a_bed_field():
+    """Item 11: SI mode has the bed's own base angle (default upright), not the dimensionless
+    theta0 carried over; the theta0 slider then moves the base angle."""
+    page = _page("?omega2=1.2&eps=0.9&theta0=-1.5")
+    page.si.value = True
+    p = page.snapshot.params
+    assert p.bed == hairbed.HairBed(**BED, density=1260.0) and p.bed.base_angle == 0.0
+    assert p.theta0 == 0.0 and page.text["theta0"].disabled
+    # the hair at rest is drawn upright: from the base (0, 0) straight up
+    rest = page.views.ch_rest.data
+    assert rest["x"] == [0.0, 0.0] and rest["y"][1] > 0.0
+    page.theta0_slider.value = 0.3
+    assert page.text["base_angle"].value == "0.3"
+    assert page.snapshot.params.bed.base_angle == 0.3 == float(page.text["theta0"].value)
+    assert "base_angle=0.3" in page.history.search
+
+
+def test_si_branch_diagram_in_si_units():
+    """Item 11: in SI mode the branch diagram is against the wall speed or the wall shear
+    stress, with the tip deflection in metres: each point is the bed's own state there
+    (HairBed.deform at that speed, away from folds: eps = 0.5 has none)."""
+    page = _page("?si=1&velocity=0.1")
+    bed = page.snapshot.params.bed
+    d = page.snapshot.branch
+    assert "m/s" in page.views.branch.xaxis.axis_label
+    assert "[m]" in page.views.branch.yaxis.axis_label
+    st = bed.deform(0.1)
+    assert d.states_x == [0.1] and d.states_y == [st.tip_deflection]
+    picks = np.linspace(0, d.curve_x.size - 1, 7).astype(int)
+    speeds = d.curve_x[picks]
+    ref = hairbed.HairBed(**BED).deform(speeds)  # the same bed without its fluid: no warning
+    np.testing.assert_allclose(d.curve_y[picks], ref.tip_deflection, rtol=1e-9, atol=0)
+    page.x_choice.value = "stress"
+    d = page.snapshot.branch
+    assert "Pa" in page.views.branch.xaxis.axis_label and "x=stress" in page.history.search
+    assert d.states_x == [st.wall_shear_stress]
+    np.testing.assert_allclose(d.curve_x[picks], ref.wall_shear_stress, rtol=1e-9, atol=0)
+    # the abscissa shows the stresses of omega^2 in [1e-3, 1e3], as the speed view does
+    lo, hi = d.x_range
+    # (the curve's first point inside the window: within a few per cent of its edge)
+    assert lo == pytest.approx(bed.deform(1e-3 * bed.velocity_scale).wall_shear_stress, rel=5e-2)
+    assert page.views.br_x.start == lo and page.views.br_x.end == hi
+
+
+def _alone(**kw) -> str:
+    """The library's message for one bad input of solve, the others valid."""
+    args = {"omega2": 1.0, "eps": 0.5, "theta0": 0.0, **kw}
+    return _library_message(hairbed.solve, **args)
+
+
+def test_every_bad_input_is_listed():
+    """Item 12: three bad values, three messages (each the library's); before only the
+    first."""
+    with pytest.raises(ValueError) as info:
+        model.validate({"omega2": "-1", "eps": "1.5", "theta0": "3"})
+    expected = (_alone(omega2=-1.0), _alone(eps=1.5), _alone(theta0=3.0))
+    assert info.value.messages == expected
+    with pytest.raises(ValueError) as info:
+        model.validate({"si": "1", "length": "-1", "radius": "x", "velocity": "fast"})
+    bed = hairbed.HairBed(**BED)
+    assert info.value.messages == (
+        _library_message(hairbed.HairBed, **{**BED, "length": -1.0}),
+        _library_message(hairbed.HairBed, **{**BED, "radius": "x"}),
+        _library_message(bed.omega2, "fast"),
+    )
+    # each fine alone, wrong together: the bed's message for the combination
+    with pytest.raises(ValueError) as info:
+        model.validate({"si": "1", "length": "0.003"})
+    assert info.value.messages == (_library_message(hairbed.HairBed, **{**BED, "length": 0.003}),)
+
+
+def test_bad_url_lists_every_message_and_restores_the_fields():
+    """Item 12: a link with three bad values shows the three messages and puts the values of
+    the view on screen (the last good one) back in the fields."""
+    page = _page("?omega2=-1&eps=1.5&theta0=3")
+    assert page.errors == (_alone(omega2=-1.0), _alone(eps=1.5), _alone(theta0=3.0))
+    assert page.alert.visible and page.alert.object.count("<p>") == 3
+    assert [page.text[k].value for k in ("omega2", "eps", "theta0")] == [
+        model.DEFAULTS[k] for k in ("omega2", "eps", "theta0")
+    ]
+    _shows(page, 2.0, 0.5, 0.0)
+    page = _page("?si=1&length=-1&radius=x&velocity=fast")
+    assert len(page.errors) == 3 and not page.si.value and not page._bed_column.visible
+    assert page.text["length"].value == model.DEFAULTS["length"]
+    assert page.text["velocity"].value == model.DEFAULTS["velocity"]
+    # Back to a bad URL: the same
+    page = _page("?omega2=1.2&eps=0.9&theta0=-1.5")
+    page.history.search = "?omega2=abc&eps=2"
+    assert len(page.errors) == 2 and page.text["omega2"].value == "1.2"
+    assert page.text["eps"].value == "0.9"
+    _shows(page, 1.2, 0.9, -1.5)
+
+
+def test_si_url_in_step_with_the_view():
+    """Item 13: in SI mode the URL carries the omega2 (and eps, theta0) of the view on screen;
+    before, omega2 was that of the update before."""
+    page = _page("?si=1&velocity=0.1")
+    for v in (0.3, 0.05, -0.2):
+        page.text["velocity"].value = repr(v)
+        args = model.inputs_from_query(page.history.search)
+        bed = page.snapshot.params.bed
+        assert float(args["omega2"]) == bed.omega2(v) == page.snapshot.params.omega2
+        assert float(args["theta0"]) == math.copysign(1.0, v) * bed.base_angle
+        assert float(args["eps"]) == bed.eps and float(args["velocity"]) == v
+
+
+def test_unstable_and_twirling_states_look_different():
+    """Item 13: unstable states are drawn with long dashes in their state's colour, twirling
+    ones with dots in a colour no physical state has, with diamonds at their tips; each
+    figure's legend shows both as drawn."""
+    from bokeh.models import GlyphRenderer
+
+    from hairbed.explorer._figures import STATE_COLORS
+
+    page = _page("?omega2=1.2&eps=0.9&theta0=-1.5&twirl=1")
+    v = page.views
+
+    def glyph(fig, source):
+        (r,) = [
+            r for r in fig.renderers if isinstance(r, GlyphRenderer) and r.data_source is source
+        ]
+        return r.glyph
+
+    for fig, unstable, twirl in (
+        (v.channel, v.ch_unstable, v.ch_twirl),
+        (v.phase, v.ph_unstable, v.ph_twirl),
+    ):
+        u, t = glyph(fig, unstable), glyph(fig, twirl)
+        dash, width = list(u.line_dash), u.line_width
+        # dashes, not dots: each dash several line widths long
+        assert dash and min(dash[::2]) >= 3 * width, (dash, width)
+        assert list(t.line_dash) != dash and max(list(t.line_dash)[::2]) <= t.line_width
+        assert t.line_color not in STATE_COLORS.values()
+        labels = {item.label.value: item for item in fig.legend[0].items}
+        assert {"unstable", "twirling"} <= set(labels)
+        sample = labels["twirling"].renderers[0].glyph
+        assert (sample.line_color, list(sample.line_dash)) == (t.line_color, list(t.line_dash))
+        sample = labels["unstable"].renderers[0].glyph
+        assert list(sample.line_dash) == dash
+    tips = v.ch_twirl_tips.data
+    assert len(tips["x"]) == len(page.snapshot.twirling)
+    assert glyph(v.channel, v.ch_twirl_tips).marker != "circle"

@@ -265,10 +265,26 @@ def _error_text(page) -> str:
     return alert.locator("p").first.text_content() or ""
 
 
+def _error_texts(page) -> list[str]:
+    """Every message shown (one paragraph each)."""
+    alert = page.locator(".hb-error")
+    if not alert.is_visible():
+        return []
+    return alert.locator("p").all_text_contents()
+
+
 def _type(page, key: str, value: str) -> None:
     box = page.locator(f".hb-{key} input")
     box.fill(value)
     box.press("Enter")
+
+
+def _heading(name: str) -> str:
+    """A CSV heading "name [CF units]" of hairbed's variables table (as its sweeps write)."""
+    from hairbed._variables import SOLUTION
+
+    units = SOLUTION[name].units
+    return f"{name} [{units}]" if units else name
 
 
 def _library_message(*args) -> str:
@@ -283,7 +299,7 @@ def _library_message(*args) -> str:
 def test_page_loads_everything_from_the_loopback(browser, server, shots):
     page = _open(browser, server)
     _until(lambda: _shown_omega2(page), "the first view")
-    _check_states(page, 0.8, 0.9, -1.5)
+    _check_states(page, 2.0, 0.5, 0.0)  # the paper's worked example
     page.wait_for_timeout(500)
     page.screenshot(path=str(shots / "explorer-default.png"), full_page=True)
     hosts = {urlparse(u).netloc for u in browser.requests if urlparse(u).scheme in ("http", "ws")}
@@ -435,13 +451,14 @@ def test_back_and_forward_restore_the_view(browser, server):
 
 def test_bad_url_shows_the_message_and_the_defaults(browser, server):
     page = _open(browser, server, "?omega2=2&eps=1.5")
-    expected = _library_message(2.0, 1.5, -1.5)
+    expected = _library_message(2.0, 1.5, 0.0)
     _until(lambda: _error_text(page) == expected, "the URL's message")
-    assert page.locator(".hb-eps input").input_value() == "1.5"
-    _check_states(page, 0.8, 0.9, -1.5)  # the defaults
+    # the field shows the value of the view on screen again, not the bad text
+    _until(lambda: page.locator(".hb-eps input").input_value() == "0.5", "the good eps")
+    _check_states(page, 2.0, 0.5, 0.0)  # the defaults
     page.close()
     page = _open(browser, server, "?omega2=zero")
-    expected = _library_message("zero", 0.9, -1.5)
+    expected = _library_message("zero", 0.5, 0.0)
     _until(lambda: _error_text(page) == expected, "the URL's message")
     page.close()
 
@@ -470,16 +487,17 @@ def test_downloads_match_the_library(browser, server, tmp_path):
     for rec, row in zip(doc["states"], rows):
         ref = hairbed.solve(1.2, 0.9, -1.5, root=rec["state"])
         for name, value in ref.as_dict().items():
+            cell = row[_heading(name)]
             if isinstance(value, bool):
-                assert rec[name] is value and row[name] == str(value)
+                assert rec[name] is value and cell == str(value)
             else:
-                assert rec[name] == value and float(row[name]) == value, name
+                assert rec[name] == value and float(cell) == value, name
     assert [r["stable"] for r in rows] == ["True", "False", "True"]
     page.close()
 
 
 def test_si_mode(browser, server, shots):
-    query = "?si=1&velocity=0.3&theta0=0.2&density=1000&" + "&".join(
+    query = "?si=1&velocity=0.3&base_angle=0.2&density=1000&" + "&".join(
         f"{k}={v!r}" for k, v in BED.items()
     )
     page = _open(browser, server, query)
@@ -534,6 +552,138 @@ def test_twirling_states(browser, server, shots):
     assert [float(v) for v in xi] == pytest.approx([s.xi for s in ref], rel=1e-11)
     page.wait_for_timeout(500)
     page.screenshot(path=str(shots / "explorer-twirling.png"), full_page=True)
+    page.close()
+
+
+# -- issue 23: where users start, errors in full, legible states, downloads with units -----
+
+
+def test_presets_and_the_beds_own_base_angle(browser, server, shots):
+    """Item 11: the presets, and SI mode with the bed's own base angle: switched on from a
+    hair leaning into the flow (theta0 = -1.5), the default bed is upright (before, the
+    pillar took theta0 = -1.5 and lay flat)."""
+    page = _open(browser, server)
+    _until(lambda: _shown_omega2(page) == 2.0, "the worked example")
+    page.locator(".hb-preset-bistable button").click()
+    _until(lambda: _shown_omega2(page) == 1.2, "the bistable preset")
+    assert _check_states(page, 1.2, 0.9, -1.5) == ["low", "mid", "high"]
+    page.locator(".hb-si .bk-body").click()  # the SI switch, from theta0 = -1.5
+    bed = hairbed.HairBed(**BED, density=1260.0)  # base angle 0: upright
+    st = bed.deform(0.1)
+
+    def si_deflection():
+        cells = _cells(page, "si_tip_deflection")
+        return float(cells["low"]) if cells else None
+
+    tip = _until(si_deflection, "the SI rows")
+    assert tip == pytest.approx(st.tip_deflection, rel=1e-11)
+    assert page.locator(".hb-base_angle input").input_value() == "0"
+    assert float(page.locator(".hb-theta0 input").input_value()) == 0.0
+    page.wait_for_timeout(500)
+    page.screenshot(path=str(shots / "explorer-si-from-leaning.png"), full_page=True)
+    page.locator(".hb-preset-twirling button").click()
+    _until(lambda: _shown_omega2(page) == 200.0, "the twirling preset")
+    ref = [s for s in hairbed.solve_all(200.0, 0.5, 0.0) if (s.sign, s.n) != (1, 0)]
+    table = page.locator("table.hb-twirl")
+    _until(lambda: table.get_attribute("data-count") == str(len(ref)), "the twirling table")
+    page.wait_for_timeout(500)
+    page.screenshot(path=str(shots / "explorer-preset-twirling.png"), full_page=True)
+    page.locator(".hb-preset-sensor button").click()
+    _until(lambda: page.locator(".hb-velocity input").is_visible(), "the sensor bed")
+    tau = _until(lambda: _cells(page, "si_wall_shear_stress").get("low"), "the sensor's stress")
+    assert float(tau) == pytest.approx(bed.deform(0.1).wall_shear_stress, rel=1e-11)
+    page.wait_for_timeout(500)
+    page.screenshot(path=str(shots / "explorer-preset-sensor.png"), full_page=True)
+    page.close()
+
+
+def test_bad_url_lists_every_parameter(browser, server, shots):
+    """Item 12: three bad values, three messages (before: only the first), and the fields
+    show the view on screen (before: the bad text stayed)."""
+    page = _open(browser, server, "?omega2=-1&eps=1.5&theta0=3")
+    expected = [
+        _library_message(-1.0, 0.5, 0.0),
+        _library_message(1.0, 1.5, 0.0),
+        _library_message(1.0, 0.5, 3.0),
+    ]
+    _until(lambda: _error_texts(page) == expected, "every message")
+    fields = [page.locator(f".hb-{k} input").input_value() for k in INPUTS]
+    assert fields == ["2", "0.5", "0"]
+    _check_states(page, 2.0, 0.5, 0.0)
+    page.screenshot(path=str(shots / "explorer-bad-url.png"), full_page=True)
+    page.close()
+
+
+def test_warnings_on_top_and_within_the_page(browser, server, shots):
+    """Item 12: the library's validity warning sits above the views and inside the page's
+    width (before: below the table, wider than the window)."""
+    query = "?si=1&velocity=3&density=1000&" + "&".join(f"{k}={v!r}" for k, v in BED.items())
+    page = _open(browser, server, query)
+    item = page.locator("ul.hb-warn li").first
+    _until(lambda: item.is_visible(), "the warning")
+    assert "Reynolds" in (item.text_content() or "")
+    box = item.bounding_box()
+    # the row of the controls and the views starts with the presets
+    views = page.locator(".hb-preset-worked").bounding_box()
+    table = page.locator("table.hb-states").bounding_box()
+    assert box["y"] + box["height"] <= views["y"] and box["y"] < table["y"], (box, views)
+    width = page.evaluate("window.innerWidth")
+    assert box["x"] + box["width"] <= width, (box, width)
+    assert page.evaluate("document.documentElement.scrollWidth") <= width
+    page.screenshot(path=str(shots / "explorer-warning.png"), full_page=True)
+    page.close()
+
+
+def test_legible_states(browser, server, shots):
+    """Item 13: the twirling checkbox ticks by its label; the slider shows the state's value
+    (0.897, before 0.90); in SI mode the URL carries the view's omega2 (before, the one of
+    the update before)."""
+    page = _open(browser, server, "?omega2=1.2&eps=0.897&theta0=-1.5")
+    _until(lambda: _shown_omega2(page) == 1.2, "the view at omega2 = 1.2")
+    shown = page.locator(".hb-eps-slider .bk-slider-value")
+    _until(lambda: shown.text_content() == "0.897", "the slider's value 0.897")
+    page.get_by_text("show twirling states").click()
+    ref = [s for s in hairbed.solve_all(1.2, 0.897, -1.5) if (s.sign, s.n) != (1, 0)]
+    _until(lambda: page.locator(".hb-twirl-table p, table.hb-twirl").count() == 1, "twirling")
+    count = page.locator("table.hb-twirl").get_attribute("data-count") if ref else "0"
+    assert count == str(len(ref))
+    page.wait_for_timeout(500)
+    page.screenshot(path=str(shots / "explorer-legible.png"), full_page=True)
+    page.close()
+    page = _open(browser, server, "?si=1&velocity=0.1")
+    bed = hairbed.HairBed(**BED, density=1260.0)
+    for v in (0.3, 0.05):
+        _type(page, "velocity", repr(v))
+        _until(lambda v=v: _url_inputs(page)[0] == bed.omega2(v), f"the URL at v = {v}")
+    page.close()
+
+
+def test_downloads_carry_units_and_the_shape(browser, server, tmp_path):
+    """Item 14: the CSV heads its columns "name [units]", the JSON names every variable's
+    units, and the shape CSV is the hair's shape of every state (the library's profile)."""
+    page = _open(browser, server, "?omega2=1.2&eps=0.9&theta0=-1.5")
+    _until(lambda: _shown_omega2(page) == 1.2, "the view at omega2 = 1.2")
+    files = {}
+    for kind in ("json", "csv", "shape"):
+        with page.expect_download(timeout=TIMEOUT * 1e3) as info:
+            page.locator(f".hb-download-{kind} button").click()
+        path = tmp_path / info.value.suggested_filename
+        info.value.save_as(path)
+        files[kind] = path.read_text()
+    header = next(csv.reader(io.StringIO(files["csv"])))
+    assert {"tip_deflection [1]", "tip_angle [rad]", "theta0 [rad]"} <= set(header)
+    doc = json.loads(files["json"])
+    assert doc["variables"]["tip_angle"]["units"] == "rad"
+    rows = list(csv.DictReader(io.StringIO(files["shape"])))
+    assert [r["state"] for r in rows].count("mid") == len(rows) // 3
+    for root in ("low", "mid", "high"):
+        ref = hairbed.solve(1.2, 0.9, -1.5, root=root)
+        mine = [r for r in rows if r["state"] == root]
+        sigma = [float(r["sigma [1]"]) for r in mine]
+        assert sigma[0] == 0.0 and sigma[-1] == 1.0
+        assert [float(r["x [1]"]) for r in mine] == pytest.approx(ref.x(sigma), rel=1e-12)
+        assert [float(r["z [1]"]) for r in mine] == pytest.approx(ref.z(sigma), rel=1e-12)
+        assert float(mine[-1]["x [1]"]) == pytest.approx(ref.tip_deflection, rel=1e-12)
     page.close()
 
 

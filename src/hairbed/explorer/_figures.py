@@ -27,7 +27,14 @@ __all__ = ["Views"]
 
 #: Colours of the low, mid and high states (Okabe-Ito: colour-blind safe).
 STATE_COLORS = {"low": "#0072B2", "mid": "#D55E00", "high": "#009E73"}
-TWIRL_COLOR = "#7f7f7f"
+#: Twirling states: a colour of their own (Okabe-Ito's reddish purple), dots and diamonds.
+TWIRL_COLOR = "#CC79A7"
+TWIRL_DASH = [2, 4]
+TWIRL_MARKER = "diamond"
+#: Unstable states: long dashes (Bokeh's "dashed", 6 on 6 off, reads as dots at width 3).
+UNSTABLE_DASH = [12, 6]
+REST_COLOR = "#bdbdbd"
+FOLD_COLOR = "black"
 #: Pixels of the channel view's frame; its ranges keep one unit of x as long as one of z.
 _FRAME_W, _FRAME_H = 460, 330
 _PROFILE_POINTS = 200
@@ -81,13 +88,20 @@ def _legend_lines(f: Any, *keys: str) -> dict[str, Any]:
     their colours from the data). Only those of ``keys``: every renderer costs paint time."""
     make = {
         "stable": lambda: f.line(_NAN, _NAN, color="black", line_width=3),
-        "unstable": lambda: f.line(_NAN, _NAN, color="black", line_width=3, line_dash="dashed"),
-        "twirling": lambda: f.line(
-            _NAN, _NAN, color=TWIRL_COLOR, line_width=1.5, line_dash="dotted"
+        "unstable": lambda: f.line(
+            _NAN, _NAN, color="black", line_width=3, line_dash=UNSTABLE_DASH
         ),
-        "rest": lambda: f.line(_NAN, _NAN, color="#bdbdbd", line_width=2, line_dash="dotted"),
+        "twirling": lambda: f.line(
+            _NAN, _NAN, color=TWIRL_COLOR, line_width=2, line_dash=TWIRL_DASH
+        ),
+        "twirl_marker": lambda: f.scatter(
+            _NAN, _NAN, marker=TWIRL_MARKER, size=9, color=TWIRL_COLOR, line_color="black"
+        ),
+        "rest": lambda: f.line(_NAN, _NAN, color=REST_COLOR, line_width=2),
         "curve": lambda: f.line(_NAN, _NAN, color="black", line_width=2),
-        "folds": lambda: f.scatter(_NAN, _NAN, marker="x", size=12, line_width=3, color="#CC79A7"),
+        "folds": lambda: f.scatter(
+            _NAN, _NAN, marker="x", size=12, line_width=3, color=FOLD_COLOR
+        ),
         "state": lambda: f.scatter(_NAN, _NAN, color="white", size=10, line_color="black"),
     }
     return {k: make[k]() for k in keys}
@@ -195,13 +209,15 @@ class Views:
             size=7, color="#9ecae1",
         )  # fmt: skip
         self.ch_rest = ColumnDataSource({"x": [], "y": []})
-        f.line("x", "y", source=self.ch_rest, level=_LIVE, color="#bdbdbd", line_width=2,
-                      line_dash="dotted")  # fmt: skip
+        f.line("x", "y", source=self.ch_rest, level=_LIVE, color=REST_COLOR, line_width=2)
         self.ch_twirl = ColumnDataSource(_empty_lines())
         f.multi_line(
-            "xs", "ys", source=self.ch_twirl, level=_LIVE, color=TWIRL_COLOR, line_width=1,
-            line_dash="dotted", alpha=0.8,
+            "xs", "ys", source=self.ch_twirl, level=_LIVE, color=TWIRL_COLOR, line_width=2,
+            line_dash=TWIRL_DASH,
         )  # fmt: skip
+        self.ch_twirl_tips = ColumnDataSource({"x": [], "y": []})
+        f.scatter("x", "y", source=self.ch_twirl_tips, level=_LIVE, marker=TWIRL_MARKER, size=9,
+                  color=TWIRL_COLOR, line_color="black")  # fmt: skip
         self.ch_stable = ColumnDataSource(_empty_lines())
         f.multi_line("xs", "ys", source=self.ch_stable, level=_LIVE, color="color", line_width=3)
         self.ch_unstable = ColumnDataSource(_empty_lines())
@@ -212,7 +228,7 @@ class Views:
             level=_LIVE,
             color="color",
             line_width=3,
-            line_dash="dashed",
+            line_dash=UNSTABLE_DASH,
         )
         self.ch_tips = ColumnDataSource({"x": [], "y": [], "color": [], "label": []})
         f.scatter("x", "y", source=self.ch_tips, level=_LIVE, color="color", size=7)
@@ -220,13 +236,13 @@ class Views:
             "x", "y", text="label", source=self.ch_tips, level=_LIVE, text_font_size="11px",
             x_offset=6, y_offset=-4, text_color="color",
         )  # fmt: skip
-        sample = _legend_lines(f, "stable", "unstable", "twirling", "rest")
+        sample = _legend_lines(f, "stable", "unstable", "twirling", "twirl_marker", "rest")
         _style_legend(
             f,
             [
                 ("stable", [sample["stable"]]),
                 ("unstable", [sample["unstable"]]),
-                ("twirling", [sample["twirling"]]),
+                ("twirling", [sample["twirling"], sample["twirl_marker"]]),
                 ("at rest", [sample["rest"]]),
             ],
             "top_left",
@@ -245,31 +261,33 @@ class Views:
             width=470,
             height=360,
         )
-        self.br_y = f.y_range
+        self.br_x, self.br_y = f.x_range, f.y_range
+        self._br_window: tuple[float, float] = (1e-3, 1e3)
         self.br_curve = ColumnDataSource({"x": [], "y": []})
         f.line("x", "y", source=self.br_curve, color="black", line_width=2)
         self.br_twirl = ColumnDataSource(_empty_lines())
-        f.multi_line("xs", "ys", source=self.br_twirl, color=TWIRL_COLOR,
-                             line_dash="dotted")  # fmt: skip
+        f.multi_line("xs", "ys", source=self.br_twirl, color=TWIRL_COLOR, line_width=2,
+                     line_dash=TWIRL_DASH)  # fmt: skip
         self.br_folds = ColumnDataSource({"x": [], "y": []})
         f.scatter("x", "y", source=self.br_folds, marker="x", size=12, line_width=3,
-                          color="#CC79A7")  # fmt: skip
+                  color=FOLD_COLOR)  # fmt: skip
         self.br_now = Span(dimension="height", location=1.0, line_color="#999999",
                            line_dash="dashed", level=_LIVE)  # fmt: skip
         f.add_layout(self.br_now)
         self.br_states = ColumnDataSource({"x": [], "y": [], "color": [], "label": []})
         f.scatter("x", "y", source=self.br_states, level=_LIVE, color="color", size=10,
                   line_color="black")  # fmt: skip
-        sample = _legend_lines(f, "curve", "folds", "state", "twirling")
+        sample = _legend_lines(f, "curve", "folds", "state", "twirling", "twirl_marker")
         self.br_twirl_states = ColumnDataSource({"x": [], "y": []})
-        f.scatter("x", "y", source=self.br_twirl_states, level=_LIVE, color=TWIRL_COLOR, size=6)
+        f.scatter("x", "y", source=self.br_twirl_states, level=_LIVE, marker=TWIRL_MARKER,
+                  size=9, color=TWIRL_COLOR, line_color="black")  # fmt: skip
         _style_legend(
             f,
             [
                 ("physical branch", [sample["curve"]]),
                 ("folds", [sample["folds"]]),
                 ("current states", [sample["state"]]),
-                ("twirling branches", [sample["twirling"]]),
+                ("twirling branches, states", [sample["twirling"], sample["twirl_marker"]]),
             ],
             "top_left",
         )
@@ -315,21 +333,26 @@ class Views:
         self.ph_x, self.ph_y = f.x_range, f.y_range
         self.ph_twirl = ColumnDataSource(_empty_lines())
         f.multi_line(
-            "xs", "ys", source=self.ph_twirl, level=_LIVE, color=TWIRL_COLOR, line_dash="dotted"
-        )
+            "xs", "ys", source=self.ph_twirl, level=_LIVE, color=TWIRL_COLOR, line_width=2,
+            line_dash=TWIRL_DASH,
+        )  # fmt: skip
         self.ph_stable = ColumnDataSource(_empty_lines())
         f.multi_line("xs", "ys", source=self.ph_stable, level=_LIVE, color="color", line_width=3)
         self.ph_unstable = ColumnDataSource(_empty_lines())
         f.multi_line("xs", "ys", source=self.ph_unstable, level=_LIVE, color="color",
-                                line_width=3, line_dash="dashed")  # fmt: skip
+                     line_width=3, line_dash=UNSTABLE_DASH)  # fmt: skip
         self.ph_ends = ColumnDataSource({"x": [], "y": [], "color": [], "marker": []})
         f.scatter(
             "x", "y", source=self.ph_ends, level=_LIVE, color="color", marker="marker", size=8
         )
-        sample = _legend_lines(f, "stable", "unstable")
+        sample = _legend_lines(f, "stable", "unstable", "twirling")
         _style_legend(
             f,
-            [("stable", [sample["stable"]]), ("unstable", [sample["unstable"]])],
+            [
+                ("stable", [sample["stable"]]),
+                ("unstable", [sample["unstable"]]),
+                ("twirling", [sample["twirling"]]),
+            ],
             "top_right",
         )
         return f
@@ -355,7 +378,7 @@ class Views:
         if p.si and p.bed is not None:
             scale, unit = p.bed.length * 1e3, "mm"
         self._update_channel(p, phys, twirl, scale, unit)
-        self._update_branch(snap, phys, twirl)
+        self._update_branch(snap, phys)
         self._set(
             self.bi_now,
             {
@@ -397,6 +420,10 @@ class Views:
             tw["color"].append(TWIRL_COLOR)
             tw["label"].append(f"({sol.sign:+d}, {sol.n})")
         self._set(self.ch_twirl, tw)
+        self._set(
+            self.ch_twirl_tips,
+            {"x": [float(x[-1]) for x in tw["xs"]], "y": [float(z[-1]) for z in tw["ys"]]},
+        )
         self._set(self.ch_tips, tips)
         base = mirror * p.theta0
         self._set(
@@ -439,42 +466,39 @@ class Views:
         self.channel.xaxis.axis_label = f"x [{unit}] (along the flow)"
         self.channel.yaxis.axis_label = f"z [{unit}] (height)"
 
-    def _update_branch(self, snap: Snapshot, phys: list[Any], twirl: list[Any]) -> None:
-        p = snap.params
-        key = "tip_deflection" if p.y == "x1" else "xi"
-        self.branch.yaxis.axis_label = (
-            "tip deflection x1/L [-]" if p.y == "x1" else "xi = sin(theta1) [-]"
-        )
-        self._set(self.br_curve, {"x": snap.curve_omega2, "y": snap.curve_y})
+    def _update_branch(self, snap: Snapshot, phys: list[Any]) -> None:
+        d = snap.branch  # in the dimensionless variables, or the bed's in SI mode
+        self.branch.xaxis.axis_label = d.x_label
+        self.branch.yaxis.axis_label = d.y_label
+        if self._br_window != d.x_range:  # a new abscissa (SI mode, another bed): re-framed
+            self._br_window = d.x_range
+            self.br_x.start, self.br_x.end = d.x_range
+        self._set(self.br_curve, {"x": d.curve_x, "y": d.curve_y})
         tw = _empty_lines()
-        for label, w, y in snap.twirl_curves:
-            tw["xs"].append(w)
+        for label, x, y in d.twirl_curves:
+            tw["xs"].append(x)
             tw["ys"].append(y)
             tw["color"].append(TWIRL_COLOR)
             tw["label"].append(label)
         self._set(self.br_twirl, tw)
-        self._set(self.br_folds, {"x": snap.folds_omega2, "y": snap.folds_y})
-        self.br_now.location = p.omega2 if p.omega2 > 0.0 else 1e-3
+        self._set(self.br_folds, {"x": d.folds_x, "y": d.folds_y})
+        self.br_now.visible = d.now is not None
+        if d.now is not None:
+            self.br_now.location = d.now if d.now > 0.0 else d.x_range[0]
         self._set(
             self.br_states,
             {
-                "x": [p.omega2] * len(phys),
-                "y": [float(getattr(s, key)) for _, s, _ in phys],
+                "x": d.states_x,
+                "y": d.states_y,
                 "color": [STATE_COLORS[label] for label, _, _ in phys],
                 "label": [label for label, _, _ in phys],
             },
         )
-        self._set(
-            self.br_twirl_states,
-            {
-                "x": [p.omega2] * len(twirl),
-                "y": [float(getattr(s, key)) for s in twirl],
-            },
-        )
+        self._set(self.br_twirl_states, {"x": d.twirl_x, "y": d.twirl_y})
         # the whole branch (and the twirling ones shown), fixed while only omega2 moves
         _fit(
             self.br_y,
-            _bounds(snap.curve_y, *(y for _, _, y in snap.twirl_curves), self.br_states.data["y"]),
+            _bounds(d.curve_y, *(y for _, _, y in d.twirl_curves), d.states_y),
             sticky=False,
         )
 

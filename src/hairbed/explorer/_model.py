@@ -12,6 +12,7 @@ Everything here is plain Python and numpy, so it is tested without a browser.
 from __future__ import annotations
 
 import csv
+import dataclasses
 import functools
 import io
 import json
@@ -28,13 +29,16 @@ from urllib.parse import parse_qsl, urlencode
 import numpy as np
 
 import hairbed
-from hairbed._variables import BED, BED_REQUIRED, SI, SOLUTION, names
+from hairbed._core.validation import check_positive
+from hairbed._variables import BED, BED_REQUIRED, SI, SOLUTION, cf_attrs, names
 
 __all__ = [
     "BED_KEYS",
     "DEFAULTS",
     "FLAG_KEYS",
     "INPUT_KEYS",
+    "PRESETS",
+    "InputError",
     "SOLUTION_FIELDS",
     "STABILITY_SEGMENTS",
     "Params",
@@ -46,6 +50,7 @@ __all__ = [
     "query_from_inputs",
     "snapshot_csv",
     "snapshot_json",
+    "snapshot_shape_csv",
     "validate",
 ]
 
@@ -58,30 +63,31 @@ SOLUTION_FIELDS: tuple[str, ...] = names(SOLUTION, "input", "branch", "state", "
 STABILITY_SEGMENTS = 60
 
 #: Inputs of a bed in SI units: key -> (label, unit). Keys are :class:`hairbed.HairBed`'s
-#: (but the base angle, which is theta0's field) and the wall speed.
+#: fields (the base angle among them: a bed's own, not carried over from theta0) and the wall
+#: speed.
 BED_KEYS: dict[str, tuple[str, str]] = {
     **{
         k: (BED[k].label + (" (optional)" if k == "density" else ""), BED[k].unit)
         for k in names(BED, "bed")
-        if k != "base_angle"
     },
     "velocity": (SI["velocity"].label, SI["velocity"].unit),
 }
 #: Switches of the page (0 or 1).
 FLAG_KEYS = ("si", "twirl")
 #: Every input the page holds (and the URL carries), in the URL's order.
-INPUT_KEYS: tuple[str, ...] = ("omega2", "eps", "theta0", "y", *FLAG_KEYS, *BED_KEYS)
+INPUT_KEYS: tuple[str, ...] = ("omega2", "eps", "theta0", "y", *FLAG_KEYS, "x", *BED_KEYS)
 
-#: The page at first sight: a hair leaning into the flow in a tight channel, just below the
-#: window of three states (theory.md §5), and soft 1 mm hairs under glycerol for SI mode (the
-#: example of :class:`hairbed.HairBed`).
+#: The page at first sight: the paper's worked example (omega^2 = 2, eps = 0.5, theta0 = 0,
+#: arXiv:2203.04169 §4), and for SI mode upright soft 1 mm pillars under glycerol (the example
+#: of :class:`hairbed.HairBed`).
 DEFAULTS: dict[str, str] = {
-    "omega2": "0.8",
-    "eps": "0.9",
-    "theta0": "-1.5",
+    "omega2": "2",
+    "eps": "0.5",
+    "theta0": "0",
     "y": "x1",
     "si": "0",
     "twirl": "0",
+    "x": "speed",
     "length": "0.001",
     "radius": "5e-05",
     "youngs_modulus": "1000000.0",
@@ -89,11 +95,38 @@ DEFAULTS: dict[str, str] = {
     "viscosity": "1.0",
     "spacing": "0.0004",
     "packing_fraction": "",
+    "base_angle": "0",
     "density": "1260.0",
     "velocity": "0.1",
 }
-#: Quantities plotted against omega2 in the branch diagram.
+#: Starting points, each a set of inputs (the others take :data:`DEFAULTS`): name -> inputs.
+PRESETS: dict[str, dict[str, str]] = {
+    "worked example": {"omega2": "2", "eps": "0.5", "theta0": "0"},
+    # inside the window of three states of a hair leaning into the flow (theory.md §5)
+    "bistable window": {"omega2": "1.2", "eps": "0.9", "theta0": "-1.5"},
+    "twirling states": {"omega2": "200", "eps": "0.5", "theta0": "0", "twirl": "1"},
+    # a wall-shear-stress sensor: 1 mm PDMS-like pillars in glycerol, Stokes flow (Re ~ 0.2)
+    "sensor bed (SI)": {"si": "1", "velocity": "0.1", "base_angle": "0"},
+}
+#: Quantities plotted against the forcing in the branch diagram.
 Y_CHOICES = {"x1": "tip_deflection", "xi": "xi"}
+#: Abscissae of the branch diagram in SI mode: the wall speed or the wall shear stress.
+X_CHOICES = ("speed", "stress")
+
+
+class InputError(ValueError):
+    """Every bad input of a view, each with the library's message.
+
+    Attributes
+    ----------
+    messages : tuple of str
+        One message per bad parameter (by name and allowed range), in the order of
+        :data:`INPUT_KEYS`. ``str()`` of the error is the messages joined by "; ".
+    """
+
+    def __init__(self, messages: list[str]) -> None:
+        self.messages = tuple(messages)
+        super().__init__("; ".join(messages))
 
 
 def _number(text: str) -> Any:
@@ -112,6 +145,18 @@ def _flag(raw: Mapping[str, str], key: str) -> bool:
     if value in ("0", "false", "off", "no", ""):
         return False
     raise ValueError(f"{key} must be 0 or 1, got {value!r}")
+
+
+def _message(check: Any, *args: Any, **kwargs: Any) -> str | None:
+    """The library's message if ``check`` refuses its arguments, else None (warnings
+    dropped: only the message of a refused input is wanted)."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            check(*args, **kwargs)
+    except ValueError as exc:
+        return str(exc)
+    return None
 
 
 @dataclass(frozen=True)
@@ -135,6 +180,9 @@ class Params:
         Wall speed v [m/s] (SI mode only).
     raw : dict
         The inputs as text, exactly as validated (what the URL carries).
+    x : str
+        Abscissa of the branch diagram in SI mode: "speed" (wall speed) or "stress" (wall shear
+        stress).
     warnings : tuple of str
         The warnings the library issued while validating (e.g. :class:`hairbed.UnitsWarning`
         of :class:`hairbed.HairBed` for an implausible size), as "Category: message".
@@ -150,6 +198,7 @@ class Params:
     velocity: float | None = None
     raw: dict[str, str] = field(default_factory=dict)
     warnings: tuple[str, ...] = ()
+    x: str = "speed"
 
 
 @contextmanager
@@ -177,6 +226,61 @@ def _merge(*groups: Any) -> list[str]:
     return list(dict.fromkeys(w for g in groups for w in g))
 
 
+#: Valid stand-ins for the inputs not under test when each one is checked alone.
+_GOOD = {"omega2": 1.0, "eps": 0.5, "theta0": 0.0}
+#: The SI units in which :class:`hairbed.HairBed` checks each positive size.
+_SIZE_UNITS = {
+    "length": "m",
+    "radius": "m",
+    "youngs_modulus": "Pa",
+    "channel_height": "m",
+    "viscosity": "Pa*s",
+}
+
+
+def _bed_args(full: Mapping[str, str]) -> dict[str, Any]:
+    """The arguments of :class:`hairbed.HairBed` from the page's text (empty: not given)."""
+    args: dict[str, Any] = {k: _number(full[k]) for k in (*BED_REQUIRED, "base_angle")}
+    for k in ("spacing", "packing_fraction", "density"):  # optional
+        args[k] = _number(full[k]) if full[k].strip() else None
+    return args
+
+
+_REFERENCE_BED = _bed_args(DEFAULTS)
+
+
+def _bed_problems(args: Mapping[str, Any]) -> list[str]:
+    """The library's message for each bed parameter it refuses on its own, then (if each is
+    fine alone) the one for the combination (e.g. hairs longer than the channel is high).
+
+    Each parameter is checked by the library with the others at valid reference values
+    where they do not enter its check (the sizes by the check :class:`hairbed.HairBed`
+    applies to each, :func:`hairbed._core.validation.check_positive`)."""
+    out: list[str] = []
+    for k, unit in _SIZE_UNITS.items():
+        m = _message(check_positive, args[k], k, unit)
+        if m:
+            out.append(m)
+    spacing, packing = args["spacing"], args["packing_fraction"]
+    if spacing is not None and packing is None:
+        m = _message(check_positive, spacing, "spacing", "m")
+    else:  # the packing fraction alone, or both or neither (the bed says which to give)
+        m = _message(
+            hairbed.HairBed, **{**_REFERENCE_BED, "spacing": spacing, "packing_fraction": packing}
+        )
+    if m:
+        out.append(m)
+    for k in ("base_angle", "density"):
+        m = _message(hairbed.HairBed, **{**_REFERENCE_BED, k: args[k]})
+        if m:
+            out.append(m)
+    if not out:
+        m = _message(hairbed.HairBed, **args)
+        if m:
+            out.append(m)
+    return out
+
+
 def validate(raw: Mapping[str, str]) -> Params:
     """Check the page's inputs with the library's own checks.
 
@@ -191,8 +295,9 @@ def validate(raw: Mapping[str, str]) -> Params:
 
     Raises
     ------
-    ValueError
-        With the library's message (the first bad input, by name and allowed range).
+    InputError
+        A ValueError with the library's message for every bad input (by name and allowed
+        range), not only the first.
 
     Examples
     --------
@@ -201,37 +306,76 @@ def validate(raw: Mapping[str, str]) -> Params:
     >>> validate({"eps": "1.5"})
     Traceback (most recent call last):
     ...
-    ValueError: eps must lie in [0, 1), got 1.5
+    hairbed.explorer._model.InputError: eps must lie in [0, 1), got 1.5
     """
+    problems: list[str] = []
     unknown = sorted(set(raw) - set(INPUT_KEYS))
     if unknown:
-        raise ValueError(f"unknown parameter {unknown[0]!r}; known: {', '.join(INPUT_KEYS)}")
-    full = {k: str(raw.get(k, DEFAULTS[k])) for k in INPUT_KEYS}
-    y = full["y"].strip()
-    if y not in Y_CHOICES:
-        raise ValueError(f"y must be one of 'x1', 'xi', got {y!r}")
-    si, twirl = _flag(full, "si"), _flag(full, "twirl")
-    if not si:
-        w, e, th = (_number(full[k]) for k in ("omega2", "eps", "theta0"))
-        with _recording() as caught:
-            hairbed.solve(w, e, th)  # the library's checks, with its messages
-        return Params(
-            float(w), float(e), float(th), y, si, twirl, raw=full, warnings=tuple(caught)
+        problems.append(
+            f"unknown parameter{'s' if len(unknown) > 1 else ''} "
+            f"{', '.join(repr(k) for k in unknown)}; known: {', '.join(INPUT_KEYS)}"
         )
-    bed_args: dict[str, Any] = {k: _number(full[k]) for k in BED_REQUIRED}
-    for k in ("spacing", "packing_fraction"):  # give exactly one: HairBed says so otherwise
-        bed_args[k] = _number(full[k]) if full[k].strip() else None
-    bed_args["base_angle"] = _number(full["theta0"])
-    # optional: without it the states carry no Reynolds number (NaN) and no check of it
-    bed_args["density"] = _number(full["density"]) if full["density"].strip() else None
+    full = {k: str(raw.get(k, DEFAULTS[k])) for k in INPUT_KEYS}
+    y, x_kind = full["y"].strip(), full["x"].strip()
+    if y not in Y_CHOICES:
+        problems.append(f"y must be one of 'x1', 'xi', got {y!r}")
+    if x_kind not in X_CHOICES:
+        problems.append(f"x must be one of 'speed', 'stress', got {x_kind!r}")
+    flags = {}
+    for k in FLAG_KEYS:
+        try:
+            flags[k] = _flag(full, k)
+        except ValueError as exc:
+            problems.append(str(exc))
+            flags[k] = False
+    si, twirl = flags["si"], flags["twirl"]
+    if not si:
+        values = {k: _number(full[k]) for k in ("omega2", "eps", "theta0")}
+        m = None
+        with _recording() as caught:
+            try:
+                hairbed.solve(**values)  # the library's checks, with its messages
+            except ValueError as exc:
+                m = str(exc)
+        if m is not None:  # which of them: each alone, the others at valid values
+            alone = [_message(hairbed.solve, **{**_GOOD, k: v}) for k, v in values.items()]
+            problems += [a for a in alone if a] or [m]
+        if problems:
+            raise InputError(problems)
+        w, e, th = (float(values[k]) for k in ("omega2", "eps", "theta0"))
+        return Params(w, e, th, y, si, twirl, raw=full, warnings=tuple(caught), x=x_kind)
+    bed_args = _bed_args(full)
+    velocity = _number(full["velocity"])
     with _recording() as caught:
-        bed = hairbed.HairBed(**bed_args)  # checks every size and the density by name
-        velocity = _number(full["velocity"])
-        omega2 = float(bed.omega2(velocity))  # checks the wall speed by name
+        try:
+            bed = hairbed.HairBed(**bed_args)  # checks every size and the density by name
+        except ValueError:
+            bed = None
+            problems += _bed_problems(bed_args)
+        # the wall speed: against this bed, or the reference one if this one is bad
+        m = _message((bed or hairbed.HairBed(**_REFERENCE_BED)).omega2, velocity)
+        if m:
+            problems.append(m)
+        if problems:
+            raise InputError(problems)
+        assert bed is not None
+        omega2 = float(bed.omega2(velocity))
     velocity = float(velocity)
-    theta0 = -bed.base_angle if velocity < 0.0 else bed.base_angle
+    theta0 = (-bed.base_angle if velocity < 0.0 else bed.base_angle) + 0.0  # no -0.0
+    # the problem solved, written out: the URL and the fields show the view's own values
+    full.update(omega2=repr(omega2), eps=repr(bed.eps), theta0=repr(theta0))
     return Params(
-        omega2, bed.eps, theta0, y, si, twirl, bed, velocity, raw=full, warnings=tuple(caught)
+        omega2,
+        bed.eps,
+        theta0,
+        y,
+        si,
+        twirl,
+        bed,
+        velocity,
+        raw=full,
+        warnings=tuple(caught),
+        x=x_kind,
     )
 
 
@@ -255,8 +399,8 @@ def query_from_inputs(params: Params) -> str:
     '?omega2=2&eps=0.5&theta0=0&y=x1&si=0&twirl=0'
     """
     keys = ["omega2", "eps", "theta0", "y", *FLAG_KEYS]
-    if params.si:
-        keys += list(BED_KEYS)  # empty ones too: an empty spacing means "the packing fraction"
+    if params.si:  # omega2, eps and theta0 then the bed's (Params.raw holds them)
+        keys += ["x", *BED_KEYS]  # empty ones too: an empty spacing means "the packing fraction"
     return "?" + urlencode({k: params.raw[k].strip() for k in keys})
 
 
@@ -288,6 +432,50 @@ class StateView:
 
 
 @dataclass(frozen=True)
+class BranchDiagram:
+    """The branch diagram as drawn: against the forcing omega^2 or, in SI mode, against the
+    bed's wall speed or wall shear stress, with the tip deflection in metres.
+
+    Attributes
+    ----------
+    x_label, y_label : str
+        Axis labels, with units.
+    x_range : (float, float)
+        The abscissae of omega^2 in [1e-3, 1e3] (the range shown first).
+    curve_x, curve_y : ndarray
+        The physical branch.
+    folds_x, folds_y : ndarray
+        Its folds.
+    twirl_curves : list of (str, ndarray, ndarray)
+        (label, x, y) of the branches of the twirling states shown.
+    states_x, states_y : list of float
+        The physical states, in the order of :attr:`Snapshot.states`.
+    twirl_x, twirl_y : list of float
+        The twirling states, in the order of :attr:`Snapshot.twirling`.
+    now : float or None
+        Abscissa of the current forcing (None against the stress, which differs between
+        coexisting states).
+    """
+
+    x_label: str
+    y_label: str
+    x_range: tuple[float, float]
+    curve_x: np.ndarray
+    curve_y: np.ndarray
+    folds_x: np.ndarray
+    folds_y: np.ndarray
+    twirl_curves: list[tuple[str, np.ndarray, np.ndarray]]
+    states_x: list[float]
+    states_y: list[float]
+    twirl_x: list[float]
+    twirl_y: list[float]
+    now: float | None
+
+
+_FORCING_WINDOW = (1e-3, 1e3)
+
+
+@dataclass(frozen=True)
 class Snapshot:
     """Everything one view shows, computed from one :class:`Params`.
 
@@ -304,6 +492,8 @@ class Snapshot:
         (label, omega2, y) of the branches of the twirling states shown.
     folds_omega2, folds_y : ndarray
         The folds of the physical branch (:func:`hairbed.branches.folds`).
+    branch : BranchDiagram
+        The branch diagram as drawn (in SI mode against the bed's wall speed or stress).
     warnings : list of str
         Every warning the library issued for this view, as "Category: message", each once:
         those of validation (:attr:`Params.warnings`) and of solving, classifying and
@@ -321,6 +511,7 @@ class Snapshot:
     twirl_curves: list[tuple[str, np.ndarray, np.ndarray]]
     folds_omega2: np.ndarray
     folds_y: np.ndarray
+    branch: BranchDiagram
     warnings: list[str]
     timings: dict[str, float]
 
@@ -334,30 +525,107 @@ def _roots(n_roots: int) -> tuple[str, ...]:
 
 
 @functools.lru_cache(maxsize=64)
-def _branch_curve(
-    eps: float, theta0: float, sign: int, n: int, y: str
-) -> tuple[Any, Any, tuple[str, ...]]:
-    """(omega2, y) along a branch (the exact parametric curve of
-    :func:`hairbed.branches.curve`) and the warnings computing it issued (cached with it)."""
+def _branch_curve(eps: float, theta0: float, sign: int, n: int) -> tuple[Any, tuple[str, ...]]:
+    """The states along a branch (the exact parametric curve of :func:`hairbed.branches.curve`)
+    and the warnings computing it issued (cached with it)."""
     with _recording() as caught:
         c = hairbed.branches.curve(eps, theta0, sign=sign, n=n, num=600)
-    w = np.asarray(c.omega2, dtype=np.float64)
-    v = np.asarray(getattr(c, Y_CHOICES[y]), dtype=np.float64)
-    keep = np.isfinite(w) & np.isfinite(v) & (w > 0.0)
-    return w[keep], v[keep], tuple(caught)
+    return c, tuple(caught)
 
 
 @functools.lru_cache(maxsize=64)
-def _folds(eps: float, theta0: float, y: str) -> tuple[Any, Any, tuple[str, ...]]:
-    """(omega2, y) at the folds of the physical branch, and the warnings (cached with them)."""
-    w, v = np.empty(0), np.empty(0)
+def _folds(eps: float, theta0: float) -> tuple[Any, tuple[str, ...]]:
+    """The states at the folds of the physical branch (None if none), and the warnings."""
     with _recording() as caught:
         t = np.asarray(hairbed.branches.folds(eps, theta0).t, dtype=np.float64).reshape(-1)
-        if t.size:
-            s = hairbed.from_parameter(t, eps, theta0)
-            w = np.asarray(s.omega2, dtype=np.float64).reshape(-1)
-            v = np.asarray(getattr(s, Y_CHOICES[y]), dtype=np.float64).reshape(-1)
-    return w, v, tuple(caught)
+        s = hairbed.from_parameter(t, eps, theta0) if t.size else None
+    return s, tuple(caught)
+
+
+@functools.lru_cache(maxsize=16)
+def _without_density(bed: Any) -> Any:
+    """The bed without its fluid density: its states along a whole branch carry no Reynolds
+    number and issue no warning about it (the view's warnings are its own states')."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # issued for the bed itself already
+        return dataclasses.replace(bed, density=None, packing_fraction=None)
+
+
+def _xy(p: Params, sol: Any) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y) of the branch diagram of states (a branch curve, folds): (omega^2, x1 or xi), or
+    in SI mode (abs(v) [m/s] or abs(tau) [Pa], x1 L [m] or xi), the bed's own state at the
+    speed that holds each (:class:`hairbed.units.HairState`; mirrored for v < 0)."""
+    if sol is None:
+        return np.empty(0), np.empty(0)
+    w = np.asarray(sol.omega2, dtype=np.float64).reshape(-1)
+    if not p.si:
+        y = np.asarray(getattr(sol, Y_CHOICES[p.y]), dtype=np.float64).reshape(-1)
+        x = w
+    else:
+        bed = _without_density(p.bed)
+        direction = np.full(w.shape, -1.0 if (p.velocity or 0.0) < 0.0 else 1.0)
+        with np.errstate(all="ignore"):
+            st = bed._state(direction * w * bed.velocity_scale, direction, w, sol)
+        x = np.abs(np.asarray(st.velocity if p.x == "speed" else st.wall_shear_stress))
+        x = x.reshape(-1)
+        y = np.asarray(st.tip_deflection if p.y == "x1" else sol.xi, dtype=np.float64)
+        y = y.reshape(-1)
+    return x, y
+
+
+def _shown(xy: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The points of a curve that a log abscissa can show (finite, x > 0)."""
+    x, y = xy
+    keep = np.isfinite(x) & np.isfinite(y) & (x > 0.0)
+    return x[keep], y[keep]
+
+
+def _labels(p: Params) -> tuple[str, str]:
+    if not p.si:
+        y = "tip deflection x1/L [-]" if p.y == "x1" else "xi = sin(theta1) [-]"
+        return "forcing omega^2 [-]", y
+    x = (
+        f"wall speed |v| [{SI['velocity'].unit}]"
+        if p.x == "speed"
+        else f"wall shear stress |tau| [{SI['wall_shear_stress'].unit}]"
+    )
+    y = f"tip deflection x1 L [{SI['tip_deflection'].unit}]" if p.y == "x1" else "xi [-]"
+    return x, y
+
+
+def _diagram(
+    p: Params, curve: Any, folds: Any, twirl: list[tuple[str, Any]], states: list[StateView],
+    twirling: list[StateView],
+) -> BranchDiagram:  # fmt: skip
+    cx, cy = _xy(p, curve)
+    fx, fy = _shown(_xy(p, folds))
+    lo, hi = _FORCING_WINDOW
+    now: float | None
+    if not p.si:
+        sx = [p.omega2] * len(states)
+        sy = [float(getattr(s.solution, Y_CHOICES[p.y])) for s in states]
+        x_range, now = (lo, hi), p.omega2
+    else:
+        sx = [
+            abs(float(s.si.velocity if p.x == "speed" else s.si.wall_shear_stress)) for s in states
+        ]
+        sy = [float(s.si.tip_deflection if p.y == "x1" else s.solution.xi) for s in states]
+        if p.x == "speed":
+            x_range = (lo * p.bed.velocity_scale, hi * p.bed.velocity_scale)
+        else:  # the stresses the curve reaches while omega^2 is in the window
+            w = np.asarray(curve.omega2, dtype=np.float64).reshape(-1)
+            win = cx[(w >= lo) & (w <= hi) & np.isfinite(cx) & (cx > 0.0)]
+            x_range = (float(win.min()), float(win.max())) if win.size else (lo, hi)
+        now = sx[0] if p.x == "speed" else None
+    cx, cy = _shown((cx, cy))
+    tx, ty = [], []
+    for s in twirling:  # a NaN (not drawn) where the log abscissa cannot show it
+        x, y = _xy(p, s.solution)
+        tx.append(float(x[0]) if x.size else float("nan"))
+        ty.append(float(y[0]) if y.size else float("nan"))
+    curves = [(label, *_shown(_xy(p, c))) for label, c in twirl]
+    x_label, y_label = _labels(p)
+    return BranchDiagram(x_label, y_label, x_range, cx, cy, fx, fy, curves, sx, sy, tx, ty, now)
 
 
 def _stability(sol: Any) -> tuple[bool | None, float]:
@@ -404,15 +672,20 @@ def compute(p: Params) -> Snapshot:
     twirling = [
         StateView(f"({s.sign:+d}, {s.n})", s, None, float("nan"), None) for s in twirling_sols
     ]
-    cw, cy, curve_warnings = _branch_curve(e, th, 1, 0, p.y)
+    curve, curve_warnings = _branch_curve(e, th, 1, 0)
     branches = sorted({(s.sign, s.n) for s in twirling_sols})
-    twirl_curves: list[tuple[str, Any, Any]] = []
+    twirl: list[tuple[str, Any]] = []
     twirl_warnings: list[str] = []
     for sg, n in branches:
-        bw, by, bwarn = _branch_curve(e, th, sg, n, p.y)
-        twirl_curves.append((f"({sg:+d}, {n})", bw, by))
+        c, bwarn = _branch_curve(e, th, sg, n)
+        twirl.append((f"({sg:+d}, {n})", c))
         twirl_warnings += bwarn
-    fw, fy, fold_warnings = _folds(e, th, p.y)
+    fold_states, fold_warnings = _folds(e, th)
+    plain = dataclasses.replace(p, si=False) if p.si else p  # the dimensionless variables
+    cw, cy = _shown(_xy(plain, curve))
+    fw, fy = _shown(_xy(plain, fold_states))
+    twirl_curves = [(label, *_shown(_xy(plain, c))) for label, c in twirl]
+    diagram = _diagram(p, curve, fold_states, twirl, states, twirling)
     t3 = time.perf_counter()
     return Snapshot(
         p,
@@ -423,6 +696,7 @@ def compute(p: Params) -> Snapshot:
         twirl_curves,
         fw,
         fy,
+        diagram,
         _merge(p.warnings, caught, curve_warnings, twirl_warnings, fold_warnings),
         {
             "solve": 1e3 * (t1 - t0),
@@ -474,6 +748,43 @@ def _plain(value: Any) -> Any:
 SI_FIELDS: dict[str, str] = {k: v.unit for k, v in SI.items()}
 
 
+#: Points along the hair in the exported shapes (equally spaced in arc length).
+SHAPE_POINTS = 101
+
+_STATE_COLUMNS: dict[str, dict[str, str]] = {
+    "state": {"units": "", "long_name": "which coexisting state: low, mid, high, (sign, n)"},
+    "stable": {"units": "", "long_name": "linearly stable (hairbed.stability.linear_stability)"},
+    "growth_rate": {
+        "units": "1",
+        "long_name": "largest real part of the eigenvalues, in units of 1/bending relaxation time",
+    },
+}
+_SHAPE_COLUMNS: dict[str, dict[str, str]] = {
+    "sigma": {"units": "1", "long_name": "arc length s/L from the base"},
+    "x": {"units": "1", "long_name": "horizontal position x(s)/L (the solved problem's frame)"},
+    "z": {"units": "1", "long_name": "height z(s)/L above the wall"},
+    "theta": {"units": "rad", "long_name": "angle theta(s) from the wall normal"},
+    "si_x": {"units": "m", "long_name": "horizontal position along +x of the bed (x L)"},
+    "si_z": {"units": "m", "long_name": "height above the wall (z L)"},
+}
+
+
+def _attrs(column: str) -> dict[str, str]:
+    """CF attributes (units, long_name) of an exported column."""
+    if column in _STATE_COLUMNS:
+        return _STATE_COLUMNS[column]
+    if column.startswith("si_") and column[3:] in SI:
+        return cf_attrs(SI[column[3:]])
+    return cf_attrs(SOLUTION[column])
+
+
+def _header(column: str) -> str:
+    """A CSV heading "name [units]" (hairbed's CSV style; no brackets without units)."""
+    units = _attrs(column)["units"] if column not in _SHAPE_COLUMNS else ""
+    units = units or _SHAPE_COLUMNS.get(column, {}).get("units", "")
+    return f"{column} [{units}]" if units else column
+
+
 def _state_record(s: StateView) -> dict[str, Any]:
     rec: dict[str, Any] = {"state": s.label, "stable": s.stable, "growth_rate": s.growth_rate}
     rec.update(s.solution.as_dict())
@@ -483,23 +794,49 @@ def _state_record(s: StateView) -> dict[str, Any]:
     return rec
 
 
+def _shape(s: StateView) -> dict[str, Any]:
+    """The hair's shape: arc length, x, z, theta [L, L, L, rad] (and x, z in metres in the
+    bed's frame, :meth:`hairbed.units.HairState.profile`, in SI mode)."""
+    sigma = np.linspace(0.0, 1.0, SHAPE_POINTS)
+    sol = s.solution
+    out: dict[str, Any] = {
+        "sigma": sigma,
+        "x": np.asarray(sol.x(sigma), dtype=np.float64),
+        "z": np.asarray(sol.z(sigma), dtype=np.float64),
+        "theta": np.asarray(sol.theta(sigma), dtype=np.float64),
+    }
+    if s.si is not None:
+        out["si_x"], out["si_z"] = s.si.profile(SHAPE_POINTS)
+    return out
+
+
 def snapshot_json(snap: Snapshot) -> str:
-    """The view as JSON: inputs, every state (every :class:`hairbed.Solution` field), folds."""
+    """The view as JSON: inputs, every state (every :class:`hairbed.Solution` field and its
+    shape), folds, and the CF units and long name of every exported variable."""
     p = snap.params
+    states = [{**_state_record(s), "shape": _shape(s)} for s in snap.states]
+    twirling = [{**_state_record(s), "shape": _shape(s)} for s in snap.twirling]
+    columns = list(dict.fromkeys(k for r in [*states, *twirling] for k in r if k != "shape"))
     doc: dict[str, Any] = {
         "hairbed_version": hairbed.__version__,
         "inputs": {k: p.raw[k] for k in INPUT_KEYS},
         "solved": {"omega2": p.omega2, "eps": p.eps, "theta0": p.theta0},
         "stability": f"hairbed.stability.linear_stability(N={STABILITY_SEGMENTS})",
-        "states": [_state_record(s) for s in snap.states],
-        "twirling": [_state_record(s) for s in snap.twirling],
+        "states": states,
+        "twirling": twirling,
         "folds": {"omega2": snap.folds_omega2, Y_CHOICES[p.y]: snap.folds_y},
         "warnings": snap.warnings,
+        "variables": {k: _attrs(k) for k in columns},
+        "shape_variables": {
+            k: v for k, v in _SHAPE_COLUMNS.items() if p.si or not k.startswith("si_")
+        },
     }
     if p.si and p.bed is not None:
         bed = p.bed
         doc["bed"] = {k: getattr(bed, k) for k in names(BED, "bed")}
         doc["bed"]["velocity"] = p.velocity
+        doc["bed_variables"] = {k: cf_attrs(BED[k]) for k in names(BED, "bed")}
+        doc["bed_variables"]["velocity"] = cf_attrs(SI["velocity"])
     return json.dumps(_plain_tree(doc), indent=2, allow_nan=False)
 
 
@@ -511,20 +848,38 @@ def _plain_tree(value: Any) -> Any:
     return _plain(value)
 
 
+def _cell(value: Any) -> Any:
+    v = _plain(value)
+    return "" if v is None else repr(v) if isinstance(v, float) else v
+
+
 def snapshot_csv(snap: Snapshot) -> str:
-    """The view's states as CSV: one row per state (physical first, then twirling); empty
-    cells for NaN and for what was not computed."""
+    """The view's states as CSV: one row per state (physical first, then twirling), headed
+    "name [units]" (CF units, as hairbed's sweeps write them); empty cells for NaN and for
+    what was not computed."""
     records = [_state_record(s) for s in [*snap.states, *snap.twirling]]
     columns: list[str] = []
     for rec in records:
         columns += [k for k in rec if k not in columns]
     buf = io.StringIO()
     writer = csv.writer(buf, lineterminator="\n")
-    writer.writerow(columns)
+    writer.writerow([_header(k) for k in columns])
     for rec in records:
-        row = []
-        for k in columns:
-            v = _plain(rec.get(k))
-            row.append("" if v is None else repr(v) if isinstance(v, float) else v)
-        writer.writerow(row)
+        writer.writerow([_cell(rec.get(k)) for k in columns])
+    return buf.getvalue()
+
+
+def snapshot_shape_csv(snap: Snapshot) -> str:
+    """The hair's shape of every state as CSV, long format: one row per point along each
+    hair (physical states first, then twirling), headed "name [units]": state, arc length
+    sigma, x, z, theta (in units of L and rad) and, in SI mode, x and z in metres."""
+    buf = io.StringIO()
+    writer = csv.writer(buf, lineterminator="\n")
+    columns = [k for k in _SHAPE_COLUMNS if snap.params.si or not k.startswith("si_")]
+    writer.writerow(["state", *(_header(k) for k in columns)])
+    for s in [*snap.states, *snap.twirling]:
+        shape = _shape(s)
+        cols = [shape.get(k, np.full(SHAPE_POINTS, np.nan)) for k in columns]
+        for i in range(SHAPE_POINTS):
+            writer.writerow([s.label, *(_cell(float(c[i])) for c in cols)])
     return buf.getvalue()

@@ -28,9 +28,11 @@ from ._model import (
     BED_KEYS,
     DEFAULTS,
     INPUT_KEYS,
+    PRESETS,
     SI_FIELDS,
     SOLUTION_FIELDS,
     STABILITY_SEGMENTS,
+    InputError,
     Params,
     Snapshot,
     compute,
@@ -38,6 +40,7 @@ from ._model import (
     query_from_inputs,
     snapshot_csv,
     snapshot_json,
+    snapshot_shape_csv,
     validate,
 )
 
@@ -50,6 +53,7 @@ _THETA0_MAX = 1.57
 #: Rows of the table: Solution field -> description [unit].
 FIELD_LABELS: dict[str, str] = {k: SOLUTION[k].heading for k in SOLUTION_FIELDS}
 SI_LABELS: dict[str, str] = {k: SI[k].heading for k in SI_FIELDS}
+TWIRL_LABEL = "show twirling states (every branch: solve_all)"
 TWIRL_COLUMNS = ("sign", "n", "xi", "omega_eps", "tip_height", "tip_deflection", "tip_angle")
 
 _CSS = """
@@ -58,7 +62,17 @@ table.hb { border-collapse: collapse; font-family: ui-monospace, monospace; font
 table.hb th, table.hb td { padding: 1px 8px; border-bottom: 1px solid #e5e5e5; }
 table.hb th { text-align: left; background: #f4f4f4; }
 table.hb td.num { text-align: right; }
-ul.hb-warn { color: #8a4b00; margin: 4px 0; padding-left: 18px; }
+"""
+#: The messages above the views (bad input, the library's warnings): they wrap, never widen
+#: the page.
+_NOTE_CSS = """
+:host { width: 100%; }
+div.hb-notes { box-sizing: border-box; max-width: 100%; margin: 2px 0; padding: 6px 10px;
+  border-radius: 4px; font-size: 13px; white-space: normal; overflow-wrap: anywhere; }
+div.hb-notes p, div.hb-notes li { margin: 2px 0; }
+div.hb-errors { color: #721c24; background: #f8d7da; border: 1px solid #f5c6cb; }
+div.hb-warnings { color: #6b3a00; background: #fff3cd; border: 1px solid #ffe08a; }
+ul.hb-warn { margin: 0; padding-left: 18px; }
 """
 
 
@@ -79,6 +93,12 @@ def _fmt(value: Any) -> str:
 def _short(value: float) -> str:
     """A value written into a text field from a slider: 6 significant digits."""
     return f"{value:.6g}"
+
+
+#: A slider's shown value: the state's own, to 6 significant digits (0.897, not 0.90).
+_SHOWN = "return String(Number(Number(tick).toPrecision(6)))"
+#: The same for the omega^2 slider, which runs over log10(omega^2).
+_SHOWN_LOG = "return String(Number((10 ** tick).toPrecision(6)))"
 
 
 def _widget(cls: Any, label: str, **kw: Any) -> Any:
@@ -114,10 +134,23 @@ def _table_html(snap: Snapshot) -> str:
         f"<thead><tr><th>{len(states)} physical state{'s' if len(states) > 1 else ''}</th>"
         f"{head}</tr></thead><tbody>{''.join(rows)}</tbody></table>"
     ]
-    if snap.warnings:
-        items = "".join(f"<li>{html.escape(w)}</li>" for w in snap.warnings)
-        out.append(f'<ul class="hb-warn">{items}</ul>')
     return "".join(out)
+
+
+def _warnings_html(warnings: list[str]) -> str:
+    """The library's warnings of the view, above the views (empty: nothing)."""
+    if not warnings:
+        return ""
+    items = "".join(f"<li>{html.escape(w)}</li>" for w in warnings)
+    return f'<div class="hb-notes hb-warnings"><ul class="hb-warn">{items}</ul></div>'
+
+
+def _errors_html(messages: tuple[str, ...]) -> str:
+    """Every bad input's message, one paragraph each (empty: nothing)."""
+    if not messages:
+        return ""
+    items = "".join(f"<p>{html.escape(m)}</p>" for m in messages)
+    return f'<div class="hb-notes hb-errors">{items}</div>'
 
 
 def _twirl_html(snap: Snapshot) -> str:
@@ -177,6 +210,8 @@ class ExplorerPage:
         #: Server time of the last update [ms]: solve, stability, views, total.
         self.timings: dict[str, float] = {}
         self.error = ""
+        #: The messages of the last bad input (one per bad parameter); () after a good one.
+        self.errors: tuple[str, ...] = ()
         self.views = Views()
         self._build_widgets()
         self._build_layout()
@@ -201,7 +236,7 @@ class ExplorerPage:
             end=hi,
             step=0.005,
             value=math.log10(w0),
-            format=CustomJSTickFormatter(code="return Number((10 ** tick).toPrecision(4))"),
+            format=CustomJSTickFormatter(code=_SHOWN_LOG),
             css_classes=["hb-omega2-slider"],
             sizing_mode="stretch_width",
         )
@@ -212,6 +247,7 @@ class ExplorerPage:
             end=0.999,
             step=0.001,
             value=float(DEFAULTS["eps"]),
+            format=CustomJSTickFormatter(code=_SHOWN),
             css_classes=["hb-eps-slider"],
             sizing_mode="stretch_width",
         )
@@ -222,6 +258,7 @@ class ExplorerPage:
             end=_THETA0_MAX,
             step=0.005,
             value=float(DEFAULTS["theta0"]),
+            format=CustomJSTickFormatter(code=_SHOWN),
             css_classes=["hb-theta0-slider"],
             sizing_mode="stretch_width",
         )
@@ -248,10 +285,11 @@ class ExplorerPage:
                 sizing_mode="stretch_width",
             )
         self.si = pn.widgets.Switch(value=DEFAULTS["si"] == "1", css_classes=["hb-si"])
-        self.twirl = _widget(
-            pn.widgets.Checkbox,
-            "show twirling states (every branch: solve_all)",
-            value=DEFAULTS["twirl"] == "1",
+        # a group of one: its label is a <label> around the box (clicking the text ticks it);
+        # a Checkbox's label is a <div> beside it
+        self.twirl = pn.widgets.CheckBoxGroup(
+            options=[TWIRL_LABEL],
+            value=[TWIRL_LABEL] if DEFAULTS["twirl"] == "1" else [],
             css_classes=["hb-twirl-toggle"],
         )
         self.y_choice = pn.widgets.RadioButtonGroup(
@@ -259,9 +297,35 @@ class ExplorerPage:
             value=DEFAULTS["y"],
             css_classes=["hb-y"],
         )
-        self.alert = pn.pane.Alert(
-            "", alert_type="danger", visible=False, css_classes=["hb-error"]
+        self.x_choice = pn.widgets.RadioButtonGroup(
+            options={"wall speed": "speed", "wall shear stress": "stress"},
+            value=DEFAULTS["x"],
+            css_classes=["hb-x"],
         )
+        #: Every bad input's message (the library's), above the views.
+        self.alert = pn.pane.HTML(
+            "",
+            visible=False,
+            css_classes=["hb-error"],
+            stylesheets=[_NOTE_CSS],
+            sizing_mode="stretch_width",
+        )
+        #: The library's warnings of the view on screen (model validity, units), above the
+        #: views.
+        self.notes = pn.pane.HTML(
+            "", css_classes=["hb-notes-pane"], stylesheets=[_NOTE_CSS], sizing_mode="stretch_width"
+        )
+        self.presets = {
+            name: _widget(
+                pn.widgets.Button,
+                name,
+                css_classes=[f"hb-preset-{name.split()[0]}"],
+                margin=(2, 3),
+            )
+            for name in PRESETS
+        }
+        for name, button in self.presets.items():
+            button.on_click(lambda _event, name=name: self.apply_preset(name))
         self.status = pn.pane.HTML("", css_classes=["hb-status"])
         self.link = pn.pane.HTML("", css_classes=["hb-link"])
         self.table = pn.pane.HTML("", css_classes=["hb-table"], stylesheets=[_CSS])
@@ -278,12 +342,18 @@ class ExplorerPage:
             label="download CSV",
             css_classes=["hb-download-csv"],
         )
+        self.download_shape = pn.widgets.FileDownload(
+            callback=self._shape_file,
+            filename="hairbed-shape.csv",
+            label="shape CSV",
+            css_classes=["hb-download-shape"],
+        )
         self.omega2_slider.param.watch(self._from_omega2_slider, "value")
         self.eps_slider.param.watch(self._from_slider("eps"), "value")
         self.theta0_slider.param.watch(self._from_slider("theta0"), "value")
         for w in self.text.values():
             w.param.watch(self._on_input, "value")
-        for w in (self.twirl, self.y_choice, self.si):
+        for w in (self.twirl, self.y_choice, self.x_choice, self.si):
             w.param.watch(self._on_input, "value")
 
     def _build_layout(self) -> None:
@@ -291,13 +361,18 @@ class ExplorerPage:
             *(self.text[k] for k in BED_KEYS),
             pn.pane.HTML(
                 "<small>Give either the spacing or the packing fraction (leave the other "
-                "empty). In SI mode the omega^2 slider moves the wall speed, eps is L/H and "
-                "theta0 is the bed's base angle.</small>"
+                "empty). In SI mode the omega^2 slider moves the wall speed and the theta0 "
+                "slider the base angle; omega^2, eps = L/H and theta0 (mirrored for v &lt; 0) "
+                "follow from the bed.</small>"
             ),
+            pn.pane.HTML("branch diagram abscissa:", margin=(5, 10, 0, 10)),
+            self.x_choice,
             visible=self.si.value,
         )
         self._bed_column = bed
         controls = pn.Column(
+            pn.pane.HTML("<b>Start from</b>", margin=(5, 10, 0, 10)),
+            pn.FlexBox(*self.presets.values(), css_classes=["hb-presets"]),
             pn.pane.HTML("<b>Flow and geometry</b>"),
             self.omega2_slider,
             self.text["omega2"],
@@ -310,7 +385,7 @@ class ExplorerPage:
             self.twirl,
             pn.pane.HTML("branch diagram ordinate:", margin=(5, 10, 0, 10)),
             self.y_choice,
-            pn.Row(self.download_json, self.download_csv),
+            pn.Row(self.download_json, self.download_csv, self.download_shape),
             self.link,
             self.status,
             width=330,
@@ -321,11 +396,12 @@ class ExplorerPage:
                 "<h2 style='margin:4px 0'>hairbed explorer</h2>"
                 "<div>Exact states of a hair bent by channel flow "
                 "(arXiv:2203.04169; <code>hairbed.solve</code>, <code>solve_all</code>, "
-                "<code>branches</code>, <code>stability</code>). Solid: stable, dashed: "
-                "unstable, dotted: twirling (unphysical branches).</div>",
+                "<code>branches</code>, <code>stability</code>). Solid: stable; long dashes: "
+                "unstable; purple dots with diamonds: twirling (unphysical branches).</div>",
                 sizing_mode="stretch_width",
             ),
             self.alert,
+            self.notes,
             pn.Row(
                 controls,
                 pn.Column(
@@ -361,9 +437,18 @@ class ExplorerPage:
     def _from_slider(self, key: str) -> Any:
         def callback(event: Any) -> None:
             if not self._syncing:
-                self.text[key].value = _short(float(event.new))
+                # in SI mode theta0 follows from the bed: the slider moves its base angle
+                field = "base_angle" if key == "theta0" and self.si.value else key
+                self.text[field].value = _short(float(event.new))
 
         return callback
+
+    def apply_preset(self, name: str) -> None:
+        """Show one of :data:`~._model.PRESETS` (the inputs it does not name at their
+        defaults), as a link to it would."""
+        from urllib.parse import urlencode
+
+        self._apply_query("?" + urlencode(PRESETS[name]), restore=True)
 
     def _on_input(self, event: Any) -> None:
         if event.obj is self.si:
@@ -376,6 +461,7 @@ class ExplorerPage:
         raw["si"] = "1" if self.si.value else "0"
         raw["twirl"] = "1" if self.twirl.value else "0"
         raw["y"] = str(self.y_choice.value)
+        raw["x"] = str(self.x_choice.value)
         return raw
 
     def _on_history(self, event: Any) -> None:
@@ -393,7 +479,11 @@ class ExplorerPage:
         unknown = sorted(set(args) - set(INPUT_KEYS))
         if unknown:
             self._show_error(
-                f"unknown parameter {unknown[0]!r} in the URL; known: {', '.join(INPUT_KEYS)}"
+                (
+                    f"unknown parameter{'s' if len(unknown) > 1 else ''} "
+                    f"{', '.join(repr(k) for k in unknown)} in the URL; known: "
+                    f"{', '.join(INPUT_KEYS)}",
+                )
             )
             return
         if restore:
@@ -407,15 +497,19 @@ class ExplorerPage:
                 self.si.value = args["si"].strip().lower() in ("1", "true", "on", "yes")
                 self._bed_column.visible = self.si.value
             if "twirl" in args:
-                self.twirl.value = args["twirl"].strip().lower() in ("1", "true", "on", "yes")
+                on = args["twirl"].strip().lower() in ("1", "true", "on", "yes")
+                self.twirl.value = [TWIRL_LABEL] if on else []
             if "y" in args and args["y"] in ("x1", "xi"):
                 self.y_choice.value = args["y"]
+            if "x" in args and args["x"] in ("speed", "stress"):
+                self.x_choice.value = args["x"]
         finally:
             self._syncing = False
         # the flags as given (not as the widgets could hold them): validate says what is wrong
         raw = self._raw()
-        raw.update({k: v for k, v in args.items() if k in ("si", "twirl", "y")})
-        self.refresh(raw)
+        raw.update({k: v for k, v in args.items() if k in ("si", "twirl", "y", "x")})
+        if not self.refresh(raw):
+            self._restore_fields()  # a bad link: the fields show the view on screen again
 
     # -- the update -----------------------------------------------------------------------
 
@@ -428,23 +522,31 @@ class ExplorerPage:
         try:
             params = validate(self._raw() if raw is None else raw)
             snap = compute(params)
+        except InputError as exc:
+            self._show_error(tuple(" ".join(m.split()) for m in exc.messages))
+            return False
         except ValueError as exc:
-            self._show_error(" ".join(str(exc).split()))
+            self._show_error((" ".join(str(exc).split()),))
             return False
         except Exception as exc:  # a bug: one line in the page and on stderr, no traceback
             message = f"internal error: {type(exc).__name__}: {exc}"
             print(f"hairbed explore: {message}", file=sys.stderr, flush=True)
-            self._show_error(message)
+            self._show_error((message,))
             return False
         solved = time.perf_counter()
         with pn.io.hold():
             self.views.update(snap)
             self.table.object = _table_html(snap)
             self.twirl_table.object = _twirl_html(snap)
+            notes = _warnings_html(snap.warnings)
+            if self.notes.object != notes:
+                self.notes.object = notes
             self._sync_widgets(params)
-            self.alert.visible = False
-            self.alert.object = ""
+            if self.alert.visible:
+                self.alert.visible = False
+                self.alert.object = ""
             self.error = ""
+            self.errors = ()
             query = query_from_inputs(params)
             self.link.object = (
                 f'<a class="hb-permalink" href="{html.escape(query)}">link to this view</a>'
@@ -467,10 +569,31 @@ class ExplorerPage:
             )
         return True
 
-    def _show_error(self, message: str) -> None:
-        self.error = message
-        self.alert.object = message
+    def _show_error(self, messages: tuple[str, ...]) -> None:
+        """Every message, one line each, above the views (the last good view stays)."""
+        self.errors = messages
+        self.error = "; ".join(messages)
+        self.alert.object = _errors_html(messages)
         self.alert.visible = True
+
+    def _restore_fields(self) -> None:
+        """Every field, switch and slider back to the inputs of the view on screen (after a
+        bad link: its text would otherwise stay in the fields the message names)."""
+        if self.snapshot is None:
+            return
+        p = self.snapshot.params
+        self._syncing = True
+        try:
+            for k, w in self.text.items():
+                w.value = p.raw[k]
+            self.si.value = p.si
+            self._bed_column.visible = p.si
+            self.twirl.value = [TWIRL_LABEL] if p.twirl else []
+            self.y_choice.value = p.y
+            self.x_choice.value = p.x
+        finally:
+            self._syncing = False
+        self._sync_widgets(p)
 
     def _sync_widgets(self, p: Params) -> None:
         """Sliders (and the derived fields of SI mode) to the validated inputs."""
@@ -482,12 +605,13 @@ class ExplorerPage:
             self.eps_slider.value = min(max(p.eps, 0.0), self.eps_slider.end)
             base = p.bed.base_angle if p.si and p.bed is not None else p.theta0
             self.theta0_slider.value = min(max(base, -_THETA0_MAX), _THETA0_MAX)
-            self.text["omega2"].disabled = p.si
-            self.text["eps"].disabled = p.si
+            for k in ("omega2", "eps", "theta0"):  # in SI mode they follow from the bed
+                self.text[k].disabled = p.si
             self.eps_slider.disabled = p.si
             if p.si:
                 self.text["omega2"].value = _short(p.omega2)
-                self.text["eps"].value = repr(p.eps)
+                self.text["eps"].value = p.raw["eps"]
+                self.text["theta0"].value = p.raw["theta0"]
         finally:
             self._syncing = False
 
@@ -509,3 +633,7 @@ class ExplorerPage:
     def _csv_file(self) -> io.StringIO:
         assert self.snapshot is not None
         return io.StringIO(snapshot_csv(self.snapshot))
+
+    def _shape_file(self) -> io.StringIO:
+        assert self.snapshot is not None
+        return io.StringIO(snapshot_shape_csv(self.snapshot))
