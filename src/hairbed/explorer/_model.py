@@ -573,6 +573,24 @@ def _xy(p: Params, sol: Any) -> tuple[np.ndarray, np.ndarray]:
     return x, y
 
 
+@functools.lru_cache(maxsize=64)
+def _si_branch(
+    bed: Any, backwards: bool, x: str, y: str, eps: float, theta0: float, sign: int, n: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y) of a whole branch in SI mode (cached: a move of the wall speed alone keeps the
+    bed, the flow's direction and the branch)."""
+    p = Params(0.0, eps, theta0, y, True, False, bed, -1.0 if backwards else 1.0, x=x)
+    return _xy(p, _branch_curve(eps, theta0, sign, n)[0])
+
+
+def _curve_xy(p: Params, curve: Any, sign: int, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """(x, y) of the branch (sign, n) of the view, whose states are ``curve``."""
+    if not p.si:
+        return _xy(p, curve)
+    backwards = (p.velocity or 0.0) < 0.0
+    return _si_branch(p.bed, backwards, p.x, p.y, p.eps, p.theta0, sign, n)
+
+
 def _shown(xy: tuple[np.ndarray, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     """The points of a curve that a log abscissa can show (finite, x > 0)."""
     x, y = xy
@@ -594,10 +612,10 @@ def _labels(p: Params) -> tuple[str, str]:
 
 
 def _diagram(
-    p: Params, curve: Any, folds: Any, twirl: list[tuple[str, Any]], states: list[StateView],
+    p: Params, curve: Any, folds: Any, twirl: list[tuple[int, int, Any]], states: list[StateView],
     twirling: list[StateView],
 ) -> BranchDiagram:  # fmt: skip
-    cx, cy = _xy(p, curve)
+    cx, cy = _curve_xy(p, curve, 1, 0)
     fx, fy = _shown(_xy(p, folds))
     lo, hi = _FORCING_WINDOW
     now: float | None
@@ -623,7 +641,7 @@ def _diagram(
         x, y = _xy(p, s.solution)
         tx.append(float(x[0]) if x.size else float("nan"))
         ty.append(float(y[0]) if y.size else float("nan"))
-    curves = [(label, *_shown(_xy(p, c))) for label, c in twirl]
+    curves = [(f"({sg:+d}, {n})", *_shown(_curve_xy(p, c, sg, n))) for sg, n, c in twirl]
     x_label, y_label = _labels(p)
     return BranchDiagram(x_label, y_label, x_range, cx, cy, fx, fy, curves, sx, sy, tx, ty, now)
 
@@ -674,17 +692,17 @@ def compute(p: Params) -> Snapshot:
     ]
     curve, curve_warnings = _branch_curve(e, th, 1, 0)
     branches = sorted({(s.sign, s.n) for s in twirling_sols})
-    twirl: list[tuple[str, Any]] = []
+    twirl: list[tuple[int, int, Any]] = []  # (sign, n, the branch's states)
     twirl_warnings: list[str] = []
     for sg, n in branches:
         c, bwarn = _branch_curve(e, th, sg, n)
-        twirl.append((f"({sg:+d}, {n})", c))
+        twirl.append((sg, n, c))
         twirl_warnings += bwarn
     fold_states, fold_warnings = _folds(e, th)
     plain = dataclasses.replace(p, si=False) if p.si else p  # the dimensionless variables
     cw, cy = _shown(_xy(plain, curve))
     fw, fy = _shown(_xy(plain, fold_states))
-    twirl_curves = [(label, *_shown(_xy(plain, c))) for label, c in twirl]
+    twirl_curves = [(f"({sg:+d}, {n})", *_shown(_xy(plain, c))) for sg, n, c in twirl]
     diagram = _diagram(p, curve, fold_states, twirl, states, twirling)
     t3 = time.perf_counter()
     return Snapshot(
