@@ -229,3 +229,70 @@ def test_cusp_matches_mpmath_up_to_minus_half_pi():
     ]
     assert not lines, "\n".join(lines)
     assert math.isclose(float(cusp(theta0[0])), got[0], rel_tol=0.0, abs_tol=1e-15)
+
+
+# -- label_states: the coexisting states named low/mid/high and classified ------------------
+
+
+def _omega2_rises_along_the_branch(sol, h=1e-5):
+    """Whether omega^2 increases with xi at the state (a central difference in t of
+    from_parameter): on the physical branch the states between the folds, where it falls, are
+    the unstable ones (theory.md §5), the test's independent criterion."""
+    from scipy.special import logit
+
+    s0 = np.sin(float(sol.theta0))
+    t = float(logit((float(sol.xi) - s0) / (1.0 - s0)))
+    up = float(hairbed.from_parameter(t + h, sol.eps, sol.theta0).omega2)
+    down = float(hairbed.from_parameter(t - h, sol.eps, sol.theta0).omega2)
+    return up > down
+
+
+@pytest.mark.parametrize(
+    ("omega2", "eps", "theta0"),
+    [(1.2, 0.9, -1.5), (0.5135, 0.95, -1.2), (0.9, 0.92, -1.4), (2.0, 0.5, 0.0), (50.0, 0.9, 0.3)],
+)
+def test_label_states_names_and_classifies_the_states_of_the_branch(omega2, eps, theta0):
+    from hairbed.branches import label_states
+
+    low = hairbed.solve(omega2, eps, theta0)
+    names = {1: ("low",), 2: ("low", "high"), 3: ("low", "mid", "high")}[int(low.n_roots)]
+    states = [hairbed.solve(omega2, eps, theta0, root=r) for r in names]
+    labelled = label_states(states)
+    assert [s.root for s in labelled] == list(names)
+    assert all(s.count == len(names) for s in labelled)
+    assert all(s.solution is sol for s, sol in zip(labelled, states))
+    xi = [float(s.solution.xi) for s in labelled]
+    assert xi == sorted(xi)
+    for s in labelled:
+        assert s.status == 0
+        assert s.stable == _omega2_rises_along_the_branch(s.solution)
+        assert s.stable == (s.growth_rate < 0.0)
+
+
+def test_label_states_groups_the_branches_of_solve_all():
+    from hairbed.branches import label_states
+
+    states = hairbed.solve_all(200.0, 0.5, 0.1)
+    labelled = label_states(states)
+    assert len(labelled) == len(states) > 3
+    for s in labelled:
+        same = [t for t in states if (t.sign, t.n) == (s.solution.sign, s.solution.n)]
+        assert s.count == len(same)
+        place = next(i for i, t in enumerate(same) if t is s.solution)
+        names = {1: ("low",), 2: ("low", "high"), 3: ("low", "mid", "high")}[s.count]
+        assert s.root == names[place]
+    # the physical state alone on its branch, stable (a hair bent by a flow is at rest)
+    physical = [s for s in labelled if s.solution.physical]
+    assert [(s.root, s.count, s.stable) for s in physical] == [("low", 1, True)]
+
+
+def test_label_states_refuses_what_is_not_a_scalar_solution():
+    from hairbed.branches import label_states
+
+    with pytest.raises(TypeError, match=r"solutions\[1\] must be a hairbed.Solution"):
+        label_states([hairbed.solve(1.0, 0.5), 1.0])
+    with pytest.raises(ValueError, match=r"solutions\[0\] must be a scalar Solution"):
+        label_states([hairbed.solve(np.array([1.0, 2.0]), 0.5)])
+    with pytest.raises(ValueError, match="num"):
+        label_states([hairbed.solve(1.0, 0.5)], num=1)
+    assert label_states([]) == []

@@ -12,6 +12,7 @@ import contextlib
 import io
 import json
 import math
+import re
 from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
@@ -320,3 +321,51 @@ def test_linear_range_tolerance_is_a_deprecated_alias_of_rtol() -> None:
     assert old.tip_deflection == new.tip_deflection and new.rtol == 0.05
     with pytest.warns(FutureWarning, match="use LinearRange.rtol"):
         assert new.tolerance == 0.05
+
+
+# -- read_points: calibration points from a CSV file -----------------------------------------
+
+
+def test_read_points_reads_the_columns_in_any_order(tmp_path):
+    from hairbed.calibration import read_points
+
+    v = [0.05, 0.1, 0.2]
+    x = [1.234567890123e-4, 2.5e-4, 3.75e-4]
+    s = [1e-6, 2e-6, 3e-6]
+    text = "# a sensor\nSigma, velocity ,tip_deflection\n\n" + "".join(
+        f"{c},{a},{b}\n" for a, b, c in zip(v, x, s)
+    )
+    path = tmp_path / "points.csv"
+    path.write_text(text)
+    points = read_points(path)
+    assert points.velocity.tolist() == v
+    assert points.tip_deflection.tolist() == x
+    assert points.sigma.tolist() == s
+    assert points.wall_shear_stress is None
+    path.write_text("wall_shear_stress,tip_deflection\n0.5,1e-4\n")
+    points = read_points(str(path))
+    assert points.wall_shear_stress.tolist() == [0.5]
+    assert points.velocity is None and points.sigma is None
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("velocity,tip_deflection\n", r"needs a header line and at least one row"),
+        ("speed,tip_deflection\n1,2\n", r"unknown column 'speed'; allowed: tip_deflection"),
+        ("velocity,tip_deflection\n1,2\n3\n", r"line 3 has 1 fields, not 2"),
+        ("velocity,tip_deflection\n1,abc\n", r"line 2, tip_deflection: not a number: 'abc'"),
+        ("velocity,sigma\n1,2\n", r"needs a tip_deflection column \[m\]"),
+        ("tip_deflection,sigma\n1,2\n", r"needs exactly one of the columns velocity"),
+        ("velocity,wall_shear_stress,tip_deflection\n1,2,3\n", r"needs exactly one"),
+    ],
+)
+def test_read_points_names_the_file_line_and_column(tmp_path, text, message):
+    from hairbed.calibration import read_points
+
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=f"^{re.escape(str(path))}: .*{message}"):
+        read_points(path)
+    with pytest.raises(OSError):
+        read_points(tmp_path / "missing.csv")

@@ -433,6 +433,11 @@ TARGETS: list[Target] = [
         dict(bed=BED, tip_deflection=3e-4, sigma=1e-6, fit=FIT),
     ),
     Target("calibration.linear_range", calibration.linear_range, dict(bed=BED, rtol=0.1)),
+    Target(
+        "branches.label_states",
+        branches.label_states,
+        dict(solutions=[hairbed.solve(1.2, 0.9, -1.5, root="mid")], num=20),
+    ),
     # labelled sweeps (xarray)
     Target(
         "sweep",
@@ -466,6 +471,7 @@ NOT_FUZZED = {
     "hairbed.sweeps.write_dataset": "file output: tested in test_cli_sweep/test_sweeps",
     "hairbed.sweeps.write_csv_stream": "file output: tested in test_cli_sweep/test_sweeps",
     "hairbed.sweeps.read_table": "file input: OSError is its documented error",
+    "hairbed.calibration.read_points": "file input: OSError is its documented error",
     "Solution.as_dict": "no input",
 }
 

@@ -18,6 +18,7 @@ physical states coexist. :func:`folds` locates the folds as the zeros of d ln(om
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -41,10 +42,12 @@ __all__ = [
     "BistableWindow",
     "Fold",
     "Folds",
+    "LabelledState",
     "bistable_window",
     "curve",
     "cusp",
     "folds",
+    "label_states",
     "log_slope",
 ]
 
@@ -365,3 +368,117 @@ def cusp(theta0: Any) -> float | NDArray[np.float64]:
 
 
 _EPS_TOP = 1.0 - 1e-9
+
+
+# -- the coexisting states of a branch, named and classified ---------------------------------
+
+#: Names of the states of one branch in increasing xi, by how many coexist: the ``root=`` of
+#: :func:`hairbed.solve` that returns each (two exactly at a fold).
+ROOT_NAMES: dict[int, tuple[str, ...]] = {
+    1: ("low",),
+    2: ("low", "high"),
+    3: ("low", "mid", "high"),
+}
+
+
+@dataclass(frozen=True)
+class LabelledState:
+    """One static state among those that coexist on its branch, named and classified.
+
+    Attributes
+    ----------
+    solution : Solution
+        The state (scalar).
+    root : str
+        "low", "mid" or "high": its place in increasing xi among the ``count`` states of its
+        branch (sign, n) in the list labelled, the ``root=`` of :func:`hairbed.solve` that
+        returns it ("root 4", ... past three).
+    count : int
+        How many states of its branch were labelled together (1: the only one).
+    stable : bool or None
+        Linear stability (:func:`hairbed.stability.linear_stability`); None where the
+        classification failed (``status``).
+    growth_rate : float
+        Largest real part of the eigenvalues [1 / bending relaxation time]; NaN where not
+        classified.
+    status : int
+        ``Stability.status`` of the classification: 0 classified.
+    """
+
+    solution: Solution
+    root: str
+    count: int
+    stable: bool | None
+    growth_rate: float
+    status: int
+
+
+def label_states(solutions: Sequence[Solution], num: int | None = None) -> list[LabelledState]:
+    """Name the coexisting states low/mid/high within their branch and classify each.
+
+    The states of one branch (sign, n) must stand together, in increasing xi, as
+    :func:`hairbed.solve_all` returns them or as ``[solve(..., root=r) for r in ("low",
+    "mid", "high")]``; each run of equal (sign, n) is one branch. Each state is classified by
+    the leading eigenvalue of the linearised relaxation dynamics,
+    ``linear_stability(state, num, k=1)``.
+
+    Parameters
+    ----------
+    solutions : sequence of Solution
+        Scalar states, grouped by branch.
+    num : int, optional
+        Segments of the stability discretisation, in [2, 4000]. Default 100 on the
+        physical branch (n = 0) and 200 on twirling ones, whose profiles turn. The leading
+        eigenvalue converges as 1/num^2; near a fold, where it crosses zero, no num is
+        reliable.
+
+    Returns
+    -------
+    list of LabelledState
+        In the order given.
+
+    Examples
+    --------
+    >>> import hairbed
+    >>> states = [hairbed.solve(1.2, 0.9, -1.5, root=r) for r in ("low", "mid", "high")]
+    >>> [(s.root, s.count, s.stable) for s in label_states(states)]
+    [('low', 3, True), ('mid', 3, False), ('high', 3, True)]
+    """
+    from .stability import linear_stability  # scipy.integrate: only when states are labelled
+
+    if not isinstance(solutions, Sequence) or isinstance(solutions, str):
+        raise TypeError(
+            "solutions must be a list of hairbed.Solution (from hairbed.solve, solve_all), "
+            f"got {type(solutions).__name__}"
+        )
+    for i, sol in enumerate(solutions):
+        if not isinstance(sol, Solution):
+            raise TypeError(f"solutions[{i}] must be a hairbed.Solution, got {type(sol).__name__}")
+        if np.ndim(sol.omega2) != 0:
+            raise ValueError(f"solutions[{i}] must be a scalar Solution, got shape {sol.shape}")
+    out: list[LabelledState] = []
+    i = 0
+    while i < len(solutions):
+        j = i
+        while j < len(solutions) and (solutions[j].sign, solutions[j].n) == (
+            solutions[i].sign,
+            solutions[i].n,
+        ):
+            j += 1
+        names = ROOT_NAMES.get(j - i, tuple(f"root {k + 1}" for k in range(j - i)))
+        for sol, name in zip(solutions[i:j], names):
+            res = linear_stability(sol, (100 if sol.n == 0 else 200) if num is None else num, 1)
+            status = int(np.asarray(res.status))
+            ok = status == 0
+            out.append(
+                LabelledState(
+                    solution=sol,
+                    root=name,
+                    count=j - i,
+                    stable=bool(np.asarray(res.stable)) if ok else None,
+                    growth_rate=float(np.asarray(res.growth_rate)) if ok else float("nan"),
+                    status=status,
+                )
+            )
+        i = j
+    return out

@@ -24,6 +24,7 @@ deflection that line is within a tolerance of the exact calibration.
 from __future__ import annotations
 
 import math
+import os
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -53,12 +54,14 @@ from .units import CLOSE_PACKING_FRACTION, HairBed, HairState
 __all__ = [
     "FREE_PARAMETERS",
     "CalibrationFit",
+    "CalibrationPoints",
     "LinearRange",
     "Measurement",
     "fit",
     "linear_range",
     "measure",
     "model_tip_deflection",
+    "read_points",
 ]
 
 FloatArray = NDArray[np.float64]
@@ -739,4 +742,106 @@ def linear_range(bed: HairBed, rtol: float = 0.1) -> LinearRange:
         success=status == 0,
         status=status,
         message=message,
+    )
+
+
+# -- calibration points from a file ------------------------------------------------------------
+
+#: Columns of a calibration file, with their units.
+POINT_COLUMNS: dict[str, str] = {
+    "tip_deflection": "m",
+    "velocity": "m/s",
+    "wall_shear_stress": "Pa",
+    "sigma": "m",
+}
+
+
+@dataclass(frozen=True)
+class CalibrationPoints:
+    """Measured calibration points, as :func:`fit` takes them.
+
+    Attributes
+    ----------
+    tip_deflection : ndarray, shape (k,)
+        Measured tip deflections [m].
+    velocity : ndarray, shape (k,), or None
+        The known wall speeds [m/s] (or None: stresses known).
+    wall_shear_stress : ndarray, shape (k,), or None
+        The known wall shear stresses [Pa] (or None: speeds known).
+    sigma : ndarray, shape (k,), or None
+        The standard deviation of each deflection [m], if the file has them.
+    """
+
+    tip_deflection: FloatArray
+    velocity: FloatArray | None
+    wall_shear_stress: FloatArray | None
+    sigma: FloatArray | None
+
+
+def read_points(path: str | os.PathLike[str]) -> CalibrationPoints:
+    """Read calibration points from a CSV file with a header line.
+
+    The columns (in any order, names case-insensitive) are ``tip_deflection`` [m] and exactly
+    one of ``velocity`` [m/s] and ``wall_shear_stress`` [Pa], optionally ``sigma`` [m]; empty
+    lines and lines starting with ``#`` are skipped. The values are checked by :func:`fit`.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The CSV file.
+
+    Returns
+    -------
+    CalibrationPoints
+
+    Raises
+    ------
+    OSError
+        The file cannot be read.
+    ValueError
+        The file is not such a table; the message starts with ``path`` and names the line
+        and the column.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as tmp:
+    ...     f = pathlib.Path(tmp) / "points.csv"
+    ...     _ = f.write_text("velocity,tip_deflection\\n0.1,2e-4\\n0.2,3.5e-4\\n")
+    ...     points = read_points(f)
+    >>> points.velocity, points.tip_deflection, points.wall_shear_stress
+    (array([0.1, 0.2]), array([0.0002 , 0.00035]), None)
+    """
+    import csv
+
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    rows = [r for r in rows if r and not r[0].lstrip().startswith("#")]
+    if len(rows) < 2:
+        raise ValueError(f"{path}: needs a header line and at least one row")
+    header = [h.strip().lower() for h in rows[0]]
+    for h in header:
+        if h not in POINT_COLUMNS:
+            raise ValueError(f"{path}: unknown column {h!r}; allowed: {', '.join(POINT_COLUMNS)}")
+    columns: dict[str, list[float]] = {h: [] for h in header}
+    for i, row in enumerate(rows[1:], start=2):
+        if len(row) != len(header):
+            raise ValueError(f"{path}: line {i} has {len(row)} fields, not {len(header)}")
+        for h, cell in zip(header, row):
+            try:
+                columns[h].append(float(cell))
+            except ValueError:
+                raise ValueError(f"{path}: line {i}, {h}: not a number: {cell!r}") from None
+    if "tip_deflection" not in columns:
+        raise ValueError(f"{path}: needs a tip_deflection column [m]")
+    if ("velocity" in columns) == ("wall_shear_stress" in columns):
+        raise ValueError(
+            f"{path}: needs exactly one of the columns velocity [m/s] and wall_shear_stress [Pa]"
+        )
+    arrays = {h: np.array(v, dtype=np.float64) for h, v in columns.items()}
+    return CalibrationPoints(
+        tip_deflection=arrays["tip_deflection"],
+        velocity=arrays.get("velocity"),
+        wall_shear_stress=arrays.get("wall_shear_stress"),
+        sigma=arrays.get("sigma"),
     )
