@@ -198,12 +198,12 @@ def test_overflow_is_one_line():
 
 def test_numpy_warnings_are_one_line_each():
     code = (
-        "import sys, numpy as np, hairbed.cli as c\n"
+        "import sys, numpy as np, hairbed.cli as c, hairbed.cli._demo as demo\n"
         "def noisy(args):\n"
         "    for _ in range(3):\n"
         "        np.exp(np.array([1000.0]))\n"
         "    return 0\n"
-        "c._cmd_demo = noisy\n"
+        "demo.run = noisy\n"
         "sys.exit(c.main(['demo']))\n"
     )
     out = run(code=code)

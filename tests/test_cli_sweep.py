@@ -288,7 +288,7 @@ def test_sigint_during_a_write_leaves_no_partial_file(tmp_path, ext, existing):
 
 _STUCK_WRITER = """
 import sys, threading, time
-from hairbed import cli, safe_files, sweeps
+from hairbed import _command, safe_files, sweeps
 
 held = threading.Lock()
 threading.Thread(target=lambda: (held.acquire(), time.sleep(1e6)), daemon=True).start()
@@ -306,7 +306,7 @@ def stuck(ds, path):  # a writer whose clean-up waits on a worker thread's lock,
 
 sweeps.write_dataset = stuck
 sys.argv = ["hairbed", "sweep", "--omega2", "1,2", "--eps", "0.5", "--out", sys.argv[1]]
-cli.run_and_exit()
+_command.run_and_exit()
 """
 
 

@@ -1,11 +1,19 @@
-"""The entry point of the ``hairbed`` command (and of ``python -m hairbed``).
+"""The ``hairbed`` command's start and its Ctrl-C (SIGINT): the one module for signals.
 
-It takes over Ctrl-C before anything heavy is imported. The command line (:mod:`hairbed.cli`)
-imports argparse, numpy and the library, 0.15-0.5 s in which a SIGINT used to end in a
-``KeyboardInterrupt`` traceback. From the moment :func:`run_and_exit` runs, a Ctrl-C is the one
-line ``hairbed: interrupted`` on stderr and exit status 130; once the command line is
-imported, SIGINT is a ``KeyboardInterrupt`` again, so that :func:`hairbed.cli.main` can remove
-a partly written file before it reports the interrupt the same way.
+The console script and ``python -m hairbed`` start in :func:`run_and_exit`. It takes over
+SIGINT before anything heavy is imported: the command line (:mod:`hairbed.cli`) imports
+argparse, numpy and the library, 0.15-0.5 s in which a SIGINT used to end in a
+``KeyboardInterrupt`` traceback. From then until the process ends, a Ctrl-C is the one line
+``hairbed: interrupted`` on stderr and exit status 130, and leaves no partial file.
+
+One handler, :func:`_interrupted`, serves the whole command. It does not unwind the stack (a
+``KeyboardInterrupt``) but ends the process at once (``os._exit``) once the temporaries of the
+files being written are removed (:func:`hairbed.safe_files.remove_unfinished`; a rename onto
+a target holds the signal back until it is done). Unwinding could wait without end: a chunked
+netCDF write closes its file on the way out, which needs the locks that its worker threads
+hold while they go on with the blocks already queued, and the interpreter's shutdown joins
+those threads. A Ctrl-C after the command has done its work (while the interpreter shuts
+down) ends the process at once with the command's own status, silently.
 
 This module imports only ``os``, ``sys`` and ``_signal`` (the C part of ``signal``), which the
 interpreter has loaded already, and ``import hairbed`` imports nothing heavy, so the handler is
@@ -14,6 +22,8 @@ than that hairbed cannot help (measured on an idle 2-core machine, with compiled
 SIGINT in the first ~11 ms, before Python has installed its own handler, ends the process by
 the signal, silently, which a shell reports as status 130; one in the next ~6 ms, while
 ``site`` and the console script's first import run, ends in Python's own traceback).
+:func:`hairbed.cli.main` itself, called in a process of its own, turns a
+``KeyboardInterrupt`` into the same line and status.
 """
 
 from __future__ import annotations
@@ -30,43 +40,63 @@ else:
     except ImportError:  # pragma: no cover (an interpreter without it)
         import signal
 
-__all__ = ["run_and_exit"]
+__all__ = ["INTERRUPTED", "run_and_exit"]
 
-#: The one line of an interrupted command (as :func:`hairbed.cli.main` prints it).
-INTERRUPTED = "hairbed: interrupted\n"
+#: The one line of an interrupted command (also as :func:`hairbed.cli.main` prints it).
+INTERRUPTED = "hairbed: interrupted"
+
+#: Exit status of an interrupted command (128 + SIGINT, as a shell reports it).
+INTERRUPTED_STATUS = 130
 
 
-def _interrupted(signum: int, frame: object) -> None:
-    """SIGINT while the command line is imported: the one line, exit status 130, at once."""
+def _flush() -> None:
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()
         except (AttributeError, OSError, ValueError):  # no stream, a closed pipe: nothing to keep
             pass
+
+
+def _interrupted(signum: int, frame: object) -> None:
+    """SIGINT while the command starts or runs: remove partial files, one line, exit 130."""
+    # never import here: the signal may land inside an import; safe_files is loaded with
+    # the command line, before any file is written (and may be half-loaded right now)
+    safe_files = sys.modules.get("hairbed.safe_files")
+    remove = getattr(safe_files, "remove_unfinished", None)
+    if remove is not None:
+        remove()
+    _flush()
     try:
-        sys.stderr.write(INTERRUPTED)
+        sys.stderr.write(INTERRUPTED + "\n")
         sys.stderr.flush()
     except (AttributeError, OSError, ValueError):
         pass
-    os._exit(130)
+    os._exit(INTERRUPTED_STATUS)
 
 
 def run_and_exit() -> None:
-    """The ``hairbed`` command: :func:`hairbed.cli.run_and_exit`, Ctrl-C handled throughout.
+    """The ``hairbed`` command: :func:`hairbed.cli.main`, then exit with its status.
 
-    Installs a SIGINT handler (the one line, exit status 130, ``os._exit``) while the command
-    line is imported, then hands SIGINT back to Python (``KeyboardInterrupt``, which
-    :func:`hairbed.cli.main` turns into the same line after removing any partial file). A
-    SIGINT ignored by the parent process (``SIG_IGN``, as for a background job) stays ignored.
+    A SIGINT ignored by the parent process (``SIG_IGN``, as for a background job), or already
+    handled by the program that calls this, is left alone.
     """
     take_over = signal.getsignal(signal.SIGINT) is signal.default_int_handler
     if take_over:
         signal.signal(signal.SIGINT, _interrupted)
-    from .cli import run_and_exit as run  # argparse, numpy, the library: 0.15-0.5 s
-
     try:
-        if take_over:
-            signal.signal(signal.SIGINT, signal.default_int_handler)
-        run()
-    except KeyboardInterrupt:  # between the handover and cli.main's own handler
+        from . import safe_files  # noqa: F401 (for the handler, which must not import)
+        from .cli import main  # argparse, numpy, the library: 0.15-0.5 s
+    except KeyboardInterrupt:  # not taken over: SIGINT is Python's own
         _interrupted(signal.SIGINT, None)
+    code = main()
+    if code == INTERRUPTED_STATUS:  # main caught a KeyboardInterrupt (not taken over)
+        _flush()
+        os._exit(INTERRUPTED_STATUS)
+
+    def finished(signum: int, frame: object) -> None:
+        _flush()
+        os._exit(code)
+
+    if take_over:
+        signal.signal(signal.SIGINT, finished)
+    sys.exit(code)

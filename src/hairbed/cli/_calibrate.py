@@ -1,0 +1,115 @@
+"""``hairbed calibrate``: fit a sensor's unknown parameters to measured tip deflections."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+import hairbed
+
+from ._options import add_bed_options, add_command, add_json, need_bed
+from ._output import print_json
+from ._report import PROG, UsageError
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub: Any) -> None:
+    """The ``calibrate`` subcommand's parser."""
+    p = add_command(
+        sub,
+        "calibrate",
+        run,
+        help="fit a sensor's unknown parameters to measured tip deflections",
+        description="Fit the free parameters of a bed (by default Young's modulus) to tip "
+        "deflections measured at known wall speeds or wall shear stresses, by weighted least "
+        "squares on the exact calibration curve with its exact Jacobian "
+        "(hairbed.calibration.fit). --data is a CSV file with a header line: tip_deflection "
+        "[m] and either velocity [m/s] or wall_shear_stress [Pa], optionally sigma [m] (the "
+        "standard deviation of each deflection). The bed options give the starting values and "
+        "the fixed parameters. Exit status 1 when the fit does not succeed.",
+        examples="examples:\n"
+        "  hairbed calibrate --data points.csv --length 1e-3 --radius 50e-6 \\\n"
+        "      --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6\n"
+        "  hairbed calibrate --data points.csv --free youngs_modulus,base_angle --sigma 1e-6 "
+        "... --json",
+    )
+    p.add_argument("--data", required=True, metavar="FILE.csv", help="calibration points (CSV)")
+    p.add_argument(
+        "--free",
+        default="youngs_modulus",
+        metavar="P1,P2",
+        help="parameters to fit, comma-separated: length, radius, youngs_modulus, "
+        "channel_height, viscosity, spacing, packing_fraction, base_angle "
+        "(default youngs_modulus)",
+    )
+    p.add_argument(
+        "--sigma", type=float, metavar="S", help="standard deviation of every deflection [m]"
+    )
+    add_json(p)
+    add_bed_options(p, velocity=False)
+
+
+def _points(path: str) -> Any:
+    """The calibration points of --data (hairbed.calibration.read_points)."""
+    try:
+        return hairbed.calibration.read_points(path)
+    except OSError as exc:
+        raise UsageError(f"--data: cannot read {path}: {exc.strerror or exc}") from None
+    except ValueError as exc:  # its message starts with the path
+        raise UsageError(f"--data {exc}") from None
+
+
+def _print_fit(result: Any, as_json: bool) -> None:
+    units = hairbed.calibration.FREE_PARAMETERS
+    if as_json:
+        print_json(
+            {
+                "parameters": {
+                    p: {"value": result.values[p], "stderr": result.stderr[p], "unit": units[p]}
+                    for p in result.parameters
+                },
+                "covariance": result.covariance,
+                "chi2": result.chi2,
+                "dof": result.dof,
+                "residuals": result.residuals,
+                "points": int(result.residuals.size),
+                "kind": result.kind,
+                "geometry": result.geometry,
+                "success": result.success,
+                "status": result.status,
+                "message": result.message,
+            }
+        )
+        return
+    print(f"calibration of {result.residuals.size} points ({result.kind} known):")
+    width = max(len(p) for p in result.parameters)
+    for p in result.parameters:
+        print(f"  {p:<{width}}  {result.values[p]:.10g} +- {result.stderr[p]:.3g} [{units[p]}]")
+    print(f"  chi2 = {result.chi2:.6g} for {result.dof} degrees of freedom")
+    print(f"  {'converged' if result.success else 'NOT converged'}: {result.message}")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Read the points, fit, print; exit status 1 when the fit does not succeed."""
+    bed = need_bed(args, "calibrate")
+    points = _points(args.data)
+    sigma: Any = points.sigma
+    if args.sigma is not None:
+        if sigma is not None:
+            raise UsageError("give --sigma or a sigma column in --data, not both")
+        sigma = args.sigma
+    result = hairbed.calibration.fit(
+        bed,
+        points.tip_deflection,
+        velocity=points.velocity,
+        wall_shear_stress=points.wall_shear_stress,
+        sigma=sigma,
+        free=args.free,
+    )
+    _print_fit(result, args.json)
+    if not result.success:
+        print(f"{PROG}: warning: the fit did not succeed: {result.message}", file=sys.stderr)
+        return 1
+    return 0

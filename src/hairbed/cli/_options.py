@@ -1,0 +1,153 @@
+"""The parser and the options several subcommands share, written once.
+
+The parser reports bad input as one line (:class:`~hairbed.cli._report.UsageError`) and
+reads every negative number as a value. The builders add the options whose names and help
+texts must agree between subcommands: ``--eps``, ``--theta0``, ``--json`` and the physical
+inputs of a bed, which :func:`bed_from` turns into a :class:`hairbed.HairBed`.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+from collections.abc import Callable
+from typing import Any
+
+import hairbed
+
+from ._report import UsageError
+
+__all__ = [
+    "BED_OPTIONS",
+    "EPS_HELP",
+    "NEGATIVE_NUMBER",
+    "THETA0_HELP",
+    "Parser",
+    "add_bed_options",
+    "add_command",
+    "add_eps",
+    "add_json",
+    "add_theta0",
+    "bed_from",
+    "formatter",
+    "need_bed",
+    "refuse",
+]
+
+#: A negative number as a value, not an option: -1, -.5, -1e-1, -1.2:1.2:25, -inf, -nan
+#: (argparse's own pattern, ``^-\d+$|^-\d*\.\d+$``, takes ``-1e-1`` for an option).
+NEGATIVE_NUMBER = re.compile(r"^-(?:\.?\d|inf(?:inity)?$|nan$)", re.IGNORECASE)
+
+#: Help text of the confinement.
+EPS_HELP = "confinement eps = L/H [-], in [0, 1)"
+
+#: Help text of a base angle: its sign convention.
+THETA0_HELP = (
+    "base angle theta0 [rad], in (-pi/2, pi/2); default 0. Positive leans with the flow, "
+    "negative leans into it (where a tight channel can hold three states)"
+)
+
+#: Physical inputs of a bed: option name -> (HairBed keyword, help text).
+BED_OPTIONS: dict[str, tuple[str, str]] = {
+    "--length": ("length", "hair length L [m]"),
+    "--radius": ("radius", "hair radius a [m]"),
+    "--youngs-modulus": ("youngs_modulus", "Young's modulus E [Pa]"),
+    "--channel-height": ("channel_height", "channel height H [m]"),
+    "--viscosity": ("viscosity", "dynamic viscosity eta [Pa s]"),
+    "--spacing": ("spacing", "hexagonal hair spacing delta [m] (or --packing-fraction)"),
+    "--packing-fraction": ("packing_fraction", "packing fraction phi [-] (or --spacing)"),
+    "--base-angle": (
+        "base_angle",
+        "base angle theta0 [rad] (default 0; negative leans into a flow towards +x)",
+    ),
+    "--density": ("density", "fluid density rho [kg/m^3] (optional: checks Re < 1)"),
+}
+_BED_REQUIRED = ("length", "radius", "youngs_modulus", "channel_height", "viscosity")
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse, but errors are one line on stderr (no usage block) and every negative number
+    (exponent form, SPEC, -inf) is a value."""
+
+    def __init__(self, *args: Any, **kwargs: Any) -> None:
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        raise UsageError(message)
+
+
+def formatter(prog: str) -> argparse.HelpFormatter:
+    """The help layout: descriptions and examples as written, option help from column 32."""
+    return argparse.RawDescriptionHelpFormatter(prog, max_help_position=32)
+
+
+def add_command(
+    sub: Any,
+    name: str,
+    run: Callable[[argparse.Namespace], int],
+    *,
+    help: str,
+    description: str,
+    examples: str,
+) -> argparse.ArgumentParser:
+    """A subcommand's parser: its one-line ``help``, ``description`` and ``examples`` (the
+    epilog, written as it reads); ``run(args)`` runs it and returns the exit status."""
+    p = sub.add_parser(
+        name, help=help, formatter_class=formatter, description=description, epilog=examples
+    )
+    p.set_defaults(func=run)
+    return p
+
+
+def add_eps(p: argparse.ArgumentParser, **kwargs: Any) -> None:
+    """``--eps`` (a float unless ``type``/``metavar`` say otherwise)."""
+    p.add_argument("--eps", **{"type": float, "help": EPS_HELP, **kwargs})
+
+
+def add_theta0(p: argparse.ArgumentParser, **kwargs: Any) -> None:
+    """``--theta0`` with its sign convention."""
+    p.add_argument("--theta0", **{"type": float, "help": THETA0_HELP, **kwargs})
+
+
+def add_json(p: argparse.ArgumentParser, help: str = "print JSON") -> None:
+    """``--json``: the output as one JSON document on stdout."""
+    p.add_argument("--json", action="store_true", help=help)
+
+
+def add_bed_options(p: argparse.ArgumentParser, velocity: bool = True) -> None:
+    """The physical inputs of a bed (SI units), and ``--velocity`` unless told not to."""
+    g = p.add_argument_group("physical inputs (SI units; replace --omega2/--eps)")
+    for opt, (_, text) in BED_OPTIONS.items():
+        g.add_argument(opt, type=float, metavar="X", help=text)
+    if velocity:
+        g.add_argument("--velocity", type=float, metavar="V", help="top wall speed v [m/s]")
+
+
+def bed_from(args: argparse.Namespace) -> Any | None:
+    """The HairBed of the physical options, or None when none is given."""
+    given = {kw: getattr(args, kw) for kw, _ in BED_OPTIONS.values()}
+    given = {k: v for k, v in given.items() if v is not None}
+    if not given:
+        return None
+    missing = [k for k in _BED_REQUIRED if k not in given]
+    if missing:
+        names = ", ".join("--" + k.replace("_", "-") for k in missing)
+        raise UsageError(f"physical inputs need also {names}")
+    return hairbed.HairBed(**given)
+
+
+def need_bed(args: argparse.Namespace, what: str) -> Any:
+    """The HairBed of the physical options, which the command ``what`` cannot do without."""
+    bed = bed_from(args)
+    if bed is None:
+        raise UsageError(f"{what} needs the physical inputs of a bed (--length, --radius, ...)")
+    return bed
+
+
+def refuse(args: argparse.Namespace, options: dict[str, str], why: str) -> None:
+    """UsageError naming the first of ``options`` (dest -> flag) that was given."""
+    for dest, flag in options.items():
+        value = getattr(args, dest)
+        if value is not None and value is not False:
+            raise UsageError(f"{flag} {why}")

@@ -1,0 +1,149 @@
+"""What the commands print and write: tables, JSON, states, figures and their checks.
+
+Every output path is checked before any work (:func:`check_output`) and written whole or
+not at all (:mod:`hairbed.safe_files`).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hairbed._jsonsafe import to_plain
+
+from ._report import UsageError, WriteError
+
+__all__ = [
+    "FIELDS",
+    "check_output",
+    "figure_format",
+    "print_json",
+    "print_states",
+    "save_figure",
+    "solution_table",
+    "table",
+]
+
+#: Fields of a Solution with a short description and unit, for the readable table.
+FIELDS: dict[str, str] = {
+    "omega2": "forcing omega^2 [-]",
+    "eps": "confinement eps = L/H [-]",
+    "theta0": "base angle [rad]",
+    "sign": "sign of the base curvature",
+    "n": "interior turning points",
+    "xi": "xi = E/omega_eps^2 = sin(theta1) [-]",
+    "omega_eps": "effective frequency omega_eps [-]",
+    "energy": "Hamiltonian E [-]",
+    "tip_height": "tip height h1 [L]",
+    "tip_deflection": "tip deflection x1 [L]",
+    "tip_angle": "tip angle theta1 [rad]",
+    "base_curvature": "base curvature theta'(0) [1/L]",
+    "n_roots": "states on this branch",
+    "physical": "physical branch",
+}
+
+
+def print_json(value: Any) -> None:
+    """``value`` as one line of strict JSON on stdout (NaN and infinities as null)."""
+    print(json.dumps(to_plain(value)))
+
+
+def _fmt(value: Any) -> str:
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if isinstance(value, float):
+        return f"{value:.15g}"
+    return str(value)
+
+
+def table(rows: dict[str, Any], notes: dict[str, str] | None = None) -> str:
+    """``rows`` as aligned lines ``key  value  note``."""
+    notes = notes or {}
+    width = max(len(k) for k in rows)
+    vwidth = max(len(_fmt(v)) for v in rows.values())
+    lines = []
+    for key, value in rows.items():
+        note = notes.get(key, "")
+        lines.append(f"  {key:<{width}}  {_fmt(value):>{vwidth}}  {note}".rstrip())
+    return "\n".join(lines)
+
+
+def solution_table(sol: Any) -> str:
+    """A Solution's fields, with their meaning and unit."""
+    return table(sol.as_dict(), FIELDS)
+
+
+def print_states(states: list[Any], as_json: bool, head: str) -> None:
+    """Labelled states (:func:`hairbed.branches.label_states`): JSON or ``head`` and a table
+    each; a branch's single state is its "only" one."""
+    labels = ["only" if s.count == 1 else s.root for s in states]
+    if as_json:
+        print_json(
+            [{**s.solution.as_dict(), "root": lab, "stable": s.stable}
+             for s, lab in zip(states, labels)]
+        )  # fmt: skip
+        return
+    print(head)
+    for s, lab in zip(states, labels):
+        sol = s.solution
+        word = {True: "stable", False: "unstable", None: "not classified"}[s.stable]
+        branch = f"branch sign={sol.sign:+d}, n={sol.n}" + (" (physical)" if sol.physical else "")
+        print(f"{branch}, {lab} state ({word}):")
+        print(solution_table(sol))
+
+
+def check_output(path: str, *, directory: bool = False, parents: bool = False) -> None:
+    """Refuse, before any work, an output ``path`` that cannot be written (a WriteError).
+
+    With ``parents`` the missing directories of ``path`` will be created: the nearest one
+    that exists is checked instead.
+    """
+    target = Path(path)
+    parent = target.parent if str(target.parent) else Path(".")
+    if parents:
+        while not parent.exists() and parent != parent.parent:
+            parent, target = parent.parent, parent
+    if not parent.exists():
+        raise WriteError(path, f"directory {str(parent)!r} does not exist")
+    if not parent.is_dir():
+        raise WriteError(path, f"{str(parent)!r} is not a directory")
+    if target.is_dir() and not directory:
+        raise WriteError(path, "it is a directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise WriteError(path, f"permission denied in {str(parent)!r}")
+    try:  # what access() cannot tell (a read-only or special file system, root's rights)
+        with tempfile.TemporaryFile(dir=parent, prefix=f".{target.name}.probe"):
+            pass
+    except OSError as exc:
+        raise WriteError(path, exc) from None
+
+
+def figure_format(path: str, option: str) -> str:
+    """The image format of ``path`` from its extension (PNG without one), checked."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    fmt = Path(path).suffix.lstrip(".").lower() or "png"
+    known = FigureCanvasBase.get_supported_filetypes()
+    if fmt not in known:
+        raise UsageError(
+            f"{option} {path}: unknown image format {fmt!r}; use one of .{', .'.join(known)}"
+        )
+    return fmt
+
+
+def save_figure(fig: Any, path: str, fmt: str) -> None:
+    """Save a matplotlib figure whole or not at all."""
+    from hairbed.safe_files import atomic_path
+
+    try:
+        with atomic_path(path) as tmp:
+            fig.savefig(tmp, dpi=150, format=fmt)
+    except OSError as exc:
+        raise WriteError(path, exc) from None

@@ -1,0 +1,148 @@
+"""``hairbed solve``: one state (or every coexisting one) as a table or JSON."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+import hairbed
+from hairbed._extras import require
+
+from ._options import add_bed_options, add_command, add_eps, add_json, add_theta0, bed_from
+from ._output import (
+    check_output,
+    figure_format,
+    print_json,
+    print_states,
+    save_figure,
+    solution_table,
+    table,
+)
+from ._report import UsageError
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub: Any) -> None:
+    """The ``solve`` subcommand's parser."""
+    p = add_command(
+        sub,
+        "solve",
+        run,
+        help="solve one state (table or JSON)",
+        description="Solve the boundary-value problem for one set of inputs.",
+        examples="examples:\n"
+        "  hairbed solve --omega2 2 --eps 0.5\n"
+        "  hairbed solve --omega2 2 --eps 0.5 --theta0 0.3 --json\n"
+        "  hairbed solve --omega2 200 --eps 0.5 --all-branches --plot states.png\n"
+        "  hairbed solve --omega2 1.2 --eps 0.9 --theta0 -1.5 --root high\n"
+        "  hairbed solve --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 \\\n"
+        "      --channel-height 2e-3 --viscosity 1 --spacing 400e-6 --velocity 0.1",
+    )
+    p.add_argument("--omega2", type=float, help="forcing omega^2 [-], >= 0")
+    add_eps(p)
+    add_theta0(p)
+    p.add_argument(
+        "--sign",
+        type=int,
+        default=1,
+        choices=(1, -1),
+        help="sign of the base curvature of the branch (default 1)",
+    )
+    p.add_argument("--n", type=int, default=0, help="interior turning points (default 0)")
+    p.add_argument(
+        "--root",
+        choices=("low", "mid", "high"),
+        help="which state where several coexist (default: inside a bistable window, all of "
+        "them, labelled low/mid/high with their stability; elsewhere the one state)",
+    )
+    p.add_argument(
+        "--all-branches",
+        action="store_true",
+        help="every state on every branch, labelled low/mid/high and stable/unstable",
+    )
+    add_json(p, "print JSON (fields by API names)")
+    p.add_argument("--plot", metavar="FILE", help="also draw the profile(s) into FILE (PNG)")
+    add_bed_options(p)
+
+
+def _solve_bed(args: argparse.Namespace, bed: Any) -> list[Any]:
+    """The state of a bed at --velocity, in SI units and dimensionless."""
+    if args.omega2 is not None or args.eps is not None or args.theta0 is not None:
+        raise UsageError("give either --omega2/--eps/--theta0 or the physical inputs, not both")
+    if args.velocity is None:
+        raise UsageError("physical inputs need --velocity [m/s]")
+    state = bed.deform(args.velocity, root=args.root or "low")
+    si = {
+        "velocity": state.velocity,
+        "omega2": state.omega2,
+        "eps": bed.eps,
+        "tip_deflection_m": state.tip_deflection,
+        "tip_height_m": state.tip_height,
+        "tip_angle": state.tip_angle,
+        "wall_shear_stress_Pa": state.wall_shear_stress,
+        "force_per_hair_N": state.force_per_hair,
+        "stress_ratio": state.stress_ratio,
+        "tip_displacement_m": state.tip_displacement,
+    }
+    if bed.density is not None:
+        si["reynolds_number"] = state.reynolds_number
+    if args.json:
+        print_json({**si, "solution": state.solution.as_dict()})
+    else:
+        print(f"Hair bed {bed!r}")
+        print(table(si, {"velocity": "[m/s]", "tip_angle": "[rad]"}))
+        print("dimensionless state:")
+        print(solution_table(state.solution))
+    return [state.solution]
+
+
+def _solve_dimensionless(args: argparse.Namespace) -> list[Any]:
+    """The state at --omega2/--eps/--theta0, or every coexisting one, labelled."""
+    if args.omega2 is None or args.eps is None:
+        raise UsageError("give --omega2 and --eps (or the physical inputs with --velocity)")
+    w, eps = args.omega2, args.eps
+    theta0 = 0.0 if args.theta0 is None else args.theta0
+    at = f"omega2={w:g}, eps={eps:g}, theta0={theta0:g}"
+    if args.all_branches:
+        hairbed.solve(w, eps, theta0)  # validates the inputs
+        sols = hairbed.solve_all(w, eps, theta0)
+        head = f"{len(sols)} state(s) at {at}:"
+        print_states(hairbed.branches.label_states(sols), args.json, head)
+        return sols
+    branch = {"sign": args.sign, "n": args.n}
+    s = hairbed.solve(w, eps, theta0, **branch, root=args.root or "low")
+    if args.root is None and s.success and s.n_roots > 1:
+        # inside a window: every state of the branch, labelled, with its stability
+        roots = ("low", "mid", "high") if s.n_roots == 3 else ("low", "high")
+        sols = [hairbed.solve(w, eps, theta0, **branch, root=r) for r in roots]
+        head = (
+            f"{len(sols)} states on branch sign={args.sign:+d}, n={args.n} at {at} "
+            "(a bistable window; --root selects one):"
+        )
+        print_states(hairbed.branches.label_states(sols), args.json, head)
+        return sols
+    if args.json:
+        print_json(s.as_dict())
+    else:
+        print(solution_table(s))
+    return [s]
+
+
+def run(args: argparse.Namespace) -> int:
+    """Solve, print, and draw the profiles with --plot."""
+    fmt = ""
+    if args.plot:  # checked before any work
+        require("matplotlib", "solve --plot")
+        fmt = figure_format(args.plot, "--plot")
+        check_output(args.plot)
+    bed = bed_from(args)
+    sols = _solve_bed(args, bed) if bed is not None else _solve_dimensionless(args)
+    if args.plot:
+        from hairbed.plotting import fig_states
+
+        save_figure(fig_states(sols), args.plot, fmt)
+        what = f"{len(sols)} profile{'s' if len(sols) > 1 else ''}"
+        print(f"wrote {args.plot} ({fmt.upper()}, {what})", file=sys.stderr)
+    return 0

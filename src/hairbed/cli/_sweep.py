@@ -1,0 +1,224 @@
+"""``hairbed sweep``: grids of omega2, eps, theta0 (or wall speeds) to a labelled file.
+
+Everything is checked before any work: the output's format and folder, the options that do
+not apply to the form of sweep asked for, the axes. Then the grid is solved here, on a dask
+cluster (--scheduler) or along a quasi-static path (--quasistatic).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from typing import Any
+
+import numpy as np
+
+import hairbed
+
+from ._grids import legacy_grid, spec
+from ._options import add_bed_options, add_command, add_eps, bed_from, refuse
+from ._output import check_output
+from ._report import UsageError, WriteError
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub: Any) -> None:
+    """The ``sweep`` subcommand's parser."""
+    p = add_command(
+        sub,
+        "sweep",
+        run,
+        help="grids of omega2, eps, theta0 (or wall speed) -> netCDF, zarr, CSV, parquet",
+        description="Solve on the outer-product grid of --omega2, --eps and --theta0 (or over "
+        "wall speeds, given a bed) and write a labelled table. SPEC is a value, a comma list "
+        "or start:stop:num[:log] (negative ones too: --theta0 -1.2:1.2:25). The output "
+        "format follows the extension of --out: .nc (netCDF-4, CF attributes), .zarr, .csv "
+        "(one row per grid point, units in the header; the default, to stdout) or .parquet; "
+        "files are written whole or not at all.",
+        examples="examples:\n"
+        "  hairbed sweep --omega2 0:10:101 --eps 0.5 > sweep.csv\n"
+        "  hairbed sweep --omega2 1e-3:1e3:100:log --eps 0:0.95:40 --theta0=-1.2:1.2:25 "
+        "--out grid.nc\n"
+        "  hairbed sweep --omega2 1e-3:1e3:1000:log --eps 0:0.95:100 --theta0 0:1.2:100 "
+        "--chunks 50 --progress --out big.zarr\n"
+        "  hairbed sweep --omega2 0.01:100:200:log --eps 0.5,0.9 --chunks 50 "
+        "--scheduler tcp://10.0.0.5:8786 --out grid.parquet\n"
+        "  hairbed sweep --omega2 0.5:2:200 --eps 0.9 --theta0=-1.5 --quasistatic\n"
+        "  hairbed sweep --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 "
+        "--channel-height 2e-3 \\\n"
+        "      --viscosity 1 --spacing 400e-6 --velocity=-0.5:0.5:101 --out bed.nc",
+    )
+    p.add_argument("--omega2", metavar="SPEC", help="forcing omega^2 [-], >= 0")
+    add_eps(p, type=str, metavar="SPEC")
+    p.add_argument(
+        "--theta0",
+        metavar="SPEC",
+        help="base angle [rad] (default 0; negative leans into the flow)",
+    )
+    p.add_argument("--velocity", metavar="SPEC", help="top wall speed v [m/s] (with a bed)")
+    p.add_argument(
+        "--sign", type=int, choices=(1, -1), help="sign of the base curvature (default 1)"
+    )
+    p.add_argument("--n", type=int, help="interior turning points of the branch (default 0)")
+    p.add_argument(
+        "--root",
+        default="low",
+        choices=("low", "mid", "high"),
+        help="state where several coexist (default low)",
+    )
+    p.add_argument(
+        "--quasistatic",
+        action="store_true",
+        help="follow the state along a 1-D --omega2 path (jumps at folds: hysteresis)",
+    )
+    p.add_argument(
+        "--chunks", type=int, metavar="N", help="blocks of N points per dimension (dask)"
+    )
+    p.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="compute on a running dask.distributed scheduler (needs --chunks)",
+    )
+    p.add_argument("--progress", action="store_true", help="progress bar with ETA on stderr")
+    p.add_argument(
+        "--out", metavar="FILE", help="output: .nc, .zarr, .csv or .parquet (default: CSV stdout)"
+    )
+    old = p.add_argument_group("the older form of a 1-D range (instead of a SPEC)")
+    old.add_argument("--omega2-min", type=float, metavar="X", help="first omega^2 (default 0)")
+    old.add_argument("--omega2-max", type=float, metavar="X", help="last omega^2 (default 10)")
+    old.add_argument("--velocity-min", type=float, metavar="V", help="first wall speed [m/s]")
+    old.add_argument("--velocity-max", type=float, metavar="V", help="last wall speed [m/s]")
+    old.add_argument("--num", type=int, help="number of points (default 101)")
+    old.add_argument("--log", action="store_true", help="geometric spacing")
+    add_bed_options(p, velocity=False)
+
+
+_LEGACY_OMEGA2 = {"omega2_min": "--omega2-min", "omega2_max": "--omega2-max"}
+_LEGACY_VELOCITY = {"velocity_min": "--velocity-min", "velocity_max": "--velocity-max"}
+_SHAPE = {"num": "--num", "log": "--log"}
+_BRANCH = {"sign": "--sign", "n": "--n"}
+
+
+def _bed_axis(args: argparse.Namespace) -> Any:
+    """The wall speeds of the sweep of a bed, its other options refused."""
+    why = "does not apply to the sweep of a bed (its eps and base angle are fixed)"
+    refuse(args, {"omega2": "--omega2", "eps": "--eps", "theta0": "--theta0"}, why)
+    refuse(args, _LEGACY_OMEGA2, why)
+    refuse(args, _BRANCH, "does not apply: a bed follows the physical branch")
+    refuse(args, {"quasistatic": "--quasistatic"}, "takes an --omega2 path, not a bed")
+    if args.velocity is not None:
+        refuse(args, {**_LEGACY_VELOCITY, **_SHAPE}, "does not apply with --velocity SPEC")
+        return spec(args.velocity, "--velocity")
+    if args.velocity_min is not None and args.velocity_max is not None:
+        return legacy_grid(args, "velocity", args.velocity_min, args.velocity_max)
+    raise UsageError("a sweep of a bed needs --velocity SPEC [m/s]")
+
+
+def _axes(args: argparse.Namespace) -> tuple[Any, Any, Any]:
+    """(omega2, eps, theta0) of a dimensionless sweep."""
+    refuse(
+        args,
+        {"velocity": "--velocity", **_LEGACY_VELOCITY},
+        "needs the physical inputs of a bed (--length, --radius, ...)",
+    )
+    if args.eps is None:
+        raise UsageError("give --eps SPEC (or the physical inputs of a bed)")
+    if args.omega2 is not None:
+        refuse(args, {**_LEGACY_OMEGA2, **_SHAPE}, "does not apply with --omega2 SPEC")
+        omega2 = spec(args.omega2, "--omega2")
+    else:  # the older form --omega2-min/--omega2-max/--num/--log, default 0:10:101
+        lo = 0.0 if args.omega2_min is None else args.omega2_min
+        hi = 10.0 if args.omega2_max is None else args.omega2_max
+        omega2 = legacy_grid(args, "omega2", lo, hi)
+    eps = spec(args.eps, "--eps")
+    theta0 = spec(args.theta0, "--theta0")
+    return omega2, eps, 0.0 if theta0 is None else theta0
+
+
+def _check_quasistatic(args: argparse.Namespace, omega2: Any, eps: Any, theta0: Any) -> None:
+    why = "does not apply with --quasistatic (a path is followed in order, in one process)"
+    refuse(args, {"chunks": "--chunks", "scheduler": "--scheduler"}, why)
+    refuse(args, _BRANCH, "does not apply with --quasistatic (it follows the physical branch)")
+    if args.root == "mid":
+        raise UsageError("--root mid does not apply with --quasistatic (low or high)")
+    if np.ndim(omega2) != 1 or np.ndim(eps) != 0 or np.ndim(theta0) != 0:
+        raise UsageError(
+            "--quasistatic follows a 1-D path: --omega2 a list or range, --eps and "
+            "--theta0 single values"
+        )
+    if args.progress:
+        raise UsageError("--progress does not apply with --quasistatic (one pass)")
+
+
+def _quasistatic(omega2: Any, eps: Any, theta0: Any, root: str) -> Any:
+    """The dataset of a quasi-static path: the states followed, the ramp's direction, its
+    jumps at folds and the stability of the states followed."""
+    from hairbed import sweeps
+    from hairbed.quasistatic import sweep_with_jumps
+
+    run = sweep_with_jumps(omega2, eps, theta0, start=root)
+    ds = sweeps.path_dataset(run.solution, kind="quasistatic", root=root, omega2=omega2)
+    marks = {
+        "direction": (
+            run.direction,
+            "ramp direction (+1 omega2 rising, -1 falling, 0 first point or unchanged)",
+        ),
+        "jump": (
+            run.jumped.astype(np.int8),
+            "1 where the state jumped at a fold since the previous point",
+        ),
+        "stable": (run.stable.astype(np.int8), "1 where the state followed is linearly stable"),
+    }
+    for name, (values, long_name) in marks.items():
+        ds[name] = ("step", values, {"units": "1", "long_name": long_name})
+    return ds
+
+
+def run(args: argparse.Namespace) -> int:
+    """Check everything, solve the grid (or path) and write it."""
+    from hairbed import sweeps
+
+    from ._distributed import compute_on
+
+    out = args.out
+    to_stdout = out is None or out == "-"
+    if not to_stdout:
+        kind = sweeps.output_format(out)  # an unknown extension is refused here
+        check_output(out, directory=kind == "zarr")
+    if args.chunks is not None and args.chunks < 1:
+        raise UsageError(f"--chunks must be >= 1, got {args.chunks}")
+    if args.scheduler is not None and args.chunks is None:
+        raise UsageError("--scheduler needs --chunks N (the blocks that the workers solve)")
+    bed = bed_from(args)
+    if bed is not None:
+        velocity = _bed_axis(args)
+        kwargs: dict[str, Any] = {"root": args.root}
+    else:
+        omega2, eps, theta0 = _axes(args)
+        sign = 1 if args.sign is None else args.sign
+        kwargs = {"sign": sign, "n": 0 if args.n is None else args.n, "root": args.root}
+        if args.quasistatic:
+            _check_quasistatic(args, omega2, eps, theta0)
+
+    def build(chunks: int | None, progress: bool) -> Any:
+        if bed is not None:
+            return bed.sweep(velocity, chunks=chunks, progress=progress, **kwargs)
+        return hairbed.sweep(omega2, eps, theta0, chunks=chunks, progress=progress, **kwargs)
+
+    if args.quasistatic:
+        ds = _quasistatic(omega2, eps, theta0, args.root)
+    elif args.scheduler is not None:
+        ds = compute_on(args.scheduler, build, args.chunks, args.progress)
+    else:
+        ds = build(args.chunks, args.progress)
+    if to_stdout:
+        sweeps.write_csv_stream(ds, sys.stdout)
+        sys.stdout.flush()
+        return 0
+    try:
+        points = sweeps.write_dataset(ds, out)
+    except OSError as exc:
+        raise WriteError(out, exc) from None
+    print(f"wrote {out} ({points} points)", file=sys.stderr)
+    return 0
