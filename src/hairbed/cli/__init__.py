@@ -31,7 +31,7 @@ import warnings
 from collections.abc import Sequence
 
 import hairbed
-from hairbed._extras import EXTRAS, install_hint
+from hairbed._optional import EXTRAS, install_hint
 
 from . import (
     _bench,
@@ -129,7 +129,7 @@ def _run(argv: Sequence[str] | None) -> int:
         return 1
     except ImportError as exc:  # an optional dependency missing
         name = (getattr(exc, "name", None) or "").split(".")[0]
-        if "pip install" in str(exc):  # hairbed._extras.require's message
+        if "pip install" in str(exc):  # hairbed._optional.optional_import's message
             print(f"{PROG}: {one_line(exc)}", file=sys.stderr)
         elif name in EXTRAS:
             print(f"{PROG}: {command} needs {name}: {install_hint(name)}", file=sys.stderr)

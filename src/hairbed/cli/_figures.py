@@ -7,7 +7,7 @@ import time
 from pathlib import Path
 from typing import Any
 
-from hairbed._extras import require
+from hairbed._optional import optional_import
 
 from ._options import add_command
 from ._output import check_output
@@ -51,7 +51,7 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Check the folder and the settings, then draw and write the figures."""
-    require("matplotlib", "figures")
+    optional_import("matplotlib", "figures")
     from hairbed.plotting import make_all, parse_settings
 
     if args.dpi < 1:

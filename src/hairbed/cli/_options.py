@@ -14,6 +14,7 @@ from collections.abc import Callable
 from typing import Any
 
 import hairbed
+from hairbed._variables import BED
 
 from ._report import UsageError
 
@@ -47,20 +48,18 @@ THETA0_HELP = (
     "negative leans into it (where a tight channel can hold three states)"
 )
 
+#: What the command line adds to the label of a bed parameter in its option's help.
+_BED_NOTES = {
+    "spacing": "(or --packing-fraction)",
+    "packing_fraction": "(or --spacing)",
+    "base_angle": "(default 0; negative leans into a flow towards +x)",
+    "density": "(optional: checks Re < 1)",
+}
 #: Physical inputs of a bed: option name -> (HairBed keyword, help text).
 BED_OPTIONS: dict[str, tuple[str, str]] = {
-    "--length": ("length", "hair length L [m]"),
-    "--radius": ("radius", "hair radius a [m]"),
-    "--youngs-modulus": ("youngs_modulus", "Young's modulus E [Pa]"),
-    "--channel-height": ("channel_height", "channel height H [m]"),
-    "--viscosity": ("viscosity", "dynamic viscosity eta [Pa s]"),
-    "--spacing": ("spacing", "hexagonal hair spacing delta [m] (or --packing-fraction)"),
-    "--packing-fraction": ("packing_fraction", "packing fraction phi [-] (or --spacing)"),
-    "--base-angle": (
-        "base_angle",
-        "base angle theta0 [rad] (default 0; negative leans into a flow towards +x)",
-    ),
-    "--density": ("density", "fluid density rho [kg/m^3] (optional: checks Re < 1)"),
+    "--" + name.replace("_", "-"): (name, f"{v.heading} {_BED_NOTES.get(name, '')}".rstrip())
+    for name, v in BED.items()
+    if v.group == "bed"
 }
 _BED_REQUIRED = ("length", "radius", "youngs_modulus", "channel_height", "viscosity")
 

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from hairbed._jsonsafe import to_plain
+from hairbed._variables import SOLUTION
 
 from ._report import UsageError, WriteError
 
@@ -29,23 +30,8 @@ __all__ = [
     "table",
 ]
 
-#: Fields of a Solution with a short description and unit, for the readable table.
-FIELDS: dict[str, str] = {
-    "omega2": "forcing omega^2 [-]",
-    "eps": "confinement eps = L/H [-]",
-    "theta0": "base angle [rad]",
-    "sign": "sign of the base curvature",
-    "n": "interior turning points",
-    "xi": "xi = E/omega_eps^2 = sin(theta1) [-]",
-    "omega_eps": "effective frequency omega_eps [-]",
-    "energy": "Hamiltonian E [-]",
-    "tip_height": "tip height h1 [L]",
-    "tip_deflection": "tip deflection x1 [L]",
-    "tip_angle": "tip angle theta1 [rad]",
-    "base_curvature": "base curvature theta'(0) [1/L]",
-    "n_roots": "states on this branch",
-    "physical": "physical branch",
-}
+#: Each field of a Solution (and derived quantity) -> its label and unit, for the table.
+FIELDS: dict[str, str] = {name: v.heading for name, v in SOLUTION.items()}
 
 
 def print_json(value: Any) -> None:

@@ -7,7 +7,7 @@ import sys
 from typing import Any
 
 import hairbed
-from hairbed._extras import require
+from hairbed._optional import optional_import
 
 from ._options import add_bed_options, add_command, add_eps, add_json, add_theta0, bed_from
 from ._output import (
@@ -134,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
     """Solve, print, and draw the profiles with --plot."""
     fmt = ""
     if args.plot:  # checked before any work
-        require("matplotlib", "solve --plot")
+        optional_import("matplotlib", "solve --plot")
         fmt = figure_format(args.plot, "--plot")
         check_output(args.plot)
     bed = bed_from(args)

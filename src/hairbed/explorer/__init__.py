@@ -21,9 +21,9 @@ import webbrowser
 from collections.abc import Sequence
 from typing import Any
 
-__all__ = ["AppMissingError", "explore", "serve"]
+from .._optional import extra_of, install_hint
 
-INSTALL_HINT = "pip install 'hairbed[app]'"
+__all__ = ["AppMissingError", "explore", "serve"]
 
 
 class AppMissingError(ImportError):
@@ -34,10 +34,10 @@ def _page_module() -> Any:
     try:
         from . import _page
     except ModuleNotFoundError as exc:
-        if exc.name and exc.name.split(".")[0] in ("panel", "bokeh", "param"):
+        if extra_of(exc) == "app":
+            package = (exc.name or "").split(".")[0]
             raise AppMissingError(
-                f"the explorer needs {exc.name.split('.')[0]}, which is not installed: "
-                f"{INSTALL_HINT}"
+                f"the explorer needs {package}, which is not installed: {install_hint(package)}"
             ) from None
         raise
     return _page

@@ -21,6 +21,7 @@ from bokeh.models import (
 )
 from bokeh.plotting import figure
 
+from .._jsonsafe import to_plain
 from ._model import Snapshot, cusp_curve
 
 __all__ = ["Views"]
@@ -119,17 +120,6 @@ def _equal(a: Any, b: Any) -> bool:
     if isinstance(a, float) and isinstance(b, float) and a != a and b != b:
         return True
     return bool(a == b)
-
-
-def _plain(column: Any) -> Any:
-    """A column as (nested) Python lists: sent inside the patch's one JSON message. Bokeh
-    sends every numpy array as a binary buffer of its own, two websocket frames each: tens of
-    frames per update, each one written by the server and handled by the browser in turn."""
-    if isinstance(column, np.ndarray):
-        return column.tolist()
-    if isinstance(column, (list, tuple)):
-        return [v.tolist() if isinstance(v, np.ndarray) else v for v in column]
-    return column
 
 
 def _bounds(*arrays: Any) -> tuple[float, float] | None:
@@ -367,7 +357,9 @@ class Views:
             if all(_equal(last[k], data[k]) for k in data):
                 return
         self._shown[id(source)] = data
-        source.data = {k: _plain(v) for k, v in data.items()}
+        # plain lists travel inside the patch's one JSON message: Bokeh sends every numpy
+        # array as a binary buffer of its own, two websocket frames each (tens per update)
+        source.data = {k: to_plain(v, strict=False) for k, v in data.items()}
 
     def update(self, snap: Snapshot) -> None:
         """Show a snapshot: new data for every source of the four figures."""

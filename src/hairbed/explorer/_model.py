@@ -16,7 +16,6 @@ import dataclasses
 import functools
 import io
 import json
-import math
 import threading
 import time
 import warnings
@@ -30,6 +29,7 @@ import numpy as np
 
 import hairbed
 from hairbed._core.validation import check_positive
+from hairbed._jsonsafe import to_plain
 from hairbed._variables import BED, BED_REQUIRED, SI, SOLUTION, cf_attrs, names
 
 __all__ = [
@@ -646,14 +646,6 @@ def _diagram(
     return BranchDiagram(x_label, y_label, x_range, cx, cy, fx, fy, curves, sx, sy, tx, ty, now)
 
 
-def _stability(sol: Any) -> tuple[bool | None, float]:
-    """(stable, growth rate); (None, NaN) where the classification failed (its status)."""
-    res = hairbed.stability.linear_stability(sol, STABILITY_SEGMENTS, 1)
-    if int(np.asarray(getattr(res, "status", 0))) != 0:
-        return None, float("nan")
-    return bool(np.asarray(res.stable)), float(np.asarray(res.growth_rate))
-
-
 def compute(p: Params) -> Snapshot:
     """Solve every state of one view and classify each physical state's stability.
 
@@ -682,10 +674,9 @@ def compute(p: Params) -> Snapshot:
         )
         t1 = time.perf_counter()
         states = []
-        for root, sol in sols:
-            stable, growth = _stability(sol)
-            si = p.bed.deform(p.velocity, root=root) if p.si else None
-            states.append(StateView(root, sol, stable, growth, si))
+        for s in hairbed.branches.label_states([sol for _, sol in sols], STABILITY_SEGMENTS):
+            si = p.bed.deform(p.velocity, root=s.root) if p.si else None
+            states.append(StateView(s.root, s.solution, s.stable, s.growth_rate, si))
         t2 = time.perf_counter()
     twirling = [
         StateView(f"({s.sign:+d}, {s.n})", s, None, float("nan"), None) for s in twirling_sols
@@ -747,19 +738,6 @@ def cusp_curve() -> tuple[np.ndarray, np.ndarray]:
 
 
 # -- exports ------------------------------------------------------------------------------------
-
-
-def _plain(value: Any) -> Any:
-    """JSON-safe Python values; NaN and infinities become None."""
-    if isinstance(value, np.ndarray):
-        return [_plain(v) for v in value.tolist()]
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
 
 
 #: SI fields of a :class:`hairbed.HairState`, with their units.
@@ -855,19 +833,11 @@ def snapshot_json(snap: Snapshot) -> str:
         doc["bed"]["velocity"] = p.velocity
         doc["bed_variables"] = {k: cf_attrs(BED[k]) for k in names(BED, "bed")}
         doc["bed_variables"]["velocity"] = cf_attrs(SI["velocity"])
-    return json.dumps(_plain_tree(doc), indent=2, allow_nan=False)
-
-
-def _plain_tree(value: Any) -> Any:
-    if isinstance(value, dict):
-        return {k: _plain_tree(v) for k, v in value.items()}
-    if isinstance(value, list):
-        return [_plain_tree(v) for v in value]
-    return _plain(value)
+    return json.dumps(to_plain(doc), indent=2, allow_nan=False)
 
 
 def _cell(value: Any) -> Any:
-    v = _plain(value)
+    v = to_plain(value)
     return "" if v is None else repr(v) if isinstance(v, float) else v
 
 

@@ -12,6 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._core.validation import show
+from .._jsonsafe import to_plain
 from .._optional import optional_import
 from ..safe_files import atomic_path
 from ._attributes import INTEGER
@@ -84,14 +85,7 @@ def _write_csv(ds: Any, stream: Any) -> int:
 
 
 def _json_attrs(ds: Any) -> str:
-    def plain(v: Any) -> Any:
-        if isinstance(v, np.ndarray):
-            return v.tolist()
-        if isinstance(v, np.generic):
-            return v.item()
-        return v
-
-    return json.dumps({k: plain(v) for k, v in ds.attrs.items()})
+    return json.dumps(to_plain(dict(ds.attrs)))
 
 
 def _write_parquet(ds: Any, path: Path) -> int:
