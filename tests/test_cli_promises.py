@@ -364,7 +364,7 @@ def test_hairbed_command_imports_nothing_before_its_handler():
     )
     out = run(code=code)
     assert out.returncode == 0, out.stderr
-    assert out.stdout.split() == ["__future__", "hairbed", "hairbed._command"]
+    assert out.stdout.split() == ["__future__", "hairbed", "hairbed._command", "hairbed._version"]
 
 
 @pytest.mark.skipif(not Path("/proc/self/maps").exists(), reason="needs Linux's /proc/PID/maps")

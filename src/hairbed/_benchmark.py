@@ -102,7 +102,9 @@ from . import __version__
 from ._core.solver import solve, solve_all
 
 __all__ = [
+    "MEASURES",
     "ROWS",
+    "SECTIONS",
     "Result",
     "Row",
     "format_report",
@@ -317,7 +319,222 @@ def _selection(rows: Iterable[int] | None) -> frozenset[int]:
     return chosen
 
 
-# -- the measurement ------------------------------------------------------------------------
+# -- the measurement: one function per row ----------------------------------------------------
+
+
+@dataclass
+class _Run:
+    """One measurement's sizes, random inputs, thread pool and shared baselines."""
+
+    quick: bool
+    repeat: int
+    n: int
+    cold: bool
+    pool: ThreadPoolExecutor
+    row1: tuple[np.ndarray, np.ndarray, np.ndarray]
+    row2: tuple[np.ndarray, np.ndarray, np.ndarray]
+    phi: np.ndarray
+    m: np.ndarray
+    #: inputs of row 3, repeats of rows 4-6, runs of row 10
+    n_scalar: int
+    calls: int
+    n_cli: int
+    baselines: dict[str, float] = field(default_factory=dict)
+
+    def ellipkinc_batch(self) -> float:
+        """One ``ellipkinc`` element of a batch call [s] (rows 1, 2; measured once)."""
+        if "batch" not in self.baselines:
+            from scipy import special
+
+            best = best_of(lambda: special.ellipkinc(self.phi, self.m), self.repeat, True)
+            self.baselines["batch"] = best / self.n
+        return self.baselines["batch"]
+
+    def ellipkinc_scalar(self) -> float:
+        """One scalar ``ellipkinc(0.5, 0.3)`` call [s] (rows 3-5; measured once)."""
+        if "scalar" not in self.baselines:
+            from scipy import special
+
+            unit = median_call(lambda: special.ellipkinc(0.5, 0.3), self.calls, number=1000)
+            self.baselines["scalar"] = unit
+        return self.baselines["scalar"]
+
+
+def _warm_up(run: _Run, chosen: frozenset[int]) -> None:
+    """Call every path once, so that compilation (or loading the cache) is not timed."""
+    solve(2.0, 0.5)
+    solve(*(a[:1000] for a in run.row1))
+    solve(*(a[:1000] for a in run.row2))  # folds, several (eps, theta0) pairs
+    solve(np.logspace(-3, 3, 10), 0.9, -1.5)  # folds, one pair
+    solve_all(200.0, 0.5, 0.1)
+    solve_all(1e4, 0.5)
+    solve(2.0, 0.5).profile(200)
+    if 6 in chosen:
+        from .numerics import finite_difference
+
+        finite_difference(2.0, 0.5, 0.0, num=80)
+    if chosen & {1, 2, 3, 4, 5, 6}:
+        from scipy import special
+
+        special.ellipkinc(0.5, 0.3)
+        special.ellipkinc(np.full(10, 0.5), np.full(10, 0.3))
+    list(run.pool.map(lambda a: solve(*a), [tuple(x[:10] for x in run.row1)] * 2))
+
+
+def _row_batch(run: _Run, number: int) -> list[Row]:
+    """Rows 1, 2: a batch solve per element over a batch ellipkinc per element."""
+    t_ell = run.ellipkinc_batch()
+    args = run.row1 if number == 1 else run.row2
+    t_b = best_of(functools.partial(solve, *args), run.repeat, collect=True) / run.n
+    detail = {"solve_ns": t_b * 1e9, "ellipkinc_ns": t_ell * 1e9, "n": run.n}
+    return [Row.of(str(number), t_b / t_ell, **detail)]
+
+
+def _row_scalar_solve(run: _Run) -> list[Row]:
+    """Row 3: scalar solves (best of 5 per input, median over inputs) in ellipkinc calls."""
+    unit = run.ellipkinc_scalar()
+    per_input = [
+        best_of(functools.partial(solve, w, e, t), 5)
+        for w, e, t in zip(*(a[: run.n_scalar].tolist() for a in run.row1))
+    ]
+    t_scalar = statistics.median(per_input)
+    detail = {"solve_us": t_scalar * 1e6, "ellipkinc_us": unit * 1e6, "inputs": run.n_scalar}
+    return [Row.of("3", t_scalar / unit, **detail)]
+
+
+def _row_solve_all(run: _Run) -> list[Row]:
+    """Row 4: ``solve_all(200, 0.5, 0.1)`` in scalar ellipkinc calls."""
+    unit = run.ellipkinc_scalar()
+    t_all = median_call(lambda: solve_all(200.0, 0.5, 0.1), run.calls)
+    states = len(solve_all(200.0, 0.5, 0.1))
+    detail = {"us": t_all * 1e6, "states": states, "ellipkinc_us": unit * 1e6}
+    return [Row.of("4", t_all / unit, **detail)]
+
+
+def _row_profile(run: _Run) -> list[Row]:
+    """Row 5: ``Solution.profile(200)`` in scalar ellipkinc calls."""
+    unit = run.ellipkinc_scalar()
+    sol = solve(2.0, 0.5)
+    t_prof = median_call(lambda: sol.profile(200), run.calls)
+    return [Row.of("5", t_prof / unit, us=t_prof * 1e6, ellipkinc_us=unit * 1e6)]
+
+
+def _row_finite_difference(run: _Run) -> list[Row]:
+    """Row 6: the paper's finite differences (num=80) over scalar solves, median of five."""
+    from .numerics import finite_difference
+
+    ratios, fd_ms, success = [], [], []
+    for w, e, t in FD_INPUTS:
+        t_fd = best_of(functools.partial(finite_difference, w, e, t, num=80), 3)
+        t_an = median_call(functools.partial(solve, w, e, t), run.calls)
+        ratios.append(t_fd / t_an)
+        fd_ms.append(t_fd * 1e3)
+        success.append(bool(finite_difference(w, e, t, num=80).success))
+    fd = {"ratios": ratios, "fd_ms": fd_ms, "fd_success": success, "inputs": FD_INPUTS}
+    return [Row.of("6", statistics.median(ratios), **fd)]
+
+
+def _row_memory(run: _Run) -> list[Row]:
+    """Row 7: peak memory of a large solve, in fresh subprocesses."""
+    peak_rss(MEM_WARM)  # refreshes the kernel cache if the sources changed meanwhile
+    base = peak_rss(MEM_WARM)
+    peak = peak_rss(MEM_WARM + MEM_SOLVE.format(n=run.n))
+    mem = {"peak_mb": peak / 1e6, "baseline_mb": base / 1e6, "n": run.n}
+    return [Row.of("7", (peak - base) / 1e6, **mem)]
+
+
+def _row_threads(run: _Run) -> list[Row]:
+    """Row 8: two threads against one, interleaved so that a burst of load hits both alike."""
+    n = run.n
+    halves = [tuple(a[s].copy() for a in run.row1) for s in (slice(0, n // 2), slice(n // 2, n))]
+    t_seq = t_par = cpu_par = float("inf")
+    for _ in range(run.repeat):
+        t_seq = min(t_seq, best_of(lambda: [solve(*h) for h in halves], 1, collect=True))
+        gc.collect()
+        cpu, start = time.process_time(), time.perf_counter()
+        list(run.pool.map(lambda h: solve(*h), halves))
+        if time.perf_counter() - start < t_par:
+            t_par, cpu_par = time.perf_counter() - start, time.process_time() - cpu
+    # cpu_per_wall near 2: both threads ran at once; near 1: no second core was free
+    thr = {"sequential_s": t_seq, "threads_s": t_par, "cpu_per_wall": cpu_par / t_par}
+    return [Row.of("8", t_seq / t_par, **thr, n=n)]
+
+
+def _row_strong_forcing(run: _Run) -> list[Row]:
+    """Row 9: every state at strong forcing, ``solve_all(1e8, 0.5)``."""
+    t_big = best_of(lambda: solve_all(1e8, 0.5), run.repeat, collect=True)
+    return [Row.of("9", t_big, states=len(solve_all(1e8, 0.5)))]
+
+
+def _rows_processes(run: _Run) -> list[Row]:
+    """Rows 10a-10e: whole processes (warm and cold cache, and the references)."""
+    wall(CLI)  # untimed: refreshes the kernel cache if the sources changed meanwhile
+    warm = [wall(CLI) for _ in range(run.n_cli)]
+    rows = [Row.of("10a", statistics.median(warm), runs=warm)]
+    if run.cold:
+        with tempfile.TemporaryDirectory(prefix="hairbed-cold-") as cache:
+            rows.append(Row.of("10b", wall(CLI, env={**os.environ, "NUMBA_CACHE_DIR": cache})))
+    for num, code in (("10c", "import numba"), ("10d", "pass")):
+        runs = [wall([sys.executable, "-c", code]) for _ in range(5)]
+        rows.append(Row.of(num, statistics.median(runs)))
+    rows.append(Row.of("10e", _trivial_kernel_process()))
+    return rows
+
+
+def _rows_sweeps(run: _Run) -> list[Row]:
+    """Rows 11a-11f: the sweeps (:func:`sweep_rows`)."""
+    return sweep_rows(run.n, run.repeat, run.quick)
+
+
+#: Row -> the function that measures it.
+MEASURES: dict[int, Callable[[_Run], list[Row]]] = {
+    1: lambda run: _row_batch(run, 1),
+    2: lambda run: _row_batch(run, 2),
+    3: _row_scalar_solve,
+    4: _row_solve_all,
+    5: _row_profile,
+    6: _row_finite_difference,
+    7: _row_memory,
+    8: _row_threads,
+    9: _row_strong_forcing,
+    10: _rows_processes,
+    11: _rows_sweeps,
+}
+#: The sections of a run: row -> "name: what the progress line says" (its wall time is
+#: reported under the name).
+SECTIONS: dict[int, str] = {
+    **dict.fromkeys((1, 2), "rows 1-2: batch solve against batch ellipkinc"),
+    **dict.fromkeys((3, 4, 5, 6), "rows 3-6: scalar latencies"),
+    7: "row 7: peak memory (subprocesses)",
+    8: "row 8: two threads against one",
+    9: "row 9: solve_all(1e8, 0.5)",
+    10: "row 10: whole processes",
+    11: "row 11: sweeps (eager grid; threads and a LocalCluster against serial blocks)",
+}
+#: Rows timed in this process on one thread: the share of a core they got is reported.
+_SINGLE_THREAD = frozenset(range(1, 7))
+
+
+def _meta(run: _Run, seed: int, chosen: frozenset[int], **measured: Any) -> dict[str, Any]:
+    """The circumstances of a run, as written with its rows."""
+    return {
+        "quick": run.quick,
+        "repeat": run.repeat,
+        "seed": seed,
+        "n": run.n,
+        "rows": sorted(chosen),
+        "scalar_inputs": run.n_scalar,
+        "median_calls": run.calls,
+        "cpu_count": os.cpu_count(),
+        **measured,
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "numba": _version("numba"),
+        "scipy": _version("scipy"),
+        "hairbed": __version__,
+        "platform": platform.platform(),
+        "time": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+    }
 
 
 def measure(
@@ -330,7 +547,7 @@ def measure(
     cold: bool | None = None,
     n: int | None = None,
 ) -> Result:
-    """Measure the rows (1 to 10, default all) in one run; returns the rows and their meta.
+    """Measure the rows (1 to 11, default all) in one run; returns the rows and their meta.
 
     ``quick``: reduced sizes (1e5 elements instead of 1e6, fewer calls, no cold-cache row
     unless ``cold``); ``n`` overrides the batch size (rows 1, 2, 7, 8); ``repeat``: best of
@@ -343,186 +560,76 @@ def measure(
         n = 100_000 if quick else 1_000_000
     if n < 2:
         raise ValueError(f"n must be >= 2, got {n}")
-    n_scalar = min(n, 50 if quick else 300)
-    n_cli = 3 if quick else 5
-    calls = 21 if quick else 101
-    cold = (not quick) if cold is None else cold
     say = progress if progress is not None else (lambda message: None)
     load_start = os.getloadavg()
     hash_start = kernel_hash()
     rng = np.random.default_rng(seed)
-    row1 = inputs(rng, n, 1.2, 0.95, 0.0)
-    row2 = inputs(rng, n, 1.5, 0.99, -1.5)
-    phi = rng.uniform(0.0, 0.5 * np.pi, n)
-    m = rng.uniform(0.0, 1.0, n)
     out: list[Row] = []
     sections: dict[str, float] = {}
     t_start = last = time.perf_counter()
-    if chosen & {1, 2, 3, 4, 5, 6}:
-        from scipy import special
-    if 6 in chosen:
-        from .numerics import finite_difference
 
     def lap(name: str) -> None:
         """Record the wall time since the previous lap under ``name``."""
         nonlocal last
         sections[name], last = time.perf_counter() - last, time.perf_counter()
 
-    say("warm-up: calling every kernel path once")
-    pool = ThreadPoolExecutor(2)
-    try:
-        # call every path once, so that compilation (or loading the cache) is not timed
-        solve(2.0, 0.5)
-        solve(*(a[:1000] for a in row1))
-        solve(*(a[:1000] for a in row2))  # folds, several (eps, theta0) pairs
-        solve(np.logspace(-3, 3, 10), 0.9, -1.5)  # folds, one pair
-        solve_all(200.0, 0.5, 0.1)
-        solve_all(1e4, 0.5)
-        solve(2.0, 0.5).profile(200)
-        if 6 in chosen:
-            finite_difference(2.0, 0.5, 0.0, num=80)
-        if chosen & {1, 2, 3, 4, 5, 6}:
-            special.ellipkinc(0.5, 0.3)
-            special.ellipkinc(np.full(10, 0.5), np.full(10, 0.3))
-        list(pool.map(lambda a: solve(*a), [tuple(x[:10] for x in row1)] * 2))
+    with ThreadPoolExecutor(2) as pool:
+        run = _Run(
+            quick=quick,
+            repeat=repeat,
+            n=n,
+            cold=(not quick) if cold is None else cold,
+            pool=pool,
+            row1=inputs(rng, n, 1.2, 0.95, 0.0),
+            row2=inputs(rng, n, 1.5, 0.99, -1.5),
+            phi=rng.uniform(0.0, 0.5 * np.pi, n),
+            m=rng.uniform(0.0, 1.0, n),
+            n_scalar=min(n, 50 if quick else 300),
+            calls=21 if quick else 101,
+            n_cli=3 if quick else 5,
+        )
+        say("warm-up: calling every kernel path once")
+        _warm_up(run, chosen)
         lap("warm-up")
         sigs_start = kernel_signatures()
         cpu0, wall0 = time.process_time(), time.perf_counter()
-
-        # rows 1, 2: batch solves against one batch ellipkinc, per element
-        if chosen & {1, 2}:
-            say("rows 1-2: batch solve against batch ellipkinc")
-            t_ell = best_of(lambda: special.ellipkinc(phi, m), repeat, collect=True) / n
-            ns = {"ellipkinc_ns": t_ell * 1e9, "n": n}
-            for k, args in ((1, row1), (2, row2)):
-                if k in chosen:
-                    t_b = best_of(functools.partial(solve, *args), repeat, collect=True) / n
-                    out.append(Row.of(str(k), t_b / t_ell, solve_ns=t_b * 1e9, **ns))
-
-        # rows 3-6: scalar latencies in units of one scalar ellipkinc call
-        if chosen & {3, 4, 5, 6}:
-            say("rows 3-6: scalar latencies")
-        if chosen & {3, 4, 5}:
-            unit = median_call(lambda: special.ellipkinc(0.5, 0.3), calls, number=1000)
-            scalar = {"ellipkinc_us": unit * 1e6}
-        if 3 in chosen:
-            per_input = [
-                best_of(functools.partial(solve, w, e, t), 5)
-                for w, e, t in zip(*(a[:n_scalar].tolist() for a in row1))
-            ]
-            t_scalar = statistics.median(per_input)
-            detail = {"solve_us": t_scalar * 1e6, **scalar, "inputs": n_scalar}
-            out.append(Row.of("3", t_scalar / unit, **detail))
-        if 4 in chosen:
-            t_all = median_call(lambda: solve_all(200.0, 0.5, 0.1), calls)
-            states = len(solve_all(200.0, 0.5, 0.1))
-            out.append(Row.of("4", t_all / unit, us=t_all * 1e6, states=states, **scalar))
-        if 5 in chosen:
-            sol = solve(2.0, 0.5)
-            t_prof = median_call(lambda: sol.profile(200), calls)
-            out.append(Row.of("5", t_prof / unit, us=t_prof * 1e6, **scalar))
-        if 6 in chosen:
-            ratios, fd_ms, success = [], [], []
-            for w, e, t in FD_INPUTS:
-                t_fd = best_of(functools.partial(finite_difference, w, e, t, num=80), 3)
-                t_an = median_call(functools.partial(solve, w, e, t), calls)
-                ratios.append(t_fd / t_an)
-                fd_ms.append(t_fd * 1e3)
-                success.append(bool(finite_difference(w, e, t, num=80).success))
-            fd = {"ratios": ratios, "fd_ms": fd_ms, "fd_success": success, "inputs": FD_INPUTS}
-            out.append(Row.of("6", statistics.median(ratios), **fd))
-
-        # share of one core this process got in the single-threaded rows: below 1, it waited
-        cpu_share: float | None = (time.process_time() - cpu0) / max(
-            time.perf_counter() - wall0, 1e-9
-        )
-        if not chosen & {1, 2, 3, 4, 5, 6}:
-            cpu_share = None
-        lap("rows 1-6")
-
-        # row 7: peak memory, fresh subprocesses
-        if 7 in chosen:
-            say("row 7: peak memory (subprocesses)")
-            peak_rss(MEM_WARM)  # refreshes the kernel cache if the sources changed meanwhile
-            base = peak_rss(MEM_WARM)
-            peak = peak_rss(MEM_WARM + MEM_SOLVE.format(n=n))
-            mem = {"peak_mb": peak / 1e6, "baseline_mb": base / 1e6, "n": n}
-            out.append(Row.of("7", (peak - base) / 1e6, **mem))
-            lap("row 7")
-
-        # row 8: two threads against one, interleaved so that a burst of load hits both alike
-        if 8 in chosen:
-            say("row 8: two threads against one")
-            cut = (slice(0, n // 2), slice(n // 2, n))
-            halves = [tuple(a[s].copy() for a in row1) for s in cut]
-            t_seq = t_par = cpu_par = float("inf")
-            for _ in range(repeat):
-                t_seq = min(t_seq, best_of(lambda: [solve(*h) for h in halves], 1, collect=True))
-                gc.collect()
-                cpu, start = time.process_time(), time.perf_counter()
-                list(pool.map(lambda h: solve(*h), halves))
-                if time.perf_counter() - start < t_par:
-                    t_par, cpu_par = time.perf_counter() - start, time.process_time() - cpu
-            # cpu_per_wall near 2: both threads ran at once; near 1: no second core was free
-            thr = {"sequential_s": t_seq, "threads_s": t_par, "cpu_per_wall": cpu_par / t_par}
-            out.append(Row.of("8", t_seq / t_par, **thr, n=n))
-            lap("row 8")
-    finally:
-        pool.shutdown()
-
-    # row 9: every state at strong forcing
-    if 9 in chosen:
-        say("row 9: solve_all(1e8, 0.5)")
-        t_big = best_of(lambda: solve_all(1e8, 0.5), repeat, collect=True)
-        out.append(Row.of("9", t_big, states=len(solve_all(1e8, 0.5))))
-        lap("row 9")
-    sigs_end = kernel_signatures()
-    compiled = sorted(k for k, v in sigs_end.items() if v != sigs_start.get(k))
-
-    # row 10: whole processes
-    if 10 in chosen:
-        say("row 10: whole processes" + (" (and a cold numba cache)" if cold else ""))
-        wall(CLI)  # untimed: refreshes the kernel cache if the sources changed meanwhile
-        warm = [wall(CLI) for _ in range(n_cli)]
-        out.append(Row.of("10a", statistics.median(warm), runs=warm))
-        if cold:
-            with tempfile.TemporaryDirectory(prefix="hairbed-cold-") as cache:
-                t_cold = wall(CLI, env={**os.environ, "NUMBA_CACHE_DIR": cache})
-            out.append(Row.of("10b", t_cold))
-        for num, code in (("10c", "import numba"), ("10d", "pass")):
-            runs = [wall([sys.executable, "-c", code]) for _ in range(5)]
-            out.append(Row.of(num, statistics.median(runs)))
-        out.append(Row.of("10e", _trivial_kernel_process()))
-        lap("row 10")
-    if 11 in chosen:
-        say("row 11: sweeps (eager grid; threads and a LocalCluster against serial blocks)")
-        out.extend(sweep_rows(n, repeat, quick))
-        lap("row 11")
-    meta = {
-        "quick": quick,
-        "repeat": repeat,
-        "seed": seed,
-        "n": n,
-        "rows": sorted(chosen),
-        "scalar_inputs": n_scalar,
-        "median_calls": calls,
-        "cpu_count": os.cpu_count(),
-        "loadavg_start": list(load_start),
-        "loadavg_end": list(os.getloadavg()),
-        "cpu_share_single_thread": cpu_share,
-        "sections_s": sections,
-        "total_s": time.perf_counter() - t_start,
-        "compiled_while_timing": compiled,
-        "kernel_sources_changed": hash_start != kernel_hash(),
-        "python": platform.python_version(),
-        "numpy": np.__version__,
-        "numba": _version("numba"),
-        "scipy": _version("scipy"),
-        "hairbed": __version__,
-        "platform": platform.platform(),
-        "time": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
-    }
+        cpu_share: float | None = None
+        compiled: list[str] | None = None
+        said = ""
+        for number in sorted(chosen):
+            if number > 6 and cpu_share is None and chosen & _SINGLE_THREAD:
+                # share of one core this process got in rows 1-6: below 1, it waited
+                cpu_share = (time.process_time() - cpu0) / max(time.perf_counter() - wall0, 1e-9)
+            if number > 9 and compiled is None:  # rows 10, 11 compile in their own processes
+                compiled = _compiled_since(sigs_start)
+            section = SECTIONS[number]
+            if section != said:
+                if said:
+                    lap(said.partition(":")[0])
+                said = section
+                say(section + (" (and a cold numba cache)" if number == 10 and run.cold else ""))
+            out.extend(MEASURES[number](run))
+        lap(said.partition(":")[0])
+    if cpu_share is None and chosen & _SINGLE_THREAD:
+        cpu_share = (time.process_time() - cpu0) / max(time.perf_counter() - wall0, 1e-9)
+    meta = _meta(
+        run,
+        seed,
+        chosen,
+        loadavg_start=list(load_start),
+        loadavg_end=list(os.getloadavg()),
+        cpu_share_single_thread=cpu_share,
+        sections_s=sections,
+        total_s=time.perf_counter() - t_start,
+        compiled_while_timing=_compiled_since(sigs_start) if compiled is None else compiled,
+        kernel_sources_changed=hash_start != kernel_hash(),
+    )
     return Result(tuple(out), meta)
+
+
+def _compiled_since(signatures: Mapping[str, int]) -> list[str]:
+    """The kernels that compiled a new signature since ``signatures`` were counted."""
+    return sorted(k for k, v in kernel_signatures().items() if v != signatures.get(k))
 
 
 _TRIVIAL_KERNEL = """import numba
