@@ -14,7 +14,7 @@ from collections.abc import Callable
 from typing import Any
 
 import hairbed
-from hairbed._variables import BED
+from hairbed._variables import BED, BED_REQUIRED
 
 from ._report import UsageError
 
@@ -61,7 +61,6 @@ BED_OPTIONS: dict[str, tuple[str, str]] = {
     for name, v in BED.items()
     if v.group == "bed"
 }
-_BED_REQUIRED = ("length", "radius", "youngs_modulus", "channel_height", "viscosity")
 
 
 class Parser(argparse.ArgumentParser):
@@ -129,7 +128,7 @@ def bed_from(args: argparse.Namespace) -> Any | None:
     given = {k: v for k, v in given.items() if v is not None}
     if not given:
         return None
-    missing = [k for k in _BED_REQUIRED if k not in given]
+    missing = [k for k in BED_REQUIRED if k not in given]
     if missing:
         names = ", ".join("--" + k.replace("_", "-") for k in missing)
         raise UsageError(f"physical inputs need also {names}")
