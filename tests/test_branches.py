@@ -184,7 +184,7 @@ def _near_fold_id(c):
 
 @pytest.mark.parametrize("case", NEAR_FOLDS, ids=[_near_fold_id(c) for c in NEAR_FOLDS])
 def test_states_near_folds_in_nearly_closed_channels(case):
-    """Every root within 1e-8 to 1e-12 (relative in omega2) of a fold at eps = 0.99 ... 0.999:
+    """Every root within 1e-8 to 1e-14 (relative in omega2) of a fold at eps = 0.99 ... 0.999:
     xi, tip angle, tip deflection, tip height and omega_eps to max(1e-10 relative, 4x the
     change that rounding one input to its neighbouring double makes, from mpmath; where one
     ulp of theta0 takes roots out of the window, ``removes_roots``, the largest change of the

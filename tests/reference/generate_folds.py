@@ -9,11 +9,13 @@ It imports nothing from :mod:`hairbed`; the branch, its folds and its roots come
 Two groups, tested by ``tests/test_branches.py``:
 
 * ``near_folds``: the physical branch at eps = 0.99, 0.995, 0.999 and base angles from -0.6 to
-  -pi/2 + 1e-7, at forcings omega2 = omega2_f (1 -+ delta) (rounded to a double) a relative
-  delta = 1e-8, 1e-10, 1e-12 inside the three-state window from either fold. Every root (xi, tip
-  angle, tip deflection, tip height, omega_eps, t) at 50 digits and, for each, the largest change
-  of each field when one input (omega2, eps or theta0) moves by one ulp: near a fold the state is
-  ill-conditioned in omega2, and a double-precision solver can do no better than that change.
+  -pi/2 + 3e-8, at forcings omega2 = omega2_f (1 -+ delta) (rounded to a double) a relative
+  delta = 1e-8, 1e-10, 1e-12, 1e-14 inside the three-state window from either fold. Every root
+  (xi, tip angle, tip deflection, tip height, omega_eps, t) at 50 digits and, for each, the
+  largest change of each field when one input (omega2, eps or theta0) moves by one ulp: near a
+  fold the state is ill-conditioned in omega2, and a double-precision solver can do no better
+  than that change. (Within a few ulp of a fold, delta ~ 3e-16, one ulp of eps or theta0
+  already removes the pair of roots; such forcings are not tabulated.)
   The fold structure of the perturbed inputs is recomputed (branch_structure); a move that takes
   roots out of the window (within 3e-8 of theta0 = -pi/2 one ulp of theta0 moves the upper fold
   by more than 1e-12) is listed in ``removes_roots`` and the change is the largest over the
@@ -53,7 +55,7 @@ ROOT_DPS = 50
 FIELDS = ("xi", "tip_angle", "tip_deflection", "tip_height", "omega_eps")
 EPS_VALUES = (0.99, 0.995, 0.999)
 THETA0_VALUES = (-0.6, -1.0, -1.5, -1.5707963)
-DELTAS = (1e-8, 1e-10, 1e-12)
+DELTAS = (1e-8, 1e-10, 1e-12, 1e-14)
 CUSP_THETA0 = (-1.0, -1.5, -1.57, -1.5707, -1.570796, -1.5707963, -1.57079632, -1.5707963267)
 
 
