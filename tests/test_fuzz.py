@@ -334,12 +334,12 @@ TARGETS: list[Target] = [
     Target(
         "quasistatic.sweep",
         quasistatic.sweep,
-        dict(omega2_path=[1.2, 1.6, 1.2], eps=0.9, theta0=-1.5, start="low"),
+        dict(omega2_path=[1.2, 1.6, 1.2], eps=0.9, theta0=-1.5, root="low"),
     ),
     Target(
         "quasistatic.sweep_with_jumps",
         quasistatic.sweep_with_jumps,
-        dict(omega2_path=[1.2, 1.6], eps=0.9, theta0=-1.5, start="high"),
+        dict(omega2_path=[1.2, 1.6], eps=0.9, theta0=-1.5, root="high"),
     ),
     Target(
         "rheology.stress_ratio",

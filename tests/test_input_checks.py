@@ -450,9 +450,9 @@ ROWS = [
     ),
     (
         "quasistatic start",
-        lambda: quasistatic.sweep([1.0], 0.5, start="mid"),
+        lambda: quasistatic.sweep([1.0], 0.5, root="mid"),
         ValueError,
-        r"start must be one of 'low', 'high', got 'mid'",
+        r"root must be one of 'low', 'high', got 'mid'",
     ),
     (
         "fit_profile points",

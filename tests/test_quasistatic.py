@@ -18,7 +18,7 @@ def _ramp():
 def test_up_ramp_follows_low_root_and_down_ramp_the_high_root():
     up, down = _ramp()
     s_up = sweep(up, EPS, THETA0)
-    s_down = sweep(down, EPS, THETA0, start="high")
+    s_down = sweep(down, EPS, THETA0, root="high")
     low = hairbed.solve(up, EPS, THETA0, root="low")
     high = hairbed.solve(up, EPS, THETA0, root="high")
     upper = folds(EPS, THETA0).upper.omega2
@@ -72,8 +72,8 @@ def test_monotone_branch_sweep_is_the_solve_and_never_jumps():
 
 def test_start_selects_the_initial_state_inside_the_window():
     w = np.array([1.2])
-    low = sweep(w, EPS, THETA0, start="low")
-    high = sweep(w, EPS, THETA0, start="high")
+    low = sweep(w, EPS, THETA0, root="low")
+    high = sweep(w, EPS, THETA0, root="high")
     np.testing.assert_allclose(low.xi, hairbed.solve(1.2, EPS, THETA0, root="low").xi, rtol=1e-10)
     np.testing.assert_allclose(
         high.xi, hairbed.solve(1.2, EPS, THETA0, root="high").xi, rtol=1e-10
@@ -99,7 +99,7 @@ def test_strong_forcing_and_empty_path():
         lambda: sweep(np.ones((2, 2)), 0.5, 0.0),
         lambda: sweep([1.0, -1.0], 0.5, 0.0),
         lambda: sweep([1.0], np.array([0.5, 0.6]), 0.0),
-        lambda: sweep([1.0], 0.5, 0.0, start="mid"),
+        lambda: sweep([1.0], 0.5, 0.0, root="mid"),
         lambda: sweep([1.0], 1.5, 0.0),
     ],
 )

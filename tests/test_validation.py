@@ -149,6 +149,18 @@ def test_one_scalar_parameter_check(call, message):
 # -- deprecated names (issue 22 item 7): each old keyword still works, warns, names the new --
 
 
+def test_quasistatic_start_is_a_deprecated_alias_of_root():
+    from hairbed import quasistatic
+
+    path = [1.2, 1.6, 1.2]
+    with pytest.warns(FutureWarning, match="'start' is deprecated.*use 'root'"):
+        old = quasistatic.sweep_with_jumps(path, 0.9, -1.5, start="high")
+    new = quasistatic.sweep_with_jumps(path, 0.9, -1.5, root="high")
+    assert np.array_equal(old.solution.xi, new.solution.xi)
+    with pytest.warns(FutureWarning, match="'start' is deprecated"):
+        assert np.array_equal(quasistatic.sweep(path, 0.9, -1.5, start="high").xi, new.solution.xi)
+
+
 @pytest.mark.parametrize(
     ("call", "old", "new"),
     [

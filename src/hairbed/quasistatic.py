@@ -26,6 +26,7 @@ from ._bracketing import find_root
 from ._core.solution import Solution
 from ._core.solver import _from_parameter, _solve_checked, fold_parameters
 from ._core.validation import _first_index, as_float_array, check_choice, check_scalar_inputs
+from ._warnings import renamed_parameters
 
 __all__ = ["QuasistaticSweep", "sweep", "sweep_with_jumps"]
 
@@ -86,7 +87,7 @@ def _stable_pieces(
 
 
 def _choose_pieces(
-    path: NDArray[np.float64], w_lo: NDArray[np.float64], w_hi: NDArray[np.float64], start: str
+    path: NDArray[np.float64], w_lo: NDArray[np.float64], w_hi: NDArray[np.float64], root: str
 ) -> NDArray[np.intp]:
     """Index of the stable piece occupied at every point of the path."""
     inside = (path[:, None] >= w_lo) & (path[:, None] <= w_hi)
@@ -94,7 +95,7 @@ def _choose_pieces(
     if path.size == 0:
         return piece
     cand = np.nonzero(inside[0])[0]
-    current = int(cand[0] if start == "low" else cand[-1])
+    current = int(cand[0] if root == "low" else cand[-1])
     for i, w in enumerate(path):
         if not inside[i, current]:
             cand = np.nonzero(inside[i])[0]
@@ -115,8 +116,9 @@ def _log_omega2_residual(
     return np.log(np.maximum(_omega2(t, eps, theta0), _SMALLEST)) - log_target
 
 
+@renamed_parameters(start="root")
 def sweep_with_jumps(
-    omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "low"
+    omega2_path: Any, eps: float, theta0: float = 0.0, *, root: str = "low"
 ) -> QuasistaticSweep:
     """Follow the physical state along a path of forcing; also say where it jumps.
 
@@ -128,9 +130,10 @@ def sweep_with_jumps(
         Confinement L/H [-], in [0, 1).
     theta0 : float
         Base angle [rad], in (-pi/2, pi/2).
-    start : {"low", "high"}
+    root : {"low", "high"}
         Which state the hair is in at the first point when several coexist there: "low"
-        (smallest xi: coming from rest) or "high" (largest xi: coming from strong flow).
+        (smallest xi: coming from rest) or "high" (largest xi: coming from strong flow), as
+        :func:`hairbed.solve`'s ``root``. ``start`` is its deprecated old name.
 
     Returns
     -------
@@ -154,10 +157,10 @@ def sweep_with_jumps(
             f"omega2_path must lie in [0, inf), got {float(path[bad][0])!r}{_first_index(bad)}"
         )
     _, eps, theta0 = check_scalar_inputs(eps=eps, theta0=theta0, given=("eps", "theta0"))
-    start = check_choice(start, "start", ("low", "high"))
+    root = check_choice(root, "root", ("low", "high"))
 
     t_lo, t_hi, w_lo, w_hi = _stable_pieces(eps, theta0)
-    piece = _choose_pieces(path, w_lo, w_hi, start)
+    piece = _choose_pieces(path, w_lo, w_hi, root)
 
     # A bracket in t for every point: its piece's bounds, the infinite ends replaced by a
     # starting interval next to the finite one that the search widens (omega^2 is monotone
@@ -193,7 +196,8 @@ def sweep_with_jumps(
     return QuasistaticSweep(sol, jumps.astype(np.intp), direction, stable, jumped)
 
 
-def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "low") -> Solution:
+@renamed_parameters(start="root")
+def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, root: str = "low") -> Solution:
     """Follow the physical state continuously along a path of forcing.
 
     The state moves continuously with omega^2 and jumps only where the state it is following
@@ -209,8 +213,9 @@ def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "lo
         Confinement L/H [-], in [0, 1).
     theta0 : float
         Base angle [rad], in (-pi/2, pi/2).
-    start : {"low", "high"}
-        State at the first point when several coexist there.
+    root : {"low", "high"}
+        State at the first point when several coexist there (``start`` is its deprecated old
+        name).
 
     Returns
     -------
@@ -224,4 +229,4 @@ def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, start: str = "lo
     >>> bool(s.xi[2] > s.xi[0])
     True
     """
-    return sweep_with_jumps(omega2_path, eps, theta0, start=start).solution
+    return sweep_with_jumps(omega2_path, eps, theta0, root=root).solution

@@ -87,7 +87,7 @@ def _load_calibration(path: str, bed: Any) -> Any:
         dof=int(data.get("dof", 0)),
         kind=str(data.get("kind", "velocity")),
         success=bool(data.get("success", True)),
-        status=int(data.get("status", 1)),
+        status=int(data.get("status", 0)),
         message=str(data.get("message", "")),
         nfev=0,
         geometry=geometry,

@@ -157,7 +157,7 @@ def _quasistatic(omega2: Any, eps: Any, theta0: Any, root: str) -> Any:
     from hairbed import sweeps
     from hairbed.quasistatic import sweep_with_jumps
 
-    run = sweep_with_jumps(omega2, eps, theta0, start=root)
+    run = sweep_with_jumps(omega2, eps, theta0, root=root)
     ds = sweeps.path_dataset(run.solution, kind="quasistatic", root=root, omega2=omega2)
     marks = {
         "direction": (

@@ -138,7 +138,7 @@ def fig_hysteresis(
     up = np.linspace(0.3 * lo, 1.4 * hi, num)
     down = up[::-1]
     sweep = hairbed.quasistatic.sweep
-    s_up, s_down = sweep(up, eps, theta0, start="low"), sweep(down, eps, theta0, start="high")
+    s_up, s_down = sweep(up, eps, theta0, root="low"), sweep(down, eps, theta0, root="high")
     x_up, x_down = np.asarray(s_up.tip_deflection), np.asarray(s_down.tip_deflection)
     fold_t = np.sort(np.asarray(hairbed.branches.folds(eps, theta0).t, dtype=float))
     fig, ax = figure_axes(ax, size=(5.8, 4.2))
