@@ -418,9 +418,10 @@ def from_xi(
             f"xi must lie in [sin(theta0), 1), got {float(x[bad].flat[0])!r}"
             + ("" if x.ndim == 0 else f" (first at index {np.argwhere(bad)[0].tolist()})")
         )
+    sign, n = check_branch(sign, n)
     with np.errstate(divide="ignore"):
         t = np.log(x - low) - np.log1p(-x)  # logit((xi - sin theta0)/(1 - sin theta0))
-    return from_parameter(t, e, t0, sign=sign, n=n)
+    return _from_parameter(t, e, t0, sign, n)  # checked: no second pass
 
 
 def fold_parameters(eps: float, theta0: float = 0.0, *, sign: int = 1, n: int = 0) -> np.ndarray:
