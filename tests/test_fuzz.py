@@ -51,6 +51,7 @@ import hairbed
 from hairbed import (
     branches,
     calibration,
+    calibration_files,
     inverse,
     numerics,
     quasistatic,
@@ -67,7 +68,7 @@ FUZZ = settings.get_profile("fuzz")
 #: Seconds a single call may take before it counts as a hang.
 TIMEOUT = 20.0
 #: The library's own warnings (documented, one per finding); anything else is a leak.
-OWN_WARNINGS = (hairbed.ModelValidityWarning, hairbed.UnitsWarning)
+OWN_WARNINGS = (hairbed.ModelValidityWarning, hairbed.UnitsWarning, hairbed.CalibrationWarning)
 
 
 class _Opaque:
@@ -438,6 +439,27 @@ TARGETS: list[Target] = [
         branches.label_states,
         dict(solutions=[hairbed.solve(1.2, 0.9, -1.5, root="mid")], num=20),
     ),
+    Target(
+        "calibration.points_fingerprint",
+        calibration.points_fingerprint,
+        dict(tip_deflection=D3, velocity=[0.02, 0.05, 0.1], sigma=1e-6),
+    ),
+    Target(
+        "units.transverse_permeability",
+        units.transverse_permeability,
+        dict(radius=50e-6, packing_fraction=0.05),
+    ),
+    Target(
+        "calibration_files.calibration_to_dict",
+        calibration_files.calibration_to_dict,
+        dict(fit=FIT),
+    ),
+    Target(
+        "calibration_files.calibration_from_dict",
+        calibration_files.calibration_from_dict,
+        dict(data=calibration_files.calibration_to_dict(FIT)),
+        fuzz=("data",),
+    ),
     # labelled sweeps (xarray)
     Target(
         "sweep",
@@ -472,6 +494,8 @@ NOT_FUZZED = {
     "hairbed.sweeps.write_csv_stream": "file output: tested in test_cli_sweep/test_sweeps",
     "hairbed.sweeps.read_table": "file input: OSError is its documented error",
     "hairbed.calibration.read_points": "file input: OSError is its documented error",
+    "hairbed.calibration_files.read_calibration": "file input: tested in test_calibration_traps",
+    "hairbed.calibration_files.write_calibration": "file output: tested in test_calibration_traps",
     "Solution.as_dict": "no input",
 }
 
@@ -479,6 +503,7 @@ PUBLIC_MODULES = (
     "hairbed",
     "hairbed.branches",
     "hairbed.calibration",
+    "hairbed.calibration_files",
     "hairbed.inverse",
     "hairbed.numerics",
     "hairbed.quasistatic",

@@ -26,6 +26,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
     from . import (
         branches,
         calibration,
+        calibration_files,
         inverse,
         numerics,
         profile_fit,
@@ -38,13 +39,14 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
     )
     from ._core.solution import Solution
     from ._core.solver import from_parameter, from_xi, solve, solve_all
-    from ._warnings import ModelValidityWarning, UnitsWarning
+    from ._warnings import CalibrationWarning, ModelValidityWarning, UnitsWarning
     from .explorer import explore
     from .sensitivity import derivatives
     from .sweeps import sweep
     from .units import HairBed, HairState
 
 __all__ = [
+    "CalibrationWarning",
     "HairBed",
     "HairState",
     "ModelValidityWarning",
@@ -52,6 +54,7 @@ __all__ = [
     "UnitsWarning",
     "branches",
     "calibration",
+    "calibration_files",
     "derivatives",
     "explore",
     "from_parameter",
@@ -75,6 +78,7 @@ _LAZY_MODULES = frozenset(
     {
         "branches",
         "calibration",
+        "calibration_files",
         "inverse",
         "numerics",
         "profile_fit",
@@ -95,6 +99,7 @@ _LAZY_NAMES = {
     "solve_all": "_core.solver",
     "HairBed": "units",
     "HairState": "units",
+    "CalibrationWarning": "_warnings",
     "ModelValidityWarning": "_warnings",
     "UnitsWarning": "_warnings",
     "derivatives": "sensitivity",

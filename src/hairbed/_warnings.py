@@ -8,7 +8,7 @@ import warnings
 from collections.abc import Callable
 from typing import Any, TypeVar, cast
 
-__all__ = ["ModelValidityWarning", "UnitsWarning", "renamed_parameters"]
+__all__ = ["CalibrationWarning", "ModelValidityWarning", "UnitsWarning", "renamed_parameters"]
 
 _F = TypeVar("_F", bound=Callable[..., Any])
 
@@ -20,6 +20,17 @@ class ModelValidityWarning(UserWarning):
     Reynolds number rho |v| (H - h1 L)/eta exceeds 1, so that the Stokes-flow (Couette) load of
     the model, theory.md §7, is no longer the load on the hairs. Silence it with
     ``warnings.simplefilter("ignore", hairbed.ModelValidityWarning)``.
+    """
+
+
+class CalibrationWarning(UserWarning):
+    """A calibration fit ended, but its answer is weaker than it looks.
+
+    Issued (the fit is still returned, with a positive ``status``) by
+    :func:`hairbed.calibration.fit` when there are no degrees of freedom: as many points as
+    free parameters, so that the curve passes through every point, chi2 says nothing of the
+    model and, without ``sigma``, the standard errors are infinite (scipy's ``curve_fit``
+    issues its ``OptimizeWarning`` for the same case).
     """
 
 

@@ -23,6 +23,7 @@ deflection that line is within a tolerance of the exact calibration.
 
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 import warnings
@@ -47,9 +48,21 @@ from ._core.validation import (
     show,
 )
 from ._variables import BED, names
-from ._warnings import renamed_parameters
+from ._warnings import (
+    CalibrationWarning,
+    ModelValidityWarning,
+    UnitsWarning,
+    renamed_parameters,
+)
 from .sensitivity import derivatives_at
-from .units import CLOSE_PACKING_FRACTION, HairBed, HairState
+from .units import (
+    CLOSE_PACKING_FRACTION,
+    HairBed,
+    HairState,
+    _reynolds_of_stress,
+    _warn_reynolds,
+    _warn_sparse,
+)
 
 __all__ = [
     "FREE_PARAMETERS",
@@ -61,6 +74,7 @@ __all__ = [
     "linear_range",
     "measure",
     "model_tip_deflection",
+    "points_fingerprint",
     "read_points",
 ]
 
@@ -129,12 +143,33 @@ def _model(
     """:func:`_model_at` of the calibration curve's state at ``x``: the low root where several
     states share one speed (stress data have one state: x1 does not depend on eps, and at
     eps = 0 the branch is monotone)."""
+    return _model_at(bed, kind, x, _curve_state(bed, kind, x), free, geometry)
+
+
+def _curve_state(bed: HairBed, kind: str, x: FloatArray) -> Any:
+    """The dimensionless state of the calibration curve at wall speeds or stresses ``x``."""
     direction, forcing, _ = _forcing(bed, kind, x)
     if not np.all(np.isfinite(forcing)):  # a fit's trial bed far from the data's scale
         raise ValueError(f"the forcing of {kind} {float(np.max(np.abs(x)))!r} overflows")
     eps = bed.eps if kind == "velocity" else 0.0
-    sol = _solve_checked(forcing, eps, direction * bed.base_angle)
-    return _model_at(bed, kind, x, sol, free, geometry)
+    return _solve_checked(forcing, eps, direction * bed.base_angle)
+
+
+def _warn_validity(
+    bed: HairBed, kind: str, x: FloatArray, sol: Any, shape: tuple[int, ...]
+) -> None:
+    """The model's validity where it was evaluated in SI: a :class:`ModelValidityWarning`
+    where the gap flow's Reynolds number exceeds 1 (as :meth:`HairBed.deform` does; the bed's
+    dense-bed condition is checked when the bed is made). The gap is H - h1 L of the state
+    (h1 is the same on the collapsed curve of stress data)."""
+    if bed.density is None:
+        return
+    gap = bed.channel_height - bed.length * np.asarray(sol.tip_height, dtype=np.float64)
+    if kind == "velocity":
+        reynolds = bed.density * np.abs(x) * gap / bed.viscosity
+    else:
+        reynolds = _reynolds_of_stress(bed, x, gap)
+    _warn_reynolds(reynolds.reshape(shape))
 
 
 def _model_at(
@@ -184,7 +219,10 @@ def model_tip_deflection(
     """
     check_type(bed, "bed", HairBed, "a hairbed.HairBed")
     kind, x = _known(bed, velocity, wall_shear_stress)
-    return float_or_array(_model(bed, kind, x.reshape(-1), (), "spacing")[0].reshape(x.shape))
+    flat = x.reshape(-1)
+    sol = _curve_state(bed, kind, flat)
+    _warn_validity(bed, kind, flat, sol, x.shape)
+    return float_or_array(_model_at(bed, kind, flat, sol, (), "spacing")[0].reshape(x.shape))
 
 
 def _known(bed: HairBed, velocity: Any, stress: Any) -> tuple[str, FloatArray]:
@@ -233,7 +271,8 @@ class CalibrationFit:
     residuals : ndarray
         Measured minus fitted tip deflection at each calibration point [m].
     chi2 : float
-        Sum of the squared residuals over sigma^2 [-] (over 1 m^2 when no sigma was given).
+        With ``sigma``: the sum of the squared residuals over sigma^2 [-]. Without: the sum
+        of the squared residuals [m^2] (:attr:`chi2_unit` says which).
     dof : int
         Degrees of freedom: number of points minus number of free parameters.
     kind : str
@@ -241,8 +280,12 @@ class CalibrationFit:
     success : bool
         The optimiser converged and the parameters are determined by the data.
     status : int
-        0 converged; -2 the evaluation limit; -4 the data do not determine every free
-        parameter (singular Jacobian) (:data:`~hairbed._core.validation.STATUS_MESSAGES`).
+        0 converged; 5 converged with no degrees of freedom (as many points as free
+        parameters: the curve passes through every point, chi2 says nothing of the model,
+        and without ``sigma`` the standard errors are infinite); -2 the evaluation limit;
+        -4 the data do not determine every free parameter (a singular Jacobian; the message
+        names the parameters that enter the model only together)
+        (:data:`~hairbed._core.validation.STATUS_MESSAGES`).
     message : str
         What happened.
     nfev : int
@@ -252,6 +295,13 @@ class CalibrationFit:
     solver_status : int
         :func:`scipy.optimize.least_squares`'s own status (1 to 4: which tolerance stopped
         it, 0 the evaluation limit, -1 improper input).
+    weighted : bool
+        Whether the deflections had a ``sigma`` (chi2 is then dimensionless).
+    fingerprint : str
+        SHA-256 of the calibration points (:func:`points_fingerprint`): which data the
+        calibration came from.
+    start : Mapping[str, float]
+        The starting value of each free parameter (the bed given to :func:`fit`).
     """
 
     bed: HairBed
@@ -271,6 +321,14 @@ class CalibrationFit:
     solver_status: int = 0
     #: the one of spacing / packing fraction held fixed when the radius varies
     geometry: str = field(default="spacing", repr=False)
+    weighted: bool = True
+    fingerprint: str = ""
+    start: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
+
+    @property
+    def chi2_unit(self) -> str:
+        """The unit of :attr:`chi2`: "1" (weighted by sigma) or "m^2" (a sum of squares)."""
+        return "1" if self.weighted else "m^2"
 
     @property
     def reduced_chi2(self) -> float:
@@ -300,6 +358,78 @@ def _check_free(free: Any) -> tuple[str, ...]:
             "delta^2); free at most one of them"
         )
     return names
+
+
+def _degeneracies(names: Sequence[str], kind: str, geometry: str) -> list[str]:
+    """Why the model cannot determine ``names`` from ``kind`` data (empty if it can).
+
+    Velocity data: D = L x1(omega^2, L/H, theta0) with omega^2 = 4 L^2 eta v/(E a^2 H phi),
+    and phi = (2 pi/sqrt 3) a^2/delta^2 at fixed spacing, so E, a, eta and delta (or phi)
+    enter only through eta delta^2/(E a^4) (at fixed spacing) or eta/(E a^2 phi) (at fixed
+    packing fraction); L enters also as the scale of D and through eps, H through eps.
+    Stress data: D = L x1(omega_eps^2, theta0) with omega_eps^2 = 4 L^2 tau/(E a^2 phi):
+    H and eta do not enter, and E, a and delta (or phi) only through delta^2/(E a^4) (or
+    1/(E a^2 phi)).
+    """
+    out = []
+    group = ["youngs_modulus", "radius", "spacing", "packing_fraction"]
+    if kind == "velocity":
+        group.append("viscosity")
+        combination = "eta delta^2/(E a^4)" if geometry == "spacing" else "eta/(E a^2 phi)"
+    else:
+        absent = [n for n in names if n in ("channel_height", "viscosity")]
+        if absent:
+            out.append(
+                f"{' and '.join(absent)} do{'es' if len(absent) == 1 else ''} not enter stress "
+                "data (the load on a hair is the stress times its wall area)"
+            )
+        combination = "delta^2/(E a^4)" if geometry == "spacing" else "1/(E a^2 phi)"
+    together = [n for n in names if n in group]
+    if len(together) > 1:
+        out.append(
+            f"{', '.join(together)} enter the model only through the one combination "
+            f"{combination}: free at most one of them"
+        )
+    return out
+
+
+def points_fingerprint(
+    tip_deflection: ArrayLike,
+    *,
+    velocity: ArrayLike | None = None,
+    wall_shear_stress: ArrayLike | None = None,
+    sigma: ArrayLike | None = None,
+) -> str:
+    """SHA-256 (hex) of calibration points: which data a calibration came from.
+
+    The digest of the bytes of the kind ("velocity" or "wall_shear_stress", ASCII), then the
+    known flows, the deflections and (if given) sigma broadcast to them, each as little-endian
+    float64. :attr:`CalibrationFit.fingerprint` is this of the data :func:`fit` was given.
+    """
+    if (velocity is None) == (wall_shear_stress is None):
+        raise ValueError("give exactly one of velocity [m/s] and wall_shear_stress [Pa]")
+    kind = "velocity" if velocity is not None else "wall_shear_stress"
+    unit = "m/s" if velocity is not None else "Pa"
+    known = as_float_array(
+        velocity if velocity is not None else wall_shear_stress, kind, unit=unit
+    )
+    d = as_float_array(tip_deflection, "tip_deflection", unit="m").reshape(-1)
+    if known.size != d.size:
+        raise ValueError(
+            f"tip_deflection and {kind} must have the same length, got {d.size} and {known.size}"
+        )
+    sig = None if sigma is None else check_sigma(sigma, "sigma", d.shape, unit="m")
+    return _fingerprint(kind, known.reshape(-1), d, sig)
+
+
+def _fingerprint(kind: str, x: FloatArray, d: FloatArray, sigma: Any) -> str:
+    digest = hashlib.sha256(kind.encode("ascii"))
+    digest.update(np.ascontiguousarray(x, dtype="<f8").tobytes())
+    digest.update(np.ascontiguousarray(d, dtype="<f8").tobytes())
+    if sigma is not None:
+        s = np.broadcast_to(np.asarray(sigma, dtype=np.float64), d.shape)
+        digest.update(np.ascontiguousarray(s, dtype="<f8").tobytes())
+    return digest.hexdigest()
 
 
 def _bounds(bed: HairBed, free: tuple[str, ...], geometry: str) -> tuple[FloatArray, FloatArray]:
@@ -398,12 +528,14 @@ def fit(
         raise ValueError(
             f"a fit of {len(names)} parameter(s) needs at least as many points, got {d.size}"
         )
+    sig: FloatArray | None = None
     if sigma is None:  # unit weights, in units of the hair length (well-scaled optimiser)
         weights = np.full(d.size, 1.0 / bed.length)
     else:
-        weights = 1.0 / check_sigma(
+        sig = check_sigma(
             sigma, "sigma", d.shape, unit="m", low=_SIGMA_LOW * bed.length, high=bed.length
         )
+        weights = 1.0 / sig
     geometry = "packing_fraction" if "packing_fraction" in names else "spacing"
 
     def coords_to_bed(p: FloatArray) -> HairBed:
@@ -411,7 +543,10 @@ def fit(
             name: (float(v) if name in _LINEAR else math.exp(float(v)))
             for name, v in zip(names, p)
         }
-        return _rebuild(bed, geometry, **changes)
+        with warnings.catch_warnings():  # a trial bed's: the fitted bed is checked below
+            warnings.simplefilter("ignore", UnitsWarning)
+            warnings.simplefilter("ignore", ModelValidityWarning)
+            return _rebuild(bed, geometry, **changes)
 
     def scale(b: HairBed) -> FloatArray:  # dP/dp of each coordinate
         return np.array([1.0 if nm in _LINEAR else float(getattr(b, nm)) for nm in names])
@@ -451,7 +586,8 @@ def fit(
     dof = d.size - len(names)
     jn = jw / scale(fitted)  # weighted Jacobian in the parameters' own units
     u, sv, vt = np.linalg.svd(jn, full_matrices=False)
-    rank_ok = sv.size > 0 and sv[-1] > sv[0] * 1e-10
+    why = _degeneracies(names, kind, geometry)
+    rank_ok = not why and sv.size > 0 and sv[-1] > sv[0] * 1e-10
     status, success, message = (
         least_squares_status(int(res.status)),
         bool(res.success),
@@ -462,19 +598,23 @@ def fit(
     else:
         cov = np.full((len(names), len(names)), np.inf)
         status, success = -4, False
-        message = (
-            "the data do not determine every free parameter (singular Jacobian): "
-            + (
-                "stress data carry no information on channel_height or viscosity; "
-                if kind != "velocity"
-                else ""
-            )  # fmt: skip
-            + "fix some of "
-            + ", ".join(names)
+        message = "the data do not determine every free parameter (singular Jacobian): " + (
+            "; ".join(why) if why else "fix some of " + ", ".join(names)
         )
     if sigma is None:
         cov = cov * (chi2 / dof if dof > 0 else np.inf)
         chi2 *= bed.length**2  # [m^2]: the sum of squared residuals
+    if dof == 0 and status == 0:
+        status = 5
+        message = (
+            f"no degrees of freedom: {d.size} point(s) for {len(names)} free parameter(s), "
+            "so the curve passes through every point and chi2 says nothing of the model"
+            + ("" if sigma is not None else "; without sigma the standard errors are infinite")
+        )
+        warnings.warn(f"calibration.fit: {message}", CalibrationWarning, stacklevel=2)
+    if set(names) & {"length", "radius", "spacing", "packing_fraction"}:
+        _warn_sparse(fitted, stacklevel=3)
+    _warn_validity(fitted, kind, x, _curve_state(fitted, kind, x), x.shape)
     stderr = np.sqrt(np.diag(cov))
     values = {nm: float(getattr(fitted, nm)) for nm in names}
     return CalibrationFit(
@@ -494,6 +634,9 @@ def fit(
         nit=int(res.njev or 0),
         solver_status=int(res.status),
         geometry=geometry,
+        weighted=sigma is not None,
+        fingerprint=_fingerprint(kind, x, d, sig),
+        start=MappingProxyType({nm: float(getattr(bed, nm)) for nm in names}),
     )
 
 
@@ -619,8 +762,8 @@ class LinearRange:
     ----------
     tip_deflection : float
         The largest tip deflection [m] (from the base, along +x) up to which the linear
-        calibration of both the wall speed and the wall shear stress is within ``rtol``
-        (relative) of the exact one.
+        calibration of :attr:`quantity` is within ``rtol`` (relative) of the exact one
+        (for "both": of the wall speed and the wall shear stress alike).
     velocity : float
         The exact wall speed at that deflection [m/s].
     wall_shear_stress : float
@@ -637,6 +780,11 @@ class LinearRange:
         (:data:`~hairbed._core.validation.STATUS_MESSAGES`).
     message : str
         What happened.
+    quantity : str
+        Whose linear calibration: "velocity", "wall_shear_stress" or "both".
+    limits : Mapping[str, LinearRange]
+        For "both", the range of each quantity alone ("velocity", "wall_shear_stress"); the
+        fields above are then those of the shorter one. Empty otherwise.
     """
 
     tip_deflection: float
@@ -648,6 +796,8 @@ class LinearRange:
     success: bool
     status: int
     message: str
+    quantity: str = "both"
+    limits: Mapping[str, LinearRange] = field(default_factory=lambda: MappingProxyType({}))
 
     @property
     def tolerance(self) -> float:
@@ -672,21 +822,35 @@ def _linear_errors(t: FloatArray, eps: float, theta0: float) -> tuple[Any, Float
     return sol, err_v, err_t
 
 
-def _excess(t: FloatArray, eps: Any, theta0: Any, tol: Any) -> FloatArray:
+#: The quantities whose linear calibration :func:`linear_range` bounds.
+_QUANTITIES = ("wall_shear_stress", "velocity", "both")
+
+
+def _worst(ev: FloatArray, et: FloatArray, quantity: str) -> FloatArray:
+    if quantity == "velocity":
+        return np.abs(ev)
+    if quantity == "wall_shear_stress":
+        return np.abs(et)
+    return np.maximum(np.abs(ev), np.abs(et))
+
+
+def _excess(t: FloatArray, eps: Any, theta0: Any, tol: Any, which: Any) -> FloatArray:
     _, ev, et = _linear_errors(t, float(np.ravel(eps)[0]), float(np.ravel(theta0)[0]))
-    return np.maximum(np.abs(ev), np.abs(et)) - tol
+    return _worst(ev, et, _QUANTITIES[int(np.ravel(which)[0])]) - tol
 
 
 @renamed_parameters(tolerance="rtol")
-def linear_range(bed: HairBed, rtol: float = 0.1) -> LinearRange:
-    """The largest deflection at which the linear calibration is within ``rtol``.
+def linear_range(bed: HairBed, rtol: float = 0.1, *, quantity: str = "both") -> LinearRange:
+    """The largest deflection at which the linear calibration of ``quantity`` is within ``rtol``.
 
     The linear calibration is that of a cantilever under a point load at the tip:
     x1 - sin(theta0) = omega^2 cos^2(theta0)/(3 (1 - eps cos theta0)) for the speed
     (:meth:`HairBed.linear_velocity_from_tip_deflection`) and the stress of the gap at rest
     (:meth:`HairBed.linear_wall_shear_stress_from_tip_deflection`). Along the physical branch
-    from rest (flow towards +x) the first deflection where either relative error reaches
-    ``rtol`` is found by a bracketed root search.
+    from rest (flow towards +x) the first deflection where the relative error reaches
+    ``rtol`` is found by a bracketed root search. The two calibrations fail at different
+    deflections: the linear speed also misses the narrowing of the gap (the stress ratio
+    1/(1 - eps h1)), so for a stress sensor ask for ``quantity="wall_shear_stress"``.
 
     Parameters
     ----------
@@ -694,6 +858,9 @@ def linear_range(bed: HairBed, rtol: float = 0.1) -> LinearRange:
         The sensor.
     rtol : float
         Relative tolerance, in (0, 1) (``tolerance`` is its deprecated old name).
+    quantity : {"both", "wall_shear_stress", "velocity"}
+        Whose linear calibration is bounded; "both" (the default) returns the range in
+        which both hold and, in ``limits``, the range of each.
 
     Returns
     -------
@@ -702,10 +869,23 @@ def linear_range(bed: HairBed, rtol: float = 0.1) -> LinearRange:
     if not isinstance(bed, HairBed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
     tol = check_number(rtol, "rtol", low=0.0, high=1.0, low_open=True, high_open=True)
+    if not isinstance(quantity, str) or quantity not in _QUANTITIES:
+        raise ValueError(
+            f"quantity must be one of {', '.join(map(repr, _QUANTITIES))}, got {show(quantity)}"
+        )
+    if quantity != "both":
+        return _linear_range(bed, tol, quantity)
+    each = {q: _linear_range(bed, tol, q) for q in ("velocity", "wall_shear_stress")}
+    shorter = min(each.values(), key=lambda r: r.tip_deflection)
+    return replace(shorter, quantity="both", limits=MappingProxyType(each))
+
+
+def _linear_range(bed: HairBed, tol: float, quantity: str) -> LinearRange:
+    """:func:`linear_range` of one quantity, its inputs checked."""
     eps, theta0 = bed.eps, bed.base_angle
     grid = np.arange(-30.0, 40.0 + 1e-9, 0.1)
     _, ev, et = _linear_errors(grid, eps, theta0)
-    over = np.flatnonzero(np.maximum(np.abs(ev), np.abs(et)) > tol)
+    over = np.flatnonzero(_worst(ev, et, quantity) > tol)
     if over.size == 0:
         t_star, status = float(grid[-1]), 4
         message = "the linear calibration stays within the tolerance over the whole range"
@@ -721,7 +901,7 @@ def linear_range(bed: HairBed, rtol: float = 0.1) -> LinearRange:
                     _excess,
                     grid[i - 1],
                     grid[i],
-                    args=(eps, theta0, tol),
+                    args=(eps, theta0, tol, _QUANTITIES.index(quantity)),
                     xatol=1e-13,
                     what="the end of the linear range",
                 ).x
@@ -742,6 +922,7 @@ def linear_range(bed: HairBed, rtol: float = 0.1) -> LinearRange:
         success=status == 0,
         status=status,
         message=message,
+        quantity=quantity,
     )
 
 

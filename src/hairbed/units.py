@@ -60,16 +60,98 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "CLOSE_PACKING_FRACTION",
+    "DENSE_BED_LIMIT",
     "PLAUSIBLE_RANGES",
     "BedProfileFit",
     "HairBed",
     "HairState",
+    "transverse_permeability",
 ]
 
 #: Packing fraction of touching hairs in a hexagonal array, pi / (2 sqrt 3) ~ 0.9069 [-].
 CLOSE_PACKING_FRACTION = math.pi / (2.0 * math.sqrt(3.0))
 
+#: The dense-bed condition (theory.md §10): the model stops the flow at the hair tips, valid
+#: while the Brinkman length sqrt(k) over which the flow penetrates the bed is small against the
+#: hair length; above sqrt(k)/L = 0.1 a :class:`hairbed.ModelValidityWarning` is issued.
+DENSE_BED_LIMIT = 0.1
+
 FloatOrArray = float | NDArray[np.float64]
+
+
+def transverse_permeability(radius: float, packing_fraction: float) -> float:
+    """Darcy permeability k [m^2] of a hexagonal array of cylinders for flow across their axes.
+
+    Drummond & Tahir (1984), Int. J. Multiphase Flow 10, 515, for the hexagonal array (whose
+    first terms are the dilute expansion of Sangani & Acrivos (1982), Int. J. Multiphase
+    Flow 8, 193)::
+
+        k / a^2 = (-ln phi - 1.497 + 2 phi - phi^2/2 - 0.739 phi^4
+                   + 2.534 phi^5 / (1 + 1.2758 phi)) / (8 phi)
+
+    The flow past wall-normal hairs parallel to the wall is this transverse flow.
+
+    Parameters
+    ----------
+    radius : float
+        Cylinder radius a [m], > 0.
+    packing_fraction : float
+        Area fraction phi of the cylinders [-], in (0, pi/(2 sqrt 3)) (hexagonal close
+        packing).
+    """
+    a = _positive(radius, "radius", "m")
+    phi = check_number(
+        packing_fraction,
+        "packing_fraction",
+        low=0.0,
+        high=CLOSE_PACKING_FRACTION,
+        low_open=True,
+        high_open=True,
+    )
+    k = _transverse_permeability(a, phi)
+    if not 0.0 < k < math.inf:
+        raise ValueError(
+            f"radius {a!r} m and packing_fraction {phi!r} give a permeability that under- or "
+            "overflows double precision"
+        )
+    return k
+
+
+def _transverse_permeability(radius: float, phi: float) -> float:
+    """:func:`transverse_permeability` of checked inputs."""
+    series = (
+        -math.log(phi) - 1.497 + 2.0 * phi - 0.5 * phi**2 - 0.739 * phi**4
+        + 2.534 * phi**5 / (1.0 + 1.2758 * phi)
+    )  # fmt: skip
+    return radius * (radius * series / (8.0 * phi))  # never radius**2: it raises on overflow
+
+
+def _warn_sparse(bed: HairBed, stacklevel: int = 4) -> None:
+    """A :class:`ModelValidityWarning` where the flow penetrates the bed over more than
+    :data:`DENSE_BED_LIMIT` of the hair length (the dense-bed condition, theory.md §10)."""
+    ratio = bed.brinkman_length / bed.length
+    if ratio > DENSE_BED_LIMIT:
+        warnings.warn(
+            f"the bed is not dense: the flow penetrates it over the Brinkman length sqrt(k) = "
+            f"{bed.brinkman_length:.3g} m, {ratio:.3g} of the hair length (limit "
+            f"{DENSE_BED_LIMIT:g}; packing fraction {bed.packing_fraction:.3g}), but the model "
+            "loads the hairs at their tips only (to first order it overestimates the "
+            "deflection by 1.5 sqrt(k)/L)",
+            ModelValidityWarning,
+            stacklevel=stacklevel,
+        )
+
+
+def _reynolds_of_stress(
+    bed: HairBed, wall_shear_stress: NDArray[np.float64], gap: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Reynolds number rho |v| gap / eta of the gap flow at a wall shear stress [Pa].
+
+    v = tau gap / eta, so Re = rho |tau| gap^2 / eta^2; NaN without a ``density``.
+    """
+    if bed.density is None:
+        return np.full(np.shape(gap), np.nan)
+    return bed.density * np.abs(wall_shear_stress) * gap**2 / bed.viscosity**2
 
 
 def _warn_reynolds(reynolds: NDArray[np.float64]) -> None:
@@ -382,6 +464,7 @@ class HairBed:
                 f"{scales[1]:g} m^2 that under- or overflow double precision: check their units"
             )
         _warn_implausible(self)
+        _warn_sparse(self)
 
     # -- the bed -------------------------------------------------------------------------------
 
@@ -404,6 +487,19 @@ class HairBed:
     def wall_area_per_hair(self) -> float:
         """Wall area per hair, pi a^2 / phi = (sqrt 3 / 2) delta^2 [m^2]."""
         return math.pi * self.radius**2 / cast(float, self.packing_fraction)  # set by post-init
+
+    @property
+    def permeability(self) -> float:
+        """Darcy permeability k of the bed to flow along the wall [m^2]: that of a hexagonal
+        array of cylinders across their axes (Drummond & Tahir 1984; theory.md §10)."""
+        phi = cast(float, self.packing_fraction)  # set and checked by post-init
+        return _transverse_permeability(self.radius, phi)
+
+    @property
+    def brinkman_length(self) -> float:
+        """Depth sqrt(k) over which the flow penetrates the bed [m] (theory.md §10): the model
+        needs it small against the hair length (:data:`DENSE_BED_LIMIT`)."""
+        return math.sqrt(self.permeability)
 
     @property
     def velocity_scale(self) -> float:
