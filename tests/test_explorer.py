@@ -660,6 +660,17 @@ def test_every_bad_input_is_listed():
     assert info.value.messages == (_library_message(hairbed.HairBed, **{**BED, "length": 0.003}),)
 
 
+@pytest.mark.parametrize(
+    "name", ["length", "radius", "youngs_modulus", "channel_height", "viscosity", "spacing"]
+)
+def test_each_bad_size_alone_is_the_beds_message(name):
+    """Each size checked alone gives exactly HairBed's message (its unit included)."""
+    for text, value in (("-1", -1.0), ("big", "big")):
+        with pytest.raises(ValueError) as info:
+            model.validate({"si": "1", name: text})
+        assert info.value.messages == (_library_message(hairbed.HairBed, **{**BED, name: value}),)
+
+
 def test_bad_url_lists_every_message_and_restores_the_fields():
     """Item 12: a link with three bad values shows the three messages and puts the values of
     the view on screen (the last good one) back in the fields."""

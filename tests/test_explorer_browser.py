@@ -623,8 +623,8 @@ def test_warnings_on_top_and_within_the_page(browser, server, shots):
     _until(lambda: item.is_visible(), "the warning")
     assert "Reynolds" in (item.text_content() or "")
     box = item.bounding_box()
-    # the row of the controls and the views starts with the presets
-    views = page.locator(".hb-preset-worked").bounding_box()
+    # above the row of the controls and the views (the omega2 slider is near its top)
+    views = page.locator(".hb-omega2-slider").bounding_box()
     table = page.locator("table.hb-states").bounding_box()
     assert box["y"] + box["height"] <= views["y"] and box["y"] < table["y"], (box, views)
     width = page.evaluate("window.innerWidth")
