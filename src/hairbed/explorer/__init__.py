@@ -10,7 +10,8 @@ the physical states with :func:`hairbed.stability.linear_stability`, and shows t
 channel to scale, on the branch diagram (:mod:`hairbed.branches`), on the map of the cusp and in
 the phase plane, with a table of every :class:`hairbed.Solution` field. The inputs live in the
 page's URL, and the browser's Back and Forward show the view of the URL they go to
-(:mod:`._history`); the current state downloads as JSON and CSV.
+(:mod:`._history`); the current state downloads as JSON and CSV (with units) and the hair's
+shape as CSV.
 """
 
 from __future__ import annotations

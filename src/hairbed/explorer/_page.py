@@ -4,8 +4,10 @@ The inputs are text fields (exact entry) with a slider each; a slider move write
 into the text field, and every change of a text field runs :meth:`ExplorerPage.refresh`: the
 inputs are validated by the library (:func:`._model.validate`), every state is solved and
 classified (:func:`._model.compute`) and all views, the table, the URL and the downloads show the
-new snapshot together. Bad input shows the library's message and leaves the last good snapshot
-on screen.
+new snapshot together. Bad input shows the library's message for every bad parameter (above
+the views, with the library's warnings) and leaves the last good snapshot on screen; after a
+bad link (loaded, or reached by Back or Forward) the fields show that snapshot's inputs again,
+while a bad typed value stays in its field to be corrected.
 """
 
 from __future__ import annotations
