@@ -45,21 +45,21 @@ from .elliptic import complete_k_m, k_minus_e, rd
 from .jacobi_elliptic import jacobi_prepared, jacobi_setup, sncndn_prepared
 from .weak import WEAK_MAX, weak_shape
 
-__all__ = ["ShapeSetup", "shape_point", "shape_setup", "shape_setup_from"]
+__all__ = ["ShapeSetup", "shape_point", "shape_setup", "shape_setup_from", "shape_xz"]
 
 #: Everything the shape needs at one state (``shape_setup``), computed once per state.
 ShapeSetup = namedtuple(
     "ShapeSetup",
     "mu p tau k kp kme sn0 cn0 dn0 kv oe v0 v0_me s c theta0 oms one_minus_x1 jc "
-    "d root2d s_v0 pq_kv series",
+    "d root2d s_v0 pq_kv poly_theta poly_z poly_x",
 )
 
 _HALF_PI = 0.5 * math.pi
 #: Arcs from the base up to this length in v (v - v0 = kv sigma) take the Taylor series.
 SHORT_ARC = 0.25
 #: Terms of the Taylor series of cn(v0 + r)/cn(v0): its radius is at least K(p) >= pi/2, so
-#: at r <= SHORT_ARC the terms fall at least as fast as 0.16^k (0.16^32 < 1e-25).
-SERIES_TERMS = 32
+#: at r <= SHORT_ARC the terms fall at least as fast as 0.16^k (0.16^24 < 1e-19).
+SERIES_TERMS = 24
 #: ln p below which mu = 1 - p is 1 to every digit along the hair (p < 1e-599).
 _TAU_HUGE = -1380.0
 
@@ -103,6 +103,17 @@ def _cn_series(out, s, d, u1):
 
 
 @kernel
+def _row_tuple(a, i):
+    """Row i of a (3, SERIES_TERMS) array as a tuple: the setup holds no array, so passing it
+    to the per-point kernels costs no reference counting."""
+    return (
+        a[i, 0], a[i, 1], a[i, 2], a[i, 3], a[i, 4], a[i, 5], a[i, 6], a[i, 7],
+        a[i, 8], a[i, 9], a[i, 10], a[i, 11], a[i, 12], a[i, 13], a[i, 14], a[i, 15],
+        a[i, 16], a[i, 17], a[i, 18], a[i, 19], a[i, 20], a[i, 21], a[i, 22], a[i, 23],
+    )  # fmt: skip
+
+
+@kernel
 def shape_setup_from(ev, theta0, sign, n):
     """:func:`shape_setup` from the branch point ``ev`` (``branch.evaluate``) already at hand."""
     p = ev[4]
@@ -122,7 +133,7 @@ def shape_setup_from(ev, theta0, sign, n):
     s, c, oms, ops = base_angle(theta0)
     one_minus_x1 = 0.0
     pq_kv = 0.0
-    series = np.empty((2, SERIES_TERMS))
+    series = np.zeros((3, SERIES_TERMS))
     if sign > 0 and n == 0 and kv > 0.0:
         one_minus_x1 = tip_displacement(p, mu, sn0, cn0, dn0, kv, s, oms)[2]
         # p int_0^kv sd^2 = int_v0^K cn^2, with sn(kv) = cn0/dn0, cn(kv)^2 = a2 sn0^2 and
@@ -135,6 +146,12 @@ def shape_setup_from(ev, theta0, sign, n):
             pq_kv = big_s * big_s * big_s * dn0 * dn0 / (1.0 + sn0)
         if oe * oe > WEAK_MAX and cn0 > 0.0:  # (the weak series serves below WEAK_MAX)
             _cn_series(series, s, ev[3], -sn0 * dn0 / cn0)
+            # Horner-ready: theta - theta0 ~ sum u_k r^(k+1)/(k+1), z - sigma c ~ sum_(k>=2)
+            # u_k r^k, x - sigma s ~ sum a_k r^(k+1)/(k+1) (``_short_arc``)
+            for j in range(SERIES_TERMS - 1, -1, -1):
+                series[2, j] = series[1, j] / (j + 1.0)
+                series[1, j] = series[0, j] if j >= 2 else 0.0
+                series[0, j] = series[0, j] / (j + 1.0)
     jc = jacobi_setup(mu, p, tau, k, kp)  # the theta-series constants, once per state
     return ShapeSetup(
         mu,
@@ -160,12 +177,14 @@ def shape_setup_from(ev, theta0, sign, n):
         ev[15],
         s_v0,
         pq_kv,
-        series,
+        _row_tuple(series, 0),
+        _row_tuple(series, 1),
+        _row_tuple(series, 2),
     )
 
 
 @kernel
-def _short_arc(sigma, setup):
+def _short_arc(sigma, setup, angle):
     """The physical branch within SHORT_ARC of the base, from the Taylor series of cn.
 
     With r = kv sigma' and u = cn(v0 + r)/cn0 (``_cn_series``), theta' = 2 sqrt(mu) kv cn,
@@ -178,26 +197,24 @@ def _short_arc(sigma, setup):
     however short the arc.
     """
     kv = setup.kv
-    series = setup.series
+    c_theta, c_z, c_x = setup.poly_theta, setup.poly_z, setup.poly_x
     r = kv * sigma
     h_theta = 0.0
     h_z = 0.0
     h_x = 0.0
     for j in range(SERIES_TERMS - 1, -1, -1):
-        u = series[0, j]
-        h_theta = h_theta * r + u / (j + 1.0)
-        if j >= 2:
-            h_z = h_z * r + u
-        if j >= 1:
-            h_x = h_x * r + series[1, j] / (j + 1.0)
+        if angle:
+            h_theta = h_theta * r + c_theta[j]
+        h_z = h_z * r + c_z[j]
+        h_x = h_x * r + c_x[j]
     dth = setup.root2d * r * h_theta
-    dz = -setup.root2d / kv * (r * r * h_z)
-    dx = setup.d / kv * (r * r * h_x)
+    dz = -setup.root2d / kv * h_z
+    dx = setup.d / kv * (r * h_x)
     return setup.theta0 + dth, sigma * setup.s + dx, sigma * setup.c + dz, dth, dx, dz
 
 
 @kernel
-def _huge(sigma, setup):
+def _huge(sigma, setup, angle):
     """The physical branch beyond SHORT_ARC at ln p < _TAU_HUGE, where mu = 1 in doubles.
 
     sn = tanh, cn = dn = sech and Eps = tanh: with v = v0 + r, r = kv sigma, t0 = tanh v0,
@@ -214,7 +231,9 @@ def _huge(sigma, setup):
     e2 = math.exp(-2.0 * r)
     th = -math.expm1(-2.0 * r) / (1.0 + e2)  # tanh r
     den = 1.0 + sn0 * th
-    dth = 4.0 * math.atan(math.exp(-v0) * em / (1.0 + math.exp(-2.0 * v0 - r)))
+    dth = 0.0
+    if angle:
+        dth = 4.0 * math.atan(math.exp(-v0) * em / (1.0 + math.exp(-2.0 * v0 - r)))
     cn_diff = cn0 * (em * em / (1.0 + e2) + sn0 * th) / den
     rem = cn0 * cn0 * ((r - th) + r * sn0 * th) / den
     z = 2.0 * cn_diff / kv
@@ -224,7 +243,7 @@ def _huge(sigma, setup):
 
 
 @kernel
-def _physical(sigma, setup):
+def _physical(sigma, setup, angle):
     """theta, x, z and their displacements on the physical branch, v from v0 to K.
 
     Beyond SHORT_ARC, with v = v0 + kv sigma, cn0 - cn v and the displacements
@@ -242,9 +261,9 @@ def _physical(sigma, setup):
     (sn^3/3) R_D(cn^2, 1, dn^2) at a.
     """
     if setup.kv * sigma <= SHORT_ARC:
-        return _short_arc(sigma, setup)
+        return _short_arc(sigma, setup, angle)
     if setup.tau < _TAU_HUGE:
-        return _huge(sigma, setup)
+        return _huge(sigma, setup, angle)
     mu, p, tau, k, jc = setup.mu, setup.p, setup.tau, setup.k, setup.jc
     sn0, cn0, dn0, kv, v0 = setup.sn0, setup.cn0, setup.dn0, setup.kv, setup.v0
     r = kv * sigma
@@ -252,7 +271,7 @@ def _physical(sigma, setup):
     if setup.theta0 < 0.0 and v0 + r <= 0.5 * k:
         # leaning into the flow, near the base: v itself
         sn_v, cn_v, dn_v, _ = sncndn_prepared(v0 + r, mu, tau, k, jc)
-        theta = 2.0 * math.atan2(rm * sn_v, dn_v) - _HALF_PI
+        theta = 2.0 * math.atan2(rm * sn_v, dn_v) - _HALF_PI if angle else 0.0
         s_v = sn_v * sn_v * sn_v / 3.0 * rd(cn_v * cn_v, dn_v * dn_v, 1.0)
         rem = (s_v - setup.s_v0) - r * sn0 * sn0
     else:
@@ -260,7 +279,7 @@ def _physical(sigma, setup):
         w = kv * (1.0 - sigma)
         sn_w, cn_w, dn_w, _ = sncndn_prepared(w, mu, tau, k, jc)
         sqp = math.exp(0.5 * tau) if p < 1e-290 else math.sqrt(p)  # p may be subnormal
-        theta = _HALF_PI - 2.0 * math.atan2(sqp, rm * cn_w)
+        theta = _HALF_PI - 2.0 * math.atan2(sqp, rm * cn_w) if angle else 0.0
         sn_v = cn_w / dn_w
         cn_v = sqp * sn_w / dn_w
         dn_v = sqp / dn_w
@@ -271,8 +290,10 @@ def _physical(sigma, setup):
             pq_w = s3 * (sqp / dn_w) * (sqp / (dn_w + cn_w))
         rem = r * cn0 * cn0 - (setup.pq_kv - pq_w)
     cn_diff = cn0 - cn_v
-    e = cn_diff * (cn0 + cn_v) / (sn_v * dn0 + sn0 * dn_v)
-    dth = 2.0 * math.atan2(rm * e, dn_v * dn0 + mu * sn_v * sn0)
+    dth = 0.0
+    if angle:
+        e = cn_diff * (cn0 + cn_v) / (sn_v * dn0 + sn0 * dn_v)
+        dth = 2.0 * math.atan2(rm * e, dn_v * dn0 + mu * sn_v * sn0)
     z = 2.0 * rm * cn_diff / kv
     dz = 2.0 * rm * (cn_diff - r * sn0 * dn0) / kv
     dx = 2.0 * mu * rem / kv
@@ -283,6 +304,20 @@ def _physical(sigma, setup):
 def shape_point(sigma, sign, n, setup):
     """(theta, x, z, dtheta, dx, dz) at arc length sigma; d* are the displacements from the
     straight hair at rest (theta0, sigma sin theta0, sigma cos theta0)."""
+    return _shape(sigma, sign, n, setup, True)
+
+
+@kernel
+def shape_xz(sigma, sign, n, setup):
+    """(x, z) at arc length sigma: :func:`shape_point` without the angles (profiles)."""
+    v = _shape(sigma, sign, n, setup, False)
+    return v[1], v[2]
+
+
+@kernel
+def _shape(sigma, sign, n, setup, angle):
+    """:func:`shape_point`; theta and theta - theta0 are 0 unless ``angle`` (physical branch
+    beyond weak forcing, where they cost an arctangent each)."""
     mu, tau, k, kme, jc = setup.mu, setup.tau, setup.k, setup.kme, setup.jc
     sn0, cn0, dn0, oe = setup.sn0, setup.cn0, setup.dn0, setup.oe
     s, c, theta0 = setup.s, setup.c, setup.theta0
@@ -292,7 +327,7 @@ def shape_point(sigma, sign, n, setup):
         if oe * oe <= WEAK_MAX:
             dth, dx, dz = weak_shape(sigma, oe * oe, s, c)
             return theta0 + dth, sigma * s + dx, sigma * c + dz, dth, dx, dz
-        return _physical(sigma, setup)
+        return _physical(sigma, setup, angle)
     # the other branches: the addition theorems (DLMF 22.8, 22.16.27), relative to the base
     delta = sign * oe * sigma
     sd, cd, dd, dme = jacobi_prepared(delta, mu, tau, k, kme, jc)

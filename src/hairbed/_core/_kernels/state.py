@@ -32,7 +32,7 @@ from .roots import (
     start_from_table,
     t_max,
 )
-from .shape import shape_point, shape_setup, shape_setup_from
+from .shape import shape_point, shape_setup, shape_setup_from, shape_xz
 from .weak import WEAK_MAX, weak_shape
 
 __all__ = [
@@ -449,7 +449,5 @@ def profile_array(t, eps, theta0, sign, n, num):
         setup = shape_setup(t[i], eps[i], theta0[i], sign, n)
         for j in range(num):
             sigma = 1.0 if j == num - 1 else j * step
-            vals = shape_point(sigma, sign, n, setup)
-            xs[i, j] = vals[1]
-            zs[i, j] = vals[2]
+            xs[i, j], zs[i, j] = shape_xz(sigma, sign, n, setup)
     return xs, zs
