@@ -15,24 +15,27 @@ from ._options import add_command
 from ._output import check_output
 from ._report import PROG, UsageError, WriteError
 
-__all__ = ["add_parser", "run"]
+#: ``hairbed bench --help``: the summary line, the description and the examples.
+ABOUT = """measure every row of the speed table (ratios, targets)
+
+Measure the speed and memory table of benchmarks/bench_solve.py in one run: batch and scalar
+solves against scipy.special.ellipkinc, solve_all, profiles, the finite differences, peak
+memory, threads and whole processes, each against its target. By default with reduced sizes
+(about 30 s; figures not comparable with the targets); --full for the full sizes (about 2-3
+minutes).
+
+examples:
+  hairbed bench
+  hairbed bench --full --json bench.json
+  hairbed bench --rows 1 2 3 --n 1000000 --repeat 5
+"""
+
+__all__ = ["ABOUT", "add_parser", "run"]
 
 
 def add_parser(sub: Any) -> None:
     """The ``bench`` subcommand's parser."""
-    p = add_command(
-        sub,
-        "bench",
-        run,
-        help="measure every row of the speed table (ratios, targets)",
-        description="Measure the speed and memory table of benchmarks/bench_solve.py in one "
-        "run: batch and scalar solves against scipy.special.ellipkinc, solve_all, profiles, "
-        "the finite differences, peak memory, threads and whole processes, each against its "
-        "target. By default with reduced sizes (about 30 s; figures not comparable with the "
-        "targets); --full for the full sizes (about 2-3 minutes).",
-        examples="examples:\n  hairbed bench\n  hairbed bench --full --json bench.json\n"
-        "  hairbed bench --rows 1 2 3 --n 1000000 --repeat 5",
-    )
+    p = add_command(sub, "bench", run, ABOUT)
     size = p.add_mutually_exclusive_group()
     size.add_argument("--quick", action="store_true", help="reduced sizes (the default)")
     size.add_argument("--full", action="store_true", help="full sizes (1e6 elements ...)")

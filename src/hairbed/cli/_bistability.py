@@ -12,26 +12,27 @@ import hairbed
 from ._options import add_command, add_eps, add_json, add_theta0
 from ._output import print_json
 
-__all__ = ["add_parser", "run"]
+#: ``hairbed bistability --help``: the summary line, the description and the examples.
+ABOUT = """cusp, folds and bistable window of a hair bed (eps, theta0)
+
+The cusp confinement eps_c(theta0) above which the physical branch folds, its fold points
+(omega2, xi, tip deflection) and the window of omega2 in which three physical states coexist
+(or that there is none). Negative theta0 leans the hairs into the flow: only then (and for
+eps > eps_c) is there a window (theory.md §5).
+
+examples:
+  hairbed bistability --eps 0.95 --theta0=-1.2
+  hairbed bistability --eps 0.9 --theta0=-1.5 --json
+JSON keys: cusp_eps, folds (list of {omega2, xi, tip_deflection, t}), window ([lower, upper]
+or null)
+"""
+
+__all__ = ["ABOUT", "add_parser", "run"]
 
 
 def add_parser(sub: Any) -> None:
     """The ``bistability`` subcommand's parser."""
-    p = add_command(
-        sub,
-        "bistability",
-        run,
-        help="cusp, folds and bistable window of a hair bed (eps, theta0)",
-        description="The cusp confinement eps_c(theta0) above which the physical branch folds, "
-        "its fold points (omega2, xi, tip deflection) and the window of omega2 in which three "
-        "physical states coexist (or that there is none). Negative theta0 leans the hairs into "
-        "the flow: only then (and for eps > eps_c) is there a window (theory.md §5).",
-        examples="examples:\n"
-        "  hairbed bistability --eps 0.95 --theta0=-1.2\n"
-        "  hairbed bistability --eps 0.9 --theta0=-1.5 --json\n"
-        "JSON keys: cusp_eps, folds (list of {omega2, xi, tip_deflection, t}), window "
-        "([lower, upper] or null)",
-    )
+    p = add_command(sub, "bistability", run, ABOUT)
     add_eps(p, required=True)
     add_theta0(p, required=True)
     add_json(p)

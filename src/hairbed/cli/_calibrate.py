@@ -12,29 +12,28 @@ from ._options import add_bed_options, add_command, add_json, need_bed
 from ._output import print_json
 from ._report import PROG, UsageError
 
-__all__ = ["add_parser", "run"]
+#: ``hairbed calibrate --help``: the summary line, the description and the examples.
+ABOUT = """fit a sensor's unknown parameters to measured tip deflections
+
+Fit the free parameters of a bed (by default Young's modulus) to tip deflections measured at
+known wall speeds or wall shear stresses, by weighted least squares on the exact calibration
+curve with its exact Jacobian (hairbed.calibration.fit). --data is a CSV file with a header
+line: tip_deflection [m] and either velocity [m/s] or wall_shear_stress [Pa], optionally
+sigma [m] (the standard deviation of each deflection). The bed options give the starting
+values and the fixed parameters. Exit status 1 when the fit does not succeed.
+
+examples:
+  hairbed calibrate --data points.csv --length 1e-3 --radius 50e-6 \\
+      --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6
+  hairbed calibrate --data points.csv --free youngs_modulus,base_angle --sigma 1e-6 ... --json
+"""
+
+__all__ = ["ABOUT", "add_parser", "run"]
 
 
 def add_parser(sub: Any) -> None:
     """The ``calibrate`` subcommand's parser."""
-    p = add_command(
-        sub,
-        "calibrate",
-        run,
-        help="fit a sensor's unknown parameters to measured tip deflections",
-        description="Fit the free parameters of a bed (by default Young's modulus) to tip "
-        "deflections measured at known wall speeds or wall shear stresses, by weighted least "
-        "squares on the exact calibration curve with its exact Jacobian "
-        "(hairbed.calibration.fit). --data is a CSV file with a header line: tip_deflection "
-        "[m] and either velocity [m/s] or wall_shear_stress [Pa], optionally sigma [m] (the "
-        "standard deviation of each deflection). The bed options give the starting values and "
-        "the fixed parameters. Exit status 1 when the fit does not succeed.",
-        examples="examples:\n"
-        "  hairbed calibrate --data points.csv --length 1e-3 --radius 50e-6 \\\n"
-        "      --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6\n"
-        "  hairbed calibrate --data points.csv --free youngs_modulus,base_angle --sigma 1e-6 "
-        "... --json",
-    )
+    p = add_command(sub, "calibrate", run, ABOUT)
     p.add_argument("--data", required=True, metavar="FILE.csv", help="calibration points (CSV)")
     p.add_argument(
         "--free",

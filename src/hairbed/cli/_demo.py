@@ -10,19 +10,21 @@ import hairbed
 from ._options import add_command
 from ._output import solution_table
 
-__all__ = ["add_parser", "run"]
+#: ``hairbed demo --help``: the summary line, the description and the examples.
+ABOUT = """the paper's worked example
+
+Solve omega2 = 2, eps = 0.5, theta0 = 0 and print the state.
+
+example:
+  hairbed demo
+"""
+
+__all__ = ["ABOUT", "add_parser", "run"]
 
 
 def add_parser(sub: Any) -> None:
     """The ``demo`` subcommand's parser."""
-    add_command(
-        sub,
-        "demo",
-        run,
-        help="the paper's worked example",
-        description="Solve omega2 = 2, eps = 0.5, theta0 = 0 and print the state.",
-        examples="example:\n  hairbed demo",
-    )
+    add_command(sub, "demo", run, ABOUT)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -8,40 +8,44 @@ from typing import Any
 from ._options import add_command
 from ._report import CommandError, UsageError, one_line
 
-__all__ = ["add_parser", "run"]
+#: ``hairbed explore --help``: the summary line, the description and the examples.
+ABOUT = """the interactive explorer in a web browser
 
-#: Options of the server's session bookkeeping: (dest, default, metavar, help); each >= 1.
-_SESSION_OPTIONS = (
-    ("session_token_expiration", 300, "S",
+Serve the interactive explorer (needs the app extra: pip install 'hairbed[app]'): sliders
+and exact entry of omega2, eps and theta0 or of a bed in SI units; every coexisting state in
+the channel, the branch diagram, the bistability map, the phase portrait and a table; the
+inputs in the page's URL; JSON and CSV downloads. Listens on the loopback interface unless
+--host says otherwise. Each browser session holds about 1 MB of server memory until it is
+discarded, --unused-session-lifetime after its page was closed.
+
+examples:
+  hairbed explore
+  hairbed explore --port 8000 --no-browser
+  hairbed explore --host 0.0.0.0 --port 8000 --allow-websocket-origin example.org
+"""
+
+__all__ = ["ABOUT", "add_parser", "run"]
+
+#: The server's options: (dest, type, default, metavar, help); the session options (those
+#: with a metavar) must be >= 1.
+_OPTIONS = (
+    ("port", int, 5006, None, "TCP port (default 5006; 0: any free)"),
+    ("host", str, "127.0.0.1", None, "address to listen on (default 127.0.0.1, loopback)"),
+    ("session_token_expiration", int, 300, "S",
      "seconds a page has to connect to its session (default 300)"),
-    ("check_unused_sessions", 17000, "MS",
+    ("check_unused_sessions", int, 17000, "MS",
      "how often to look for closed sessions [ms] (default 17000)"),
-    ("unused_session_lifetime", 15000, "MS",
+    ("unused_session_lifetime", int, 15000, "MS",
      "discard a closed session's state after this long [ms] (default 15000)"),
 )  # fmt: skip
+_SESSION_OPTIONS = tuple(o for o in _OPTIONS if o[3] is not None)
 
 
 def add_parser(sub: Any) -> None:
     """The ``explore`` subcommand's parser."""
-    p = add_command(
-        sub,
-        "explore",
-        run,
-        help="the interactive explorer in a web browser",
-        description="Serve the interactive explorer (needs the app extra: pip install "
-        "'hairbed[app]'): sliders and exact entry of omega2, eps and theta0 or of a bed in SI "
-        "units; every coexisting state in the channel, the branch diagram, the bistability map, "
-        "the phase portrait and a table; the inputs in the page's URL; JSON and CSV downloads. "
-        "Listens on the loopback interface unless --host says otherwise. Each browser session "
-        "holds about 1 MB of server memory until it is discarded, --unused-session-lifetime "
-        "after its page was closed.",
-        examples="examples:\n  hairbed explore\n  hairbed explore --port 8000 --no-browser\n"
-        "  hairbed explore --host 0.0.0.0 --port 8000 --allow-websocket-origin example.org",
-    )
-    p.add_argument("--port", type=int, default=5006, help="TCP port (default 5006; 0: any free)")
-    p.add_argument(
-        "--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1, loopback)"
-    )
+    p = add_command(sub, "explore", run, ABOUT)
+    for dest, kind, default, _, text in _OPTIONS[:2]:
+        p.add_argument("--" + dest, type=kind, default=default, help=text)
     p.add_argument("--no-browser", action="store_true", help="do not open a web browser")
     p.add_argument(
         "--allow-websocket-origin",
@@ -49,9 +53,9 @@ def add_parser(sub: Any) -> None:
         metavar="HOST[:PORT]",
         help="also accept pages served as HOST[:PORT] (behind a proxy); repeatable",
     )
-    for dest, default, metavar, text in _SESSION_OPTIONS:
+    for dest, kind, default, metavar, text in _SESSION_OPTIONS:
         option = "--" + dest.replace("_", "-")
-        p.add_argument(option, type=int, default=default, metavar=metavar, help=text)
+        p.add_argument(option, type=kind, default=default, metavar=metavar, help=text)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -13,40 +13,41 @@ from ._options import add_command
 from ._output import check_output
 from ._report import UsageError, WriteError
 
-__all__ = ["add_parser", "run"]
+#: ``hairbed figures --help``: the summary line, the description and the examples.
+ABOUT = """write every figure as PNG
+
+Recompute the paper's figures and the new ones and write PNG files (whole or not at all).
+--set KEY=VALUE passes a parameter to every selected figure that has it (a comma list for a
+tuple, e.g. eps_values=0.3,0.9); the figures and their parameters: model (omega2, eps,
+theta0), pendulum (omega2), phase_portrait (xis), solution (eps_values, num), theta0s (eps,
+theta0s, num), profiles (omega2s, eps, num), twirling (omega2, eps, theta0), bistability
+(n_theta, n_eps, theta0s), hysteresis (eps, theta0, num), rheology (eps_values, theta0,
+num), calibration (eps_values, theta0, num), physical_units (length, radius, youngs_modulus,
+channel_height, viscosity, spacing [SI], base_angles, max_velocity, num), fd_convergence
+(omega2s, nums, eps), speed (n, repeat).
+
+examples:
+  hairbed figures --out figures
+  hairbed figures --out figs --only solution hysteresis --dpi 300
+  hairbed figures --out figs --only hysteresis --set eps=0.95 --set theta0=-1.2
+"""
+
+__all__ = ["ABOUT", "add_parser", "run"]
 
 
 def add_parser(sub: Any) -> None:
     """The ``figures`` subcommand's parser."""
-    p = add_command(
-        sub,
-        "figures",
-        run,
-        help="write every figure as PNG",
-        description="Recompute the paper's figures and the new ones and write PNG files "
-        "(whole or not at all). --set KEY=VALUE passes a parameter to every selected figure "
-        "that has it (a comma list for a tuple, e.g. eps_values=0.3,0.9); the figures and "
-        "their parameters: model (omega2, eps, theta0), pendulum (omega2), phase_portrait "
-        "(xis), solution (eps_values, num), theta0s (eps, theta0s, num), profiles (omega2s, "
-        "eps, num), twirling (omega2, eps, theta0), bistability (n_theta, n_eps, theta0s), "
-        "hysteresis (eps, theta0, num), rheology (eps_values, theta0, num), calibration "
-        "(eps_values, theta0, num), physical_units (length, radius, youngs_modulus, "
-        "channel_height, viscosity, spacing [SI], base_angles, max_velocity, num), "
-        "fd_convergence (omega2s, nums, eps), speed (n, repeat).",
-        examples="examples:\n  hairbed figures --out figures\n"
-        "  hairbed figures --out figs --only solution hysteresis --dpi 300\n"
-        "  hairbed figures --out figs --only hysteresis --set eps=0.95 --set theta0=-1.2",
-    )
+    p = add_command(sub, "figures", run, ABOUT)
     p.add_argument("--out", default="figures", help="output folder (default ./figures)")
     p.add_argument("--dpi", type=int, default=150, help="resolution (default 150)")
     p.add_argument("--only", nargs="+", metavar="NAME", help="only these figures")
-    p.add_argument("--quiet", action="store_true", help="no line per figure")
     p.add_argument(
         "--set",
         action="append",
         metavar="KEY=VALUE",
         help="a parameter of the figures (repeatable), e.g. --set eps=0.9 --set theta0=-1.2",
     )
+    p.add_argument("--quiet", action="store_true", help="no line per figure")
 
 
 def run(args: argparse.Namespace) -> int:

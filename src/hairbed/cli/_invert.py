@@ -12,25 +12,26 @@ from ._options import add_bed_options, add_command, add_eps, add_json, add_theta
 from ._output import print_json, solution_table, table
 from ._report import UsageError
 
-__all__ = ["add_parser", "run"]
+#: ``hairbed invert --help``: the summary line, the description and the examples.
+ABOUT = """forcing from a measured tip deflection
+
+Find the forcing omega^2 (and, given a bed, the wall speed and wall shear stress) of the
+physical state with a given tip deflection.
+
+examples:
+  hairbed invert --tip-deflection 0.6158 --eps 0.5
+  hairbed invert --tip-deflection 0.3 --eps 0.9 --theta0 0.2 --json
+  hairbed invert --tip-deflection 0.6158 --eps 0.5 --sigma 1e-3
+  hairbed invert --tip-deflection 3.7e-4 --length 1e-3 --radius 50e-6 \\
+      --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6
+"""
+
+__all__ = ["ABOUT", "add_parser", "run"]
 
 
 def add_parser(sub: Any) -> None:
     """The ``invert`` subcommand's parser."""
-    p = add_command(
-        sub,
-        "invert",
-        run,
-        help="forcing from a measured tip deflection",
-        description="Find the forcing omega^2 (and, given a bed, the wall speed and wall shear "
-        "stress) of the physical state with a given tip deflection.",
-        examples="examples:\n"
-        "  hairbed invert --tip-deflection 0.6158 --eps 0.5\n"
-        "  hairbed invert --tip-deflection 0.3 --eps 0.9 --theta0 0.2 --json\n"
-        "  hairbed invert --tip-deflection 0.6158 --eps 0.5 --sigma 1e-3\n"
-        "  hairbed invert --tip-deflection 3.7e-4 --length 1e-3 --radius 50e-6 \\\n"
-        "      --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6",
-    )
+    p = add_command(sub, "invert", run, ABOUT)
     p.add_argument(
         "--tip-deflection",
         type=float,

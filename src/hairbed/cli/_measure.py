@@ -16,25 +16,26 @@ from ._options import add_bed_options, add_command, add_json, need_bed
 from ._output import print_json
 from ._report import UsageError
 
-__all__ = ["add_parser", "run"]
+#: ``hairbed measure --help``: the summary line, the description and the examples.
+ABOUT = """wall shear stress and speed (+- sigma) from a tip deflection
+
+Read the wall shear stress and the wall speed of a flow from the measured tip deflection of
+a bed (hairbed.calibration.measure), with standard errors from the deflection's --sigma and,
+with --calibration, the covariance of a calibration.
+
+examples:
+  hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --length 1e-3 --radius 50e-6 \\
+      --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6
+  hairbed calibrate --data points.csv ... --json > cal.json
+  hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --calibration cal.json ...
+"""
+
+__all__ = ["ABOUT", "add_parser", "run"]
 
 
 def add_parser(sub: Any) -> None:
     """The ``measure`` subcommand's parser."""
-    p = add_command(
-        sub,
-        "measure",
-        run,
-        help="wall shear stress and speed (+- sigma) from a tip deflection",
-        description="Read the wall shear stress and the wall speed of a flow from the measured "
-        "tip deflection of a bed (hairbed.calibration.measure), with standard errors from the "
-        "deflection's --sigma and, with --calibration, the covariance of a calibration.",
-        examples="examples:\n"
-        "  hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --length 1e-3 --radius 50e-6 \\\n"
-        "      --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6\n"
-        "  hairbed calibrate --data points.csv ... --json > cal.json\n"
-        "  hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --calibration cal.json ...",
-    )
+    p = add_command(sub, "measure", run, ABOUT)
     p.add_argument(
         "--calibration",
         metavar="FILE.json",

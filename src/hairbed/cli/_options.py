@@ -25,6 +25,7 @@ __all__ = [
     "THETA0_HELP",
     "Parser",
     "add_bed_options",
+    "add_branch",
     "add_command",
     "add_eps",
     "add_json",
@@ -81,21 +82,43 @@ def formatter(prog: str) -> argparse.HelpFormatter:
 
 
 def add_command(
-    sub: Any,
-    name: str,
-    run: Callable[[argparse.Namespace], int],
-    *,
-    help: str,
-    description: str,
-    examples: str,
+    sub: Any, name: str, run: Callable[[argparse.Namespace], int], about: str
 ) -> argparse.ArgumentParser:
-    """A subcommand's parser: its one-line ``help``, ``description`` and ``examples`` (the
-    epilog, written as it reads); ``run(args)`` runs it and returns the exit status."""
+    """A subcommand's parser; ``run(args)`` runs it and returns the exit status.
+
+    ``about`` is its ``--help`` text: the one-line summary (shown by ``hairbed --help``), a
+    blank line, the description, a blank line and the examples (from the line "examples:"
+    on), each printed as written.
+    """
+    summary, _, rest = about.partition("\n\n")
+    description, _, examples = rest.partition("\n\nexample")
     p = sub.add_parser(
-        name, help=help, formatter_class=formatter, description=description, epilog=examples
+        name,
+        help=summary,
+        formatter_class=formatter,
+        description=description.strip(),
+        epilog=("example" + examples).rstrip() if examples else None,
     )
     p.set_defaults(func=run)
     return p
+
+
+def add_branch(
+    p: argparse.ArgumentParser, sign: int | None, n: int | None, root: str | None, root_help: str
+) -> None:
+    """``--sign``, ``--n`` (the branch) and ``--root`` (the state on it), with their defaults
+    (None: not given, which a command may refuse)."""
+    p.add_argument(
+        "--sign",
+        type=int,
+        default=sign,
+        choices=(1, -1),
+        help="sign of the base curvature of the branch (default 1)",
+    )
+    p.add_argument(
+        "--n", type=int, default=n, help="interior turning points of the branch (default 0)"
+    )
+    p.add_argument("--root", default=root, choices=("low", "mid", "high"), help=root_help)
 
 
 def add_eps(p: argparse.ArgumentParser, **kwargs: Any) -> None:

@@ -9,7 +9,15 @@ from typing import Any
 import hairbed
 from hairbed._optional import optional_import
 
-from ._options import add_bed_options, add_command, add_eps, add_json, add_theta0, bed_from
+from ._options import (
+    add_bed_options,
+    add_branch,
+    add_command,
+    add_eps,
+    add_json,
+    add_theta0,
+    bed_from,
+)
 from ._output import (
     check_output,
     figure_format,
@@ -21,41 +29,36 @@ from ._output import (
 )
 from ._report import UsageError
 
-__all__ = ["add_parser", "run"]
+#: ``hairbed solve --help``: the summary line, the description and the examples.
+ABOUT = """solve one state (table or JSON)
+
+Solve the boundary-value problem for one set of inputs.
+
+examples:
+  hairbed solve --omega2 2 --eps 0.5
+  hairbed solve --omega2 2 --eps 0.5 --theta0 0.3 --json
+  hairbed solve --omega2 200 --eps 0.5 --all-branches --plot states.png
+  hairbed solve --omega2 1.2 --eps 0.9 --theta0 -1.5 --root high
+  hairbed solve --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 \\
+      --channel-height 2e-3 --viscosity 1 --spacing 400e-6 --velocity 0.1
+"""
+
+__all__ = ["ABOUT", "add_parser", "run"]
 
 
 def add_parser(sub: Any) -> None:
     """The ``solve`` subcommand's parser."""
-    p = add_command(
-        sub,
-        "solve",
-        run,
-        help="solve one state (table or JSON)",
-        description="Solve the boundary-value problem for one set of inputs.",
-        examples="examples:\n"
-        "  hairbed solve --omega2 2 --eps 0.5\n"
-        "  hairbed solve --omega2 2 --eps 0.5 --theta0 0.3 --json\n"
-        "  hairbed solve --omega2 200 --eps 0.5 --all-branches --plot states.png\n"
-        "  hairbed solve --omega2 1.2 --eps 0.9 --theta0 -1.5 --root high\n"
-        "  hairbed solve --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 \\\n"
-        "      --channel-height 2e-3 --viscosity 1 --spacing 400e-6 --velocity 0.1",
-    )
+    p = add_command(sub, "solve", run, ABOUT)
     p.add_argument("--omega2", type=float, help="forcing omega^2 [-], >= 0")
     add_eps(p)
     add_theta0(p)
-    p.add_argument(
-        "--sign",
-        type=int,
-        default=1,
-        choices=(1, -1),
-        help="sign of the base curvature of the branch (default 1)",
-    )
-    p.add_argument("--n", type=int, default=0, help="interior turning points (default 0)")
-    p.add_argument(
-        "--root",
-        choices=("low", "mid", "high"),
-        help="which state where several coexist (default: inside a bistable window, all of "
-        "them, labelled low/mid/high with their stability; elsewhere the one state)",
+    add_branch(
+        p,
+        sign=1,
+        n=0,
+        root=None,
+        root_help="which state where several coexist (default: inside a bistable window, all "
+        "of them, labelled low/mid/high with their stability; elsewhere the one state)",
     )
     p.add_argument(
         "--all-branches",

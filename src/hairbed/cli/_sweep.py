@@ -16,39 +16,37 @@ import numpy as np
 import hairbed
 
 from ._grids import legacy_grid, spec
-from ._options import add_bed_options, add_command, add_eps, bed_from, refuse
+from ._options import add_bed_options, add_branch, add_command, add_eps, bed_from, refuse
 from ._output import check_output
 from ._report import UsageError, WriteError
 
-__all__ = ["add_parser", "run"]
+#: ``hairbed sweep --help``: the summary line, the description and the examples.
+ABOUT = """grids of omega2, eps, theta0 (or wall speed) -> netCDF, zarr, CSV, parquet
+
+Solve on the outer-product grid of --omega2, --eps and --theta0 (or over wall speeds, given
+a bed) and write a labelled table. SPEC is a value, a comma list or start:stop:num[:log]
+(negative ones too: --theta0 -1.2:1.2:25). The output format follows the extension of --out:
+.nc (netCDF-4, CF attributes), .zarr, .csv (one row per grid point, units in the header; the
+default, to stdout) or .parquet; files are written whole or not at all.
+
+examples:
+  hairbed sweep --omega2 0:10:101 --eps 0.5 > sweep.csv
+  hairbed sweep --omega2 1e-3:1e3:100:log --eps 0:0.95:40 --theta0=-1.2:1.2:25 --out grid.nc
+  hairbed sweep --omega2 1e-3:1e3:1000:log --eps 0:0.95:100 --theta0 0:1.2:100 \\
+      --chunks 50 --progress --out big.zarr
+  hairbed sweep --omega2 0.01:100:200:log --eps 0.5,0.9 --chunks 50 \\
+      --scheduler tcp://10.0.0.5:8786 --out grid.parquet
+  hairbed sweep --omega2 0.5:2:200 --eps 0.9 --theta0=-1.5 --quasistatic
+  hairbed sweep --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 --channel-height 2e-3 \\
+      --viscosity 1 --spacing 400e-6 --velocity=-0.5:0.5:101 --out bed.nc
+"""
+
+__all__ = ["ABOUT", "add_parser", "run"]
 
 
 def add_parser(sub: Any) -> None:
     """The ``sweep`` subcommand's parser."""
-    p = add_command(
-        sub,
-        "sweep",
-        run,
-        help="grids of omega2, eps, theta0 (or wall speed) -> netCDF, zarr, CSV, parquet",
-        description="Solve on the outer-product grid of --omega2, --eps and --theta0 (or over "
-        "wall speeds, given a bed) and write a labelled table. SPEC is a value, a comma list "
-        "or start:stop:num[:log] (negative ones too: --theta0 -1.2:1.2:25). The output "
-        "format follows the extension of --out: .nc (netCDF-4, CF attributes), .zarr, .csv "
-        "(one row per grid point, units in the header; the default, to stdout) or .parquet; "
-        "files are written whole or not at all.",
-        examples="examples:\n"
-        "  hairbed sweep --omega2 0:10:101 --eps 0.5 > sweep.csv\n"
-        "  hairbed sweep --omega2 1e-3:1e3:100:log --eps 0:0.95:40 --theta0=-1.2:1.2:25 "
-        "--out grid.nc\n"
-        "  hairbed sweep --omega2 1e-3:1e3:1000:log --eps 0:0.95:100 --theta0 0:1.2:100 "
-        "--chunks 50 --progress --out big.zarr\n"
-        "  hairbed sweep --omega2 0.01:100:200:log --eps 0.5,0.9 --chunks 50 "
-        "--scheduler tcp://10.0.0.5:8786 --out grid.parquet\n"
-        "  hairbed sweep --omega2 0.5:2:200 --eps 0.9 --theta0=-1.5 --quasistatic\n"
-        "  hairbed sweep --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 "
-        "--channel-height 2e-3 \\\n"
-        "      --viscosity 1 --spacing 400e-6 --velocity=-0.5:0.5:101 --out bed.nc",
-    )
+    p = add_command(sub, "sweep", run, ABOUT)
     p.add_argument("--omega2", metavar="SPEC", help="forcing omega^2 [-], >= 0")
     add_eps(p, type=str, metavar="SPEC")
     p.add_argument(
@@ -57,16 +55,8 @@ def add_parser(sub: Any) -> None:
         help="base angle [rad] (default 0; negative leans into the flow)",
     )
     p.add_argument("--velocity", metavar="SPEC", help="top wall speed v [m/s] (with a bed)")
-    p.add_argument(
-        "--sign", type=int, choices=(1, -1), help="sign of the base curvature (default 1)"
-    )
-    p.add_argument("--n", type=int, help="interior turning points of the branch (default 0)")
-    p.add_argument(
-        "--root",
-        default="low",
-        choices=("low", "mid", "high"),
-        help="state where several coexist (default low)",
-    )
+    add_branch(p, sign=None, n=None, root="low", root_help="state where several coexist "
+               "(default low)")  # fmt: skip
     p.add_argument(
         "--quasistatic",
         action="store_true",
