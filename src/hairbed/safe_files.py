@@ -102,7 +102,12 @@ def _fsync_tree(path: Path) -> None:
 
 def _remove(path: Path) -> None:
     if path.is_dir() and not path.is_symlink():
-        shutil.rmtree(path, ignore_errors=True)
+        # a writer's worker threads may still add files to a directory store while it is
+        # removed (Ctrl-C during a chunked zarr write): again until it is gone
+        for _ in range(100):
+            shutil.rmtree(path, ignore_errors=True)
+            if not path.exists():
+                break
     else:
         try:
             path.unlink()
