@@ -103,7 +103,9 @@ def check_output(path: str, *, directory: bool = False, parents: bool = False) -
     if target.is_dir() and not directory:
         raise WriteError(path, "it is a directory")
     if not os.access(parent, os.W_OK | os.X_OK):
-        raise WriteError(path, f"permission denied in {str(parent)!r}")
+        read_only = hasattr(os, "statvfs") and os.statvfs(parent).f_flag & os.ST_RDONLY
+        reason = "read-only file system at" if read_only else "permission denied in"
+        raise WriteError(path, f"{reason} {str(parent)!r}")
     try:  # what access() cannot tell (a read-only or special file system, root's rights)
         with tempfile.TemporaryFile(dir=parent, prefix=f".{target.name}.probe"):
             pass
