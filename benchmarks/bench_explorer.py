@@ -18,16 +18,34 @@
    browser applying and painting it), and the served page's own server time per update
    (``served_total_*``, its ``timings["total"]``, read from the page).
 
+3. Many users at once (``--sessions N``): the explorer's own app (``hairbed.explorer``'s
+   session function, as ``hairbed explore`` serves it) on a Panel/Bokeh server in this
+   process, N Bokeh client sessions (``bokeh.client.pull_session``, one thread each) driving
+   ``--updates`` updates each at the same time: omega2 up and down across both folds of
+   (0.9, -1.5), every 10th update another view (twirling states on/off, the branch diagram's
+   ordinate, eps and theta0), one session giving bad input (a word, a negative omega2, NaN)
+   every 7th update. Each update waits until the session's page has refreshed. Checked: no
+   error in any good session, every page shows its own session's inputs, the bad input only
+   in its own session, and each page's downloads (JSON parsed strictly, CSV) after its last
+   update. Reported: the pages' server time per update (``timings["total"]``, median and
+   90th percentile), the time until a session's update is done (queueing included),
+   resident memory [MB] at the start, after all updates, and after the sessions are closed
+   and discarded. (Bokeh's client applies the server's patches only in part, so the checks
+   read the server's page objects; the server sees only websocket clients, as from
+   browsers.)
+
 The machine's load average (:func:`os.getloadavg`, 1 min) is reported before and after each
 part: other work on the two cores slows both the server and the browser.
 
 Targets (issue 14): <= 50 ms server time per update, <= 150 ms until the browser shows the new
-picture, on this machine (2 shared cores).
+picture, on this machine (2 shared cores). Issue 19, with 8 sessions: no error, p90 server time
+per update <= 100 ms, resident memory after 2,000 updates within 100 MB of the start and back
+near the start once the sessions are closed.
 
 Usage::
 
     python benchmarks/bench_explorer.py [--steps 40] [--browser-steps 30] [--no-browser]
-        [--json out.json]
+        [--sessions 8 --updates 250] [--json out.json]
 """
 
 from __future__ import annotations
@@ -43,6 +61,8 @@ import sys
 import tempfile
 import time
 import urllib.request
+from typing import Any
+from urllib.parse import urlencode
 
 import numpy as np
 
@@ -216,13 +236,234 @@ def browser_times(steps: int) -> dict[str, float]:
     }
 
 
+def _rss_mb() -> float:
+    """Resident memory of this process [MB] (Linux /proc; NaN elsewhere)."""
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("VmRSS:"):
+                    return float(line.split()[1]) / 1024.0
+    except OSError:
+        pass
+    return math.nan
+
+
+#: Bad inputs of the misbehaving session, and the parameter each message must name.
+BAD_INPUTS = [("omega2", "lots"), ("omega2", "-1"), ("eps", "nan"), ("theta0", "2")]
+
+
+def _plan(k: int, updates: int, bad: bool) -> list[tuple[str, str]]:
+    """The (field, value) updates of session ``k``: omega2 across both folds, views switched."""
+    logs = np.linspace(math.log10(0.5), math.log10(2.5), 25)
+    sweep = np.concatenate([logs, logs[-2:0:-1]])  # up and down, no value twice in a row
+    plan: list[tuple[str, str]] = []
+    for i in range(updates):
+        if bad and i % 7 == 3:
+            plan.append(BAD_INPUTS[(i // 7) % len(BAD_INPUTS)])
+        elif i % 10 == 9:
+            views = [("twirl", str((i // 10) % 2)), ("y", "xi" if (i // 10) % 3 else "x1"),
+                     ("eps", f"{0.9 - 0.001 * (k % 5):.3f}"), ("theta0", "-1.5")]  # fmt: skip
+            plan.append(views[(i // 10 + k) % len(views)])
+        else:
+            plan.append(("omega2", f"{10.0 ** sweep[(i + 3 * k) % sweep.size]:.6g}"))
+    return plan
+
+
+def sessions(n_sessions: int = 8, updates: int = 250, timeout: float = 20.0) -> dict[str, Any]:
+    """Part 3 of the module docstring. Returns the figures and ``problems`` (a list of str)."""
+    import gc
+    import threading
+    import weakref
+
+    import panel as pn
+    from bokeh.client import pull_session
+    from panel.io.server import get_server
+
+    from hairbed.explorer import _model, _page
+
+    pn.extension()
+    pages: dict[str, Any] = {}  # session id -> weak reference: a discarded page can go
+
+    def app() -> Any:  # hairbed.explorer._session, keeping a (weak) handle on the page
+        args = pn.state.session_args or {}
+        query = urlencode([(k, v.decode()) for k, vs in args.items() for v in vs])
+        page = _page.ExplorerPage(query)
+        pages[pn.state.curdoc.session_context.id] = weakref.ref(page)
+        return page.layout
+
+    _model.cusp_curve()
+    _model.compute(_model.validate({"twirl": "1"}))  # the kernels, as `hairbed explore` does
+    server = get_server(
+        {"/": app},
+        port=0,
+        start=False,
+        show=False,
+        check_unused_sessions_milliseconds=500,
+        unused_session_lifetime_milliseconds=1000,
+    )
+    server.start()
+    loop = threading.Thread(target=server.io_loop.start, daemon=True)
+    loop.start()
+    url = f"http://127.0.0.1:{server.port}/"
+    problems: list[str] = []
+    totals: list[float] = []
+    waits: list[float] = []
+    lock = threading.Lock()
+    gc.collect()
+    out: dict[str, Any] = {"sessions": n_sessions, "updates_per_session": updates}
+    out["load_before"] = _load()
+    out["rss_start_mb"] = _rss_mb()
+    barrier = threading.Barrier(n_sessions)
+    opened: list[Any] = []
+    rss_loaded: list[float] = []
+
+    def drive(k: int) -> None:
+        bad = k == 0
+        session = pull_session(url=url, arguments={"omega2": "0.8", "eps": "0.9",
+                                                   "theta0": "-1.5"})  # fmt: skip
+        with lock:
+            opened.append(session)
+        page = pages[session.id]()  # made for this session, in the server's thread
+        by_class = {
+            c: m
+            for m in session.document.select({})
+            for c in (getattr(m, "css_classes", None) or [])
+        }
+        barrier.wait()
+
+        def update(i: int, field: str, value: str) -> None:
+            """Set one input from the client; wait until this session's page has refreshed."""
+            timings, snapshot = page.timings, page.snapshot
+            start = time.perf_counter()
+            if field == "twirl":
+                box = by_class["hb-twirl-toggle"]  # a Checkbox, or Panel's CheckboxGroup
+                on = value == "1"
+                box.active = ([0] if on else []) if isinstance(box.active, list) else on
+            elif field == "y":
+                by_class["hb-y"].active = 0 if value == "x1" else 1
+            else:
+                by_class[f"hb-{field}"].value = value
+            is_bad = (field, value) in BAD_INPUTS
+            while page.timings is timings and page.snapshot is snapshot:
+                if is_bad and page.error:
+                    break
+                if time.perf_counter() - start > timeout:
+                    problems.append(f"session {k} update {i} ({field}={value}): no refresh")
+                    break
+                session.force_roundtrip()
+                time.sleep(0.002)
+            waits.append(1e3 * (time.perf_counter() - start))
+            if is_bad:
+                if field not in page.error:
+                    problems.append(f"session {k}: bad {field}={value!r} not reported")
+                return
+            if page.error:
+                problems.append(f"session {k} update {i} ({field}={value}): {page.error}")
+                return
+            with lock:
+                totals.append(page.timings["total"])
+            raw = page.snapshot.params.raw
+            if raw[field] != value:
+                problems.append(f"session {k}: shows {field}={raw[field]}, was given {value}")
+
+        for i, (field, value) in enumerate(_plan(k, updates, bad)):
+            current = page.snapshot.params.raw
+            if field in ("twirl", "y"):  # a view switch: always to the other view
+                value = {"0": "1", "1": "0", "x1": "xi", "xi": "x1"}[current[field]]
+            elif value == current[field] and (field, value) not in BAD_INPUTS:
+                # the same value again (the sweep's turning point next to a view switch)
+                # would be no change at all: a neighbouring value instead
+                value = {"eps": "0.895", "theta0": "-1.45"}.get(
+                    field, f"{1.01 * float(value):.6g}"
+                )
+                if value == current[field]:
+                    value = {"eps": "0.9", "theta0": "-1.5"}.get(field, value)
+            update(i, field, value)
+            if (field, value) in BAD_INPUTS:  # the field back to its last good value
+                update(i, field, current[field])
+        # the downloads of the last view: strict JSON (no NaN), a CSV with a header
+        try:
+            json.loads(page._json_file().getvalue(), parse_constant=_no_constant)
+            if not page._csv_file().getvalue().splitlines()[0]:
+                problems.append(f"session {k}: empty CSV download")
+        except Exception as exc:
+            problems.append(f"session {k}: download failed: {type(exc).__name__}: {exc}")
+
+    def guarded(k: int) -> None:
+        try:
+            drive(k)
+        except Exception as exc:  # a failure of the driver itself: reported, never silent
+            barrier.abort()
+            problems.append(f"session {k}: {type(exc).__name__}: {exc}")
+
+    threads = [threading.Thread(target=guarded, args=(k,)) for k in range(n_sessions)]
+    start = time.perf_counter()
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    out["wall_s"] = time.perf_counter() - start
+    out["load_after"] = _load()
+    gc.collect()
+    out["rss_after_updates_mb"] = _rss_mb()
+    del rss_loaded
+    for session in opened:
+        session.close()
+    opened.clear()
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline and any(ref() is not None for ref in pages.values()):
+        time.sleep(0.5)
+        gc.collect()
+    out["pages_left"] = sum(ref() is not None for ref in pages.values())
+    time.sleep(1.0)
+    gc.collect()
+    out["rss_after_close_mb"] = _rss_mb()
+    try:  # what the allocator keeps for reuse, returned: the rest would be a leak
+        import ctypes
+
+        ctypes.CDLL("libc.so.6").malloc_trim(0)
+        out["rss_after_close_trimmed_mb"] = _rss_mb()
+    except (OSError, AttributeError):
+        out["rss_after_close_trimmed_mb"] = math.nan
+    server.io_loop.add_callback(server.stop)
+    server.io_loop.add_callback(server.io_loop.stop)
+    loop.join(10)
+    out["updates"] = len(waits)
+    out["server_median_ms"] = statistics.median(totals) if totals else math.nan
+    out["server_p90_ms"] = _pct(totals, 90) if totals else math.nan
+    out["wait_median_ms"] = statistics.median(waits) if waits else math.nan
+    out["wait_p90_ms"] = _pct(waits, 90) if waits else math.nan
+    out["problems"] = problems
+    return out
+
+
+def _no_constant(name: str) -> Any:
+    raise ValueError(f"{name} in a JSON download")
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=40, help="slider steps per run (default 40)")
     ap.add_argument("--browser-steps", type=int, default=30, help="browser updates (default 30)")
     ap.add_argument("--no-browser", action="store_true", help="server times only")
     ap.add_argument("--json", metavar="PATH", help="also write the figures as JSON")
+    ap.add_argument("--sessions", type=int, default=0, help="part 3 only: N client sessions")
+    ap.add_argument("--updates", type=int, default=250, help="updates per session (part 3)")
     args = ap.parse_args(argv)
+    if args.sessions:
+        many = sessions(args.sessions, args.updates)
+        for k, v in many.items():
+            print(f"{k:32s} {v}" if not isinstance(v, float) else f"{k:32s} {v:10.2f}")
+        print(
+            f"targets: p90 server {many['server_p90_ms']:.1f} ms (<= 100), memory after "
+            f"updates +{many['rss_after_updates_mb'] - many['rss_start_mb']:.1f} MB (<= 100), "
+            f"after close +{many['rss_after_close_mb'] - many['rss_start_mb']:.1f} MB, "
+            f"{len(many['problems'])} problems (0)"
+        )
+        if args.json:
+            with open(args.json, "w") as fh:
+                json.dump(many, fh, indent=2)
+        return 0 if not many["problems"] else 1
     res = server_times(args.steps)
     if not args.no_browser:
         res.update(browser_times(args.browser_steps))
