@@ -91,7 +91,8 @@ class Folds:
     The *lower* fold is the local minimum of omega^2 along the branch (where, coming down, the
     high state disappears), the *upper* fold the local maximum (where, going up, the low state
     disappears); three physical states coexist for ``lower.omega2 < omega^2 < upper.omega2``.
-    Along the branch (increasing xi) the upper fold comes first.
+    Along the branch (increasing xi) the upper fold comes first: the *upper* fold (larger
+    omega^2) has the *smaller xi* of the two, since omega^2 first rises to it, then falls.
 
     Attributes
     ----------
@@ -248,7 +249,8 @@ def folds(eps: float, theta0: float = 0.0) -> Folds:
         Arrays (omega2, xi, t) sorted by increasing omega^2, and the two folds by name
         (``lower``, ``upper``); empty (and None) when omega^2 is monotone on the physical
         branch (always for theta0 >= 0, and for eps below :func:`cusp`). Three states
-        coexist for ``lower.omega2 < omega^2 < upper.omega2``.
+        coexist for ``lower.omega2 < omega^2 < upper.omega2``. "Upper" and "lower" rank the
+        folds by omega^2: the upper fold has the smaller xi (it comes first along the branch).
 
     Examples
     --------

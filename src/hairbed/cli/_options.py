@@ -45,7 +45,7 @@ EPS_HELP = "confinement eps = L/H [-], in [0, 1)"
 
 #: Help text of a base angle: its sign convention.
 THETA0_HELP = (
-    "base angle theta0 [rad], in (-pi/2, pi/2); default 0. Positive leans with the flow, "
+    "base angle theta0 [rad], in (-pi/2, pi/2). Positive leans with the flow, "
     "negative leans into it (where a tight channel can hold three states)"
 )
 
@@ -127,8 +127,10 @@ def add_eps(p: argparse.ArgumentParser, **kwargs: Any) -> None:
 
 
 def add_theta0(p: argparse.ArgumentParser, **kwargs: Any) -> None:
-    """``--theta0`` with its sign convention."""
-    p.add_argument("--theta0", **{"type": float, "help": THETA0_HELP, **kwargs})
+    """``--theta0`` with its sign convention; "default 0" unless it is required (the command
+    takes None, not given, as 0)."""
+    text = THETA0_HELP if kwargs.get("required") else f"{THETA0_HELP} (default 0)"
+    p.add_argument("--theta0", **{"type": float, "help": text, **kwargs})
 
 
 def add_json(p: argparse.ArgumentParser, help: str = "print JSON") -> None:
@@ -138,7 +140,7 @@ def add_json(p: argparse.ArgumentParser, help: str = "print JSON") -> None:
 
 def add_bed_options(p: argparse.ArgumentParser, velocity: bool = True) -> None:
     """The physical inputs of a bed (SI units), and ``--velocity`` unless told not to."""
-    g = p.add_argument_group("physical inputs (SI units; replace --omega2/--eps)")
+    g = p.add_argument_group("physical inputs (SI units, instead of the dimensionless ones)")
     for opt, (_, text) in BED_OPTIONS.items():
         g.add_argument(opt, type=float, metavar="X", help=text)
     if velocity:

@@ -8,6 +8,7 @@ from typing import Any
 
 import hairbed
 from hairbed._optional import optional_import
+from hairbed._variables import SI
 
 from ._options import (
     add_bed_options,
@@ -70,6 +71,14 @@ def add_parser(sub: Any) -> None:
     add_bed_options(p)
 
 
+#: The SI table's rows (named with their unit suffix) -> their label and unit.
+_SI_NOTES = {
+    f"{name}_{v.unit}" if v.unit not in ("-", "rad", "m/s") else name: v.heading
+    for name, v in SI.items()
+}
+_SI_NOTES["eps"] = "confinement eps = L/H [-]"
+
+
 def _solve_bed(args: argparse.Namespace, bed: Any) -> list[Any]:
     """The state of a bed at --velocity, in SI units and dimensionless."""
     if args.omega2 is not None or args.eps is not None or args.theta0 is not None:
@@ -95,7 +104,7 @@ def _solve_bed(args: argparse.Namespace, bed: Any) -> list[Any]:
         print_json({**si, "solution": state.solution.as_dict()})
     else:
         print(f"Hair bed {bed!r}")
-        print(table(si, {"velocity": "[m/s]", "tip_angle": "[rad]"}))
+        print(table(si, _SI_NOTES))
         print("dimensionless state:")
         print(solution_table(state.solution))
     return [state.solution]
