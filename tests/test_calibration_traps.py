@@ -242,3 +242,15 @@ def test_the_dense_bed_condition() -> None:
     with warnings.catch_warnings():
         warnings.simplefilter("error", ModelValidityWarning)
         replace(README_BED, packing_fraction=None)  # sqrt(k)/L = 0.09: dense enough
+
+
+def test_the_calibration_curve_in_stress() -> None:
+    """HairBed.velocity_from_wall_shear_stress against the forward solve at that speed."""
+    tau = np.array([-40.0, -1e-3, 0.0, 1e-6, 2.5, 19.4, 80.0])
+    for bed in (README_BED, TRUE):
+        v = bed.velocity_from_wall_shear_stress(tau)
+        assert np.all(np.sign(v) == np.sign(tau))
+        back = np.asarray(bed.deform(v).wall_shear_stress)
+        np.testing.assert_allclose(back, tau, rtol=1e-12, atol=0)
+    with pytest.raises(ValueError, match="wall_shear_stress"):
+        README_BED.velocity_from_wall_shear_stress(np.nan)

@@ -445,6 +445,11 @@ TARGETS: list[Target] = [
         dict(tip_deflection=D3, velocity=[0.02, 0.05, 0.1], sigma=1e-6),
     ),
     Target(
+        "HairBed.velocity_from_wall_shear_stress",
+        _method(BED, "velocity_from_wall_shear_stress"),
+        dict(wall_shear_stress=[1.0, 20.0]),
+    ),
+    Target(
         "units.transverse_permeability",
         units.transverse_permeability,
         dict(radius=50e-6, packing_fraction=0.05),
@@ -684,6 +689,10 @@ COMMANDS: dict[str, tuple[list[str], tuple[str, ...]]] = {
     "measure": (
         ["measure", "--tip-deflection=3e-4", "--sigma=1e-6", *BED_ARGS],
         ("--tip-deflection", "--sigma", "--base-angle"),
+    ),
+    "linear-range": (
+        ["linear-range", "--rtol=0.05", *BED_ARGS],
+        ("--rtol", "--youngs-modulus", "--base-angle"),
     ),
     "figures": (
         ["figures", "--out=figs", "--quiet", "--only", "model", "--dpi=20"],

@@ -937,6 +937,21 @@ POINT_COLUMNS: dict[str, str] = {
 }
 
 
+def _column(heading: str, path: Any) -> str:
+    """The column name of a heading "name" or "name [units]" (the units checked)."""
+    text = heading.strip()
+    name, unit = text, None
+    if text.endswith("]") and "[" in text:
+        name, _, unit = text[:-1].partition("[")
+        name, unit = name.strip(), unit.strip()
+    name = name.lower()
+    if name not in POINT_COLUMNS:
+        raise ValueError(f"{path}: unknown column {text!r}; allowed: {', '.join(POINT_COLUMNS)}")
+    if unit is not None and unit != POINT_COLUMNS[name]:
+        raise ValueError(f"{path}: column {name} is in [{POINT_COLUMNS[name]}] (SI), got [{unit}]")
+    return name
+
+
 @dataclass(frozen=True)
 class CalibrationPoints:
     """Measured calibration points, as :func:`fit` takes them.
@@ -964,7 +979,9 @@ def read_points(path: str | os.PathLike[str]) -> CalibrationPoints:
 
     The columns (in any order, names case-insensitive) are ``tip_deflection`` [m] and exactly
     one of ``velocity`` [m/s] and ``wall_shear_stress`` [Pa], optionally ``sigma`` [m]; empty
-    lines and lines starting with ``#`` are skipped. The values are checked by :func:`fit`.
+    lines and lines starting with ``#`` are skipped. A name may carry its unit in the
+    ``name [units]`` style of hairbed's own CSV files (``tip_deflection [m]``), which must
+    then be the SI unit above. The values are checked by :func:`fit`.
 
     Parameters
     ----------
@@ -1000,10 +1017,7 @@ def read_points(path: str | os.PathLike[str]) -> CalibrationPoints:
     rows = [r for r in rows if r and not r[0].lstrip().startswith("#")]
     if len(rows) < 2:
         raise ValueError(f"{path}: needs a header line and at least one row")
-    header = [h.strip().lower() for h in rows[0]]
-    for h in header:
-        if h not in POINT_COLUMNS:
-            raise ValueError(f"{path}: unknown column {h!r}; allowed: {', '.join(POINT_COLUMNS)}")
+    header = [_column(h, path) for h in rows[0]]
     columns: dict[str, list[float]] = {h: [] for h in header}
     for i, row in enumerate(rows[1:], start=2):
         if len(row) != len(header):

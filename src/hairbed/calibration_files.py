@@ -11,6 +11,7 @@ The format is JSON (strict: non-finite numbers are the strings "inf", "-inf", "n
 
     {"format": "hairbed calibration", "format_version": 1, "hairbed_version": "...",
      "bed": {"length": ..., ..., "density": null}, "geometry": "spacing",
+     "kind": "velocity", "points": 10,
      "data": {"kind": "velocity", "points": 10, "weighted": true, "sha256": "..."},
      "parameters": {"youngs_modulus": {"value": ..., "stderr": ..., "start": ...,
                                        "unit": "Pa"}},
@@ -81,6 +82,8 @@ def calibration_to_dict(fit: CalibrationFit) -> dict[str, Any]:
             k: (None if getattr(bed, k) is None else float(getattr(bed, k))) for k in _BED_FIELDS
         },
         "geometry": fit.geometry,
+        "kind": fit.kind,
+        "points": int(np.size(fit.residuals)),
         "data": {
             "kind": fit.kind,
             "points": int(np.size(fit.residuals)),

@@ -44,7 +44,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._core.outputs import float_or_array
-from ._core.solver import _solve_checked
+from ._core.solver import _from_parameter, _solve_checked
 from ._core.validation import (
     HALF_PI,
     _first_index,
@@ -700,6 +700,33 @@ class HairBed:
             If ``|deflection| >= length``.
         """
         return float_or_array(self._solve_tip_deflection(deflection)[0])
+
+    def velocity_from_wall_shear_stress(self, wall_shear_stress: Any) -> FloatOrArray:
+        """Wall speed v [m/s] at which the top wall carries ``wall_shear_stress`` [Pa].
+
+        The calibration curve in stress. The load on one hair is F = tau pi a^2/phi, so the
+        stress fixes omega_eps^2 = F L^2/(E I) (theory.md §7): the state is that of the
+        collapsed problem (eps = 0) at omega_eps^2, one state for every stress, whose
+        forcing at the bed's eps is omega^2 = omega_eps^2 (1 - eps h1), eq. (34); then
+        v = omega^2 times :attr:`velocity_scale`. A negative stress is flow towards -x.
+        """
+        tau = as_float_array(wall_shear_stress, "wall_shear_stress", unit="Pa")
+        scale = self.wall_area_per_hair * self.length**2 / self.bending_stiffness
+        with np.errstate(over="ignore"):
+            forcing = np.abs(tau) * scale
+        bad = ~np.isfinite(forcing)
+        if np.any(bad):
+            raise ValueError(
+                f"wall_shear_stress must be below {np.finfo(np.float64).max / scale:.3g} Pa "
+                f"for this bed (its forcing overflows), got {float(tau[bad].flat[0])!r}"
+                f"{_first_index(bad)}"
+            )
+        direction = self._direction(tau)
+        theta0 = direction * self.base_angle
+        collapsed = _solve_checked(forcing, 0.0, theta0)
+        state = _from_parameter(np.asarray(collapsed.t, dtype=np.float64), self.eps, theta0)
+        omega2 = np.asarray(state.omega2, dtype=np.float64)
+        return float_or_array(direction * omega2 * self.velocity_scale)
 
     def wall_shear_stress_from_tip_deflection(self, deflection: Any) -> FloatOrArray:
         """Wall shear stress tau = eta v / (H - h1 L) [Pa] read from a tip deflection [m]."""

@@ -1,14 +1,15 @@
 """The ``hairbed`` command line: a thin layer over the library.
 
 Subcommands: ``solve``, ``sweep``, ``invert``, ``bistability``, ``calibrate``, ``measure``,
-``figures``, ``bench``, ``demo``, ``explore``. Run ``hairbed <command> --help`` for the options
-and examples of each. Bad input ends with one line ``hairbed: error: <message>`` on stderr and
-exit status 2; a file that cannot be written with ``hairbed: cannot write PATH: <reason>`` and
-a missing optional dependency with ``hairbed: <command> needs <module>: pip install
-'hairbed[<extra>]'``, both exit status 1; Ctrl-C with the one line ``hairbed: interrupted`` and
-exit status 130, leaving no partial file behind; a warning (of the library, such as a flow
-outside the model's validity, or of numpy) is the one line ``hairbed: warning: <message>`` on
-stderr. Negative numbers parse as values everywhere, in exponent form too (``--theta0 -1e-1``).
+``linear-range``, ``figures``, ``bench``, ``demo``, ``explore``. Run ``hairbed <command>
+--help`` for the options and examples of each. Bad input ends with one line ``hairbed: error:
+<message>`` on stderr and exit status 2; a file that cannot be written with ``hairbed: cannot
+write PATH: <reason>`` and a missing optional dependency with ``hairbed: <command> needs
+<module>: pip install 'hairbed[<extra>]'``, both exit status 1; Ctrl-C with the one line
+``hairbed: interrupted`` and exit status 130, leaving no partial file behind; a warning (of the
+library, such as a flow outside the model's validity, or of numpy) is the one line ``hairbed:
+warning: <message>`` on stderr. Negative numbers parse as values everywhere, in exponent form
+too (``--theta0 -1e-1``).
 
 Each subcommand is a module holding its ``add_parser(sub)`` beside its ``run(args)``; the
 options they share are built in ``_options``, what they print in ``_output``, how they fail in
@@ -41,6 +42,7 @@ from . import (
     _explore,
     _figures,
     _invert,
+    _linear_range,
     _measure,
     _solve,
     _sweep,
@@ -66,6 +68,7 @@ COMMANDS = (
     _bistability,
     _calibrate,
     _measure,
+    _linear_range,
 )
 
 

@@ -19,8 +19,12 @@ Fit the free parameters of a bed (by default Young's modulus) to tip deflections
 known wall speeds or wall shear stresses, by weighted least squares on the exact calibration
 curve with its exact Jacobian (hairbed.calibration.fit). --data is a CSV file with a header
 line: tip_deflection [m] and either velocity [m/s] or wall_shear_stress [Pa], optionally
-sigma [m] (the standard deviation of each deflection). The bed options give the starting
-values and the fixed parameters. Exit status 1 when the fit does not succeed.
+sigma [m] (the standard deviation of each deflection); a heading may carry its unit,
+'tip_deflection [m]', as hairbed's own CSV files do. The bed options give the starting
+values and the fixed parameters. --json prints the calibration file that 'hairbed measure
+--calibration' reads: the whole bed, the fitted parameters with their covariance, the
+SHA-256 of the points and the hairbed version. A fit with no degrees of freedom warns
+(status 5); exit status 1 when the fit does not succeed.
 
 examples:
   hairbed calibrate --data points.csv --length 1e-3 --radius 50e-6 \\
@@ -62,32 +66,27 @@ def _points(path: str) -> Any:
 
 def _print_fit(result: Any, as_json: bool) -> None:
     units = hairbed.calibration.FREE_PARAMETERS
-    if as_json:
-        print_json(
-            {
-                "parameters": {
-                    p: {"value": result.values[p], "stderr": result.stderr[p], "unit": units[p]}
-                    for p in result.parameters
-                },
-                "covariance": result.covariance,
-                "chi2": result.chi2,
-                "dof": result.dof,
-                "residuals": result.residuals,
-                "points": int(result.residuals.size),
-                "kind": result.kind,
-                "geometry": result.geometry,
-                "success": result.success,
-                "status": result.status,
-                "message": result.message,
-            }
-        )
+    if as_json:  # the calibration file: the whole bed, the data's SHA-256, the version
+        print_json(hairbed.calibration_files.calibration_to_dict(result))
         return
     print(f"calibration of {result.residuals.size} points ({result.kind} known):")
     width = max(len(p) for p in result.parameters)
     for p in result.parameters:
         print(f"  {p:<{width}}  {result.values[p]:.10g} +- {result.stderr[p]:.3g} [{units[p]}]")
-    print(f"  chi2 = {result.chi2:.6g} for {result.dof} degrees of freedom")
-    print(f"  {'converged' if result.success else 'NOT converged'}: {result.message}")
+    if result.weighted:
+        print(f"  chi2 = {result.chi2:.6g} for {result.dof} degrees of freedom")
+    else:  # no sigma: not a chi2 but a sum of squares, in m^2
+        print(
+            f"  sum of squared residuals = {result.chi2:.6g} [m^2] for {result.dof} degrees "
+            "of freedom (no sigma)"
+        )
+    if result.status == 0:
+        word = "converged"
+    elif result.status > 0:
+        word = f"converged with a caveat (status {result.status})"
+    else:
+        word = f"NOT converged (status {result.status})"
+    print(f"  {word}: {result.message}")
 
 
 def run(args: argparse.Namespace) -> int:

@@ -16,7 +16,10 @@ from ._report import UsageError
 ABOUT = """forcing from a measured tip deflection
 
 Find the forcing omega^2 (and, given a bed, the wall speed and wall shear stress) of the
-physical state with a given tip deflection.
+physical state with a given tip deflection. With a bed this is the reading of 'hairbed
+measure' without --calibration (the same library call, hairbed.calibration.measure, the same
+numbers), shown as a table of the whole state (omega2, force per hair, tip height); 'hairbed
+measure' adds a calibration file, whose bed and covariance it uses.
 
 examples:
   hairbed invert --tip-deflection 0.6158 --eps 0.5
@@ -54,7 +57,9 @@ def add_parser(sub: Any) -> None:
 def _invert_bed(args: argparse.Namespace, bed: Any, sigma: float | None) -> None:
     if args.eps is not None or args.theta0 is not None:
         raise UsageError("give either --eps/--theta0 or the physical inputs, not both")
-    st = bed.state_from_tip_deflection(args.tip_deflection)
+    # the reading of 'hairbed measure' without a calibration: one library call for both
+    m = hairbed.calibration.measure(bed, args.tip_deflection, sigma=sigma or 0.0)
+    st = m.state
     out = {
         "tip_deflection_m": args.tip_deflection,
         "velocity": st.velocity,
@@ -64,9 +69,7 @@ def _invert_bed(args: argparse.Namespace, bed: Any, sigma: float | None) -> None
         "tip_height_m": st.tip_height,
     }
     notes = {"velocity": "[m/s]", "omega2": "[-]"}
-    if sigma is not None:
-        # first order through the exact slope of the calibration curve
-        m = hairbed.calibration.measure(bed, args.tip_deflection, sigma=sigma)
+    if sigma is not None:  # first order through the exact slope of the calibration curve
         out["sigma_m"] = sigma
         out["velocity_stderr"] = m.velocity_stderr
         out["omega2_stderr"] = m.velocity_stderr / bed.velocity_scale

@@ -3,16 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
-from dataclasses import replace
 from typing import Any
-
-import numpy as np
 
 import hairbed
 
-from ._options import add_bed_options, add_command, add_json, need_bed
+from ._options import BED_OPTIONS, add_bed_options, add_command, add_json, need_bed
 from ._output import print_json
 from ._report import UsageError
 
@@ -21,13 +17,17 @@ ABOUT = """wall shear stress and speed (+- sigma) from a tip deflection
 
 Read the wall shear stress and the wall speed of a flow from the measured tip deflection of
 a bed (hairbed.calibration.measure), with standard errors from the deflection's --sigma and,
-with --calibration, the covariance of a calibration.
+with --calibration, the covariance of a calibration. With --calibration the bed is the
+calibrated one, stored in the file: bed options may be left out, and one that disagrees with
+it is refused (the calibrate options, starting values included, are accepted). Without
+--calibration this is 'hairbed invert' with a bed: the same numbers, printed as tau and v
+with their standard errors (invert also gives omega2, the force per hair and the tip height).
 
 examples:
   hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --length 1e-3 --radius 50e-6 \\
       --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6
   hairbed calibrate --data points.csv ... --json > cal.json
-  hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --calibration cal.json ...
+  hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --calibration cal.json
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -39,7 +39,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--calibration",
         metavar="FILE.json",
-        help="the output of 'hairbed calibrate --json': its fitted values replace the bed's, "
+        help="the output of 'hairbed calibrate --json': its bed is the one measured with, "
         "its covariance enters the errors",
     )
     p.add_argument(
@@ -52,54 +52,41 @@ def add_parser(sub: Any) -> None:
     add_bed_options(p, velocity=False)
 
 
-def _load_calibration(path: str, bed: Any) -> Any:
-    """The CalibrationFit of a ``hairbed calibrate --json`` output, applied to ``bed``."""
-    calibration = hairbed.calibration
+def _load_calibration(path: str) -> Any:
+    """The CalibrationFit of a calibration file (``hairbed calibrate --json``)."""
     try:
-        with open(path) as fh:
-            data = json.load(fh)
-        params = data["parameters"]
-        names = tuple(params)
-        values = {p: float(params[p]["value"]) for p in names}
-        stderr = {p: float(params[p]["stderr"]) for p in names}
-        cov = np.array(data["covariance"], dtype=np.float64)
-        geometry = data.get("geometry", "spacing")
+        return hairbed.calibration_files.read_calibration(path)
     except OSError as exc:
         raise UsageError(f"--calibration: cannot read {path}: {exc.strerror or exc}") from None
-    except (ValueError, KeyError, TypeError) as exc:
-        raise UsageError(
-            f"--calibration {path}: not the JSON of 'hairbed calibrate --json' ({exc})"
-        ) from None
-    if cov.shape != (len(names), len(names)):
-        raise UsageError(f"--calibration {path}: covariance is not {len(names)} x {len(names)}")
-    for p in names:
-        if p not in calibration.FREE_PARAMETERS:
-            raise UsageError(f"--calibration {path}: unknown parameter {p!r}")
-    other = "packing_fraction" if geometry == "spacing" else "spacing"
-    fitted = replace(bed, **{other: None}, **values)
-    return calibration.CalibrationFit(
-        bed=fitted,
-        parameters=names,
-        values=values,
-        stderr=stderr,
-        covariance=cov,
-        residuals=np.asarray(data.get("residuals", []), dtype=np.float64),
-        chi2=float(data.get("chi2", math.nan)),
-        dof=int(data.get("dof", 0)),
-        kind=str(data.get("kind", "velocity")),
-        success=bool(data.get("success", True)),
-        status=int(data.get("status", 0)),
-        message=str(data.get("message", "")),
-        nfev=0,
-        geometry=geometry,
-    )
+    except ValueError as exc:  # its message starts with the path
+        raise UsageError(f"--calibration {exc}") from None
+
+
+def _check_bed_options(args: argparse.Namespace, fit: Any, path: str) -> None:
+    """Refuse a bed option that is neither the calibrated bed's value nor, for a fitted
+    parameter, the starting value of the calibration (the options given to calibrate)."""
+    for opt, (name, _) in BED_OPTIONS.items():
+        given = getattr(args, name)
+        if given is None:
+            continue
+        held = getattr(fit.bed, name)
+        allowed = [held] + ([fit.start[name]] if name in fit.start else [])
+        if not any(v is not None and math.isclose(given, v, rel_tol=1e-9) for v in allowed):
+            raise UsageError(
+                f"{opt} {given:g} disagrees with the bed of --calibration {path} "
+                f"({name} = {held!r}): measure uses the calibrated bed; drop {opt} or "
+                "calibrate again"
+            )
 
 
 def run(args: argparse.Namespace) -> int:
     """Invert the deflection on the (calibrated) bed; print tau and v with their errors."""
-    bed = need_bed(args, "measure")
-    fit = None if args.calibration is None else _load_calibration(args.calibration, bed)
-    if fit is not None:
+    if args.calibration is None:
+        fit = None
+        bed = need_bed(args, "measure (or --calibration)")
+    else:
+        fit = _load_calibration(args.calibration)
+        _check_bed_options(args, fit, args.calibration)
         bed = fit.bed
     m = hairbed.calibration.measure(bed, args.tip_deflection, sigma=args.sigma, fit=fit)
     if args.json:

@@ -39,6 +39,8 @@ examples:
   hairbed sweep --omega2 0.5:2:200 --eps 0.9 --theta0=-1.5 --quasistatic
   hairbed sweep --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 --channel-height 2e-3 \\
       --viscosity 1 --spacing 400e-6 --velocity=-0.5:0.5:101 --out bed.nc
+  hairbed sweep --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 --channel-height 2e-3 \\
+      --viscosity 1 --spacing 400e-6 --wall-shear-stress 0:50:101 --out curve.csv
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -90,13 +92,19 @@ _SHAPE = {"num": "--num", "log": "--log"}
 _BRANCH = {"sign": "--sign", "n": "--n"}
 
 
-def _bed_axis(args: argparse.Namespace) -> Any:
+def _bed_axis(args: argparse.Namespace, bed: Any) -> Any:
     """The wall speeds of the sweep of a bed, its other options refused."""
     why = "does not apply to the sweep of a bed (its eps and base angle are fixed)"
     refuse(args, {"omega2": "--omega2", "eps": "--eps", "theta0": "--theta0"}, why)
     refuse(args, _LEGACY_OMEGA2, why)
     refuse(args, _BRANCH, "does not apply: a bed follows the physical branch")
     refuse(args, {"quasistatic": "--quasistatic"}, "takes an --omega2 path, not a bed")
+    if args.wall_shear_stress is not None:
+        why = "does not apply with --wall-shear-stress (the speeds follow from the stresses)"
+        refuse(args, {"velocity": "--velocity", **_LEGACY_VELOCITY, **_SHAPE}, why)
+        return bed.velocity_from_wall_shear_stress(
+            spec(args.wall_shear_stress, "--wall-shear-stress")
+        )
     if args.velocity is not None:
         refuse(args, {**_LEGACY_VELOCITY, **_SHAPE}, "does not apply with --velocity SPEC")
         return spec(args.velocity, "--velocity")
@@ -109,7 +117,7 @@ def _axes(args: argparse.Namespace) -> tuple[Any, Any, Any]:
     """(omega2, eps, theta0) of a dimensionless sweep."""
     refuse(
         args,
-        {"velocity": "--velocity", **_LEGACY_VELOCITY},
+        {"velocity": "--velocity", "wall_shear_stress": "--wall-shear-stress", **_LEGACY_VELOCITY},
         "needs the physical inputs of a bed (--length, --radius, ...)",
     )
     if args.eps is None:
@@ -182,7 +190,7 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError("--scheduler needs --chunks N (the blocks that the workers solve)")
     bed = bed_from(args)
     if bed is not None:
-        velocity = _bed_axis(args)
+        velocity = _bed_axis(args, bed)
         kwargs: dict[str, Any] = {"root": args.root}
     else:
         omega2, eps, theta0 = _axes(args)
