@@ -55,6 +55,7 @@ FALLBACKS = {
     ("invert", "base_angle"): "0",
     ("calibrate", "base_angle"): "0",
     ("measure", "base_angle"): "0",
+    ("linear-range", "base_angle"): "0",
     ("bench", "n"): "1e5",
     ("bench", "rows"): "all",
     ("sweep", "out"): "CSV",

@@ -16,10 +16,10 @@ from ._report import UsageError
 ABOUT = """forcing from a measured tip deflection
 
 Find the forcing omega^2 (and, given a bed, the wall speed and wall shear stress) of the
-physical state with a given tip deflection. With a bed this is the reading of 'hairbed
-measure' without --calibration (the same library call, hairbed.calibration.measure, the same
-numbers), shown as a table of the whole state (omega2, force per hair, tip height); 'hairbed
-measure' adds a calibration file, whose bed and covariance it uses.
+physical state with a given tip deflection. With a bed this is the reading of
+'hairbed measure' without --calibration (the same library call, hairbed.calibration.measure,
+the same numbers), shown as a table of the whole state (omega2, force per hair, tip height);
+'hairbed measure' adds a calibration file, whose bed and covariance it uses.
 
 examples:
   hairbed invert --tip-deflection 0.6158 --eps 0.5

@@ -57,6 +57,12 @@ def add_parser(sub: Any) -> None:
         help="base angle [rad] (default 0; negative leans into the flow)",
     )
     p.add_argument("--velocity", metavar="SPEC", help="top wall speed v [m/s] (with a bed)")
+    p.add_argument(
+        "--wall-shear-stress",
+        metavar="SPEC",
+        help="wall shear stress tau [Pa] (with a bed, instead of --velocity): the calibration "
+        "curve in stress, each stress at the wall speed that carries it",
+    )
     add_branch(p, sign=None, n=None, root="low", root_help="state where several coexist "
                "(default low)")  # fmt: skip
     p.add_argument(
