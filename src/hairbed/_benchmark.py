@@ -1,4 +1,4 @@
-"""Speed and memory of the exact solver, as ratios measured in one run (issue 2, item 6).
+"""Speed and memory of the exact solver, as ratios measured in one run.
 
 The one implementation behind ``benchmarks/bench_solve.py``, ``hairbed bench`` and the speed
 figure (:func:`hairbed.plotting.fig_speed`). Private: the names may change.

@@ -2,8 +2,8 @@
 
 The console script and ``python -m hairbed`` start in :func:`run_and_exit`. It takes over
 SIGINT before anything heavy is imported: the command line (:mod:`hairbed.cli`) imports
-argparse, numpy and the library, 0.15-0.5 s in which a SIGINT used to end in a
-``KeyboardInterrupt`` traceback. From then until the process ends, a Ctrl-C is the one line
+argparse, numpy and the library, a fraction of a second in which a SIGINT would otherwise end
+in a ``KeyboardInterrupt`` traceback. From then until the process ends, a Ctrl-C is the one line
 ``hairbed: interrupted`` on stderr and exit status 130, and leaves no partial file.
 
 One handler, :func:`_interrupted`, serves the whole command. It does not unwind the stack (a
@@ -17,11 +17,10 @@ down) ends the process at once with the command's own status, silently.
 
 This module imports only ``os``, ``sys`` and ``_signal`` (the C part of ``signal``), which the
 interpreter has loaded already, and ``import hairbed`` imports nothing heavy, so the handler is
-in place about 1 ms after the interpreter has started running the console script. Earlier
-than that hairbed cannot help (measured on an idle 2-core machine, with compiled bytecode: a
-SIGINT in the first ~11 ms, before Python has installed its own handler, ends the process by
-the signal, silently, which a shell reports as status 130; one in the next ~6 ms, while
-``site`` and the console script's first import run, ends in Python's own traceback).
+in place as soon as the console script runs. Earlier than that hairbed cannot help: a SIGINT
+before Python has installed its own handler ends the process by the signal, silently (a
+shell reports status 130), and one while ``site`` and the console script's first import run
+ends in Python's own traceback (the timings are in the CHANGELOG).
 :func:`hairbed.cli.main` itself, called in a process of its own, turns a
 ``KeyboardInterrupt`` into the same line and status.
 """

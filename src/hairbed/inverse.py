@@ -16,7 +16,7 @@ while t and the tip values stay exact.
 - The tip height h1 is not monotone when theta0 < 0: the flow first lifts a hair leaning into it
   and then bends it over, so :func:`omega2_from_tip_height` can have two answers.
 - :func:`hairbed.profile_fit.fit_profile` fits (omega^2, theta0) to measured points along a
-  whole hair (importable from here too, where it lived before).
+  whole hair (also importable from here).
 
 A hair lying flat (x1 = 1, h1 = 0, every height of a profile 0) is the limit omega^2 -> inf,
 not a state: every inverse refuses it with a ValueError naming the reachable range, x1 in

@@ -40,14 +40,9 @@ duplication's numpy (elementwise ufuncs over whole arrays), not the kernels' R_F
 which are scalar functions callable only from compiled loops; both agree with mpmath to a few
 ulps.
 
-Accuracy: within 1.3e-14 relative of mpmath (in most cases 3e-15) on every output, input and
-branch tested, from omega^2 = 1e-13 to 1e8, leaning both ways, including the derivatives that
-vanish to first order at theta0 = 0 and those of xi and of the tip angle (of the order of
-1 - xi) at strong forcing (tests/test_sensitivity.py); omega2 = 0 itself is exact (the limits
-of the linear theory). Above the series' range (omega_eps^2 > 0.003) a derivative that vanishes
-to first order near theta0 = 0 (d omega_eps/d theta0, d(tip_displacement)/d theta0) is a sum
-of terms as large as the output's other partials and keeps a few ulps of those: 2e-17
-absolute, 1e-13 relative, at omega2 = 0.12, theta0 = -0.05.
+Accuracy: to about 1e-14 relative of mpmath on every output, input and branch, from
+omega^2 = 1e-13 to 1e8 and leaning both ways; omega2 = 0 itself is exact (the limits of the
+linear theory). The measured figures and the references are in docs/accuracy.md §9.
 
 At a fold of the branch (a state where dR/dt = 0: it appears or disappears as the inputs vary,
 theory.md §5) the derivatives through dt/dp are infinite: they are returned as +-inf and the
