@@ -9,7 +9,7 @@ from typing import Any
 import hairbed
 
 from ._options import add_bed_options, add_command, add_json, need_bed
-from ._output import print_json
+from ._output import print_json, read_input
 from ._report import PROG, UsageError
 
 #: ``hairbed calibrate --help``: the summary line, the description and the examples.
@@ -56,12 +56,7 @@ def add_parser(sub: Any) -> None:
 
 def _points(path: str) -> Any:
     """The calibration points of --data (hairbed.calibration.read_points)."""
-    try:
-        return hairbed.calibration.read_points(path)
-    except OSError as exc:
-        raise UsageError(f"--data: cannot read {path}: {exc.strerror or exc}") from None
-    except ValueError as exc:  # its message starts with the path
-        raise UsageError(f"--data {exc}") from None
+    return read_input(hairbed.calibration.read_points, path, "--data")
 
 
 def _print_fit(result: Any, as_json: bool) -> None:

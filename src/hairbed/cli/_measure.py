@@ -9,7 +9,7 @@ from typing import Any
 import hairbed
 
 from ._options import BED_OPTIONS, add_bed_options, add_command, add_json, need_bed
-from ._output import print_json
+from ._output import print_json, read_input
 from ._report import UsageError
 
 #: ``hairbed measure --help``: the summary line, the description and the examples.
@@ -54,12 +54,7 @@ def add_parser(sub: Any) -> None:
 
 def _load_calibration(path: str) -> Any:
     """The CalibrationFit of a calibration file (``hairbed calibrate --json``)."""
-    try:
-        return hairbed.calibration_files.read_calibration(path)
-    except OSError as exc:
-        raise UsageError(f"--calibration: cannot read {path}: {exc.strerror or exc}") from None
-    except ValueError as exc:  # its message starts with the path
-        raise UsageError(f"--calibration {exc}") from None
+    return read_input(hairbed.calibration_files.read_calibration, path, "--calibration")
 
 
 def _check_bed_options(args: argparse.Namespace, fit: Any, path: str) -> None:

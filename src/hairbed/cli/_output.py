@@ -85,6 +85,17 @@ def print_states(states: list[Any], as_json: bool, head: str) -> None:
         print(solution_table(sol))
 
 
+def read_input(read: Any, path: str, option: str) -> Any:
+    """``read(path)`` for an input file option: an unreadable file or one the library refuses
+    (its ValueError message starts with the path) is a one-line usage error naming ``option``."""
+    try:
+        return read(path)
+    except OSError as exc:
+        raise UsageError(f"{option}: cannot read {path}: {exc.strerror or exc}") from None
+    except ValueError as exc:
+        raise UsageError(f"{option} {exc}") from None
+
+
 def check_output(path: str, *, directory: bool = False, parents: bool = False) -> None:
     """Refuse, before any work, an output ``path`` that cannot be written (a WriteError).
 
