@@ -131,16 +131,17 @@ def write_dataset(ds: Any, path: str | os.PathLike[str]) -> int:
     kind = output_format(path)
     path = Path(path)
     points = int(np.prod(list(ds.sizes.values()), dtype=np.int64))
+    lazy = bool(ds.chunks)  # dask-backed: the writer's chunk tasks run in _write_lazy
     if kind == "netcdf":
         optional_import("netCDF4", "netCDF output", "sweep")
         with atomic_path(path) as tmp:
-            ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4")
+            _write_lazy(ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", compute=not lazy))
     elif kind == "zarr":
         zarr = optional_import("zarr", "zarr output", "sweep")
         # format 2 with consolidated metadata: read by every zarr library without a warning
         fmt = {"zarr_format": 2} if int(zarr.__version__.split(".")[0]) >= 3 else {}
         with atomic_path(path, directory=True) as tmp:
-            ds.to_zarr(tmp, mode="w-", consolidated=True, **fmt)
+            _write_lazy(ds.to_zarr(tmp, mode="w-", consolidated=True, compute=not lazy, **fmt))
     elif kind == "csv":
         with atomic_path(path) as tmp, open(tmp, "w", encoding="utf-8", newline="") as fh:
             _write_csv(ds, fh)
@@ -148,6 +149,31 @@ def write_dataset(ds: Any, path: str | os.PathLike[str]) -> int:
         with atomic_path(path) as tmp:
             _write_parquet(ds, tmp)
     return points
+
+
+def _write_lazy(delayed: Any) -> None:
+    """Compute a writer's delayed chunk tasks (xarray's ``compute=False``), waiting for all.
+
+    With dask's threaded scheduler, a failing chunk (a full disk) ends ``compute`` while
+    other chunk tasks still run; one of those reopens the netCDF file in append mode and so
+    creates the temporary again after it was removed. A pool of our own, shut down (its
+    running tasks waited for) before the error leaves here, keeps them from outliving the
+    write. Other schedulers (a distributed cluster) are used as they are.
+    """
+    if not hasattr(delayed, "dask"):  # nothing lazy: written already
+        return
+    import concurrent.futures
+
+    import dask
+    import dask.threaded
+    from dask.base import get_scheduler
+
+    if get_scheduler(collections=[delayed]) is not dask.threaded.get:
+        delayed.compute()
+        return
+    workers = dask.config.get("num_workers", None) or os.cpu_count() or 1
+    with concurrent.futures.ThreadPoolExecutor(max_workers=workers) as pool:
+        dask.compute(delayed, scheduler="threads", pool=pool)
 
 
 def write_csv_stream(ds: Any, stream: Any) -> int:
