@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 
 from ._bracketing import find_minimum, find_root
 from ._core.solution import Solution
-from ._core.solver import _log_slope, fold_parameters, from_parameter
+from ._core.solver import _from_parameter, _log_slope, fold_parameters
 from ._core.validation import (
     _first_index,
     as_float_array,
@@ -223,7 +223,7 @@ def curve(
             + (f"shape {span.shape}" if span.shape != (2,) else f"{span.tolist()!r}")
         )
     t = np.linspace(float(span[0]), float(span[1]), num)
-    return from_parameter(t, eps, theta0, sign=sign, n=n)
+    return _from_parameter(t, eps, theta0, sign, n)  # checked above
 
 
 def folds(eps: float, theta0: float = 0.0) -> Folds:
@@ -267,7 +267,7 @@ def folds(eps: float, theta0: float = 0.0) -> Folds:
     if ts.size == 0:
         empty = np.empty(0, dtype=np.float64)
         return Folds(empty, empty.copy(), empty.copy())
-    sol = from_parameter(ts, eps, theta0)
+    sol = _from_parameter(ts, eps, theta0)
     omega2 = np.asarray(sol.omega2, dtype=np.float64).reshape(-1)
     order = np.argsort(omega2, kind="stable")
     xi = np.asarray(sol.xi, dtype=np.float64).reshape(-1)

@@ -62,7 +62,7 @@ from scipy import special
 
 from ._carlson_gradients import rf_rd_gradient
 from ._core.solution import Solution
-from ._core.solver import solve
+from ._core.solver import _plain_inputs, _solve_checked
 from ._core.validation import (
     STATUS_MESSAGES,
     check_branch,
@@ -613,7 +613,7 @@ def derivatives(
     >>> round(hairbed.derivatives(0.0, 0.5)["tip_deflection"]["omega2"], 12)  # 1/(3 (1 - eps))
     0.666666666667
     """
-    check_inputs(omega2, eps, theta0)
+    checked = _plain_inputs(omega2, eps, theta0) or check_inputs(omega2, eps, theta0)
     sign, n = check_branch(sign, n)
     root = check_root(root)
-    return derivatives_at(solve(omega2, eps, theta0, sign=sign, n=n, root=root))
+    return derivatives_at(_solve_checked(*checked, sign, n, root))

@@ -42,9 +42,8 @@ def run(args: argparse.Namespace) -> int:
     """Print the cusp, the folds and the window (or JSON)."""
     branches = hairbed.branches
     eps, theta0 = args.eps, args.theta0
-    hairbed.solve(0.0, eps, theta0)  # validates the inputs, with their messages
+    f = branches.folds(eps, theta0)  # first: its checks name eps and theta0
     cusp = float(branches.cusp(theta0))
-    f = branches.folds(eps, theta0)
     tip = np.asarray(hairbed.from_parameter(f.t, eps, theta0).tip_deflection).reshape(-1)
     folds = [
         {"omega2": float(w), "xi": float(x), "tip_deflection": float(d), "t": float(t)}

@@ -118,7 +118,6 @@ def _solve_dimensionless(args: argparse.Namespace) -> list[Any]:
     theta0 = 0.0 if args.theta0 is None else args.theta0
     at = f"omega2={w:g}, eps={eps:g}, theta0={theta0:g}"
     if args.all_branches:
-        hairbed.solve(w, eps, theta0)  # validates the inputs
         sols = hairbed.solve_all(w, eps, theta0)
         head = f"{len(sols)} state(s) at {at}:"
         print_states(hairbed.branches.label_states(sols), args.json, head)
