@@ -1,5 +1,5 @@
-"""The command line of issue 12 through a subprocess: bistability, labelled states, calibrate,
-measure, and the one-line model-validity warning."""
+"""The calibration and bistability commands through a subprocess: bistability, labelled states,
+calibrate, measure, and the one-line model-validity warning."""
 
 from __future__ import annotations
 

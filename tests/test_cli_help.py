@@ -1,4 +1,4 @@
-"""Help and docs that match behaviour (issue 23, item 9).
+"""Help and docs that match behaviour: stated defaults, required options, tables.
 
 Every default a ``--help`` text states is the one the command really uses: the parser's own
 default, or, for an option whose parser default is None (not given, so that a conflict with

@@ -153,7 +153,7 @@ def test_progress_on_stderr(tmp_path, monkeypatch, capsys):
 
 
 def test_out_in_a_missing_directory_is_a_write_error(capsys):
-    """Refused before any work, as every output of the command line (test_cli_promises)."""
+    """Refused before any work, as every output of the command line (test_cli_errors)."""
     from hairbed.cli import main
 
     assert main(["sweep", "--omega2", "1", "--eps", "0.5", "--out", "/no/such/dir/x.nc"]) == 1

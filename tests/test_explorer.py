@@ -79,7 +79,7 @@ def test_import_hairbed_imports_no_web_framework():
 
 def test_missing_app_extra_is_one_line_naming_the_extra():
     # panel made unimportable: the command says how to install it, in one line, exit 1 (as
-    # every missing extra of the command line, tests/test_cli_promises.py)
+    # every missing extra of the command line, tests/test_cli_errors.py)
     code = (
         "import sys; sys.modules['panel'] = None; from hairbed.cli import main; "
         "sys.exit(main(['explore', '--no-browser', '--port', '0']))"

@@ -499,8 +499,8 @@ NOT_FUZZED = {
     "hairbed.sweeps.write_csv_stream": "file output: tested in test_cli_sweep/test_sweeps",
     "hairbed.sweeps.read_table": "file input: OSError is its documented error",
     "hairbed.calibration.read_points": "file input: OSError is its documented error",
-    "hairbed.calibration_files.read_calibration": "file input: tested in test_calibration_traps",
-    "hairbed.calibration_files.write_calibration": "file output: tested in test_calibration_traps",
+    "hairbed.calibration_files.read_calibration": "file input: test_calibration_misuse",
+    "hairbed.calibration_files.write_calibration": "file output: test_calibration_misuse",
     "Solution.as_dict": "no input",
 }
 

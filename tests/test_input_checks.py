@@ -1,4 +1,4 @@
-"""Every input checked (issue 13): one row per reproducer and per secondary parameter.
+"""Every input checked: one row per reproducer and per secondary parameter.
 
 Each row calls a public function with one bad argument and expects a ValueError or TypeError
 whose message names the parameter and its allowed range (and, for arrays, the first offending

@@ -1,4 +1,4 @@
-"""The numba cache in a real install (issue 19 item 8): a wheel of this tree, installed with pip
+"""The numba cache in a real install: a wheel of this tree, installed with pip
 (not editable) into a fresh virtual environment whose site-packages nobody may write, gives
 correct results with a writable HOME (the kernels cached in the user's cache directory), with a
 read-only HOME (no cache at all: one line on stderr naming ``NUMBA_CACHE_DIR``, no warning

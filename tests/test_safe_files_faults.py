@@ -1,4 +1,4 @@
-"""A full disk and a read-only directory (issue 19 item 7): every writer of hairbed ends with one
+"""A full disk and a read-only directory: every writer of hairbed ends with one
 clear error naming the file and the reason, leaves no temporary file, and keeps an existing
 target byte for byte.
 

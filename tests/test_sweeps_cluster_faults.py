@@ -1,4 +1,4 @@
-"""A worker dies mid-sweep (issue 19 item 6): on a ``distributed.LocalCluster`` of 2 worker
+"""A worker dies mid-sweep: on a ``distributed.LocalCluster`` of 2 worker
 processes, one worker process is killed (SIGKILL) while a chunked sweep is being computed and
 written. Either the sweep completes with values bitwise equal to the serial run (the scheduler
 recomputes the lost blocks on the other worker or on the nanny's new process), or, when the

@@ -1,4 +1,4 @@
-"""Threads (issue 19 item 9): 8 threads calling ``solve``, ``solve_all``, ``derivatives`` and
+"""Threads: 8 threads calling ``solve``, ``solve_all``, ``derivatives`` and
 ``sweep`` at once, on the same input arrays, get results bitwise equal to the serial calls, and
 the shared inputs are not changed.
 

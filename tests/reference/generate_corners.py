@@ -7,7 +7,7 @@ Run on demand (about five minutes on two cores)::
 Like ``generate_reference.py``, whose functions it reuses (``Branch``, ``find_roots``,
 ``polish``, ``evaluate``, ``legendre_values``, ``taylor_ivp``, ``_golden_extremum``), it imports
 nothing from :mod:`hairbed`. It tabulates the inputs of the issue's list of wrong results
-(tested by ``tests/test_corners.py``):
+(tested by ``tests/test_solver_corners.py``):
 
 * ``three_states``: solve(2.2305002283179594, 0.5, -1.570795) has three physical states; every
   field and the shape of each;

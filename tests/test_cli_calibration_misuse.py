@@ -1,4 +1,4 @@
-"""Issue 23 items 1-6 on the command line: calibrate, measure, invert, the README's example.
+"""Calibration misapplied on the command line: calibrate, measure, invert, the README's example.
 
 References: the library calls the commands stand for (hairbed.calibration, through its own
 API), the README's printed output, and the example data file shipped in docs/examples.

@@ -1,4 +1,4 @@
-"""The issue's list of wrong results, as tests against their own mpmath reference.
+"""The solver's corner cases (once wrong results), as tests against their own mpmath reference.
 
 The reference is ``tests/data/corners_mpmath.json``, written by
 ``tests/reference/generate_corners.py`` (mpmath only, reusing the functions of

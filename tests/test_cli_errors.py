@@ -1,4 +1,4 @@
-"""The command line keeps its promises (issue 13, item 3), checked in real processes.
+"""The command line's errors, signals and outputs keep their promises, in real processes.
 
 Every failure is exactly one line on stderr with no "Traceback" and no "Warning" text and a
 non-zero exit status: bad input ``hairbed: error: ...`` (2), a file that cannot be written

@@ -1,4 +1,4 @@
-"""Issue 23 items 1-6, the library side: the traps a sensor engineer met, each as a test.
+"""hairbed.calibration misapplied as a sensor engineer would: each trap as a test.
 
 References: the calibration points themselves (their SHA-256 recomputed here with hashlib),
 the bed's own public linear and exact calibrations (for the linear ranges), the scaling laws
