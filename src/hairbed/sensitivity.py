@@ -613,7 +613,8 @@ def derivatives(
     >>> round(hairbed.derivatives(0.0, 0.5)["tip_deflection"]["omega2"], 12)  # 1/(3 (1 - eps))
     0.666666666667
     """
-    checked = _plain_inputs(omega2, eps, theta0) or check_inputs(omega2, eps, theta0)
+    plain = _plain_inputs(omega2, eps, theta0)
+    w, e, t0 = plain if plain is not None else check_inputs(omega2, eps, theta0)
     sign, n = check_branch(sign, n)
     root = check_root(root)
-    return derivatives_at(_solve_checked(*checked, sign, n, root))
+    return derivatives_at(_solve_checked(w, e, t0, sign, n, root))
