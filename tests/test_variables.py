@@ -18,7 +18,17 @@ import pytest
 import hairbed
 from hairbed import _variables
 from hairbed._core._kernels import FIELDS
-from hairbed._variables import BED, BED_REQUIRED, GROUPS, SI, SOLUTION, Variable, cf_attrs, names
+from hairbed._variables import (
+    BED,
+    BED_REQUIRED,
+    GROUPS,
+    SI,
+    SOLUTION,
+    WINDOW,
+    Variable,
+    cf_attrs,
+    names,
+)
 from hairbed.units import HairBed, HairState
 
 #: Solution fields that no kernel writes: the inputs passed through, the branch label and
@@ -91,7 +101,7 @@ def test_the_si_values_are_floats():
 
 
 def test_entries_are_complete():
-    for table in (SOLUTION, BED, SI):
+    for table in (SOLUTION, BED, SI, WINDOW):
         for key, v in table.items():
             assert isinstance(v, Variable) and v.name == key
             assert v.group in GROUPS

@@ -2,7 +2,7 @@
 
 Every list of fields in the package (the columns of a sweep and their CF attributes, the
 outputs of :func:`hairbed.derivatives`, the rows of the explorer's and the CLI's tables, the
-parameters of a bed) is built from the three mappings here, so adding a variable means
+parameters of a bed) is built from the mappings here, so adding a variable means
 adding one entry (and, for a state field, the kernel's column in
 ``hairbed._core._kernels.FIELDS``, which a test holds equal to :data:`SOLUTION`).
 
@@ -10,7 +10,9 @@ adding one entry (and, for a state field, the kernel's column in
   :class:`hairbed.Solution` in its order, then quantities derived from a state;
 - :data:`BED`: the SI parameters of a :class:`hairbed.units.HairBed` (its dataclass fields,
   then its derived properties);
-- :data:`SI`: the SI state of a bed, the fields of :class:`hairbed.units.HairState`.
+- :data:`SI`: the SI state of a bed, the fields of :class:`hairbed.units.HairState`;
+- :data:`WINDOW`: the bistable window of a pair (eps, theta0), the variables of the exact
+  map :func:`hairbed.sweeps.bistability_map` (``hairbed bistability --map``).
 
 ``units`` are udunits strings as CF conventions want them ("1" for dimensionless; lengths in
 units of the hair length L are dimensionless too, as udunits reads "L" as a litre), while
@@ -39,6 +41,7 @@ __all__ = [
     "GROUPS",
     "SI",
     "SOLUTION",
+    "WINDOW",
     "Variable",
     "cf_attrs",
     "names",
@@ -55,6 +58,7 @@ GROUPS: Mapping[str, str] = MappingProxyType(
         "bed": "a parameter of a hair bed in SI units (a field of HairBed)",
         "bed_derived": "a property of a hair bed computed from its parameters",
         "si": "a state of a bed in SI units (a field of HairState)",
+        "window": "the bistable window of a pair (eps, theta0): its folds, width, count",
     }
 )
 
@@ -342,6 +346,55 @@ SI: Mapping[str, Variable] = _table(
         "Reynolds number of the gap flow, rho abs(v) (H - h1 L) / eta",
         "gap Reynolds number rho|v|(H-h1 L)/eta", "-",
         "NaN without a fluid density; above 1 the Stokes-flow model does not hold",
+    ),
+)  # fmt: skip
+
+
+#: The bistable window of a pair (eps, theta0), from the exact folds
+#: (:func:`hairbed.branches.bistable_window`): the variables of the map of the three-state
+#: region (:func:`hairbed.sweeps.bistability_map`), in its order.
+WINDOW: Mapping[str, Variable] = _table(
+    _V(
+        "lower_fold", "window", "1",
+        "forcing omega^2 at the lower fold (the local minimum of omega^2 along the physical "
+        "branch; NaN where it is monotone)",
+        "omega^2 at the lower fold", "-",
+        "coming down, the high state disappears here: the window's lower edge",
+    ),
+    _V(
+        "upper_fold", "window", "1",
+        "forcing omega^2 at the upper fold (the local maximum of omega^2 along the physical "
+        "branch; NaN where it is monotone)",
+        "omega^2 at the upper fold", "-",
+        "going up, the low state disappears here: the window's upper edge",
+    ),
+    _V(
+        "width", "window", "1",
+        "width of the bistable window in omega^2, upper_fold - lower_fold",
+        "window width", "-",
+        "how wide in forcing the three-state range is (NaN where there is none); tiny near "
+        "the cusp",
+    ),
+    _V(
+        "n_states", "window", "1",
+        "number of physical states inside the window: 3 where it exists, else 1",
+        "physical states in the window", "",
+        "3 where lower_fold < omega^2 < upper_fold holds three states, 1 where there is no "
+        "window",
+        "int64",
+    ),
+    _V(
+        "exists", "window", "1",
+        "the physical branch folds: a bistable window exists",
+        "window exists", "",
+        "True where three physical states coexist for some omega^2",
+        "bool",
+    ),
+    _V(
+        "cusp_eps", "window", "1",
+        "cusp confinement eps_c(theta0) above which the physical branch folds",
+        "cusp eps_c(theta0)", "-",
+        "a window exists exactly for eps > eps_c; 1 where there is none for any eps < 1",
     ),
 )  # fmt: skip
 

@@ -26,6 +26,7 @@ from ._bracketing import find_root
 from ._core.solution import Solution
 from ._core.solver import _from_parameter, _solve_checked, fold_parameters
 from ._core.validation import _first_index, as_float_array, check_choice, check_scalar_inputs
+from ._specs import parse_spec
 from ._warnings import renamed_parameters
 
 __all__ = ["QuasistaticSweep", "sweep", "sweep_with_jumps"]
@@ -124,8 +125,11 @@ def sweep_with_jumps(
 
     Parameters
     ----------
-    omega2_path : array_like, 1-D
-        Successive values of the forcing omega^2 [-], >= 0, in the order applied.
+    omega2_path : array_like, 1-D, or str
+        Successive values of the forcing omega^2 [-], >= 0, in the order applied; or a SPEC
+        of them (:func:`hairbed.sweeps.parse_spec`, as ``hairbed sweep --omega2``): a
+        comma list, ``start:stop:num[:log]``, or ``start:stop:num:updown`` for a ramp up to
+        ``stop`` and back down (2 num - 1 points, the turning point once), a hysteresis loop.
     eps : float
         Confinement L/H [-], in [0, 1).
     theta0 : float
@@ -147,7 +151,11 @@ def sweep_with_jumps(
     >>> run = sweep_with_jumps(up_down, 0.9, -1.5)
     >>> run.jumps.tolist()
     [7, 16]
+    >>> sweep_with_jumps("0.8:1.6:9:updown", 0.9, -1.5).jumps.tolist()
+    [7, 15]
     """
+    if isinstance(omega2_path, str):
+        omega2_path = parse_spec(omega2_path, "omega2_path", path=True)
     path = as_float_array(omega2_path, "omega2_path")
     if path.ndim != 1:
         raise ValueError(f"omega2_path must be one-dimensional, got shape {path.shape}")
@@ -207,8 +215,9 @@ def sweep(omega2_path: Any, eps: float, theta0: float = 0.0, *, root: str = "low
 
     Parameters
     ----------
-    omega2_path : array_like, 1-D
-        Successive values of the forcing omega^2 [-], >= 0.
+    omega2_path : array_like, 1-D, or str
+        Successive values of the forcing omega^2 [-], >= 0, or their SPEC (as
+        :func:`sweep_with_jumps`: ``"0.8:1.6:200:updown"`` is a loop up and back down).
     eps : float
         Confinement L/H [-], in [0, 1).
     theta0 : float

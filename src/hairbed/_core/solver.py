@@ -431,11 +431,26 @@ def fold_parameters(eps: float, theta0: float = 0.0, *, sign: int = 1, n: int = 
     """
     _, e, t0 = check_scalar_inputs(eps=eps, theta0=theta0, given=("eps", "theta0"))
     sign, n = check_branch(sign, n)
+    t, counts = _fold_table(np.array([e]), np.array([t0]), sign, n)
+    return t[0, : counts[0]]
+
+
+def _fold_table(
+    eps: np.ndarray, theta0: np.ndarray, sign: int = 1, n: int = 0
+) -> tuple[np.ndarray, np.ndarray]:
+    """The folds of the branch (sign, n) at each pair of checked 1-D arrays (eps, theta0).
+
+    The compiled fold search of :func:`solve` over all pairs in one call, the pairs where the
+    branch is certainly monotone skipped. Returns (t, counts): t of shape (N, MAX_FOLDS),
+    each row's ``counts[i]`` folds first and increasing, NaN after them.
+    """
     k = _kernels()
-    ef = np.array([e])
-    tf = np.array([t0])
     tables = _tables()
-    if not k.needs_folds_array(ef, tf, sign, n, tables)[0]:
-        return np.empty(0)
-    folds, counts = k.folds_array(ef, tf, sign, n, tables)
-    return np.sort(folds[0, : counts[0]])
+    t = np.full((eps.size, k.MAX_FOLDS), np.nan)
+    counts = np.zeros(eps.size, dtype=np.int64)
+    need = np.flatnonzero(k.needs_folds_array(eps, theta0, sign, n, tables))
+    if need.size:
+        folds, found = k.folds_array(eps[need], theta0[need], sign, n, tables)
+        t[need] = np.sort(folds, axis=1)  # the NaN after the folds sort last
+        counts[need] = found
+    return t, counts

@@ -1,5 +1,6 @@
-"""The axes of ``hairbed sweep``: a SPEC (a value, a comma list, start:stop:num[:log]) or the
-older --<name>-min/--<name>-max/--num/--log form."""
+"""The axes of ``hairbed sweep``: a SPEC (a value, a comma list, start:stop:num[:log], or for a
+path start:stop:num:updown; parsed by :mod:`hairbed._specs`) or the older
+--<name>-min/--<name>-max/--num/--log form."""
 
 from __future__ import annotations
 
@@ -8,38 +9,22 @@ from typing import Any
 
 import numpy as np
 
+from hairbed._specs import parse_spec
+
 from ._report import UsageError
 
 __all__ = ["legacy_grid", "spec"]
 
 
-def spec(text: str | None, option: str) -> Any:
-    """A SPEC of the sweep: a value, a comma list, or start:stop:num[:log] (or :lin)."""
+def spec(text: str | None, option: str, *, path: bool = False) -> Any:
+    """A SPEC of the sweep (:mod:`hairbed._specs`, the one parser): a value, a comma list, or
+    start:stop:num[:log] (or :lin); with ``path``, also the up-and-down ramp :updown."""
     if text is None:
         return None
-    form = "a number, a comma list or start:stop:num[:log]"
-    parts = text.split(":")
     try:
-        if len(parts) == 1:
-            items = [p for p in text.split(",")]
-            if len(items) == 1:
-                return float(items[0])
-            return np.array([float(p) for p in items])
-        if len(parts) not in (3, 4):
-            raise ValueError
-        start, stop, num = float(parts[0]), float(parts[1]), int(parts[2])
-        spacing = parts[3].strip().lower() if len(parts) == 4 else "lin"
-    except ValueError:
-        raise UsageError(f"{option} must be {form}, got {text!r}") from None
-    if spacing not in ("lin", "log"):
-        raise UsageError(f"{option}: the fourth field of start:stop:num:log is 'log' or 'lin'")
-    if num < 1:
-        raise UsageError(f"{option}: num in start:stop:num must be >= 1, got {num}")
-    if spacing == "log":
-        if start <= 0 or stop <= 0:
-            raise UsageError(f"{option}: a log range needs positive bounds, got {text!r}")
-        return np.geomspace(start, stop, num)
-    return np.linspace(start, stop, num)
+        return parse_spec(text, option, path=path)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def legacy_grid(args: argparse.Namespace, name: str, lo: float | None, hi: float | None) -> Any:

@@ -21,6 +21,8 @@ from ._report import UsageError, WriteError
 
 __all__ = [
     "FIELDS",
+    "NO_COMPRESS_HELP",
+    "check_dataset_output",
     "check_output",
     "figure_format",
     "print_json",
@@ -28,6 +30,7 @@ __all__ = [
     "save_figure",
     "solution_table",
     "table",
+    "write_dataset_output",
 ]
 
 #: Each field of a Solution (and derived quantity) -> its label and unit, for the table.
@@ -146,3 +149,45 @@ def save_figure(fig: Any, path: str, fmt: str) -> None:
             fig.savefig(tmp, dpi=150, format=fmt)
     except OSError as exc:
         raise WriteError(path, exc) from None
+
+
+#: Help of ``--no-compress`` (``hairbed sweep``, ``hairbed bistability --map``).
+NO_COMPRESS_HELP = (
+    "write .nc output uncompressed (it is otherwise zlib level 4 with shuffle: lossless, "
+    "about 40%% smaller for a sweep)"
+)
+
+
+def check_dataset_output(out: str | None, no_compress: bool = False) -> bool:
+    """Check, before any work, the ``--out`` of a dataset (None or "-": CSV on stdout): its
+    format by extension and that it can be written. Returns True for stdout."""
+    from hairbed import sweeps
+
+    if out is None or out == "-":
+        if no_compress:
+            raise UsageError("--no-compress applies to netCDF (.nc) output only")
+        return True
+    kind = sweeps.output_format(out)  # an unknown extension is refused here
+    if no_compress and kind != "netcdf":
+        raise UsageError("--no-compress applies to netCDF (.nc) output only")
+    check_output(out, directory=kind == "zarr")
+    return False
+
+
+def write_dataset_output(ds: Any, out: str | None, no_compress: bool = False) -> int:
+    """Write a dataset to ``--out`` (checked by :func:`check_dataset_output`) whole or not at
+    all, or as CSV on stdout; says what was written on stderr. Returns the points written."""
+    import sys
+
+    from hairbed import sweeps
+
+    if out is None or out == "-":
+        points = sweeps.write_csv_stream(ds, sys.stdout)
+        sys.stdout.flush()
+        return points
+    try:
+        points = sweeps.write_dataset(ds, out, compress=not no_compress)
+    except OSError as exc:
+        raise WriteError(out, exc) from None
+    print(f"wrote {out} ({points} points)", file=sys.stderr)
+    return points

@@ -8,7 +8,6 @@ cluster (--scheduler) or along a quasi-static path (--quasistatic).
 from __future__ import annotations
 
 import argparse
-import sys
 from typing import Any
 
 import numpy as np
@@ -17,16 +16,18 @@ import hairbed
 
 from ._grids import legacy_grid, spec
 from ._options import add_bed_options, add_branch, add_command, add_eps, bed_from, refuse
-from ._output import check_output
-from ._report import UsageError, WriteError
+from ._output import NO_COMPRESS_HELP, check_dataset_output, write_dataset_output
+from ._report import UsageError
 
 #: ``hairbed sweep --help``: the summary line, the description and the examples.
 ABOUT = """grids of omega2, eps, theta0 (or wall speed) -> netCDF, zarr, CSV, parquet
 
 Solve on the outer-product grid of --omega2, --eps and --theta0 (or over wall speeds, given
 a bed) and write a labelled table. SPEC is a value, a comma list or start:stop:num[:log]
-(negative ones too: --theta0 -1.2:1.2:25). The output format follows the extension of --out:
-.nc (netCDF-4, CF attributes), .zarr, .csv (one row per grid point, units in the header; the
+(negative ones too: --theta0 -1.2:1.2:25); with --quasistatic, --omega2
+START:STOP:NUM:updown (or :log:updown) is a hysteresis loop, up to STOP and back. The output
+format follows the extension of --out: .nc (netCDF-4, CF attributes, compressed losslessly
+unless --no-compress), .zarr, .csv (one row per grid point, units in the header; the
 default, to stdout) or .parquet; files are written whole or not at all.
 
 examples:
@@ -37,6 +38,7 @@ examples:
   hairbed sweep --omega2 0.01:100:200:log --eps 0.5,0.9 --chunks 50 \\
       --scheduler tcp://10.0.0.5:8786 --out grid.parquet
   hairbed sweep --omega2 0.5:2:200 --eps 0.9 --theta0=-1.5 --quasistatic
+  hairbed sweep --omega2 0.8:1.6:200:updown --eps 0.9 --theta0=-1.5 --quasistatic --out loop.nc
   hairbed sweep --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 --channel-height 2e-3 \\
       --viscosity 1 --spacing 400e-6 --velocity=-0.5:0.5:101 --out bed.nc
   hairbed sweep --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 --channel-height 2e-3 \\
@@ -68,7 +70,8 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--quasistatic",
         action="store_true",
-        help="follow the state along a 1-D --omega2 path (jumps at folds: hysteresis)",
+        help="follow the state along a 1-D --omega2 path (jumps at folds: hysteresis); "
+        "--omega2 START:STOP:NUM:updown ramps up and back down (2 NUM - 1 points)",
     )
     p.add_argument(
         "--chunks", type=int, metavar="N", help="blocks of N points per dimension (dask)"
@@ -82,6 +85,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--out", metavar="FILE", help="output: .nc, .zarr, .csv or .parquet (default: CSV stdout)"
     )
+    p.add_argument("--no-compress", action="store_true", help=NO_COMPRESS_HELP)
     old = p.add_argument_group("the older form of a 1-D range (instead of a SPEC)")
     old.add_argument("--omega2-min", type=float, metavar="X", help="first omega^2 (default 0)")
     old.add_argument("--omega2-max", type=float, metavar="X", help="last omega^2 (default 10)")
@@ -130,7 +134,7 @@ def _axes(args: argparse.Namespace) -> tuple[Any, Any, Any]:
         raise UsageError("give --eps SPEC (or the physical inputs of a bed)")
     if args.omega2 is not None:
         refuse(args, {**_LEGACY_OMEGA2, **_SHAPE}, "does not apply with --omega2 SPEC")
-        omega2 = spec(args.omega2, "--omega2")
+        omega2 = spec(args.omega2, "--omega2", path=args.quasistatic)
     else:  # the older form --omega2-min/--omega2-max/--num/--log, default 0:10:101
         lo = 0.0 if args.omega2_min is None else args.omega2_min
         hi = 10.0 if args.omega2_max is None else args.omega2_max
@@ -181,15 +185,10 @@ def _quasistatic(omega2: Any, eps: Any, theta0: Any, root: str) -> Any:
 
 def run(args: argparse.Namespace) -> int:
     """Check everything, solve the grid (or path) and write it."""
-    from hairbed import sweeps
 
     from ._distributed import compute_on
 
-    out = args.out
-    to_stdout = out is None or out == "-"
-    if not to_stdout:
-        kind = sweeps.output_format(out)  # an unknown extension is refused here
-        check_output(out, directory=kind == "zarr")
+    check_dataset_output(args.out, args.no_compress)
     if args.chunks is not None and args.chunks < 1:
         raise UsageError(f"--chunks must be >= 1, got {args.chunks}")
     if args.scheduler is not None and args.chunks is None:
@@ -216,13 +215,5 @@ def run(args: argparse.Namespace) -> int:
         ds = compute_on(args.scheduler, build, args.chunks, args.progress)
     else:
         ds = build(args.chunks, args.progress)
-    if to_stdout:
-        sweeps.write_csv_stream(ds, sys.stdout)
-        sys.stdout.flush()
-        return 0
-    try:
-        points = sweeps.write_dataset(ds, out)
-    except OSError as exc:
-        raise WriteError(out, exc) from None
-    print(f"wrote {out} ({points} points)", file=sys.stderr)
+    write_dataset_output(ds, args.out, args.no_compress)
     return 0

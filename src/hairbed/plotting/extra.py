@@ -38,7 +38,7 @@ _TABLE = ((-1.5, 0.9), (-1.0, 0.95), (-0.5, 0.99))
 def _window(eps: float, theta0: float) -> tuple[float, float]:
     """Bistable window of omega^2, (lower, upper) (NaNs when there is none)."""
     w = hairbed.branches.bistable_window(eps, theta0)
-    return w.lower, w.upper
+    return float(w.lower), float(w.upper)
 
 
 @styled

@@ -16,6 +16,14 @@ active: the threaded one by default, a ``dask.distributed`` cluster when a ``Cli
 exists. The kernels work element by element, so a chunked sweep is bitwise the eager one,
 and both are bitwise :func:`hairbed.solve` at the same points.
 
+:func:`bistability_map` maps the exact bistable window (the folds of the physical branch,
+:func:`hairbed.branches.bistable_window`) over a grid of (theta0, eps): exact at every cell,
+where a grid of omega^2 misses the windows narrower than its step near the cusp.
+
+:func:`parse_spec` reads the SPEC of an axis or a path, as ``hairbed sweep`` takes them: a
+value, a comma list, ``start:stop:num[:log]``, or for a quasi-static path
+``start:stop:num:updown``, a ramp up and back down (:mod:`hairbed._specs`).
+
 :func:`write_dataset` writes a sweep as netCDF (``.nc``), a zarr store (``.zarr``), a long
 CSV table (``.csv``, one row per grid point, units in the header) or parquet (``.parquet``,
 units in the schema metadata), always whole or not at all (:mod:`hairbed.safe_files`);
@@ -40,7 +48,9 @@ True
 
 from __future__ import annotations
 
+from .._specs import parse_spec
 from ._attributes import ATTRS, BED_ATTRS, DIMS, VARIABLES
+from ._bistable import MAP_DIMS, MAP_VARIABLES, bistability_map
 from ._files import FORMATS, output_format, read_table, write_csv_stream, write_dataset
 from ._grid import bed_sweep, path_dataset, sweep
 
@@ -49,10 +59,14 @@ __all__ = [
     "BED_ATTRS",
     "DIMS",
     "FORMATS",
+    "MAP_DIMS",
+    "MAP_VARIABLES",
     "PROGRESS_DELAY",
     "VARIABLES",
     "bed_sweep",
+    "bistability_map",
     "output_format",
+    "parse_spec",
     "path_dataset",
     "read_table",
     "sweep",

@@ -23,8 +23,11 @@ class Progress:
     (a distributed worker) reports nothing: its stderr is not the user's.
     """
 
-    def __init__(self, total: int, delay: float | None = None) -> None:
+    def __init__(
+        self, total: int, delay: float | None = None, desc: str = "hairbed sweep"
+    ) -> None:
         self.total = int(total)
+        self.desc = desc
         self.delay = _delay() if delay is None else delay
         self._lock = threading.Lock()
         self._bar: Any = None
@@ -44,7 +47,7 @@ class Progress:
                     unit_scale=True,
                     delay=self.delay,
                     file=sys.stderr,
-                    desc="hairbed sweep",
+                    desc=self.desc,
                     dynamic_ncols=True,
                 )
 

@@ -1,0 +1,109 @@
+"""The SPEC of a grid axis or a forcing path, parsed in one place (``hairbed sweep``'s axes,
+``--quasistatic``, ``hairbed bistability --map`` and :func:`hairbed.quasistatic.sweep_with_jumps`).
+
+A SPEC is one of
+
+- a number: ``0.5`` (a scalar);
+- a comma list: ``0.1,0.5,2`` (the values in the order given);
+- ``start:stop:num``: num points from start to stop, both included, evenly spaced;
+  ``start:stop:num:lin`` says the same;
+- ``start:stop:num:log``: num points spaced geometrically (positive bounds);
+- ``start:stop:num:updown`` (or ``start:stop:num:log:updown``): a ramp from start to stop
+  and back to start, the 2 num - 1 points of the ramp out (num points, lin or log) then the
+  same values back in reverse, the turning point ``stop`` once. A *path* of forcing for a
+  quasi-static sweep (a hysteresis loop from one spec); a grid axis refuses it (its values
+  repeat).
+
+Negative numbers are values (``-1.2:1.2:25``). Bad text is a ValueError naming the option and
+saying which field is wrong.
+
+Examples
+--------
+>>> parse_spec("0.4:0.6:3:updown", "--omega2", path=True).tolist()
+[0.4, 0.5, 0.6, 0.5, 0.4]
+>>> parse_spec("1:100:3:log", "--omega2").tolist()
+[1.0, 10.0, 100.0]
+>>> parse_spec("0.5", "--eps")
+0.5
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["SPEC_FORMS", "parse_spec"]
+
+#: The forms of a SPEC, as error messages name them.
+SPEC_FORMS = "a number, a comma list or start:stop:num[:log]"
+#: ... and with the ramp of a path.
+PATH_FORMS = "a number, a comma list or start:stop:num[:log][:updown]"
+
+
+def _ramp(
+    start: float, stop: float, num: int, spacing: str, name: str, text: str
+) -> NDArray[np.float64]:
+    if spacing == "log":
+        if start <= 0 or stop <= 0:
+            raise ValueError(f"{name}: a log range needs positive bounds, got {text!r}")
+        return np.geomspace(start, stop, num)
+    return np.linspace(start, stop, num)
+
+
+def parse_spec(text: str, name: str, *, path: bool = False) -> float | NDArray[np.float64]:
+    """The values of a SPEC (module docstring): a float, or a 1-D float64 array.
+
+    Parameters
+    ----------
+    text : str
+        The SPEC.
+    name : str
+        The option or parameter it was given as, named by the errors (``"--omega2"``).
+    path : bool
+        Whether an up-and-down ramp (``:updown``) is allowed: True for a path of forcing
+        (``--quasistatic``, :func:`hairbed.quasistatic.sweep_with_jumps`), False for a grid
+        axis.
+
+    Raises
+    ------
+    ValueError
+        Naming ``name``, the forms allowed and the field that is wrong.
+    TypeError
+        If ``text`` is not a str.
+    """
+    if not isinstance(text, str):
+        raise TypeError(f"{name} must be a SPEC string, got {type(text).__name__}")
+    form = PATH_FORMS if path else SPEC_FORMS
+    parts = [p.strip() for p in text.split(":")]
+    try:
+        if len(parts) == 1:
+            items = text.split(",")
+            if len(items) == 1:
+                return float(items[0])
+            return np.array([float(p) for p in items])
+        if len(parts) not in (3, 4, 5):
+            raise ValueError
+        start, stop, num = float(parts[0]), float(parts[1]), int(parts[2])
+    except ValueError:
+        raise ValueError(f"{name} must be {form}, got {text!r}") from None
+    words = [p.lower() for p in parts[3:]]
+    updown = bool(words) and words[-1] == "updown"
+    if updown:
+        words.pop()
+    if len(words) > 1 or (words and words[0] not in ("lin", "log")):
+        raise ValueError(
+            f"{name}: the fourth field of start:stop:num:log is 'log' or 'lin'"
+            + (" (then optionally 'updown')" if path else "")
+            + f", got {text!r}"
+        )
+    if updown and not path:
+        raise ValueError(
+            f"{name}: :updown makes a path (up then down, values repeated), not a grid axis; "
+            "use it with --quasistatic (or hairbed.quasistatic.sweep_with_jumps)"
+        )
+    if num < 1:
+        raise ValueError(f"{name}: num in start:stop:num must be >= 1, got {num}")
+    ramp = _ramp(start, stop, num, words[0] if words else "lin", name, text)
+    if updown:
+        return np.concatenate([ramp, ramp[-2::-1]])
+    return ramp
