@@ -59,6 +59,7 @@ FALLBACKS = {
     ("bench", "n"): "1e5",
     ("bench", "rows"): "all",
     ("sweep", "out"): "CSV",
+    ("bistability", "out"): "CSV",  # test_bistability_map: CSV on stdout without --out
     ("solve", "root"): "inside",  # "inside a bistable window, all of them"
 }
 

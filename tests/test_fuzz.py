@@ -486,6 +486,18 @@ TARGETS: list[Target] = [
         dict(bed=BED, velocity=[0.05, 0.1], root="low", chunks=None, progress=False),
     ),
     Target("sweeps.output_format", sweeps.output_format, dict(path="grid.nc")),
+    Target(
+        "sweeps.bistability_map",
+        sweeps.bistability_map,
+        dict(theta0=[-1.5, -1.0], eps=[0.5, 0.95], progress=False),
+    ),
+    # the messages name the SPEC by ``name``: here the parameter's own name
+    Target(
+        "sweeps.parse_spec",
+        sweeps.parse_spec,
+        dict(text="0.8:1.6:5:updown", name="text", path=True),
+        fuzz=("text", "path"),
+    ),
     Target("HairBed.sweep", _method(BED, "sweep"), dict(velocity=[0.05, 0.1])),
 ]
 
@@ -685,6 +697,14 @@ COMMANDS: dict[str, tuple[list[str], tuple[str, ...]]] = {
     "bistability": (
         ["bistability", "--eps=0.9", "--theta0=-1.5"],
         ("--eps", "--theta0"),
+    ),
+    "bistability-map": (
+        ["bistability", "--map", "-1.5:-1:3", "0.5,0.95", "--out=map.nc"],
+        ("--out",),
+    ),
+    "sweep-updown": (
+        ["sweep", "--omega2=0.8:1.6:4:updown", "--eps=0.9", "--theta0=-1.5", "--quasistatic"],
+        ("--omega2",),
     ),
     "measure": (
         ["measure", "--tip-deflection=3e-4", "--sigma=1e-6", *BED_ARGS],

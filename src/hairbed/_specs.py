@@ -15,7 +15,8 @@ A SPEC is one of
   repeat).
 
 Negative numbers are values (``-1.2:1.2:25``). Bad text is a ValueError naming the option and
-saying which field is wrong.
+saying which field is wrong; so is a NaN or an infinity, and a num above 10^7. The values'
+ranges are the caller's to check (a negative omega^2, eps >= 1, ...).
 
 Examples
 --------
@@ -32,12 +33,22 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["SPEC_FORMS", "parse_spec"]
+from ._core.validation import check_flag
+
+__all__ = ["MAX_SPEC_POINTS", "SPEC_FORMS", "parse_spec"]
+
+#: The most points ``num`` of start:stop:num may ask for.
+MAX_SPEC_POINTS = 10_000_000
 
 #: The forms of a SPEC, as error messages name them.
 SPEC_FORMS = "a number, a comma list or start:stop:num[:log]"
 #: ... and with the ramp of a path.
 PATH_FORMS = "a number, a comma list or start:stop:num[:log][:updown]"
+
+
+def _finite(values: NDArray[np.float64], name: str, text: str) -> None:
+    if not np.all(np.isfinite(values)):
+        raise ValueError(f"{name} must hold finite numbers (not NaN or infinity), got {text!r}")
 
 
 def _ramp(
@@ -72,20 +83,23 @@ def parse_spec(text: str, name: str, *, path: bool = False) -> float | NDArray[n
         If ``text`` is not a str.
     """
     if not isinstance(text, str):
-        raise TypeError(f"{name} must be a SPEC string, got {type(text).__name__}")
+        raise TypeError(f"{name} must be a SPEC (a str), got {type(text).__name__}")
+    path = check_flag(path, "path")
     form = PATH_FORMS if path else SPEC_FORMS
     parts = [p.strip() for p in text.split(":")]
     try:
         if len(parts) == 1:
-            items = text.split(",")
-            if len(items) == 1:
-                return float(items[0])
-            return np.array([float(p) for p in items])
-        if len(parts) not in (3, 4, 5):
+            values = np.array([float(p) for p in text.split(",")])
+        elif len(parts) in (3, 4, 5):
+            start, stop, num = float(parts[0]), float(parts[1]), int(parts[2])
+            values = np.array([start, stop])
+        else:
             raise ValueError
-        start, stop, num = float(parts[0]), float(parts[1]), int(parts[2])
     except ValueError:
         raise ValueError(f"{name} must be {form}, got {text!r}") from None
+    _finite(values, name, text)
+    if len(parts) == 1:
+        return float(values[0]) if values.size == 1 else values
     words = [p.lower() for p in parts[3:]]
     updown = bool(words) and words[-1] == "updown"
     if updown:
@@ -103,6 +117,10 @@ def parse_spec(text: str, name: str, *, path: bool = False) -> float | NDArray[n
         )
     if num < 1:
         raise ValueError(f"{name}: num in start:stop:num must be >= 1, got {num}")
+    if num > MAX_SPEC_POINTS:
+        raise ValueError(
+            f"{name}: num in start:stop:num must be at most {MAX_SPEC_POINTS:.0e}, got {num}"
+        )
     ramp = _ramp(start, stop, num, words[0] if words else "lin", name, text)
     if updown:
         return np.concatenate([ramp, ramp[-2::-1]])
