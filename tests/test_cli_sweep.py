@@ -294,7 +294,7 @@ held = threading.Lock()
 threading.Thread(target=lambda: (held.acquire(), time.sleep(1e6)), daemon=True).start()
 
 
-def stuck(ds, path):  # a writer whose clean-up waits on a worker thread's lock, as netCDF's
+def stuck(ds, path, compress=True):  # clean-up waits on a worker thread's lock, as netCDF's
     with safe_files.atomic_path(path) as tmp:
         tmp.write_text("partial")
         print("writing", flush=True)
