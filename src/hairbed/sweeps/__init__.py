@@ -51,7 +51,14 @@ from __future__ import annotations
 from .._specs import parse_spec
 from ._attributes import ATTRS, BED_ATTRS, DIMS, VARIABLES
 from ._bistable import MAP_DIMS, MAP_VARIABLES, bistability_map
-from ._files import FORMATS, output_format, read_table, write_csv_stream, write_dataset
+from ._files import (
+    FORMATS,
+    NETCDF_COMPRESSION,
+    output_format,
+    read_table,
+    write_csv_stream,
+    write_dataset,
+)
 from ._grid import bed_sweep, path_dataset, sweep
 
 __all__ = [
@@ -61,6 +68,7 @@ __all__ = [
     "FORMATS",
     "MAP_DIMS",
     "MAP_VARIABLES",
+    "NETCDF_COMPRESSION",
     "PROGRESS_DELAY",
     "VARIABLES",
     "bed_sweep",
