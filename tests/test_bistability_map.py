@@ -202,3 +202,19 @@ def test_the_docs_and_help_warn_that_grids_miss_narrow_windows():
         body = " ".join((ROOT / doc).read_text(encoding="utf-8").split())
         assert "hairbed bistability --map" in body, doc
         assert "miss" in body and "narrow" in body, doc
+
+
+def test_the_map_shows_progress_on_long_work(monkeypatch, capsys):
+    sweeps = hairbed.sweeps
+    monkeypatch.setattr(sweeps, "PROGRESS_DELAY", 0.0)
+    ds = sweeps.bistability_map(
+        np.linspace(-1.5, -0.5, 70), np.linspace(0.5, 0.99, 70), progress=True
+    )
+    err = capsys.readouterr().err
+    assert "hairbed bistability" in err and "100%" in err and "4.90k" in err
+    assert int(ds["exists"].sum()) > 0
+    monkeypatch.setattr(sweeps, "PROGRESS_DELAY", 60.0)  # short work prints nothing
+    sweeps.bistability_map(THETA0, EPS, progress=True)
+    assert capsys.readouterr().err == ""
+    with pytest.raises(TypeError, match="progress must be True or False"):
+        sweeps.bistability_map(THETA0, EPS, progress=1)
