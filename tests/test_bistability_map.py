@@ -1,4 +1,4 @@
-"""The exact three-state region (issue 23, item 7): a grid of omega^2 undercounts it.
+"""The exact three-state region: a grid of omega^2 undercounts it, the map of folds does not.
 
 A sweep of 200 values of omega^2 over a (theta0, eps) grid, counting the cells where some
 omega^2 has three physical states, misses the windows narrower than its step near the cusp.

@@ -1,4 +1,4 @@
-"""netCDF output is compressed, losslessly (issue 23, item 10).
+"""netCDF output is compressed, losslessly, unless asked not to be.
 
 Before, a sweep's netCDF file was uncompressed (30 MB for a 310,000-point grid). Now
 ``write_dataset`` writes every data variable with zlib level 4 and the shuffle filter unless

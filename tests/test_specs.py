@@ -1,4 +1,4 @@
-"""One parser of SPECs, and a hysteresis loop from one spec (issue 23, item 8).
+"""One parser of SPECs, and a hysteresis loop from one spec (start:stop:num:updown).
 
 Before, an up-and-down ramp for ``--quasistatic`` was a hand-written comma list. Now
 ``START:STOP:NUM:updown`` is one (2 NUM - 1 points, the turning point once), parsed in one
