@@ -9,3 +9,19 @@ IDENTITY_ATOL = 1e-10
 #: Agreement with central finite differences of the code's own inversion (step ~1e-6 of the
 #: scale: truncation ~1e-12, rounding ~1e-10 relative, with a margin for slopes near folds).
 FINITE_DIFFERENCE_RTOL = 1e-6
+#: solve_loaded (issue 20) at pi = 0 against the closed form hairbed.solve: absolute on h1, x1,
+#: theta1, relative to max(1, |theta'(0)|) on the base curvature.
+LOADED_CLOSED_FORM_ATOL = 1e-12
+#: The base-moment identity theta'(0) = W h1 + Pi h1^2/2 on every state solve_loaded returns,
+#: relative to max(1, |theta'(0)|).
+LOADED_IDENTITY_RTOL = 1e-12
+#: The small-load limit x1 = W/3 + Pi/8: the fitted slope of log(remainder/x1) against
+#: log(load) is 2 within this.
+LOADED_LIMIT_SLOPE_ATOL = 0.05
+#: The error estimate is honest: |value(N) - value(2N)| <= this times the sum of the two
+#: estimates (each bounds its own error).
+LOADED_ESTIMATE_MARGIN = 1.0
+#: Against scipy.integrate.solve_bvp at tol 1e-12 (its own error is the larger part).
+LOADED_BVP_ATOL = 1e-8
+#: Against the independent mpmath reference tests/data/loaded_mpmath.json (issue 20 target).
+LOADED_REFERENCE_ATOL = 1e-10

@@ -37,6 +37,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
         sweeps,
         units,
     )
+    from ._core.loaded import LoadedState, solve_loaded
     from ._core.solution import Solution
     from ._core.solver import from_parameter, from_xi, solve, solve_all
     from ._warnings import CalibrationWarning, ModelValidityWarning, UnitsWarning
@@ -49,6 +50,7 @@ __all__ = [
     "CalibrationWarning",
     "HairBed",
     "HairState",
+    "LoadedState",
     "ModelValidityWarning",
     "Solution",
     "UnitsWarning",
@@ -65,6 +67,7 @@ __all__ = [
     "quasistatic",
     "rheology",
     "solve",
+    "solve_loaded",
     "sensitivity",
     "solve_all",
     "stability",
@@ -93,6 +96,8 @@ _LAZY_MODULES = frozenset(
 #: Names imported on first access: name -> submodule that defines it.
 _LAZY_NAMES = {
     "Solution": "_core.solution",
+    "LoadedState": "_core.loaded",
+    "solve_loaded": "_core.loaded",
     "from_parameter": "_core.solver",
     "from_xi": "_core.solver",
     "solve": "_core.solver",

@@ -7,7 +7,9 @@ Layers, each importing only from those before it:
   branch at its parameter, roots and folds, the closed-form shape);
 * ``solution``: :class:`Solution`, the typed result that holds a state's values;
 * ``solver``: the public wrappers (``solve``, ``solve_all``, ``from_parameter``,
-  ``from_xi``, ``fold_parameters``): validate, call a kernel, build a ``Solution``.
+  ``from_xi``, ``fold_parameters``): validate, call a kernel, build a ``Solution``;
+* ``loaded``: ``solve_loaded`` and its ``LoadedState``, a tip load plus a load per unit
+  height (the pressure and flow drives, issue 20) by Chebyshev collocation.
 
 Nothing here imports the lab modules (units, inverse, branches, ...) or the outer rooms
 (cli, plotting); ``tests/test_layering.py`` enforces this.
@@ -15,7 +17,17 @@ Nothing here imports the lab modules (units, inverse, branches, ...) or the oute
 
 from __future__ import annotations
 
+from .loaded import LoadedState, solve_loaded
 from .solution import Solution
 from .solver import fold_parameters, from_parameter, from_xi, solve, solve_all
 
-__all__ = ["Solution", "fold_parameters", "from_parameter", "from_xi", "solve", "solve_all"]
+__all__ = [
+    "LoadedState",
+    "Solution",
+    "fold_parameters",
+    "from_parameter",
+    "from_xi",
+    "solve",
+    "solve_all",
+    "solve_loaded",
+]

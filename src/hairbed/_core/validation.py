@@ -61,6 +61,10 @@ STATUS_MESSAGES: Mapping[int, str] = MappingProxyType(
         -4: "the data do not determine every free parameter (singular Jacobian)",
         -5: "not differentiable: the end t = -inf of a twirling branch (NaN)",
         -6: "improper input to the underlying solver",
+        -7: (
+            "no state reached from the start: Newton and the load continuation from rest "
+            "stopped (a fold on the way, or no state at these inputs)"
+        ),
     }
 )
 

@@ -1,0 +1,523 @@
+"""Chebyshev collocation of a hair under a tip load and a load per unit height (issue 20).
+
+    theta'' = -[W + Pi (h1 - z(s))] cos(theta),  z' = cos(theta),  x' = sin(theta),
+    theta(0) = theta0,  theta'(1) = 0,  z(0) = x(0) = 0,  h1 = z(1),
+
+with the loads W(h1), Pi(h1) of a drive (``DRIVE_PRESSURE``, ``DRIVE_FLOW``; theory.md §11).
+
+Discretisation. Chebyshev-Gauss-Lobatto nodes xi_j = -cos(pi j/N) on [-1, 1], mapped to
+s in [0, 1] by the exponential map s = expm1(a y)/expm1(a), y = (xi + 1)/2, which clusters the
+nodes at the base for the boundary layer of strong loads (a = 0 is the plain affine map; the
+wrapper picks a from the load). The unknowns are theta at the N + 1 nodes and h1. The rows:
+theta_0 = theta0; the ODE at the interior nodes, with z = I_s cos(theta) by the spectral
+integration matrix; theta'(1) = 0 by the differentiation matrix; h1 = z(1). The
+differentiation and integration matrices in xi are built once per N by the wrapper
+(``hairbed._core.loaded``) and passed in; the map enters as diagonal scalings.
+
+Newton with the exact Jacobian (the drive's dW/dh1 and dPi/dh1 included), a backtracking line
+search on the squared residual, at most ``MAXITER`` iterations, the linear systems by an
+in-place LU with partial pivoting on preallocated arrays (no allocation per step). A ladder of
+N (each level started from the interpolant of the previous one) stops at the first level whose
+Chebyshev tail of theta (the sum of the moduli of its last three coefficients) is within the
+tolerance; that tail is the error estimate.
+
+Status codes (``hairbed._core.validation.STATUS_MESSAGES``): 0 converged within the tolerance;
+3 converged, but the tail at the largest N misses the tolerance; -2 iteration limit; -3
+singular Newton matrix or no descent; -7 no state from this start (the iterate left the
+physical range: |theta| > 10, h1 outside [-1, 1] or the gap 1 - eps h1 closed).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import kernel
+
+__all__ = [
+    "DRIVE_FLOW",
+    "DRIVE_PRESSURE",
+    "MAXITER",
+    "NCOLS",
+    "STATUS_BREAKDOWN",
+    "STATUS_INACCURATE",
+    "STATUS_LOST",
+    "STATUS_MAXITER",
+    "drive_loads",
+    "solve_loaded_array",
+]
+
+DRIVE_PRESSURE = 0
+DRIVE_FLOW = 1
+MAXITER = 60
+#: The rounding part of the error estimate, ROUNDING N^2 max(1, |theta|) (measured: the
+#: collocation's differences between N and 2N at rounding level grow like N^2).
+ROUNDING = 1e-15
+#: The most steps of the load continuation that follows a failed Newton iteration.
+MAX_CONTINUATION = 200
+STATUS_INACCURATE = 3
+STATUS_MAXITER = -2
+STATUS_BREAKDOWN = -3
+STATUS_LOST = -7
+#: Output columns of :func:`solve_loaded_array`: status, nit, num, a, h1, x1, theta1,
+#: theta'(0), W, Pi, error estimate, residual.
+NCOLS = 12
+#: A Newton step below this (max norm over theta and h1) ends the iteration.
+_XTOL = 1e-12
+#: Steps below this are taken whole, without the line search (rounding-level merit).
+_FULL_STEP = 1e-7
+
+
+@kernel
+def drive_loads(code, omega2, eps, load, h):
+    """(W, Pi, dW/dh1, dPi/dh1) of the drive ``code`` at tip height h (``load`` is pi or q)."""
+    u = 1.0 - eps * h
+    if code == DRIVE_PRESSURE:
+        w = omega2 / u
+        dw = omega2 * eps / (u * u)
+        if load != 0.0:  # eps > 0 here (validated)
+            w += 0.5 * load * (1.0 / eps - h)
+            dw -= 0.5 * load
+        return w, load, dw, 0.0
+    # flow drive: W = q/u^2 - 2 omega2/u, Pi = 2 eps q/u^3 - 6 eps omega2/u^2
+    u2 = u * u
+    u3 = u2 * u
+    w = load / u2 - 2.0 * omega2 / u
+    p = 2.0 * eps * load / u3 - 6.0 * eps * omega2 / u2
+    dw = eps * (2.0 * load / u3 - 2.0 * omega2 / u2)
+    dp = eps * eps * (6.0 * load / (u3 * u) - 12.0 * omega2 / u3)
+    return w, p, dw, dp
+
+
+@kernel
+def _map(a, num, nodes, sp, ss):
+    """s, ds/dxi at the first num + 1 entries of ``nodes`` into ss, sp (exponential map)."""
+    if a == 0.0:
+        for j in range(num + 1):
+            ss[j] = 0.5 * (nodes[j] + 1.0)
+            sp[j] = 0.5
+        return
+    e = math.expm1(a)
+    for j in range(num + 1):
+        y = 0.5 * (nodes[j] + 1.0)
+        ss[j] = math.expm1(a * y) / e
+        sp[j] = 0.5 * a * math.exp(a * y) / e
+    ss[0] = 0.0
+    ss[num] = 1.0
+
+
+@kernel
+def _operators(num, d1, d2, im, sp, a, dd, ii):
+    """The mapped operators of one state at one level: dd rows 1 .. N - 1 the second
+    derivative in s (d2/ds2 = (D2 - (a/2) D)/s'^2, as s''/s' = a/2), row N the first
+    (D/s'); ii = I diag(s'), the integration in s from the base."""
+    half_a = 0.5 * a
+    for i in range(num + 1):
+        inv = 1.0 / sp[i]
+        for j in range(num + 1):
+            ii[i, j] = im[i, j] * sp[j]
+            if i == num:
+                dd[i, j] = d1[i, j] * inv
+            else:
+                dd[i, j] = (d2[i, j] - half_a * d1[i, j]) * inv * inv
+
+
+@kernel
+def _lu_solve(mat, rhs, piv, m):
+    """Solve mat[:m, :m] x = rhs[:m] in place (x into rhs); False if a pivot vanishes."""
+    for k in range(m):
+        p = k
+        big = abs(mat[k, k])
+        for i in range(k + 1, m):
+            v = abs(mat[i, k])
+            if v > big:
+                big = v
+                p = i
+        if big == 0.0 or not math.isfinite(big):
+            return False
+        piv[k] = p
+        if p != k:
+            for j in range(m):
+                t = mat[k, j]
+                mat[k, j] = mat[p, j]
+                mat[p, j] = t
+            t = rhs[k]
+            rhs[k] = rhs[p]
+            rhs[p] = t
+        inv = 1.0 / mat[k, k]
+        for i in range(k + 1, m):
+            f = mat[i, k] * inv
+            if f != 0.0:
+                mat[i, k] = f
+                for j in range(k + 1, m):
+                    mat[i, j] -= f * mat[k, j]
+                rhs[i] -= f * rhs[k]
+    for i in range(m - 1, -1, -1):
+        acc = rhs[i]
+        for j in range(i + 1, m):
+            acc -= mat[i, j] * rhs[j]
+        rhs[i] = acc / mat[i, i]
+    return True
+
+
+@kernel
+def _residual(u, num, dd, ii, theta0, code, omega2, eps, load, cs, sn, z, res):
+    """The residual of the collocation system at u (theta at the nodes, then h1) into res;
+    returns (sum of squares, W, Pi, dW, dPi). dd, ii: the mapped operators
+    (:func:`_operators`); cs, sn, z: cos, sin and z at the nodes."""
+    n1 = num + 1
+    h = u[n1]
+    for j in range(n1):
+        cs[j] = math.cos(u[j])
+        sn[j] = math.sin(u[j])
+    for i in range(n1):
+        acc = 0.0
+        for j in range(n1):
+            acc += ii[i, j] * cs[j]
+        z[i] = acc
+    w, p, dw, dp = drive_loads(code, omega2, eps, load, h)
+    res[0] = u[0] - theta0
+    # the operators annihilate constants: relative to theta at the tip, the products round
+    # on the deflection's size, not the angle's
+    ref = u[num]
+    for i in range(1, num):
+        a2 = 0.0
+        for j in range(n1):
+            a2 += dd[i, j] * (u[j] - ref)
+        res[i] = a2 + (w + p * (h - z[i])) * cs[i]
+    a1 = 0.0
+    for j in range(n1):
+        a1 += dd[num, j] * (u[j] - ref)
+    res[num] = a1
+    res[n1] = h - z[num]
+    ss = 0.0
+    for i in range(n1 + 1):
+        ss += res[i] * res[i]
+    return ss, w, p, dw, dp
+
+
+@kernel
+def _jacobian(u, num, dd, ii, cs, sn, z, w, p, dw, dp, jac):
+    """The exact Jacobian of :func:`_residual` at u into jac (cs, sn, z from that call)."""
+    n1 = num + 1
+    h = u[n1]
+    for j in range(n1 + 1):
+        jac[0, j] = 0.0
+    jac[0, 0] = 1.0
+    for i in range(1, num):
+        pc = p * cs[i]
+        for j in range(n1):
+            jac[i, j] = dd[i, j] + pc * ii[i, j] * sn[j]
+        jac[i, i] -= (w + p * (h - z[i])) * sn[i]
+        jac[i, n1] = (dw + dp * (h - z[i]) + p) * cs[i]
+    for j in range(n1):
+        jac[num, j] = dd[num, j]
+        jac[n1, j] = ii[num, j] * sn[j]
+    jac[num, n1] = 0.0
+    jac[n1, n1] = 1.0
+
+
+@kernel
+def _newton(u, num, dd, ii, theta0, code, omega2, eps, load, work, jac, piv, nit0, maxiter):
+    """Damped Newton on the collocation system from u (updated in place).
+
+    Returns (status, iterations, max |residual|). ``work`` is (6, >= num + 2).
+    """
+    n1 = num + 1
+    m = n1 + 1
+    cs, sn, z, res, step, trial = work[0], work[1], work[2], work[3], work[4], work[5]
+    f, w, p, dw, dp = _residual(u, num, dd, ii, theta0, code, omega2, eps, load, cs, sn, z, res)
+    for it in range(maxiter):
+        if not math.isfinite(f):
+            return STATUS_BREAKDOWN, nit0 + it, math.nan
+        _jacobian(u, num, dd, ii, cs, sn, z, w, p, dw, dp, jac)
+        for i in range(m):
+            step[i] = -res[i]
+        if not _lu_solve(jac, step, piv, m):
+            return STATUS_BREAKDOWN, nit0 + it, math.nan
+        big = 0.0
+        for i in range(m):
+            big = max(big, abs(step[i]))
+        if not math.isfinite(big):
+            return STATUS_BREAKDOWN, nit0 + it, math.nan
+        lam = 1.0
+        if big > _FULL_STEP:
+            # limit a wild step (one radian of angle, a tenth of the height), then backtrack
+            lam = min(1.0, 1.0 / big, 0.1 / max(abs(step[n1]), 1e-300))
+        while True:
+            for i in range(m):
+                trial[i] = u[i] + lam * step[i]
+            ht = trial[n1]
+            if 1.0 - eps * ht <= 0.0:
+                ft = math.inf
+            else:
+                ft, w, p, dw, dp = _residual(
+                    trial, num, dd, ii, theta0, code, omega2, eps, load, cs, sn, z, res
+                )
+            if big <= _FULL_STEP or ft <= (1.0 - 1e-4 * lam) * f:
+                break
+            lam *= 0.5
+            if lam < 1e-6:
+                return STATUS_BREAKDOWN, nit0 + it + 1, math.sqrt(f)
+        for i in range(m):
+            u[i] = trial[i]
+        f = ft
+        if abs(u[n1]) > 1.0 + 1e-9 or 1.0 - eps * u[n1] <= 0.0:
+            return STATUS_LOST, nit0 + it + 1, math.nan
+        for j in range(n1):
+            if abs(u[j]) > 10.0:
+                return STATUS_LOST, nit0 + it + 1, math.nan
+        if lam * big <= _XTOL:
+            rmax = 0.0
+            for i in range(m):
+                rmax = max(rmax, abs(res[i]))
+            return 0, nit0 + it + 1, rmax
+    return STATUS_MAXITER, nit0 + maxiter, math.sqrt(f)
+
+
+@kernel
+def _continuation(u, keep, num, dd, ii, theta0, code, omega2, eps, load, work, jac, piv, nit0):
+    """Newton along the load factor lam from 0 (the hair at rest) to 1: (omega2, pi or q)
+    scaled by lam scales both loads, W and Pi, of either drive. A secant predictor, the step
+    grown after an easy corrector and cut after a failed one; at most ``MAX_CONTINUATION``
+    steps. Ends with the state at lam = 1 in u, or a failure status. keep is (3, num + 2)."""
+    m = num + 2
+    prev = keep[1]
+    last = keep[2]
+    for j in range(num + 1):
+        last[j] = theta0
+    last[num + 1] = math.cos(theta0)
+    for j in range(m):
+        prev[j] = last[j]
+    lam = 0.0
+    lam_prev = 0.0
+    dlam = 0.125
+    nit = nit0
+    status = STATUS_BREAKDOWN
+    rmax = math.nan
+    for _ in range(MAX_CONTINUATION):
+        target = min(1.0, lam + dlam)
+        slope = (target - lam) / (lam - lam_prev) if lam > lam_prev else 0.0
+        for j in range(m):
+            u[j] = last[j] + slope * (last[j] - prev[j])
+        status, nit, rmax = _newton(
+            u,
+            num,
+            dd,
+            ii,
+            theta0,
+            code,
+            target * omega2,
+            eps,
+            target * load,
+            work,
+            jac,
+            piv,
+            nit,
+            12,
+        )
+        if status == 0:
+            for j in range(m):
+                prev[j] = last[j]
+                last[j] = u[j]
+            lam_prev = lam
+            lam = target
+            if lam >= 1.0:
+                return 0, nit, rmax
+            dlam *= 2.0
+        else:
+            dlam *= 0.25
+            if dlam < 1e-6:
+                return STATUS_LOST, nit, math.nan
+    return STATUS_MAXITER, nit, math.nan
+
+
+@kernel
+def _coefficients(vals, num, cmat, coef):
+    """Chebyshev coefficients coef[:num + 1] of the node values vals (cmat values -> coef)."""
+    for k in range(num + 1):
+        acc = 0.0
+        for j in range(num + 1):
+            acc += cmat[k, j] * vals[j]
+        coef[k] = acc
+
+
+@kernel
+def _clenshaw(coef, num, x):
+    """sum_k coef[k] T_k(x), k = 0 .. num."""
+    b1 = 0.0
+    b2 = 0.0
+    for k in range(num, 0, -1):
+        b0 = 2.0 * x * b1 - b2 + coef[k]
+        b2 = b1
+        b1 = b0
+    return x * b1 - b2 + coef[0]
+
+
+@kernel
+def solve_loaded_array(
+    code,
+    omega2,
+    eps,
+    load,
+    theta0,
+    a,
+    start,
+    h_start,
+    nums,
+    nodes,
+    d1s,
+    d2s,
+    ims,
+    cms,
+    rtol,
+    out,
+    coefs,
+):
+    """Solve every element: the collocation system on the ladder of N ``nums``.
+
+    ``start`` (size, nums[0] + 1): theta at the mapped nodes of the first level, ``h_start``
+    the start's h1; ``a`` the map parameter of each element. ``nodes``, ``d1s``, ``d2s``,
+    ``ims``, ``cms`` hold per level (padded to the largest N): the nodes in xi, the first and
+    second differentiation matrices, the integration matrix from xi = -1, and the matrix from
+    node values to Chebyshev coefficients. Writes ``out`` (NCOLS, size) and the Chebyshev
+    coefficients in xi of theta, x and z into ``coefs`` (3, size, largest N + 1).
+    """
+    levels = nums.size
+    nmax = nums[levels - 1]
+    for lev in range(levels):
+        nmax = max(nmax, nums[lev])
+    m = nmax + 2
+    work = np.empty((6, m))
+    jac = np.empty((m, m))
+    piv = np.empty(m, dtype=np.int64)
+    u = np.empty(m)
+    sp = np.empty(nmax + 1)
+    ss = np.empty(nmax + 1)
+    coef = np.empty(nmax + 1)
+    vals = np.empty(nmax + 1)
+    keep = np.empty((3, m))
+    dd = np.empty((nmax + 1, nmax + 1))
+    ii = np.empty((nmax + 1, nmax + 1))
+    for e in range(omega2.size):
+        num = nums[0]
+        for j in range(num + 1):
+            u[j] = start[e, j]
+        u[num + 1] = h_start[e]
+        nit = 0
+        status = 0
+        rmax = math.nan
+        tail = math.nan
+        rounding = 0.0
+        lev_done = 0
+        for lev in range(levels):
+            num = nums[lev]
+            if lev > 0:  # the previous level's interpolant at this level's nodes
+                prev = nums[lev - 1]
+                h = u[prev + 1]
+                _coefficients(u, prev, cms[lev - 1], coef)
+                for j in range(num + 1):
+                    vals[j] = _clenshaw(coef, prev, nodes[lev, j])
+                for j in range(num + 1):
+                    u[j] = vals[j]
+                u[num + 1] = h
+            _map(a[e], num, nodes[lev], sp, ss)
+            _operators(num, d1s[lev], d2s[lev], ims[lev], sp, a[e], dd, ii)
+            for j in range(num + 2):
+                keep[0, j] = u[j]
+            status, nit, rmax = _newton(
+                u,
+                num,
+                dd,
+                ii,
+                theta0[e],
+                code,
+                omega2[e],
+                eps[e],
+                load[e],
+                work,
+                jac,
+                piv,
+                nit,
+                MAXITER,
+            )
+            if status != 0 and lev == 0:
+                # continuation in the load factor from the hair at rest
+                status, nit, rmax = _continuation(
+                    u,
+                    keep,
+                    num,
+                    dd,
+                    ii,
+                    theta0[e],
+                    code,
+                    omega2[e],
+                    eps[e],
+                    load[e],
+                    work,
+                    jac,
+                    piv,
+                    nit,
+                )
+            lev_done = lev
+            if status != 0:
+                break
+            _coefficients(u, num, cms[lev], coef)
+            tail = abs(coef[num]) + abs(coef[num - 1]) + abs(coef[num - 2])
+            big = 1.0
+            for j in range(num + 1):
+                big = max(big, abs(u[j]))
+            rounding = ROUNDING * num * num * big
+            if tail <= rtol:
+                break
+        num = nums[lev_done]
+        if status == 0 and tail > rtol:
+            status = STATUS_INACCURATE
+        out[0, e] = status
+        out[1, e] = nit
+        out[2, e] = num
+        out[3, e] = a[e]
+        for c in range(3):
+            for k in range(nmax + 1):
+                coefs[c, e, k] = math.nan if status < 0 else 0.0
+        if status < 0:
+            for c in range(4, NCOLS):
+                out[c, e] = math.nan
+            continue
+        h = u[num + 1]
+        w, p, _, _ = drive_loads(code, omega2[e], eps[e], load[e], h)
+        cm = cms[lev_done]
+        # x and z at the nodes
+        x1 = 0.0
+        for j in range(num + 1):
+            x1 += ii[num, j] * math.sin(u[j])
+        # theta'(0) = int_0^1 [W + Pi (h1 - z)] cos(theta) ds (the ODE integrated once, by
+        # the quadrature of the integration matrix's last row)
+        quad = 0.0
+        for j in range(num + 1):
+            zj = 0.0
+            for k in range(num + 1):
+                zj += ii[j, k] * math.cos(u[k])
+            quad += ii[num, j] * (w + p * (h - zj)) * math.cos(u[j])
+        out[4, e] = h
+        out[5, e] = x1
+        out[6, e] = u[num]
+        out[7, e] = quad
+        out[8, e] = w
+        out[9, e] = p
+        out[10, e] = tail + rounding
+        out[11, e] = rmax
+        _coefficients(u, num, cm, coef)
+        for k in range(num + 1):
+            coefs[0, e, k] = coef[k]
+        for c in range(2):
+            for i in range(num + 1):
+                acc = 0.0
+                for j in range(num + 1):
+                    g = math.sin(u[j]) if c == 0 else math.cos(u[j])
+                    acc += ii[i, j] * g
+                vals[i] = acc
+            _coefficients(vals, num, cm, coef)
+            for k in range(num + 1):
+                coefs[1 + c, e, k] = coef[k]

@@ -1,0 +1,454 @@
+"""A hair under a tip load and a load per unit height: the pressure and flow drives (issue 20).
+
+:func:`solve_loaded` validates, builds a closed-form start, hands whole arrays to the
+compiled Chebyshev collocation of ``_kernels.spectral`` and wraps its columns in a
+:class:`LoadedState`. The model and the method are in theory.md §11.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .outputs import scalar_or_array
+from .solution import Solution
+from .solver import _solve_checked
+from .validation import (
+    HALF_PI,
+    STATUS_MESSAGES,
+    _check_range,
+    _first_index,
+    as_float_array,
+    broadcast_named,
+    check_int,
+    check_positive,
+    check_root,
+    status_messages,
+)
+
+__all__ = ["LADDER", "LoadedState", "solve_loaded"]
+
+FloatArray = NDArray[np.float64]
+Value = float | FloatArray
+IntValue = int | NDArray[np.int64]
+
+#: The default ladder of Chebyshev degrees N: each level starts from the previous one's
+#: interpolant, and the first whose tail meets the tolerance ends the solve.
+LADDER = (32, 64, 128)
+#: The map parameter a = max(0, ln(sqrt(|W| + |Pi|) / _MAP_SCALE)) from the start's loads.
+_MAP_SCALE = 3.0
+#: The fixed-point steps on h1 that set the closed-form start of a loaded state.
+_START_STEPS = 4
+_DRIVES = {"pressure": 0, "flow": 1}
+_spectral: Any = None
+
+
+def _kernels() -> Any:
+    """The kernel module, imported (compiled or loaded from the cache) on first use."""
+    global _spectral
+    if _spectral is None:
+        from ._kernels import spectral
+
+        _spectral = spectral
+    return _spectral
+
+
+@functools.lru_cache(maxsize=16)
+def _matrices(num: int) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """(nodes, D, D^2, I, C) in xi on [-1, 1] at the N + 1 Chebyshev-Gauss-Lobatto nodes
+    xi_j = -cos(pi j/N): differentiation, its square, integration from -1, and the map from
+    node values to Chebyshev coefficients. Built once per N."""
+    j = np.arange(num + 1)
+    x = -np.cos(np.pi * j / num)
+    x[num // 2] = 0.0 if num % 2 == 0 else x[num // 2]
+    w = (-1.0) ** j
+    w[0] *= 0.5
+    w[-1] *= 0.5
+    dx = x[:, None] - x[None, :]
+    np.fill_diagonal(dx, 1.0)
+    d = (w[None, :] / w[:, None]) / dx
+    np.fill_diagonal(d, 0.0)
+    np.fill_diagonal(d, -d.sum(axis=1))
+    d2 = d @ d
+    np.fill_diagonal(d2, 0.0)
+    np.fill_diagonal(d2, -d2.sum(axis=1))  # the second derivative of a constant is 0 too
+    k = np.arange(num + 1)
+    # T_k(x_j) = cos(k (pi - pi j/N))
+    vand = np.cos(np.outer(np.pi - np.pi * j / num, k))
+    half = np.ones(num + 1)
+    half[0] = half[-1] = 0.5
+    cmat = (2.0 / num) * (vand * half[:, None]).T * half[:, None]
+    # antiderivatives from -1 of T_k at the nodes
+    theta = np.pi - np.pi * j / num
+    anti = np.empty((num + 1, num + 1))
+    anti[:, 0] = x + 1.0
+    anti[:, 1] = 0.5 * (x * x - 1.0)
+    for kk in range(2, num + 1):
+        up = (np.cos((kk + 1) * theta) - (-1.0) ** (kk + 1)) / (kk + 1)
+        down = (np.cos((kk - 1) * theta) - (-1.0) ** (kk - 1)) / (kk - 1)
+        anti[:, kk] = 0.5 * (up - down)
+    imat = anti @ cmat
+    return x, d, d2, imat, cmat
+
+
+@functools.lru_cache(maxsize=8)
+def _ladder(nums: tuple[int, ...]) -> tuple[Any, ...]:
+    """The kernel's per-level arrays of a ladder, padded to its largest N (built once)."""
+    top = max(nums) + 1
+    lv = len(nums)
+    nodes = np.zeros((lv, top))
+    mats = [np.zeros((lv, top, top)) for _ in range(4)]
+    for i, num in enumerate(nums):
+        x, *rest = _matrices(num)
+        nodes[i, : num + 1] = x
+        for m, r in zip(mats, rest):
+            m[i, : num + 1, : num + 1] = r
+    return (np.array(nums, dtype=np.int64), nodes, *mats)
+
+
+def _loads(code: int, omega2: Any, eps: Any, load: Any, h: Any) -> tuple[Any, Any]:
+    """(W, Pi) of a drive at tip height h, in numpy (the start; the kernel has its own)."""
+    u = 1.0 - eps * h
+    if code == 0:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            extra = np.where(
+                load != 0.0, 0.5 * load * (1.0 / np.where(eps > 0, eps, 1.0) - h), 0.0
+            )
+        return omega2 / u + extra, load + 0.0 * h
+    return load / u**2 - 2.0 * omega2 / u, 2.0 * eps * load / u**3 - 6.0 * eps * omega2 / u**2
+
+
+def _start(
+    code: int, w: FloatArray, e: FloatArray, ld: FloatArray, t0: FloatArray, root: str
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """The closed-form start of every element: (t, eps_s, theta0_s, mirror, h1) of the
+    physical-branch state of ``hairbed.solve`` whose tip load has the same effect.
+
+    At pi = 0 of the pressure drive that is the state of the same problem (omega2, eps,
+    theta0). Otherwise the tip load W(h1) + (3/8) Pi(h1) h1 (the uniform load's tip
+    deflection, Pi/8 against W/3), fed back through the closed form's own 1/(1 - eps h1), by
+    a few fixed-point steps on h1. A negative load is mirrored (theta0 -> -theta0).
+    """
+    exact = (code == 0) & (ld == 0.0)
+    h = np.cos(t0)
+    omega_s = np.abs(w)
+    mirror = np.where(w < 0.0, -1.0, 1.0)
+    sol = None
+    steps = 1 if np.all(exact) else _START_STEPS
+    for _ in range(steps):
+        big_w, big_p = _loads(code, w, e, ld, h)
+        weq = (1.0 - e * h) * (big_w + 0.375 * big_p * h)
+        weq = np.where(exact, w, weq)
+        weq = np.where(np.isfinite(weq), weq, 0.0)
+        mirror = np.where(weq < 0.0, -1.0, 1.0)
+        omega_s = np.minimum(np.abs(weq), 1e12)
+        sol = _solve_checked(omega_s, e, mirror * t0, root=root)
+        hn = np.asarray(sol.tip_height, dtype=np.float64)
+        h = np.where(np.isfinite(hn), hn, h)
+    assert sol is not None
+    t = np.asarray(sol.t, dtype=np.float64)
+    return t, e + 0.0 * t, mirror * t0, mirror, h
+
+
+def _map_parameter(code: int, w: Any, e: Any, ld: Any, h: Any) -> FloatArray:
+    big_w, big_p = _loads(code, w, e, ld, h)
+    scale = np.sqrt(np.abs(big_w) + np.abs(big_p))
+    with np.errstate(divide="ignore"):
+        a = np.log(scale / _MAP_SCALE)
+    return np.where(np.isfinite(a) & (a > 0.0), np.minimum(a, 30.0), 0.0)
+
+
+def _clenshaw(coef: FloatArray, x: FloatArray) -> FloatArray:
+    """sum_k coef[..., k] T_k(x[..., :]) for coefficients (..., K) and points (..., M)."""
+    b1 = np.zeros(x.shape)
+    b2 = np.zeros(x.shape)
+    for k in range(coef.shape[-1] - 1, 0, -1):
+        b1, b2 = 2.0 * x * b1 - b2 + coef[..., k, None], b1
+    return x * b1 - b2 + coef[..., 0, None]
+
+
+@dataclass(frozen=True, eq=False)
+class LoadedState:
+    """A state of a hair under a tip load W and a load per unit height Pi (theory.md §11).
+
+    Scalar inputs give float fields, array inputs arrays of the broadcast shape. Where no
+    state was found (``status`` < 0) every value field is NaN.
+
+    Attributes
+    ----------
+    drive : str
+        "pressure" (set pressure gradient pi) or "flow" (set flow rate q).
+    omega2 : float or ndarray
+        The paper's wall forcing omega^2 [-] (the moving top wall).
+    eps : float or ndarray
+        Confinement eps = L/H [-].
+    theta0 : float or ndarray
+        Base angle from the wall normal [rad].
+    pi : float or ndarray
+        Dimensionless pressure gradient pi = A G L^3/(E I) [-] (NaN for the flow drive).
+    q : float or ndarray
+        Dimensionless flow rate q = 6 A eta Q' L^2/(E I H^2) [-] (NaN for the pressure drive).
+    tip_height : float or ndarray
+        h1 = z(1) [L].
+    tip_deflection : float or ndarray
+        x1 = x(1) [L].
+    tip_angle : float or ndarray
+        theta(1) [rad].
+    base_curvature : float or ndarray
+        theta'(0) [1/L], = W h1 + Pi h1^2/2.
+    tip_load : float or ndarray
+        W at the state [-]: the load on the tip plane.
+    distributed_load : float or ndarray
+        Pi at the state [-]: the load per unit height inside the bed.
+    status : int or ndarray
+        0 converged within the tolerance; 3 converged, but the error estimate misses it; -1
+        no such state at the closed-form start (``root="mid"`` outside a window); -2
+        iteration limit; -3 singular Newton matrix or no descent; -7 no state from this start
+        (``STATUS_MESSAGES``).
+    error_estimate : float or ndarray
+        The Chebyshev tail of theta (sum of the moduli of its last three coefficients) [rad]:
+        an estimate of the error of theta, x and z.
+    residual : float or ndarray
+        The largest residual of the collocation equations at the returned state.
+    nit : int or ndarray
+        Newton iterations over every level of the ladder.
+    num : int or ndarray
+        The Chebyshev degree N of the returned state.
+    """
+
+    drive: str
+    omega2: Value
+    eps: Value
+    theta0: Value
+    pi: Value
+    q: Value
+    tip_height: Value
+    tip_deflection: Value
+    tip_angle: Value
+    base_curvature: Value
+    tip_load: Value
+    distributed_load: Value
+    status: IntValue
+    error_estimate: Value
+    residual: Value
+    nit: IntValue
+    num: IntValue
+    _map: FloatArray
+    _coefs: FloatArray
+
+    @property
+    def success(self) -> Any:
+        """True where the state converged within the tolerance (status 0)."""
+        return scalar_or_array(np.asarray(self.status) == 0)
+
+    @property
+    def message(self) -> str | list[Any]:
+        """``STATUS_MESSAGES`` of ``status`` (a nested list for arrays)."""
+        return status_messages(self.status, STATUS_MESSAGES)
+
+    @property
+    def shape_of_fields(self) -> tuple[int, ...]:
+        """Shape of the array fields (() for a single state)."""
+        return np.shape(self.tip_height)
+
+    def shape(self, s: ArrayLike) -> tuple[Any, Any, Any, Any]:
+        """The hair at arc lengths ``s``: (s, x, z, theta).
+
+        Parameters
+        ----------
+        s : array_like
+            Arc lengths in [0, 1] [L], the same for every state (1-d or scalar).
+
+        Returns
+        -------
+        s, x, z, theta : ndarray
+            x, z [L] and theta [rad] of shape ``self.shape_of_fields + s.shape`` (the
+            Chebyshev interpolants of the collocation, spectrally accurate between the nodes).
+        """
+        sv = as_float_array(s, "s")
+        bad = (sv < 0.0) | (sv > 1.0)
+        if np.any(bad):
+            raise ValueError(
+                f"s must lie in [0, 1], got {float(sv[bad].flat[0])!r}{_first_index(bad)}"
+            )
+        if sv.ndim > 1:
+            raise ValueError(f"s must be a scalar or 1-d, got shape {sv.shape}")
+        flat = np.atleast_1d(sv)
+        a = self._map.reshape(-1, 1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            y = np.where(
+                a > 0.0, np.log1p(flat[None, :] * np.expm1(a)) / np.where(a > 0, a, 1), flat
+            )
+        xi = 2.0 * y - 1.0
+        coefs = self._coefs.reshape(3, -1, self._coefs.shape[-1])
+        out = [_clenshaw(coefs[c], xi) for c in range(3)]
+        fs = self.shape_of_fields + flat.shape if sv.ndim else self.shape_of_fields
+        theta, x, z = (o.reshape(fs) for o in out)
+        return sv, scalar_or_array(x), scalar_or_array(z), scalar_or_array(theta)
+
+
+def _check_load(value: Any, name: str) -> FloatArray:
+    return as_float_array(value, name)
+
+
+def solve_loaded(
+    omega2: ArrayLike,
+    eps: ArrayLike,
+    theta0: ArrayLike = 0.0,
+    *,
+    pi: ArrayLike | None = None,
+    q: ArrayLike | None = None,
+    root: str = "low",
+    guess: Solution | None = None,
+    num: int | None = None,
+    rtol: float = 1e-12,
+) -> LoadedState:
+    """A hair under a tip load and a load per unit height, by Chebyshev collocation.
+
+    Solves theta'' = -[W + Pi (h1 - z)] cos(theta), theta(0) = theta0, theta'(1) = 0,
+    z' = cos(theta), h1 = z(1), with the loads of a drive (theory.md §11):
+
+    * pressure drive (``pi`` given, or neither): Pi = pi and
+      W = omega2/(1 - eps h1) + (pi/2)(1/eps - h1); pi = 0 is :func:`hairbed.solve`'s problem;
+    * flow drive (``q`` given), with u = 1 - eps h1: W = q/u^2 - 2 omega2/u and
+      Pi = 2 eps q/u^3 - 6 eps omega2/u^2.
+
+    Parameters
+    ----------
+    omega2 : array_like
+        Wall forcing omega^2 [-], finite (negative: the wall moves towards -x).
+    eps : array_like
+        Confinement eps = L/H [-], in [0, 1); > 0 where pi != 0.
+    theta0 : array_like, optional
+        Base angle [rad], in (-pi/2, pi/2). Default 0.
+    pi : array_like, optional
+        Dimensionless pressure gradient pi = A G L^3/(E I) [-], finite.
+    q : array_like, optional
+        Dimensionless flow rate q = 6 A eta Q' L^2/(E I H^2) [-], finite. At most one of
+        ``pi`` and ``q``.
+    root : {"low", "mid", "high"}, optional
+        The closed-form state Newton starts from (:func:`hairbed.solve`'s ``root``) where the
+        effective wall problem is bistable; at pi = 0 that is the state returned.
+    guess : Solution, optional
+        A closed-form state (of the broadcast shape, or a single one) to start from instead.
+    num : int, optional
+        A fixed Chebyshev degree N in [8, 512] instead of the ladder ``LADDER`` (32, 64, 128).
+    rtol : float, optional
+        Tolerance on the Chebyshev tail of theta [rad]; default 1e-12.
+
+    Returns
+    -------
+    LoadedState
+
+    Raises
+    ------
+    ValueError
+        For inputs outside their ranges (naming the parameter, its range and the first bad
+        index), both ``pi`` and ``q``, or pi != 0 with eps = 0.
+
+    Examples
+    --------
+    >>> import hairbed
+    >>> st = hairbed.solve_loaded(2.0, 0.5)
+    >>> round(st.tip_height, 12)
+    0.732706963462
+    """
+    if pi is not None and q is not None:
+        raise ValueError("give at most one of pi (pressure drive) and q (flow drive), got both")
+    drive = "flow" if q is not None else "pressure"
+    code = _DRIVES[drive]
+    w = as_float_array(omega2, "omega2")
+    e = as_float_array(eps, "eps")
+    t0 = as_float_array(theta0, "theta0")
+    _check_range(e, (e < 0.0) | (e >= 1.0), "eps", "[0, 1)")
+    _check_range(t0, np.abs(t0) >= HALF_PI, "theta0", "(-pi/2, pi/2)")
+    name = "q" if q is not None else "pi"
+    ld = _check_load(q if q is not None else (0.0 if pi is None else pi), name)
+    w, e, t0, ld = broadcast_named(("omega2", w), ("eps", e), ("theta0", t0), (name, ld))
+    if code == 0:
+        bad = (ld != 0.0) & (e == 0.0)
+        if np.any(bad):
+            raise ValueError(
+                f"pi != 0 needs eps > 0 (the gap flow's load W has (pi/2)/eps), got pi = "
+                f"{float(ld[bad].flat[0])!r} with eps = 0{_first_index(bad)}"
+            )
+    root = check_root(root)
+    tol = check_positive(rtol, "rtol")
+    nums = LADDER if num is None else (check_int(num, "num", 8, 512),)
+    shape = w.shape
+    wf, ef, tf, lf = (np.ascontiguousarray(v).reshape(-1) for v in (w, e, t0, ld))
+    if guess is None:
+        ts, es, ths, mirror, hs = _start(code, wf, ef, lf, tf, root)
+    else:
+        if not isinstance(guess, Solution):
+            raise TypeError(f"guess must be a hairbed.Solution, got {type(guess).__name__}")
+        ts, es, ths, hs = (
+            np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=np.float64), shape)).reshape(
+                -1
+            )
+            for v in (guess.t, guess.eps, guess.theta0, guess.tip_height)
+        )
+        mirror = np.ones(wf.size)
+    levels = _ladder(tuple(nums))
+    lev_nums, nodes = levels[0], levels[1]
+    a = _map_parameter(code, wf, ef, lf, hs)
+    n0 = int(lev_nums[0])
+    xi = nodes[0, : n0 + 1]
+    y = (xi + 1.0) / 2.0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        sig = np.where(
+            a[:, None] > 0.0,
+            np.expm1(a[:, None] * y[None, :]) / np.expm1(np.where(a > 0, a, 1.0))[:, None],
+            y[None, :],
+        )
+    sig = np.clip(sig, 0.0, 1.0)
+    sig[:, 0] = 0.0
+    sig[:, -1] = 1.0
+    start = np.empty((6, wf.size, n0 + 1))
+    from ._kernels import state as closed
+
+    ok = np.isfinite(ts)
+    tsafe = np.where(ok, ts, -np.inf)
+    closed.shape_array(tsafe, es, ths, 1, 0, np.ascontiguousarray(sig), start)
+    theta_start = np.ascontiguousarray(mirror[:, None] * start[0])
+    hs = np.where(ok, hs, np.cos(tf))
+    k = _kernels()
+    out = np.empty((k.NCOLS, wf.size))
+    top = int(max(nums)) + 1
+    coefs = np.empty((3, wf.size, top))
+    k.solve_loaded_array(code, wf, ef, lf, tf, a, theta_start, hs, *levels, tol, out, coefs)
+    status = out[0].astype(np.int64)
+    status = np.where(ok, status, -1)
+    vals = out.copy()
+    vals[4:, ~ok] = np.nan
+    coefs[:, ~ok, :] = np.nan
+    nan = np.full(shape, np.nan)
+
+    def col(i: int) -> Any:
+        return scalar_or_array(vals[i].reshape(shape))
+
+    return LoadedState(
+        drive=drive,
+        omega2=scalar_or_array(w),
+        eps=scalar_or_array(e),
+        theta0=scalar_or_array(t0),
+        pi=scalar_or_array(ld if code == 0 else nan),
+        q=scalar_or_array(ld if code == 1 else nan),
+        tip_height=col(4),
+        tip_deflection=col(5),
+        tip_angle=col(6),
+        base_curvature=col(7),
+        tip_load=col(8),
+        distributed_load=col(9),
+        status=scalar_or_array(status.reshape(shape)),
+        error_estimate=col(10),
+        residual=col(11),
+        nit=scalar_or_array(out[1].astype(np.int64).reshape(shape)),
+        num=scalar_or_array(out[2].astype(np.int64).reshape(shape)),
+        _map=a.reshape(shape),
+        _coefs=coefs.reshape((3, *shape, top)),
+    )
