@@ -8,6 +8,7 @@ compiled Chebyshev collocation of ``_kernels.spectral`` and wraps its columns in
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -133,6 +134,9 @@ def _start(
     deflection, Pi/8 against W/3), fed back through the closed form's own 1/(1 - eps h1), by
     a few fixed-point steps on h1. A negative load is mirrored (theta0 -> -theta0).
     """
+    if w.size == 1:
+        one = _start_scalar(code, float(w[0]), float(e[0]), float(ld[0]), float(t0[0]), root)
+        return tuple(np.array([v]) for v in one)  # type: ignore[return-value]
     exact = (code == 0) & (ld == 0.0)
     h = np.cos(t0)
     omega_s = np.abs(w)
@@ -152,6 +156,32 @@ def _start(
     assert sol is not None
     t = np.asarray(sol.t, dtype=np.float64)
     return t, e + 0.0 * t, mirror * t0, mirror, h
+
+
+def _start_scalar(
+    code: int, w: float, e: float, ld: float, t0: float, root: str
+) -> tuple[float, float, float, float, float]:
+    """:func:`_start` of one element in floats (the scalar kernel of the closed form)."""
+    h = math.cos(t0)
+    exact = code == 0 and ld == 0.0
+    t, mirror = math.nan, 1.0
+    for _ in range(1 if exact else _START_STEPS):
+        u = 1.0 - e * h
+        if code == 0:
+            big_w = w / u + (0.5 * ld * (1.0 / e - h) if ld != 0.0 else 0.0)
+            big_p = ld
+        else:
+            big_w = ld / u**2 - 2.0 * w / u
+            big_p = 2.0 * e * ld / u**3 - 6.0 * e * w / u**2
+        weq = w if exact else u * (big_w + 0.375 * big_p * h)
+        if not math.isfinite(weq):
+            weq = 0.0
+        mirror = -1.0 if weq < 0.0 else 1.0
+        sol = _solve_checked(min(abs(weq), 1e12), e, mirror * t0, root=root)
+        t = float(sol.t)
+        if math.isfinite(sol.tip_height):
+            h = float(sol.tip_height)
+    return t, e, mirror * t0, mirror, h
 
 
 def _map_parameter(code: int, w: Any, e: Any, ld: Any, h: Any) -> FloatArray:
