@@ -37,7 +37,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
         sweeps,
         units,
     )
-    from ._core.loaded import LoadedState, solve_loaded
+    from ._core.loaded import LoadedState, solve_loaded, solve_loaded_all
     from ._core.solution import Solution
     from ._core.solver import from_parameter, from_xi, solve, solve_all
     from ._warnings import CalibrationWarning, ModelValidityWarning, UnitsWarning
@@ -68,6 +68,7 @@ __all__ = [
     "rheology",
     "solve",
     "solve_loaded",
+    "solve_loaded_all",
     "sensitivity",
     "solve_all",
     "stability",
@@ -98,6 +99,7 @@ _LAZY_NAMES = {
     "Solution": "_core.solution",
     "LoadedState": "_core.loaded",
     "solve_loaded": "_core.loaded",
+    "solve_loaded_all": "_core.loaded",
     "from_parameter": "_core.solver",
     "from_xi": "_core.solver",
     "solve": "_core.solver",

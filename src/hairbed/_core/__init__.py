@@ -17,7 +17,7 @@ Nothing here imports the lab modules (units, inverse, branches, ...) or the oute
 
 from __future__ import annotations
 
-from .loaded import LoadedState, solve_loaded
+from .loaded import LoadedState, solve_loaded, solve_loaded_all
 from .solution import Solution
 from .solver import fold_parameters, from_parameter, from_xi, solve, solve_all
 
@@ -30,4 +30,5 @@ __all__ = [
     "solve",
     "solve_all",
     "solve_loaded",
+    "solve_loaded_all",
 ]

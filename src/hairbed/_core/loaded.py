@@ -31,7 +31,7 @@ from .validation import (
     status_messages,
 )
 
-__all__ = ["LADDER", "LoadedState", "solve_loaded"]
+__all__ = ["LADDER", "LoadedState", "solve_loaded", "solve_loaded_all"]
 
 FloatArray = NDArray[np.float64]
 Value = float | FloatArray
@@ -113,6 +113,8 @@ def _ladder(nums: tuple[int, ...]) -> tuple[Any, ...]:
 
 def _loads(code: int, omega2: Any, eps: Any, load: Any, h: Any) -> tuple[Any, Any]:
     """(W, Pi) of a drive at tip height h, in numpy (the start; the kernel has its own)."""
+    if code == 2:
+        return omega2 + 0.0 * h, load + 0.0 * h
     u = 1.0 - eps * h
     if code == 0:
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -167,7 +169,9 @@ def _start_scalar(
     t, mirror = math.nan, 1.0
     for _ in range(1 if exact else _START_STEPS):
         u = 1.0 - e * h
-        if code == 0:
+        if code == 2:
+            big_w, big_p = w, ld
+        elif code == 0:
             big_w = w / u + (0.5 * ld * (1.0 / e - h) if ld != 0.0 else 0.0)
             big_p = ld
         else:
@@ -248,6 +252,9 @@ class LoadedState:
         Newton iterations over every level of the ladder.
     num : int or ndarray
         The Chebyshev degree N of the returned state.
+    stable : bool or None
+        From :func:`solve_loaded_all`: True where the state is stable under a slow change of
+        the tip height (dG/dh1 < 0 of the fixed-load map G, theory.md §11); None otherwise.
     """
 
     drive: str
@@ -269,6 +276,7 @@ class LoadedState:
     num: IntValue
     _map: FloatArray
     _coefs: FloatArray
+    stable: Any = None
 
     @property
     def success(self) -> Any:
@@ -387,6 +395,93 @@ def solve_loaded(
     >>> round(st.tip_height, 12)
     0.732706963462
     """
+    drive, code, w, e, t0, ld = _check(omega2, eps, theta0, pi, q)
+    root = check_root(root)
+    tol = check_positive(rtol, "rtol")
+    nums = LADDER if num is None else (check_int(num, "num", 8, 512),)
+    shape = w.shape
+    wf, ef, tf, lf = (np.ascontiguousarray(v).reshape(-1) for v in (w, e, t0, ld))
+    if guess is None:
+        ts, es, ths, mirror, hs = _start(code, wf, ef, lf, tf, root)
+    else:
+        if not isinstance(guess, Solution):
+            raise TypeError(f"guess must be a hairbed.Solution, got {type(guess).__name__}")
+        ts, es, ths, hs = (
+            np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=np.float64), shape)).reshape(
+                -1
+            )
+            for v in (guess.t, guess.eps, guess.theta0, guess.tip_height)
+        )
+        mirror = np.ones(wf.size)
+    a = _map_parameter(code, wf, ef, lf, hs)
+    ok = np.isfinite(ts)
+    theta_start = _closed_form_start(ts, es, ths, mirror, a, nums, ok)
+    hs = np.where(ok, hs, np.cos(tf))
+    out, coefs = _run(code, wf, ef, lf, tf, a, theta_start, hs, nums, tol, ok)
+    if guess is None and num is None:
+        _rescue(drive, code, wf, ef, tf, lf, root, tol, out, coefs, a)
+    return _state(drive, code, shape, w, e, t0, ld, out, coefs, a)
+
+
+#: The most failed elements of one call that :func:`_rescue` scans (each ~0.1 s).
+MAX_RESCUE = 100
+
+
+def _rescue(
+    drive: str,
+    code: int,
+    wf: FloatArray,
+    ef: FloatArray,
+    tf: FloatArray,
+    lf: FloatArray,
+    root: str,
+    tol: float,
+    out: FloatArray,
+    coefs: FloatArray,
+    a: FloatArray,
+) -> None:
+    """Where Newton and the load continuation failed (status -2, -3, -7; a fold on the way),
+    the scan of :func:`solve_loaded_all` for that element, and its state of ``root`` (the
+    lowest, middle of three, highest tip height), written into out, coefs and a in place.
+    At most ``MAX_RESCUE`` elements a call; the others keep their failure status."""
+    failed = np.flatnonzero(np.isin(out[0], (-2, -3, -7)))[:MAX_RESCUE]
+    for i in failed:
+        kw = {"pi": lf[i]} if drive == "pressure" else {"q": lf[i]}
+        found = solve_loaded_all(wf[i], ef[i], tf[i], rtol=tol, **kw)
+        if not found or (root == "mid" and len(found) < 3):
+            out[0, i] = -1 if found else out[0, i]
+            continue
+        pick = found[0] if root == "low" else found[-1] if root == "high" else found[1]
+        out[0, i] = pick.status
+        for c, name in enumerate(_COLUMNS):
+            if name:
+                out[c, i] = getattr(pick, name)
+        top = pick._coefs.shape[-1]
+        coefs[:, i, :top] = pick._coefs
+        a[i] = float(pick._map)
+
+
+#: LoadedState's field of each kernel column (status handled apart).
+_COLUMNS = (
+    "",
+    "nit",
+    "num",
+    "",
+    "tip_height",
+    "tip_deflection",
+    "tip_angle",
+    "base_curvature",
+    "tip_load",
+    "distributed_load",
+    "error_estimate",
+    "residual",
+)
+
+
+def _check(
+    omega2: Any, eps: Any, theta0: Any, pi: Any, q: Any
+) -> tuple[str, int, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """The inputs validated and broadcast: (drive, code, omega2, eps, theta0, pi or q)."""
     if pi is not None and q is not None:
         raise ValueError("give at most one of pi (pressure drive) and q (flow drive), got both")
     drive = "flow" if q is not None else "pressure"
@@ -406,28 +501,12 @@ def solve_loaded(
                 f"pi != 0 needs eps > 0 (the gap flow's load W has (pi/2)/eps), got pi = "
                 f"{float(ld[bad].flat[0])!r} with eps = 0{_first_index(bad)}"
             )
-    root = check_root(root)
-    tol = check_positive(rtol, "rtol")
-    nums = LADDER if num is None else (check_int(num, "num", 8, 512),)
-    shape = w.shape
-    wf, ef, tf, lf = (np.ascontiguousarray(v).reshape(-1) for v in (w, e, t0, ld))
-    if guess is None:
-        ts, es, ths, mirror, hs = _start(code, wf, ef, lf, tf, root)
-    else:
-        if not isinstance(guess, Solution):
-            raise TypeError(f"guess must be a hairbed.Solution, got {type(guess).__name__}")
-        ts, es, ths, hs = (
-            np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=np.float64), shape)).reshape(
-                -1
-            )
-            for v in (guess.t, guess.eps, guess.theta0, guess.tip_height)
-        )
-        mirror = np.ones(wf.size)
-    levels = _ladder(tuple(nums))
-    lev_nums, nodes = levels[0], levels[1]
-    a = _map_parameter(code, wf, ef, lf, hs)
-    n0 = int(lev_nums[0])
-    xi = nodes[0, : n0 + 1]
+    return drive, code, w, e, t0, ld
+
+
+def _mapped_nodes(a: FloatArray, num: int) -> FloatArray:
+    """s at the N + 1 mapped Chebyshev nodes of each element's map parameter: (size, N + 1)."""
+    xi = _matrices(num)[0]
     y = (xi + 1.0) / 2.0
     with np.errstate(invalid="ignore", divide="ignore"):
         sig = np.where(
@@ -438,47 +517,225 @@ def solve_loaded(
     sig = np.clip(sig, 0.0, 1.0)
     sig[:, 0] = 0.0
     sig[:, -1] = 1.0
-    start = np.empty((6, wf.size, n0 + 1))
+    return np.ascontiguousarray(sig)
+
+
+def _closed_form_start(
+    ts: FloatArray,
+    es: FloatArray,
+    ths: FloatArray,
+    mirror: FloatArray,
+    a: FloatArray,
+    nums: tuple[int, ...],
+    ok: NDArray[np.bool_],
+) -> FloatArray:
+    """theta of the closed-form start states at the first level's mapped nodes."""
+    sig = _mapped_nodes(a, nums[0])
+    start = np.empty((6, ts.size, nums[0] + 1))
     from ._kernels import state as closed
 
-    ok = np.isfinite(ts)
-    tsafe = np.where(ok, ts, -np.inf)
-    closed.shape_array(tsafe, es, ths, 1, 0, np.ascontiguousarray(sig), start)
-    theta_start = np.ascontiguousarray(mirror[:, None] * start[0])
-    hs = np.where(ok, hs, np.cos(tf))
+    closed.shape_array(np.where(ok, ts, -np.inf), es, ths, 1, 0, sig, start)
+    return np.ascontiguousarray(mirror[:, None] * start[0])
+
+
+def _run(
+    code: int,
+    wf: FloatArray,
+    ef: FloatArray,
+    lf: FloatArray,
+    tf: FloatArray,
+    a: FloatArray,
+    theta_start: FloatArray,
+    hs: FloatArray,
+    nums: tuple[int, ...],
+    tol: float,
+    ok: NDArray[np.bool_],
+) -> tuple[FloatArray, FloatArray]:
+    """The kernel on flat arrays: (out (NCOLS, size), coefs (3, size, N + 1)); elements
+    without a start (not ``ok``) get status -1 and NaN values."""
     k = _kernels()
     out = np.empty((k.NCOLS, wf.size))
-    top = int(max(nums)) + 1
-    coefs = np.empty((3, wf.size, top))
-    k.solve_loaded_array(code, wf, ef, lf, tf, a, theta_start, hs, *levels, tol, out, coefs)
-    status = out[0].astype(np.int64)
-    status = np.where(ok, status, -1)
-    vals = out.copy()
-    vals[4:, ~ok] = np.nan
+    coefs = np.empty((3, wf.size, int(max(nums)) + 1))
+    k.solve_loaded_array(
+        code, wf, ef, lf, tf, a, theta_start, hs, *_ladder(tuple(nums)), tol, out, coefs
+    )
+    out[0, ~ok] = -1
+    out[4:, ~ok] = np.nan
     coefs[:, ~ok, :] = np.nan
+    return out, coefs
+
+
+def _state(
+    drive: str,
+    code: int,
+    shape: tuple[int, ...],
+    w: FloatArray,
+    e: FloatArray,
+    t0: FloatArray,
+    ld: FloatArray,
+    out: FloatArray,
+    coefs: FloatArray,
+    a: FloatArray,
+    stable: Any = None,
+) -> LoadedState:
+    """A LoadedState of the kernel's columns, reshaped to ``shape``."""
     nan = np.full(shape, np.nan)
+    top = coefs.shape[-1]
 
     def col(i: int) -> Any:
-        return scalar_or_array(vals[i].reshape(shape))
+        return scalar_or_array(out[i].reshape(shape))
 
     return LoadedState(
         drive=drive,
-        omega2=scalar_or_array(w),
-        eps=scalar_or_array(e),
-        theta0=scalar_or_array(t0),
-        pi=scalar_or_array(ld if code == 0 else nan),
-        q=scalar_or_array(ld if code == 1 else nan),
+        omega2=scalar_or_array(w.reshape(shape)),
+        eps=scalar_or_array(e.reshape(shape)),
+        theta0=scalar_or_array(t0.reshape(shape)),
+        pi=scalar_or_array(ld.reshape(shape) if code == 0 else nan),
+        q=scalar_or_array(ld.reshape(shape) if code == 1 else nan),
         tip_height=col(4),
         tip_deflection=col(5),
         tip_angle=col(6),
         base_curvature=col(7),
         tip_load=col(8),
         distributed_load=col(9),
-        status=scalar_or_array(status.reshape(shape)),
+        status=scalar_or_array(out[0].astype(np.int64).reshape(shape)),
         error_estimate=col(10),
         residual=col(11),
         nit=scalar_or_array(out[1].astype(np.int64).reshape(shape)),
         num=scalar_or_array(out[2].astype(np.int64).reshape(shape)),
         _map=a.reshape(shape),
         _coefs=coefs.reshape((3, *shape, top)),
+        stable=stable,
     )
+
+
+#: The tip heights of the scan of :func:`solve_loaded_all`: 12 geometric in [1e-4, 0.02], then
+#: ``num_scan`` uniform in [0.02, 1].
+_SCAN_LOW = (1e-4, 0.02, 12)
+_BISECT_STEPS = 60
+
+
+def _fixed_load_states(
+    code: int, w: float, e: float, ld: float, t0: float, h: FloatArray, tol: float
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The states with the loads frozen at the drive's W(h), Pi(h), for every h: (out, coefs,
+    a) of the kernel (drive code 2: no feedback through h1)."""
+    big_w, big_p = _loads(code, np.full(h.size, w), np.full(h.size, e), np.full(h.size, ld), h)
+    big_w = np.ascontiguousarray(big_w, dtype=np.float64)
+    big_p = np.ascontiguousarray(big_p, dtype=np.float64)
+    zero = np.zeros(h.size)
+    tf = np.full(h.size, t0)
+    ts, es, ths, mirror, hs = _start(2, big_w, zero, big_p, tf, "low")
+    a = _map_parameter(2, big_w, zero, big_p, hs)
+    ok = np.isfinite(ts)
+    theta_start = _closed_form_start(ts, es, ths, mirror, a, LADDER, ok)
+    out, coefs = _run(
+        2, big_w, zero, big_p, tf, a, theta_start, np.where(ok, hs, 1.0), LADDER, tol, ok
+    )
+    return out, coefs, a
+
+
+def _gap(code: int, w: float, e: float, ld: float, t0: float, h: FloatArray, tol: float) -> Any:
+    """G(h) = h1 of the frozen-load state minus h (NaN where that state was not found)."""
+    out = _fixed_load_states(code, w, e, ld, t0, h, tol)[0]
+    return np.where(out[0] >= 0, out[4] - h, np.nan)
+
+
+def solve_loaded_all(
+    omega2: float,
+    eps: float,
+    theta0: float = 0.0,
+    *,
+    pi: float | None = None,
+    q: float | None = None,
+    num_scan: int = 64,
+    rtol: float = 1e-12,
+) -> list[LoadedState]:
+    """Every coexisting state of the fundamental family at scalar inputs, by a scan in h1.
+
+    With the loads frozen at the drive's W(h), Pi(h), the hair has a state of tip height
+    z1(h); the states of the drive are the roots of G(h) = z1(h) - h on 0 < h <= 1. G is
+    scanned on 12 geometric points in [1e-4, 0.02] and ``num_scan`` uniform ones in [0.02, 1],
+    each sign change refined by bisection (at most 60 halvings, all brackets at once), and
+    each root polished by :func:`solve_loaded`'s Newton from the frozen state there. Two roots
+    closer than a scan cell (a tangency, the edge of a window) can be missed.
+
+    Parameters
+    ----------
+    omega2, eps, theta0, pi, q, rtol
+        As in :func:`solve_loaded`, scalars.
+    num_scan : int, optional
+        Uniform scan points in [0.02, 1], in [8, 10^4]. Default 64.
+
+    Returns
+    -------
+    list of LoadedState
+        Sorted by tip height, each with ``stable`` (dG/dh < 0 at the root: True stable).
+
+    Examples
+    --------
+    >>> import hairbed
+    >>> [round(s.tip_height, 6) for s in hairbed.solve_loaded_all(0.51, 0.95, -1.2)]
+    [0.536514, 0.78824, 0.884061]
+    """
+    drive, code, w, e, t0, ld = _check(omega2, eps, theta0, pi, q)
+    if w.ndim != 0:
+        raise ValueError(f"solve_loaded_all takes scalar inputs, got shape {w.shape}")
+    tol = check_positive(rtol, "rtol")
+    count = check_int(num_scan, "num_scan", 8, 10**4)
+    wf, ef, lf, tf = float(w), float(e), float(ld), float(t0)
+    h = np.unique(np.concatenate([np.geomspace(*_SCAN_LOW), np.linspace(0.02, 1.0, count)]))
+    g = _gap(code, wf, ef, lf, tf, h, tol)
+    lo_i = np.flatnonzero(np.isfinite(g[:-1]) & np.isfinite(g[1:]) & (g[:-1] * g[1:] <= 0.0))
+    lo_i = lo_i[~np.isin(lo_i - 1, lo_i) | (g[lo_i] != 0.0)]  # a zero on a node counts once
+    if lo_i.size == 0:
+        return []
+    lo, hi = h[lo_i], h[lo_i + 1]
+    glo, ghi = g[lo_i], g[lo_i + 1]
+    stable = glo > ghi
+    for _ in range(_BISECT_STEPS):
+        mid = 0.5 * (lo + hi)
+        if np.all(hi - lo <= 4e-16 * np.maximum(1.0, hi)):
+            break
+        gm = _gap(code, wf, ef, lf, tf, mid, tol)
+        gm = np.where(np.isfinite(gm), gm, 0.0)
+        left = np.sign(gm) == np.sign(glo)
+        lo, glo = np.where(left, mid, lo), np.where(left, gm, glo)
+        hi, ghi = np.where(left, hi, mid), np.where(left, ghi, gm)
+    root = np.where(np.abs(glo) <= np.abs(ghi), lo, hi)
+    # polish with the drive's own Newton, from the frozen state at each root
+    out_f, coefs_f, a_f = _fixed_load_states(code, wf, ef, lf, tf, root, tol)
+    size = root.size
+    wa, ea, ta, la = (np.full(size, v) for v in (wf, ef, tf, lf))
+    a = _map_parameter(code, wa, ea, la, root)
+    sig = _mapped_nodes(a, LADDER[0])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        af = a_f[:, None]
+        y = np.where(af > 0.0, np.log1p(sig * np.expm1(af)) / np.where(af > 0, af, 1.0), sig)
+    theta_start = np.ascontiguousarray(_clenshaw(coefs_f[0], 2.0 * y - 1.0))
+    ok = (out_f[0] >= 0) & np.all(np.isfinite(theta_start), axis=1)
+    theta_start[~ok] = tf
+    out, coefs = _run(code, wa, ea, la, ta, a, theta_start, root, LADDER, tol, ok)
+    order = np.argsort(np.where(np.isfinite(out[4]), out[4], np.inf), kind="stable")
+    states: list[LoadedState] = []
+    last = -np.inf
+    for i in order:
+        if out[0, i] < 0 or abs(out[4, i] - last) <= 1e-9:
+            continue
+        last = out[4, i]
+        states.append(
+            _state(
+                drive,
+                code,
+                (),
+                w,
+                e,
+                t0,
+                ld,
+                out[:, i : i + 1],
+                coefs[:, i : i + 1],
+                a[i : i + 1],
+                stable=bool(stable[i]),
+            )
+        )
+    return states

@@ -36,6 +36,7 @@ import numpy as np
 from .._jit import kernel
 
 __all__ = [
+    "DRIVE_FIXED",
     "DRIVE_FLOW",
     "DRIVE_PRESSURE",
     "MAXITER",
@@ -50,6 +51,7 @@ __all__ = [
 
 DRIVE_PRESSURE = 0
 DRIVE_FLOW = 1
+DRIVE_FIXED = 2
 MAXITER = 60
 #: The rounding part of the error estimate, ROUNDING N^2 max(1, |theta|) (measured: the
 #: collocation's differences between N and 2N at rounding level grow like N^2).
@@ -71,7 +73,10 @@ _FULL_STEP = 1e-7
 
 @kernel
 def drive_loads(code, omega2, eps, load, h):
-    """(W, Pi, dW/dh1, dPi/dh1) of the drive ``code`` at tip height h (``load`` is pi or q)."""
+    """(W, Pi, dW/dh1, dPi/dh1) of the drive ``code`` at tip height h (``load`` is pi or q;
+    for ``DRIVE_FIXED`` W = omega2 and Pi = load, independent of h)."""
+    if code == DRIVE_FIXED:  # fixed loads W = omega2, Pi = load (the scan of solve_loaded_all)
+        return omega2, load, 0.0, 0.0
     u = 1.0 - eps * h
     if code == DRIVE_PRESSURE:
         w = omega2 / u
