@@ -351,3 +351,58 @@ def test_against_solve_bvp(drive, omega2, eps, theta0, load):
     assert st.tip_deflection == pytest.approx(x1, abs=LOADED_BVP_ATOL)
     assert st.tip_angle == pytest.approx(th1, abs=LOADED_BVP_ATOL)
     assert st.base_curvature == pytest.approx(curv, abs=LOADED_BVP_ATOL * max(1, abs(curv)))
+
+
+# every coexisting state (solve_loaded_all) ------------------------------------------------
+
+
+@pytest.mark.parametrize(("eps", "theta0", "low", "high"), [(0.95, -1.2, 0.4642, 0.5518)])
+def test_all_states_count_through_a_pi_zero_window(eps, theta0, low, high):
+    """The count of states on a grid through the window equals the closed form's."""
+    width = high - low
+    for omega2 in np.linspace(low - 0.2 * width, high + 0.2 * width, 13):
+        ref = [s for s in hairbed.solve_all(omega2, eps, theta0) if s.physical]
+        found = hairbed.solve_loaded_all(omega2, eps, theta0)
+        assert len(found) == len(ref)
+        for st, s in zip(found, ref):
+            _agree_with_closed_form(st, s)
+            _identity(st)
+        if len(found) == 3:
+            assert [s.stable for s in found] == [True, False, True]
+
+
+def test_all_states_of_a_flow_window():
+    """A bistable window of the flow drive (eps = 0.9, theta0 = -1.2, wall at rest): counts 1,
+    3, ..., 3, 1; every state checked against solve_bvp; the ends are solve_loaded's low and
+    high states."""
+    eps, theta0 = 0.9, -1.2
+    counts = []
+    for q in np.geomspace(0.01, 10.0, 40)[4:18]:
+        found = hairbed.solve_loaded_all(0.0, eps, theta0, q=q)
+        counts.append(len(found))
+        for st in found:
+            assert st.status == 0
+            _identity(st)
+        if len(found) == 3:
+            assert [s.stable for s in found] == [True, False, True]
+            for st in found:
+                h1, x1, th1, _ = _bvp_reference("flow", 0.0, eps, theta0, q, st)
+                assert st.tip_height == pytest.approx(h1, abs=LOADED_BVP_ATOL)
+                assert st.tip_deflection == pytest.approx(x1, abs=LOADED_BVP_ATOL)
+                assert st.tip_angle == pytest.approx(th1, abs=LOADED_BVP_ATOL)
+            lo = hairbed.solve_loaded(0.0, eps, theta0, q=q, root="low")
+            hi = hairbed.solve_loaded(0.0, eps, theta0, q=q, root="high")
+            assert abs(lo.tip_height - found[0].tip_height) <= 1e-12
+            assert abs(hi.tip_height - found[-1].tip_height) <= 1e-12
+    assert counts[0] == 1 and counts[-1] == 1 and 3 in counts
+    inner = counts[counts.index(3) : len(counts) - counts[::-1].index(3)]
+    assert set(inner) == {3}
+
+
+def test_all_states_bad_input():
+    with pytest.raises(ValueError, match="scalar"):
+        hairbed.solve_loaded_all([1.0, 2.0], 0.5)
+    with pytest.raises(ValueError, match="num_scan"):
+        hairbed.solve_loaded_all(1.0, 0.5, num_scan=2)
+    with pytest.raises(ValueError, match="pi"):
+        hairbed.solve_loaded_all(1.0, 0.0, pi=1.0)

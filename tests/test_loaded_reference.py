@@ -79,6 +79,8 @@ def test_every_state_of_the_reference(case):
         for got, key in ((x, "x"), (z, "z"), (theta, "theta")):
             want = np.array(shape[key], dtype=float)
             assert np.all(np.abs(got - want) <= LOADED_REFERENCE_ATOL), key
+        if ref.get("stable") is not None and st.stable is not None:
+            assert st.stable == ref["stable"]
         h = st.tip_height
         rhs = st.tip_load * h + 0.5 * st.distributed_load * h * h
         assert abs(st.base_curvature - rhs) <= LOADED_IDENTITY_RTOL * max(1, abs(rhs))

@@ -419,7 +419,9 @@ def solve_loaded(
     hs = np.where(ok, hs, np.cos(tf))
     out, coefs = _run(code, wf, ef, lf, tf, a, theta_start, hs, nums, tol, ok)
     if guess is None and num is None:
-        _rescue(drive, code, wf, ef, tf, lf, root, tol, out, coefs, a)
+        exact = (code == 0) & (lf == 0.0)
+        scan = ~exact if root != "low" else np.zeros(wf.size, dtype=np.bool_)
+        _rescue(drive, code, wf, ef, tf, lf, root, tol, out, coefs, a, scan)
     return _state(drive, code, shape, w, e, t0, ld, out, coefs, a)
 
 
@@ -439,13 +441,15 @@ def _rescue(
     out: FloatArray,
     coefs: FloatArray,
     a: FloatArray,
+    scan: NDArray[np.bool_],
 ) -> None:
     """Where Newton and the load continuation failed (status -2, -3, -7; a fold on the way),
-    the scan of :func:`solve_loaded_all` for that element, and its state of ``root`` (the
-    lowest, middle of three, highest tip height), written into out, coefs and a in place.
-    At most ``MAX_RESCUE`` elements a call; the others keep their failure status."""
-    failed = np.flatnonzero(np.isin(out[0], (-2, -3, -7)))[:MAX_RESCUE]
-    for i in failed:
+    and on every element of ``scan`` (root "mid" or "high" of a loaded drive), the scan of
+    :func:`solve_loaded_all` for that element and its state of ``root`` (the lowest, middle
+    of three, highest tip height), written into out, coefs and a in place. At most
+    ``MAX_RESCUE`` failed elements a call; the others keep their failure status."""
+    failed = np.flatnonzero(np.isin(out[0], (-2, -3, -7)) & ~scan)[:MAX_RESCUE]
+    for i in np.union1d(failed, np.flatnonzero(scan)):
         kw = {"pi": lf[i]} if drive == "pressure" else {"q": lf[i]}
         found = solve_loaded_all(wf[i], ef[i], tf[i], rtol=tol, **kw)
         if not found or (root == "mid" and len(found) < 3):
