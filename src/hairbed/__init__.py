@@ -37,6 +37,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
         sweeps,
         units,
     )
+    from ._core.arclength import LoadedBranch, continue_loaded
     from ._core.loaded import LoadedState, solve_loaded, solve_loaded_all
     from ._core.solution import Solution
     from ._core.solver import from_parameter, from_xi, solve, solve_all
@@ -50,6 +51,7 @@ __all__ = [
     "CalibrationWarning",
     "HairBed",
     "HairState",
+    "LoadedBranch",
     "LoadedState",
     "ModelValidityWarning",
     "Solution",
@@ -57,6 +59,7 @@ __all__ = [
     "branches",
     "calibration",
     "calibration_files",
+    "continue_loaded",
     "derivatives",
     "explore",
     "from_parameter",
@@ -100,6 +103,8 @@ _LAZY_NAMES = {
     "LoadedState": "_core.loaded",
     "solve_loaded": "_core.loaded",
     "solve_loaded_all": "_core.loaded",
+    "LoadedBranch": "_core.arclength",
+    "continue_loaded": "_core.arclength",
     "from_parameter": "_core.solver",
     "from_xi": "_core.solver",
     "solve": "_core.solver",

@@ -620,11 +620,14 @@ _BISECT_STEPS = 60
 
 
 def _fixed_load_states(
-    code: int, w: float, e: float, ld: float, t0: float, h: FloatArray, tol: float
+    code: int, w: Any, e: float, ld: Any, t0: float, h: FloatArray, tol: float
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """The states with the loads frozen at the drive's W(h), Pi(h), for every h: (out, coefs,
-    a) of the kernel (drive code 2: no feedback through h1)."""
-    big_w, big_p = _loads(code, np.full(h.size, w), np.full(h.size, e), np.full(h.size, ld), h)
+    a) of the kernel (drive code 2: no feedback through h1); w and ld scalars or of h's shape."""
+    full = [
+        np.array(np.broadcast_to(np.asarray(v, dtype=np.float64), h.shape)) for v in (w, e, ld)
+    ]
+    big_w, big_p = _loads(code, full[0], full[1], full[2], h)
     big_w = np.ascontiguousarray(big_w, dtype=np.float64)
     big_p = np.ascontiguousarray(big_p, dtype=np.float64)
     zero = np.zeros(h.size)
@@ -639,7 +642,7 @@ def _fixed_load_states(
     return out, coefs, a
 
 
-def _gap(code: int, w: float, e: float, ld: float, t0: float, h: FloatArray, tol: float) -> Any:
+def _gap(code: int, w: Any, e: float, ld: Any, t0: float, h: FloatArray, tol: float) -> Any:
     """G(h) = h1 of the frozen-load state minus h (NaN where that state was not found)."""
     out = _fixed_load_states(code, w, e, ld, t0, h, tol)[0]
     return np.where(out[0] >= 0, out[4] - h, np.nan)
