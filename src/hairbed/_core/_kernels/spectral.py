@@ -16,7 +16,8 @@ differentiation and integration matrices in xi are built once per N by the wrapp
 
 Newton with the exact Jacobian (the drive's dW/dh1 and dPi/dh1 included), a backtracking line
 search on the squared residual, at most ``MAXITER`` iterations, the linear systems by an
-in-place LU with partial pivoting on preallocated arrays (no allocation per step). A ladder of
+in-place LU with partial pivoting on preallocated arrays (no allocation per step), its
+factors reused for chord steps once Newton contracts by 10 a step below 1e-3. A ladder of
 N (each level started from the interpolant of the previous one) stops at the first level whose
 Chebyshev tail of theta (the sum of the moduli of its last three coefficients) is within the
 tolerance; that tail is the error estimate.
@@ -67,6 +68,10 @@ STATUS_LOST = -7
 NCOLS = 12
 #: A Newton step below this (max norm over theta and h1) ends the iteration.
 _XTOL = 1e-12
+#: Chord steps (the last LU factors reused) follow a full Newton step below _CHORD_START that
+#: contracted by _CHORD_RATE; a chord step that contracts less refreshes the factors.
+_CHORD_START = 1e-3
+_CHORD_RATE = 0.1
 #: Steps below this are taken whole, without the line search (rounding-level merit).
 _FULL_STEP = 1e-7
 
@@ -129,8 +134,9 @@ def _operators(num, d1, d2, im, sp, a, dd, ii):
 
 
 @kernel
-def _lu_solve(mat, rhs, piv, m):
-    """Solve mat[:m, :m] x = rhs[:m] in place (x into rhs); False if a pivot vanishes."""
+def _lu_factor(mat, piv, m):
+    """LU factors of mat[:m, :m] with partial pivoting, in place (the row swaps in piv);
+    False if a pivot vanishes."""
     for k in range(m):
         p = k
         big = abs(mat[k, k])
@@ -147,23 +153,35 @@ def _lu_solve(mat, rhs, piv, m):
                 t = mat[k, j]
                 mat[k, j] = mat[p, j]
                 mat[p, j] = t
-            t = rhs[k]
-            rhs[k] = rhs[p]
-            rhs[p] = t
         inv = 1.0 / mat[k, k]
         for i in range(k + 1, m):
             f = mat[i, k] * inv
+            mat[i, k] = f
             if f != 0.0:
-                mat[i, k] = f
                 for j in range(k + 1, m):
                     mat[i, j] -= f * mat[k, j]
-                rhs[i] -= f * rhs[k]
+    return True
+
+
+@kernel
+def _lu_apply(mat, piv, rhs, m):
+    """Solve with the factors of :func:`_lu_factor`: rhs[:m] becomes the solution."""
+    for k in range(m):  # the row swaps first (the factors hold whole swapped rows) ...
+        p = piv[k]
+        if p != k:
+            t = rhs[k]
+            rhs[k] = rhs[p]
+            rhs[p] = t
+    for k in range(m):  # ... then L (unit lower triangular)
+        f = rhs[k]
+        if f != 0.0:
+            for i in range(k + 1, m):
+                rhs[i] -= mat[i, k] * f
     for i in range(m - 1, -1, -1):
         acc = rhs[i]
         for j in range(i + 1, m):
             acc -= mat[i, j] * rhs[j]
         rhs[i] = acc / mat[i, i]
-    return True
 
 
 @kernel
@@ -233,19 +251,34 @@ def _newton(u, num, dd, ii, theta0, code, omega2, eps, load, work, jac, piv, nit
     m = n1 + 1
     cs, sn, z, res, step, trial = work[0], work[1], work[2], work[3], work[4], work[5]
     f, w, p, dw, dp = _residual(u, num, dd, ii, theta0, code, omega2, eps, load, cs, sn, z, res)
+    chord = False  # reuse the last factors (a chord step) once Newton contracts fast
+    last = math.inf
     for it in range(maxiter):
         if not math.isfinite(f):
             return STATUS_BREAKDOWN, nit0 + it, math.nan
-        _jacobian(u, num, dd, ii, cs, sn, z, w, p, dw, dp, jac)
+        if not chord:
+            _jacobian(u, num, dd, ii, cs, sn, z, w, p, dw, dp, jac)
+            if not _lu_factor(jac, piv, m):
+                return STATUS_BREAKDOWN, nit0 + it, math.nan
         for i in range(m):
             step[i] = -res[i]
-        if not _lu_solve(jac, step, piv, m):
-            return STATUS_BREAKDOWN, nit0 + it, math.nan
+        _lu_apply(jac, piv, step, m)
         big = 0.0
         for i in range(m):
             big = max(big, abs(step[i]))
         if not math.isfinite(big):
             return STATUS_BREAKDOWN, nit0 + it, math.nan
+        if chord and big > _CHORD_RATE * last:  # the chord contracts too slowly: refresh
+            chord = False
+            _jacobian(u, num, dd, ii, cs, sn, z, w, p, dw, dp, jac)
+            if not _lu_factor(jac, piv, m):
+                return STATUS_BREAKDOWN, nit0 + it, math.nan
+            for i in range(m):
+                step[i] = -res[i]
+            _lu_apply(jac, piv, step, m)
+            big = 0.0
+            for i in range(m):
+                big = max(big, abs(step[i]))
         lam = 1.0
         if big > _FULL_STEP:
             # limit a wild step (one radian of angle, a tenth of the height), then backtrack
@@ -268,6 +301,9 @@ def _newton(u, num, dd, ii, theta0, code, omega2, eps, load, work, jac, piv, nit
         for i in range(m):
             u[i] = trial[i]
         f = ft
+        # a full step well inside the region of quadratic convergence: chord steps next
+        chord = lam == 1.0 and big <= _CHORD_START and big <= _CHORD_RATE * last
+        last = big
         if abs(u[n1]) > 1.0 + 1e-9 or 1.0 - eps * u[n1] <= 0.0:
             return STATUS_LOST, nit0 + it + 1, math.nan
         for j in range(n1):
