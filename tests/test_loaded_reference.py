@@ -6,7 +6,9 @@ every case is compared: the tip values, the base curvature, the loads W and Pi a
 the shape (x, z, theta) at s = 1/4, 1/2, 3/4, each within ``LOADED_REFERENCE_ATOL`` (absolute;
 relative to the value where it exceeds 1, as for W = 1e4). Where a case has several states, the
 solver's states are those of ``root="low"``, ``"mid"``, ``"high"`` in order of tip height (the
-pi = 0 windows), or of :func:`hairbed.solve_loaded_all` where that is available.
+pi = 0 windows), or of :func:`hairbed.solve_loaded_all` (with a finer scan near a fold, where
+the two states about to merge lie closer than its default scan cell). The folds of the file's
+two loaded windows are compared with those of :func:`hairbed.continue_loaded`.
 """
 
 from __future__ import annotations
@@ -22,7 +24,9 @@ from tolerances import LOADED_IDENTITY_RTOL, LOADED_REFERENCE_ATOL
 import hairbed
 
 PATH = DATA / "loaded_mpmath.json"
-CASES: list[dict[str, Any]] = json.loads(PATH.read_text())["cases"]
+DATA_ = json.loads(PATH.read_text())
+CASES: list[dict[str, Any]] = DATA_["cases"]
+FOLDS: list[dict[str, Any]] = DATA_.get("folds", [])
 SCALARS = {
     "tip_height": "tip_height",
     "tip_deflection": "tip_deflection",
@@ -52,8 +56,8 @@ def _kwargs(case: dict[str, Any]) -> dict[str, Any]:
 def _states(case: dict[str, Any]) -> list[Any]:
     kw = _kwargs(case)
     count = len(case["states"])
-    if hasattr(hairbed, "solve_loaded_all"):
-        found = hairbed.solve_loaded_all(**kw)
+    for num_scan in (64, 1000, 10000):  # near a fold the two close roots need a fine scan
+        found = hairbed.solve_loaded_all(**kw, num_scan=num_scan)
         if len(found) == count:
             return found
     if count == 1:
@@ -92,3 +96,32 @@ def test_the_reference_is_wide_enough():
     assert n_states >= 19
     assert any(len(c["states"]) == 3 for c in CASES)
     assert max(float(s["W"]) for c in CASES for s in c["states"]) >= 100.0
+
+
+def _fold_windows() -> list[tuple[dict[str, Any], list[dict[str, Any]]]]:
+    """The reference folds grouped by window (same drive and fixed inputs)."""
+    groups: dict[tuple[Any, ...], list[dict[str, Any]]] = {}
+    for f in FOLDS:
+        key = (f["drive"], f["parameter"], f["omega2"], f["pi"], f["q"], f["eps"], f["theta0"])
+        groups.setdefault(key, []).append(f)
+    return [(g[0], g) for g in groups.values()]
+
+
+@pytest.mark.parametrize(
+    ("first", "folds"), _fold_windows(), ids=lambda v: v["drive"] if isinstance(v, dict) else ""
+)
+def test_folds_of_the_reference_windows(first, folds):
+    values = sorted(float(f["value"]) for f in folds)
+    kw: dict[str, Any] = {"eps": first["eps"], "theta0": first["theta0"]}
+    start, stop = 0.5 * values[0], 2.0 * values[-1]
+    if first["parameter"] == "omega2":
+        kw.update(omega2=start, pi=first["pi"], parameter="omega2")
+    else:
+        kw.update(omega2=first["omega2"], q=start)
+    branch = hairbed.continue_loaded(**kw, stop=stop)
+    assert branch.status == 0
+    assert branch.folds.shape == (len(folds), 2)
+    got = branch.folds[np.argsort(branch.folds[:, 0])]
+    for (value, h), ref in zip(got, sorted(folds, key=lambda f: float(f["value"]))):
+        assert value == pytest.approx(float(ref["value"]), rel=LOADED_REFERENCE_ATOL)
+        assert h == pytest.approx(float(ref["tip_height"]), abs=1e-7)
