@@ -406,3 +406,19 @@ def test_all_states_bad_input():
         hairbed.solve_loaded_all(1.0, 0.5, num_scan=2)
     with pytest.raises(ValueError, match="pi"):
         hairbed.solve_loaded_all(1.0, 0.0, pi=1.0)
+
+
+def test_failure_statuses_are_honest():
+    """Status 3 where the grid cannot reach the tolerance, -1 where the state does not exist:
+    never a NaN dressed as a state, never an estimate below the tolerance with a caveat."""
+    coarse = hairbed.solve_loaded(0.0, 0.5, 0.0, pi=1e4, num=8)
+    assert coarse.status == 3 and coarse.success is False
+    assert coarse.error_estimate > 1e-12 and np.isfinite(coarse.tip_height)
+    assert "inaccurate" in coarse.message
+    fine = hairbed.solve_loaded(0.0, 0.5, 0.0, pi=1e4)
+    assert abs(coarse.tip_height - fine.tip_height) <= coarse.error_estimate + fine.error_estimate
+    none = hairbed.solve_loaded(2.0, 0.5, 0.0, root="mid")
+    assert none.status == -1 and none.success is False
+    assert np.isnan(none.tip_height) and np.isnan(none.error_estimate)
+    assert np.all(np.isnan(none.shape([0.0, 1.0])[1]))
+    _identity(none)
