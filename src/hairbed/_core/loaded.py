@@ -369,8 +369,12 @@ def solve_loaded(
         Dimensionless flow rate q = 6 A eta Q' L^2/(E I H^2) [-], finite. At most one of
         ``pi`` and ``q``.
     root : {"low", "mid", "high"}, optional
-        The closed-form state Newton starts from (:func:`hairbed.solve`'s ``root``) where the
-        effective wall problem is bistable; at pi = 0 that is the state returned.
+        Which state where several coexist. At pi = 0 the state of :func:`hairbed.solve`'s
+        ``root`` (Newton starts from it). For a loaded drive, "mid" and "high" are the
+        middle (of three) and highest tip height of :func:`solve_loaded_all`'s scan, and
+        "low" (default) the state Newton reaches from the closed-form start (the scan's
+        lowest where Newton fails: in the windows, which need theta0 < 0, the hair rises as
+        it bends, so the lowest is the least deformed, as ``hairbed.solve``'s "low").
     guess : Solution, optional
         A closed-form state (of the broadcast shape, or a single one) to start from instead.
     num : int, optional

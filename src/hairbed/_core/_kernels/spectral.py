@@ -20,12 +20,17 @@ in-place LU with partial pivoting on preallocated arrays (no allocation per step
 factors reused for chord steps once Newton contracts by 10 a step below 1e-3. A ladder of
 N (each level started from the interpolant of the previous one) stops at the first level whose
 Chebyshev tail of theta (the sum of the moduli of its last three coefficients) is within the
-tolerance; that tail is the error estimate.
+tolerance; the error estimate is that tail plus the rounding part ``ROUNDING`` N^2
+max(1, |theta|). Where Newton fails on the first level, a continuation in the load factor from
+the hair at rest (``MAX_CONTINUATION`` steps at most). The base curvature is the quadrature of
+the ODE's right-hand side (theta'(0) = int_0^1 [W + Pi (h1 - z)] cos(theta) ds). Drive code
+``DRIVE_FIXED`` freezes the loads (W = omega2, Pi = load) for the scan of ``solve_loaded_all``.
 
 Status codes (``hairbed._core.validation.STATUS_MESSAGES``): 0 converged within the tolerance;
 3 converged, but the tail at the largest N misses the tolerance; -2 iteration limit; -3
 singular Newton matrix or no descent; -7 no state from this start (the iterate left the
-physical range: |theta| > 10, h1 outside [-1, 1] or the gap 1 - eps h1 closed).
+physical range: |theta| > 10, h1 outside [-1, 1] or the gap 1 - eps h1 closed, or the load
+continuation stalled at a fold).
 """
 
 from __future__ import annotations
