@@ -31,14 +31,16 @@ have a boundary layer at the base); from the tip the solution itself grows at th
 integration keeps its relative accuracy, and phi1 ~ exp(-sqrt(F)) is an ordinary mpf.
 
 * Scan (double precision, numpy/scipy, only to find the states): for every h1 on a grid of
-  (0, 1] (geometric from 1e-5 plus a uniform step of 1/400), the loads are fixed; a 2-D grid in
-  ln(phi1) from ln(pi/2 - theta0) - 1.3 sqrt(F_max) - 12 up to ln(pi/2 - theta0), integrated
-  by RK4 (2000 steps), brackets the phi1 with phi(1) = pi/2 - theta0 (the generator stops if
-  there is not exactly one per h1: that is the fundamental family, see below); eight vectorised
-  Illinois steps refine it, and G(h1) = zeta(1) - h1 is tabulated. G > 0 as h1 -> 0 and
-  G(1) < 0. Every sign change of G, and every local extremum of |G| between grid points that
-  comes near zero (a close pair of states near a fold; searched by golden section), is
-  refined by nested Brent iterations on scipy's DOP853 (rtol 1e-13).
+  (0, 1] (41 geometric points from 1e-5 plus a uniform step of 1/240), the loads are fixed
+  and the inner problem phi(1) = pi/2 - theta0 is solved for ln(phi1) in
+  [ln(pi/2 - theta0) - 1.3 sqrt(F_max) - 12, ln(pi/2 - theta0)] by 7 bisections and 9
+  Illinois steps on RK4 (1200 steps), vectorised over h1; on every 6th h1 a grid of 40
+  values of ln(phi1) (RK4, 600 steps) shows that there is exactly one solution (the generator
+  stops otherwise: that is the fundamental family, see below). Then G(h1) = zeta(1) - h1 is
+  tabulated; G > 0 as h1 -> 0 and G(1) < 0 (checked). Every sign change of G, and every local
+  extremum of G between grid points that comes near zero (a close pair of states near a
+  fold; searched by golden section), is refined by nested Brent iterations on scipy's DOP853
+  (rtol 1e-13).
 * Refinement (mpmath, ``DPS`` digits): Newton's method in (ln phi1, h1) with the exact
   Jacobian from the variational equations, integrated alongside. The integrator is a Taylor
   series method whose coefficients come from exact recurrences (S = sin phi, C = cos phi:
@@ -155,8 +157,11 @@ def _mp_inputs(case: dict[str, Any]) -> dict[str, Any]:
 # Scan in double precision
 # ------------------------------------------------------------------------------------------
 
-SCAN_STEPS = 2000
-N_LNPHI = 64
+SCAN_STEPS = 1200
+N_LNPHI = 40
+UNIQUE_EVERY = 6
+BISECT = 7
+ILLINOIS = 9
 
 
 def _rk4_tip(w: np.ndarray, big_pi: np.ndarray, phi1: np.ndarray, steps: int):
@@ -204,23 +209,29 @@ def _check_positive_load(case: dict[str, Any], h1: np.ndarray) -> None:
 
 
 def h1_grid() -> np.ndarray:
-    geo = np.geomspace(1e-5, 1.0, 81)
-    lin = np.arange(1, 401) / 400.0
+    geo = np.geomspace(1e-5, 1.0, 41)
+    lin = np.arange(1, 241) / 240.0
     return np.unique(np.concatenate([geo, lin]))
 
 
 def scan_G(case: dict[str, Any], h1: np.ndarray, steps: int = SCAN_STEPS):
-    """ln(phi1) of the inner problem and G(h1) = zeta(1) - h1 on the grid h1 (RK4)."""
+    """ln(phi1) of the inner problem and G(h1) = zeta(1) - h1 on the grid h1 (RK4).
+
+    Uniqueness of the inner solution is checked on every ``UNIQUE_EVERY``-th h1 against a
+    grid of ``N_LNPHI`` values of ln(phi1); the root is then bracketed in the whole range
+    and refined by bisection and Illinois steps, vectorised over h1.
+    """
     phi0 = math.pi / 2 - case["_theta0"]
     w, big_pi, _, _ = loads(case, h1)
     lo, hi = _lnphi_range(case, h1)
+    sub = np.arange(0, h1.size, UNIQUE_EVERY)
     t = np.linspace(0.0, 1.0, N_LNPHI)
-    lnphi = lo[:, None] + (hi - lo)[:, None] * t[None, :]
+    lnphi = lo[sub, None] + (hi - lo)[sub, None] * t[None, :]
     ph, _ = _rk4_tip(
-        np.broadcast_to(w[:, None], lnphi.shape).ravel(),
-        np.broadcast_to(big_pi[:, None], lnphi.shape).ravel(),
+        np.broadcast_to(w[sub, None], lnphi.shape).ravel(),
+        np.broadcast_to(big_pi[sub, None], lnphi.shape).ravel(),
         np.exp(lnphi).ravel(),
-        steps,
+        steps // 2,
     )
     r1 = ph.reshape(lnphi.shape) - phi0
     changes = np.sum(np.sign(r1[:, 1:]) != np.sign(r1[:, :-1]), axis=1)
@@ -228,21 +239,26 @@ def scan_G(case: dict[str, Any], h1: np.ndarray, steps: int = SCAN_STEPS):
         bad = np.nonzero(changes != 1)[0]
         raise RuntimeError(
             f"{case['label']}: inner problem has {changes[bad[:3]]} solutions at h1 = "
-            f"{h1[bad[:3]]}: not the fundamental family alone"
+            f"{h1[sub][bad[:3]]}: not the fundamental family alone"
         )
-    k = np.argmax(np.sign(r1[:, 1:]) != np.sign(r1[:, :-1]), axis=1)
-    rows = np.arange(h1.size)
-    a, b = lnphi[rows, k], lnphi[rows, k + 1]
-    fa, fb = r1[rows, k], r1[rows, k + 1]
-    for _ in range(10):  # Illinois
-        c = b - fb * (b - a) / (fb - fa)
-        ph, _ = _rk4_tip(w, big_pi, np.exp(c), steps)
-        fc = ph - phi0
+    a, b = lo.copy(), hi.copy()
+    fa = _rk4_tip(w, big_pi, np.exp(a), steps)[0] - phi0
+    fb = _rk4_tip(w, big_pi, np.exp(b), steps)[0] - phi0
+    if not (np.all(fa < 0) and np.all(fb > 0)):
+        raise RuntimeError(f"{case['label']}: the range of ln(phi1) does not bracket")
+    for it in range(BISECT + ILLINOIS):
+        c = (a + b) / 2 if it < BISECT else b - fb * (b - a) / (fb - fa)
+        fc = _rk4_tip(w, big_pi, np.exp(c), steps)[0] - phi0
+        if it < BISECT:
+            left = fc < 0
+            a, fa = np.where(left, c, a), np.where(left, fc, fa)
+            b, fb = np.where(left, b, c), np.where(left, fb, fc)
+            continue
         same = np.sign(fc) == np.sign(fb)
         a = np.where(same, a, b)
         fa = np.where(same, fa / 2, fb)
         b, fb = c, fc
-    ph, z = _rk4_tip(w, big_pi, np.exp(b), steps)
+    _, z = _rk4_tip(w, big_pi, np.exp(b), steps)
     return b, z - h1
 
 
@@ -312,7 +328,7 @@ def find_states(case: dict[str, Any]) -> tuple[list[tuple[float, float]], dict[s
                 continue  # far from zero: no pair of roots can hide here
             sgn = 1.0 if is_min else -1.0
             res = minimize_scalar(
-                lambda v: sgn * _inner(case, v, lnphi[i])[1],
+                lambda v, sgn=sgn, i=i: sgn * _inner(case, v, lnphi[i])[1],
                 bounds=(h1[i - 1], h1[i + 1]),
                 method="bounded",
                 options={"xatol": 1e-14},
@@ -323,7 +339,9 @@ def find_states(case: dict[str, Any]) -> tuple[list[tuple[float, float]], dict[s
                 brackets.append((res.x, h1[i + 1], lnphi[i]))
     states = []
     for a, b, guess in sorted(brackets):
-        root = brentq(lambda v: _inner(case, v, guess)[1], a, b, xtol=1e-15, rtol=1e-15)
+        root = brentq(
+            lambda v, guess=guess: _inner(case, v, guess)[1], a, b, xtol=1e-15, rtol=1e-15
+        )
         states.append((root, _inner(case, root, guess)[0]))
     g_first, g_last = float(g[0]), float(g[-1])
     if not (g_first > 0 and g_last < 0):
@@ -426,7 +444,7 @@ def newton(case: dict[str, Any], h1: mpf, lnphi: mpf, order: int) -> dict[str, A
     """Converge (ln phi1, h1) at the current precision; values of the state."""
     phi0 = mp.pi / 2 - case["_theta0"]
     tol = mpf(10) ** (-(mp.dps - 6))
-    for it in range(40):
+    for it in range(40):  # noqa: B007 (it is reported)
         w, big_pi, dw, dpi = loads(case, h1)
         phi1 = mp.exp(lnphi)
         r = taylor_tip(w, big_pi, dw, dpi, phi1, order, True)
@@ -557,7 +575,7 @@ def compute_case(case: dict[str, Any]) -> dict[str, Any]:
             raise RuntimeError(f"{case['label']}: closed form differs by {mp.nstr(err, 3)}")
         worst["closed_form"] = err
     out_states = []
-    for va, stable, steps, nit in states:
+    for va, stable, steps, _nit in states:
         out_states.append(
             {
                 **{key: _fmt(va[key]) for key in FIELDS},
@@ -669,32 +687,37 @@ def build_cases(quick: bool = False) -> list[dict[str, Any]]:
         (0.4, 1.0, 0.5, -0.2),  # Pi < 0 near the wall: the wall drags against the flow
     ]:
         c.append(_case(F, w, eps, th, "flow+wall", q=q))
+    # Small loads at theta0 = 0: x1 = W/3 + Pi/8 + O(load^2), the remainder shrinking.
+    for load in (1e-3, 1e-2):
+        c.append(_case(P, 0.0, 0.5, 0.0, "small load", pi=load))
+        c.append(_case(F, 0.0, 0.5, 0.0, "small load", q=load))
     c += WINDOW_CASES
     return c
 
 
-#: Bistable windows of the loaded drives, located by ``--find-windows`` (filled in below).
-WINDOW_CASES: list[dict[str, Any]] = []
+#: Inputs through a bistable window of each loaded drive (located by a double-precision
+#: count of the sign changes of G on a grid of the drive parameter): the pressure drive with
+#: the wall moving at pi = 0.1, eps = 0.95, theta0 = -1.2 (three states for omega2 about
+#: 0.46 to 0.54) and the flow drive at rest, eps = 0.8, theta0 = -1.2 (q about 0.08 to 0.2);
+#: each from outside the window through it to outside again.
+WINDOW_CASES: list[dict[str, Any]] = [
+    *(
+        _case("pressure", w, 0.95, -1.2, "pressure window", pi=0.1)
+        for w in (0.42, 0.47, 0.5, 0.53, 0.58)
+    ),
+    *(_case("flow", 0.0, 0.8, -1.2, "flow window", q=q) for q in (0.05, 0.09, 0.13, 0.18, 0.3)),
+]
 
 
-def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--out", type=Path, default=OUT_PATH)
-    parser.add_argument("--quick", action="store_true", help="a few cases (a smoke test)")
-    args = parser.parse_args(argv)
-    cases = build_cases(args.quick)
-    start = time.time()
-    with multiprocessing.Pool(args.workers) as pool:
-        results = []
-        for k, res in enumerate(pool.imap(compute_case, cases, chunksize=1)):
-            results.append(res)
-            print(
-                f"[{k + 1}/{len(cases)}] {res['drive']} {res['label']}: "
-                f"{len(res['states'])} state(s), {res['seconds']} s",
-                flush=True,
-            )
-    elapsed = time.time() - start
+def _key(case: dict[str, Any]) -> tuple:
+    return tuple(case[k] for k in INPUT_KEYS)
+
+
+INPUT_KEYS = ("drive", "omega2", "pi", "q", "eps", "theta0", "label")
+
+
+def _write(path: Path, results: list[dict[str, Any]], seconds: float) -> int:
+    """Write the cases computed so far (in the order of build_cases); the number of states."""
     n_states = sum(len(r["states"]) for r in results)
     worst = {
         key: max(float(r["checks"][key]) for r in results if r["checks"][key] is not None)
@@ -708,7 +731,7 @@ def main(argv: list[str] | None = None) -> int:
         "dps": DPS,
         "digits_written": OUT_DIGITS,
         "taylor_orders": list(ORDERS),
-        "generation_seconds": round(elapsed, 1),
+        "generation_seconds": round(seconds, 1),
         "n_cases": len(results),
         "n_states": n_states,
         "checks": (
@@ -720,19 +743,54 @@ def main(argv: list[str] | None = None) -> int:
             "all of them, found by a scan in h1 (see the generator's docstring); stable: "
             "dG/dh1 < 0."
         ).format(
-            identity=worst["identity"],
-            orders=worst["orders"],
-            residual=worst["residual"],
+            identity=worst.get("identity", float("nan")),
+            orders=worst.get("orders", float("nan")),
+            residual=worst.get("residual", float("nan")),
             closed=worst.get("closed_form", float("nan")),
             o0=ORDERS[0],
             o1=ORDERS[1],
         ),
         "cases": results,
     }
-    tmp = args.out.with_suffix(".tmp")
+    tmp = path.with_suffix(".tmp")
     tmp.write_text(json.dumps(data, indent=1) + "\n")
-    tmp.replace(args.out)
-    print(f"wrote {args.out}: {len(results)} cases, {n_states} states, {elapsed:.0f} s")
+    tmp.replace(path)
+    return n_states
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--out", type=Path, default=OUT_PATH)
+    parser.add_argument("--quick", action="store_true", help="a few cases (a smoke test)")
+    parser.add_argument(
+        "--resume",
+        action="store_true",
+        help="keep the cases already in --out (same inputs and generator) and compute the rest",
+    )
+    args = parser.parse_args(argv)
+    cases = build_cases(args.quick)
+    done: dict[tuple, dict[str, Any]] = {}
+    previous = 0.0
+    if args.resume and args.out.exists():
+        old = json.loads(args.out.read_text())
+        done = {_key(r): r for r in old["cases"]}
+        previous = old.get("generation_seconds", 0.0)
+    todo = [c for c in cases if _key(c) not in done]
+    start = time.time()
+    with multiprocessing.Pool(args.workers) as pool:
+        for k, res in enumerate(pool.imap_unordered(compute_case, todo, chunksize=1)):
+            done[_key(res)] = res
+            print(
+                f"[{k + 1}/{len(todo)}] {res['drive']} {res['label']}: "
+                f"{len(res['states'])} state(s), {res['seconds']} s",
+                flush=True,
+            )
+            partial = [done[_key(c)] for c in cases if _key(c) in done]
+            _write(args.out, partial, previous + time.time() - start)
+    results = [done[_key(c)] for c in cases]
+    n_states = _write(args.out, results, previous + time.time() - start)
+    print(f"wrote {args.out}: {len(results)} cases, {n_states} states")
     return 0
 
 
