@@ -108,14 +108,17 @@ def test_shape_consistent_with_tip(item):
     th = [mpf(case["theta0"])] + [mpf(v) for v in sh["theta"]] + [mpf(state["tip_angle"])]
     x = [mpf(0)] + [mpf(v) for v in sh["x"]] + [mpf(state["tip_deflection"])]
     s = [mpf(0)] + [mpf(v) for v in sh["s"]] + [mpf(1)]
-    # the fundamental family: theta rises from theta0 towards pi/2, z increases to h1
-    assert all(b > a for a, b in zip(z, z[1:]))
-    assert all(b >= a for a, b in zip(th, th[1:])) and th[-1] < mp.pi / 2
+    # the fundamental family: theta rises from theta0 towards pi/2, z increases to h1 (under
+    # strong loads the hair lies flat beyond the base layer: z = h1, theta = pi/2 to the 30
+    # digits written, hence the one-digit allowance)
+    ulp = mpf("1e-29")
+    assert all(b >= a for a, b in zip(z, z[1:]))
+    assert all(b >= a for a, b in zip(th, th[1:])) and th[-1] < mp.pi / 2 + ulp
     for k in range(4):
         ds = s[k + 1] - s[k]
         # x' = sin(theta) with theta increasing: the mean value lies between the ends
         dx = x[k + 1] - x[k]
-        assert ds * mp.sin(th[k]) <= dx <= ds * mp.sin(th[k + 1])
+        assert ds * mp.sin(th[k]) - ulp <= dx <= ds * mp.sin(th[k + 1]) + ulp
         assert z[k + 1] - z[k] <= ds
     assert mpf(state["base_curvature"]) > 0
 

@@ -38,9 +38,9 @@ integration keeps its relative accuracy, and phi1 ~ exp(-sqrt(F)) is an ordinary
   values of ln(phi1) (RK4, 600 steps) shows that there is exactly one solution (the generator
   stops otherwise: that is the fundamental family, see below). Then G(h1) = zeta(1) - h1 is
   tabulated; G > 0 as h1 -> 0 and G(1) < 0 (checked). Every sign change of G, and every local
-  extremum of G between grid points that comes near zero (a close pair of states near a
-  fold; searched by golden section), is refined by nested Brent iterations on scipy's DOP853
-  (rtol 1e-13).
+  extremum of G between grid points that points towards zero (a close pair of states near a
+  fold; searched by a bounded Brent minimisation), is refined by nested Brent iterations on
+  scipy's DOP853 (rtol 1e-13).
 * Refinement (mpmath, ``DPS`` digits): Newton's method in (ln phi1, h1) with the exact
   Jacobian from the variational equations, integrated alongside. The integrator is a Taylor
   series method whose coefficients come from exact recurrences (S = sin phi, C = cos phi:
@@ -704,9 +704,10 @@ def build_cases(quick: bool = False) -> list[dict[str, Any]]:
         (1e3, 10.0, 0.5, 0.7),
         (1e-6, 1e-6, 0.9, 0.0),
         (5.0, 1e4, 0.2, -0.5),
-        (2.0, -0.5, 0.5, 0.3),  # pressure against the wall; the load stays positive
     ]:
         c.append(_case(P, w, eps, th, "pressure+wall", pi=pi))
+    # Pressure against the wall (pi < 0): Pi < 0, the load W + Pi (h1 - z) stays positive.
+    c.append(_case(P, 2.0, 0.5, 0.3, "pressure against wall", pi=-0.5))
     # Flow drive, wall at rest: q from 1e-6 to 1e4.
     for q, eps, th in [
         (1e-6, 0.5, 0.0),
@@ -729,9 +730,10 @@ def build_cases(quick: bool = False) -> list[dict[str, Any]]:
         (1.0, 10.0, 0.9, -1.0),
         (100.0, 1e3, 0.5, 1.0),
         (1e-7, 1e-6, 0.7, 0.0),
-        (0.4, 1.0, 0.5, -0.2),  # Pi < 0 near the wall: the wall drags against the flow
     ]:
         c.append(_case(F, w, eps, th, "flow+wall", q=q))
+    # The wall held back against the flow (q < 3 omega2 u): Pi < 0 at small h1.
+    c.append(_case(F, 0.4, 0.5, -0.2, "wall against flow", q=1.0))
     # Small loads at theta0 = 0: x1 = W/3 + Pi/8 + O(load^2), the remainder shrinking.
     for load in (1e-3, 1e-2):
         c.append(_case(P, 0.0, 0.5, 0.0, "small load", pi=load))
