@@ -124,7 +124,11 @@ def test_shape_consistent_with_tip(item):
 
 
 def test_small_load_limit():
-    """x1 = W/3 + Pi/8 at theta0 = 0, the remainder of order load^2 (actually load^3)."""
+    """x1 = W/3 + Pi/8 at theta0 = 0, the remainder of order load^2.
+
+    At theta0 = 0 it is even of order load^3: x1 is odd in (W, Pi) (theta -> -theta).
+    The cases span loads 1e-6 to 1e-2, so the bound tests the shrinking.
+    """
     small = [
         (c, s)
         for c, s in STATES
@@ -134,7 +138,9 @@ def test_small_load_limit():
     for _case, s in small:
         load = mpf(s["W"]) + abs(mpf(s["Pi"]))
         remainder = mpf(s["tip_deflection"]) - (mpf(s["W"]) / 3 + mpf(s["Pi"]) / 8)
-        assert abs(remainder) <= load**2 / 10, (load, remainder)
+        assert abs(remainder) <= load**3 / 10, (load, remainder)
+    loads = sorted(mpf(s["W"]) + abs(mpf(s["Pi"])) for _, s in small)
+    assert loads[0] < 1e-5 and loads[-1] > 1e-3
 
 
 def test_coverage_of_drives_and_ranges():
@@ -183,3 +189,43 @@ def test_stability_alternates():
         if None in flags:
             continue
         assert flags == [k % 2 == 0 for k in range(len(flags))], case["label"]
+
+
+def test_folds_bound_the_windows():
+    """Each fold lies between the grid inputs with one and three states, and its tip height
+    between the two states of the window that merge there."""
+    folds = DATA_["folds"]
+    assert len(folds) >= 4
+    sides = Counter((f["drive"], f["window_side"]) for f in folds)
+    for drive in ("pressure", "flow"):
+        assert sides[(drive, "lower")] >= 1 and sides[(drive, "upper")] >= 1
+    for f in folds:
+        name = f["parameter"]
+        assert f[name] is None
+        value, h1 = mpf(f["value"]), mpf(f["tip_height"])
+        fixed = {k: f[k] for k in ("drive", "omega2", "pi", "q", "eps", "theta0") if k != name}
+        grid = [
+            c
+            for c in CASES
+            if c["label"].endswith("window") and all(c[k] == v for k, v in fixed.items())
+        ]
+        one = [c[name] for c in grid if len(c["states"]) == 1]
+        three = [c for c in grid if len(c["states"]) == 3]
+        assert one and three
+        if f["window_side"] == "lower":
+            outside = max(v for v in one if v < value)
+            inside = min(three, key=lambda c: c[name])
+            pair = inside["states"][1:]  # the middle and the upper state merge
+        else:
+            outside = min(v for v in one if v > value)
+            inside = max(three, key=lambda c: c[name])
+            pair = inside["states"][:2]  # the lower and the middle state merge
+        assert min(outside, inside[name]) < value < max(outside, inside[name])
+        assert mpf(pair[0]["tip_height"]) < h1 < mpf(pair[1]["tip_height"])
+        # the loads and the identity at the fold
+        case = dict(fixed, **{name: value})
+        w, big_pi = _loads(case, h1)
+        assert abs(mpf(f["W"]) - w) <= mpf("1e-25") * max(1, w)
+        assert abs(mpf(f["Pi"]) - big_pi) <= mpf("1e-25") * max(1, abs(big_pi))
+        m = mpf(f["base_curvature"])
+        assert abs(m - (w * h1 + big_pi * h1**2 / 2)) <= mpf("1e-25") * max(1, m)

@@ -1,8 +1,12 @@
 """Generate ``tests/data/loaded_mpmath.json``: the hair under a tip load and a load per height.
 
-Run on demand (a few minutes on two cores)::
+Run on demand (about ten minutes on two shared cores)::
 
     .venv/bin/python tests/reference/generate_loaded.py [--workers 2] [--out PATH] [--quick]
+    .venv/bin/python tests/reference/generate_loaded.py --resume   # only the missing cases
+
+``--resume`` keeps the cases of an existing ``--out`` whose inputs and label are unchanged and
+computes the rest (the file is rewritten after every case, so an interrupted run resumes).
 
 It imports nothing from :mod:`hairbed` and shares no code with its solver: the equations are
 written here from issue 20 (docs/theory.md, distributed loads). With s in [0, 1]::
@@ -75,6 +79,11 @@ Checks (the generator stops rather than write a value that fails one):
    at ``ODEFUN_DPS`` digits: theta'(1) = 0, z(1) = h1, x(1), theta(1) and the shape agree to
    ``ODEFUN_TOL``.
 
+The folds that bound the two windows are tabulated too (``folds``): the value of omega2 or q at
+which two states merge, from (R1, R2, dG/dh1) = 0 by Newton's method at ``DPS`` digits (the
+Jacobian by central differences), started from a double-precision estimate (the zero of the
+extremum of G between the merging pair, by Brent), and re-converged at the second order.
+
 Numbers are written as strings with ``OUT_DIGITS`` significant digits; the inputs are the
 JSON numbers (binary doubles, converted exactly).
 """
@@ -100,7 +109,7 @@ from scipy.optimize import brentq, minimize_scalar
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import generate_reference as gr  # noqa: E402  (the closed form, for check 3 only)
 
-__all__ = ["build_cases", "compute_case", "main"]
+__all__ = ["build_cases", "compute_case", "compute_fold", "main"]
 
 OUT_PATH = Path(__file__).resolve().parents[1] / "data" / "loaded_mpmath.json"
 #: Working precision of the refinement [decimal digits].
@@ -756,6 +765,167 @@ WINDOW_CASES: list[dict[str, Any]] = [
 ]
 
 
+# ------------------------------------------------------------------------------------------
+# Folds of the windows
+# ------------------------------------------------------------------------------------------
+
+#: The folds that bound the two windows of WINDOW_CASES: (drive, fixed inputs, the drive
+#: parameter that moves, the grid values on either side (outside, inside: one state and three),
+#: the indices of the two states at the inside value that merge at the fold).
+FOLDS: list[dict[str, Any]] = [
+    {
+        "base": dict(drive="pressure", omega2=0.0, eps=0.95, theta0=-1.2, pi=0.1, q=None),
+        "param": "omega2",
+        "outside": 0.42,
+        "inside": 0.47,
+        "merging": (1, 2),
+    },
+    {
+        "base": dict(drive="pressure", omega2=0.0, eps=0.95, theta0=-1.2, pi=0.1, q=None),
+        "param": "omega2",
+        "outside": 0.58,
+        "inside": 0.53,
+        "merging": (0, 1),
+    },
+    {
+        "base": dict(drive="flow", omega2=0.0, eps=0.8, theta0=-1.2, pi=None, q=0.0),
+        "param": "q",
+        "outside": 0.05,
+        "inside": 0.09,
+        "merging": (1, 2),
+    },
+    {
+        "base": dict(drive="flow", omega2=0.0, eps=0.8, theta0=-1.2, pi=None, q=0.0),
+        "param": "q",
+        "outside": 0.3,
+        "inside": 0.18,
+        "merging": (0, 1),
+    },
+]
+
+
+def _with_param(case: dict[str, Any], name: str, value: Any) -> dict[str, Any]:
+    c = dict(case)
+    c["_" + name] = value
+    return c
+
+
+def _fold_double(spec: dict[str, Any]) -> tuple[float, float, float]:
+    """(parameter, h1, ln phi1) of the fold in double precision (DOP853, nested Brent)."""
+    base = dict(spec["base"], label="fold")
+    name = spec["param"]
+
+    def at(value: float) -> dict[str, Any]:
+        c = _float_inputs(dict(base, **{name: value}))
+        c["_theta0"] = float(base["theta0"])
+        return c
+
+    inside = at(spec["inside"])
+    states, _ = find_states(inside)
+    i, j = spec["merging"]
+    (ha, la), (hb, _) = states[i], states[j]
+    sgn = 1.0 if i == 0 else -1.0  # G has a minimum between the pair (low, mid), else a max
+
+    def extremum(value: float) -> tuple[float, float]:
+        c = at(value)
+        res = minimize_scalar(
+            lambda v: sgn * _inner(c, v, la)[1],
+            bounds=(ha - 0.02, hb + 0.02),
+            method="bounded",
+            options={"xatol": 1e-12},
+        )
+        return sgn * res.fun, res.x
+
+    def g_ext(value: float) -> float:
+        return extremum(value)[0]
+
+    value = brentq(g_ext, spec["outside"], spec["inside"], xtol=1e-14, rtol=1e-14)
+    h1 = extremum(value)[1]
+    return value, h1, _inner(at(value), h1, la)[0]
+
+
+def _fold_residual(case: dict[str, Any], name: str, xs: list[mpf], order: int):
+    """(R1, R2, dG/dh1) at (ln phi1, h1, parameter) and the integration."""
+    lnphi, h1, value = xs
+    c = _with_param(case, name, value)
+    w, big_pi, dw, dpi = loads(c, h1)
+    phi1 = mp.exp(lnphi)
+    r = taylor_tip(w, big_pi, dw, dpi, phi1, order, True)
+    tip = r["at"][-1]
+    j11, j21 = phi1 * r["d_phi1"][0], phi1 * r["d_phi1"][1]
+    j12, j22 = r["d_h1"][0], r["d_h1"][1] - 1
+    phi0 = mp.pi / 2 - c["_theta0"]
+    res = [tip[0] - phi0, tip[2] - h1, (j11 * j22 - j12 * j21) / j11]
+    return res, tip, (w, big_pi)
+
+
+def _fold_newton(case: dict[str, Any], name: str, xs: list[mpf], order: int) -> list[mpf]:
+    """Newton's method on (R1, R2, dG/dh1) = 0, the Jacobian by central differences."""
+    step = mpf(10) ** (-(mp.dps // 3))
+    tol = mpf(10) ** (-(mp.dps - 8))
+    for _ in range(30):
+        f0, _, _ = _fold_residual(case, name, xs, order)
+        jac = mp.matrix(3, 3)
+        for k in range(3):
+            hk = step * max(1, abs(xs[k]))
+            up = list(xs)
+            dn = list(xs)
+            up[k] += hk
+            dn[k] -= hk
+            fu = _fold_residual(case, name, up, order)[0]
+            fd = _fold_residual(case, name, dn, order)[0]
+            for i in range(3):
+                jac[i, k] = (fu[i] - fd[i]) / (2 * hk)
+        dx = mp.lu_solve(jac, mp.matrix(f0))
+        xs = [xs[k] - dx[k] for k in range(3)]
+        if max(abs(dx[k]) / max(1, abs(xs[k])) for k in range(3)) < tol:
+            return xs
+    raise RuntimeError(f"fold Newton did not converge at {xs}")
+
+
+def compute_fold(spec: dict[str, Any]) -> dict[str, Any]:
+    """One fold: its parameter value and state at DPS digits, checked at a second order."""
+    start = time.time()
+    value, h1, lnphi = _fold_double(spec)
+    mp.dps = DPS
+    base = spec["base"]
+    case = _mp_inputs(dict(base, label="fold"))
+    case["_theta0"] = mpf(base["theta0"])
+    name = spec["param"]
+    xs = _fold_newton(case, name, [mpf(lnphi), mpf(h1), mpf(value)], ORDERS[0])
+    ys = _fold_newton(case, name, xs, ORDERS[1])
+    change = max(_rel(a, b) for a, b in zip(xs, ys))
+    res, tip, (w, big_pi) = _fold_residual(case, name, xs, ORDERS[0])
+    lo, hi = sorted((spec["outside"], spec["inside"]))
+    if change > ORDERS_TOL or not lo < xs[2] < hi or max(abs(r) for r in res) > RESIDUAL_TOL:
+        raise RuntimeError(f"fold {spec}: change {change}, value {xs[2]}, residual {res}")
+    m = tip[1]
+    ident = abs(m - (w * xs[1] + big_pi * xs[1] ** 2 / 2)) / max(1, abs(m))
+    if ident > IDENTITY_TOL:
+        raise RuntimeError(f"fold {spec}: identity off by {ident}")
+    inputs = {k: base[k] for k in ("drive", "omega2", "pi", "q", "eps", "theta0")}
+    inputs[name] = None
+    return {
+        **inputs,
+        "parameter": name,
+        "value": _fmt(xs[2]),
+        "window_side": "lower" if spec["inside"] > spec["outside"] else "upper",
+        "tip_height": _fmt(xs[1]),
+        "tip_deflection": _fmt(tip[3]),
+        "tip_angle": _fmt(mp.pi / 2 - mp.exp(xs[0])),
+        "base_curvature": _fmt(m),
+        "W": _fmt(w),
+        "Pi": _fmt(big_pi),
+        "checks": {
+            "orders": mp.nstr(change, 3),
+            "residual": mp.nstr(max(abs(r) for r in res), 3),
+            "identity": mp.nstr(ident, 3),
+            "double_precision_value": value,
+        },
+        "seconds": round(time.time() - start, 1),
+    }
+
+
 def _key(case: dict[str, Any]) -> tuple:
     return tuple(case[k] for k in INPUT_KEYS)
 
@@ -763,7 +933,9 @@ def _key(case: dict[str, Any]) -> tuple:
 INPUT_KEYS = ("drive", "omega2", "pi", "q", "eps", "theta0", "label")
 
 
-def _write(path: Path, results: list[dict[str, Any]], seconds: float) -> int:
+def _write(
+    path: Path, results: list[dict[str, Any]], seconds: float, folds: list | None = None
+) -> int:
     """Write the cases computed so far (in the order of build_cases); the number of states."""
     n_states = sum(len(r["states"]) for r in results)
     worst = {
@@ -802,6 +974,13 @@ def _write(path: Path, results: list[dict[str, Any]], seconds: float) -> int:
             o1=ORDERS[1],
         ),
         "cases": results,
+        "folds": folds or [],
+        "folds_note": (
+            "the folds bounding the two windows: parameter (omega2 or q, null among the inputs) "
+            "at which the two states of the window that merge there coincide, solved as "
+            "(phi(1) = pi/2 - theta0, zeta(1) = h1, dG/dh1 = 0) by Newton's method in mpmath "
+            "from a double-precision estimate, re-converged at the second Taylor order"
+        ),
     }
     tmp = path.with_suffix(".tmp")
     tmp.write_text(json.dumps(data, indent=1) + "\n")
@@ -839,9 +1018,10 @@ def main(argv: list[str] | None = None) -> int:
             )
             partial = [done[_key(c)] for c in cases if _key(c) in done]
             _write(args.out, partial, previous + time.time() - start)
-    results = [done[_key(c)] for c in cases]
-    n_states = _write(args.out, results, previous + time.time() - start)
-    print(f"wrote {args.out}: {len(results)} cases, {n_states} states")
+        results = [done[_key(c)] for c in cases]
+        folds = [] if args.quick else pool.map(compute_fold, FOLDS, chunksize=1)
+    n_states = _write(args.out, results, previous + time.time() - start, folds)
+    print(f"wrote {args.out}: {len(results)} cases, {n_states} states, {len(folds)} folds")
     return 0
 
 
