@@ -229,3 +229,31 @@ def test_folds_bound_the_windows():
         assert abs(mpf(f["Pi"]) - big_pi) <= mpf("1e-25") * max(1, abs(big_pi))
         m = mpf(f["base_curvature"])
         assert abs(m - (w * h1 + big_pi * h1**2 / 2)) <= mpf("1e-25") * max(1, m)
+
+
+def test_near_fold_counts():
+    """A relative 1e-4 inside each fold: three states, the merging pair close; outside: one."""
+    folds = DATA_["folds"]
+    near = [c for c in CASES if c["label"].endswith("near fold")]
+    assert len(near) == 2 * len(folds)
+    for f in folds:
+        name = f["parameter"]
+        value = mpf(f["value"])
+        mine = [c for c in near if c["drive"] == f["drive"] and abs(c[name] / value - 1) < 2e-4]
+        assert len(mine) == 2
+        for c in mine:
+            above = c[name] > value
+            inside = above == (f["window_side"] == "lower")
+            assert len(c["states"]) == (3 if inside else 1), (f, c[name])
+            if inside:
+                h = [mpf(s["tip_height"]) for s in c["states"]]
+                gaps = (h[1] - h[0], h[2] - h[1])
+                close = gaps[1] if f["window_side"] == "lower" else gaps[0]
+                assert close < 0.05 and close < max(gaps) / 5
+                assert (
+                    abs(
+                        (h[1] + (h[2] if f["window_side"] == "lower" else h[0])) / 2
+                        - mpf(f["tip_height"])
+                    )
+                    < 0.02
+                )

@@ -748,6 +748,7 @@ def build_cases(quick: bool = False) -> list[dict[str, Any]]:
         c.append(_case(P, 0.0, 0.5, 0.0, "small load", pi=load))
         c.append(_case(F, 0.0, 0.5, 0.0, "small load", q=load))
     c += WINDOW_CASES
+    c += _near_fold_cases()
     return c
 
 
@@ -763,6 +764,28 @@ WINDOW_CASES: list[dict[str, Any]] = [
     ),
     *(_case("flow", 0.0, 0.8, -1.2, "flow window", q=q) for q in (0.05, 0.09, 0.13, 0.18, 0.3)),
 ]
+#: The fold values of the windows (the ``folds`` this generator tabulates, checked in main)
+#: and the near-fold inputs: a relative 1e-4 inside (three states, two of them close) and
+#: outside (one state) of each fold.
+FOLD_VALUES = (0.4535979898120236, 0.5475626548463574, 0.07644718625543093, 0.2137887611050646)
+NEAR_FOLD = 1e-4
+
+
+def _near_fold_cases() -> list[dict[str, Any]]:
+    out = []
+    for value, inward, name in (
+        (FOLD_VALUES[0], 1, "omega2"),
+        (FOLD_VALUES[1], -1, "omega2"),
+        (FOLD_VALUES[2], 1, "q"),
+        (FOLD_VALUES[3], -1, "q"),
+    ):
+        for side in (1, -1):
+            v = float(f"{value * (1 + side * inward * NEAR_FOLD):.15g}")
+            if name == "omega2":
+                out.append(_case("pressure", v, 0.95, -1.2, "pressure near fold", pi=0.1))
+            else:
+                out.append(_case("flow", 0.0, 0.8, -1.2, "flow near fold", q=v))
+    return out
 
 
 # ------------------------------------------------------------------------------------------
@@ -1020,6 +1043,9 @@ def main(argv: list[str] | None = None) -> int:
             _write(args.out, partial, previous + time.time() - start)
         results = [done[_key(c)] for c in cases]
         folds = [] if args.quick else pool.map(compute_fold, FOLDS, chunksize=1)
+    for f, value in zip(folds, FOLD_VALUES):
+        if abs(float(f["value"]) - value) > 1e-12 * value:
+            raise RuntimeError(f"FOLD_VALUES is stale: {value} but the fold is at {f['value']}")
     n_states = _write(args.out, results, previous + time.time() - start, folds)
     print(f"wrote {args.out}: {len(results)} cases, {n_states} states, {len(folds)} folds")
     return 0
