@@ -57,6 +57,14 @@ integration keeps its relative accuracy, and phi1 ~ exp(-sqrt(F)) is an ordinary
   relaxation (exchange of stability at folds, as in hairbed.stability for the wall problem);
   an oscillatory (Hopf) loss of stability would not be seen.
 
+Cases (``build_cases``): the wall problem (pi = 0, with two of its windows); the pressure drive
+with the wall at rest (pi from 1e-6 to 1e4) and moving, one with pi < 0 against the wall; the
+flow drive at rest (q from 1e-6 to 1e4) and with the wall moving, one with the wall held
+against the flow (Pi < 0 at small h1); small loads at theta0 = 0 (1e-3, 1e-2); a grid of five
+inputs through a window of each loaded drive (one state, three, three, three, one); and a
+relative 1e-4 inside and outside each of the four folds that bound those windows. theta0 spans
+-1.5 to 1.5 in both drives and eps reaches 0.99.
+
 Which states: "every coexisting state" means every state of the fundamental family, the hair
 that never turns back towards the wall (-pi/2 < theta < pi/2 along it, so z is increasing and
 0 < h1 <= 1). The other solutions of the equations (the hair looping once or more about its
@@ -295,10 +303,10 @@ def _tip_ivp(w: float, big_pi: float, lnphi1: float) -> tuple[float, float]:
     sol = solve_ivp(
         rhs,
         (0.0, 1.0),
-        [math.exp(lnphi1), 0.0, 0.0],
+        [math.exp(max(lnphi1, -700.0)), 0.0, 0.0],
         method="DOP853",
         rtol=1e-13,
-        atol=1e-14 * min(1.0, math.exp(lnphi1)),
+        atol=1e-14 * min(1.0, math.exp(max(lnphi1, -700.0))),
         events=out,
     )
     if sol.status == 1:
