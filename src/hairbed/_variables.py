@@ -325,17 +325,21 @@ SI: Mapping[str, Variable] = _table(
         "tip angle, bed frame", "rad", "angle of the free end in the bed's own frame",
     ),
     _V(
-        "wall_shear_stress", "si", "Pa", "shear stress on the top wall, eta v / (H - h1 L)",
-        "wall shear stress tau", "Pa", "signed like v",
+        "wall_shear_stress", "si", "Pa",
+        "shear stress of the gap flow on the tip plane, eta v / g + G g / 2 with g = H - h1 L "
+        "(the top wall's, eta v / g, when the wall drives the flow)",
+        "wall shear stress tau", "Pa", "signed like the flow",
     ),
     _V(
-        "force_per_hair", "si", "N", "horizontal force of the flow on one hair, tau pi a^2 / phi",
-        "force per hair F", "N", "signed like v",
+        "force_per_hair", "si", "N",
+        "horizontal force of the flow on one hair, (tau + G h1 L) pi a^2 / phi",
+        "force per hair F", "N", "signed like the flow",
     ),
     _V(
         "stress_ratio", "si", "1",
-        "wall shear stress over that of the bare channel, H / (H - h1 L)",
-        "stress ratio tau/(eta v/H)", "-", SOLUTION["stress_ratio"].description,
+        "shear stress on the tip plane over that the same drive puts on the bare channel's "
+        "bottom wall (H / (H - h1 L) for a moving wall)",
+        "stress ratio tau/tau_bare", "-", SOLUTION["stress_ratio"].description,
     ),
     _V(
         "tip_displacement", "si", "m", "tip displacement along +x from the hair at rest",
@@ -343,9 +347,19 @@ SI: Mapping[str, Variable] = _table(
     ),
     _V(
         "reynolds_number", "si", "1",
-        "Reynolds number of the gap flow, rho abs(v) (H - h1 L) / eta",
-        "gap Reynolds number rho|v|(H-h1 L)/eta", "-",
+        "Reynolds number of the gap flow, rho u_max (H - h1 L) / eta (u_max = abs(v) for a "
+        "moving wall)",
+        "gap Reynolds number rho u_max g/eta", "-",
         "NaN without a fluid density; above 1 the Stokes-flow model does not hold",
+    ),
+    _V(
+        "pressure_gradient", "si", "Pa m-1", "pressure gradient along the channel, G = -dp/dx",
+        "pressure gradient G", "Pa/m", "set by a pump, or following from a set flow rate",
+    ),
+    _V(
+        "flow_rate", "si", "m2 s-1",
+        "flow rate per unit width through the gap, v g / 2 + G g^3 / (12 eta)",
+        "flow rate Q'", "m^2/s", "per unit width of the channel",
     ),
 )  # fmt: skip
 

@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
+from ._core.loaded import solve_loaded
 from ._core.outputs import float_or_array
 from ._core.solver import _from_parameter, _solve_checked
 from ._core.validation import (
@@ -54,6 +55,7 @@ from ._core.validation import (
     check_root,
 )
 from ._warnings import ModelValidityWarning, UnitsWarning
+from .channel_drives import drive_inputs, gap_flow
 
 if TYPE_CHECKING:  # pragma: no cover
     from .profile_fit import ProfileFit
@@ -292,9 +294,20 @@ class HairState:
         Horizontal displacement of the tip from its position at rest, (x1 - sin theta0) L [m]
         (along +x), accurate relative to itself at weak forcing.
     reynolds_number : float or ndarray
-        Reynolds number of the gap flow above the bed, rho abs(v) (H - h1 L) / eta [-]; NaN
-        when the bed has no ``density``. The model assumes Stokes flow: above 1 a
+        Reynolds number of the gap flow above the bed, rho u_max (H - h1 L) / eta [-], u_max
+        the largest speed of the gap's profile (abs(v) when the wall drives it); NaN when the
+        bed has no ``density``. The model assumes Stokes flow: above 1 a
         :class:`hairbed.ModelValidityWarning` is issued.
+    pressure_gradient : float or ndarray
+        Pressure gradient G = -dp/dx along the channel [Pa/m]: 0 when the wall drives the
+        flow, set by a pump or following from a set flow rate (:mod:`hairbed.channel_drives`).
+    flow_rate : float or ndarray
+        Flow rate per unit width through the gap, Q' = v g/2 + G g^3/(12 eta) [m^2/s].
+
+    With a pump drive (``pressure_gradient`` or ``flow_rate`` given to :meth:`HairBed.deform`)
+    ``solution`` is a :class:`hairbed.LoadedState` in the bed's own frame (``direction`` is
+    +1), the stress is the one on the tip plane, eta v/g + G g/2, and the force per hair holds
+    the bed's share of the pressure gradient too, (tau + G h1 L) pi a^2/phi.
     """
 
     bed: HairBed = field(repr=False)
@@ -310,6 +323,8 @@ class HairState:
     stress_ratio: FloatOrArray
     tip_displacement: FloatOrArray
     reynolds_number: FloatOrArray
+    pressure_gradient: FloatOrArray
+    flow_rate: FloatOrArray
 
     def profile(self, num: int = 200) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """The shape of the hair in metres, from base (0, 0) to tip.
@@ -325,7 +340,10 @@ class HairState:
             Horizontal position along +x [m] and height above the wall [m], of shape
             ``velocity.shape + (num,)``.
         """
-        x, z = self.solution.profile(num)
+        if hasattr(self.solution, "profile"):
+            x, z = self.solution.profile(num)
+        else:  # a LoadedState (a pump drive): its spectral interpolant
+            _, x, z, _ = self.solution.shape(np.linspace(0.0, 1.0, num))
         scale = self.bed.length
         direction = np.asarray(self.direction, dtype=np.float64)[..., np.newaxis]
         return direction * scale * np.asarray(x), scale * np.asarray(z)
@@ -546,29 +564,92 @@ class HairBed:
     def _direction(self, v: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.where(v < 0.0, -1.0, 1.0)
 
-    def deform(self, velocity: Any, *, root: str = "low") -> HairState:
-        """The state of the bed under a flow of wall speed ``velocity``.
+    def deform(
+        self,
+        velocity: Any = None,
+        *,
+        pressure_gradient: Any = None,
+        flow_rate: Any = None,
+        root: str = "low",
+    ) -> HairState:
+        """The state of the bed under a flow: a moving wall, a pressure gradient or a flow rate.
 
         Parameters
         ----------
-        velocity : array_like
-            Speed of the top wall v [m/s]; negative for flow towards -x (the mirror image, see the
-            module docstring).
+        velocity : array_like, optional
+            Speed of the top wall v [m/s]; negative for flow towards -x (the mirror image, see
+            the module docstring). Alone, the paper's wall-driven channel (closed form); with a
+            pump drive, the wall moves too (default at rest).
+        pressure_gradient : array_like, optional
+            A pump's pressure gradient G = -dp/dx [Pa/m] (positive drives towards +x): the
+            bed carries G pi a^2/phi per unit height and the state has no closed form
+            (:func:`hairbed.solve_loaded`, theory.md §11).
+        flow_rate : array_like, optional
+            A pump's flow rate per unit width Q' [m^2/s] (positive towards +x); at most one of
+            ``pressure_gradient`` and ``flow_rate``. Inputs broadcast together.
         root : {"low", "mid", "high"}
             Which state to return where several coexist (a hair leaning into a flow in a tight
-            channel, theory.md §5): passed to :func:`hairbed.solve`.
+            channel, theory.md §5): passed to :func:`hairbed.solve` (or, with a pump drive,
+            the closed-form start of :func:`hairbed.solve_loaded`).
 
         Returns
         -------
         HairState
-            Tip position, wall shear stress and force in SI, and the dimensionless solution.
+            Tip position, shear stress and force in SI, and the dimensionless solution.
+
+        Examples
+        --------
+        >>> bed = HairBed(length=1e-3, radius=50e-6, youngs_modulus=1e6,
+        ...               channel_height=2e-3, viscosity=1.0, spacing=400e-6)
+        >>> round(bed.deform(0.1).tip_deflection * 1e6, 3)  # [um]
+        539.832
+        >>> st = bed.deform(pressure_gradient=200.0)  # [Pa/m], both walls at rest
+        >>> round(st.tip_deflection * 1e6, 4), round(st.flow_rate * 1e6, 4)  # [um], [mm^2/s]
+        (1.6466, 0.0167)
         """
         root = check_root(root)
+        if pressure_gradient is not None or flow_rate is not None:
+            return self._deform_pumped(velocity, pressure_gradient, flow_rate, root)
+        if velocity is None:
+            raise TypeError(
+                "deform() needs velocity [m/s], pressure_gradient [Pa/m] or flow_rate [m^2/s]"
+            )
         v, omega2 = self._forcing(velocity, "velocity")
         direction = self._direction(v)
         # checked: omega2 finite >= 0 (_forcing), eps and the base angle by the bed itself
         sol = _solve_checked(omega2, self.eps, direction * self.base_angle, root=root)
         return self._state(v, direction, omega2, sol)
+
+    def _deform_pumped(
+        self, velocity: Any, pressure_gradient: Any, flow_rate: Any, root: str
+    ) -> HairState:
+        """:meth:`deform` with a pump drive: the distributed-load solver, signs kept."""
+        drive, v, value, omega2, load = drive_inputs(self, velocity, pressure_gradient, flow_rate)
+        keyword = {"pi": load} if drive == "pressure" else {"q": load}
+        sol = solve_loaded(omega2, self.eps, self.base_angle, root=root, **keyword)
+        h1 = np.asarray(sol.tip_height, dtype=np.float64)
+        flow = gap_flow(self, drive, v, value, h1)
+        if self.density is not None:
+            _warn_reynolds(flow["reynolds_number"])
+        length = self.length
+        x1 = np.asarray(sol.tip_deflection, dtype=np.float64)
+        return HairState(
+            bed=self,
+            velocity=float_or_array(v),
+            omega2=float_or_array(np.abs(omega2)),
+            solution=sol,
+            direction=float_or_array(np.ones(np.shape(h1))),
+            tip_deflection=float_or_array(length * x1),
+            tip_height=float_or_array(length * h1),
+            tip_angle=sol.tip_angle,
+            wall_shear_stress=float_or_array(flow["wall_shear_stress"]),
+            force_per_hair=float_or_array(flow["force_per_hair"]),
+            stress_ratio=float_or_array(flow["stress_ratio"]),
+            tip_displacement=float_or_array(length * (x1 - math.sin(self.base_angle))),
+            reynolds_number=float_or_array(flow["reynolds_number"]),
+            pressure_gradient=float_or_array(flow["pressure_gradient"]),
+            flow_rate=float_or_array(flow["flow_rate"]),
+        )
 
     def _state(
         self,
@@ -600,6 +681,8 @@ class HairBed:
             stress_ratio=float_or_array(self.channel_height / gap),
             tip_displacement=float_or_array(direction * length * np.asarray(sol.tip_displacement)),
             reynolds_number=float_or_array(reynolds),
+            pressure_gradient=float_or_array(np.zeros(np.shape(gap))),
+            flow_rate=float_or_array(v * gap / 2.0),
         )
 
     def wall_shear_stress(self, velocity: Any, *, root: str = "low") -> FloatOrArray:
