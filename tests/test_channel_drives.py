@@ -1,4 +1,4 @@
-"""Pump-driven beds in SI (hairbed.channel_drives, HairBed.deform with a pump drive).
+"""Pump-driven beds in SI (HairBed.deform with a pump drive, hairbed._channel_drives).
 
 References: the SI definitions written out here (second moment, wall area per hair, the
 dimensionless loads of theory.md §11), the closed form of the wall-driven channel (a

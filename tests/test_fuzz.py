@@ -233,6 +233,16 @@ def _method(obj: Any, name: str) -> Callable[..., Any]:
 TARGETS: list[Target] = [
     # the core
     Target("solve", hairbed.solve, dict(omega2=2.0, eps=0.5, theta0=0.1, sign=1, n=0, root="low")),
+    Target(
+        "solve_loaded",
+        hairbed.solve_loaded,
+        dict(omega2=0.5, eps=0.5, theta0=0.1, pi=2.0, root="low", num=32, rtol=1e-12),
+    ),
+    Target(
+        "solve_loaded[q]",
+        hairbed.solve_loaded,
+        dict(omega2=0.5, eps=0.5, theta0=0.1, q=2.0, root="low"),
+    ),
     Target("solve_all", hairbed.solve_all, dict(omega2=20.0, eps=0.5, theta0=0.1, max_n=None)),
     Target(
         "from_parameter", hairbed.from_parameter, dict(t=0.5, eps=0.5, theta0=0.1, sign=1, n=0)
@@ -383,6 +393,26 @@ TARGETS: list[Target] = [
     Target("HairBed", hairbed.HairBed, dict(BED_KW, density=1000.0)),
     Target("HairBed.omega2", _method(BED, "omega2"), dict(velocity=0.1)),
     Target("HairBed.deform", _method(BED, "deform"), dict(velocity=0.1, root="low")),
+    Target(
+        "HairBed.deform[pressure_gradient]",
+        _method(BED, "deform"),
+        dict(velocity=0.01, pressure_gradient=500.0, root="low"),
+    ),
+    Target(
+        "HairBed.deform[flow_rate]",
+        _method(BED, "deform"),
+        dict(velocity=0.01, flow_rate=1e-6, root="low"),
+    ),
+    Target(
+        "valve.valve_curve",
+        hairbed.valve.valve_curve,
+        dict(bed=BED, pressure_drop=[10.0, 100.0], channel_length=0.01, root="low"),
+    ),
+    Target(
+        "valve.diodicity",
+        hairbed.valve.diodicity,
+        dict(bed=BED, pressure_drop=100.0, channel_length=0.01, root="low"),
+    ),
     Target("HairBed.wall_shear_stress", _method(BED, "wall_shear_stress"), dict(velocity=0.1)),
     Target("HairBed.rectification_ratio", _method(BED, "rectification_ratio"), dict(speed=0.1)),
     Target(
@@ -529,6 +559,7 @@ PUBLIC_MODULES = (
     "hairbed.stability",
     "hairbed.sweeps",
     "hairbed.units",
+    "hairbed.valve",
 )
 #: Classes whose public methods take input.
 CLASSES_WITH_METHODS = {"Solution", "HairBed", "HairState"}

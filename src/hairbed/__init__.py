@@ -36,6 +36,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
         stability,
         sweeps,
         units,
+        valve,
     )
     from ._core.arclength import LoadedBranch, continue_loaded
     from ._core.loaded import LoadedState, solve_loaded, solve_loaded_all
@@ -78,6 +79,7 @@ __all__ = [
     "sweep",
     "sweeps",
     "units",
+    "valve",
 ]
 
 #: Submodules imported on first access as ``hairbed.<name>``.
@@ -95,6 +97,7 @@ _LAZY_MODULES = frozenset(
         "stability",
         "sweeps",
         "units",
+        "valve",
     }
 )
 #: Names imported on first access: name -> submodule that defines it.

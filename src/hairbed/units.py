@@ -43,6 +43,7 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
+from ._channel_drives import drive_inputs, gap_flow
 from ._core.loaded import solve_loaded
 from ._core.outputs import float_or_array
 from ._core.solver import _from_parameter, _solve_checked
@@ -55,7 +56,6 @@ from ._core.validation import (
     check_root,
 )
 from ._warnings import ModelValidityWarning, UnitsWarning
-from .channel_drives import drive_inputs, gap_flow
 
 if TYPE_CHECKING:  # pragma: no cover
     from .profile_fit import ProfileFit
@@ -300,7 +300,7 @@ class HairState:
         :class:`hairbed.ModelValidityWarning` is issued.
     pressure_gradient : float or ndarray
         Pressure gradient G = -dp/dx along the channel [Pa/m]: 0 when the wall drives the
-        flow, set by a pump or following from a set flow rate (:mod:`hairbed.channel_drives`).
+        flow, set by a pump or following from a set flow rate (theory.md §11).
     flow_rate : float or ndarray
         Flow rate per unit width through the gap, Q' = v g/2 + G g^3/(12 eta) [m^2/s].
 

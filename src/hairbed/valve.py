@@ -32,7 +32,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._core.outputs import float_or_array
-from ._core.validation import STATUS_MESSAGES, as_float_array, check_positive, check_root
+from ._core.validation import (
+    STATUS_MESSAGES,
+    _first_index,
+    as_float_array,
+    check_positive,
+    check_root,
+)
 from .units import HairBed, HairState
 
 __all__ = ["Diodicity", "ValveCurve", "diodicity", "valve_curve"]
@@ -129,9 +135,18 @@ def valve_curve(
     dp = as_float_array(pressure_drop, "pressure_drop", unit="Pa")
     length = check_positive(channel_length, "channel_length", unit="m")
     root = check_root(root)
-    states = bed.deform(pressure_gradient=dp / length, root=root)
+    with np.errstate(over="ignore"):
+        gradient = dp / length
+        empty = dp * (bed.channel_height**3 / (12.0 * bed.viscosity * length))
+    bad = ~np.isfinite(gradient) | ~np.isfinite(empty)
+    if np.any(bad):
+        raise ValueError(
+            f"pressure_drop / channel_length [Pa/m] overflows: pressure_drop "
+            f"{float(dp[bad].flat[0])!r} Pa over channel_length {length!r} m"
+            f"{_first_index(bad)}"
+        )
+    states = bed.deform(pressure_gradient=gradient, root=root)
     flow = np.asarray(states.flow_rate, dtype=np.float64)
-    empty = dp * bed.channel_height**3 / (12.0 * bed.viscosity * length)
     gap = bed.channel_height - np.asarray(states.tip_height, dtype=np.float64)
     ratio = (bed.channel_height / gap) ** 3
     status = np.asarray(states.solution.status)
@@ -165,7 +180,12 @@ def diodicity(
         raise ValueError("pressure_drop must be non-zero for a diodicity (0/0 at no flow)")
     forward = valve_curve(bed, dp, channel_length, root=root)
     backward = valve_curve(bed, -dp, channel_length, root=root)
-    di = np.asarray(forward.flow_rate) / np.abs(np.asarray(backward.flow_rate))
+    ahead = np.asarray(forward.flow_rate, dtype=np.float64)
+    behind = np.abs(np.asarray(backward.flow_rate, dtype=np.float64))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        # both flows underflow to 0 only at drops of ~1e-300 Pa, where Di -> 1 (at rest the
+        # gap is the same both ways)
+        di = np.where((ahead == 0.0) & (behind == 0.0), 1.0, ahead / behind)
     return Diodicity(
         pressure_drop=float_or_array(dp),
         forward=forward,
