@@ -56,6 +56,7 @@ FALLBACKS = {
     ("calibrate", "base_angle"): "0",
     ("measure", "base_angle"): "0",
     ("linear-range", "base_angle"): "0",
+    ("valve", "base_angle"): "0",
     ("bench", "n"): "1e5",
     ("bench", "rows"): "all",
     ("sweep", "out"): "CSV",

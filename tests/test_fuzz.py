@@ -745,6 +745,14 @@ COMMANDS: dict[str, tuple[list[str], tuple[str, ...]]] = {
         ["linear-range", "--rtol=0.05", *BED_ARGS],
         ("--rtol", "--youngs-modulus", "--base-angle"),
     ),
+    "valve": (
+        ["valve", "--pressure-drop=20,200", "--channel-length=0.01", *BED_ARGS],
+        ("--pressure-drop", "--channel-length", "--base-angle"),
+    ),
+    "valve-diodicity": (
+        ["valve", "--pressure-drop=200", "--channel-length=0.01", "--diodicity", *BED_ARGS],
+        ("--pressure-drop", "--channel-length"),
+    ),
     "figures": (
         ["figures", "--out=figs", "--quiet", "--only", "model", "--dpi=20"],
         ("--dpi", "--set=eps"),

@@ -46,6 +46,7 @@ from . import (
     _measure,
     _solve,
     _sweep,
+    _valve,
 )
 from ._options import NEGATIVE_NUMBER, Parser, formatter
 from ._report import PROG, WARNED, CommandError, UsageError, one_line, show_warning
@@ -69,6 +70,7 @@ COMMANDS = (
     _calibrate,
     _measure,
     _linear_range,
+    _valve,
 )
 
 
