@@ -22,6 +22,7 @@ from hairbed._variables import (
     BED,
     BED_REQUIRED,
     GROUPS,
+    LOADED,
     SI,
     SOLUTION,
     WINDOW,
@@ -101,7 +102,7 @@ def test_the_si_values_are_floats():
 
 
 def test_entries_are_complete():
-    for table in (SOLUTION, BED, SI, WINDOW):
+    for table in (SOLUTION, BED, SI, WINDOW, LOADED):
         for key, v in table.items():
             assert isinstance(v, Variable) and v.name == key
             assert v.group in GROUPS
@@ -146,3 +147,14 @@ def test_the_module_imports_nothing_of_hairbed():
             assert node.level == 0 and not (node.module or "").startswith("hairbed"), node.module
         elif isinstance(node, ast.Import):
             assert all(not a.name.startswith("hairbed") for a in node.names)
+
+
+def test_the_loaded_table_and_solution_name_every_loaded_state_field():
+    import dataclasses
+
+    from hairbed import LoadedState
+
+    fields = [f.name for f in dataclasses.fields(LoadedState) if not f.name.startswith("_")]
+    fields.remove("drive")  # a string label, not a variable
+    assert set(fields) == set(LOADED) | (set(fields) & set(SOLUTION))
+    assert [k for k in fields if k in LOADED] == list(LOADED)

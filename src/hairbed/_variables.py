@@ -40,6 +40,7 @@ __all__ = [
     "BED_REQUIRED",
     "GROUPS",
     "SI",
+    "LOADED",
     "SOLUTION",
     "WINDOW",
     "Variable",
@@ -59,6 +60,7 @@ GROUPS: Mapping[str, str] = MappingProxyType(
         "bed_derived": "a property of a hair bed computed from its parameters",
         "si": "a state of a bed in SI units (a field of HairState)",
         "window": "the bistable window of a pair (eps, theta0): its folds, width, count",
+        "loaded": "a field of a LoadedState (a distributed load) that Solution does not have",
     }
 )
 
@@ -430,3 +432,44 @@ def names(table: Mapping[str, Variable], *groups: str) -> tuple[str, ...]:
 def cf_attrs(variable: Variable) -> dict[str, str]:
     """The CF attributes ``{"units", "long_name"}`` of a variable (for xarray, netCDF)."""
     return {"units": variable.units, "long_name": variable.long_name}
+
+
+#: The fields of a :class:`hairbed.LoadedState` (the distributed-load solver) that
+#: :data:`SOLUTION` does not name, in its order; the others (the inputs, the tip, the base
+#: curvature, ``status``) are those of :data:`SOLUTION`.
+LOADED: Mapping[str, Variable] = _table(
+    _V(
+        "pi", "loaded", "1", "dimensionless pressure gradient pi = A G L^3 / (E I)",
+        "pressure gradient pi", "-", "set by the pressure drive (NaN for the flow drive)",
+    ),
+    _V(
+        "q", "loaded", "1", "dimensionless flow rate q = 6 A eta Q' L^2 / (E I H^2)",
+        "flow rate q", "-", "set by the flow drive (NaN for the pressure drive)",
+    ),
+    _V(
+        "tip_load", "loaded", "1", "tip load W = A tau L^2 / (E I) at the state",
+        "tip load W", "-", "the gap flow's shear on the tip plane",
+    ),
+    _V(
+        "distributed_load", "loaded", "1",
+        "load per unit height Pi = A G L^3 / (E I) at the state",
+        "distributed load Pi", "-", "the pressure gradient the bed's fluid passes to a hair",
+    ),
+    _V(
+        "error_estimate", "loaded", "1",
+        "Chebyshev tail of theta, the sum of the moduli of its last three coefficients [rad]",
+        "error estimate", "-", "estimates the error of theta, x and z",
+    ),
+    _V(
+        "residual", "loaded", "1", "largest residual of the collocation equations",
+        "residual", "-", "of the returned state",
+    ),
+    _V(
+        "nit", "loaded", "1", "Newton iterations over every level of the Chebyshev ladder",
+        "Newton iterations", "", "work done", "int64",
+    ),
+    _V(
+        "num", "loaded", "1", "Chebyshev degree N of the returned state",
+        "Chebyshev degree N", "", "the resolution that met the tolerance", "int64",
+    ),
+)  # fmt: skip
