@@ -690,9 +690,16 @@ class HairBed:
         return self.deform(velocity, root=root).wall_shear_stress
 
     def sweep(
-        self, velocity: Any, *, root: str = "low", chunks: Any = None, progress: bool = False
+        self,
+        velocity: Any = None,
+        *,
+        pressure_gradient: Any = None,
+        flow_rate: Any = None,
+        root: str = "low",
+        chunks: Any = None,
+        progress: bool = False,
     ) -> Any:
-        """The bed's states over wall speeds as a labelled xarray Dataset, in SI units.
+        """The bed's states over wall speeds (or a pump's drive) as a labelled xarray Dataset.
 
         Tip deflection, displacement and height [m], tip angle [rad], wall shear stress [Pa],
         force per hair [N] and stress ratio, with the dimensionless fields beside them and
@@ -702,12 +709,23 @@ class HairBed:
 
         Parameters
         ----------
-        velocity : float or 1-D array_like
+        velocity : float or 1-D array_like, optional
             Speed of the top wall v [m/s] (the dimension ``velocity``).
+        pressure_gradient, flow_rate : float or 1-D array_like, optional
+            A pump's drive, G [Pa/m] or Q' [m^2/s] (at most one; a dimension of its name):
+            the distributed-load solver over the grid (velocity, drive), as in :meth:`deform`.
         """
         from .sweeps import bed_sweep
 
-        return bed_sweep(self, velocity, root=root, chunks=chunks, progress=progress)
+        return bed_sweep(
+            self,
+            velocity,
+            pressure_gradient=pressure_gradient,
+            flow_rate=flow_rate,
+            root=root,
+            chunks=chunks,
+            progress=progress,
+        )
 
     def rectification_ratio(self, speed: Any, *, root: str = "low") -> FloatOrArray:
         """Stress against the grain over stress with it, at wall speed abs(v) = ``speed`` [m/s].

@@ -7,10 +7,10 @@ from typing import Any
 
 import numpy as np
 
-from .._variables import BED, SI, SOLUTION, names
+from .._variables import BED, LOADED, SI, SOLUTION, names
 from .._version import __version__
 
-__all__ = ["ATTRS", "BED_ATTRS", "DIMS", "VARIABLES"]
+__all__ = ["ATTRS", "BED_ATTRS", "DIMS", "PUMPED_ATTRS", "VARIABLES"]
 
 #: The grid's dimensions, in their order.
 DIMS = ("omega2", "eps", "theta0")
@@ -53,6 +53,29 @@ BED_ATTRS: dict[str, tuple[str, str]] = {
 #: Coordinates of a bed's sweep besides ``velocity``, and its data variables, in order.
 BED_COORDS = ("omega2", "theta0", "direction")
 BED_VARIABLES = tuple(k for k in BED_ATTRS if k != "velocity" and k not in BED_COORDS)
+#: SI sweep of a pump-driven bed (``HairBed.sweep`` with ``pressure_gradient`` or
+#: ``flow_rate``): dimensions ``velocity`` and the drive's own quantity; the other SI fields,
+#: the dimensionless tip (in the bed's frame: no mirror image) and the distributed-load
+#: solver's fields (:data:`hairbed._variables.LOADED`).
+PUMPED_ATTRS: dict[str, tuple[str, str]] = {
+    **{k: (SI[k].units, SI[k].long_name) for k in names(SI) if k != "direction"},
+    **{f"scaled_{k}": ATTRS[k] for k in BED_SCALED if k != "tip_displacement"},
+    **{k: ATTRS[k] for k in ("base_curvature", "status")},
+    **{k: (LOADED[k].units, LOADED[k].long_name) for k in LOADED},
+}
+#: The integer variables of a pumped sweep.
+PUMPED_INTEGER = ("status", *(k for k in LOADED if LOADED[k].dtype == "int64"))
+#: The drives of a pumped sweep: name -> (its SI quantity, its dimensionless one).
+PUMP_DRIVES = {"pressure_gradient": "pi", "flow_rate": "q"}
+
+
+def pumped_variables(drive: str) -> tuple[str, ...]:
+    """Data variables of a pumped sweep by ``drive`` ("pressure_gradient" or "flow_rate")."""
+    other = "q" if drive == "pressure_gradient" else "pi"  # NaN for this drive: left out
+    skip = {"velocity", "omega2", drive, other}
+    return tuple(k for k in PUMPED_ATTRS if k not in skip)
+
+
 #: The bed's parameters recorded in a bed sweep's attributes (``bed_<name>`` and its units).
 BED_PARAMETERS = (*(k for k in names(BED, "bed") if k != "density"), "velocity_scale")
 #: Their CF units.

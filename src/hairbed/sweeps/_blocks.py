@@ -18,7 +18,15 @@ from .._core.solver import _solve_arrays
 from .._core.validation import check_int
 from .._optional import optional_import
 from .._variables import SI
-from ._attributes import BED_COORDS, BED_SCALED, BED_VARIABLES, DIMS, INTEGER, VARIABLES
+from ._attributes import (
+    BED_COORDS,
+    BED_SCALED,
+    BED_VARIABLES,
+    DIMS,
+    INTEGER,
+    VARIABLES,
+    pumped_variables,
+)
 from ._progress import Progress
 
 
@@ -95,6 +103,45 @@ def bed_block(
         out[row] = values[name]
     if progress is not None:
         progress.update(v.size)
+    return out
+
+
+def pumped_block(
+    *axes: NDArray[np.float64],
+    dims: tuple[str, ...],
+    fixed: Mapping[str, float],
+    bed: Any,
+    drive: str,
+    root: str,
+    progress: Any,
+) -> NDArray[np.float64]:
+    """One block of a pump-driven bed's sweep over (velocity, drive): (nvars, *block)."""
+    if progress is not None:
+        progress.start()
+    shape = tuple(a.size for a in axes)
+    full = {}
+    for name in ("velocity", drive):
+        if name in dims:
+            i = dims.index(name)
+            idx = [1] * len(dims)
+            idx[i] = shape[i]
+            full[name] = np.broadcast_to(np.asarray(axes[i]).reshape(idx), shape)
+        else:
+            full[name] = np.full(shape, fixed[name])
+    st = bed.deform(full["velocity"], root=root, **{drive: full[drive]})
+    sol = st.solution
+    names = pumped_variables(drive)
+    out = np.empty((1 + len(names), *shape))
+    out[0] = st.omega2
+    for row, name in enumerate(names, start=1):
+        if name.startswith("scaled_"):
+            out[row] = getattr(sol, name.removeprefix("scaled_"))
+        elif hasattr(st, name) and name not in ("status",):
+            out[row] = getattr(st, name)
+        else:
+            out[row] = getattr(sol, name)
+    if progress is not None:
+        progress.update(int(np.prod(shape, dtype=np.int64)))
     return out
 
 

@@ -26,12 +26,15 @@ from ._attributes import (
     BED_UNITS,
     BED_VARIABLES,
     DIMS,
+    PUMPED_ATTRS,
+    PUMPED_INTEGER,
     VARIABLES,
     cf,
     dataset_attrs,
+    pumped_variables,
     variable_attrs,
 )
-from ._blocks import bed_block, chunk_sizes, grid_block, stacked, variable
+from ._blocks import bed_block, chunk_sizes, grid_block, pumped_block, stacked, variable
 from ._progress import Progress
 
 __all__ = ["bed_sweep", "path_dataset", "sweep"]
@@ -46,6 +49,16 @@ def _axis(value: Any, name: str) -> NDArray[np.float64]:
         raise ValueError(f"{name} must not be empty")
     args = {"omega2": 0.0, "eps": 0.0, "theta0": 0.0, name: arr}
     check_inputs(args["omega2"], args["eps"], args["theta0"])
+    return arr
+
+
+def _si_axis(value: Any, name: str, unit: str) -> NDArray[np.float64]:
+    """A scalar (0-d) or non-empty 1-D finite float array of an SI quantity."""
+    arr = as_float_array(value, name, unit=unit)
+    if arr.ndim > 1:
+        raise ValueError(f"{name} must be a scalar or a 1-D array, got shape {arr.shape}")
+    if arr.ndim == 1 and arr.size == 0:
+        raise ValueError(f"{name} must not be empty")
     return arr
 
 
@@ -147,8 +160,10 @@ def sweep(
 
 def bed_sweep(
     bed: Any,
-    velocity: Any,
+    velocity: Any = None,
     *,
+    pressure_gradient: Any = None,
+    flow_rate: Any = None,
     root: str = "low",
     chunks: int | Mapping[str, int] | None = None,
     progress: bool = False,
@@ -159,9 +174,15 @@ def bed_sweep(
     ----------
     bed : HairBed
         The bed (its eps = L/H and base angle are fixed).
-    velocity : float or 1-D array_like
+    velocity : float or 1-D array_like, optional
         Speed of the top wall v [m/s], the dimension ``velocity``; negative for flow towards
-        -x (the mirror image, :mod:`hairbed.units`).
+        -x (the mirror image, :mod:`hairbed.units`). With a pump drive, default 0 (at rest).
+    pressure_gradient, flow_rate : float or 1-D array_like, optional
+        A pump's drive, G [Pa/m] or Q' [m^2/s] (at most one), the dimension of its name: the
+        grid is then the outer product of ``velocity`` and it, solved by the distributed-load
+        solver (:meth:`hairbed.HairBed.deform`). The variables are :data:`PUMPED_ATTRS`: the
+        SI state, the dimensionless tip ``scaled_*`` in the bed's frame, and the solver's
+        ``pi`` or ``q``, loads, ``status``, error estimate, residual, ``nit`` and ``num``.
     root, chunks, progress
         As in :func:`sweep` (``chunks`` an int or ``{"velocity": length}``).
 
@@ -181,6 +202,10 @@ def bed_sweep(
     xr = optional_import("xarray", "HairBed.sweep", "sweep")
     if not all(hasattr(bed, a) for a in ("deform", "velocity_scale", "eps", "length")):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
+    if pressure_gradient is not None or flow_rate is not None:
+        return _pumped_sweep(bed, velocity, pressure_gradient, flow_rate, root, chunks, progress)
+    if velocity is None:
+        raise TypeError("sweep() needs velocity [m/s], pressure_gradient [Pa/m] or flow_rate")
     v = as_float_array(velocity, "velocity", unit="m/s")
     if v.ndim > 1:
         raise ValueError(f"velocity must be a scalar or a 1-D array, got shape {v.shape}")
@@ -224,11 +249,83 @@ def bed_sweep(
         0,
         root,
     )
+    return xr.Dataset(data_vars, coords=coords, attrs=_bed_attrs(bed, attrs))
+
+
+def _bed_attrs(bed: Any, attrs: dict[str, Any]) -> dict[str, Any]:
     attrs.update(bed=repr(bed), eps=float(bed.eps))
     for name in BED_PARAMETERS:
         attrs[f"bed_{name}"] = float(getattr(bed, name))
         attrs[f"bed_{name}_units"] = BED_UNITS[name]
-    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+    return attrs
+
+
+def _pumped_sweep(
+    bed: Any,
+    velocity: Any,
+    pressure_gradient: Any,
+    flow_rate: Any,
+    root: str,
+    chunks: Any,
+    progress: bool,
+) -> Any:
+    """:func:`bed_sweep` with a pump drive: the grid (velocity, drive), outer product."""
+    xr = optional_import("xarray", "HairBed.sweep", "sweep")
+    if pressure_gradient is not None and flow_rate is not None:
+        raise ValueError(
+            "give at most one of pressure_gradient [Pa/m] and flow_rate [m^2/s]: a pump sets "
+            "one of them, and the other follows from the state"
+        )
+    drive = "pressure_gradient" if pressure_gradient is not None else "flow_rate"
+    unit = "Pa/m" if drive == "pressure_gradient" else "m^2/s"
+    values = {
+        "velocity": _si_axis(0.0 if velocity is None else velocity, "velocity", "m/s"),
+        drive: _si_axis(pressure_gradient if flow_rate is None else flow_rate, drive, unit),
+    }
+    root = check_root(root)
+    progress = check_flag(progress, "progress")
+    dims = tuple(d for d in ("velocity", drive) if values[d].ndim == 1)
+    fixed = {d: float(values[d]) for d in values if d not in dims}
+    sizes = {d: values[d].size for d in dims}
+    if chunks is not None:
+        chunk_sizes(chunks, sizes)
+    bar = Progress(int(np.prod(list(sizes.values()), dtype=np.int64))) if progress else None
+    names = ("omega2", *pumped_variables(drive))
+    kw = dict(dims=dims, fixed=fixed, bed=bed, drive=drive, root=root)
+    axes = [values[d] for d in dims]
+    if dims:
+        data = stacked(pumped_block, axes, dims, len(names), chunks, bar, **kw)
+    else:
+        data = stacked(pumped_block, [], (), len(names), None, bar, **kw)
+        if chunks is not None:
+            da = optional_import("dask.array", "a chunked sweep", "sweep")
+            data = da.from_array(data, chunks=-1)
+    coords: dict[str, Any] = {
+        d: ((d,) if d in dims else (), values[d], cf(PUMPED_ATTRS[d])) for d in values
+    }
+    data_vars = {}
+    for k, name in enumerate(names):
+        var = data[k]
+        if name in PUMPED_INTEGER:
+            var = var.astype(np.int64)
+        attrs = cf(PUMPED_ATTRS[name])
+        if name == "status":  # the solver's codes: more than the closed form's flags
+            attrs["comment"] = "0 converged; others: hairbed._core.validation.STATUS_MESSAGES"
+        entry = (dims, var, attrs)
+        if name == "omega2":
+            coords[name] = entry
+        else:
+            data_vars[name] = entry
+    what = "pressure gradient" if drive == "pressure_gradient" else "flow rate"
+    attrs = dataset_attrs(
+        f"hairbed sweep of a pump-driven hair bed over the {what} (SI units)",
+        " (HairBed.sweep)",
+        1,
+        0,
+        root,
+    )
+    attrs["drive"] = drive
+    return xr.Dataset(data_vars, coords=coords, attrs=_bed_attrs(bed, attrs))
 
 
 def path_dataset(solution: Any, *, kind: str, root: str, omega2: Any = None) -> Any:

@@ -1,0 +1,81 @@
+"""HairBed.sweep with a pump drive: the grid (velocity, drive), CF attributes, files.
+
+The sweep's contract is the state of :meth:`HairBed.deform` at every grid point, bitwise,
+eager or chunked; the physics of those states is tested in test_channel_drives and
+test_loaded.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+xr = pytest.importorskip("xarray")
+
+from hairbed import HairBed  # noqa: E402
+from hairbed.sweeps import write_dataset  # noqa: E402
+
+BED = HairBed(
+    length=1e-3,
+    radius=50e-6,
+    youngs_modulus=1e6,
+    channel_height=2e-3,
+    viscosity=1.0,
+    spacing=400e-6,
+    base_angle=0.3,
+)
+V = np.array([-0.01, 0.0, 0.02])
+G = np.array([-3e3, 100.0, 1e4, 3e4])
+
+
+@pytest.mark.parametrize("chunks", [None, 2])
+def test_every_point_is_deform_bitwise(chunks) -> None:
+    ds = BED.sweep(V, pressure_gradient=G, chunks=chunks).compute()
+    assert ds.tip_deflection.dims == ("velocity", "pressure_gradient")
+    for i, v in enumerate(V):
+        st = BED.deform(v, pressure_gradient=G)
+        np.testing.assert_array_equal(ds.tip_deflection.values[i], st.tip_deflection)
+        np.testing.assert_array_equal(ds.flow_rate.values[i], st.flow_rate)
+        np.testing.assert_array_equal(ds.pi.values[i], st.solution.pi)
+        np.testing.assert_array_equal(ds.status.values[i], st.solution.status)
+    assert ds.status.dtype == np.int64 and ds.num.dtype == np.int64
+    assert "q" not in ds and "pressure_gradient" not in ds.data_vars
+
+
+def test_flow_rate_sweep_without_a_wall() -> None:
+    q = np.linspace(1e-7, 1e-5, 5)
+    ds = BED.sweep(flow_rate=q)
+    assert ds.tip_deflection.dims == ("flow_rate",)
+    assert float(ds.velocity) == 0.0
+    st = BED.deform(flow_rate=q)
+    np.testing.assert_array_equal(ds.pressure_gradient.values, st.pressure_gradient)
+    assert ds.attrs["drive"] == "flow_rate"
+
+
+def test_every_variable_has_cf_units_and_a_long_name(tmp_path) -> None:
+    ds = BED.sweep(pressure_gradient=G)
+    for name in [*ds.data_vars, *ds.coords]:
+        assert ds[name].attrs.get("units") and ds[name].attrs.get("long_name"), name
+    assert ds.pressure_gradient.attrs["units"] == "Pa m-1"
+    assert ds.flow_rate.attrs["units"] == "m2 s-1"
+    path = tmp_path / "pumped.nc"
+    write_dataset(ds, path)
+    back = xr.open_dataset(path)
+    np.testing.assert_array_equal(back.tip_deflection.values, ds.tip_deflection.values)
+    assert back.tip_deflection.attrs["units"] == "m"
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "pattern"),
+    [
+        ({}, TypeError, r"needs velocity"),
+        ({"pressure_gradient": 1.0, "flow_rate": 1.0}, ValueError, r"at most one"),
+        ({"pressure_gradient": [[1.0]]}, ValueError, r"pressure_gradient must be a scalar or"),
+        ({"flow_rate": []}, ValueError, r"flow_rate must not be empty"),
+        ({"pressure_gradient": [1.0, np.nan]}, ValueError, r"pressure_gradient.*index 1"),
+        ({"pressure_gradient": G, "chunks": {"eps": 2}}, ValueError, r"unknown dimension"),
+    ],
+)
+def test_bad_input_is_named(kwargs, error, pattern) -> None:
+    with pytest.raises(error, match=pattern):
+        BED.sweep(**kwargs)
