@@ -625,8 +625,8 @@ class HairBed:
     ) -> HairState:
         """:meth:`deform` with a pump drive: the distributed-load solver, signs kept."""
         drive, v, value, omega2, load = drive_inputs(self, velocity, pressure_gradient, flow_rate)
-        keyword = {"pi": load} if drive == "pressure" else {"q": load}
-        sol = solve_loaded(omega2, self.eps, self.base_angle, root=root, **keyword)
+        pi, q = (load, None) if drive == "pressure" else (None, load)
+        sol = solve_loaded(omega2, self.eps, self.base_angle, pi=pi, q=q, root=root)
         h1 = np.asarray(sol.tip_height, dtype=np.float64)
         flow = gap_flow(self, drive, v, value, h1)
         if self.density is not None:

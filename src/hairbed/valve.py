@@ -150,8 +150,8 @@ def valve_curve(
     gap = bed.channel_height - np.asarray(states.tip_height, dtype=np.float64)
     ratio = (bed.channel_height / gap) ** 3
     status = np.asarray(states.solution.status)
-    bad = np.flatnonzero(status.reshape(-1) != 0)
-    message = "ok" if bad.size == 0 else STATUS_MESSAGES[int(status.reshape(-1)[bad[0]])]
+    failed = np.flatnonzero(status.reshape(-1) != 0)
+    message = "ok" if failed.size == 0 else STATUS_MESSAGES[int(status.reshape(-1)[failed[0]])]
     return ValveCurve(
         pressure_drop=float_or_array(dp),
         channel_length=length,
@@ -162,7 +162,7 @@ def valve_curve(
         tip_height=states.tip_height,
         states=states,
         status=states.solution.status,
-        success=bool(bad.size == 0),
+        success=bool(failed.size == 0),
         message=message,
     )
 
