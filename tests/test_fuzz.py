@@ -709,6 +709,22 @@ COMMANDS: dict[str, tuple[list[str], tuple[str, ...]]] = {
         ["solve", *BED_ARGS, "--velocity=0.1"],
         ("--length", "--radius", "--youngs-modulus", "--viscosity", "--velocity", "--density"),
     ),
+    "solve-pi": (
+        ["solve", "--omega2=0.5", "--eps=0.5", "--theta0=0.1", "--pi=2"],
+        ("--omega2", "--eps", "--theta0", "--pi", "--root"),
+    ),
+    "solve-q": (
+        ["solve", "--eps=0.5", "--q=2"],
+        ("--eps", "--q"),
+    ),
+    "solve-bed-pumped": (
+        ["solve", *BED_ARGS, "--pressure-gradient=2e3", "--velocity=0.01"],
+        ("--pressure-gradient", "--velocity", "--youngs-modulus"),
+    ),
+    "solve-bed-flow": (
+        ["solve", *BED_ARGS, "--flow-rate=1e-6"],
+        ("--flow-rate", "--channel-height"),
+    ),
     "sweep": (
         ["sweep", "--omega2=0:2:3", "--eps=0.5", "--theta0=0.1"],
         ("--omega2", "--eps", "--theta0", "--n", "--chunks"),

@@ -42,6 +42,8 @@ examples:
   hairbed solve --omega2 1.2 --eps 0.9 --theta0 -1.5 --root high
   hairbed solve --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 \\
       --channel-height 2e-3 --viscosity 1 --spacing 400e-6 --velocity 0.1
+  hairbed solve --omega2 0.5 --eps 0.5 --pi 2        # a pump's pressure gradient too
+  hairbed solve --length 1e-3 ... --spacing 400e-6 --pressure-gradient 2e4
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -68,6 +70,27 @@ def add_parser(sub: Any) -> None:
     )
     add_json(p, "print JSON (fields by API names)")
     p.add_argument("--plot", metavar="FILE", help="also draw the profile(s) into FILE (PNG)")
+    pump = p.add_argument_group(
+        "pump drives (the distributed-load solver, hairbed.solve_loaded; at most one)"
+    )
+    pump.add_argument(
+        "--pi", type=float, metavar="PI", help="dimensionless pressure gradient A G L^3/(E I) [-]"
+    )
+    pump.add_argument(
+        "--q", type=float, metavar="Q", help="dimensionless flow rate 6 A eta Q' L^2/(E I H^2) [-]"
+    )
+    pump.add_argument(
+        "--pressure-gradient",
+        type=float,
+        metavar="G",
+        help="with a bed: the pump's pressure gradient G = -dp/dx [Pa/m]",
+    )
+    pump.add_argument(
+        "--flow-rate",
+        type=float,
+        metavar="Q",
+        help="with a bed: the pump's flow rate per unit width Q' [m^2/s]",
+    )
     add_bed_options(p)
 
 
@@ -79,13 +102,57 @@ _SI_NOTES = {
 _SI_NOTES["eps"] = "confinement eps = L/H [-]"
 
 
+def _pump_options(args: argparse.Namespace) -> list[str]:
+    names = ("pi", "q", "pressure_gradient", "flow_rate")
+    return ["--" + n.replace("_", "-") for n in names if getattr(args, n) is not None]
+
+
+def _loaded_table(state: Any) -> dict[str, Any]:
+    """The fields of a LoadedState by API names (the inputs, the tip, the solver's)."""
+    keys = ("drive", "omega2", "eps", "theta0", "pi", "q", "tip_height", "tip_deflection")
+    rest = ("tip_angle", "base_curvature", "tip_load", "distributed_load", "status")
+    extra = ("error_estimate", "residual", "nit", "num")
+    out = {k: getattr(state, k) for k in (*keys, *rest, *extra)}
+    out["message"] = state.message
+    return {k: v for k, v in out.items() if not (isinstance(v, float) and v != v)}
+
+
+def _solve_loaded(args: argparse.Namespace) -> list[Any]:
+    """--pi or --q: the distributed-load solver on the dimensionless inputs."""
+    if args.eps is None:
+        raise UsageError("give --eps with --pi or --q")
+    if args.pressure_gradient is not None or args.flow_rate is not None:
+        raise UsageError("--pressure-gradient and --flow-rate need the physical inputs of a bed")
+    if args.all_branches or args.sign != 1 or args.n != 0:
+        raise UsageError("--pi and --q solve the physical state (no --all-branches, --sign, --n)")
+    w = 0.0 if args.omega2 is None else args.omega2
+    theta0 = 0.0 if args.theta0 is None else args.theta0
+    st = hairbed.solve_loaded(w, args.eps, theta0, pi=args.pi, q=args.q, root=args.root or "low")
+    rows = _loaded_table(st)
+    if args.json:
+        print_json(rows)
+    else:
+        print(table(rows))
+    return [st]
+
+
 def _solve_bed(args: argparse.Namespace, bed: Any) -> list[Any]:
-    """The state of a bed at --velocity, in SI units and dimensionless."""
+    """The state of a bed at --velocity (or a pump's drive), in SI units and dimensionless."""
     if args.omega2 is not None or args.eps is not None or args.theta0 is not None:
         raise UsageError("give either --omega2/--eps/--theta0 or the physical inputs, not both")
-    if args.velocity is None:
-        raise UsageError("physical inputs need --velocity [m/s]")
-    state = bed.deform(args.velocity, root=args.root or "low")
+    if args.pi is not None or args.q is not None:
+        raise UsageError("with a bed, give --pressure-gradient [Pa/m] or --flow-rate [m^2/s]")
+    pumped = args.pressure_gradient is not None or args.flow_rate is not None
+    if args.velocity is None and not pumped:
+        raise UsageError("physical inputs need --velocity [m/s] (or a pump's drive)")
+    if pumped and args.all_branches:
+        raise UsageError("--all-branches applies to the wall-driven channel only")
+    state = bed.deform(
+        args.velocity,
+        pressure_gradient=args.pressure_gradient,
+        flow_rate=args.flow_rate,
+        root=args.root or "low",
+    )
     si = {
         "velocity": state.velocity,
         "omega2": state.omega2,
@@ -100,13 +167,19 @@ def _solve_bed(args: argparse.Namespace, bed: Any) -> list[Any]:
     }
     if bed.density is not None:
         si["reynolds_number"] = state.reynolds_number
+    if pumped:
+        si["pressure_gradient_Pa/m"] = state.pressure_gradient
+        si["flow_rate_m^2/s"] = state.flow_rate
+        dimensionless = _loaded_table(state.solution)
+    else:
+        dimensionless = state.solution.as_dict()
     if args.json:
-        print_json({**si, "solution": state.solution.as_dict()})
+        print_json({**si, "solution": dimensionless})
     else:
         print(f"Hair bed {bed!r}")
         print(table(si, _SI_NOTES))
         print("dimensionless state:")
-        print(solution_table(state.solution))
+        print(table(dimensionless) if pumped else solution_table(state.solution))
     return [state.solution]
 
 
@@ -149,7 +222,19 @@ def run(args: argparse.Namespace) -> int:
         fmt = figure_format(args.plot, "--plot")
         check_output(args.plot)
     bed = bed_from(args)
-    sols = _solve_bed(args, bed) if bed is not None else _solve_dimensionless(args)
+    pumps = _pump_options(args)
+    if len(pumps) > 1:
+        raise UsageError(f"give at most one pump drive, got {' and '.join(pumps)}")
+    if pumps and args.plot:
+        raise UsageError("--plot draws closed-form states; not with a pump drive")
+    if bed is not None:
+        sols = _solve_bed(args, bed)
+    elif args.pi is not None or args.q is not None:
+        sols = _solve_loaded(args)
+    elif pumps:
+        raise UsageError(f"{pumps[0]} needs the physical inputs of a bed (--length, ...)")
+    else:
+        sols = _solve_dimensionless(args)
     if args.plot:
         from hairbed.plotting import fig_states
 
