@@ -73,3 +73,36 @@ def test_errors_are_one_line(capsys, args: list[str], message: str) -> None:
     assert status == 2 and out == ""
     lines = err.strip().splitlines()
     assert len(lines) == 1 and message in lines[0], err
+
+
+def test_sweep_over_a_pressure_gradient_is_the_library_sweep(tmp_path) -> None:
+    xr = pytest.importorskip("xarray")
+    out = tmp_path / "pumped.nc"
+    status = main(
+        ["sweep", *BED_ARGS, "--pressure-gradient=10:1e4:4:log", "--velocity=0,0.01",
+         f"--out={out}"]
+    )  # fmt: skip
+    assert status == 0
+    got = xr.open_dataset(out)
+    want = hairbed.HairBed(**BED_KW).sweep(
+        [0.0, 0.01], pressure_gradient=[10.0, 100.0, 1000.0, 10000.0]
+    )
+    assert got.tip_deflection.dims == ("velocity", "pressure_gradient")
+    assert got.tip_deflection.values.tolist() == want.tip_deflection.values.tolist()
+    assert got.attrs["drive"] == "pressure_gradient"
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        ([*BED_ARGS, "--flow-rate=1e-6", "--pressure-gradient=1"], "at most one pump drive"),
+        (["--eps=0.5", "--omega2=1", "--flow-rate=1e-6"], "--flow-rate needs the physical"),
+        ([*BED_ARGS, "--flow-rate=1e-6", "--wall-shear-stress=1"], "with a pump drive"),
+    ],
+)
+def test_sweep_errors_are_one_line(capsys, args: list[str], message: str) -> None:
+    status = main(["sweep", *args])
+    out, err = capsys.readouterr()
+    assert status == 2 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and message in lines[0], err

@@ -43,6 +43,8 @@ examples:
       --viscosity 1 --spacing 400e-6 --velocity=-0.5:0.5:101 --out bed.nc
   hairbed sweep --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 --channel-height 2e-3 \\
       --viscosity 1 --spacing 400e-6 --wall-shear-stress 0:50:101 --out curve.csv
+  hairbed sweep --length 1e-3 ... --spacing 400e-6 --pressure-gradient 10:1e5:50:log \\
+      --velocity 0,0.01 --out pumped.nc
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -59,6 +61,17 @@ def add_parser(sub: Any) -> None:
         help="base angle [rad] (default 0; negative leans into the flow)",
     )
     p.add_argument("--velocity", metavar="SPEC", help="top wall speed v [m/s] (with a bed)")
+    p.add_argument(
+        "--pressure-gradient",
+        metavar="SPEC",
+        help="with a bed: a pump's pressure gradient G = -dp/dx [Pa/m], a dimension (the "
+        "distributed-load solver; without --velocity the wall is at rest)",
+    )
+    p.add_argument(
+        "--flow-rate",
+        metavar="SPEC",
+        help="with a bed: a pump's flow rate per unit width Q' [m^2/s], a dimension",
+    )
     p.add_argument(
         "--wall-shear-stress",
         metavar="SPEC",
@@ -109,6 +122,15 @@ def _bed_axis(args: argparse.Namespace, bed: Any) -> Any:
     refuse(args, _LEGACY_OMEGA2, why)
     refuse(args, _BRANCH, "does not apply: a bed follows the physical branch")
     refuse(args, {"quasistatic": "--quasistatic"}, "takes an --omega2 path, not a bed")
+    pumps = {"pressure_gradient": "--pressure-gradient", "flow_rate": "--flow-rate"}
+    given = [flag for dest, flag in pumps.items() if getattr(args, dest) is not None]
+    if len(given) > 1:
+        raise UsageError(f"give at most one pump drive, got {' and '.join(given)}")
+    if given:
+        why = "does not apply with a pump drive"
+        refuse(args, {"wall_shear_stress": "--wall-shear-stress", **_LEGACY_VELOCITY}, why)
+        refuse(args, _SHAPE, why)
+        return spec(args.velocity, "--velocity")
     if args.wall_shear_stress is not None:
         why = "does not apply with --wall-shear-stress (the speeds follow from the stresses)"
         refuse(args, {"velocity": "--velocity", **_LEGACY_VELOCITY, **_SHAPE}, why)
@@ -127,7 +149,13 @@ def _axes(args: argparse.Namespace) -> tuple[Any, Any, Any]:
     """(omega2, eps, theta0) of a dimensionless sweep."""
     refuse(
         args,
-        {"velocity": "--velocity", "wall_shear_stress": "--wall-shear-stress", **_LEGACY_VELOCITY},
+        {
+            "velocity": "--velocity",
+            "wall_shear_stress": "--wall-shear-stress",
+            "pressure_gradient": "--pressure-gradient",
+            "flow_rate": "--flow-rate",
+            **_LEGACY_VELOCITY,
+        },
         "needs the physical inputs of a bed (--length, --radius, ...)",
     )
     if args.eps is None:
@@ -197,6 +225,12 @@ def run(args: argparse.Namespace) -> int:
     if bed is not None:
         velocity = _bed_axis(args, bed)
         kwargs: dict[str, Any] = {"root": args.root}
+        for dest, flag in (
+            ("pressure_gradient", "--pressure-gradient"),
+            ("flow_rate", "--flow-rate"),
+        ):
+            if getattr(args, dest) is not None:
+                kwargs[dest] = spec(getattr(args, dest), flag)
     else:
         omega2, eps, theta0 = _axes(args)
         sign = 1 if args.sign is None else args.sign
