@@ -79,3 +79,42 @@ def test_every_variable_has_cf_units_and_a_long_name(tmp_path) -> None:
 def test_bad_input_is_named(kwargs, error, pattern) -> None:
     with pytest.raises(error, match=pattern):
         BED.sweep(**kwargs)
+
+
+@pytest.mark.parametrize("chunks", [None, 2])
+def test_dimensionless_sweep_with_pi_is_solve_loaded_bitwise(chunks) -> None:
+    import hairbed
+
+    w, theta0, pi = np.array([0.0, 0.5, 1.0]), np.array([-0.5, 0.3]), np.array([0.1, 3.0, 10.0])
+    ds = hairbed.sweep(w, 0.5, theta0, pi=pi, chunks=chunks).compute()
+    assert ds.tip_deflection.dims == ("omega2", "theta0", "pi")
+    ww, tt, pp = np.meshgrid(w, theta0, pi, indexing="ij")
+    st = hairbed.solve_loaded(ww, 0.5, tt, pi=pp)
+    np.testing.assert_array_equal(ds.tip_deflection.values, st.tip_deflection)
+    np.testing.assert_array_equal(ds.distributed_load.values, st.distributed_load)
+    np.testing.assert_array_equal(ds.status.values, st.status)
+    assert ds.attrs["drive"] == "pressure" and ds.pi.attrs["units"] == "1"
+    assert "q" not in ds and "pi" not in ds.data_vars
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "pattern"),
+    [
+        ({"pi": 1.0, "q": 1.0}, r"at most one of pi and q"),
+        ({"pi": 1.0, "sign": -1}, r"physical branch"),
+        ({"pi": [1.0, np.inf]}, r"pi.*index 1"),
+        ({"q": [[1.0]]}, r"q must be a scalar or"),
+    ],
+)
+def test_dimensionless_bad_input_is_named(kwargs, pattern) -> None:
+    import hairbed
+
+    with pytest.raises(ValueError, match=pattern):
+        hairbed.sweep(0.5, 0.5, 0.0, **kwargs)
+
+
+def test_pi_needs_a_channel() -> None:
+    import hairbed
+
+    with pytest.raises(ValueError, match=r"pi != 0 needs eps > 0"):
+        hairbed.sweep(0.5, [0.0, 0.5], 0.0, pi=1.0)

@@ -49,7 +49,15 @@ True
 from __future__ import annotations
 
 from .._specs import parse_spec
-from ._attributes import ATTRS, BED_ATTRS, DIMS, VARIABLES
+from ._attributes import (
+    ATTRS,
+    BED_ATTRS,
+    DIMS,
+    LOADED_ATTRS,
+    LOADED_VARIABLES,
+    PUMPED_ATTRS,
+    VARIABLES,
+)
 from ._bistable import MAP_DIMS, MAP_VARIABLES, bistability_map
 from ._files import (
     FORMATS,
@@ -66,10 +74,13 @@ __all__ = [
     "BED_ATTRS",
     "DIMS",
     "FORMATS",
+    "LOADED_ATTRS",
+    "LOADED_VARIABLES",
     "MAP_DIMS",
     "MAP_VARIABLES",
     "NETCDF_COMPRESSION",
     "PROGRESS_DELAY",
+    "PUMPED_ATTRS",
     "VARIABLES",
     "bed_sweep",
     "bistability_map",

@@ -10,7 +10,7 @@ import numpy as np
 from .._variables import BED, LOADED, SI, SOLUTION, names
 from .._version import __version__
 
-__all__ = ["ATTRS", "BED_ATTRS", "DIMS", "PUMPED_ATTRS", "VARIABLES"]
+__all__ = ["ATTRS", "BED_ATTRS", "DIMS", "LOADED_ATTRS", "PUMPED_ATTRS", "VARIABLES"]
 
 #: The grid's dimensions, in their order.
 DIMS = ("omega2", "eps", "theta0")
@@ -63,6 +63,17 @@ PUMPED_ATTRS: dict[str, tuple[str, str]] = {
     **{k: ATTRS[k] for k in ("base_curvature", "status")},
     **{k: (LOADED[k].units, LOADED[k].long_name) for k in LOADED},
 }
+#: Data variables of :func:`hairbed.sweep` with ``pi`` or ``q`` (the distributed-load
+#: solver): the tip and base of every state, its status, then the solver's own fields.
+LOADED_VARIABLES = (
+    "tip_height", "tip_deflection", "tip_angle", "base_curvature", "status", *LOADED
+)  # fmt: skip
+#: Their CF attributes, and those of the two extra dimensions ``pi`` and ``q``.
+LOADED_ATTRS: dict[str, tuple[str, str]] = {
+    **{k: ATTRS[k] for k in (*DIMS, *LOADED_VARIABLES) if k in ATTRS},
+    **{k: (LOADED[k].units, LOADED[k].long_name) for k in LOADED},
+}
+
 #: The integer variables of a pumped sweep.
 PUMPED_INTEGER = ("status", *(k for k in LOADED if LOADED[k].dtype == "int64"))
 #: The drives of a pumped sweep: name -> (its SI quantity, its dimensionless one).

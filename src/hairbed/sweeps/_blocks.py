@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._core.loaded import solve_loaded
 from .._core.solver import _solve_arrays
 from .._core.validation import check_int
 from .._optional import optional_import
@@ -24,6 +25,7 @@ from ._attributes import (
     BED_VARIABLES,
     DIMS,
     INTEGER,
+    LOADED_VARIABLES,
     VARIABLES,
     pumped_variables,
 )
@@ -103,6 +105,39 @@ def bed_block(
         out[row] = values[name]
     if progress is not None:
         progress.update(v.size)
+    return out
+
+
+def loaded_block(
+    *axes: NDArray[np.float64],
+    dims: tuple[str, ...],
+    fixed: Mapping[str, float],
+    drive: str,
+    root: str,
+    progress: Any,
+) -> NDArray[np.float64]:
+    """One block of a dimensionless sweep with a distributed load (``drive`` "pi" or "q"):
+    (nvars, *block shape), one call of the distributed-load solver."""
+    if progress is not None:
+        progress.start()
+    shape = tuple(a.size for a in axes)
+    full = {}
+    for name in (*DIMS, drive):
+        if name in dims:
+            i = dims.index(name)
+            idx = [1] * len(dims)
+            idx[i] = shape[i]
+            full[name] = np.broadcast_to(np.asarray(axes[i]).reshape(idx), shape)
+        else:
+            full[name] = np.full(shape, fixed[name])
+    pi, q = (full["pi"], None) if drive == "pi" else (None, full["q"])
+    st = solve_loaded(full["omega2"], full["eps"], full["theta0"], pi=pi, q=q, root=root)
+    names = [k for k in LOADED_VARIABLES if k not in ("pi", "q")]  # the drive: a coordinate
+    out = np.empty((len(names), *shape))
+    for row, name in enumerate(names):
+        out[row] = getattr(st, name)
+    if progress is not None:
+        progress.update(int(np.prod(shape, dtype=np.int64)))
     return out
 
 

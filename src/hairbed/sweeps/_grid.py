@@ -26,6 +26,8 @@ from ._attributes import (
     BED_UNITS,
     BED_VARIABLES,
     DIMS,
+    LOADED_ATTRS,
+    LOADED_VARIABLES,
     PUMPED_ATTRS,
     PUMPED_INTEGER,
     VARIABLES,
@@ -34,7 +36,15 @@ from ._attributes import (
     pumped_variables,
     variable_attrs,
 )
-from ._blocks import bed_block, chunk_sizes, grid_block, pumped_block, stacked, variable
+from ._blocks import (
+    bed_block,
+    chunk_sizes,
+    grid_block,
+    loaded_block,
+    pumped_block,
+    stacked,
+    variable,
+)
 from ._progress import Progress
 
 __all__ = ["bed_sweep", "path_dataset", "sweep"]
@@ -72,6 +82,8 @@ def sweep(
     root: str = "low",
     chunks: int | Mapping[str, int] | None = None,
     progress: bool = False,
+    pi: Any = None,
+    q: Any = None,
 ) -> Any:
     """The exact solution on the outer-product grid of the inputs, as an xarray Dataset.
 
@@ -96,6 +108,11 @@ def sweep(
         Show a progress bar with an ETA on stderr once the work has run about a second
         (for a chunked dataset: while it is computed in this process, e.g. by the threaded
         scheduler; a cluster's workers report nothing, use distributed's dashboard there).
+    pi, q : float or 1-D array_like, optional
+        A pump's drive (at most one): the dimensionless pressure gradient pi or flow rate q
+        of :func:`hairbed.solve_loaded`, a fourth dimension after theta0. The grid is then
+        solved by the distributed-load solver (the physical branch; ``sign``/``n`` must be
+        the default) and the variables are :data:`LOADED_VARIABLES`.
 
     Returns
     -------
@@ -117,6 +134,8 @@ def sweep(
         Without xarray (or dask, for ``chunks``): ``pip install "hairbed[sweep]"``.
     """
     xr = optional_import("xarray", "hairbed.sweep", "sweep")
+    if pi is not None or q is not None:
+        return _loaded_sweep(omega2, eps, theta0, pi, q, sign, n, root, chunks, progress)
     values = {"omega2": _axis(omega2, "omega2"), "eps": _axis(eps, "eps")}
     values["theta0"] = _axis(theta0, "theta0")
     sign, n = check_branch(sign, n)
@@ -155,6 +174,68 @@ def sweep(
         n,
         root,
     )
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _loaded_sweep(
+    omega2: Any,
+    eps: Any,
+    theta0: Any,
+    pi: Any,
+    q: Any,
+    sign: int,
+    n: int,
+    root: str,
+    chunks: Any,
+    progress: bool,
+) -> Any:
+    """:func:`sweep` with a distributed load: the grid (omega2, eps, theta0, pi or q)."""
+    xr = optional_import("xarray", "hairbed.sweep", "sweep")
+    if pi is not None and q is not None:
+        raise ValueError("give at most one of pi and q (a pump sets one drive)")
+    if check_branch(sign, n) != (1, 0):
+        raise ValueError("sign and n: a sweep with pi or q follows the physical branch (1, 0)")
+    drive = "pi" if pi is not None else "q"
+    values = {
+        "omega2": _si_axis(omega2, "omega2", "-"),
+        "eps": _axis(eps, "eps"),
+        "theta0": _axis(theta0, "theta0"),
+        drive: _si_axis(pi if q is None else q, drive, "-"),
+    }
+    root = check_root(root)
+    progress = check_flag(progress, "progress")
+    dims = tuple(d for d in values if values[d].ndim == 1)
+    fixed = {d: float(values[d]) for d in values if d not in dims}
+    sizes = {d: values[d].size for d in dims}
+    if chunks is not None:
+        chunk_sizes(chunks, sizes)
+    if drive == "pi":  # checked before any work, as solve_loaded would
+        bad = (values["eps"].reshape(-1) == 0.0).any() and (values["pi"] != 0.0).any()
+        if bad:
+            raise ValueError("pi != 0 needs eps > 0 (the gap flow's load W has (pi/2)/eps)")
+    bar = Progress(int(np.prod(list(sizes.values()), dtype=np.int64))) if progress else None
+    names = [k for k in LOADED_VARIABLES if k not in ("pi", "q")]  # the drive: a coordinate
+    kw = dict(dims=dims, fixed=fixed, drive=drive, root=root)
+    axes = [values[d] for d in dims]
+    data = stacked(loaded_block, axes, dims, len(names), chunks if dims else None, bar, **kw)
+    if not dims and chunks is not None:
+        da = optional_import("dask.array", "a chunked sweep", "sweep")
+        data = da.from_array(data, chunks=-1)
+    coords = {d: ((d,) if d in dims else (), values[d], cf(LOADED_ATTRS[d])) for d in values}
+    data_vars = {}
+    for k, name in enumerate(names):
+        var = data[k]
+        attrs = cf(LOADED_ATTRS[name])
+        if name in PUMPED_INTEGER:
+            var = var.astype(np.int64)
+        if name == "status":
+            attrs["comment"] = "0 converged; others: hairbed._core.validation.STATUS_MESSAGES"
+        data_vars[name] = (dims, var, attrs)
+    attrs = dataset_attrs(
+        "hairbed sweep: a boundary hair under a pump's distributed load", " (hairbed.sweep)",
+        1, 0, root,
+    )  # fmt: skip
+    attrs["drive"] = "pressure" if drive == "pi" else "flow"
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
 
 
