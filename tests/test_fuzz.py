@@ -529,6 +529,16 @@ TARGETS: list[Target] = [
         fuzz=("text", "path"),
     ),
     Target("HairBed.sweep", _method(BED, "sweep"), dict(velocity=[0.05, 0.1])),
+    Target(
+        "HairBed.sweep[pressure_gradient]",
+        _method(BED, "sweep"),
+        dict(velocity=0.01, pressure_gradient=[100.0, 1e3]),
+    ),
+    Target(
+        "sweep[pi]",
+        hairbed.sweep,
+        dict(omega2=[0.5, 1.0], eps=0.5, theta0=0.1, pi=[1.0, 2.0], root="low"),
+    ),
 ]
 
 #: Public callables not fuzzed here, and why.
