@@ -239,6 +239,16 @@ TARGETS: list[Target] = [
         dict(omega2=0.5, eps=0.5, theta0=0.1, pi=2.0, root="low", num=32, rtol=1e-12),
     ),
     Target(
+        "solve_loaded_all",
+        hairbed.solve_loaded_all,
+        dict(omega2=0.51, eps=0.95, theta0=-1.2, pi=0.0, num_scan=16, rtol=1e-12),
+    ),
+    Target(
+        "continue_loaded",
+        hairbed.continue_loaded,
+        dict(omega2=0.0, eps=0.9, theta0=-1.2, q=0.005, stop=0.05, ds=0.05, max_steps=40),
+    ),
+    Target(
         "solve_loaded[q]",
         hairbed.solve_loaded,
         dict(omega2=0.5, eps=0.5, theta0=0.1, q=2.0, root="low"),

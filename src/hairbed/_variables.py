@@ -472,4 +472,9 @@ LOADED: Mapping[str, Variable] = _table(
         "num", "loaded", "1", "Chebyshev degree N of the returned state",
         "Chebyshev degree N", "", "the resolution that met the tolerance", "int64",
     ),
+    _V(
+        "stable", "loaded", "1",
+        "stable under a slow change of the tip height (dG/dh1 < 0 of the fixed-load map)",
+        "stable", "", "from solve_loaded_all only (None elsewhere)", "bool",
+    ),
 )  # fmt: skip

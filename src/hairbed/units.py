@@ -44,7 +44,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._channel_drives import drive_inputs, gap_flow
-from ._core.loaded import solve_loaded
+from ._core.loaded import _solve_loaded_trusted
 from ._core.outputs import float_or_array
 from ._core.solver import _from_parameter, _solve_checked
 from ._core.validation import (
@@ -625,8 +625,8 @@ class HairBed:
     ) -> HairState:
         """:meth:`deform` with a pump drive: the distributed-load solver, signs kept."""
         drive, v, value, omega2, load = drive_inputs(self, velocity, pressure_gradient, flow_rate)
-        pi, q = (load, None) if drive == "pressure" else (None, load)
-        sol = solve_loaded(omega2, self.eps, self.base_angle, pi=pi, q=q, root=root)
+        # checked: the drive by drive_inputs, eps and the base angle by the bed itself
+        sol = _solve_loaded_trusted(drive, omega2, self.eps, self.base_angle, load, root)
         h1 = np.asarray(sol.tip_height, dtype=np.float64)
         flow = gap_flow(self, drive, v, value, h1)
         if self.density is not None:

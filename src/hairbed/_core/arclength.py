@@ -19,8 +19,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from .loaded import _check, _gap, solve_loaded
-from .validation import check_choice, check_int, check_positive
+from .loaded import _check_scalars, _gap, _quiet, solve_loaded
+from .validation import check_choice, check_int, check_number, check_positive
 
 __all__ = ["LoadedBranch", "continue_loaded"]
 
@@ -109,6 +109,7 @@ class _Curve:
         return p1
 
 
+@_quiet
 def continue_loaded(
     omega2: float,
     eps: float,
@@ -148,9 +149,7 @@ def continue_loaded(
     >>> len(b.folds)
     2
     """
-    drive, code, w, e, t0, ld = _check(omega2, eps, theta0, pi, q)
-    if w.ndim != 0:
-        raise ValueError(f"continue_loaded takes scalar inputs, got shape {w.shape}")
+    drive, code, w, e, t0, ld = _check_scalars(omega2, eps, theta0, pi, q, "continue_loaded")
     default = "q" if q is not None else ("pi" if pi is not None else "omega2")
     name = check_choice(parameter if parameter is not None else default, "parameter", _PARAMETERS)
     if name != "omega2" and name != default:
@@ -166,7 +165,7 @@ def continue_loaded(
     else:
         base["pi"] = float(ld)
     p0 = base["omega2"] if name == "omega2" else float(ld)
-    end = float(stop)
+    end = check_number(stop, "stop")
     direction = 1.0 if end >= p0 else -1.0
     st = solve_loaded(**base, rtol=tol)  # type: ignore[arg-type]
     curve = _Curve(name, base, tol)

@@ -157,7 +157,7 @@ def _start(
         h = np.where(np.isfinite(hn), hn, h)
     assert sol is not None
     t = np.asarray(sol.t, dtype=np.float64)
-    return t, e + 0.0 * t, mirror * t0, mirror, h
+    return t, e.copy(), mirror * t0, mirror, h
 
 
 def _start_scalar(
@@ -329,6 +329,39 @@ class LoadedState:
         return sv, scalar_or_array(x), scalar_or_array(z), scalar_or_array(theta)
 
 
+def _check_scalars(
+    omega2: Any, eps: Any, theta0: Any, pi: Any, q: Any, what: str
+) -> tuple[str, int, FloatArray, FloatArray, FloatArray, FloatArray]:
+    """:func:`_check` of inputs that must be single numbers (``what`` takes no arrays)."""
+    named = (("omega2", omega2), ("eps", eps), ("theta0", theta0), ("pi", pi), ("q", q))
+    for name, value in named:
+        if value is None:
+            continue
+        try:
+            shape: Any = np.shape(value)
+        except ValueError:  # a ragged nested list
+            shape = "ragged"
+        if shape != ():
+            raise ValueError(
+                f"{name} must be a single number (a scalar) for {what}: it follows one "
+                f"branch; got "
+                f"shape {shape}"
+            )
+    return _check(omega2, eps, theta0, pi, q)
+
+
+def _quiet(func: Any) -> Any:
+    """Run ``func`` with numpy's overflow warnings off: loads near the float range overflow on
+    the way, and the state's status says what came of it (-7: not reached)."""
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            return func(*args, **kwargs)
+
+    return wrapper
+
+
 def _check_load(value: Any, name: str) -> FloatArray:
     return as_float_array(value, name)
 
@@ -403,13 +436,46 @@ def solve_loaded(
     root = check_root(root)
     tol = check_positive(rtol, "rtol")
     nums = LADDER if num is None else (check_int(num, "num", 8, 512),)
+    if guess is not None and not isinstance(guess, Solution):
+        raise TypeError(f"guess must be a hairbed.Solution, got {type(guess).__name__}")
+    # loads near the float range overflow on the way (a state is then not reached: status -7)
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        return _solve_loaded_checked(drive, code, w, e, t0, ld, root, tol, nums, guess)
+
+
+def _solve_loaded_trusted(
+    drive: str, omega2: FloatArray, eps: float, theta0: float, load: FloatArray, root: str
+) -> LoadedState:
+    """:func:`solve_loaded` of inputs checked by the caller (the SI layer): omega2 and load
+    finite arrays of one shape, eps in (0, 1), |theta0| < pi/2, a valid root; default
+    tolerance and ladder."""
+    w = np.asarray(omega2, dtype=np.float64)
+    shape = w.shape
+    e, t0 = np.full(shape, float(eps)), np.full(shape, float(theta0))
+    ld = np.broadcast_to(np.asarray(load, dtype=np.float64), shape).copy()
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        return _solve_loaded_checked(drive, _DRIVES[drive], w, e, t0, ld, root, 1e-12, LADDER)
+
+
+def _solve_loaded_checked(
+    drive: str,
+    code: int,
+    w: FloatArray,
+    e: FloatArray,
+    t0: FloatArray,
+    ld: FloatArray,
+    root: str,
+    tol: float,
+    nums: tuple[int, ...],
+    guess: Solution | None = None,
+) -> LoadedState:
+    """:func:`solve_loaded` of checked, broadcast inputs (``_check``), trusted."""
+    fixed_num = nums != LADDER
     shape = w.shape
     wf, ef, tf, lf = (np.ascontiguousarray(v).reshape(-1) for v in (w, e, t0, ld))
     if guess is None:
         ts, es, ths, mirror, hs = _start(code, wf, ef, lf, tf, root)
     else:
-        if not isinstance(guess, Solution):
-            raise TypeError(f"guess must be a hairbed.Solution, got {type(guess).__name__}")
         ts, es, ths, hs = (
             np.ascontiguousarray(np.broadcast_to(np.asarray(v, dtype=np.float64), shape)).reshape(
                 -1
@@ -418,11 +484,11 @@ def solve_loaded(
         )
         mirror = np.ones(wf.size)
     a = _map_parameter(code, wf, ef, lf, hs)
-    ok = np.isfinite(ts)
+    ok = ~np.isnan(ts)  # t = -inf is the hair at rest (no load): a start too
     theta_start = _closed_form_start(ts, es, ths, mirror, a, nums, ok)
     hs = np.where(ok, hs, np.cos(tf))
     out, coefs = _run(code, wf, ef, lf, tf, a, theta_start, hs, nums, tol, ok)
-    if guess is None and num is None:
+    if guess is None and not fixed_num:
         exact = (code == 0) & (lf == 0.0)
         scan = ~exact if root != "low" else np.zeros(wf.size, dtype=np.bool_)
         _rescue(drive, code, wf, ef, tf, lf, root, tol, out, coefs, a, scan)
@@ -638,7 +704,7 @@ def _fixed_load_states(
     tf = np.full(h.size, t0)
     ts, es, ths, mirror, hs = _start(2, big_w, zero, big_p, tf, "low")
     a = _map_parameter(2, big_w, zero, big_p, hs)
-    ok = np.isfinite(ts)
+    ok = ~np.isnan(ts)  # t = -inf: the hair at rest
     theta_start = _closed_form_start(ts, es, ths, mirror, a, LADDER, ok)
     out, coefs = _run(
         2, big_w, zero, big_p, tf, a, theta_start, np.where(ok, hs, 1.0), LADDER, tol, ok
@@ -652,6 +718,7 @@ def _gap(code: int, w: Any, e: float, ld: Any, t0: float, h: FloatArray, tol: fl
     return np.where(out[0] >= 0, out[4] - h, np.nan)
 
 
+@_quiet
 def solve_loaded_all(
     omega2: float,
     eps: float,
@@ -689,9 +756,7 @@ def solve_loaded_all(
     >>> [round(s.tip_height, 6) for s in hairbed.solve_loaded_all(0.51, 0.95, -1.2)]
     [0.536514, 0.78824, 0.884061]
     """
-    drive, code, w, e, t0, ld = _check(omega2, eps, theta0, pi, q)
-    if w.ndim != 0:
-        raise ValueError(f"solve_loaded_all takes scalar inputs, got shape {w.shape}")
+    drive, code, w, e, t0, ld = _check_scalars(omega2, eps, theta0, pi, q, "solve_loaded_all")
     tol = check_positive(rtol, "rtol")
     count = check_int(num_scan, "num_scan", 8, 10**4)
     wf, ef, lf, tf = float(w), float(e), float(ld), float(t0)

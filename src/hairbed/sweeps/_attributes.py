@@ -53,6 +53,8 @@ BED_ATTRS: dict[str, tuple[str, str]] = {
 #: Coordinates of a bed's sweep besides ``velocity``, and its data variables, in order.
 BED_COORDS = ("omega2", "theta0", "direction")
 BED_VARIABLES = tuple(k for k in BED_ATTRS if k != "velocity" and k not in BED_COORDS)
+#: The LoadedState fields a sweep holds (``stable`` comes from solve_loaded_all only).
+_SWEPT = tuple(k for k in LOADED if k != "stable")
 #: SI sweep of a pump-driven bed (``HairBed.sweep`` with ``pressure_gradient`` or
 #: ``flow_rate``): dimensions ``velocity`` and the drive's own quantity; the other SI fields,
 #: the dimensionless tip (in the bed's frame: no mirror image) and the distributed-load
@@ -61,21 +63,21 @@ PUMPED_ATTRS: dict[str, tuple[str, str]] = {
     **{k: (SI[k].units, SI[k].long_name) for k in names(SI) if k != "direction"},
     **{f"scaled_{k}": ATTRS[k] for k in BED_SCALED if k != "tip_displacement"},
     **{k: ATTRS[k] for k in ("base_curvature", "status")},
-    **{k: (LOADED[k].units, LOADED[k].long_name) for k in LOADED},
+    **{k: (LOADED[k].units, LOADED[k].long_name) for k in _SWEPT},
 }
 #: Data variables of :func:`hairbed.sweep` with ``pi`` or ``q`` (the distributed-load
 #: solver): the tip and base of every state, its status, then the solver's own fields.
 LOADED_VARIABLES = (
-    "tip_height", "tip_deflection", "tip_angle", "base_curvature", "status", *LOADED
+    "tip_height", "tip_deflection", "tip_angle", "base_curvature", "status", *_SWEPT
 )  # fmt: skip
 #: Their CF attributes, and those of the two extra dimensions ``pi`` and ``q``.
 LOADED_ATTRS: dict[str, tuple[str, str]] = {
     **{k: ATTRS[k] for k in (*DIMS, *LOADED_VARIABLES) if k in ATTRS},
-    **{k: (LOADED[k].units, LOADED[k].long_name) for k in LOADED},
+    **{k: (LOADED[k].units, LOADED[k].long_name) for k in _SWEPT},
 }
 
 #: The integer variables of a pumped sweep.
-PUMPED_INTEGER = ("status", *(k for k in LOADED if LOADED[k].dtype == "int64"))
+PUMPED_INTEGER = ("status", *(k for k in _SWEPT if LOADED[k].dtype == "int64"))
 #: The drives of a pumped sweep: name -> (its SI quantity, its dimensionless one).
 PUMP_DRIVES = {"pressure_gradient": "pi", "flow_rate": "q"}
 
