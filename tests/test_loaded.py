@@ -422,3 +422,23 @@ def test_failure_statuses_are_honest():
     assert np.isnan(none.tip_height) and np.isnan(none.error_estimate)
     assert np.all(np.isnan(none.shape([0.0, 1.0])[1]))
     _identity(none)
+
+
+@pytest.mark.parametrize("drive", [{}, {"pi": 0.0}, {"q": 0.0}])
+@pytest.mark.parametrize("theta0", [-1.2, 0.0, 0.7])
+def test_no_load_at_all_is_the_hair_at_rest(drive, theta0) -> None:
+    """omega2 = 0 and no pump: the straight hair, x1 = sin(theta0), h1 = cos(theta0)."""
+    st = hairbed.solve_loaded(0.0, 0.6, theta0, **drive)
+    assert st.status == 0
+    assert st.tip_deflection == pytest.approx(math.sin(theta0), abs=1e-14)
+    assert st.tip_height == pytest.approx(math.cos(theta0), abs=1e-14)
+    assert abs(st.base_curvature) < 1e-14
+
+
+def test_huge_loads_say_so_without_a_warning() -> None:
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        st = hairbed.solve_loaded(1e308, 0.5, 0.3, pi=1e308)
+    assert st.status != 0 and math.isnan(st.tip_deflection)
