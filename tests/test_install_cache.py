@@ -103,11 +103,14 @@ def installed(tmp_path_factory):
     for name in ("pyproject.toml", "README.md", "LICENSE"):
         shutil.copy2(REPO / name, tree / name)
     pip = [sys.executable, "-m", "pip", "--disable-pip-version-check", "--no-input"]
+    # a PYTHONPATH to a source tree would make pip see hairbed installed already
+    clean = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
     build = subprocess.run(
         [*pip, "wheel", "--no-deps", "--no-build-isolation", "--no-index"]
         + ["-w", str(base / "wheel"), str(tree)],
         capture_output=True,
         text=True,
+        env=clean,
     )
     if build.returncode != 0:
         last = (build.stderr.strip().splitlines() or ["?"])[-1]
@@ -120,6 +123,7 @@ def installed(tmp_path_factory):
         [*pip, "--python", str(python), "install", "--no-deps", "--no-index", str(wheel)],
         check=True,
         capture_output=True,
+        env=clean,
     )
     site = Path(
         subprocess.run(
