@@ -25,8 +25,8 @@ Examples
 ('1', 'tip height h1 [L]')
 >>> names(SOLUTION, "input")
 ('omega2', 'eps', 'theta0')
->>> cf_attrs(SI["wall_shear_stress"])
-{'units': 'Pa', 'long_name': 'shear stress on the top wall, eta v / (H - h1 L)'}
+>>> cf_attrs(SI["pressure_gradient"])
+{'units': 'Pa m-1', 'long_name': 'pressure gradient along the channel, G = -dp/dx'}
 """
 
 from __future__ import annotations
