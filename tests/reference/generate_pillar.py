@@ -21,7 +21,7 @@ the built-in ones, so that Lambda = zeta_perp tau_w L^4/(eta E I) for all three)
     "sublayer":    U = z
     "couette":     U = z               (tau_w = eta V/H; the pillar stays below H: L/H <= 1)
     "poiseuille":  U = z - (L/H) z^2   (tau_w = G H/2)
-    "callable":    U = z^2             (a user profile u = U_0 (z/L)^2, Lambda = zeta_perp U_0 L^3/(E I))
+    "callable":    U = z^2             (u = U_0 (z/L)^2, Lambda = zeta_perp U_0 L^3/(E I))
 
 Method
 ------
@@ -78,7 +78,7 @@ import numpy as np
 from mpmath import mp, mpf
 from scipy.integrate import solve_bvp, solve_ivp
 
-__all__ = ["build_cases", "compute_case", "main"]
+__all__ = ["build_cases", "compute_group", "compute_inverse", "main"]
 
 OUT_PATH = Path(__file__).resolve().parents[1] / "data" / "pillar_mpmath.json"
 #: Base working precision [decimal digits]; raised by the amplification digits per case.
@@ -114,7 +114,10 @@ def profile_coefficients(profile: str, params: dict[str, Any]) -> tuple[Any, Any
 
 
 def gray_hancock_gamma(slenderness: int) -> mpf:
-    """zeta_par/zeta_perp of Gray & Hancock (1955) with lambda -> L: (ln(2L/a) + 1/2)/(2 ln(2L/a) - 1)."""
+    """zeta_par/zeta_perp of Gray & Hancock (1955), lambda -> L.
+
+    (ln(2L/a) + 1/2)/(2 ln(2L/a) - 1).
+    """
     lg = mp.log(2 * mpf(slenderness))
     return (lg + mpf(1) / 2) / (2 * lg - 1)
 
@@ -272,7 +275,14 @@ def bvp_continue(case: dict[str, Any], v: np.ndarray, lam_from: float, lam_to: f
         u = a1 * z + a2 * z * z
         lam = p
         return np.vstack(
-            [m, -(fx * c - fz * sn), -lam * u * (c * c + gam * sn * sn), lam * u * (1 - gam) * sn * c, sn, c]
+            [
+                m,
+                -(fx * c - fz * sn),
+                -lam * u * (c * c + gam * sn * sn),
+                lam * u * (1 - gam) * sn * c,
+                sn,
+                c,
+            ]
         )
 
     def bc(ya, yb):
@@ -282,7 +292,9 @@ def bvp_continue(case: dict[str, Any], v: np.ndarray, lam_from: float, lam_to: f
     for lam in np.geomspace(lam_from, lam_to, n + 1)[1:]:
         res = solve_bvp(lambda a, b, lam=lam: fun(a, b, lam), bc, s, y, tol=1e-9, max_nodes=100000)
         if not res.success:
-            raise RuntimeError(f"{case['label']}: solve_bvp fails at Lambda = {lam}: {res.message}")
+            raise RuntimeError(
+                f"{case['label']}: solve_bvp fails at Lambda = {lam}: {res.message}"
+            )
         s, y = res.x, res.y
     t = y[2] * np.sin(y[0]) + y[3] * np.cos(y[0])
     amp = float(np.trapezoid(np.sqrt(np.maximum(t, 0.0)), s))
@@ -395,7 +407,9 @@ def taylor_shoot(
 
 
 def residual_mp(case: dict[str, Any], unk: list[mpf], lam: mpf, order: int, off: int):
-    r = taylor_shoot(case["m_theta0"], lam, case["m_gamma"], case["m_a1"], case["m_a2"], unk, order, off)
+    r = taylor_shoot(
+        case["m_theta0"], lam, case["m_gamma"], case["m_a1"], case["m_a2"], unk, order, off
+    )
     end = r["nodes"][-1]
     return [end[1], end[2], end[3]], r
 
@@ -424,7 +438,7 @@ def newton_mp(
     jac = None
     scale = max(mpf(1), max(abs(q) for q in v))
     last = None
-    for it in range(30):
+    for _it in range(30):
         nrm = max(abs(q) for q in res)
         if nrm < mpf(10) ** (-(mp.dps - 2)) * scale:
             break
@@ -465,7 +479,13 @@ def build_cases(quick: bool = False) -> list[dict[str, Any]]:
 
     def add(profile, params, gamma, theta0, lams):
         groups.append(
-            {"profile": profile, "profile_parameters": params, "gamma": gamma, "theta0": theta0, "lams": lams}
+            {
+                "profile": profile,
+                "profile_parameters": params,
+                "gamma": gamma,
+                "theta0": theta0,
+                "lams": lams,
+            }
         )
 
     if quick:
@@ -531,7 +551,9 @@ def linear_tip(c: dict[str, Any], lam: mpf) -> mpf:
     return lam * (a1 * mpf(11) / 120 + a2 * mpf(13) / 180)
 
 
-def _state_record(c: dict[str, Any], lam: mpf, unk: list[mpf], r: dict[str, Any]) -> dict[str, Any]:
+def _state_record(
+    c: dict[str, Any], lam: mpf, unk: list[mpf], r: dict[str, Any]
+) -> dict[str, Any]:
     nodes = r["nodes"]
     end = nodes[-1]
     return {
@@ -588,7 +610,9 @@ def solve_state(
             raise RuntimeError(f"{label}: inverse Lambda differs by {dl}")
         worst = max(worst, dl)
     rec = recs[1]
-    ident = abs(rec["base_curvature"] - rec["moment_integral"]) / max(mpf(1), abs(rec["base_curvature"]))
+    ident = abs(rec["base_curvature"] - rec["moment_integral"]) / max(
+        mpf(1), abs(rec["base_curvature"])
+    )
     if ident > IDENTITY_TOL:
         raise RuntimeError(f"{label}: base-moment identity off by {ident}")
     load = max(mpf(1), abs(rec["drag_x"]), abs(rec["drag_z"]))
@@ -618,7 +642,9 @@ def solve_state(
     return rec
 
 
-def _out_case(c: dict[str, Any], rec: dict[str, Any], lam_f: float, index: int, count: int) -> dict[str, Any]:
+def _out_case(
+    c: dict[str, Any], rec: dict[str, Any], lam_f: float, index: int, count: int
+) -> dict[str, Any]:
     s_list = [_s(mpf(j) / SHAPE_N) for j in range(SHAPE_N + 1)]
     return {
         "profile": c["profile"],
@@ -644,7 +670,9 @@ def _out_case(c: dict[str, Any], rec: dict[str, Any], lam_f: float, index: int, 
             "dps": rec["_checks"]["dps"],
             "identity": mp.nstr(rec["_checks"]["identity"], 3),
             "resolution": mp.nstr(rec["_checks"]["resolution"], 3),
-            "linear_rel": None if rec["_checks"]["linear"] is None else mp.nstr(rec["_checks"]["linear"], 6),
+            "linear_rel": None
+            if rec["_checks"]["linear"] is None
+            else mp.nstr(rec["_checks"]["linear"], 6),
             "taylor_steps": list(rec["_checks"]["steps"]),
         },
     }
@@ -678,9 +706,14 @@ def compute_group(group: dict[str, Any]) -> dict[str, Any]:
     mp.dps = 30
     return {
         "cases": out,
-        "folds": {"label": c["label"], "profile": c["profile"], "gamma": c["gamma"],
-                  "theta0": c["theta0"], "folds_near_forcing": br["folds"],
-                  "continued_to": float(math.exp(br["path"][-1][0][3]))},
+        "folds": {
+            "label": c["label"],
+            "profile": c["profile"],
+            "gamma": c["gamma"],
+            "theta0": c["theta0"],
+            "folds_near_forcing": br["folds"],
+            "continued_to": float(math.exp(br["path"][-1][0][3])),
+        },
         "seconds": time.time() - t0,
     }
 
@@ -688,7 +721,9 @@ def compute_group(group: dict[str, Any]) -> dict[str, Any]:
 def compute_inverse(item: tuple) -> dict[str, Any]:
     profile, params, gkey, theta0, x1 = item
     gamma = "0.5" if gkey == "half" else mp.nstr(gray_hancock_gamma(SLENDERNESS), 40)
-    c = _prepare({"profile": profile, "profile_parameters": params, "gamma": gamma, "theta0": theta0})
+    c = _prepare(
+        {"profile": profile, "profile_parameters": params, "gamma": gamma, "theta0": theta0}
+    )
     # find Lambda by the double continuation: x1(Lambda) along the branch (monotone here)
     br = continue_branch(c, [CONT_MAX])
     xs, ls, vs = [], [], []
@@ -742,7 +777,10 @@ def main(argv: list[str] | None = None) -> None:
         if kind == "group":
             cases.extend(res["cases"])
             folds.append(res["folds"])
-            print(f"{res['folds']['label']}: {len(res['cases'])} states, {res['seconds']:.0f} s", flush=True)
+            print(
+                f"{res['folds']['label']}: {len(res['cases'])} states, {res['seconds']:.0f} s",
+                flush=True,
+            )
         else:
             inverse.append(res)
     data = {
@@ -753,7 +791,8 @@ def main(argv: list[str] | None = None) -> None:
         "out_digits": OUT_DIGITS,
         "equations": (
             "theta'' = -(F_x cos theta - F_z sin theta), F' = -f, "
-            "f = Lambda U(z) [(cos^2 theta + gamma sin^2 theta), -(1 - gamma) sin theta cos theta], "
+            "f = Lambda U(z) [cos^2 theta + gamma sin^2 theta, "
+            "-(1 - gamma) sin theta cos theta], "
             "theta(0) = theta0, theta'(1) = 0, F(1) = 0; docs/theory.md section 12"
         ),
         "profiles": {
@@ -762,7 +801,10 @@ def main(argv: list[str] | None = None) -> None:
             "poiseuille": "U = z - (L/H) z^2 (forcing by the wall stress G H/2)",
             "callable": "U = z**2",
         },
-        "gray_hancock": {"slenderness": SLENDERNESS, "gamma": mp.nstr(gray_hancock_gamma(SLENDERNESS), 40)},
+        "gray_hancock": {
+            "slenderness": SLENDERNESS,
+            "gamma": mp.nstr(gray_hancock_gamma(SLENDERNESS), 40),
+        },
         "checks": {
             "identity": "base_curvature = int_0^1 (z f_x - x f_z) ds to 1e-25",
             "resolutions": f"Taylor orders/tolerances {list(ORDERS)} agree to 1e-20",
