@@ -67,6 +67,7 @@ reference: $(STAMP)
 	$(BIN)/python tests/reference/generate_derivatives.py
 	$(BIN)/python tests/reference/generate_folds.py
 	$(BIN)/python tests/reference/generate_loaded.py
+	$(BIN)/python tests/reference/generate_pillar.py
 
 # The documentation site (docs/_build/html), warnings as errors. The figure gallery is drawn
 # during the build into docs/_generated (redrawn when a source file is newer).
