@@ -65,6 +65,7 @@ from __future__ import annotations
 
 import argparse
 import datetime
+import hashlib
 import json
 import math
 import multiprocessing
@@ -750,11 +751,25 @@ def compute_inverse(item: tuple) -> dict[str, Any]:
     return res
 
 
-def _run(job: tuple[str, Any]) -> tuple[str, Any]:
+def _job_key(job: tuple[str, Any]) -> str:
+    text = json.dumps(job, sort_keys=True, default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:20]
+
+
+def _run(arg: tuple[tuple[str, Any], str | None]) -> tuple[str, Any]:
+    """One job; its result is cached (``--cache``) so that a rerun skips it."""
+    job, cache = arg
     kind, item = job
-    if kind == "group":
-        return kind, compute_group(item)
-    return kind, compute_inverse(item)
+    path = Path(cache) / f"{_job_key(job)}.json" if cache else None
+    if path is not None and path.exists():
+        return kind, json.loads(path.read_text())
+    try:
+        res = compute_group(item) if kind == "group" else compute_inverse(item)
+    except Exception as exc:  # reported by main, which then writes nothing
+        return "error", f"{kind} {item}: {type(exc).__name__}: {exc}"
+    if path is not None:
+        path.write_text(json.dumps(res))
+    return kind, res
 
 
 def main(argv: list[str] | None = None) -> None:
@@ -762,16 +777,34 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=OUT_PATH)
     parser.add_argument("--quick", action="store_true", help="a few cases (smoke test)")
+    parser.add_argument(
+        "--cache",
+        type=Path,
+        default=None,
+        help="directory keeping each finished job, so that a rerun skips it",
+    )
     args = parser.parse_args(argv)
     t0 = time.time()
-    jobs: list[tuple[str, Any]] = [("group", g) for g in build_cases(args.quick)]
+    groups = build_cases(args.quick)
+    groups.sort(key=lambda g: -max(g["lams"] + [0.0]))  # the longest first
+    jobs: list[tuple[str, Any]] = [("group", g) for g in groups]
     inv = INVERSE[:2] if args.quick else INVERSE
     jobs += [("inverse", it) for it in inv]
+    cache = None
+    if args.cache is not None:
+        args.cache.mkdir(parents=True, exist_ok=True)
+        cache = str(args.cache)
+    work = [(j, cache) for j in jobs]
     if args.workers > 1:
         with multiprocessing.Pool(args.workers) as pool:
-            results = pool.map(_run, jobs, chunksize=1)
+            results = list(pool.imap(_run, work, chunksize=1))
     else:
-        results = [_run(j) for j in jobs]
+        results = [_run(w) for w in work]
+    errors = [res for kind, res in results if kind == "error"]
+    if errors:
+        for e in errors:
+            print("FAILED:", e, file=sys.stderr)
+        raise SystemExit(f"{len(errors)} job(s) failed: nothing written")
     cases, folds, inverse = [], [], []
     for kind, res in results:
         if kind == "group":
