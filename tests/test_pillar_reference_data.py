@@ -253,6 +253,23 @@ def test_inverse_cases():
             assert max(below) < lam < min(above)
 
 
+def test_tip_deflection_increases_with_forcing_without_folds():
+    """Outside a fold window x1 grows with Lambda along every group of the reference."""
+    groups: dict[tuple, list[dict[str, Any]]] = {}
+    for c in CASES:
+        key = (c["profile"], json.dumps(c["profile_parameters"]), c["gamma"], c["theta0"])
+        groups.setdefault(key, []).append(c)
+    checked = 0
+    for members in groups.values():
+        if any(c["states_at_forcing"] != 1 for c in members):
+            continue
+        members.sort(key=lambda c: c["forcing"])
+        x1 = [mpf(c["tip_deflection"]) for c in members]
+        assert all(a < b for a, b in zip(x1[:-1], x1[1:])), members[0]["profile"]
+        checked += 1
+    assert checked >= 8
+
+
 def test_snap_through_window():
     at15 = [
         c
