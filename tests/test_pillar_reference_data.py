@@ -112,7 +112,8 @@ def test_coverage():
     gammas = {mpf(c["gamma"]) for c in CASES}
     gh = _gray_hancock(DATA_["gray_hancock"]["slenderness"])
     assert mpf("0.5") in gammas
-    assert any(abs(g - gh) < mpf("1e-35") for g in gammas)
+    # the generator wrote the ratio to 16 digits; that decimal string is the input used
+    assert any(abs(g - gh) < mpf("1e-15") for g in gammas)
     assert {c["profile"] for c in INVERSE} >= {"sublayer", "poiseuille"}
     for profile in ("sublayer", "couette", "poiseuille", "callable"):
         lams = [c["forcing"] for c in CASES if c["profile"] == profile]

@@ -489,7 +489,7 @@ def build_cases(quick: bool = False) -> list[dict[str, Any]]:
         add("sublayer", {}, half, -1.4, [15.0])
         return groups
     add("sublayer", {}, half, 0.0, lams_full[:-1])
-    add("sublayer", {}, g_gh, 0.0, [1e-6, 1e-4, 1e-3, 1.0, 100.0, 1e4])
+    add("sublayer", {}, g_gh, 0.0, [1e-6, 1e-4, 1e-3, 1.0, 100.0, 300.0])
     add("sublayer", {}, half, 1.4, [1e-3, 1.0, 100.0, 1e4])
     add("sublayer", {}, g_gh, -0.7, [1e-3, 1.0, 30.0, 1e3])
     add("sublayer", {}, half, -1.4, [1e-3, 3.0, 15.0, 100.0])
