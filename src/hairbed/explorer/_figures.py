@@ -361,6 +361,10 @@ class Views:
         # array as a binary buffer of its own, two websocket frames each (tens per update)
         source.data = {k: to_plain(v, strict=False) for k, v in data.items()}
 
+    def release(self) -> None:
+        """Forget the data last given to each source (the page's session is gone)."""
+        self._shown.clear()
+
     def update(self, snap: Snapshot) -> None:
         """Show a snapshot: new data for every source of the four figures."""
         p = snap.params

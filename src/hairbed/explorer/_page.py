@@ -626,6 +626,12 @@ class ExplorerPage:
             finally:
                 self._setting_url = False
 
+    def release(self) -> None:
+        """Drop the data the page holds once its session is gone (the server discards the
+        session's document and models itself): the snapshot and the figures' last data."""
+        self.snapshot = None
+        self.views.release()
+
     # -- downloads ------------------------------------------------------------------------
 
     def _json_file(self) -> io.StringIO:
