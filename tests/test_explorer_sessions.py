@@ -1,0 +1,255 @@
+"""The served explorer under several users at once (issue 19 item 5, the short version of
+``benchmarks/bench_explorer.py --sessions``).
+
+``hairbed explore``'s own session page (:func:`hairbed.explorer._session_page`) on a Bokeh
+server in this process; a few Bokeh client sessions (one thread each, as many websocket
+clients as browsers would be) drive their pages at the same time: omega2 across both folds of
+(eps, theta0) = (0.9, -1.5) (one state, three, one), the twirling states on and off, the branch
+diagram's ordinate switched. One session is opened with a bad link and types bad values.
+
+Checked: no session but the bad one ever shows an error; every page shows its own session's
+inputs after every update, and its states are the library's (``hairbed.solve`` for every root,
+computed here) for those inputs; the bad session gets the library's message naming the
+parameter and keeps its last good view. Memory: after the sessions close, every page is
+collected and every session discarded by the server, and a second identical round leaves the
+resident memory within :data:`RSS_BOUND_MB` of the first round's (the allocator keeps what the
+first round's peak took for reuse: that is not a leak) and Python's live heap within
+:data:`BLOCKS_BOUND` allocated blocks of it.
+"""
+
+from __future__ import annotations
+
+import gc
+import math
+import sys
+import threading
+import time
+import weakref
+from typing import Any
+
+import numpy as np
+import pytest
+
+import hairbed
+
+pytestmark = [pytest.mark.slow, pytest.mark.filterwarnings("ignore")]
+
+pn = pytest.importorskip("panel")
+pytest.importorskip("bokeh.client")
+
+#: Sessions driven at once, and updates each (the benchmark: 8 x 250).
+SESSIONS = 3
+UPDATES = 30
+#: Seconds for one page to refresh after a change (the machine is shared).
+TIMEOUT = 60.0
+#: Resident memory [MB] a second identical round may add to the first's, after each closed.
+RSS_BOUND_MB = 20.0
+#: Python's allocated blocks (sys.getallocatedblocks) a second round may add (one round of
+#: three sessions allocates millions; a kept page would hold ~10^5).
+BLOCKS_BOUND = 20_000
+EPS, THETA0 = "0.9", "-1.5"
+#: The bad session's typed values, and the parameter each message must name.
+BAD = [("omega2", "lots"), ("omega2", "-1"), ("theta0", "2"), ("eps", "nan")]
+
+
+def _rss_mb() -> float:
+    with open("/proc/self/status") as fh:
+        for line in fh:
+            if line.startswith("VmRSS:"):
+                return float(line.split()[1]) / 1024.0
+    raise RuntimeError("no VmRSS in /proc/self/status")
+
+
+def _plan(k: int) -> list[tuple[str, str]]:
+    """Session k's updates: omega2 up and down across both folds (offset per session, so that
+    no two sessions show the same inputs at once), every 5th a view switch."""
+    logs = np.linspace(math.log10(0.5), math.log10(2.5), 12)
+    sweep = np.concatenate([logs, logs[-2:0:-1]])
+    plan = []
+    for i in range(UPDATES):
+        if i % 5 == 4:
+            plan.append(("twirl", "") if (i // 5) % 2 else ("y", ""))
+        else:
+            w = 10.0 ** sweep[(i + 5 * k) % sweep.size] * (1.0 + 0.001 * k)
+            plan.append(("omega2", f"{w:.6g}"))
+    return plan
+
+
+@pytest.fixture(scope="module")
+def served():
+    """The explorer's session page on a Bokeh server in this process: (url, pages, server)."""
+    if not sys.platform.startswith("linux"):
+        pytest.skip("resident memory read from /proc (Linux)")
+    from panel.io.server import get_server
+
+    import hairbed.explorer as explorer
+    from hairbed.explorer import _model
+
+    pn.extension()
+    pages: dict[str, Any] = {}
+
+    def app() -> Any:
+        page = explorer._session_page()
+        pages[pn.state.curdoc.session_context.id] = weakref.ref(page)
+        return page.layout
+
+    delay = explorer.TRIM_DELAY
+    explorer.TRIM_DELAY = 0.5
+    _model.cusp_curve()
+    _model.compute(_model.validate({"twirl": "1"}))  # the kernels, as `hairbed explore` does
+    server = get_server(
+        {"/": app},
+        port=0,
+        start=False,
+        show=False,
+        check_unused_sessions_milliseconds=200,
+        unused_session_lifetime_milliseconds=500,
+    )
+    server.start()
+    loop = threading.Thread(target=server.io_loop.start, daemon=True)
+    loop.start()
+    try:
+        yield f"http://127.0.0.1:{server.port}/", pages, server
+    finally:
+        explorer.TRIM_DELAY = delay
+        server.io_loop.add_callback(server.stop)
+        server.io_loop.add_callback(server.io_loop.stop)
+        loop.join(10)
+
+
+def _library_xi(raw: dict[str, str]) -> list[float]:
+    """xi of every coexisting state, from the library directly."""
+    w, e, th = (float(raw[k]) for k in ("omega2", "eps", "theta0"))
+    low = hairbed.solve(w, e, th)
+    roots = ("low", "mid", "high") if low.n_roots == 3 else ("low",)
+    return [float(hairbed.solve(w, e, th, root=r).xi) for r in roots]
+
+
+def _round(url: str, pages: dict[str, Any]) -> dict[str, Any]:
+    """SESSIONS client sessions at once (session 0 the bad one), then closed."""
+    from bokeh.client import pull_session
+
+    problems: list[str] = []
+    counts: set[int] = set()
+    lock = threading.Lock()
+    barrier = threading.Barrier(SESSIONS)
+    opened: list[Any] = []
+
+    def drive(k: int) -> None:
+        bad = k == 0
+        args = {"omega2": "lots", "eps": "2"} if bad else {"omega2": "0.8", "eps": EPS}
+        session = pull_session(url=url, arguments={**args, "theta0": THETA0})
+        with lock:
+            opened.append(session)
+        page = pages[session.id]()
+        if bad:  # the bad link: both messages, the defaults on screen and in the fields
+            if len(page.errors) != 2 or "omega2" not in page.errors[0]:
+                problems.append(f"bad link: {page.errors}")
+            if "eps" not in page.errors[-1] or page.snapshot.params.raw["omega2"] != "2":
+                problems.append(f"bad link: {page.errors}, {page.snapshot.params.raw}")
+        elif page.error:
+            problems.append(f"session {k} at start: {page.error}")
+        models = {
+            c: m
+            for m in session.document.select({})
+            for c in (getattr(m, "css_classes", None) or [])
+        }  # the client's copies of the page's widgets, by their class
+        barrier.wait()
+
+        def update(i: int, field: str, value: str) -> None:
+            timings, errors = page.timings, page.errors
+            start = time.perf_counter()
+            if field == "twirl":
+                box = models["hb-twirl-toggle"]  # the page's CheckBoxGroup
+                box.active = [] if box.active else [0]
+            elif field == "y":
+                box = models["hb-y"]
+                box.active = 1 - box.active
+            else:
+                models[f"hb-{field}"].value = value
+            is_bad = (field, value) in BAD
+            while page.timings is timings and not (is_bad and page.errors is not errors):
+                if time.perf_counter() - start > TIMEOUT:
+                    problems.append(f"session {k} update {i} ({field}={value}): no refresh")
+                    return
+                session.force_roundtrip()
+                time.sleep(0.002)
+            if is_bad:
+                if not page.errors or field not in page.errors[0]:
+                    problems.append(f"session {k}: bad {field}={value!r}: {page.errors}")
+                return
+            if page.error:
+                problems.append(f"session {k} update {i} ({field}={value}): {page.error}")
+                return
+            raw = page.snapshot.params.raw
+            if field not in ("twirl", "y") and raw[field] != value:
+                problems.append(f"session {k}: shows {field}={raw[field]}, was given {value}")
+            if not bad and (raw["eps"], raw["theta0"]) != (EPS, THETA0):
+                problems.append(f"session {k}: shows eps, theta0 = {raw['eps']}, {raw['theta0']}")
+            xi = [float(s.solution.xi) for s in page.snapshot.states]
+            if xi != _library_xi(raw):
+                problems.append(f"session {k} update {i}: states {xi} are not the library's")
+            with lock:
+                counts.add(len(xi))
+
+        if bad:  # the defaults' (eps, theta0) back to the others' before the plan
+            update(-1, "eps", EPS)
+            update(-1, "theta0", THETA0)
+        for i, (field, value) in enumerate(_plan(k)):
+            if bad and i % 6 == 2:
+                last = page.snapshot.params.raw
+                wrong = BAD[(i // 6) % len(BAD)]
+                update(i, *wrong)
+                update(i, wrong[0], last[wrong[0]])  # corrected
+            update(i, field, value)
+
+    def guarded(k: int) -> None:
+        try:
+            drive(k)
+        except Exception as exc:  # a failure of the driver: reported, never silent
+            barrier.abort()
+            problems.append(f"session {k}: {type(exc).__name__}: {exc}")
+
+    threads = [threading.Thread(target=guarded, args=(k,)) for k in range(SESSIONS)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for session in opened:
+        session.close()
+        session._connection._loop.close(all_fds=True)  # the client's own loop (Bokeh's)
+    return {"problems": problems, "counts": counts}
+
+
+def _settle(pages: dict[str, Any], server: Any) -> tuple[int, int]:
+    """Wait until the server has discarded the closed sessions and their pages are gone (and
+    the explorer's clean-up after them has run): (pages left, sessions left)."""
+    import hairbed.explorer as explorer
+
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline and (
+        server.get_sessions() or any(ref() is not None for ref in pages.values())
+    ):
+        time.sleep(0.2)
+        gc.collect()
+    time.sleep(explorer.TRIM_DELAY + 1.0)
+    gc.collect()
+    return sum(ref() is not None for ref in pages.values()), len(server.get_sessions())
+
+
+def test_sessions_isolated_correct_and_released(served):
+    url, pages, server = served
+    first = _round(url, pages)
+    assert first["problems"] == []
+    assert first["counts"] == {1, 3}  # both folds crossed, in every session's plan
+    assert _settle(pages, server) == (0, 0)
+    rss, blocks = _rss_mb(), sys.getallocatedblocks()
+    pages.clear()
+    second = _round(url, pages)
+    assert second["problems"] == []
+    assert len(pages) == SESSIONS
+    assert _settle(pages, server) == (0, 0)  # every page collected, every session discarded
+    grown_mb, grown_blocks = _rss_mb() - rss, sys.getallocatedblocks() - blocks
+    print(f"after the second round: {grown_mb:+.1f} MB resident, {grown_blocks:+d} blocks")
+    assert grown_mb <= RSS_BOUND_MB
+    assert grown_blocks <= BLOCKS_BOUND
