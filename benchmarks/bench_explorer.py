@@ -18,21 +18,32 @@
    browser applying and painting it), and the served page's own server time per update
    (``served_total_*``, its ``timings["total"]``, read from the page).
 
-3. Many users at once (``--sessions N``): the explorer's own app (``hairbed.explorer``'s
-   session function, as ``hairbed explore`` serves it) on a Panel/Bokeh server in this
-   process, N Bokeh client sessions (``bokeh.client.pull_session``, one thread each) driving
-   ``--updates`` updates each at the same time: omega2 up and down across both folds of
-   (0.9, -1.5), every 10th update another view (twirling states on/off, the branch diagram's
-   ordinate, eps and theta0), one session giving bad input (a word, a negative omega2, NaN)
-   every 7th update. Each update waits until the session's page has refreshed. Checked: no
-   error in any good session, every page shows its own session's inputs, the bad input only
-   in its own session, and each page's downloads (JSON parsed strictly, CSV) after its last
-   update. Reported: the pages' server time per update (``timings["total"]``, median and
-   90th percentile), the time until a session's update is done (queueing included),
-   resident memory [MB] at the start, after all updates, and after the sessions are closed
-   and discarded. (Bokeh's client applies the server's patches only in part, so the checks
-   read the server's page objects; the server sees only websocket clients, as from
-   browsers.)
+3. Many users at once (``--sessions N``): the explorer's own session page
+   (:func:`hairbed.explorer._session_page`, as ``hairbed explore`` serves it, its clean-up
+   when a session is discarded included) on a Panel/Bokeh server in this process, N Bokeh
+   client sessions (``bokeh.client.pull_session``, one thread each) driving ``--updates``
+   updates each at the same time: omega2 up and down across both folds of (0.9, -1.5), every
+   10th update another view (twirling states on/off, the branch diagram's ordinate, eps and
+   theta0), one session giving bad input (a word, a negative omega2, NaN) every 7th update.
+   Each update waits until the session's page has refreshed. Checked: no error in any good
+   session, every page shows its own session's inputs, the bad input only in its own session,
+   and each page's downloads (JSON parsed strictly, CSV) after its last update. First one
+   warm-up session (the server's one-time costs: Panel's templates, Bokeh's first documents),
+   then ``--rounds`` rounds of N sessions. Reported: the pages' server time per update
+   (``timings["total"]``, median and 90th percentile), the time until a session's update is
+   done (queueing included), resident memory [MB] and Python's allocated blocks at the start
+   (after the warm-up) and after each round's sessions are closed, discarded by the server
+   and their pages collected (counted: 0 left). (Bokeh's client applies the server's patches
+   only in part, so the checks read the server's page objects; the server sees only
+   websocket clients, as from browsers. The clients' documents live in this process too:
+   the resident memory is the server's and the clients' together.)
+
+   Memory after the sessions close: the server keeps nothing of them (every page collected,
+   no session left, Python's live heap back within ~10^3 blocks of the start, most of them
+   Bokeh's client connections), but the resident memory stays at the high-water mark of the
+   busiest round: CPython's and the C library's allocators keep freed memory for reuse
+   rather than handing it back. A second round of as many sessions reuses it (+3 to +7 MB)
+   instead of adding to it.
 
 The machine's load average (:func:`os.getloadavg`, 1 min) is reported before and after each
 part: other work on the two cores slows both the server and the browser.
@@ -302,7 +313,6 @@ def sessions(
         pages[pn.state.curdoc.session_context.id] = weakref.ref(page)
         return page.layout
 
-    explorer.TRIM_DELAY = 2.0  # the server's clean-up after a burst of closed sessions
     _model.cusp_curve()
     _model.compute(_model.validate({"twirl": "1"}))  # the kernels, as `hairbed explore` does
     server = get_server(
@@ -329,7 +339,7 @@ def sessions(
         ):
             time.sleep(0.5)
             gc.collect()
-        time.sleep(explorer.TRIM_DELAY + 1.5)
+        time.sleep(1.5)
         return sum(ref() is not None for ref in pages.values())
 
     try:

@@ -96,55 +96,12 @@ def _session() -> Any:
     return _session_page().layout
 
 
-#: Seconds after the last discarded session before freed memory is handed back to the
-#: system (a burst of closing sessions is trimmed once, after Panel's own garbage collection).
-TRIM_DELAY = 10.0
-_trim_at = [0.0]
-
-
 def _on_destroyed(ref: Any) -> None:
-    """A session was discarded: drop what its page holds (its snapshot, the data last sent
-    to each figure) and, once the sessions stop closing, return freed memory to the system."""
+    """A session was discarded: its page drops what it holds (its snapshot, the data last sent
+    to each figure), even if something outside the session's document still refers to it."""
     page = ref()
     if page is not None:
         page.release()
-    import time
-
-    from tornado.ioloop import IOLoop
-
-    first = _trim_at[0] <= time.monotonic()
-    _trim_at[0] = time.monotonic() + TRIM_DELAY
-    if first:
-        IOLoop.current().call_later(TRIM_DELAY, _trim_when_quiet)
-
-
-def _trim_when_quiet() -> None:
-    import time
-
-    from tornado.ioloop import IOLoop
-
-    wait = _trim_at[0] - time.monotonic()
-    if wait > 0.0:  # another session closed since: wait for the quiet spell
-        IOLoop.current().call_later(wait, _trim_when_quiet)
-        return
-    release_memory()
-
-
-def release_memory() -> float:
-    """Collect garbage and hand the C heap's free pages back to the system (glibc's
-    ``malloc_trim``; elsewhere only the collection). Returns the seconds it took."""
-    import gc
-    import time
-
-    start = time.perf_counter()
-    gc.collect()
-    try:
-        import ctypes
-
-        ctypes.CDLL("libc.so.6").malloc_trim(0)
-    except (OSError, AttributeError):  # not glibc: Python's own collection only
-        pass
-    return time.perf_counter() - start
 
 
 def serve(
