@@ -50,6 +50,27 @@ def chunk_sizes(chunks: Any, sizes: Mapping[str, int]) -> dict[str, int]:
     return dict.fromkeys(sizes, c)
 
 
+def _full_inputs(
+    axes: tuple[NDArray[np.float64], ...],
+    dims: tuple[str, ...],
+    fixed: Mapping[str, float],
+    names: tuple[str, ...],
+) -> dict[str, NDArray[np.float64]]:
+    """Every input of a block at every point of it: the block's axes broadcast over its
+    outer-product shape, the fixed (scalar) inputs filled in."""
+    shape = tuple(a.size for a in axes)
+    full = {}
+    for name in names:
+        if name in dims:
+            i = dims.index(name)
+            idx = [1] * len(dims)
+            idx[i] = shape[i]
+            full[name] = np.broadcast_to(np.asarray(axes[i], dtype=np.float64).reshape(idx), shape)
+        else:
+            full[name] = np.full(shape, fixed[name])
+    return full
+
+
 def grid_block(
     *axes: NDArray[np.float64],
     dims: tuple[str, ...],
@@ -63,16 +84,8 @@ def grid_block(
     if progress is not None:
         progress.start()
     shape = tuple(a.size for a in axes)
-    full = []
-    for name in DIMS:
-        if name in dims:
-            i = dims.index(name)
-            idx = [1] * len(dims)
-            idx[i] = shape[i]
-            full.append(np.broadcast_to(np.asarray(axes[i], dtype=np.float64).reshape(idx), shape))
-        else:
-            full.append(np.full(shape, fixed[name]))
-    w, e, t0 = (np.array(a, dtype=np.float64) for a in full)  # contiguous copies
+    full = _full_inputs(axes, dims, fixed, DIMS)
+    w, e, t0 = (np.array(full[d], dtype=np.float64) for d in DIMS)  # contiguous copies
     sol = _solve_arrays(w, e, t0, sign, n, code)
     out = np.empty((len(VARIABLES), *shape))
     for k, name in enumerate(VARIABLES[:-1]):
@@ -121,15 +134,7 @@ def loaded_block(
     if progress is not None:
         progress.start()
     shape = tuple(a.size for a in axes)
-    full = {}
-    for name in (*DIMS, drive):
-        if name in dims:
-            i = dims.index(name)
-            idx = [1] * len(dims)
-            idx[i] = shape[i]
-            full[name] = np.broadcast_to(np.asarray(axes[i]).reshape(idx), shape)
-        else:
-            full[name] = np.full(shape, fixed[name])
+    full = _full_inputs(axes, dims, fixed, (*DIMS, drive))
     pi, q = (full["pi"], None) if drive == "pi" else (None, full["q"])
     st = solve_loaded(full["omega2"], full["eps"], full["theta0"], pi=pi, q=q, root=root)
     names = [k for k in LOADED_VARIABLES if k not in ("pi", "q")]  # the drive: a coordinate
@@ -154,15 +159,7 @@ def pumped_block(
     if progress is not None:
         progress.start()
     shape = tuple(a.size for a in axes)
-    full = {}
-    for name in ("velocity", drive):
-        if name in dims:
-            i = dims.index(name)
-            idx = [1] * len(dims)
-            idx[i] = shape[i]
-            full[name] = np.broadcast_to(np.asarray(axes[i]).reshape(idx), shape)
-        else:
-            full[name] = np.full(shape, fixed[name])
+    full = _full_inputs(axes, dims, fixed, ("velocity", drive))
     st = bed.deform(full["velocity"], root=root, **{drive: full[drive]})
     sol = st.solution
     names = pumped_variables(drive)
