@@ -265,6 +265,11 @@ class BedProfileFit:
 class HairState:
     """A hair bed deformed by a flow, in SI units (returned by :meth:`HairBed.deform`).
 
+    With a pump drive (``pressure_gradient`` or ``flow_rate`` given to :meth:`HairBed.deform`)
+    ``solution`` is a :class:`hairbed.LoadedState` in the bed's own frame (``direction`` is
+    +1), the stress is the one on the tip plane, eta v/g + G g/2, and the force per hair holds
+    the bed's share of the pressure gradient too, (tau + G h1 L) pi a^2/phi.
+
     Attributes
     ----------
     bed : HairBed
@@ -304,10 +309,6 @@ class HairState:
     flow_rate : float or ndarray
         Flow rate per unit width through the gap, Q' = v g/2 + G g^3/(12 eta) [m^2/s].
 
-    With a pump drive (``pressure_gradient`` or ``flow_rate`` given to :meth:`HairBed.deform`)
-    ``solution`` is a :class:`hairbed.LoadedState` in the bed's own frame (``direction`` is
-    +1), the stress is the one on the tip plane, eta v/g + G g/2, and the force per hair holds
-    the bed's share of the pressure gradient too, (tau + G h1 L) pi a^2/phi.
     """
 
     bed: HairBed = field(repr=False)

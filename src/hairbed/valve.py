@@ -11,7 +11,7 @@ flow per unit width through the gap g = H - h1 L above the tips is (theory.md §
 The hairs bend under G (the tip plane's shear and the load inside the bed), so the gap and
 hence the resistance depend on the flow: a bed of hairs tilted at theta0 != 0 is a diode.
 Forward flow (along the tilt) bends the hairs down and opens the gap; backward flow lifts
-them and closes it. The diodicity is Di = Q'(+dp) / |Q'(-dp)| at the same |dp|.
+them and closes it. The diodicity is Di = Q'(+dp) / abs(Q'(-dp)) at the same abs(dp).
 
 Examples
 --------
@@ -94,11 +94,11 @@ class Diodicity:
     Attributes
     ----------
     pressure_drop : float or ndarray
-        |dp| [Pa].
+        abs(dp) [Pa].
     forward, backward : ValveCurve
-        The valve at +|dp| and at -|dp|.
+        The valve at +abs(dp) and at -abs(dp).
     diodicity : float or ndarray
-        Di = Q'(+|dp|) / |Q'(-|dp|)| [-]: above 1 when the hairs lean towards +x.
+        Di = Q'(+abs(dp)) / abs(Q'(-abs(dp))) [-]: above 1 when the hairs lean towards +x.
     success : bool
         True where both directions converged.
     """
@@ -170,7 +170,7 @@ def valve_curve(
 def diodicity(
     bed: HairBed, pressure_drop: Any, channel_length: float, *, root: str = "low"
 ) -> Diodicity:
-    """The diodicity Di = Q'(+|dp|) / |Q'(-|dp|)| of a channel lined by ``bed``.
+    """The diodicity Di = Q'(+abs(dp)) / abs(Q'(-abs(dp))) of a channel lined by ``bed``.
 
     Parameters are those of :func:`valve_curve`; ``pressure_drop`` is taken in magnitude
     (it must not be 0, where the ratio is 0/0).

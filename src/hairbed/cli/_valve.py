@@ -21,7 +21,7 @@ solver, hairbed.solve_loaded) and the flow per unit width through the gap above 
 Q' = G g^3/(12 eta), follows (hairbed.valve.valve_curve). Each line gives dp, Q' [m^2/s], the
 resistance relative to the empty channel (H/g)^3, the tip deflection and height [m] and the
 solver's status. With --diodicity the drops are taken in magnitude and each line gives
-Di = Q'(+dp)/|Q'(-dp)| (hairbed.valve.diodicity): above 1 when the hairs lean towards +x
+Di = Q'(+dp)/abs(Q'(-dp)) (hairbed.valve.diodicity): above 1 when the hairs lean towards +x
 (--base-angle > 0), as forward flow bends them down and opens the gap.
 
 examples:
@@ -53,7 +53,7 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--diodicity",
         action="store_true",
-        help="the diodicity Q'(+dp)/|Q'(-dp)| at each |dp| instead of the curve",
+        help="the diodicity Q'(+dp)/abs(Q'(-dp)) at each abs(dp) instead of the curve",
     )
     p.add_argument(
         "--root",
