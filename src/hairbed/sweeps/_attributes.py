@@ -66,9 +66,11 @@ PUMPED_ATTRS: dict[str, tuple[str, str]] = {
     **{k: (LOADED[k].units, LOADED[k].long_name) for k in _SWEPT},
 }
 #: Data variables of :func:`hairbed.sweep` with ``pi`` or ``q`` (the distributed-load
-#: solver): the tip and base of every state, its status, then the solver's own fields.
+#: solver): the tip and base of every state, its status, then the solver's own fields
+#: (the drive itself, pi or q, is a dimension: not among them).
 LOADED_VARIABLES = (
-    "tip_height", "tip_deflection", "tip_angle", "base_curvature", "status", *_SWEPT
+    "tip_height", "tip_deflection", "tip_angle", "base_curvature", "status",
+    *(k for k in _SWEPT if k not in ("pi", "q")),
 )  # fmt: skip
 #: Their CF attributes, and those of the two extra dimensions ``pi`` and ``q``.
 LOADED_ATTRS: dict[str, tuple[str, str]] = {

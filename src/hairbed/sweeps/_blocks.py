@@ -137,7 +137,7 @@ def loaded_block(
     full = _full_inputs(axes, dims, fixed, (*DIMS, drive))
     pi, q = (full["pi"], None) if drive == "pi" else (None, full["q"])
     st = solve_loaded(full["omega2"], full["eps"], full["theta0"], pi=pi, q=q, root=root)
-    names = [k for k in LOADED_VARIABLES if k not in ("pi", "q")]  # the drive: a coordinate
+    names = LOADED_VARIABLES
     out = np.empty((len(names), *shape))
     for row, name in enumerate(names):
         out[row] = getattr(st, name)
@@ -168,7 +168,7 @@ def pumped_block(
     for row, name in enumerate(names, start=1):
         if name.startswith("scaled_"):
             out[row] = getattr(sol, name.removeprefix("scaled_"))
-        elif hasattr(st, name) and name not in ("status",):
+        elif hasattr(st, name):  # an SI field; the rest are the solver's
             out[row] = getattr(st, name)
         else:
             out[row] = getattr(sol, name)

@@ -214,7 +214,7 @@ def _loaded_sweep(
         if bad:
             raise ValueError("pi != 0 needs eps > 0 (the gap flow's load W has (pi/2)/eps)")
     bar = Progress(int(np.prod(list(sizes.values()), dtype=np.int64))) if progress else None
-    names = [k for k in LOADED_VARIABLES if k not in ("pi", "q")]  # the drive: a coordinate
+    names = LOADED_VARIABLES
     kw = dict(dims=dims, fixed=fixed, drive=drive, root=root)
     axes = [values[d] for d in dims]
     data = stacked(loaded_block, axes, dims, len(names), chunks if dims else None, bar, **kw)
