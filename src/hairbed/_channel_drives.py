@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from ._core.validation import _first_index, as_float_array, broadcast_named
 
-__all__ = ["drive_inputs", "gap_flow"]
+__all__ = ["drive_inputs", "gap_flow", "pump_drive"]
 
 FloatArray = NDArray[np.float64]
 
@@ -44,6 +44,18 @@ def _finite_scaled(value: FloatArray, scale: float, name: str, unit: str) -> Flo
     return out
 
 
+def pump_drive(pressure_gradient: Any, flow_rate: Any) -> tuple[str, str, Any]:
+    """(name, unit, value) of the one pump drive given; ValueError when both are."""
+    if pressure_gradient is not None and flow_rate is not None:
+        raise ValueError(
+            "give at most one of pressure_gradient [Pa/m] and flow_rate [m^2/s]: a pump sets "
+            "one of them, and the other follows from the state"
+        )
+    if pressure_gradient is not None:
+        return "pressure_gradient", "Pa/m", pressure_gradient
+    return "flow_rate", "m^2/s", flow_rate
+
+
 def drive_inputs(
     bed: Any, velocity: Any, pressure_gradient: Any, flow_rate: Any
 ) -> tuple[str, FloatArray, FloatArray, FloatArray, FloatArray]:
@@ -52,17 +64,13 @@ def drive_inputs(
     ``drive`` is "pressure" (``pressure_gradient`` given) or "flow" (``flow_rate`` given);
     ``velocity`` None means a wall at rest. Raises ValueError naming the parameter.
     """
-    if pressure_gradient is not None and flow_rate is not None:
-        raise ValueError(
-            "give at most one of pressure_gradient [Pa/m] and flow_rate [m^2/s]: a pump sets "
-            "one of them, and the other follows from the state"
-        )
+    name, unit, given = pump_drive(pressure_gradient, flow_rate)
     v = np.zeros(()) if velocity is None else as_float_array(velocity, "velocity", unit="m/s")
-    if pressure_gradient is not None:
-        drive, name, unit, given = "pressure", "pressure_gradient", "Pa/m", pressure_gradient
+    if name == "pressure_gradient":
+        drive = "pressure"
         scale = bed.wall_area_per_hair * bed.length**3 / bed.bending_stiffness
     else:
-        drive, name, unit, given = "flow", "flow_rate", "m^2/s", flow_rate
+        drive = "flow"
         scale = (
             6.0
             * bed.wall_area_per_hair

@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._channel_drives import pump_drive
 from .._core.solver import _ROOT_CODES
 from .._core.validation import (
     as_float_array,
@@ -352,16 +353,10 @@ def _pumped_sweep(
 ) -> Any:
     """:func:`bed_sweep` with a pump drive: the grid (velocity, drive), outer product."""
     xr = optional_import("xarray", "HairBed.sweep", "sweep")
-    if pressure_gradient is not None and flow_rate is not None:
-        raise ValueError(
-            "give at most one of pressure_gradient [Pa/m] and flow_rate [m^2/s]: a pump sets "
-            "one of them, and the other follows from the state"
-        )
-    drive = "pressure_gradient" if pressure_gradient is not None else "flow_rate"
-    unit = "Pa/m" if drive == "pressure_gradient" else "m^2/s"
+    drive, unit, given = pump_drive(pressure_gradient, flow_rate)
     values = {
         "velocity": _si_axis(0.0 if velocity is None else velocity, "velocity", "m/s"),
-        drive: _si_axis(pressure_gradient if flow_rate is None else flow_rate, drive, unit),
+        drive: _si_axis(given, drive, unit),
     }
     root = check_root(root)
     progress = check_flag(progress, "progress")
