@@ -40,6 +40,8 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
     )
     from ._core.arclength import LoadedBranch, continue_loaded
     from ._core.loaded import LoadedState, solve_loaded, solve_loaded_all
+    from ._core.pillar import PillarState, gray_hancock_ratio, solve_pillar, solve_pillar_inverse
+    from ._core.pillar_branch import PillarBranch, continue_pillar, solve_pillar_all
     from ._core.solution import Solution
     from ._core.solver import from_parameter, from_xi, solve, solve_all
     from ._warnings import CalibrationWarning, ModelValidityWarning, UnitsWarning
@@ -55,16 +57,20 @@ __all__ = [
     "LoadedBranch",
     "LoadedState",
     "ModelValidityWarning",
+    "PillarBranch",
+    "PillarState",
     "Solution",
     "UnitsWarning",
     "branches",
     "calibration",
     "calibration_files",
     "continue_loaded",
+    "continue_pillar",
     "derivatives",
     "explore",
     "from_parameter",
     "from_xi",
+    "gray_hancock_ratio",
     "inverse",
     "numerics",
     "profile_fit",
@@ -73,6 +79,9 @@ __all__ = [
     "solve",
     "solve_loaded",
     "solve_loaded_all",
+    "solve_pillar",
+    "solve_pillar_all",
+    "solve_pillar_inverse",
     "sensitivity",
     "solve_all",
     "stability",
@@ -106,6 +115,13 @@ _LAZY_NAMES = {
     "LoadedState": "_core.loaded",
     "solve_loaded": "_core.loaded",
     "solve_loaded_all": "_core.loaded",
+    "PillarState": "_core.pillar",
+    "gray_hancock_ratio": "_core.pillar",
+    "solve_pillar": "_core.pillar",
+    "solve_pillar_inverse": "_core.pillar",
+    "PillarBranch": "_core.pillar_branch",
+    "continue_pillar": "_core.pillar_branch",
+    "solve_pillar_all": "_core.pillar_branch",
     "LoadedBranch": "_core.arclength",
     "continue_loaded": "_core.arclength",
     "from_parameter": "_core.solver",

@@ -46,6 +46,8 @@ _MAP_SCALE = 3.0
 _START_STEPS = 4
 _DRIVES = {"pressure": 0, "flow": 1}
 _spectral: Any = None
+#: The profile argument of the kernel for the bed's drives (it reads one only for a pillar).
+_NO_PROFILE = np.zeros((1, 1))
 
 
 def _kernels() -> Any:
@@ -205,6 +207,31 @@ def _clenshaw(coef: FloatArray, x: FloatArray) -> FloatArray:
     return x * b1 - b2 + coef[..., 0, None]
 
 
+def _shape_at(
+    mapping: FloatArray, coefs: FloatArray, fields: tuple[int, ...], s: ArrayLike
+) -> tuple[Any, Any, Any, Any]:
+    """(s, x, z, theta) of collocation states (map parameters, Chebyshev coefficients of
+    theta, x, z) at arc lengths s: the body of the states' ``shape`` methods."""
+    sv = as_float_array(s, "s")
+    bad = (sv < 0.0) | (sv > 1.0)
+    if np.any(bad):
+        raise ValueError(
+            f"s must lie in [0, 1], got {float(sv[bad].flat[0])!r}{_first_index(bad)}"
+        )
+    if sv.ndim > 1:
+        raise ValueError(f"s must be a scalar or 1-d, got shape {sv.shape}")
+    flat = np.atleast_1d(sv)
+    a = mapping.reshape(-1, 1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        y = np.where(a > 0.0, np.log1p(flat[None, :] * np.expm1(a)) / np.where(a > 0, a, 1), flat)
+    xi = 2.0 * y - 1.0
+    coefs = coefs.reshape(3, -1, coefs.shape[-1])
+    out = [_clenshaw(coefs[c], xi) for c in range(3)]
+    fs = fields + flat.shape if sv.ndim else fields
+    theta, x, z = (o.reshape(fs) for o in out)
+    return sv, scalar_or_array(x), scalar_or_array(z), scalar_or_array(theta)
+
+
 @dataclass(frozen=True, eq=False)
 class LoadedState:
     """A state of a hair under a tip load W and a load per unit height Pi (theory.md §11).
@@ -307,26 +334,7 @@ class LoadedState:
             x, z [L] and theta [rad] of shape ``self.shape_of_fields + s.shape`` (the
             Chebyshev interpolants of the collocation, spectrally accurate between the nodes).
         """
-        sv = as_float_array(s, "s")
-        bad = (sv < 0.0) | (sv > 1.0)
-        if np.any(bad):
-            raise ValueError(
-                f"s must lie in [0, 1], got {float(sv[bad].flat[0])!r}{_first_index(bad)}"
-            )
-        if sv.ndim > 1:
-            raise ValueError(f"s must be a scalar or 1-d, got shape {sv.shape}")
-        flat = np.atleast_1d(sv)
-        a = self._map.reshape(-1, 1)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            y = np.where(
-                a > 0.0, np.log1p(flat[None, :] * np.expm1(a)) / np.where(a > 0, a, 1), flat
-            )
-        xi = 2.0 * y - 1.0
-        coefs = self._coefs.reshape(3, -1, self._coefs.shape[-1])
-        out = [_clenshaw(coefs[c], xi) for c in range(3)]
-        fs = self.shape_of_fields + flat.shape if sv.ndim else self.shape_of_fields
-        theta, x, z = (o.reshape(fs) for o in out)
-        return sv, scalar_or_array(x), scalar_or_array(z), scalar_or_array(theta)
+        return _shape_at(self._map, self._coefs, self.shape_of_fields, s)
 
 
 def _check_scalars(
@@ -631,7 +639,19 @@ def _run(
     out = np.empty((k.NCOLS, wf.size))
     coefs = np.empty((3, wf.size, int(max(nums)) + 1))
     k.solve_loaded_array(
-        code, wf, ef, lf, tf, a, theta_start, hs, *_ladder(tuple(nums)), tol, out, coefs
+        code,
+        wf,
+        ef,
+        lf,
+        tf,
+        a,
+        theta_start,
+        hs[:, None],
+        *_ladder(tuple(nums)),
+        tol,
+        _NO_PROFILE,
+        out,
+        coefs,
     )
     out[0, ~ok] = -1
     out[4:, ~ok] = np.nan

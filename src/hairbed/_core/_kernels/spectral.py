@@ -42,6 +42,8 @@ import numpy as np
 from .._jit import kernel
 
 __all__ = [
+    "DRIVE_DRAG",
+    "DRIVE_DRAG_INVERSE",
     "DRIVE_FIXED",
     "DRIVE_FLOW",
     "DRIVE_PRESSURE",
@@ -58,6 +60,11 @@ __all__ = [
 DRIVE_PRESSURE = 0
 DRIVE_FLOW = 1
 DRIVE_FIXED = 2
+#: The isolated pillar under resistive-force drag (issue 21, theory.md §12): omega2 carries
+#: Lambda, eps the drag ratio gamma, load a horizontal tip force, ``prof`` the profile U(z).
+DRIVE_DRAG = 3
+#: The pillar's inverse problem: Lambda is an unknown, omega2 carries the tip deflection x1.
+DRIVE_DRAG_INVERSE = 4
 MAXITER = 60
 #: The rounding part of the error estimate, ROUNDING N^2 max(1, |theta|) (measured: the
 #: collocation's differences between N and 2N at rounding level grow like N^2).
@@ -69,8 +76,8 @@ STATUS_MAXITER = -2
 STATUS_BREAKDOWN = -3
 STATUS_LOST = -7
 #: Output columns of :func:`solve_loaded_array`: status, nit, num, a, h1, x1, theta1,
-#: theta'(0), W, Pi, error estimate, residual.
-NCOLS = 12
+#: theta'(0), W, Pi, error estimate, residual, the forcing (omega2; the pillar's Lambda).
+NCOLS = 13
 #: A Newton step below this (max norm over theta and h1) ends the iteration.
 _XTOL = 1e-12
 #: Chord steps (the last LU factors reused) follow a full Newton step below _CHORD_START that
@@ -247,43 +254,278 @@ def _jacobian(u, num, dd, ii, cs, sn, z, w, p, dw, dp, jac):
 
 
 @kernel
-def _newton(u, num, dd, ii, theta0, code, omega2, eps, load, work, jac, piv, nit0, maxiter):
+def profile_value(prof, z):
+    """(U, dU/dz) of the profile U(z) = sum_k prof[k] T_k(2 z - 1) (Chebyshev on z in [0, 1])."""
+    t = 2.0 * z - 1.0
+    k_max = prof.size
+    val = prof[0]
+    der = 0.0
+    if k_max > 1:
+        t_prev, t_cur = 1.0, t  # T_0, T_1
+        d_prev, d_cur = 0.0, 1.0  # T_0', T_1'
+        val += prof[1] * t
+        der += prof[1]
+        for k in range(2, k_max):
+            t_next = 2.0 * t * t_cur - t_prev
+            d_next = 2.0 * t_cur + 2.0 * t * d_cur - d_prev
+            val += prof[k] * t_next
+            der += prof[k] * d_next
+            t_prev, t_cur = t_cur, t_next
+            d_prev, d_cur = d_cur, d_next
+    return val, 2.0 * der
+
+
+@kernel
+def _drag_forces(u, num, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz):
+    """The drag per unit length fx, fz at the nodes and its totals (F_x(0), F_z(0)), with
+    cos, sin and z at the nodes of u written into cs, sn, z (theory.md §12)."""
+    n1 = num + 1
+    for j in range(n1):
+        cs[j] = math.cos(u[j])
+        sn[j] = math.sin(u[j])
+    for i in range(n1):
+        acc = 0.0
+        for j in range(n1):
+            acc += ii[i, j] * cs[j]
+        z[i] = acc
+    one_g = 1.0 - gamma
+    for j in range(n1):
+        uu, _ = profile_value(prof, z[j])
+        c, s = cs[j], sn[j]
+        fx[j] = lam * uu * (c * c + gamma * s * s)
+        fz[j] = -lam * uu * one_g * s * c
+    tx = tip
+    tz = 0.0
+    for j in range(n1):
+        tx += ii[num, j] * fx[j]
+        tz += ii[num, j] * fz[j]
+    return tx, tz
+
+
+@kernel
+def _internal_force(i, num, ii, fx, fz, tx, tz):
+    """F(s_i) = tip + int_{s_i}^1 f ds (the totals tx, tz less the integral from the base)."""
+    ax = 0.0
+    az = 0.0
+    for j in range(num + 1):
+        ax += ii[i, j] * fx[j]
+        az += ii[i, j] * fz[j]
+    return tx - ax, tz - az
+
+
+@kernel
+def _residual_drag(u, num, dd, ii, theta0, lam, gamma, tip, prof, cs, sn, z, res, fx, fz):
+    """The residual of the pillar's collocation system (theta'' = -(F_x cos - F_z sin)) at u
+    into res; returns its sum of squares. Rows as :func:`_residual`."""
+    n1 = num + 1
+    h = u[n1]
+    tx, tz = _drag_forces(u, num, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz)
+    res[0] = u[0] - theta0
+    ref = u[num]
+    for i in range(1, num):
+        a2 = 0.0
+        for j in range(n1):
+            a2 += dd[i, j] * (u[j] - ref)
+        fxi, fzi = _internal_force(i, num, ii, fx, fz, tx, tz)
+        res[i] = a2 + fxi * cs[i] - fzi * sn[i]
+    a1 = 0.0
+    for j in range(n1):
+        a1 += dd[num, j] * (u[j] - ref)
+    res[num] = a1
+    res[n1] = h - z[num]
+    ss = 0.0
+    for i in range(n1 + 1):
+        ss += res[i] * res[i]
+    return ss
+
+
+@kernel
+def _jacobian_drag(u, num, dd, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz, gw, pm, jac):
+    """The exact Jacobian of :func:`_residual_drag` at u into jac (cs, sn, z, fx, fz from that
+    call). gw (4, >= num + 1) and pm (2, >= num + 1, >= num + 1) are workspace: pm holds
+    I diag(df/dz) I, through which z = I cos(theta) enters F = int_s^1 f."""
+    n1 = num + 1
+    one_g = 1.0 - gamma
+    bx, bz, ax, az = gw[0], gw[1], gw[2], gw[3]
+    for j in range(n1):
+        uu, du = profile_value(prof, z[j])
+        c, s = cs[j], sn[j]
+        bx[j] = -2.0 * lam * uu * one_g * s * c  # d fx / d theta
+        bz[j] = -lam * uu * one_g * (c * c - s * s)  # d fz / d theta
+        ax[j] = lam * du * (c * c + gamma * s * s)  # d fx / d z
+        az[j] = -lam * du * one_g * s * c  # d fz / d z
+    px, pz = pm[0], pm[1]
+    for i in range(n1):
+        for k in range(n1):
+            accx = 0.0
+            accz = 0.0
+            for j in range(n1):
+                t = ii[i, j] * ii[j, k]
+                accx += t * ax[j]
+                accz += t * az[j]
+            px[i, k] = accx
+            pz[i, k] = accz
+    tx = tip
+    tz = 0.0
+    for j in range(n1):
+        tx += ii[num, j] * fx[j]
+        tz += ii[num, j] * fz[j]
+    for j in range(n1 + 1):
+        jac[0, j] = 0.0
+    jac[0, 0] = 1.0
+    for i in range(1, num):
+        ci, si = cs[i], sn[i]
+        fxi, fzi = _internal_force(i, num, ii, fx, fz, tx, tz)
+        for k in range(n1):
+            r = ii[num, k] - ii[i, k]
+            dfx = r * bx[k] - sn[k] * (px[num, k] - px[i, k])
+            dfz = r * bz[k] - sn[k] * (pz[num, k] - pz[i, k])
+            jac[i, k] = dd[i, k] + ci * dfx - si * dfz
+        jac[i, i] -= fxi * si + fzi * ci
+        jac[i, n1] = 0.0
+    for j in range(n1):
+        jac[num, j] = dd[num, j]
+        jac[n1, j] = ii[num, j] * sn[j]
+    jac[num, n1] = 0.0
+    jac[n1, n1] = 1.0
+
+
+@kernel
+def _system(u, num, dd, ii, theta0, code, omega2, eps, load, prof, work, res):
+    """The residual of either model (``DRIVE_DRAG`` or a bed's drive) at u into res:
+    (sum of squares, W, Pi, dW, dPi), the loads zero for the pillar."""
+    if code == DRIVE_DRAG_INVERSE:  # u[num + 2] is Lambda, omega2 the tip deflection
+        n1 = num + 1
+        f = _residual_drag(
+            u,
+            num,
+            dd,
+            ii,
+            theta0,
+            u[n1 + 1],
+            eps,
+            load,
+            prof,
+            work[0],
+            work[1],
+            work[2],
+            res,
+            work[6],
+            work[7],
+        )
+        x1 = 0.0
+        for j in range(n1):
+            x1 += ii[num, j] * work[1, j]
+        res[n1 + 1] = x1 - omega2
+        return f + res[n1 + 1] ** 2, 0.0, 0.0, 0.0, 0.0
+    if code == DRIVE_DRAG:
+        f = _residual_drag(
+            u,
+            num,
+            dd,
+            ii,
+            theta0,
+            omega2,
+            eps,
+            load,
+            prof,
+            work[0],
+            work[1],
+            work[2],
+            res,
+            work[6],
+            work[7],
+        )
+        return f, 0.0, 0.0, 0.0, 0.0
+    return _residual(
+        u, num, dd, ii, theta0, code, omega2, eps, load, work[0], work[1], work[2], res
+    )
+
+
+@kernel
+def _system_jacobian(u, num, dd, ii, code, omega2, eps, load, prof, work, pm, w, p, dw, dp, jac):
+    """The Jacobian of :func:`_system` at u (after it) into jac."""
+    if code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE:
+        inverse = code == DRIVE_DRAG_INVERSE
+        n1 = num + 1
+        lam = u[n1 + 1] if inverse else omega2
+        cs, sn, z = work[0], work[1], work[2]
+        _jacobian_drag(
+            u, num, dd, ii, lam, eps, load, prof, cs, sn, z, work[6], work[7], work[8:12], pm, jac
+        )
+        if inverse:
+            # the column of Lambda: the load at Lambda = 1 (f is linear in Lambda); the row of
+            # x1 = int_0^1 sin(theta) ds
+            fx, fz = work[8], work[9]
+            tx, tz = _drag_forces(u, num, ii, 1.0, eps, 0.0, prof, cs, sn, z, fx, fz)
+            jac[0, n1 + 1] = 0.0
+            for i in range(1, num):
+                fxi, fzi = _internal_force(i, num, ii, fx, fz, tx, tz)
+                jac[i, n1 + 1] = fxi * cs[i] - fzi * sn[i]
+            jac[num, n1 + 1] = 0.0
+            jac[n1, n1 + 1] = 0.0
+            for k in range(n1):
+                jac[n1 + 1, k] = ii[num, k] * cs[k]
+            jac[n1 + 1, n1] = 0.0
+            jac[n1 + 1, n1 + 1] = 0.0
+    else:
+        _jacobian(u, num, dd, ii, work[0], work[1], work[2], w, p, dw, dp, jac)
+
+
+@kernel
+def _step_size(step, u, n1, m):
+    """The max norm of a Newton step over theta and h1, and the relative step of Lambda
+    where it is an unknown (m = n1 + 2)."""
+    big = 0.0
+    for i in range(n1 + 1):
+        big = max(big, abs(step[i]))
+    for i in range(n1 + 1, m):
+        big = max(big, abs(step[i]) / max(1.0, abs(u[i])))
+    return big
+
+
+@kernel
+def _newton(
+    u, num, dd, ii, theta0, code, omega2, eps, load, prof, work, pm, jac, piv, nit0, maxiter
+):
     """Damped Newton on the collocation system from u (updated in place).
 
-    Returns (status, iterations, max |residual|). ``work`` is (6, >= num + 2).
+    Returns (status, iterations, max |residual|). ``work`` is (12, >= num + 2), ``pm``
+    (2, >= num + 1, >= num + 1); ``prof`` the pillar's profile (``DRIVE_DRAG``).
     """
     n1 = num + 1
-    m = n1 + 1
-    cs, sn, z, res, step, trial = work[0], work[1], work[2], work[3], work[4], work[5]
-    f, w, p, dw, dp = _residual(u, num, dd, ii, theta0, code, omega2, eps, load, cs, sn, z, res)
+    m = n1 + 2 if code == DRIVE_DRAG_INVERSE else n1 + 1
+    res, step, trial = work[3], work[4], work[5]
+    drag = code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE
+    f, w, p, dw, dp = _system(u, num, dd, ii, theta0, code, omega2, eps, load, prof, work, res)
     chord = False  # reuse the last factors (a chord step) once Newton contracts fast
     last = math.inf
     for it in range(maxiter):
         if not math.isfinite(f):
             return STATUS_BREAKDOWN, nit0 + it, math.nan
         if not chord:
-            _jacobian(u, num, dd, ii, cs, sn, z, w, p, dw, dp, jac)
+            _system_jacobian(
+                u, num, dd, ii, code, omega2, eps, load, prof, work, pm, w, p, dw, dp, jac
+            )
             if not _lu_factor(jac, piv, m):
                 return STATUS_BREAKDOWN, nit0 + it, math.nan
         for i in range(m):
             step[i] = -res[i]
         _lu_apply(jac, piv, step, m)
-        big = 0.0
-        for i in range(m):
-            big = max(big, abs(step[i]))
+        big = _step_size(step, u, n1, m)
         if not math.isfinite(big):
             return STATUS_BREAKDOWN, nit0 + it, math.nan
         if chord and big > _CHORD_RATE * last:  # the chord contracts too slowly: refresh
             chord = False
-            _jacobian(u, num, dd, ii, cs, sn, z, w, p, dw, dp, jac)
+            _system_jacobian(
+                u, num, dd, ii, code, omega2, eps, load, prof, work, pm, w, p, dw, dp, jac
+            )
             if not _lu_factor(jac, piv, m):
                 return STATUS_BREAKDOWN, nit0 + it, math.nan
             for i in range(m):
                 step[i] = -res[i]
             _lu_apply(jac, piv, step, m)
-            big = 0.0
-            for i in range(m):
-                big = max(big, abs(step[i]))
+            big = _step_size(step, u, n1, m)
         lam = 1.0
         if big > _FULL_STEP:
             # limit a wild step (one radian of angle, a tenth of the height), then backtrack
@@ -292,11 +534,11 @@ def _newton(u, num, dd, ii, theta0, code, omega2, eps, load, work, jac, piv, nit
             for i in range(m):
                 trial[i] = u[i] + lam * step[i]
             ht = trial[n1]
-            if 1.0 - eps * ht <= 0.0:
+            if not drag and 1.0 - eps * ht <= 0.0:
                 ft = math.inf
             else:
-                ft, w, p, dw, dp = _residual(
-                    trial, num, dd, ii, theta0, code, omega2, eps, load, cs, sn, z, res
+                ft, w, p, dw, dp = _system(
+                    trial, num, dd, ii, theta0, code, omega2, eps, load, prof, work, res
                 )
             if big <= _FULL_STEP or ft <= (1.0 - 1e-4 * lam) * f:
                 break
@@ -309,7 +551,7 @@ def _newton(u, num, dd, ii, theta0, code, omega2, eps, load, work, jac, piv, nit
         # a full step well inside the region of quadratic convergence: chord steps next
         chord = lam == 1.0 and big <= _CHORD_START and big <= _CHORD_RATE * last
         last = big
-        if abs(u[n1]) > 1.0 + 1e-9 or 1.0 - eps * u[n1] <= 0.0:
+        if abs(u[n1]) > 1.0 + 1e-9 or (not drag and 1.0 - eps * u[n1] <= 0.0):
             return STATUS_LOST, nit0 + it + 1, math.nan
         for j in range(n1):
             if abs(u[j]) > 10.0:
@@ -323,17 +565,25 @@ def _newton(u, num, dd, ii, theta0, code, omega2, eps, load, work, jac, piv, nit
 
 
 @kernel
-def _continuation(u, keep, num, dd, ii, theta0, code, omega2, eps, load, work, jac, piv, nit0):
+def _continuation(
+    u, keep, num, dd, ii, theta0, code, omega2, eps, load, prof, work, pm, jac, piv, nit0
+):
     """Newton along the load factor lam from 0 (the hair at rest) to 1: (omega2, pi or q)
     scaled by lam scales both loads, W and Pi, of either drive. A secant predictor, the step
     grown after an easy corrector and cut after a failed one; at most ``MAX_CONTINUATION``
-    steps. Ends with the state at lam = 1 in u, or a failure status. keep is (3, num + 2)."""
-    m = num + 2
+    steps. Ends with the state at lam = 1 in u, or a failure status. keep is (3, num + 3).
+    For the pillar's inverse problem (``DRIVE_DRAG_INVERSE``) lam moves the tip deflection
+    from the straight pillar's, sin(theta0), to omega2, and Lambda starts at 0."""
+    inverse = code == DRIVE_DRAG_INVERSE
+    m = num + 3 if inverse else num + 2
     prev = keep[1]
     last = keep[2]
     for j in range(num + 1):
         last[j] = theta0
     last[num + 1] = math.cos(theta0)
+    if inverse:
+        last[num + 2] = 0.0
+    rest = math.sin(theta0)
     for j in range(m):
         prev[j] = last[j]
     lam = 0.0
@@ -354,10 +604,12 @@ def _continuation(u, keep, num, dd, ii, theta0, code, omega2, eps, load, work, j
             ii,
             theta0,
             code,
-            target * omega2,
+            rest + target * (omega2 - rest) if inverse else target * omega2,
             eps,
             target * load,
+            prof,
             work,
+            pm,
             jac,
             piv,
             nit,
@@ -418,24 +670,32 @@ def solve_loaded_array(
     ims,
     cms,
     rtol,
+    prof,
     out,
     coefs,
 ):
     """Solve every element: the collocation system on the ladder of N ``nums``.
 
-    ``start`` (size, nums[0] + 1): theta at the mapped nodes of the first level, ``h_start``
-    the start's h1; ``a`` the map parameter of each element. ``nodes``, ``d1s``, ``d2s``,
-    ``ims``, ``cms`` hold per level (padded to the largest N): the nodes in xi, the first and
-    second differentiation matrices, the integration matrix from xi = -1, and the matrix from
-    node values to Chebyshev coefficients. Writes ``out`` (NCOLS, size) and the Chebyshev
-    coefficients in xi of theta, x and z into ``coefs`` (3, size, largest N + 1).
+    ``start`` (size, nums[0] + 1): theta at the mapped nodes of the first level; ``h_start``
+    (size, 1) the start's h1, or (size, 2) h1 and Lambda for ``DRIVE_DRAG_INVERSE`` (whose
+    omega2 is the tip deflection); ``a`` the map parameter of each element. ``nodes``,
+    ``d1s``, ``d2s``, ``ims``, ``cms`` hold per level (padded to the largest N): the nodes in
+    xi, the first and second differentiation matrices, the integration matrix from xi = -1,
+    and the matrix from node values to Chebyshev coefficients. ``prof`` (1 or size, K): the
+    pillar's profile U(z) per element, Chebyshev coefficients in 2 z - 1 (``DRIVE_DRAG``;
+    unused otherwise). Writes ``out`` (NCOLS, size) and the Chebyshev coefficients in xi of
+    theta, x and z into ``coefs`` (3, size, largest N + 1). For the pillar the columns W, Pi
+    hold the drag F_x(0), F_z(0) and theta'(0) is int_0^1 (z f_x - x f_z) ds.
     """
     levels = nums.size
     nmax = nums[levels - 1]
     for lev in range(levels):
         nmax = max(nmax, nums[lev])
-    m = nmax + 2
-    work = np.empty((6, m))
+    extra = 2 if code == DRIVE_DRAG_INVERSE else 1  # unknowns after theta: h1 (and Lambda)
+    m = nmax + 1 + extra
+    work = np.empty((12, m))
+    pm = np.empty((2, nmax + 1, nmax + 1))
+    xs = np.empty(nmax + 1)
     jac = np.empty((m, m))
     piv = np.empty(m, dtype=np.int64)
     u = np.empty(m)
@@ -447,10 +707,13 @@ def solve_loaded_array(
     dd = np.empty((nmax + 1, nmax + 1))
     ii = np.empty((nmax + 1, nmax + 1))
     for e in range(omega2.size):
+        pe = e if prof.shape[0] > 1 else 0
+        pr = prof[pe]
         num = nums[0]
         for j in range(num + 1):
             u[j] = start[e, j]
-        u[num + 1] = h_start[e]
+        for c in range(extra):
+            u[num + 1 + c] = h_start[e, c]
         nit = 0
         status = 0
         rmax = math.nan
@@ -462,15 +725,18 @@ def solve_loaded_array(
             if lev > 0:  # the previous level's interpolant at this level's nodes
                 prev = nums[lev - 1]
                 h = u[prev + 1]
+                lam_prev = u[prev + 2] if extra == 2 else 0.0
                 _coefficients(u, prev, cms[lev - 1], coef)
                 for j in range(num + 1):
                     vals[j] = _clenshaw(coef, prev, nodes[lev, j])
                 for j in range(num + 1):
                     u[j] = vals[j]
                 u[num + 1] = h
+                if extra == 2:
+                    u[num + 2] = lam_prev
             _map(a[e], num, nodes[lev], sp, ss)
             _operators(num, d1s[lev], d2s[lev], ims[lev], sp, a[e], dd, ii)
-            for j in range(num + 2):
+            for j in range(num + 1 + extra):
                 keep[0, j] = u[j]
             status, nit, rmax = _newton(
                 u,
@@ -482,7 +748,9 @@ def solve_loaded_array(
                 omega2[e],
                 eps[e],
                 load[e],
+                pr,
                 work,
+                pm,
                 jac,
                 piv,
                 nit,
@@ -501,7 +769,9 @@ def solve_loaded_array(
                     omega2[e],
                     eps[e],
                     load[e],
+                    pr,
                     work,
+                    pm,
                     jac,
                     piv,
                     nit,
@@ -532,20 +802,37 @@ def solve_loaded_array(
                 out[c, e] = math.nan
             continue
         h = u[num + 1]
-        w, p, _, _ = drive_loads(code, omega2[e], eps[e], load[e], h)
         cm = cms[lev_done]
+        forcing = u[num + 2] if extra == 2 else omega2[e]
+        out[12, e] = forcing
         # x and z at the nodes
         x1 = 0.0
         for j in range(num + 1):
             x1 += ii[num, j] * math.sin(u[j])
-        # theta'(0) = int_0^1 [W + Pi (h1 - z)] cos(theta) ds (the ODE integrated once, by
-        # the quadrature of the integration matrix's last row)
-        quad = 0.0
-        for j in range(num + 1):
-            zj = 0.0
-            for k in range(num + 1):
-                zj += ii[j, k] * math.cos(u[k])
-            quad += ii[num, j] * (w + p * (h - zj)) * math.cos(u[j])
+        if code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE:
+            # the drag and its moment about the base, theta'(0) = int_0^1 (z f_x - x f_z) ds
+            fx, fz = work[6], work[7]
+            w, p = _drag_forces(
+                u, num, ii, forcing, eps[e], load[e], pr, work[0], work[1], work[2], fx, fz
+            )
+            for i in range(num + 1):
+                acc = 0.0
+                for j in range(num + 1):
+                    acc += ii[i, j] * work[1, j]
+                xs[i] = acc
+            quad = load[e] * h
+            for j in range(num + 1):
+                quad += ii[num, j] * (work[2, j] * fx[j] - xs[j] * fz[j])
+        else:
+            w, p, _, _ = drive_loads(code, omega2[e], eps[e], load[e], h)
+            # theta'(0) = int_0^1 [W + Pi (h1 - z)] cos(theta) ds (the ODE integrated once,
+            # by the quadrature of the integration matrix's last row)
+            quad = 0.0
+            for j in range(num + 1):
+                zj = 0.0
+                for k in range(num + 1):
+                    zj += ii[j, k] * math.cos(u[k])
+                quad += ii[num, j] * (w + p * (h - zj)) * math.cos(u[j])
         out[4, e] = h
         out[5, e] = x1
         out[6, e] = u[num]

@@ -1,0 +1,265 @@
+"""Every state of an isolated pillar: the branch through the forcing range, its folds (issue 21).
+
+Along the branch of pillar states the tip deflection x1 moves monotonically, from the straight
+pillar's sin(theta0) at Lambda = 0 towards the wall (theory.md §12), while Lambda may turn back
+(the snap-through of a pillar tilted far upstream). So the branch is followed in x1: each point
+is the inverse problem of ``pillar.solve_pillar_inverse`` (the shared collocation kernel with
+Lambda as an unknown), all points of a grid in one batch, and the branch passes its folds
+without a special step. A fold is a local extremum of Lambda(x1), refined by a golden-section
+search; the states at a forcing are the roots of Lambda(x1) = Lambda, refined by bisection on
+x1. Bounded work: a fixed grid, at most 80 golden-section or bisection steps a root.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .loaded import _quiet
+from .pillar import (
+    PillarState,
+    _check,
+    _solve_pillar_checked,
+    profile_coefficients,
+    solve_pillar_inverse,
+)
+from .validation import check_int, check_number
+
+__all__ = ["PillarBranch", "continue_pillar", "solve_pillar_all"]
+
+FloatArray = NDArray[np.float64]
+_GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
+_MAX_STEPS = 80
+
+
+@dataclass(frozen=True)
+class PillarBranch:
+    """The branch of pillar states from rest to a forcing, with its folds.
+
+    Attributes
+    ----------
+    tip_deflection : ndarray
+        x1 along the branch [L], increasing (decreasing for a negative forcing).
+    forcing : ndarray
+        Lambda at each point [-].
+    tip_height : ndarray
+        h1 at each point [L].
+    stable : ndarray of bool
+        dLambda/dx1 > 0 (< 0 for a negative forcing): stable under a slow change of the
+        forcing; the middle part of an S between two folds is not.
+    folds : ndarray
+        (k, 2): Lambda and x1 of each fold, in the order along the branch.
+    status : int
+        0 every point converged; -7 some did not (their values are NaN).
+    """
+
+    tip_deflection: FloatArray
+    forcing: FloatArray
+    tip_height: FloatArray
+    stable: NDArray[np.bool_]
+    folds: FloatArray
+    status: int
+
+
+class _Branch:
+    """Lambda(x1) of one pillar by the batched inverse, counting nothing but its inputs."""
+
+    def __init__(self, theta0: float, kwargs: dict[str, Any]) -> None:
+        self.theta0 = theta0
+        self.kwargs = kwargs
+
+    def states(self, x1: Any) -> PillarState:
+        return solve_pillar_inverse(np.asarray(x1, dtype=np.float64), self.theta0, **self.kwargs)
+
+    def forcing(self, x1: float) -> float:
+        return float(self.states(x1).forcing)
+
+
+def _kwargs(profile: Any, height_ratio: Any, gamma: float, tip_load: float) -> dict[str, Any]:
+    profile_coefficients(profile, height_ratio)  # checked here, once, for the message
+    return {"profile": profile, "height_ratio": height_ratio, "gamma": gamma, "tip_load": tip_load}
+
+
+def _end_deflection(
+    forcing: float, theta0: float, gamma: float, tip: float, prof: FloatArray
+) -> float:
+    """x1 of the forward state at the end of the range (beyond any window there)."""
+    lam, t0, g, tp = _check(forcing, theta0, gamma, tip)
+    st = _solve_pillar_checked(lam, t0, g, tp, prof, 1e-12, (32, 64, 128))
+    return float(st.tip_deflection)
+
+
+def _golden(branch: _Branch, lo: float, hi: float, sign: float) -> tuple[float, float]:
+    """The extremum of sign * Lambda(x1) on [lo, hi] (a maximum): (x1, Lambda)."""
+    a, b = lo, hi
+    c = b - _GOLDEN * (b - a)
+    d = a + _GOLDEN * (b - a)
+    fc, fd = sign * branch.forcing(c), sign * branch.forcing(d)
+    for _ in range(_MAX_STEPS):
+        if abs(b - a) <= 1e-12 * max(1.0, abs(a)):
+            break
+        if fc > fd:
+            b, d, fd = d, c, fc
+            c = b - _GOLDEN * (b - a)
+            fc = sign * branch.forcing(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + _GOLDEN * (b - a)
+            fd = sign * branch.forcing(d)
+    x = c if fc > fd else d
+    return x, sign * max(fc, fd)
+
+
+@_quiet
+def continue_pillar(
+    forcing_max: float,
+    theta0: float = 0.0,
+    *,
+    profile: Any = "sublayer",
+    height_ratio: float | None = None,
+    gamma: float = 0.5,
+    tip_load: float = 0.0,
+    num: int = 200,
+) -> PillarBranch:
+    """The branch of pillar states from rest (Lambda = 0) to ``forcing_max``, with its folds.
+
+    Parameters
+    ----------
+    forcing_max : float
+        The end of the range of Lambda [-], finite and non-zero (negative: flow towards -x).
+    theta0, profile, height_ratio, gamma, tip_load
+        As in :func:`hairbed.solve_pillar`, scalars.
+    num : int, optional
+        Points of the grid in x1, in [16, 10^4]. Default 200.
+
+    Returns
+    -------
+    PillarBranch
+    """
+    end = check_number(forcing_max, "forcing_max")
+    if end == 0.0:
+        raise ValueError("forcing_max must be non-zero (the end of the range of Lambda)")
+    count = check_int(num, "num", 16, 10**4)
+    kw = _kwargs(profile, height_ratio, gamma, tip_load)
+    t0 = float(
+        check_number(
+            theta0, "theta0", low=-math.pi / 2, high=math.pi / 2, low_open=True, high_open=True
+        )
+    )
+    prof = profile_coefficients(profile, height_ratio)[None, :]
+    x_end = _end_deflection(end, t0, float(gamma), float(tip_load), prof)
+    x_rest = math.sin(t0)
+    branch = _Branch(t0, kw)
+    if not math.isfinite(x_end):
+        nan = np.full(0, np.nan)
+        return PillarBranch(nan, nan, nan, np.zeros(0, dtype=np.bool_), np.zeros((0, 2)), -7)
+    # a grid denser near the rest state's end, where Lambda grows from 0
+    x = x_rest + (x_end - x_rest) * np.linspace(0.0, 1.0, count)
+    st = branch.states(x)
+    lam = np.asarray(st.forcing, dtype=np.float64)
+    sign = 1.0 if end > 0 else -1.0
+    slope = np.gradient(lam, x) * (1.0 if x_end > x_rest else -1.0)
+    stable = sign * slope > 0.0
+    folds = []
+    dl = np.diff(lam)
+    turns = np.flatnonzero(np.isfinite(dl[:-1]) & np.isfinite(dl[1:]) & (dl[:-1] * dl[1:] < 0))
+    for i in turns:
+        lo, hi = sorted((float(x[i]), float(x[i + 2])))
+        kind = 1.0 if dl[i] * (x[i + 1] - x[i]) > 0 else -1.0  # a maximum of Lambda(x1)
+        xf, lf = _golden(branch, lo, hi, kind)
+        folds.append((lf, xf))
+    status = 0 if np.all(np.asarray(st.status) >= 0) else -7
+    return PillarBranch(
+        tip_deflection=x,
+        forcing=lam,
+        tip_height=np.asarray(st.tip_height, dtype=np.float64),
+        stable=stable,
+        folds=np.array(folds, dtype=np.float64).reshape(-1, 2),
+        status=status,
+    )
+
+
+@_quiet
+def solve_pillar_all(
+    forcing: float,
+    theta0: float = 0.0,
+    *,
+    profile: Any = "sublayer",
+    height_ratio: float | None = None,
+    gamma: float = 0.5,
+    tip_load: float = 0.0,
+    num: int = 200,
+) -> list[PillarState]:
+    """Every coexisting pillar state at one forcing, sorted by tip deflection.
+
+    The roots of Lambda(x1) = ``forcing`` on the branch of :func:`continue_pillar` (up to
+    twice the forcing), each refined by bisection on x1 to the rounding of Lambda, then the
+    state at that x1 (the inverse problem); its ``forcing`` is within rounding of the one
+    asked for. One state outside a snap-through window, three inside (theory.md §12).
+
+    Parameters
+    ----------
+    forcing : float
+        Lambda [-], finite and non-zero.
+    theta0, profile, height_ratio, gamma, tip_load, num
+        As in :func:`continue_pillar`.
+
+    Returns
+    -------
+    list of PillarState
+        Each with ``stable`` in the branch's sense (:class:`PillarBranch`): in a window the
+        first and last are stable, the middle one is not.
+    """
+    lam_t = check_number(forcing, "forcing")
+    if lam_t == 0.0:
+        return [
+            solve_pillar_inverse(
+                math.sin(float(theta0)),
+                theta0,
+                profile=profile,
+                height_ratio=height_ratio,
+                gamma=gamma,
+                tip_load=tip_load,
+            )
+        ]
+    br = continue_pillar(
+        2.0 * lam_t,
+        theta0,
+        profile=profile,
+        height_ratio=height_ratio,
+        gamma=gamma,
+        tip_load=tip_load,
+        num=num,
+    )
+    kw = _kwargs(profile, height_ratio, gamma, tip_load)
+    branch = _Branch(float(theta0), kw)
+    g = br.forcing - lam_t
+    idx = np.flatnonzero(np.isfinite(g[:-1]) & np.isfinite(g[1:]) & (g[:-1] * g[1:] <= 0.0))
+    idx = idx[~np.isin(idx - 1, idx) | (g[idx] != 0.0)]
+    roots = []
+    rising = []
+    for i in idx:
+        rising.append(
+            bool((g[i + 1] - g[i]) * (br.tip_deflection[i + 1] - br.tip_deflection[i]) * lam_t > 0)
+        )
+        lo, hi = float(br.tip_deflection[i]), float(br.tip_deflection[i + 1])
+        glo = float(g[i])
+        for _ in range(_MAX_STEPS):
+            if abs(hi - lo) <= 4e-16 * max(1.0, abs(hi)):
+                break
+            mid = 0.5 * (lo + hi)
+            gm = branch.forcing(mid) - lam_t
+            if gm == 0.0:
+                lo = hi = mid
+                break
+            if (gm > 0) == (glo > 0):
+                lo, glo = mid, gm
+            else:
+                hi = mid
+        roots.append(0.5 * (lo + hi))
+    order = np.argsort(roots)
+    return [replace(branch.states(roots[k]), stable=rising[k]) for k in order]
