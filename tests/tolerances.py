@@ -25,3 +25,9 @@ LOADED_ESTIMATE_MARGIN = 1.0
 LOADED_BVP_ATOL = 1e-8
 #: Against the independent mpmath reference tests/data/loaded_mpmath.json (issue 20 target).
 LOADED_REFERENCE_ATOL = 1e-10
+#: The isolated pillar (issue 21) against the mpmath reference of generate_pillar.py: every
+#: value within this (relative above 1), forward, inverse and round trip.
+PILLAR_REFERENCE_ATOL = 1e-10
+#: The pillar with its load concentrated at the tip against the tip-loaded elastica: the
+#: error must fall at least this factor when the profile's concentration doubles (O(1/p)).
+PILLAR_CONCENTRATION_RATE = 1.8

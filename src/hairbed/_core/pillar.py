@@ -60,7 +60,7 @@ _DRAG = 3
 #: Chebyshev degrees tried for a callable profile (sampled at the Chebyshev points).
 _PROFILE_DEGREES = (16, 32, 64, 128, 256)
 #: A callable profile's coefficients are resolved when the last three are below this times
-#: the largest one.
+#: the largest one (plus the fit's rounding, 4 K eps max abs(U)).
 _PROFILE_TAIL = 1e-15
 #: Gauss-Legendre nodes of the start's equivalent tip load.
 _GAUSS = np.polynomial.legendre.leggauss(24)
@@ -149,7 +149,9 @@ def _callable_coefficients(func: Callable[..., Any]) -> FloatArray:
             )
         coef = _chebyshev_fit(vals)
         big = float(np.max(np.abs(coef)))
-        if big == 0.0 or float(np.sum(np.abs(coef[-3:]))) <= _PROFILE_TAIL * big:
+        # resolved: the last three coefficients at the fit's rounding level (K eps max U)
+        floor = _PROFILE_TAIL * big + 4.0 * k * 2.2e-16 * float(np.max(np.abs(vals)))
+        if big == 0.0 or float(np.sum(np.abs(coef[-3:]))) <= floor:
             keep = np.flatnonzero(np.abs(coef) > 1e-17 * max(big, 1e-300))
             return coef[: (int(keep[-1]) + 1 if keep.size else 1)].copy()
     raise ValueError(

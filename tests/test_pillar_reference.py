@@ -1,0 +1,244 @@
+"""The isolated pillar (issue 21) against its own mpmath reference and its exact limits.
+
+``tests/data/pillar_mpmath.json`` integrates theory.md §12's equations in mpmath (Taylor
+shooting at 40 digits, tests/reference/generate_pillar.py) and shares no code with the
+solver (the Chebyshev collocation of ``hairbed._core._kernels.spectral``). Here:
+
+- every forward state (three profiles and a callable, theta0 from -1.4 to 1.4, Lambda from
+  1e-6 to 1e4, both drag ratios, every state of the snap-through window) within 1e-10, its
+  shape at s = j/8 too;
+- every inverse case (Lambda from a tip deflection) within 1e-10, and the round trips;
+- the folds of the window: two at theta0 = -1.4 and -1.35 near the reference's, none at
+  theta0 >= -1.3;
+- the small-deflection limits (x1 = Lambda int U s^2 (3 - s)/6, remainder O(Lambda^2) and
+  O(Lambda^3) at theta0 = 0) and the tip-loaded elastica of ``hairbed.solve`` as the limit of
+  a load concentrated at the tip.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from typing import Any
+
+import numpy as np
+import pytest
+from conftest import DATA
+from tolerances import PILLAR_CONCENTRATION_RATE, PILLAR_REFERENCE_ATOL
+
+import hairbed
+
+REF = json.loads((DATA / "pillar_mpmath.json").read_text())
+CASES: list[dict[str, Any]] = REF["cases"]
+INVERSE: list[dict[str, Any]] = REF["inverse"]
+SCALARS = ("tip_deflection", "tip_height", "tip_angle", "base_curvature", "drag_x", "drag_z")
+
+
+def _profile(case: dict[str, Any]) -> dict[str, Any]:
+    """The solver's keywords of a reference case's profile (the callable written here)."""
+    name = case["profile"]
+    par = case["profile_parameters"]
+    if name == "callable":
+        assert par == {"u": "z**2"}
+        return {"profile": lambda z: z**2}
+    if "L/H" in par:
+        return {"profile": name, "height_ratio": float(par["L/H"])}
+    return {"profile": name}
+
+
+def _ids(case: dict[str, Any]) -> str:
+    return (
+        f"{case['profile']}-g{case['gamma'][:5]}-th{case['theta0']}-"
+        f"L{float(case['forcing']):.3g}-{case['state_index']}of{case['states_at_forcing']}"
+    )
+
+
+def _close(got: float, want: str, atol: float = PILLAR_REFERENCE_ATOL) -> bool:
+    w = float(want)
+    return abs(got - w) <= atol * max(1.0, abs(w))
+
+
+def _forward(case: dict[str, Any]) -> Any:
+    kw = _profile(case) | {"gamma": float(case["gamma"])}
+    lam = float(case["forcing"])
+    if case["states_at_forcing"] == 1:
+        return hairbed.solve_pillar(lam, case["theta0"], **kw)
+    states = hairbed.solve_pillar_all(lam, case["theta0"], **kw)
+    assert len(states) == case["states_at_forcing"]
+    return states[case["state_index"]]
+
+
+def test_reference_covers_the_issue():
+    assert len(CASES) >= 30 and len(INVERSE) >= 6
+    assert {c["profile"] for c in CASES} >= {"sublayer", "couette", "poiseuille", "callable"}
+    lams = [float(c["forcing"]) for c in CASES]
+    assert min(lams) <= 1e-6 and max(lams) >= 1e4
+    th = [c["theta0"] for c in CASES]
+    assert min(th) <= -1.4 and max(th) >= 1.4
+
+
+@pytest.mark.parametrize("case", CASES, ids=_ids)
+def test_forward_state(case):
+    st = _forward(case)
+    assert st.status == 0, st.message
+    for name in SCALARS:
+        assert _close(getattr(st, name), case[name]), (name, getattr(st, name), case[name])
+    sh = case["shape"]
+    _, x, z, theta = st.shape(np.array([float(v) for v in sh["s"]]))
+    for got, want in ((x, sh["x"]), (z, sh["z"]), (theta, sh["theta"])):
+        for g, w in zip(got, want):
+            assert _close(float(g), w)
+
+
+@pytest.mark.parametrize("case", CASES, ids=_ids)
+def test_base_moment_identity_by_quadrature(case):
+    """theta'(0) = int_0^1 (z f_x - x f_z) ds, by Gauss-Legendre on the state's interpolants
+    (numpy, not the kernel's quadrature)."""
+    st = _forward(case)
+    xg, wg = np.polynomial.legendre.leggauss(80)
+    s = 0.5 * (xg + 1.0)
+    _, x, z, th = st.shape(s)
+    kw = _profile(case)
+    if callable(kw["profile"]):
+        u = kw["profile"](z)
+    elif kw["profile"] == "poiseuille":
+        u = z * (1.0 - kw["height_ratio"] * z)
+    else:
+        u = z
+    g = float(case["gamma"])
+    lam = float(case["forcing"])
+    fx = lam * u * (np.cos(th) ** 2 + g * np.sin(th) ** 2)
+    fz = -lam * u * (1.0 - g) * np.sin(th) * np.cos(th)
+    moment = 0.5 * np.sum(wg * (z * fx - x * fz))
+    assert abs(moment - st.base_curvature) <= 1e-11 * max(1.0, abs(moment))
+
+
+@pytest.mark.parametrize("case", INVERSE, ids=_ids)
+def test_inverse_case(case):
+    kw = _profile(case) | {"gamma": float(case["gamma"])}
+    st = hairbed.solve_pillar_inverse(float(case["tip_deflection"]), case["theta0"], **kw)
+    assert st.status == 0, st.message
+    assert _close(st.forcing, case["forcing"])
+    for name in SCALARS:
+        assert _close(getattr(st, name), case[name]), name
+
+
+@pytest.mark.parametrize("case", [c for c in CASES if float(c["forcing"]) >= 1e-3], ids=_ids)
+def test_inverse_round_trip(case):
+    """Lambda from the reference state's own tip deflection, within 1e-10 (relative) of the
+    reference's Lambda, or within 4 times the change that rounding x1 to a double makes where
+    the problem amplifies it (Lambda ~ x1 - sin(theta0) near the straight pillar)."""
+    kw = _profile(case) | {"gamma": float(case["gamma"])}
+    x1 = float(case["tip_deflection"])
+    lam = float(case["forcing"])
+    st = hairbed.solve_pillar_inverse(x1, case["theta0"], **kw)
+    assert st.status == 0, st.message
+    conditioning = abs(x1) / max(abs(x1 - math.sin(case["theta0"])), 1e-300)
+    rtol = max(PILLAR_REFERENCE_ATOL, 4 * 2.2e-16 * conditioning)
+    assert abs(st.forcing - lam) <= rtol * abs(lam), (st.forcing, lam)
+    assert _close(st.tip_height, case["tip_height"])
+
+
+def _window_folds(label: str) -> list[float]:
+    return next(f["folds_near_forcing"] for f in REF["folds"] if f["label"] == label)
+
+
+@pytest.mark.parametrize(
+    ("theta0", "gamma", "label"),
+    [
+        (-1.4, 0.5, "sublayer g=0.5 th0=-1.4"),
+        (-1.35, 0.5, "sublayer g=0.5 th0=-1.35"),
+        (-1.4, float(REF["gray_hancock"]["gamma"]), "sublayer g=0.6567 th0=-1.4"),
+    ],
+)
+def test_folds_of_the_window(theta0, gamma, label):
+    """The reference locates its folds to within a continuation step (a few %); the branch
+    here must find the same two, and the state count must be 3 inside and 1 outside."""
+    br = hairbed.continue_pillar(40.0, theta0, gamma=gamma)
+    assert br.status == 0
+    ref = sorted(_window_folds(label))
+    got = sorted(br.folds[:, 0])
+    assert len(got) == 2
+    for g, r in zip(got, ref):
+        assert abs(g - r) <= 0.03 * r, (got, ref)
+    lo, hi = got
+    mid = 0.5 * (lo + hi)
+    assert len(hairbed.solve_pillar_all(mid, theta0, gamma=gamma)) == 3
+    assert len(hairbed.solve_pillar_all(0.97 * lo, theta0, gamma=gamma)) == 1
+    assert len(hairbed.solve_pillar_all(1.03 * hi, theta0, gamma=gamma)) == 1
+    stable = [s.stable for s in hairbed.solve_pillar_all(mid, theta0, gamma=gamma)]
+    assert stable == [True, False, True]
+
+
+@pytest.mark.parametrize(
+    "label", [f["label"] for f in REF["folds"] if not f["folds_near_forcing"]]
+)
+def test_no_fold_where_the_reference_has_none(label):
+    spec = next(f for f in REF["folds"] if f["label"] == label)
+    like = [c for c in CASES if c["profile"] == spec["profile"] and c["theta0"] == spec["theta0"]]
+    kw = (_profile(like[0]) if like else {"profile": spec["profile"]}) | {
+        "gamma": float(spec["gamma"])
+    }
+    br = hairbed.continue_pillar(300.0, spec["theta0"], **kw)
+    assert br.status == 0
+    assert br.folds.shape == (0, 2)
+    assert np.all(np.diff(br.forcing) > 0)
+
+
+@pytest.mark.parametrize(
+    ("kw", "coefficient"),
+    [
+        ({}, 11 / 120),
+        ({"profile": "couette", "height_ratio": 0.5}, 11 / 120),
+        ({"profile": "poiseuille", "height_ratio": 0.5}, (33 - 26 * 0.5) / 360),
+        ({"profile": "poiseuille", "height_ratio": 1.0}, (33 - 26) / 360),
+        ({"profile": lambda z: z**2}, 13 / 180),
+        ({"profile": lambda z: np.ones_like(z)}, 1 / 8),
+    ],
+    ids=["sublayer", "couette", "poiseuille-0.5", "poiseuille-1", "z^2", "uniform"],
+)
+def test_small_deflection_limit(kw, coefficient):
+    """theta0 = 0: x1 = c Lambda + O(Lambda^3) (x1 is odd in Lambda): the relative remainder
+    falls by 100 when Lambda falls by 10."""
+    lam = np.array([1e-1, 1e-2, 1e-3])
+    st = hairbed.solve_pillar(lam, 0.0, **kw)
+    rem = np.abs(np.asarray(st.tip_deflection) / (coefficient * lam) - 1.0)
+    assert rem[-1] <= 1e-6
+    ratio = rem[0] / rem[1]
+    assert 80 <= ratio <= 120, rem
+    assert np.allclose(
+        hairbed.solve_pillar(-lam, 0.0, **kw).tip_deflection,
+        -st.tip_deflection,
+        rtol=1e-13,
+        atol=0,
+    )
+
+
+def test_tilted_small_deflection_limit():
+    """x1 = sin(theta0) + 11 Lambda cos^3(theta0)/120 + O(Lambda^2): the remainder over
+    Lambda falls by 10 when Lambda does."""
+    t0 = 0.6
+    lam = np.array([1e-2, 1e-3])
+    st = hairbed.solve_pillar(lam, t0)
+    rem = np.abs(np.asarray(st.tip_deflection) - math.sin(t0) - 11 * lam * math.cos(t0) ** 3 / 120)
+    ratio = (rem[0] / lam[0]) / (rem[1] / lam[1])
+    assert 8 <= ratio <= 12, rem
+
+
+def test_load_concentrated_at_the_tip_is_the_elastica():
+    """U = (p + 1) z^p with isotropic drag (gamma = 1: the load is horizontal) puts the load
+    within O(1/p) of the tip; the pillar then tends to the tip-loaded elastica of
+    ``hairbed.solve`` (eps = 0) with the tip load the pillar's drag, and the difference halves
+    as p doubles."""
+    errors = []
+    for p in (32, 64, 128):
+        st = hairbed.solve_pillar(
+            1.0, 0.3, profile=lambda z, p=p: (p + 1) * z**p, gamma=1.0, num=256
+        )
+        assert st.status == 0, st.message
+        ref = hairbed.solve(st.drag_x, 0.0, 0.3)
+        errors.append(abs(st.tip_deflection - ref.tip_deflection))
+        assert abs(st.drag_z) <= 1e-14
+    assert errors[-1] <= 0.02
+    assert errors[0] / errors[1] >= PILLAR_CONCENTRATION_RATE
+    assert errors[1] / errors[2] >= PILLAR_CONCENTRATION_RATE
