@@ -1,0 +1,154 @@
+"""Speed of the isolated pillar (issue 21), as ratios measured in one run.
+
+Rows:
+
+1. one pillar state (``hairbed.solve_pillar``, a scalar call: validation, profile, closed-form
+   start, collocation) [ms];
+2. ``scipy.integrate.solve_bvp`` on the same state (theta, theta', x, z, F_x, F_z with
+   F(1) = 0) at the same 1e-10 accuracy (its tol tightened until its tip values are within
+   1e-10 of the collocation's, checked and reported), and the ratio of the two times;
+3. a calibration curve of 10^4 points, Lambda from 1e-3 to 1e3 (one call, one core) [s];
+4. its inverse, 10^4 tip deflections to Lambda (``solve_pillar_inverse``) [s].
+
+Each time is the best of ``--repeat`` runs. Targets (issue 21): row 1 <= 1 ms, row 2 >= 20x,
+row 3 <= 2 s.
+
+Run: ``python benchmarks/bench_pillar.py [--quick] [--repeat N] [--json PATH]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import time
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+from scipy.integrate import solve_bvp
+
+import hairbed
+
+__all__ = ["main", "run"]
+
+#: The state of rows 1 and 2: a sublayer pillar at L/a = 20, tilted downstream.
+GAMMA = float(hairbed.gray_hancock_ratio(20.0))
+STATE = {"forcing": 5.0, "theta0": 0.3, "gamma": GAMMA}
+
+
+def _best(func: Callable[[], Any], repeat: int) -> tuple[float, Any]:
+    best, out = math.inf, None
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        out = func()
+        best = min(best, time.perf_counter() - t0)
+    return best, out
+
+
+def _bvp(forcing: float, theta0: float, gamma: float, tol: float) -> Any:
+    """solve_bvp on (theta, theta', x, z, F_x, F_z), U = z, from the pillar at rest."""
+
+    def fun(s: Any, y: Any) -> Any:
+        th, m, _, z, fx, fz = y
+        c, sn = np.cos(th), np.sin(th)
+        lx = forcing * z * (c * c + gamma * sn * sn)
+        lz = -forcing * z * (1.0 - gamma) * sn * c
+        return np.vstack([m, -(fx * c - fz * sn), sn, c, -lx, -lz])
+
+    def bc(ya: Any, yb: Any) -> Any:
+        return np.array([ya[0] - theta0, yb[1], ya[2], ya[3], yb[4], yb[5]])
+
+    s = np.linspace(0.0, 1.0, 11)
+    y = np.vstack(
+        [theta0 + 0 * s, 0 * s, s * math.sin(theta0), s * math.cos(theta0), 0 * s, 0 * s]
+    )
+    return solve_bvp(fun, bc, s, y, tol=tol, max_nodes=1_000_000)
+
+
+def run(repeat: int = 5, size: int = 10_000) -> dict[str, Any]:
+    """Every row; a dict of the figures."""
+    hairbed.solve_pillar(**STATE)  # compile or load the kernels
+    t_one, st = _best(lambda: hairbed.solve_pillar(**STATE), max(repeat, 20))
+    tips = np.array([st.tip_height, st.tip_deflection, st.tip_angle])
+    tol, bvp_err, sol = 1e-6, math.inf, None
+    while tol >= 1e-14:
+        sol = _bvp(**STATE, tol=tol)
+        got = np.array([sol.sol(1.0)[3], sol.sol(1.0)[2], sol.sol(1.0)[0]])
+        bvp_err = float(np.max(np.abs(got - tips)))
+        if sol.success and bvp_err <= 1e-10:
+            break
+        tol /= 10.0
+    t_bvp, _ = _best(lambda: _bvp(**STATE, tol=tol), max(1, repeat // 2))
+    lam = np.geomspace(1e-3, 1e3, size)
+    hairbed.solve_pillar(lam[:4], 0.0, gamma=GAMMA)
+    t_curve, curve = _best(lambda: hairbed.solve_pillar(lam, 0.0, gamma=GAMMA), repeat)
+    x1 = np.asarray(curve.tip_deflection)
+    t_inv, inv = _best(lambda: hairbed.solve_pillar_inverse(x1, 0.0, gamma=GAMMA), repeat)
+    round_trip = float(np.max(np.abs(np.asarray(inv.forcing) / lam - 1.0)))
+    status = np.ravel(curve.status)
+    return {
+        "hairbed": hairbed.__version__,
+        "numpy": np.__version__,
+        "cpus": len(os.sched_getaffinity(0))
+        if hasattr(os, "sched_getaffinity")
+        else os.cpu_count(),
+        "load_average": os.getloadavg()[0] if hasattr(os, "getloadavg") else math.nan,
+        "one_state_ms": 1e3 * t_one,
+        "one_state_error_estimate": st.error_estimate,
+        "solve_bvp_tol": tol,
+        "solve_bvp_max_tip_difference": bvp_err,
+        "solve_bvp_nodes": int(sol.x.size) if sol is not None else 0,
+        "solve_bvp_ms": 1e3 * t_bvp,
+        "speedup_vs_solve_bvp": t_bvp / t_one,
+        "curve_size": size,
+        "curve_s": t_curve,
+        "curve_status_counts": {
+            int(k): int(v) for k, v in zip(*np.unique(status, return_counts=True))
+        },
+        "inverse_curve_s": t_inv,
+        "inverse_round_trip_max_relative": round_trip,
+    }
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="10^3 points, 2 repeats")
+    parser.add_argument("--repeat", type=int, default=5)
+    parser.add_argument("--json", help="write the figures to this file")
+    args = parser.parse_args(argv)
+    figures = run(repeat=2 if args.quick else args.repeat, size=1000 if args.quick else 10_000)
+    rows = [
+        ("one pillar state [ms] (target <= 1)", f"{figures['one_state_ms']:.3f}"),
+        (
+            f"solve_bvp at tol {figures['solve_bvp_tol']:.0e} [ms] "
+            f"(tips within {figures['solve_bvp_max_tip_difference']:.1e}, "
+            f"{figures['solve_bvp_nodes']} nodes)",
+            f"{figures['solve_bvp_ms']:.1f}",
+        ),
+        ("speed-up vs solve_bvp (target >= 20)", f"{figures['speedup_vs_solve_bvp']:.0f}x"),
+        (
+            f"calibration curve of {figures['curve_size']} points [s] (target <= 2)",
+            f"{figures['curve_s']:.3f}",
+        ),
+        ("  status counts", str(figures["curve_status_counts"])),
+        ("its inverse, tip deflection -> Lambda [s]", f"{figures['inverse_curve_s']:.3f}"),
+        (
+            "  round trip, max relative change of Lambda",
+            f"{figures['inverse_round_trip_max_relative']:.1e}",
+        ),
+        ("load average", f"{figures['load_average']:.1f}"),
+    ]
+    width = max(len(r[0]) for r in rows)
+    for name, value in rows:
+        print(f"{name:<{width}}  {value}")
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(figures, fh, indent=2)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
