@@ -242,3 +242,29 @@ def test_load_concentrated_at_the_tip_is_the_elastica():
     assert errors[-1] <= 0.02
     assert errors[0] / errors[1] >= PILLAR_CONCENTRATION_RATE
     assert errors[1] / errors[2] >= PILLAR_CONCENTRATION_RATE
+
+
+@pytest.mark.parametrize(
+    ("forcing", "theta0", "kw"),
+    [
+        (0.5, 0.0, {}),
+        (50.0, 0.3, {"gamma": 0.657}),
+        (15.0, -1.4, {}),
+        (3.0, -1.0, {"profile": "poiseuille", "height_ratio": 1.0}),
+        (7.0, 1.0, {"profile": lambda z: z**2}),
+        (-4.0, 0.4, {}),
+    ],
+)
+def test_tip_deflection_slope_against_richardson(forcing, theta0, kw):
+    """dx1/dLambda by implicit differentiation against a Richardson-extrapolated central
+    difference of forward solves (an independent path: only the solver's values)."""
+    st = hairbed.solve_pillar(forcing, theta0, **kw)
+
+    def central(h: float) -> float:
+        up = hairbed.solve_pillar(forcing + h, theta0, **kw).tip_deflection
+        down = hairbed.solve_pillar(forcing - h, theta0, **kw).tip_deflection
+        return (up - down) / (2 * h)
+
+    h = 1e-3 * abs(forcing)
+    rich = (4 * central(h / 2) - central(h)) / 3
+    assert st.tip_deflection_slope == pytest.approx(rich, rel=1e-8)

@@ -188,6 +188,10 @@ class PillarState:
     drag_x, drag_z : float or ndarray
         The drag on the whole pillar F(0) = int_0^1 f ds [E I/L^2] (streamwise and
         wall-normal; the tip load included in drag_x).
+    tip_deflection_slope : float or ndarray
+        dx1/dLambda [L] at the state, by implicit differentiation of the collocation system
+        (exact to its accuracy; NaN at a fold, where it is infinite). The sensitivity of a
+        sensor: dx1/dtau_w = tip_deflection_slope Lambda/tau_w.
     status : int or ndarray
         0 converged within the tolerance; 3 the error estimate misses it; -2 iteration limit;
         -3 singular Newton matrix or no descent; -7 no state from this start
@@ -213,6 +217,7 @@ class PillarState:
     base_curvature: Value
     drag_x: Value
     drag_z: Value
+    tip_deflection_slope: Value
     status: IntValue
     error_estimate: Value
     residual: Value
@@ -397,6 +402,7 @@ def _pillar_state(
         base_curvature=col(7),
         drag_x=col(8),
         drag_z=col(9),
+        tip_deflection_slope=col(13),
         status=scalar_or_array(out[0].astype(np.int64).reshape(shape)),
         error_estimate=col(10),
         residual=col(11),

@@ -76,8 +76,9 @@ STATUS_MAXITER = -2
 STATUS_BREAKDOWN = -3
 STATUS_LOST = -7
 #: Output columns of :func:`solve_loaded_array`: status, nit, num, a, h1, x1, theta1,
-#: theta'(0), W, Pi, error estimate, residual, the forcing (omega2; the pillar's Lambda).
-NCOLS = 13
+#: theta'(0), W, Pi, error estimate, residual, the forcing (omega2; the pillar's Lambda),
+#: the pillar's dx1/dLambda (NaN for the bed's drives).
+NCOLS = 14
 #: A Newton step below this (max norm over theta and h1) ends the iteration.
 _XTOL = 1e-12
 #: Chord steps (the last LU factors reused) follow a full Newton step below _CHORD_START that
@@ -632,6 +633,34 @@ def _continuation(
 
 
 @kernel
+def _drag_slope(u, num, dd, ii, lam, gamma, tip, prof, work, pm, jac, piv):
+    """dx1/dLambda of a converged pillar state u by implicit differentiation of the
+    collocation system: J du/dLambda = -dR/dLambda, dR/dLambda the load at Lambda = 1 (f is
+    linear in Lambda); NaN where J is singular (a fold). Uses work rows 0-2, 4 and 6-11."""
+    n1 = num + 1
+    cs, sn, z = work[0], work[1], work[2]
+    fx, fz = work[6], work[7]
+    _drag_forces(u, num, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz)
+    _jacobian_drag(u, num, dd, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz, work[8:12], pm, jac)
+    if not _lu_factor(jac, piv, n1 + 1):
+        return math.nan
+    ux, uz = work[8], work[9]
+    tx, tz = _drag_forces(u, num, ii, 1.0, gamma, 0.0, prof, cs, sn, z, ux, uz)
+    rhs = work[4]
+    rhs[0] = 0.0
+    for i in range(1, num):
+        fxi, fzi = _internal_force(i, num, ii, ux, uz, tx, tz)
+        rhs[i] = -(fxi * cs[i] - fzi * sn[i])
+    rhs[num] = 0.0
+    rhs[n1] = 0.0
+    _lu_apply(jac, piv, rhs, n1 + 1)
+    slope = 0.0
+    for k in range(n1):
+        slope += ii[num, k] * cs[k] * rhs[k]
+    return slope
+
+
+@kernel
 def _coefficients(vals, num, cmat, coef):
     """Chebyshev coefficients coef[:num + 1] of the node values vals (cmat values -> coef)."""
     for k in range(num + 1):
@@ -823,7 +852,11 @@ def solve_loaded_array(
             quad = load[e] * h
             for j in range(num + 1):
                 quad += ii[num, j] * (work[2, j] * fx[j] - xs[j] * fz[j])
+            out[13, e] = _drag_slope(
+                u, num, dd, ii, forcing, eps[e], load[e], pr, work, pm, jac, piv
+            )
         else:
+            out[13, e] = math.nan
             w, p, _, _ = drive_loads(code, omega2[e], eps[e], load[e], h)
             # theta'(0) = int_0^1 [W + Pi (h1 - z)] cos(theta) ds (the ODE integrated once,
             # by the quadrature of the integration matrix's last row)
