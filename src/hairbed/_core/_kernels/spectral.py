@@ -356,16 +356,19 @@ def _jacobian_drag(u, num, dd, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz, gw,
         ax[j] = lam * du * (c * c + gamma * s * s)  # d fx / d z
         az[j] = -lam * du * one_g * s * c  # d fz / d z
     px, pz = pm[0], pm[1]
+    # px = I diag(ax) I, pz = I diag(az) I, the inner loop along rows (contiguous)
     for i in range(n1):
         for k in range(n1):
-            accx = 0.0
-            accz = 0.0
-            for j in range(n1):
-                t = ii[i, j] * ii[j, k]
-                accx += t * ax[j]
-                accz += t * az[j]
-            px[i, k] = accx
-            pz[i, k] = accz
+            px[i, k] = 0.0
+            pz[i, k] = 0.0
+        for j in range(n1):
+            tx = ii[i, j] * ax[j]
+            tz = ii[i, j] * az[j]
+            if tx == 0.0 and tz == 0.0:
+                continue
+            for k in range(n1):
+                px[i, k] += tx * ii[j, k]
+                pz[i, k] += tz * ii[j, k]
     tx = tip
     tz = 0.0
     for j in range(n1):
@@ -834,10 +837,14 @@ def solve_loaded_array(
         cm = cms[lev_done]
         forcing = u[num + 2] if extra == 2 else omega2[e]
         out[12, e] = forcing
-        # x and z at the nodes
+        # cos and sin at the nodes once (work rows 0, 1 are free here)
+        cs, sn = work[0], work[1]
+        for j in range(num + 1):
+            cs[j] = math.cos(u[j])
+            sn[j] = math.sin(u[j])
         x1 = 0.0
         for j in range(num + 1):
-            x1 += ii[num, j] * math.sin(u[j])
+            x1 += ii[num, j] * sn[j]
         if code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE:
             # the drag and its moment about the base, theta'(0) = int_0^1 (z f_x - x f_z) ds
             fx, fz = work[6], work[7]
@@ -864,8 +871,8 @@ def solve_loaded_array(
             for j in range(num + 1):
                 zj = 0.0
                 for k in range(num + 1):
-                    zj += ii[j, k] * math.cos(u[k])
-                quad += ii[num, j] * (w + p * (h - zj)) * math.cos(u[j])
+                    zj += ii[j, k] * cs[k]
+                quad += ii[num, j] * (w + p * (h - zj)) * cs[j]
         out[4, e] = h
         out[5, e] = x1
         out[6, e] = u[num]
@@ -878,11 +885,11 @@ def solve_loaded_array(
         for k in range(num + 1):
             coefs[0, e, k] = coef[k]
         for c in range(2):
+            g = sn if c == 0 else cs
             for i in range(num + 1):
                 acc = 0.0
                 for j in range(num + 1):
-                    g = math.sin(u[j]) if c == 0 else math.cos(u[j])
-                    acc += ii[i, j] * g
+                    acc += ii[i, j] * g[j]
                 vals[i] = acc
             _coefficients(vals, num, cm, coef)
             for k in range(num + 1):
