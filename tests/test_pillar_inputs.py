@@ -48,8 +48,8 @@ def test_gray_hancock_ratio_formula():
 
 
 def test_every_forcing_has_a_state():
-    """An answer for every finite forcing, strongly loaded and reversed included; the
-    status says where a state is not reached, never a NaN with status 0."""
+    """A state for every finite forcing from 1e-8 to 1e5, either direction, at base angles to
+    within 0.12 of the wall (never a NaN with status 0)."""
     lam = np.concatenate([-np.geomspace(1e-8, 1e5, 14), [0.0], np.geomspace(1e-8, 1e5, 14)])
     for t0 in (-1.45, -1.4, 0.0, 1.45):
         st = hairbed.solve_pillar(lam, t0)
@@ -57,7 +57,7 @@ def test_every_forcing_has_a_state():
         ok = status >= 0
         assert np.all(np.isfinite(np.asarray(st.tip_deflection)[ok]))
         assert np.all(np.isnan(np.asarray(st.tip_deflection)[~ok]))
-        assert ok.mean() >= 0.9, (t0, status)
+        assert np.all(status == 0), (t0, status)
 
 
 def test_scalar_and_array_agree():

@@ -268,3 +268,36 @@ def test_tip_deflection_slope_against_richardson(forcing, theta0, kw):
     h = 1e-3 * abs(forcing)
     rich = (4 * central(h / 2) - central(h)) / 3
     assert st.tip_deflection_slope == pytest.approx(rich, rel=1e-8)
+
+
+def test_root_picks_every_window_state():
+    """root="low"/"mid"/"high" at theta0 = -1.4, Lambda = 15 are the reference's three states
+    in the order of the branch from rest; scalars and arrays alike; "mid" outside a window
+    says there is no such state."""
+    window = sorted(
+        (c for c in CASES if c["states_at_forcing"] == 3), key=lambda c: c["state_index"]
+    )
+    for root, case in zip(("low", "mid", "high"), window):
+        st = hairbed.solve_pillar(15.0, -1.4, root=root)
+        assert st.status == 0
+        for name in SCALARS:
+            assert _close(getattr(st, name), case[name]), (root, name)
+        arr = hairbed.solve_pillar(np.array([3.0, 15.0]), -1.4, root=root)
+        assert _close(float(arr.tip_deflection[1]), case["tip_deflection"])
+    lone = hairbed.solve_pillar(3.0, -1.4, root="mid")
+    assert lone.status == -1 and math.isnan(lone.tip_deflection)
+    assert hairbed.solve_pillar(3.0, -1.4, root="high").status == 0
+
+
+def test_a_ramp_through_the_window_is_monotone():
+    """root="low" along a ramp of the forcing through the window jumps once, upwards, at the
+    upper fold (the quasi-static ramp from rest)."""
+    lam = np.linspace(5.0, 30.0, 400)
+    st = hairbed.solve_pillar(lam, -1.4)
+    x1 = np.asarray(st.tip_deflection)
+    assert np.all(np.asarray(st.status) == 0)
+    steps = np.diff(x1)
+    assert np.all(steps > 0)
+    jump = int(np.argmax(steps))
+    fold = max(hairbed.continue_pillar(40.0, -1.4).folds[:, 0])
+    assert lam[jump] <= fold <= lam[jump + 1]

@@ -21,10 +21,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from .loaded import (
     LADDER,
+    _clenshaw,
     _closed_form_start,
     _kernels,
     _ladder,
     _map_parameter,
+    _mapped_nodes,
     _quiet,
     _shape_at,
     _start,
@@ -39,11 +41,13 @@ from .validation import (
     check_int,
     check_number,
     check_positive,
+    check_root,
     status_messages,
 )
 
 __all__ = [
     "PROFILES",
+    "WINDOW_THETA0",
     "PillarState",
     "gray_hancock_ratio",
     "profile_coefficients",
@@ -282,6 +286,7 @@ def solve_pillar(
     height_ratio: float | None = None,
     gamma: ArrayLike = 0.5,
     tip_load: ArrayLike = 0.0,
+    root: str = "low",
     num: int | None = None,
     rtol: float = 1e-12,
 ) -> PillarState:
@@ -308,6 +313,13 @@ def solve_pillar(
         :func:`gray_hancock_ratio` gives Gray & Hancock's at a finite L/a.
     tip_load : array_like, optional
         A horizontal force on the tip [E I/L^2], finite. Default 0.
+    root : {"low", "mid", "high"}, optional
+        Which state in a snap-through window (a pillar tilted far upstream, theory.md §12),
+        in the order of the branch from rest: "low" (default) the first, the state a slow
+        ramp of the forcing from rest reaches (leaning upstream); "high" the last (standing
+        over its base); "mid" the middle, unstable one (status -1 outside a window). Outside
+        the windows the one state, whatever ``root``. Where theta0 < ``WINDOW_THETA0``
+        (-1.2) the state is picked on the branch (as :func:`continue_pillar` follows it).
     num : int, optional
         A fixed Chebyshev degree N in [8, 512] instead of the ladder (32, 64, 128).
     rtol : float, optional
@@ -326,9 +338,10 @@ def solve_pillar(
     """
     lam, t0, g, tip = _check(forcing, theta0, gamma, tip_load)
     prof = profile_coefficients(profile, height_ratio)[None, :]
+    root = check_root(root)
     tol = check_positive(rtol, "rtol")
     nums = LADDER if num is None else (check_int(num, "num", 8, 512),)
-    return _solve_pillar_checked(lam, t0, g, tip, prof, tol, nums)
+    return _solve_pillar_checked(lam, t0, g, tip, prof, tol, nums, root)
 
 
 def _solve_pillar_checked(
@@ -339,6 +352,7 @@ def _solve_pillar_checked(
     prof: FloatArray,
     tol: float,
     nums: tuple[int, ...],
+    root: str = "low",
 ) -> PillarState:
     """:func:`solve_pillar` of checked, broadcast inputs; ``prof`` (1 or size, K)."""
     shape = lam.shape
@@ -346,7 +360,49 @@ def _solve_pillar_checked(
         np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for v in (lam, t0, g, tip)
     )
     prof = np.ascontiguousarray(prof, dtype=np.float64)
-    weq = _equivalent_tip_load(lf, tf, np.broadcast_to(prof, (1, prof.shape[1]))) + pf
+    # a flow towards -x is the mirror image x -> -x of the flow towards +x at -theta0
+    mirror = np.where(lf < 0.0, -1.0, 1.0)
+    lf, tf, pf = np.abs(lf), mirror * tf, mirror * pf
+    k = _kernels()
+    out = np.full((k.NCOLS, lf.size), np.nan)
+    out[0] = -7
+    coefs = np.full((3, lf.size, int(max(nums)) + 1), np.nan)
+    a = np.zeros(lf.size)
+    window = (tf < WINDOW_THETA0) & (lf != 0.0)  # picked on the branch, no forward Newton
+    fwd = np.flatnonzero(~window)
+    if fwd.size:
+        o, c, aa = _forward_run(lf[fwd], tf[fwd], gf[fwd], pf[fwd], prof, tol, nums)
+        out[:, fwd], coefs[:, fwd], a[fwd] = o, c, aa
+    _on_branch(lf, tf, gf, pf, prof, tol, nums, out, coefs, a, (out[0] < 0) | window, root)
+    _mirror(out, coefs, mirror)
+    return _pillar_state(shape, lam, t0, g, tip, out, coefs, a)
+
+
+#: The kernel's columns (and Chebyshev series: theta, x) that change sign with x -> -x.
+_ODD_COLUMNS = (5, 6, 7, 8, 12)
+
+
+def _mirror(out: FloatArray, coefs: FloatArray, mirror: FloatArray) -> None:
+    """Mirror the states of ``mirror`` -1 back (x1, the angles, the base moment, drag_x and
+    the forcing change sign; h1, drag_z and dx1/dLambda do not), in place."""
+    for col in _ODD_COLUMNS:
+        out[col] *= mirror
+    coefs[0] *= mirror[:, None]
+    coefs[1] *= mirror[:, None]
+
+
+def _forward_run(
+    lf: FloatArray,
+    tf: FloatArray,
+    gf: FloatArray,
+    pf: FloatArray,
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The kernel's forward problem on flat checked arrays from the closed-form start of the
+    equivalent tip load: (out, coefs, a)."""
+    weq = _equivalent_tip_load(lf, tf, prof[:1]) + pf
     zero = np.zeros(lf.size)
     ts, es, ths, mirror, hs = _start(2, weq, zero, zero, tf, "low")
     a = _map_parameter(2, weq, zero, zero, hs)
@@ -372,8 +428,7 @@ def _solve_pillar_checked(
         out,
         coefs,
     )
-    _rescue(lf, tf, gf, pf, prof, tol, nums, out, coefs, a)
-    return _pillar_state(shape, lam, t0, g, tip, out, coefs, a)
+    return out, coefs, a
 
 
 def _pillar_state(
@@ -458,7 +513,9 @@ def solve_pillar_inverse(
     xf, tf, gf, pf = (
         np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for v in (x1b, t0, g, tip)
     )
-    out, coefs, a = _inverse_run(xf, tf, gf, pf, prof, tol, nums)
+    mirror = np.where(xf < np.sin(tf), -1.0, 1.0)  # a flow towards -x, solved as its mirror
+    out, coefs, a = _inverse_run(mirror * xf, mirror * tf, gf, mirror * pf, prof, tol, nums)
+    _mirror(out, coefs, mirror)
     return _pillar_state(shape, out[12], t0, g, tip, out, coefs, a)
 
 
@@ -497,17 +554,19 @@ def _inverse_run(
     return out, coefs, a
 
 
-#: The rescue's grid in the fraction u of the way from the straight pillar's x1 to the wall's
-#: (x1 = sin(theta0) + u (+-1 - sin(theta0))): fine through the snap-through windows, then
-#: geometric towards the wall (Lambda ~ 1e5 at u = 0.999).
-_RESCUE_GRID = np.concatenate(
-    [np.linspace(0.0, 0.9, 49)[1:], 1.0 - np.geomspace(0.1, 1e-3, 16)[1:]]
+#: The branch grid of :func:`_on_branch` in the fraction u of the way from the straight
+#: pillar's x1 to the wall's (x1 = sin(theta0) + u (+-1 - sin(theta0))): fine through the
+#: snap-through windows, then geometric towards the wall (Lambda ~ 1e5 at u = 0.999).
+_BRANCH_GRID = np.concatenate(
+    [np.linspace(0.0, 0.9, 121)[1:], 1.0 - np.geomspace(0.1, 1e-3, 25)[1:]]
 )
-#: The most regula-falsi steps of the rescue.
-_RESCUE_STEPS = 60
+#: Below this base angle a pillar may have a snap-through window (the cusp lies between
+#: -1.35 and -1.3 for the sublayer; no fold was found above -1.25 in the reference or the
+#: scans, theory.md §12): there the state of ``root`` is picked on the branch.
+WINDOW_THETA0 = -1.2
 
 
-def _rescue(
+def _on_branch(
     lf: FloatArray,
     tf: FloatArray,
     gf: FloatArray,
@@ -518,62 +577,96 @@ def _rescue(
     out: FloatArray,
     coefs: FloatArray,
     a: FloatArray,
+    todo: NDArray[np.bool_],
+    root: str,
 ) -> None:
-    """Where the forward Newton and its load continuation failed (a fold on the way: the pillar
-    beyond its snap-through window), the state of the same forcing through the inverse
-    problem: Lambda(x1) on a grid from the straight pillar, the first crossing of the forcing
-    (the state a slow ramp from rest reaches), refined by the Illinois regula falsi on x1,
-    every failed element at once; written into out, coefs and a in place."""
-    bad = np.flatnonzero((out[0] < 0) & (lf != 0.0))
-    if bad.size == 0:
-        return
-    grid = _RESCUE_GRID
-    nb, reps = bad.size, grid.size
-    rest = np.sin(tf[bad])
-    wall = np.where(lf[bad] > 0.0, 1.0, -1.0)
+    """The state of ``root`` on the branch from rest, for the elements ``todo``, written into
+    out, coefs and a in place.
 
-    def excess(u: FloatArray, rows: Any) -> tuple[FloatArray, Any]:
-        """wall (Lambda(x1(u)) - forcing) at the fractions u (rows, k) of the elements rows."""
-        k = u.shape[1]
-        e = bad[rows]
-        x = (rest[rows, None] + (wall - rest)[rows, None] * u).reshape(-1)
-        rep = [np.repeat(v[e], k) for v in (tf, gf, pf)]
-        res = _inverse_run(x, rep[0], rep[1], rep[2], prof, tol, nums)
-        lam = res[0][12].reshape(-1, k)
-        return wall[rows, None] * (lam - lf[e][:, None]), res
-
-    g_grid = excess(np.ascontiguousarray(np.broadcast_to(grid, (nb, reps))), np.arange(nb))[0]
-    beyond = np.isfinite(g_grid) & (g_grid >= 0.0)
-    rows = np.flatnonzero(beyond.any(axis=1))
-    if rows.size == 0:
+    The branch Lambda(x1) of each distinct (theta0, gamma, tip load) is the inverse problem on
+    a grid in x1 (one batched call, shared by the elements that have those parameters); the
+    crossings of each element's forcing are its states, in the order of the branch: "low" the
+    first (the state a slow ramp from rest reaches), "high" the last, "mid" the middle of
+    three (status -1 if there are not three). Each state is then the forward Newton at the
+    forcing, from the grid states on either side of its crossing, interpolated linearly in
+    Lambda. Used where the forward Newton failed (a fold on the way of its load continuation)
+    and, for every root, where a window can exist (theta0 < ``WINDOW_THETA0``).
+    """
+    idx = np.flatnonzero(todo & (lf != 0.0))
+    if idx.size == 0:
         return
-    first = np.argmax(beyond[rows], axis=1)
-    hi = grid[first]
-    g_hi = g_grid[rows, first]
-    prev = np.maximum(first - 1, 0)
-    lo = np.where(first > 0, grid[prev], 0.0)
-    # below the forcing at the grid point before, or at the rest state (Lambda = 0)
-    g_lo = np.where(first > 0, g_grid[rows, prev], -np.abs(lf[bad][rows]))
-    side = np.zeros(rows.size)
-    scale = np.abs(lf[bad][rows])
-    u = hi
-    for _ in range(_RESCUE_STEPS):
-        u = np.where(g_hi != g_lo, hi - g_hi * (hi - lo) / (g_hi - g_lo), 0.5 * (lo + hi))
-        u = np.where((u > lo) & (u < hi), u, 0.5 * (lo + hi))
-        g = excess(u[:, None], rows)[0][:, 0]
-        g = np.where(np.isfinite(g), g, 0.5 * (g_lo + g_hi))
-        up = g >= 0.0
-        # Illinois: halve the value of the end kept twice in a row
-        g_lo = np.where(up & (side == 1.0), 0.5 * g_lo, g_lo)
-        g_hi = np.where(~up & (side == -1.0), 0.5 * g_hi, g_hi)
-        hi, g_hi = np.where(up, u, hi), np.where(up, g, g_hi)
-        lo, g_lo = np.where(up, lo, u), np.where(up, g_lo, g)
-        side = np.where(up, 1.0, -1.0)
-        if np.all((np.abs(g) <= 4e-16 * scale) | (hi - lo <= 1e-16)):
-            break
-    _, (o, c, aa) = excess(u[:, None], rows)
-    e = bad[rows]
-    out[:, e] = o
-    out[12, e] = lf[e]
-    coefs[:, e, : c.shape[-1]] = c
-    a[e] = aa
+    grid = _BRANCH_GRID
+    reps = grid.size
+    sign = np.where(lf[idx] > 0.0, 1.0, -1.0)
+    keys = np.stack([tf[idx], gf[idx], pf[idx], sign], axis=1)
+    uniq, inv = np.unique(keys, axis=0, return_inverse=True)
+    inv = inv.reshape(-1)
+    rest = np.sin(uniq[:, 0])
+    x = (rest[:, None] + (uniq[:, 3] - rest)[:, None] * grid[None, :]).reshape(-1)
+    rep = [np.ascontiguousarray(np.repeat(uniq[:, c], reps)) for c in range(3)]
+    o, c, _ = _inverse_run(x, rep[0], rep[1], rep[2], prof, tol, nums)
+    lam_grid = o[12].reshape(-1, reps)
+    coef_grid = c[0].reshape(uniq.shape[0], reps, -1)  # theta of the grid states (a = 0)
+    h_grid = o[4].reshape(-1, reps)
+    # every element's crossings of its forcing along its branch (from rest: Lambda = 0)
+    lam_b = np.concatenate([np.zeros((uniq.shape[0], 1)), lam_grid], axis=1)[inv]
+    gexc = sign[:, None] * (lam_b - lf[idx][:, None])
+    finite = np.isfinite(gexc[:, :-1]) & np.isfinite(gexc[:, 1:])
+    cross = finite & (np.sign(gexc[:, :-1]) != np.sign(gexc[:, 1:])) & (gexc[:, 1:] != 0.0)
+    count = cross.sum(axis=1)
+    pick = np.full(idx.size, -1)
+    for k in np.flatnonzero(count > 0):
+        where = np.flatnonzero(cross[k])
+        if root == "low":
+            pick[k] = where[0]
+        elif root == "high":
+            pick[k] = where[-1]
+        elif count[k] == 3:
+            pick[k] = where[1]
+    good = np.flatnonzero(pick >= 0)
+    bad = idx[pick < 0]
+    out[0, bad] = -1 if root == "mid" else -7
+    out[4:, bad] = np.nan
+    coefs[:, bad, :] = np.nan
+    if good.size == 0:
+        return
+    e = idx[good]
+    j = pick[good]  # the crossing lies between branch points j and j + 1 (0 = rest)
+    gu = inv[good]
+    lam0 = lam_b[good, j]
+    lam1 = lam_b[good, j + 1]
+    wgt = np.clip((lf[e] - lam0) / np.where(lam1 != lam0, lam1 - lam0, 1.0), 0.0, 1.0)
+    # the start: the grid states on either side, at the nodes of the forcing's own map
+    weq = _equivalent_tip_load(lf[e], tf[e], prof[:1]) + pf[e]
+    zero = np.zeros(e.size)
+    a2 = _map_parameter(2, weq, zero, zero, np.cos(tf[e]))
+    xi = 2.0 * _mapped_nodes(a2, nums[0]) - 1.0
+    th1 = _clenshaw(coef_grid[gu, j], xi)
+    th0 = np.where(
+        (j == 0)[:, None], tf[e][:, None], _clenshaw(coef_grid[gu, np.maximum(j - 1, 0)], xi)
+    )
+    h0 = np.where(j == 0, np.cos(tf[e]), h_grid[gu, np.maximum(j - 1, 0)])
+    h1 = h_grid[gu, j]
+    start = np.ascontiguousarray((1.0 - wgt)[:, None] * th0 + wgt[:, None] * th1)
+    hs = np.ascontiguousarray(((1.0 - wgt) * h0 + wgt * h1)[:, None])
+    k = _kernels()
+    o2 = np.empty((k.NCOLS, e.size))
+    c2 = np.empty((3, e.size, int(max(nums)) + 1))
+    k.solve_loaded_array(
+        _DRAG,
+        lf[e],
+        gf[e],
+        pf[e],
+        tf[e],
+        a2,
+        start,
+        hs,
+        *_ladder(tuple(nums)),
+        tol,
+        prof,
+        o2,
+        c2,
+    )
+    out[:, e] = o2
+    coefs[:, e, : c2.shape[-1]] = c2
+    a[e] = a2
