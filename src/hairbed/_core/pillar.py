@@ -514,9 +514,64 @@ def solve_pillar_inverse(
         np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for v in (x1b, t0, g, tip)
     )
     mirror = np.where(xf < np.sin(tf), -1.0, 1.0)  # a flow towards -x, solved as its mirror
-    out, coefs, a = _inverse_run(mirror * xf, mirror * tf, gf, mirror * pf, prof, tol, nums)
+    xm, tm, pm = mirror * xf, mirror * tf, mirror * pf
+    start = _grid_start(xm, tm, gf, pm, prof, tol, nums)
+    out, coefs, a = _inverse_run(xm, tm, gf, pm, prof, tol, nums, start)
     _mirror(out, coefs, mirror)
     return _pillar_state(shape, out[12], t0, g, tip, out, coefs, a)
+
+
+#: A batch of at least this many inverse problems per distinct (theta0, gamma, tip load)
+#: starts from the states of a branch grid (:func:`_grid_start`) instead of the straight pillar.
+_GRID_START_RATIO = 50
+
+
+def _grid_start(
+    xf: FloatArray,
+    tf: FloatArray,
+    gf: FloatArray,
+    pf: FloatArray,
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+) -> tuple[FloatArray, FloatArray] | None:
+    """Starts for a large batch of inverse problems (x1 >= sin(theta0)) that share few
+    parameter sets (a calibration curve): the inverse on the branch grid of each set once,
+    then each element's start interpolated linearly in x1 between the grid states around it
+    (theta at the nodes, h1, Lambda); None when the batch is not such a batch."""
+    keys = np.stack([tf, gf, pf], axis=1)
+    uniq, inv = np.unique(keys, axis=0, return_inverse=True)
+    inv = inv.reshape(-1)
+    if xf.size < _GRID_START_RATIO * uniq.shape[0] * 4:
+        return None
+    grid = np.concatenate([[0.0], _BRANCH_GRID])
+    reps = grid.size - 1
+    rest = np.sin(uniq[:, 0])
+    xg = (rest[:, None] + (1.0 - rest)[:, None] * grid[None, 1:]).reshape(-1)
+    rep = [np.ascontiguousarray(np.repeat(uniq[:, c], reps)) for c in range(3)]
+    o, c, _ = _inverse_run(xg, rep[0], rep[1], rep[2], prof, tol, nums)
+    nodes = _ladder(tuple(nums))[1][0, : nums[0] + 1]
+    vals = _clenshaw(c[0], np.broadcast_to(nodes, (c.shape[1], nodes.size)))
+    ng = uniq.shape[0]
+    vals = vals.reshape(ng, reps, -1)
+    straight = np.repeat(uniq[:, 0][:, None, None], nodes.size, axis=2)
+    vals = np.concatenate([straight, vals], axis=1)  # the rest state first
+    hg = np.concatenate([np.cos(uniq[:, 0])[:, None], o[4].reshape(ng, reps)], axis=1)
+    lg = np.concatenate([np.zeros((ng, 1)), o[12].reshape(ng, reps)], axis=1)
+    ok = np.isfinite(lg) & np.isfinite(hg) & np.all(np.isfinite(vals), axis=2)
+    u = (xf - rest[inv]) / (1.0 - rest[inv])
+    j = np.clip(np.searchsorted(grid, u, side="right") - 1, 0, grid.size - 2)
+    w = np.clip((u - grid[j]) / (grid[j + 1] - grid[j]), 0.0, 1.0)
+    good = ok[inv, j] & ok[inv, j + 1] & (u <= grid[-1])
+    theta = (1.0 - w)[:, None] * vals[inv, j] + w[:, None] * vals[inv, j + 1]
+    extra = np.stack(
+        [(1.0 - w) * hg[inv, j] + w * hg[inv, j + 1], (1.0 - w) * lg[inv, j] + w * lg[inv, j + 1]],
+        axis=1,
+    )
+    theta[~good] = tf[~good, None]
+    extra[~good, 0] = np.cos(tf[~good])
+    extra[~good, 1] = 0.0
+    return theta, extra
 
 
 def _inverse_run(
@@ -527,11 +582,16 @@ def _inverse_run(
     prof: FloatArray,
     tol: float,
     nums: tuple[int, ...],
+    start: tuple[FloatArray, FloatArray] | None = None,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """The kernel's inverse problem on flat checked arrays: (out, coefs, a); out[12] is
-    Lambda. Started from the straight pillar (Lambda = 0; the kernel continues in x1)."""
-    theta_start = np.ascontiguousarray(np.repeat(tf[:, None], nums[0] + 1, axis=1))
-    extra = np.stack([np.cos(tf), np.zeros(xf.size)], axis=1)
+    Lambda. Started from ``start`` (theta at the first level's nodes; h1 and Lambda), or from
+    the straight pillar (Lambda = 0; the kernel continues in x1 where Newton fails)."""
+    if start is None:
+        theta_start = np.ascontiguousarray(np.repeat(tf[:, None], nums[0] + 1, axis=1))
+        extra = np.stack([np.cos(tf), np.zeros(xf.size)], axis=1)
+    else:
+        theta_start, extra = (np.ascontiguousarray(v) for v in start)
     k = _kernels()
     out = np.empty((k.NCOLS, xf.size))
     coefs = np.empty((3, xf.size, int(max(nums)) + 1))
