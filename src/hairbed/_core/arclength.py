@@ -201,6 +201,9 @@ def continue_loaded(
             z = z + dz
             if np.max(np.abs(dz)) <= 1e-13 * max(1.0, float(np.max(np.abs(z)))):
                 ok = abs(curve.value(z[1], z[0])) <= 1e-12 and 0.0 < z[1] <= 1.0
+                # a corrector that lands farther than a step from its prediction has left
+                # for another piece of the curve (past a fold): retry with a shorter step
+                ok = ok and float(np.linalg.norm(z - pred)) <= step
                 break
         if not ok:
             step *= 0.5
@@ -214,7 +217,7 @@ def continue_loaded(
             new_t = -new_t
         if new_t[0] * tangent[0] < 0:  # the branch turned back in p: a fold between
             before = pts[-2] if len(pts) > 1 else y
-            folds.append(_refine_fold(curve, before, y, z))
+            folds.append(_refine_fold(curve, before, y, z, tangent[0] > 0))
         tangent = new_t
         y = z
         pts.append(y.copy())
@@ -236,16 +239,17 @@ def continue_loaded(
 
 
 def _refine_fold(
-    curve: _Curve, before: FloatArray, a: FloatArray, b: FloatArray
+    curve: _Curve, before: FloatArray, a: FloatArray, b: FloatArray, rising: bool
 ) -> tuple[float, float]:
     """(p, h) of the fold near branch point a (the tangent's p component changed sign between
     a and b, so the fold lies between ``before`` and b): the extremum of p(h) on that range of
-    h by golden-section search (p(h) by a secant iteration on G(h, .) = 0)."""
+    h by golden-section search (p(h) by a secant iteration on G(h, .) = 0), a maximum where p
+    was ``rising`` at a, else a minimum."""
     hs = (float(before[1]), float(a[1]), float(b[1]))
     lo, hi = min(hs), max(hs)
     p_mid = float(a[0])
-    # a maximum of p where the middle point is above the outer ones, else a minimum
-    sign = 1.0 if a[0] >= 0.5 * (before[0] + b[0]) else -1.0
+    # (the three points' p alone do not tell: the step after a fold can end beyond it)
+    sign = 1.0 if rising else -1.0
     x1 = hi - _GOLDEN * (hi - lo)
     x2 = lo + _GOLDEN * (hi - lo)
     f1 = sign * curve.p_at(x1, p_mid)
