@@ -44,6 +44,7 @@ from ._core.validation import (
     check_positive,
     check_root,
 )
+from ._optional import optional_import
 from .units import HairBed, HairState
 
 __all__ = [
@@ -338,6 +339,72 @@ class ValveStates:
     success: bool
     message: str
     nfev: int
+
+    def to_dataset(self) -> Any:
+        """The grid's states as an xarray Dataset with CF units, dimensions (point, state).
+
+        Data variables: the set drive ``values`` (point), ``count`` and ``count_stable``
+        (point), ``pressure_drop``, ``flow_rate``, ``tip_height``, ``resistance_ratio``,
+        ``stable`` (point, state; NaN/False padding). The folds and the ramps' jumps, which
+        are not on the grid, are attributes (arrays [Pa], [m^2/s], [m]), with the drive,
+        channel length [m], wall speed [m/s], status and message. Needs xarray (the
+        ``sweep`` extra).
+        """
+        xr = optional_import("xarray", "ValveStates.to_dataset", "sweep")
+        set_unit = "Pa" if self.drive == "pressure" else "m^2/s"
+        set_name = "set pressure drop" if self.drive == "pressure" else "set flow rate per width"
+        grid = ("point", "state")
+        jumps = [(r.direction, j) for r in (self.ramp_up, self.ramp_down) for j in r.jumps]
+
+        def attrs(units: str, long_name: str) -> dict[str, str]:
+            return {"units": units, "long_name": long_name}
+
+        data = {
+            "values": (("point",), self.values, attrs(set_unit, set_name)),
+            "count": (("point",), self.count, attrs("1", "number of coexisting states")),
+            "count_stable": (("point",), self.count_stable, attrs("1", "stable states")),
+            "covered": (("point",), self.covered, attrs("1", "reached by the continuation")),
+            "pressure_drop": (grid, self.pressure_drop, attrs("Pa", "pressure drop p(0) - p(l)")),
+            "flow_rate": (grid, self.flow_rate, attrs("m^2/s", "flow rate per unit width")),
+            "tip_height": (grid, self.tip_height, attrs("m", "tip height h1 L")),
+            "resistance_ratio": (
+                grid,
+                self.resistance_ratio,
+                attrs("1", "resistance relative to the empty channel (H/g)^3"),
+            ),
+            "stable": (grid, self.stable, attrs("1", "linearly stable under the set drive")),
+        }
+        return xr.Dataset(
+            data,
+            coords={
+                "point": ("point", np.arange(self.values.size)),
+                "state": ("state", np.arange(self.stable.shape[1])),
+            },
+            attrs={
+                "title": "hairbed valve: every coexisting state (hairbed.valve.valve_states)",
+                "drive": self.drive,
+                "channel_length_m": self.channel_length,
+                "velocity_m_per_s": self.velocity,
+                "fold_pressure_drop_Pa": self.fold_pressure_drop,
+                "fold_flow_rate_m2_per_s": self.fold_flow_rate,
+                "fold_tip_height_m": self.fold_tip_height,
+                "jump_direction": np.array([d for d, _ in jumps], dtype=np.int64),
+                **{
+                    f"jump_{field}_{unit}": np.array([getattr(j, field) for _, j in jumps])
+                    for field, unit in (
+                        ("drive_value", "Pa" if self.drive == "pressure" else "m2_per_s"),
+                        ("pressure_drop_before", "Pa"),
+                        ("pressure_drop_after", "Pa"),
+                        ("flow_rate_before", "m2_per_s"),
+                        ("flow_rate_after", "m2_per_s"),
+                        ("tip_height_before", "m"),
+                        ("tip_height_after", "m"),
+                    )
+                },
+                "status": self.status,
+                "message": self.message,
+            },
+        )
 
 
 class _Drive:

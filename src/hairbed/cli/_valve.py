@@ -8,8 +8,8 @@ from typing import Any
 import hairbed
 
 from ._grids import spec
-from ._options import add_bed_options, add_command, add_json, need_bed
-from ._output import print_json
+from ._options import add_bed_options, add_command, add_json, need_bed, refuse
+from ._output import NO_COMPRESS_HELP, check_dataset_output, print_json, write_dataset_output
 from ._report import UsageError
 
 #: ``hairbed valve --help``: the summary line, the description and the examples.
@@ -29,6 +29,17 @@ examples:
       --radius 50e-6 --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 \\
       --spacing 400e-6 --base-angle 1.0
   hairbed valve --pressure-drop 200 --diodicity --channel-length 0.01 ... --json
+
+every coexisting state (--states): the branch of states is followed by continuation from rest
+over the range (hairbed.valve.valve_states); each line gives the set drive, the number of
+states, how many are stable and each state's Q' (or dp) with s (stable) or u (unstable); then
+the folds and the jumps of the quasi-static ramps up and down (the hysteresis loop). The pump
+sets the pressure drop (--pressure-drop) or the flow rate per unit width (--flow-rate [m^2/s],
+which implies --states); a set flow rate against the hairs' lean is bistable:
+  hairbed valve --states --flow-rate 0:3e-6:13 --channel-length 0.01 --length 1.6e-3 \\
+      --radius 50e-6 --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 \\
+      --spacing 400e-6 --base-angle -1.2
+  ... --states --flow-rate 0:3e-6:61 --out valve.nc   (also .csv, .zarr, .parquet)
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -40,8 +51,13 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--pressure-drop",
         metavar="SPEC",
-        required=True,
         help="pressure drop dp = p(0) - p(l) [Pa]: a value, a comma list or START:STOP:NUM[:log]",
+    )
+    p.add_argument(
+        "--flow-rate",
+        metavar="SPEC",
+        help="set flow rate per unit width Q' [m^2/s] (a SPEC like --pressure-drop); implies "
+        "--states",
     )
     p.add_argument(
         "--channel-length",
@@ -61,6 +77,31 @@ def add_parser(sub: Any) -> None:
         choices=("low", "mid", "high"),
         help="the state where several coexist (default low)",
     )
+    g = p.add_argument_group("every coexisting state (--states)")
+    g.add_argument(
+        "--states",
+        action="store_true",
+        help="every coexisting state at each drive, the folds and the ramps' jumps",
+    )
+    g.add_argument(
+        "--velocity",
+        type=float,
+        metavar="V",
+        help="top wall speed v [m/s] (both walls at rest without it)",
+    )
+    g.add_argument(
+        "--max-steps",
+        type=int,
+        default=4000,
+        metavar="N",
+        help="continuation steps per direction, in [1, 10^6] (default 4000)",
+    )
+    g.add_argument(
+        "--out",
+        metavar="FILE",
+        help="the states with units: .nc, .zarr, .csv or .parquet (a table on stdout without it)",
+    )
+    g.add_argument("--no-compress", action="store_true", help=NO_COMPRESS_HELP)
     add_json(p)
     add_bed_options(p, velocity=False)
 
@@ -77,14 +118,139 @@ def _rows(curve: Any) -> list[dict[str, Any]]:
     ]
 
 
+_STATES_ONLY = {
+    "velocity": "--velocity",
+    "out": "--out",
+    "no_compress": "--no-compress",
+}
+
+
+def _state_rows(s: Any) -> list[dict[str, Any]]:
+    """Each grid point of a ValveStates: the set drive, the counts and every state."""
+    fields = ("pressure_drop", "flow_rate", "tip_height", "resistance_ratio")
+    return [
+        {
+            "value": float(s.values[i]),
+            "count": int(s.count[i]),
+            "count_stable": int(s.count_stable[i]),
+            "covered": bool(s.covered[i]),
+            "states": [
+                {**{f: float(getattr(s, f)[i, k]) for f in fields}, "stable": bool(s.stable[i, k])}
+                for k in range(int(s.count[i]))
+            ],
+        }
+        for i in range(s.values.size)
+    ]
+
+
+def _states_doc(s: Any) -> dict[str, Any]:
+    """A ValveStates as plain JSON: units in the keys' documentation (SI throughout)."""
+    from dataclasses import asdict
+
+    folds = [
+        {"pressure_drop": float(a), "flow_rate": float(b), "tip_height": float(c)}
+        for a, b, c in zip(s.fold_pressure_drop, s.fold_flow_rate, s.fold_tip_height)
+    ]
+    ramps = {
+        name: [asdict(j) for j in r.jumps]
+        for name, r in (("up", s.ramp_up), ("down", s.ramp_down))
+    }
+    return {
+        "drive": s.drive,
+        "units": {"value": "Pa" if s.drive == "pressure" else "m^2/s", "pressure_drop": "Pa",
+                  "flow_rate": "m^2/s", "tip_height": "m", "resistance_ratio": "1"},
+        "channel_length": s.channel_length,
+        "velocity": s.velocity,
+        "points": _state_rows(s),
+        "folds": folds,
+        "jumps": ramps,
+        "status": s.status,
+        "message": s.message,
+    }  # fmt: skip
+
+
+def _print_states(s: Any) -> None:
+    pump = "pressure drop" if s.drive == "pressure" else "flow rate"
+    walls = "both walls at rest" if s.velocity == 0.0 else f"top wall at {s.velocity:g} m/s"
+    print(f"valve states over l = {s.channel_length:g} m, set {pump} ({walls}):")
+    if s.drive == "pressure":
+        head, other, unit = "dp [Pa]", "flow_rate", "Q' [m^2/s]"
+    else:
+        head, other, unit = "Q' [m^2/s]", "pressure_drop", "dp [Pa]"
+    print(f"  {head:>12}  states  stable  each state's {unit} (s stable, u unstable)")
+    for i, value in enumerate(s.values):
+        cells = "  ".join(
+            f"{getattr(s, other)[i, k]:12.6g} {'s' if s.stable[i, k] else 'u'}"
+            for k in range(int(s.count[i]))
+        )
+        mark = "" if s.covered[i] else "  (not reached)"
+        print(f"  {value:12.6g}  {s.count[i]:6d}  {s.count_stable[i]:6d}  {cells}{mark}")
+    print(f"folds: {s.fold_pressure_drop.size}")
+    for a, b, c in zip(s.fold_pressure_drop, s.fold_flow_rate, s.fold_tip_height):
+        print(f"  dp = {a:.10g} Pa, Q' = {b:.10g} m^2/s, h1 = {c:.10g} m")
+    print("jumps of the quasi-static ramps (the hysteresis loop):")
+    none = True
+    for name, ramp in (("up", s.ramp_up), ("down", s.ramp_down)):
+        for j in ramp.jumps:
+            none = False
+            print(
+                f"  {name:>4}: dp {j.pressure_drop_before:.6g} -> {j.pressure_drop_after:.6g} Pa,"
+                f" Q' {j.flow_rate_before:.6g} -> {j.flow_rate_after:.6g} m^2/s,"
+                f" h1 {j.tip_height_before:.6g} -> {j.tip_height_after:.6g} m"
+            )
+    if none:
+        print("  none (one state at every drive of the range)")
+
+
+def _run_states(args: argparse.Namespace, bed: Any) -> int:
+    """``--states``: every coexisting state, the folds and the jumps (table, JSON or file)."""
+    import sys
+
+    import numpy as np
+
+    if args.diodicity:
+        raise UsageError("--diodicity does not apply with --states or --flow-rate")
+    if args.out is not None and args.json:
+        raise UsageError("--json does not apply with --out (the file has the states)")
+    to_stdout = args.out is None or check_dataset_output(args.out, args.no_compress)
+    if args.pressure_drop is not None:
+        kw = {"pressure_drop": spec(args.pressure_drop, "--pressure-drop")}
+    else:
+        kw = {"flow_rate": spec(args.flow_rate, "--flow-rate")}
+    kw = {k: np.atleast_1d(np.asarray(v, dtype=float)) for k, v in kw.items()}
+    if not 1 <= args.max_steps <= 10**6:
+        raise UsageError(f"--max-steps must be in [1, 10^6], got {args.max_steps}")
+    velocity = 0.0 if args.velocity is None else args.velocity
+    s = hairbed.valve.valve_states(
+        bed, args.channel_length, velocity=velocity, max_steps=args.max_steps, **kw
+    )
+    if not s.success:
+        print(f"hairbed valve: {s.message}", file=sys.stderr)
+    if args.out is not None:
+        write_dataset_output(s.to_dataset(), args.out, args.no_compress)
+        if not to_stdout:
+            jumps = len(s.ramp_up.jumps) + len(s.ramp_down.jumps)
+            print(f"{s.fold_pressure_drop.size} folds, {jumps} jumps", file=sys.stderr)
+    elif args.json:
+        print_json(_states_doc(s))
+    else:
+        _print_states(s)
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
-    """The valve's curve (or its diodicity), as a table or JSON."""
+    """The valve's curve (or its diodicity, or every state), as a table, JSON or a file."""
     import numpy as np
 
     bed = need_bed(args, "valve")
-    drops = np.atleast_1d(np.asarray(spec(args.pressure_drop, "--pressure-drop"), dtype=float))
     if args.channel_length is None or not args.channel_length > 0:
         raise UsageError(f"--channel-length must be > 0 [m], got {args.channel_length!r}")
+    if (args.pressure_drop is None) == (args.flow_rate is None):
+        raise UsageError("give one of --pressure-drop and --flow-rate (what the pump sets)")
+    if args.states or args.flow_rate is not None:
+        return _run_states(args, bed)
+    refuse(args, _STATES_ONLY, "applies to --states only")
+    drops = np.atleast_1d(np.asarray(spec(args.pressure_drop, "--pressure-drop"), dtype=float))
     valve = hairbed.valve
     if args.diodicity:
         d = valve.diodicity(bed, drops, args.channel_length, root=args.root)
