@@ -31,6 +31,7 @@ SMALL = {
     "fig_physical_units": {"num": 21, "base_angles": (0.0, 0.3)},
     "fig_fd_convergence": {"omega2s": (2.0,), "nums": (10, 20, 40)},
     "fig_speed": {"n": 200, "rows": {1, 3, 6}, "repeat": 1},
+    "fig_valve": {"num": 9, "diode_angles": (0.5,)},
 }
 
 
@@ -131,6 +132,7 @@ PANELS = {
     "fig_calibration": 2,
     "fig_physical_units": 2,
     "fig_twirling": 8,
+    "fig_valve": 3,
 }
 
 
@@ -352,6 +354,7 @@ def test_figure_parameters_and_settings():
         ("fig_hysteresis", {"num": 0}),
         ("fig_solution", {"num": -3}),
         ("fig_physical_units", {"max_velocity": -1.0}),
+        ("fig_valve", {"max_flow_rate": 0.0}),
         ("fig_model", {"eps": 0.0}),
         ("fig_pendulum", {"omega2": 0.0}),
         ("fig_fd_convergence", {"nums": (10, 1)}),
@@ -391,3 +394,35 @@ def test_figures_command_passes_settings(tmp_path):
     lines = bad.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith("hairbed: error: ") and "eps" in lines[0]
     assert "Traceback" not in bad.stderr
+
+
+def test_valve_marks_every_state_the_folds_and_the_jumps():
+    """fig_valve: the curve dashed exactly between the folds of valve_states, an arrow per
+    jump of the two ramps (from the fold to the landing state), every state of panel (b) the
+    states of valve_states, and the diodicity of (c) that of hairbed.valve.diodicity."""
+    from matplotlib.patches import FancyArrowPatch
+
+    from hairbed.valve import valve_states
+
+    fig = plotting.fig_valve(num=9, diode_angles=(0.5,))
+    axq, axh, _ = fig.axes
+    bed = hairbed.HairBed(
+        length=1.6e-3,
+        radius=50e-6,
+        youngs_modulus=1e6,
+        channel_height=2e-3,
+        viscosity=1.0,
+        spacing=400e-6,
+        base_angle=-1.2,
+    )
+    s = valve_states(bed, 0.01, flow_rate=np.linspace(0.0, 3e-6, 9))
+    dashed = next(ln for ln in axq.get_lines() if ln.get_gid() == "unstable")
+    x = np.asarray(dashed.get_xdata())[np.isfinite(np.asarray(dashed.get_ydata(), dtype=float))]
+    lo, hi = np.sort(s.fold_pressure_drop)
+    assert lo - 10.0 < x.min() and x.max() < hi + 10.0 and x.max() - x.min() > 0.9 * (hi - lo)
+    arrows = [p for p in axq.patches if isinstance(p, FancyArrowPatch)]
+    assert len(arrows) == len(s.ramp_up.jumps) + len(s.ramp_down.jumps) == 2
+    points = sum(
+        np.asarray(ln.get_xdata()).size for ln in axh.get_lines() if ln.get_marker() == "o"
+    )
+    assert points == int(s.count.sum())

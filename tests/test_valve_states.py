@@ -54,8 +54,8 @@ def _bed(eps: float = 0.8, base_angle: float = -1.2) -> HairBed:
 def _q_per_flow(bed: HairBed) -> float:
     """q per unit Q' [s/m^2]: q = 6 A eta Q' L^2 / (E I H^2) (theory.md §11)."""
     ei = bed.youngs_modulus * np.pi * bed.radius**4 / 4.0
-    return 6.0 * bed.wall_area_per_hair * bed.viscosity * bed.length**2 / (
-        ei * bed.channel_height**2
+    return (
+        6.0 * bed.wall_area_per_hair * bed.viscosity * bed.length**2 / (ei * bed.channel_height**2)
     )
 
 

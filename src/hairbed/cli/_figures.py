@@ -24,7 +24,9 @@ theta0s, num), profiles (omega2s, eps, num), twirling (omega2, eps, theta0), bis
 (n_theta, n_eps, theta0s), hysteresis (eps, theta0, num), rheology (eps_values, theta0,
 num), calibration (eps_values, theta0, num), physical_units (length, radius, youngs_modulus,
 channel_height, viscosity, spacing [SI], base_angles, max_velocity, num), fd_convergence
-(omega2s, nums, eps), speed (n, repeat).
+(omega2s, nums, eps), speed (n, repeat), valve (length, radius, youngs_modulus,
+channel_height, viscosity, spacing, base_angle, channel_length [SI], max_flow_rate [m^2/s],
+diode_angles, num).
 
 examples:
   hairbed figures --out figures

@@ -40,6 +40,7 @@ from .extra import (
     fig_speed,
     fig_states,
     fig_twirling,
+    fig_valve,
 )
 from .paper import (
     fig_model,
@@ -67,6 +68,7 @@ __all__ = [
     "fig_states",
     "fig_theta0s",
     "fig_twirling",
+    "fig_valve",
     "make_all",
     "parameters",
     "parse_settings",
@@ -89,6 +91,7 @@ FIGURES: dict[str, Callable[..., Figure]] = {
     "rheology": fig_rheology,
     "calibration": fig_calibration,
     "physical_units": fig_physical_units,
+    "valve": fig_valve,
     "fd_convergence": fig_fd_convergence,
     "speed": fig_speed,
 }

@@ -29,6 +29,7 @@ __all__ = [
     "fig_speed",
     "fig_states",
     "fig_twirling",
+    "fig_valve",
 ]
 
 # Windows of omega^2 with three physical states (theory.md §5), as (theta0, eps).
@@ -589,4 +590,140 @@ def fig_states(solutions: list, ax: Any = None) -> Figure:
             rf"$\theta_0 = {s.theta0:g}$"
         )
     ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7.5)
+    return fig
+
+
+@styled
+def fig_valve(
+    length: float = 1.6e-3,
+    radius: float = 50e-6,
+    youngs_modulus: float = 1e6,
+    channel_height: float = 2e-3,
+    viscosity: float = 1.0,
+    spacing: float = 400e-6,
+    base_angle: float = -1.2,
+    channel_length: float = 0.01,
+    max_flow_rate: float = 3e-6,
+    diode_angles: tuple[float, ...] = (0.3, 0.6, 1.0),
+    num: int = 201,
+    ax: Any = None,
+) -> Figure:
+    """A hair-bed valve driven at a set flow rate: every state, the folds, the hysteresis loop.
+
+    By default 1.6 mm hairs leaning at ``base_angle`` = -1.2 rad against the flow in a 2 mm
+    channel of glycerol (eps = 0.8), a channel ``channel_length`` long, the pump setting the
+    flow rate per unit width Q' from 0 to ``max_flow_rate`` [m^2/s]. The flow lifts the hairs
+    and closes the gap, so the pressure drop that carries Q' grows faster than Q': the bed is
+    bistable (theory.md §11). (a) Q' against the pressure drop dp [Pa]
+    (:func:`hairbed.valve.valve_curve`, one state per dp): stable at the set flow rate (solid)
+    outside the folds of :func:`hairbed.valve.valve_states` (circles), unstable (dashed)
+    between them; the quasi-static ramps up and down the flow rate and their jumps in dp at
+    the folds (arrows): the hysteresis loop. The empty channel, dp H^3/(12 eta l), is dotted.
+    (b) The tip height of every coexisting state at ``num`` set flow rates (filled: stable,
+    open: unstable) over the same curve, the three-state window shaded. (c) The diodicity
+    Di = Q'(+dp)/abs(Q'(-dp)) (:func:`hairbed.valve.diodicity`) of beds tilted by
+    ``diode_angles`` [rad] towards +x, over the pressure drops of (a). ``ax``: three Axes.
+
+    Examples
+    --------
+    >>> fig = fig_valve(num=9, diode_angles=(0.5,))
+    >>> len(fig.axes)
+    3
+    """
+    from hairbed.units import HairBed
+    from hairbed.valve import diodicity, valve_curve, valve_states
+
+    num = check_int(num, "num", 2, MAX_POINTS)
+    if not (np.isfinite(max_flow_rate) and max_flow_rate > 0):
+        raise ValueError(f"max_flow_rate must be finite and > 0 [m^2/s], got {max_flow_rate!r}")
+    geometry = {
+        "length": length,
+        "radius": radius,
+        "youngs_modulus": youngs_modulus,
+        "channel_height": channel_height,
+        "viscosity": viscosity,
+        "spacing": spacing,
+    }
+    bed = HairBed(**geometry, base_angle=base_angle)
+    flows = np.linspace(0.0, max_flow_rate, num)
+    s = valve_states(bed, channel_length, flow_rate=flows)
+    top = float(np.nanmax(s.branch_pressure_drop))
+    dp = np.linspace(0.0, top, max(num, 400))
+    curve = valve_curve(bed, dp, channel_length)
+    q_mm = np.asarray(curve.flow_rate) * 1e6  # [mm^2/s]
+    h_mm = np.asarray(curve.tip_height) * 1e3  # [mm]
+    folds = np.sort(s.fold_pressure_drop)
+    unstable = np.zeros(dp.size, dtype=bool)
+    for a, b in zip(folds[::2], folds[1::2]):
+        unstable |= (dp > a) & (dp < b)
+    fig, (axq, axh, axd) = figure_axes(ax, 1, 3, size=(13.2, 4.1))
+    for target, y in ((axq, q_mm), (axh, h_mm)):
+        xs = dp if target is axq else q_mm
+        yv = y if target is axq else h_mm
+        for flag, style, label in ((False, "-", "stable"), (True, "--", "unstable")):
+            masked = np.where(unstable == flag, yv, np.nan)
+            # keep each piece connected to its neighbour at the fold
+            edge = np.flatnonzero(np.diff(unstable.astype(int)) != 0)
+            masked[edge] = yv[edge]
+            masked[edge + 1] = yv[edge + 1]
+            target.plot(xs, masked, style, color="0.2", lw=1.2, gid=label,
+                        label=f"{label} at the set flow rate")  # fmt: skip
+    axq.plot(dp, np.asarray(curve.empty_flow_rate) * 1e6, ":", color="0.5",
+             label=r"no hairs, $\Delta p\,H^3/(12\eta l)$")  # fmt: skip
+    axq.plot(s.fold_pressure_drop, s.fold_flow_rate * 1e6, "o", color="k", ms=5, label="folds")
+    ramps = (
+        (s.ramp_up, "C3", r"ramp up ($Q'\uparrow$)"),
+        (s.ramp_down, "C0", r"ramp down ($Q'\downarrow$)"),
+    )
+    for ramp, c, name in ramps:
+        # the ramp's path on the curve: every drop except those it jumps over
+        skipped = np.zeros(dp.size, dtype=bool)
+        for j in ramp.jumps:
+            a, b = sorted((j.pressure_drop_before, j.pressure_drop_after))
+            skipped |= (dp > a) & (dp < b)
+        axq.plot(dp, np.where(skipped, np.nan, q_mm), "-", color=c, lw=3.0, alpha=0.45,
+                 label=name)  # fmt: skip
+        for j in ramp.jumps:
+            axq.add_patch(
+                FancyArrowPatch(
+                    (j.pressure_drop_before, j.flow_rate_before * 1e6),
+                    (j.pressure_drop_after, j.flow_rate_after * 1e6),
+                    arrowstyle="-|>",
+                    mutation_scale=14,
+                    color=c,
+                    lw=1.4,
+                )
+            )
+    axq.set_xlim(0.0, top)
+    axq.set_ylim(0.0, 1.15 * max_flow_rate * 1e6)
+    axq.set_xlabel(r"pressure drop $\Delta p$ [Pa]")
+    axq.set_ylabel(r"flow rate per width $Q'$ [mm$^2$/s]")
+    axq.set_title(rf"(a) valve curve, $\theta_0 = {base_angle:g}$, $\epsilon = {bed.eps:.3g}$")
+    axq.legend(loc="lower right", fontsize=7.5)
+    inside = s.count >= 3
+    if np.any(inside):
+        axh.axvspan(flows[inside][0] * 1e6, flows[inside][-1] * 1e6, color="0.9", lw=0,
+                    label="three states")  # fmt: skip
+    q_states = np.broadcast_to(flows[:, None], s.tip_height.shape) * 1e6
+    h_states = s.tip_height * 1e3
+    axh.plot(q_states[s.stable], h_states[s.stable], "o", color="C2", ms=3.5,
+             label="states (valve_states): stable")  # fmt: skip
+    bad = ~s.stable & np.isfinite(h_states)
+    axh.plot(q_states[bad], h_states[bad], "o", mfc="none", color="C1", ms=4, label="unstable")
+    axh.set_xlim(0.0, max_flow_rate * 1e6)
+    axh.set_xlabel(r"set flow rate per width $Q'$ [mm$^2$/s]")
+    axh.set_ylabel(r"tip height $h_1 L$ [mm]")
+    axh.set_title("(b) every coexisting state")
+    axh.legend(loc="lower right", fontsize=7.5)
+    drops = np.geomspace(max(top * 1e-3, 1e-9), top, max(num // 4, 8))
+    cols = colors(len(diode_angles), "plasma")
+    for c, angle in zip(cols, diode_angles):
+        d = diodicity(HairBed(**geometry, base_angle=angle), drops, channel_length)
+        axd.plot(drops, np.asarray(d.diodicity), color=c, label=rf"$\theta_0 = {angle:g}$ rad")
+    axd.axhline(1.0, color="0.6", lw=0.6)
+    axd.set_xscale("log")
+    axd.set_xlabel(r"pressure drop $|\Delta p|$ [Pa]")
+    axd.set_ylabel(r"diodicity $Q'(+\Delta p)/|Q'(-\Delta p)|$ [-]")
+    axd.set_title("(c) the tilted bed as a diode")
+    axd.legend(loc="upper left")
     return fig
