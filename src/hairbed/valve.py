@@ -13,6 +13,11 @@ hence the resistance depend on the flow: a bed of hairs tilted at theta0 != 0 is
 Forward flow (along the tilt) bends the hairs down and opens the gap; backward flow lifts
 them and closes it. The diodicity is Di = Q'(+dp) / abs(Q'(-dp)) at the same abs(dp).
 
+:func:`valve_curve` gives one state per drop. :func:`valve_states` gives every coexisting
+state over a range of the pump's drive (a set pressure drop or a set flow rate), with its
+stability, the folds, and the quasi-static ramps up and down with their jumps: the hysteresis
+loop. A set flow rate against the hairs' lean is bistable (theory.md §11).
+
 Examples
 --------
 >>> from hairbed import HairBed
@@ -144,6 +149,10 @@ def valve_curve(
     Returns
     -------
     ValveCurve
+
+    See Also
+    --------
+    valve_states : every coexisting state, the folds and the hysteresis loop.
     """
     if not isinstance(bed, HairBed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
@@ -497,7 +506,9 @@ def valve_states(
     (:func:`hairbed.continue_loaded`) from rest to both ends of the range; at each grid value
     every crossing of the branch is a state (refined by bisection on the fixed-load gap
     G(h1) = z1 - h1, theory.md §11), its stability the sign of dG/dh1. The quasi-static ramps
-    up and down follow the stable pieces and jump at the folds (:class:`ValveRamp`).
+    up and down follow the stable pieces and jump at the folds (:class:`ValveRamp`). States
+    on a piece of the curve that the branch from rest does not reach within the range (an
+    isolated loop) are not found.
 
     With both walls at rest a set pressure drop had one state wherever we looked (no fold for
     eps = L/H from 0.3 to 0.99, base angles from -1.4 to 1.4, abs(pi) up to 30). A set flow
