@@ -148,6 +148,7 @@ def test_states_partial_coverage_is_said(capsys) -> None:
     status, out, err = _run_bistable(capsys, "--flow-rate=0,3e-6", "--max-steps=2")
     assert status == 0 and "(not reached)" in out
     assert len(err.strip().splitlines()) == 1 and "iteration limit reached" in err
+    assert err.startswith("hairbed: warning: ")
 
 
 @pytest.mark.parametrize(

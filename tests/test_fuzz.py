@@ -423,6 +423,17 @@ TARGETS: list[Target] = [
         hairbed.valve.diodicity,
         dict(bed=BED, pressure_drop=100.0, channel_length=0.01, root="low"),
     ),
+    Target(
+        "valve.valve_states",
+        hairbed.valve.valve_states,
+        dict(bed=BED, channel_length=0.01, flow_rate=[0.0, 2e-7], velocity=0.0, max_steps=40),
+    ),
+    Target(
+        "valve.valve_states[pressure_drop]",
+        hairbed.valve.valve_states,
+        dict(bed=BED, channel_length=0.01, pressure_drop=[-50.0, 50.0], max_steps=40),
+        fuzz=("pressure_drop",),
+    ),
     Target("HairBed.wall_shear_stress", _method(BED, "wall_shear_stress"), dict(velocity=0.1)),
     Target("HairBed.rectification_ratio", _method(BED, "rectification_ratio"), dict(speed=0.1)),
     Target(
@@ -784,6 +795,10 @@ COMMANDS: dict[str, tuple[list[str], tuple[str, ...]]] = {
     "valve": (
         ["valve", "--pressure-drop=20,200", "--channel-length=0.01", *BED_ARGS],
         ("--pressure-drop", "--channel-length", "--base-angle"),
+    ),
+    "valve-states": (
+        ["valve", "--flow-rate=0,2e-7", "--channel-length=0.01", "--max-steps=40", *BED_ARGS],
+        ("--flow-rate", "--velocity", "--max-steps"),
     ),
     "valve-diodicity": (
         ["valve", "--pressure-drop=200", "--channel-length=0.01", "--diodicity", *BED_ARGS],

@@ -188,6 +188,8 @@ def test_bounded_work_and_bad_input() -> None:
         valve_states(bed, LENGTH, pressure_drop=[[1.0, 2.0]])
     with pytest.raises(ValueError, match="channel_length"):
         valve_states(bed, 0.0, pressure_drop=[1.0])
+    with pytest.raises(ValueError, match="channel_length .* too long"):
+        valve_states(bed, 1e308, flow_rate=[0.0, 1e-6])  # G l overflows
     with pytest.raises(ValueError, match="max_steps"):
         valve_states(bed, LENGTH, pressure_drop=[1.0], max_steps=0)
     with pytest.raises(TypeError, match="HairBed"):

@@ -442,8 +442,10 @@ class _Drive:
         given = value / self.length if self.drive == "pressure" else value
         flow = gap_flow(self.bed, self.drive, self.v, given, h)
         gap = self.bed.channel_height - h * self.bed.length
+        with np.errstate(over="ignore"):  # a huge channel_length: refused by valve_states
+            drop = flow["pressure_gradient"] * self.length
         return {
-            "pressure_drop": flow["pressure_gradient"] * self.length,
+            "pressure_drop": drop,
             "flow_rate": flow["flow_rate"],
             "tip_height": h * self.bed.length,
             "resistance_ratio": (self.bed.channel_height / gap) ** 3,
@@ -564,7 +566,8 @@ def valve_states(
     speed = check_number(velocity, "velocity")
     steps = check_int(max_steps, "max_steps", 1, 10**6)
     bed_drive = _Drive(bed, drive, speed, length)
-    loads = values * bed_drive.scale
+    with np.errstate(over="ignore"):
+        loads = values * bed_drive.scale
     bad = ~np.isfinite(loads)
     if np.any(bad):
         raise ValueError(
@@ -572,7 +575,14 @@ def valve_states(
             f"{float(values[bad][0])!r}{_first_index(bad)}"
         )
     p, h, stab, folds, status, nfev = _branch(bed, bed_drive, loads, steps)
-    return _assemble(bed_drive, values, loads, p, h, stab, folds, status, nfev)
+    out = _assemble(bed_drive, values, loads, p, h, stab, folds, status, nfev)
+    over = np.isfinite(out.branch_tip_height) & ~np.isfinite(out.branch_pressure_drop)
+    if np.any(over):
+        raise ValueError(
+            f"channel_length {length!r} m is too long for this bed: the pressure drop G l [Pa] "
+            f"of its states overflows"
+        )
+    return out
 
 
 def _branch(

@@ -224,8 +224,8 @@ def _run_states(args: argparse.Namespace, bed: Any) -> int:
     s = hairbed.valve.valve_states(
         bed, args.channel_length, velocity=velocity, max_steps=args.max_steps, **kw
     )
-    if not s.success:
-        print(f"hairbed valve: {s.message}", file=sys.stderr)
+    if not s.success:  # a partial answer: said once, as the library's warnings are
+        print(f"hairbed: warning: {s.message}", file=sys.stderr)
     if args.out is not None:
         write_dataset_output(s.to_dataset(), args.out, args.no_compress)
         if not to_stdout:
