@@ -462,7 +462,7 @@ class _Drive:
         hi, and their stability (dG/dh < 0); NaN (and False) where G(., p) has no sign change
         there. Another state of the same load can lie in [lo, hi] too (the branch is not a
         graph over h1), so G is sampled on ``_SAMPLES`` cells of it and the sign change
-        nearest the guess refined by bisection (all points at once)."""
+        nearest the guess refined by regula falsi (all points at once)."""
         if p.size == 0:
             return p.copy(), np.zeros(0, dtype=np.bool_)
         t = np.linspace(0.0, 1.0, _SAMPLES + 1)
@@ -476,20 +476,36 @@ class _Drive:
         a, b = hs[rows, cell], hs[rows, cell + 1]
         ga, gb = g[rows, cell], g[rows, cell + 1]
         stable = (ga - gb) * (b - a) > 0.0  # G falls as h rises
-        for _ in range(_BISECTIONS):
-            if np.all(np.abs(b - a) <= 4e-16 * np.maximum(1.0, np.abs(b))):
+        # the Illinois variant of regula falsi on the bracket [a, b] (a bisection step where
+        # the secant leaves it): superlinear, the bracket kept
+        done = ~ok | (ga == 0.0) | (gb == 0.0)
+        for _ in range(_ITERATIONS):
+            done |= np.abs(b - a) <= 4e-16 * np.maximum(1.0, np.abs(b))
+            if np.all(done):
                 break
-            mid = 0.5 * (a + b)
-            gm = self.gap(mid, p)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                m = b - gb * (b - a) / (gb - ga)
+            inside = np.isfinite(m) & (m > np.minimum(a, b)) & (m < np.maximum(a, b))
+            m = np.where(inside, m, 0.5 * (a + b))
+            gm = np.zeros(p.size)
+            todo = np.flatnonzero(~done)  # only the unconverged points are solved again
+            gm[todo] = self.gap(m[todo], p[todo])
             gm = np.where(np.isfinite(gm), gm, 0.0)
-            left = np.sign(gm) == np.sign(ga)
-            a, ga = np.where(left, mid, a), np.where(left, gm, ga)
-            b = np.where(left, b, mid)
-        return np.where(ok, 0.5 * (a + b), np.nan), np.where(ok, stable, False)
+            flip = np.sign(gm) != np.sign(gb)  # the root between b and m: b becomes the end
+            keep = ~done
+            a, ga = np.where(keep & flip, b, a), np.where(keep & flip, gb, ga)
+            ga = np.where(keep & ~flip, 0.5 * ga, ga)  # the stale end's weight halved
+            b, gb = np.where(keep, m, b), np.where(keep, gm, gb)
+            # G is the difference of two tip heights, each to about 1e-15: converged there
+            done |= np.abs(gm) <= _GAP_ATOL
+        best = np.where(np.abs(gb) <= np.abs(ga), b, a)
+        return np.where(ok, best, np.nan), np.where(ok, stable, False)
 
 
-_SAMPLES = 16
-_BISECTIONS = 60
+_SAMPLES = 8
+_ITERATIONS = 60
+#: The gap G at which a state is converged (h1's rounding, a few ulp of 1).
+_GAP_ATOL = 1e-15
 
 
 def valve_states(
@@ -506,7 +522,7 @@ def valve_states(
     The pump sets either the pressure drop dp over the channel or the flow rate Q' per unit
     width. The branch of states is followed by pseudo-arclength continuation
     (:func:`hairbed.continue_loaded`) from rest to both ends of the range; at each grid value
-    every crossing of the branch is a state (refined by bisection on the fixed-load gap
+    every crossing of the branch is a state (refined by regula falsi on the fixed-load gap
     G(h1) = z1 - h1, theory.md §11), its stability the sign of dG/dh1. The quasi-static ramps
     up and down follow the stable pieces and jump at the folds (:class:`ValveRamp`). States
     on a piece of the curve that the branch from rest does not reach within the range (an
