@@ -149,9 +149,24 @@ def _fit(rng: Any, bounds: tuple[float, float] | None, sticky: bool) -> None:
     rng.start, rng.end = lo - pad, hi + pad
 
 
+def _profile(sol: Any, num: int) -> tuple[np.ndarray, np.ndarray]:
+    """(x, z) [L] of a state along the hair: a closed-form Solution's ``profile`` or a pump
+    drive's :class:`hairbed.LoadedState` (its spectral interpolant, ``shape``)."""
+    if hasattr(sol, "profile"):
+        x, z = sol.profile(num)
+    else:
+        _, x, z, _ = sol.shape(np.linspace(0.0, 1.0, num))
+    return np.asarray(x, dtype=np.float64), np.asarray(z, dtype=np.float64)
+
+
 def _phase(sol: Any, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """theta(sigma) and theta'(sigma) [1/L]: the magnitude from the first integral
-    theta'^2 / 2 + omega_eps^2 sin(theta) = E (theory.md §2), the sign from the slope."""
+    theta'^2 / 2 + omega_eps^2 sin(theta) = E (theory.md §2), the sign from the slope. A
+    pump drive's state has no such integral: theta' there is the slope of its interpolant."""
+    if not hasattr(sol, "omega_eps"):
+        _, _, _, theta = sol.shape(sigma)
+        th = np.asarray(theta, dtype=np.float64)
+        return th, np.gradient(th, sigma, edge_order=2)
     th = np.asarray(sol.theta(sigma), dtype=np.float64)
     w2 = float(sol.omega_eps) ** 2
     mag = np.sqrt(np.clip(2.0 * (float(sol.energy) - w2 * np.sin(th)), 0.0, None))
@@ -168,6 +183,7 @@ class Views:
         self.branch = self._branch()
         self.bistability = self._bistability()
         self.phase = self._phase_portrait()
+        self.valve_flow, self.valve_ratio = self._valve()
 
     # -- construction -----------------------------------------------------------------------
 
@@ -347,6 +363,66 @@ class Views:
         )
         return f
 
+    def _valve(self) -> tuple[Any, Any]:
+        """The bed as a valve: the flow against the pressure drop, and the resistance
+        relative to the empty channel with the diodicity (shown instead of the branch diagram
+        and the phase portrait in the valve view)."""
+        flow = _fig(
+            "the valve: flow against pressure drop (walls at rest)",
+            "pressure drop abs(dp) [Pa]",
+            "flow rate abs(Q') [m^2/s]",
+            x_range=Range1d(0.0, 1.0),
+            y_range=Range1d(0.0, 1.0),
+            width=470,
+            height=360,
+        )
+        self.vf_x, self.vf_y = flow.x_range, flow.y_range
+        self.vf = ColumnDataSource({"x": [], "forward": [], "backward": [], "empty": []})
+        empty = flow.line("x", "empty", source=self.vf, color=REST_COLOR, line_width=2)
+        fwd = flow.line("x", "forward", source=self.vf, color=STATE_COLORS["low"], line_width=3)
+        bwd = flow.line(
+            "x", "backward", source=self.vf, color=STATE_COLORS["mid"], line_width=3,
+            line_dash=UNSTABLE_DASH,
+        )  # fmt: skip
+        self.vf_now = Span(dimension="height", location=0.0, line_color="#999999",
+                           line_dash="dashed", level=_LIVE)  # fmt: skip
+        flow.add_layout(self.vf_now)
+        _style_legend(
+            flow,
+            [("forward (+dp)", [fwd]), ("backward (-dp)", [bwd]), ("empty channel", [empty])],
+            "top_left",
+        )
+        ratio = _fig(
+            "resistance relative to the empty channel, and diodicity",
+            "pressure drop abs(dp) [Pa]",
+            "R/R0 [-], Di [-]",
+            x_range=Range1d(0.0, 1.0),
+            y_range=Range1d(0.0, 2.0),
+            width=470,
+            height=360,
+        )
+        self.vr_x, self.vr_y = ratio.x_range, ratio.y_range
+        self.vr = ColumnDataSource(
+            {"x": [], "forward_ratio": [], "backward_ratio": [], "diodicity": []}
+        )
+        rf = ratio.line(
+            "x", "forward_ratio", source=self.vr, color=STATE_COLORS["low"], line_width=3
+        )
+        rb = ratio.line(
+            "x", "backward_ratio", source=self.vr, color=STATE_COLORS["mid"], line_width=3,
+            line_dash=UNSTABLE_DASH,
+        )  # fmt: skip
+        di = ratio.line("x", "diodicity", source=self.vr, color="black", line_width=2)
+        self.vr_now = Span(dimension="height", location=0.0, line_color="#999999",
+                           line_dash="dashed", level=_LIVE)  # fmt: skip
+        ratio.add_layout(self.vr_now)
+        _style_legend(
+            ratio,
+            [("R/R0 forward", [rf]), ("R/R0 backward", [rb]), ("diodicity Di", [di])],
+            "top_left",
+        )
+        return flow, ratio
+
     # -- update -----------------------------------------------------------------------------
 
     def _set(self, source: Any, data: dict[str, Any]) -> None:
@@ -384,18 +460,52 @@ class Views:
             },
         )
         self._update_phase(phys, twirl)
+        if snap.valve is not None:
+            self._update_valve(snap.valve)
+
+    def _update_valve(self, v: Any) -> None:
+        for f in (self.valve_flow, self.valve_ratio):
+            f.xaxis.axis_label = v.x_label
+        self.valve_flow.yaxis.axis_label = v.flow_label
+        self._set(
+            self.vf,
+            {"x": v.drop, "forward": v.forward, "backward": v.backward, "empty": v.empty},
+        )
+        self._set(
+            self.vr,
+            {
+                "x": v.drop,
+                "forward_ratio": v.forward_ratio,
+                "backward_ratio": v.backward_ratio,
+                "diodicity": v.diodicity,
+            },
+        )
+        top = float(v.drop[-1]) if v.drop.size else 1.0
+        for rng in (self.vf_x, self.vr_x):
+            rng.start, rng.end = 0.0, top
+        _fit(self.vf_y, _bounds(v.forward, v.backward, v.empty, [0.0]), sticky=False)
+        _fit(
+            self.vr_y,
+            _bounds(v.forward_ratio, v.backward_ratio, v.diodicity, [0.0, 1.0]),
+            sticky=False,
+        )
+        where = float(v.now.get("drop", 0.0))
+        for span in (self.vf_now, self.vr_now):
+            span.location = where
 
     def _update_channel(
         self, p: Any, phys: list[Any], twirl: list[Any], scale: float, unit: str
     ) -> None:
         # the solution's frame is the bed's mirror image for a negative wall speed
-        mirror = -1.0 if (p.si and p.velocity is not None and p.velocity < 0.0) else 1.0
+        # (a pump drive's states keep their signs: no mirror)
+        backwards = p.si and p.drive == "wall" and p.velocity is not None and p.velocity < 0.0
+        mirror = -1.0 if backwards else 1.0
         lines = {True: _empty_lines(), False: _empty_lines()}
         tips: dict[str, list[Any]] = {"x": [], "y": [], "color": [], "label": []}
         top_tip = 0.0
         for label, sol, stable in phys:
-            x, z = sol.profile(_PROFILE_POINTS)
-            x, z = mirror * scale * np.asarray(x), scale * np.asarray(z)
+            x, z = _profile(sol, _PROFILE_POINTS)
+            x, z = mirror * scale * x, scale * z
             d = lines[bool(stable)]
             d["xs"].append(x)
             d["ys"].append(z)

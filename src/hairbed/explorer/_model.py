@@ -16,6 +16,7 @@ import dataclasses
 import functools
 import io
 import json
+import math
 import threading
 import time
 import warnings
@@ -28,13 +29,18 @@ from urllib.parse import parse_qsl, urlencode
 import numpy as np
 
 import hairbed
+from hairbed._channel_drives import drive_inputs
 from hairbed._core.validation import check_positive
 from hairbed._jsonsafe import to_plain
-from hairbed._variables import BED, BED_REQUIRED, SI, SOLUTION, cf_attrs, names
+from hairbed._variables import BED, BED_REQUIRED, LOADED, SI, SOLUTION, cf_attrs, names
 
 __all__ = [
     "BED_KEYS",
     "DEFAULTS",
+    "DRIVES",
+    "LOADED_FIELDS",
+    "PUMP_KEYS",
+    "VIEWS",
     "FLAG_KEYS",
     "INPUT_KEYS",
     "PRESETS",
@@ -44,6 +50,7 @@ __all__ = [
     "Params",
     "Snapshot",
     "StateView",
+    "ValveView",
     "compute",
     "cusp_curve",
     "inputs_from_query",
@@ -56,6 +63,12 @@ __all__ = [
 
 #: Every field of a :class:`hairbed.Solution`, in the dataclass's order.
 SOLUTION_FIELDS: tuple[str, ...] = names(SOLUTION, "input", "branch", "state", "solve")
+#: The fields of a :class:`hairbed.LoadedState` shown and exported (a pump drive's states):
+#: the inputs, the tip, the base curvature, then :data:`hairbed._variables.LOADED`'s.
+LOADED_FIELDS: tuple[str, ...] = (
+    "omega2", "eps", "theta0", "tip_height", "tip_deflection", "tip_angle", "base_curvature",
+    "status", *(k for k in LOADED if k != "stable"),
+)  # fmt: skip
 
 #: Segments of the discretisation of :func:`hairbed.stability.linear_stability` used live. Its
 #: leading eigenvalue converges as 1/N^2; 60 segments classify the physical states as 100 do
@@ -72,10 +85,30 @@ BED_KEYS: dict[str, tuple[str, str]] = {
     },
     "velocity": (SI["velocity"].label, SI["velocity"].unit),
 }
+#: Inputs of a pump-driven channel in SI mode: key -> (label, unit): the pump's pressure
+#: gradient G or flow rate per unit width Q' (:meth:`hairbed.HairBed.deform`), and the
+#: channel's length l of the valve view (:func:`hairbed.valve.valve_curve`).
+PUMP_KEYS: dict[str, tuple[str, str]] = {
+    "pressure_gradient": (SI["pressure_gradient"].label, SI["pressure_gradient"].unit),
+    "flow_rate": (SI["flow_rate"].label, SI["flow_rate"].unit),
+    "channel_length": ("channel length l (valve view)", "m"),
+}
+#: What drives the channel (theory.md §11): the top wall alone (the paper's closed form), a
+#: pump at a set pressure gradient, or a pump at a set flow rate (the wall may move too).
+DRIVES = ("wall", "pressure", "flow")
+#: The dimensionless load of each pump drive (:func:`hairbed.solve_loaded`'s keyword).
+LOAD_KEYS = {"pressure": "pi", "flow": "q"}
+#: The SI input of each pump drive.
+PUMP_INPUT = {"pressure": "pressure_gradient", "flow": "flow_rate"}
+#: The second picture beside the channel: the branch diagram or the bed as a valve.
+VIEWS = ("branch", "valve")
 #: Switches of the page (0 or 1).
 FLAG_KEYS = ("si", "twirl")
 #: Every input the page holds (and the URL carries), in the URL's order.
-INPUT_KEYS: tuple[str, ...] = ("omega2", "eps", "theta0", "y", *FLAG_KEYS, "x", *BED_KEYS)
+INPUT_KEYS: tuple[str, ...] = (
+    "omega2", "eps", "theta0", "y", *FLAG_KEYS, "x", "drive", "pi", "q", "view", *BED_KEYS,
+    *PUMP_KEYS,
+)  # fmt: skip
 
 #: The page at first sight: the paper's worked example (omega^2 = 2, eps = 0.5, theta0 = 0,
 #: arXiv:2203.04169 §4), and for SI mode upright soft 1 mm pillars under glycerol (the example
@@ -98,6 +131,13 @@ DEFAULTS: dict[str, str] = {
     "base_angle": "0",
     "density": "1260.0",
     "velocity": "0.1",
+    "drive": "wall",
+    "pi": "1",
+    "q": "0.05",
+    "view": "branch",
+    "pressure_gradient": "20000",
+    "flow_rate": "1e-06",
+    "channel_length": "0.01",
 }
 #: Starting points, each a set of inputs (the others take :data:`DEFAULTS`): name -> inputs.
 PRESETS: dict[str, dict[str, str]] = {
@@ -107,7 +147,12 @@ PRESETS: dict[str, dict[str, str]] = {
     "twirling states": {"omega2": "200", "eps": "0.5", "theta0": "0", "twirl": "1"},
     # a wall-shear-stress sensor: 1 mm PDMS-like pillars in glycerol, Stokes flow (Re ~ 0.2)
     "sensor bed (SI)": {"si": "1", "velocity": "0.1", "base_angle": "0"},
-}
+    # a tilted bed in a pressure-driven channel, both walls at rest: the valve and its diode
+    "pumped valve": {
+        "omega2": "0", "eps": "0.5", "theta0": "0.5", "drive": "pressure", "pi": "5",
+        "view": "valve",
+    },
+}  # fmt: skip
 #: Quantities plotted against the forcing in the branch diagram.
 Y_CHOICES = {"x1": "tip_deflection", "xi": "xi"}
 #: Abscissae of the branch diagram in SI mode: the wall speed or the wall shear stress.
@@ -186,6 +231,18 @@ class Params:
     warnings : tuple of str
         The warnings the library issued while validating (e.g. :class:`hairbed.UnitsWarning`
         of :class:`hairbed.HairBed` for an implausible size), as "Category: message".
+    drive : str
+        What drives the channel: "wall" (the paper's closed form), "pressure" or "flow" (a
+        pump; :func:`hairbed.solve_loaded`, theory.md §11).
+    load : float or None
+        The pump's dimensionless load [-]: pi (pressure drive) or q (flow drive); None for the
+        wall drive. In SI mode derived from the bed and :attr:`pump`.
+    view : str
+        Beside the channel: "branch" (the branch diagram) or "valve" (the bed as a valve).
+    pump : float or None
+        SI mode, pump drives: the set pressure gradient G [Pa/m] or flow rate Q' [m^2/s].
+    channel_length : float or None
+        SI mode: the channel's length l [m] of the valve view.
     """
 
     omega2: float
@@ -199,6 +256,16 @@ class Params:
     raw: dict[str, str] = field(default_factory=dict)
     warnings: tuple[str, ...] = ()
     x: str = "speed"
+    drive: str = "wall"
+    load: float | None = None
+    view: str = "branch"
+    pump: float | None = None
+    channel_length: float | None = None
+
+    @property
+    def load_key(self) -> str | None:
+        """ "pi" or "q" (the keyword of :func:`hairbed.solve_loaded`), None for the wall."""
+        return LOAD_KEYS.get(self.drive)
 
 
 @contextmanager
@@ -321,6 +388,13 @@ def validate(raw: Mapping[str, str]) -> Params:
         problems.append(f"y must be one of 'x1', 'xi', got {y!r}")
     if x_kind not in X_CHOICES:
         problems.append(f"x must be one of 'speed', 'stress', got {x_kind!r}")
+    drive, view = full["drive"].strip(), full["view"].strip()
+    if drive not in DRIVES:
+        problems.append(f"drive must be one of 'wall', 'pressure', 'flow', got {drive!r}")
+        drive = "wall"
+    if view not in VIEWS:
+        problems.append(f"view must be one of 'branch', 'valve', got {view!r}")
+        view = "branch"
     flags = {}
     for k in FLAG_KEYS:
         try:
@@ -329,6 +403,8 @@ def validate(raw: Mapping[str, str]) -> Params:
             problems.append(str(exc))
             flags[k] = False
     si, twirl = flags["si"], flags["twirl"]
+    if drive != "wall":
+        return _validate_pumped(full, problems, y, x_kind, si, twirl, drive, view)
     if not si:
         values = {k: _number(full[k]) for k in ("omega2", "eps", "theta0")}
         m = None
@@ -343,7 +419,10 @@ def validate(raw: Mapping[str, str]) -> Params:
         if problems:
             raise InputError(problems)
         w, e, th = (float(values[k]) for k in ("omega2", "eps", "theta0"))
-        return Params(w, e, th, y, si, twirl, raw=full, warnings=tuple(caught), x=x_kind)
+        return Params(
+            w, e, th, y, si, twirl, raw=full, warnings=tuple(caught), x=x_kind, drive=drive,
+            view=view,
+        )  # fmt: skip
     bed_args = _bed_args(full)
     velocity = _number(full["velocity"])
     with _recording() as caught:
@@ -354,6 +433,10 @@ def validate(raw: Mapping[str, str]) -> Params:
             problems += _bed_problems(bed_args)
         # the wall speed: against this bed, or the reference one if this one is bad
         m = _message((bed or hairbed.HairBed(**_REFERENCE_BED)).omega2, velocity)
+        if m:
+            problems.append(m)
+        length = _number(full["channel_length"])
+        m = _message(check_positive, length, "channel_length", "m")
         if m:
             problems.append(m)
         if problems:
@@ -376,7 +459,79 @@ def validate(raw: Mapping[str, str]) -> Params:
         raw=full,
         warnings=tuple(caught),
         x=x_kind,
+        channel_length=float(length),
+        drive=drive,
+        view=view,
     )
+
+
+def _validate_pumped(
+    full: dict[str, str], problems: list[str], y: str, x_kind: str, si: bool, twirl: bool,
+    drive: str, view: str,
+) -> Params:  # fmt: skip
+    """:func:`validate` of a pump drive: the library's checks of :func:`hairbed.solve_loaded`
+    (dimensionless) or of :meth:`hairbed.HairBed.deform` with ``pressure_gradient`` or
+    ``flow_rate`` (SI), each bad parameter by name."""
+    key = LOAD_KEYS[drive]
+    if not si:
+        values = {k: _number(full[k]) for k in ("omega2", "eps", "theta0", key)}
+        m = None
+        with _recording() as caught:
+            try:
+                hairbed.solve_loaded(**values)  # the library's checks, with its messages
+            except ValueError as exc:
+                m = str(exc)
+        if m is not None:  # which of them: each alone, the others at valid values
+            good = {**_GOOD, key: 1.0}
+            alone = [_message(hairbed.solve_loaded, **{**good, k: v}) for k, v in values.items()]
+            problems += [a for a in alone if a] or [m]
+        if problems:
+            raise InputError(problems)
+        w, e, th, ld = (float(values[k]) for k in ("omega2", "eps", "theta0", key))
+        return Params(
+            w, e, th, y, si, twirl, raw=full, warnings=tuple(caught), x=x_kind, drive=drive,
+            load=ld, view=view,
+        )  # fmt: skip
+    bed_args = _bed_args(full)
+    name = PUMP_INPUT[drive]
+    velocity, pump = _number(full["velocity"]), _number(full[name])
+    length = _number(full["channel_length"])
+    with _recording() as caught:
+        try:
+            bed = hairbed.HairBed(**bed_args)
+        except ValueError:
+            bed = None
+            problems += _bed_problems(bed_args)
+        some = bed or hairbed.HairBed(**_REFERENCE_BED)
+        # the wall speed and the pump's value, each by the checks of HairBed.deform (the
+        # other at rest), against this bed or the reference one if this one is bad
+        for v_try, value in ((velocity, 0.0), (0.0, pump)):
+            m = _message(_drive, some, drive, v_try, value)
+            if m:
+                problems.append(m)
+        m = _message(check_positive, length, "channel_length", "m")
+        if m:
+            problems.append(m)
+        if problems:
+            raise InputError(problems)
+        assert bed is not None
+        omega2, load = _drive(bed, drive, velocity, pump)
+    full.update(omega2=repr(omega2), eps=repr(bed.eps), theta0=repr(bed.base_angle + 0.0))
+    full[key] = repr(load)
+    return Params(
+        omega2, bed.eps, bed.base_angle + 0.0, y, si, twirl, bed, float(velocity),
+        raw=full, warnings=tuple(caught), x=x_kind, drive=drive, load=load, view=view,
+        pump=float(pump), channel_length=float(length),
+    )  # fmt: skip
+
+
+def _drive(bed: Any, drive: str, velocity: Any, value: Any) -> tuple[float, float]:
+    """(omega^2 signed, pi or q) of a bed at a wall speed [m/s] and a pump's set pressure
+    gradient [Pa/m] or flow rate [m^2/s]: the conversion and the checks (ValueError naming
+    the input) of :meth:`hairbed.HairBed.deform`."""
+    given = {"pressure_gradient": None, "flow_rate": None, PUMP_INPUT[drive]: value}
+    _, _, _, omega2, load = drive_inputs(bed, velocity, **given)
+    return float(omega2), float(load)
 
 
 def inputs_from_query(query: str) -> dict[str, str]:
@@ -397,10 +552,23 @@ def query_from_inputs(params: Params) -> str:
     --------
     >>> query_from_inputs(validate({"omega2": "2", "eps": "0.5", "theta0": "0"}))
     '?omega2=2&eps=0.5&theta0=0&y=x1&si=0&twirl=0'
+    >>> query_from_inputs(validate({"omega2": "0", "drive": "pressure", "pi": "5"}))
+    '?omega2=0&eps=0.5&theta0=0&y=x1&si=0&twirl=0&drive=pressure&pi=5'
+
+    The drive, its load and the view are named only where they are not the defaults (the
+    wall drive, the branch diagram): a link of the wall drive is the one it always was.
     """
     keys = ["omega2", "eps", "theta0", "y", *FLAG_KEYS]
+    if params.drive != "wall":
+        keys += ["drive", LOAD_KEYS[params.drive]]
+    if params.view != "branch":
+        keys += ["view"]
     if params.si:  # omega2, eps and theta0 then the bed's (Params.raw holds them)
         keys += ["x", *BED_KEYS]  # empty ones too: an empty spacing means "the packing fraction"
+        if params.drive != "wall":
+            keys += [PUMP_INPUT[params.drive]]
+        if params.view == "valve":
+            keys += ["channel_length"]
     return "?" + urlencode({k: params.raw[k].strip() for k in keys})
 
 
@@ -476,6 +644,58 @@ _FORCING_WINDOW = (1e-3, 1e3)
 
 
 @dataclass(frozen=True)
+class ValveView:
+    """The bed as a valve: both walls at rest, a pump's pressure drop across a channel.
+
+    In SI mode from :func:`hairbed.valve.diodicity` (the bed's channel of length l); in the
+    dimensionless problem from :func:`hairbed.solve_loaded` along the pressure drive at
+    omega^2 = 0, the flow in units of the flow drive's q (theory.md §11): with u = 1 - eps h1
+    the gap over the channel height, q = pi u^3/(2 eps), the empty channel's pi/(2 eps), so
+    that R/R0 = 1/u^3 and Di = (u(+pi)/u(-pi))^3.
+
+    Attributes
+    ----------
+    x_label, flow_label : str
+        The abscissa (abs(dp) [Pa], or abs(pi) [-]) and the flow's label, with units.
+    drop : ndarray
+        The abscissae: abs(dp) [Pa] or abs(pi) [-], increasing.
+    forward, backward : ndarray
+        abs(Q') [m^2/s] (or abs(q) [-]) at +drop and at -drop.
+    empty : ndarray
+        The empty channel's flow at the same drop.
+    forward_ratio, backward_ratio : ndarray
+        R/R0 [-], the hydraulic resistance relative to the empty channel, both ways.
+    diodicity : ndarray
+        Di = Q'(+drop)/abs(Q'(-drop)) [-].
+    now : dict of str to float
+        The same at the current drop (``drop``, ``forward``, ``backward``, ``forward_ratio``,
+        ``backward_ratio``, ``diodicity``): the pump's (pressure drive), the state's (flow
+        drive, its Pi), or a reference drop (pi = 1) for the wall drive.
+    success : bool
+        Every point converged (status 0).
+    message : str
+        What happened ("ok", the first failing point's message, or why there is no valve).
+    """
+
+    x_label: str
+    flow_label: str
+    drop: np.ndarray
+    forward: np.ndarray
+    backward: np.ndarray
+    empty: np.ndarray
+    forward_ratio: np.ndarray
+    backward_ratio: np.ndarray
+    diodicity: np.ndarray
+    now: dict[str, float]
+    success: bool
+    message: str
+
+
+#: Points of the valve curve (each way): a coarse grid, cached per bed and range.
+VALVE_POINTS = 40
+
+
+@dataclass(frozen=True)
 class Snapshot:
     """Everything one view shows, computed from one :class:`Params`.
 
@@ -501,6 +721,11 @@ class Snapshot:
         where the gap's Reynolds number exceeds the Stokes regime).
     timings : dict of str to float
         Wall times of the computation [ms]: "solve" (every state), "stability", "total".
+    valve : ValveView or None
+        The bed as a valve (``params.view == "valve"``).
+    message : str
+        Why no state is shown ("" when there are states): the library's message of a solve
+        whose status is negative (:data:`hairbed._core.validation.STATUS_MESSAGES`).
     """
 
     params: Params
@@ -514,6 +739,8 @@ class Snapshot:
     branch: BranchDiagram
     warnings: list[str]
     timings: dict[str, float]
+    valve: ValveView | None = None
+    message: str = ""
 
 
 def _roots(n_roots: int) -> tuple[str, ...]:
@@ -646,6 +873,213 @@ def _diagram(
     return BranchDiagram(x_label, y_label, x_range, cx, cy, fx, fy, curves, sx, sy, tx, ty, now)
 
 
+def _nice_top(drop: float) -> float:
+    """The top of the valve curve's range: a power of ten at or above twice ``drop`` (a
+    range that stays while the drop moves, so that the curve stays cached)."""
+    return float(10.0 ** math.ceil(math.log10(2.0 * drop)))
+
+
+def _grid(top: float) -> np.ndarray:
+    return top * np.linspace(1.0 / VALVE_POINTS, 1.0, VALVE_POINTS)
+
+
+@functools.lru_cache(maxsize=32)
+def _valve_plain(eps: float, theta0: float, drops: tuple[float, ...]) -> dict[str, Any]:
+    """The dimensionless valve at pi = +-drops (see :class:`ValveView`): one vectorised
+    :func:`hairbed.solve_loaded` of the pressure drive, walls at rest."""
+    d = np.asarray(drops, dtype=np.float64)
+    both = np.concatenate([d, -d])
+    st = hairbed.solve_loaded(np.zeros(both.shape), eps, theta0, pi=both)
+    u = 1.0 - eps * np.asarray(st.tip_height, dtype=np.float64)
+    flow = np.abs(both) * u**3 / (2.0 * eps)
+    n = d.size
+    status = np.asarray(st.status).reshape(-1)
+    failed = np.flatnonzero(status < 0)
+    return {
+        "forward": flow[:n],
+        "backward": flow[n:],
+        "empty": d / (2.0 * eps),
+        "forward_ratio": 1.0 / u[:n] ** 3,
+        "backward_ratio": 1.0 / u[n:] ** 3,
+        "diodicity": (u[:n] / u[n:]) ** 3,
+        "success": bool(np.all(status == 0)),
+        "message": "ok"
+        if failed.size == 0
+        else str(np.asarray(st.message).reshape(-1)[failed[0]]),
+    }
+
+
+@functools.lru_cache(maxsize=32)
+def _valve_si(bed: Any, length: float, drops: tuple[float, ...]) -> dict[str, Any]:
+    """The valve of a bed at pressure drops +-drops [Pa] over a channel of length l [m]:
+    :func:`hairbed.valve.diodicity`."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the bed's warnings are the view's already
+        di = hairbed.valve.diodicity(_without_density(bed), np.asarray(drops), length)
+    fw, bw = di.forward, di.backward
+    message = fw.message if not fw.success else bw.message
+    return {
+        "forward": np.abs(np.asarray(fw.flow_rate, dtype=np.float64)),
+        "backward": np.abs(np.asarray(bw.flow_rate, dtype=np.float64)),
+        "empty": np.abs(np.asarray(fw.empty_flow_rate, dtype=np.float64)),
+        "forward_ratio": np.asarray(fw.resistance_ratio, dtype=np.float64),
+        "backward_ratio": np.asarray(bw.resistance_ratio, dtype=np.float64),
+        "diodicity": np.asarray(di.diodicity, dtype=np.float64),
+        "success": bool(di.success),
+        "message": message,
+    }
+
+
+_VALVE_FIELDS = (
+    "forward", "backward", "forward_ratio", "backward_ratio", "diodicity",
+)  # fmt: skip
+
+
+def _valve(p: Params, states: list[StateView]) -> ValveView:
+    """The valve view of a snapshot: the curve over a range around the current drop."""
+    empty = np.empty(0)
+    if not p.si and p.eps == 0.0:
+        return ValveView(
+            "pressure gradient abs(pi) [-]", "flow rate abs(q) [-]", empty, empty, empty,
+            empty, empty, empty, empty, {}, False,
+            "no valve at eps = 0: the channel has no top wall (give eps in (0, 1))",
+        )  # fmt: skip
+    # the current drop: the pump's, the state's pressure gradient, or a reference (pi = 1)
+    if p.drive == "pressure":
+        now = abs(float(p.load or 0.0))
+    elif p.drive == "flow" and states:
+        now = abs(float(states[0].solution.distributed_load))
+    else:
+        now = 0.0
+    if not p.si:
+        drop = now if now > 0.0 and math.isfinite(now) else 1.0
+        top = _nice_top(drop)
+        curve = _valve_plain(p.eps, p.theta0, tuple(_grid(top)))
+        at = _valve_plain(p.eps, p.theta0, (drop,))
+        x_label, flow_label = "pressure gradient abs(pi) [-]", "flow rate abs(q) [-]"
+    else:
+        length = float(p.channel_length or float(DEFAULTS["channel_length"]))
+        _, per_gradient = _drive(p.bed, "pressure", 0.0, 1.0)  # pi per Pa/m
+        drop = now / per_gradient * length  # [Pa]
+        if not (drop > 0.0 and math.isfinite(drop)):
+            drop = length / per_gradient
+        top = _nice_top(drop)
+        curve = _valve_si(p.bed, length, tuple(_grid(top)))
+        at = _valve_si(p.bed, length, (drop,))
+        x_label = "pressure drop abs(dp) [Pa]"
+        flow_label = f"flow rate per unit width abs(Q') [{SI['flow_rate'].unit}]"
+    values = {k: float(np.asarray(at[k]).reshape(-1)[0]) for k in _VALVE_FIELDS}
+    message = curve["message"] if not curve["success"] else at["message"]
+    return ValveView(
+        x_label, flow_label, _grid(top), curve["forward"], curve["backward"], curve["empty"],
+        curve["forward_ratio"], curve["backward_ratio"], curve["diodicity"],
+        {"drop": drop, **values}, bool(curve["success"] and at["success"]), message,
+    )  # fmt: skip
+
+
+#: Loads of the branch diagram of a pump drive: abs(pi) or abs(q) in [1e-3, 1e3].
+_LOAD_GRID = np.geomspace(1e-3, 1e3, 121)
+
+
+@functools.lru_cache(maxsize=64)
+def _loaded_branch(
+    drive: str, omega2: float, eps: float, theta0: float, sign: float
+) -> tuple[np.ndarray, Any]:
+    """The low branch of a pump drive along its load (signed like ``sign``) at fixed
+    (omega^2, eps, theta0): one vectorised :func:`hairbed.solve_loaded` on :data:`_LOAD_GRID`
+    (the states it does not reach are NaN, not drawn)."""
+    loads = sign * _LOAD_GRID
+    kw: dict[str, Any] = {LOAD_KEYS[drive]: loads}
+    st = hairbed.solve_loaded(np.full(loads.shape, omega2), eps, theta0, **kw)
+    return _LOAD_GRID, st
+
+
+def _loaded_y(p: Params, sol: Any) -> np.ndarray:
+    """The ordinate of loaded states: x1 [L] (in SI x1 L [m]) or xi = sin(theta1)."""
+    if p.y == "xi":
+        return np.sin(np.asarray(sol.tip_angle, dtype=np.float64)).reshape(-1)
+    x1 = np.asarray(sol.tip_deflection, dtype=np.float64).reshape(-1)
+    return x1 * (p.bed.length if p.si and p.bed is not None else 1.0)
+
+
+def _loaded_diagram(p: Params, states: list[StateView]) -> BranchDiagram:
+    """The branch diagram of a pump drive: x1 (or xi) against abs(load), or in SI against the
+    pump's abs(G) [Pa/m] or abs(Q') [m^2/s]."""
+    load = float(p.load or 0.0)
+    sign = -1.0 if load < 0.0 else 1.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        grid, st = _loaded_branch(p.drive, p.omega2, p.eps, p.theta0, sign)
+    key = LOAD_KEYS[p.drive]
+    scale = 1.0
+    if p.si and p.bed is not None:
+        _, per_unit = _drive(p.bed, p.drive, 0.0, 1.0)
+        scale = 1.0 / per_unit
+    x = grid * scale
+    y = _loaded_y(p, st)
+    keep = np.isfinite(y) & (np.asarray(st.status).reshape(-1) >= 0)
+    sx = [abs(load) * scale] * len(states)
+    sy = [float(_loaded_y(p, s.solution)[0]) for s in states]
+    if p.si:
+        name = PUMP_INPUT[p.drive]
+        x_label = f"{SI[name].label} abs [{SI[name].unit}]"
+        y_label = f"tip deflection x1 L [{SI['tip_deflection'].unit}]" if p.y == "x1" else "xi [-]"
+    else:
+        x_label = f"{LOADED[key].label} abs({key}) [-] (low branch, omega^2 = {p.omega2:.6g})"
+        y_label = "tip deflection x1/L [-]" if p.y == "x1" else "xi = sin(theta1) [-]"
+    now = abs(load) * scale if load != 0.0 else None
+    e = np.empty(0)
+    return BranchDiagram(
+        x_label, y_label, (float(x[0]), float(x[-1])), x[keep], y[keep], e, e, [], sx, sy,
+        [], [], now,
+    )  # fmt: skip
+
+
+def _loaded_labels(n: int) -> tuple[str, ...]:
+    return _roots(n) if n <= 3 else ("low", "mid", "high")
+
+
+def _compute_pumped(p: Params) -> Snapshot:
+    """:func:`compute` of a pump drive: every coexisting state by
+    :func:`hairbed.solve_loaded_all` (with its stability under a slow change of the tip
+    height), else the state of :func:`hairbed.solve_loaded`; in SI mode each also by
+    :meth:`hairbed.HairBed.deform`. A solve with a negative status shows no state, with the
+    library's message."""
+    t0 = time.perf_counter()
+    key = LOAD_KEYS[p.drive]
+    args: dict[str, Any] = {"omega2": p.omega2, "eps": p.eps, "theta0": p.theta0, key: p.load}
+    message = ""
+    with _recording() as caught:
+        found = hairbed.solve_loaded_all(**args)
+        if len(found) > 3:  # more than a window's three: the lowest, the middle, the highest
+            found = [found[0], found[len(found) // 2], found[-1]]
+        if not found:
+            one = hairbed.solve_loaded(**args)
+            found = [one] if int(one.status) >= 0 else []
+            if not found:
+                message = f"no state: {one.message} (status {int(one.status)})"
+        labels = _loaded_labels(len(found))
+        t1 = time.perf_counter()
+        states = []
+        for label, sol in zip(labels, found):
+            si = None
+            if p.si and p.bed is not None:
+                si = p.bed.deform(p.velocity or 0.0, **{PUMP_INPUT[p.drive]: p.pump}, root=label)
+            stable = None if sol.stable is None else bool(sol.stable)
+            states.append(StateView(label, sol, stable, float("nan"), si))
+        t2 = time.perf_counter()
+        diagram = _loaded_diagram(p, states)
+        valve = _valve(p, states) if p.view == "valve" else None
+    e = np.empty(0)
+    t3 = time.perf_counter()
+    return Snapshot(
+        p, states, [], diagram.curve_x, diagram.curve_y, [], e, e, diagram,
+        _merge(p.warnings, caught),
+        {"solve": 1e3 * (t1 - t0), "stability": 1e3 * (t2 - t1), "total": 1e3 * (t3 - t0)},
+        valve, message,
+    )  # fmt: skip
+
+
 def compute(p: Params) -> Snapshot:
     """Solve every state of one view and classify each physical state's stability.
 
@@ -659,6 +1093,8 @@ def compute(p: Params) -> Snapshot:
     >>> [(s.label, s.stable) for s in snap.states]
     [('low', True), ('mid', False), ('high', True)]
     """
+    if p.drive != "wall":
+        return _compute_pumped(p)
     t0 = time.perf_counter()
     w, e, th = p.omega2, p.eps, p.theta0
     with _recording() as caught:
@@ -695,6 +1131,8 @@ def compute(p: Params) -> Snapshot:
     fw, fy = _shown(_xy(plain, fold_states))
     twirl_curves = [(f"({sg:+d}, {n})", *_shown(_xy(plain, c))) for sg, n, c in twirl]
     diagram = _diagram(p, curve, fold_states, twirl, states, twirling)
+    with _recording() as valve_warnings:
+        valve = _valve(p, states) if p.view == "valve" else None
     t3 = time.perf_counter()
     return Snapshot(
         p,
@@ -706,12 +1144,13 @@ def compute(p: Params) -> Snapshot:
         fw,
         fy,
         diagram,
-        _merge(p.warnings, caught, curve_warnings, twirl_warnings, fold_warnings),
+        _merge(p.warnings, caught, curve_warnings, twirl_warnings, fold_warnings, valve_warnings),
         {
             "solve": 1e3 * (t1 - t0),
             "stability": 1e3 * (t2 - t1),
             "total": 1e3 * (t3 - t0),
         },
+        valve,
     )
 
 
@@ -754,6 +1193,7 @@ _STATE_COLUMNS: dict[str, dict[str, str]] = {
         "units": "1",
         "long_name": "largest real part of the eigenvalues, in units of 1/bending relaxation time",
     },
+    "drive": {"units": "", "long_name": "what drives the channel: pressure or flow (a pump)"},
 }
 _SHAPE_COLUMNS: dict[str, dict[str, str]] = {
     "sigma": {"units": "1", "long_name": "arc length s/L from the base"},
@@ -771,6 +1211,8 @@ def _attrs(column: str) -> dict[str, str]:
         return _STATE_COLUMNS[column]
     if column.startswith("si_") and column[3:] in SI:
         return cf_attrs(SI[column[3:]])
+    if column in LOADED and column not in SOLUTION:
+        return cf_attrs(LOADED[column])
     return cf_attrs(SOLUTION[column])
 
 
@@ -781,9 +1223,18 @@ def _header(column: str) -> str:
     return f"{column} [{units}]" if units else column
 
 
+def _is_loaded(sol: Any) -> bool:
+    """A pump drive's state (:class:`hairbed.LoadedState`), not a closed-form Solution."""
+    return not hasattr(sol, "as_dict")
+
+
 def _state_record(s: StateView) -> dict[str, Any]:
     rec: dict[str, Any] = {"state": s.label, "stable": s.stable, "growth_rate": s.growth_rate}
-    rec.update(s.solution.as_dict())
+    if _is_loaded(s.solution):
+        rec["drive"] = s.solution.drive
+        rec.update({k: getattr(s.solution, k) for k in LOADED_FIELDS})
+    else:
+        rec.update(s.solution.as_dict())
     if s.si is not None:
         for k in SI_FIELDS:
             rec[f"si_{k}"] = getattr(s.si, k)
@@ -795,11 +1246,15 @@ def _shape(s: StateView) -> dict[str, Any]:
     bed's frame, :meth:`hairbed.units.HairState.profile`, in SI mode)."""
     sigma = np.linspace(0.0, 1.0, SHAPE_POINTS)
     sol = s.solution
+    if _is_loaded(sol):
+        _, x, z, theta = sol.shape(sigma)
+    else:
+        x, z, theta = sol.x(sigma), sol.z(sigma), sol.theta(sigma)
     out: dict[str, Any] = {
         "sigma": sigma,
-        "x": np.asarray(sol.x(sigma), dtype=np.float64),
-        "z": np.asarray(sol.z(sigma), dtype=np.float64),
-        "theta": np.asarray(sol.theta(sigma), dtype=np.float64),
+        "x": np.asarray(x, dtype=np.float64),
+        "z": np.asarray(z, dtype=np.float64),
+        "theta": np.asarray(theta, dtype=np.float64),
     }
     if s.si is not None:
         out["si_x"], out["si_z"] = s.si.profile(SHAPE_POINTS)
@@ -816,11 +1271,19 @@ def snapshot_json(snap: Snapshot) -> str:
     doc: dict[str, Any] = {
         "hairbed_version": hairbed.__version__,
         "inputs": {k: p.raw[k] for k in INPUT_KEYS},
-        "solved": {"omega2": p.omega2, "eps": p.eps, "theta0": p.theta0},
+        "solved": {
+            "omega2": p.omega2,
+            "eps": p.eps,
+            "theta0": p.theta0,
+            "drive": p.drive,
+            **({p.load_key: p.load} if p.load_key else {}),
+        },
+        "message": snap.message,
         "stability": f"hairbed.stability.linear_stability(N={STABILITY_SEGMENTS})",
         "states": states,
         "twirling": twirling,
         "folds": {"omega2": snap.folds_omega2, Y_CHOICES[p.y]: snap.folds_y},
+        **({"valve": dataclasses.asdict(snap.valve)} if snap.valve is not None else {}),
         "warnings": snap.warnings,
         "variables": {k: _attrs(k) for k in columns},
         "shape_variables": {

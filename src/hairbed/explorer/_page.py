@@ -22,18 +22,24 @@ from typing import Any
 import panel as pn
 from bokeh.models import CustomJSTickFormatter
 
-from hairbed._variables import SI, SOLUTION
+from hairbed._variables import LOADED, SI, SOLUTION
 
 from ._figures import STATE_COLORS, Views
 from ._history import BrowserHistory
 from ._model import (
     BED_KEYS,
     DEFAULTS,
+    DRIVES,
     INPUT_KEYS,
+    LOAD_KEYS,
+    LOADED_FIELDS,
     PRESETS,
+    PUMP_INPUT,
+    PUMP_KEYS,
     SI_FIELDS,
     SOLUTION_FIELDS,
     STABILITY_SEGMENTS,
+    VIEWS,
     InputError,
     Params,
     Snapshot,
@@ -50,11 +56,20 @@ __all__ = ["ExplorerPage", "LOG_OMEGA2_RANGE"]
 
 #: Range of the omega2 slider, in log10(omega2). Typed values may lie outside.
 LOG_OMEGA2_RANGE = (-3.0, 3.0)
+#: Range of the load slider of a pump drive, in log10(abs(pi)) or log10(abs(q)); the sign is
+#: the typed value's.
+LOG_LOAD_RANGE = (-3.0, 3.0)
 _THETA0_MAX = 1.57
 
 #: Rows of the table: Solution field -> description [unit].
 FIELD_LABELS: dict[str, str] = {k: SOLUTION[k].heading for k in SOLUTION_FIELDS}
 SI_LABELS: dict[str, str] = {k: SI[k].heading for k in SI_FIELDS}
+LOADED_LABELS: dict[str, str] = {
+    k: (SOLUTION[k].heading if k in SOLUTION else LOADED[k].heading) for k in LOADED_FIELDS
+}
+#: Labels of the drive selector and of the view selector.
+DRIVE_OPTIONS = {"wall speed": "wall", "pressure gradient": "pressure", "flow rate": "flow"}
+VIEW_OPTIONS = {"branch diagram": "branch", "valve": "valve"}
 TWIRL_LABEL = "show twirling states (every branch: solve_all)"
 TWIRL_COLUMNS = ("sign", "n", "xi", "omega_eps", "tip_height", "tip_deflection", "tip_angle")
 
@@ -84,8 +99,8 @@ def _fmt(value: Any) -> str:
         return "-"
     if isinstance(value, bool):
         return str(value)
-    if isinstance(value, int):
-        return str(value)
+    if isinstance(value, (int, str)):
+        return html.escape(str(value))
     value = float(value)
     if math.isnan(value):
         return "nan"
@@ -110,8 +125,17 @@ def _widget(cls: Any, label: str, **kw: Any) -> Any:
 
 
 def _table_html(snap: Snapshot) -> str:
-    """Every Solution field of every physical state (one column each), and the SI values."""
+    """Every Solution field of every physical state (one column each), and the SI values;
+    a pump drive's states by the fields of :class:`hairbed.LoadedState`; no state: the
+    library's message."""
     states = snap.states
+    if not states:
+        return (
+            '<table class="hb hb-states" data-count="0"><thead><tr><th>no state</th></tr>'
+            "</thead></table>"
+            f'<p class="hb-nostate">{html.escape(snap.message or "no state")}</p>'
+        )
+    loaded = snap.params.drive != "wall"
     head = "".join(
         f'<th style="color:{STATE_COLORS[s.label]}">{html.escape(s.label)}</th>' for s in states
     )
@@ -124,10 +148,18 @@ def _table_html(snap: Snapshot) -> str:
         )
         rows.append(f'<tr data-row="{key}"><th>{html.escape(label)}</th>{cells}</tr>')
 
-    row("stable", f"stable (linear_stability, N={STABILITY_SEGMENTS})", [s.stable for s in states])
-    row("growth_rate", "largest growth rate [1/relaxation time]", [s.growth_rate for s in states])
-    for key in SOLUTION_FIELDS:
-        row(key, FIELD_LABELS.get(key, key), [getattr(s.solution, key) for s in states])
+    if loaded:
+        row("stable", "stable (solve_loaded_all: dG/dh1 < 0)", [s.stable for s in states])
+        for key in LOADED_FIELDS:
+            row(key, LOADED_LABELS[key], [getattr(s.solution, key) for s in states])
+        row("message", "message", [s.solution.message for s in states])
+    else:
+        stability = f"stable (linear_stability, N={STABILITY_SEGMENTS})"
+        row("stable", stability, [s.stable for s in states])
+        growth = "largest growth rate [1/relaxation time]"
+        row("growth_rate", growth, [s.growth_rate for s in states])
+        for key in SOLUTION_FIELDS:
+            row(key, FIELD_LABELS.get(key, key), [getattr(s.solution, key) for s in states])
     if snap.params.si:
         for key in SI_FIELDS:
             row(f"si_{key}", SI_LABELS[key], [getattr(s.si, key) for s in states])
@@ -137,6 +169,40 @@ def _table_html(snap: Snapshot) -> str:
         f"{head}</tr></thead><tbody>{''.join(rows)}</tbody></table>"
     ]
     return "".join(out)
+
+
+#: The valve's readout at the current drop: field -> label.
+VALVE_LABELS = {
+    "drop": "at the drop",
+    "forward": "flow forward (+dp)",
+    "backward": "flow backward (-dp), abs",
+    "forward_ratio": "R/R0 forward",
+    "backward_ratio": "R/R0 backward",
+    "diodicity": "diodicity Di",
+}
+
+
+def _valve_html(snap: Snapshot) -> str:
+    """The valve at the current drop (the valve view only): a table, or why there is none."""
+    v = snap.valve
+    if v is None:
+        return ""
+    if not v.now:
+        return f'<p class="hb-valve-message">{html.escape(v.message)}</p>'
+    unit = v.x_label.split("[")[-1].rstrip("]") if "[" in v.x_label else ""
+    flow_unit = v.flow_label.split("[")[-1].rstrip("]") if "[" in v.flow_label else ""
+    units = {"drop": unit, "forward": flow_unit, "backward": flow_unit}
+    rows = "".join(
+        f"<tr><th>{html.escape(label)}{f' [{units[k]}]' if k in units else ' [-]'}</th>"
+        f'<td class="num" data-field="{k}">{_fmt(v.now[k])}</td></tr>'
+        for k, label in VALVE_LABELS.items()
+    )
+    status = "" if v.success else f'<p class="hb-valve-message">{html.escape(v.message)}</p>'
+    return (
+        f'<table class="hb hb-valve" data-success="{int(v.success)}"><thead><tr>'
+        f"<th>the valve (walls at rest)</th><th></th></tr></thead><tbody>{rows}</tbody>"
+        f"</table>{status}"
+    )
 
 
 def _warnings_html(warnings: list[str]) -> str:
@@ -278,7 +344,29 @@ class ExplorerPage:
                 ("theta0", "theta0 [rad], in (-pi/2, pi/2) (exact)"),
             )
         }
-        for k, (label, unit) in BED_KEYS.items():
+        self.load_slider = _widget(
+            pn.widgets.FloatSlider,
+            "pump load abs(pi) or abs(q) (log scale)",
+            start=LOG_LOAD_RANGE[0],
+            end=LOG_LOAD_RANGE[1],
+            step=0.005,
+            value=0.0,
+            format=CustomJSTickFormatter(code=_SHOWN_LOG),
+            css_classes=["hb-load-slider"],
+            sizing_mode="stretch_width",
+        )
+        for k, label in (
+            ("pi", "pi [-], pressure gradient A G L^3/(E I) (exact, signed)"),
+            ("q", "q [-], flow rate 6 A eta Q' L^2/(E I H^2) (exact, signed)"),
+        ):
+            self.text[k] = _widget(
+                pn.widgets.TextInput,
+                label,
+                value=DEFAULTS[k],
+                css_classes=[f"hb-{k}"],
+                sizing_mode="stretch_width",
+            )
+        for k, (label, unit) in {**BED_KEYS, **PUMP_KEYS}.items():
             self.text[k] = _widget(
                 pn.widgets.TextInput,
                 f"{label} [{unit}]",
@@ -298,6 +386,12 @@ class ExplorerPage:
             options={"tip deflection x1": "x1", "xi": "xi"},
             value=DEFAULTS["y"],
             css_classes=["hb-y"],
+        )
+        self.drive = pn.widgets.RadioButtonGroup(
+            options=DRIVE_OPTIONS, value=DEFAULTS["drive"], css_classes=["hb-drive"]
+        )
+        self.view_choice = pn.widgets.RadioButtonGroup(
+            options=VIEW_OPTIONS, value=DEFAULTS["view"], css_classes=["hb-view"]
         )
         self.x_choice = pn.widgets.RadioButtonGroup(
             options={"wall speed": "speed", "wall shear stress": "stress"},
@@ -332,6 +426,7 @@ class ExplorerPage:
         self.link = pn.pane.HTML("", css_classes=["hb-link"])
         self.table = pn.pane.HTML("", css_classes=["hb-table"], stylesheets=[_CSS])
         self.twirl_table = pn.pane.HTML("", css_classes=["hb-twirl-table"], stylesheets=[_CSS])
+        self.valve_table = pn.pane.HTML("", css_classes=["hb-valve-table"], stylesheets=[_CSS])
         self.download_json = pn.widgets.FileDownload(
             callback=self._json_file,
             filename="hairbed-state.json",
@@ -353,14 +448,16 @@ class ExplorerPage:
         self.omega2_slider.param.watch(self._from_omega2_slider, "value")
         self.eps_slider.param.watch(self._from_slider("eps"), "value")
         self.theta0_slider.param.watch(self._from_slider("theta0"), "value")
+        self.load_slider.param.watch(self._from_load_slider, "value")
         for w in self.text.values():
             w.param.watch(self._on_input, "value")
-        for w in (self.twirl, self.y_choice, self.x_choice, self.si):
+        for w in (self.twirl, self.y_choice, self.x_choice, self.si, self.drive, self.view_choice):
             w.param.watch(self._on_input, "value")
 
     def _build_layout(self) -> None:
         bed = pn.Column(
             *(self.text[k] for k in BED_KEYS),
+            *(self.text[k] for k in PUMP_KEYS),
             pn.pane.HTML(
                 "<small>Give either the spacing or the packing fraction (leave the other "
                 "empty). In SI mode the omega^2 slider moves the wall speed and the theta0 "
@@ -382,6 +479,13 @@ class ExplorerPage:
             self.text["eps"],
             self.theta0_slider,
             self.text["theta0"],
+            pn.pane.HTML("<b>Drive</b> (theory.md §11)", margin=(5, 10, 0, 10)),
+            self.drive,
+            self.load_slider,
+            self.text["pi"],
+            self.text["q"],
+            pn.pane.HTML("beside the channel:", margin=(5, 10, 0, 10)),
+            self.view_choice,
             pn.Row(pn.pane.HTML("SI units (a real bed)", margin=(8, 5)), self.si),
             bed,
             self.twirl,
@@ -393,6 +497,21 @@ class ExplorerPage:
             width=330,
         )
         views = self.views
+        valve = DEFAULTS["view"] == "valve"
+        # each figure in a column of its own, whose visibility switches the view (a Bokeh
+        # pane's own ``visible`` follows its figure's and does not come back once cleared)
+        self._branch_pane = pn.Column(
+            pn.pane.Bokeh(views.branch, css_classes=["hb-branch"]), visible=not valve
+        )
+        self._phase_pane = pn.Column(
+            pn.pane.Bokeh(views.phase, css_classes=["hb-phase"]), visible=not valve
+        )
+        self._valve_flow_pane = pn.Column(
+            pn.pane.Bokeh(views.valve_flow, css_classes=["hb-valve-flow"]), visible=valve
+        )
+        self._valve_ratio_pane = pn.Column(
+            pn.pane.Bokeh(views.valve_ratio, css_classes=["hb-valve-ratio"]), visible=valve
+        )
         self.layout = pn.Column(
             pn.pane.HTML(
                 "<h2 style='margin:4px 0'>hairbed explorer</h2>"
@@ -409,12 +528,15 @@ class ExplorerPage:
                 pn.Column(
                     pn.Row(
                         pn.pane.Bokeh(views.channel, css_classes=["hb-channel"]),
-                        pn.pane.Bokeh(views.branch, css_classes=["hb-branch"]),
+                        self._branch_pane,
+                        self._valve_flow_pane,
                     ),
                     pn.Row(
                         pn.pane.Bokeh(views.bistability, css_classes=["hb-bistability"]),
-                        pn.pane.Bokeh(views.phase, css_classes=["hb-phase"]),
+                        self._phase_pane,
+                        self._valve_ratio_pane,
                     ),
+                    self.valve_table,
                     self.table,
                     self.twirl_table,
                 ),
@@ -435,6 +557,23 @@ class ExplorerPage:
             self.text["velocity"].value = _short(speed)
         else:
             self.text["omega2"].value = _short(w)
+
+    def _from_load_slider(self, event: Any) -> None:
+        """The load slider: abs(pi) or abs(q) on a log scale, the sign of the typed value; in
+        SI mode it moves the pump's pressure gradient or flow rate."""
+        if self._syncing:
+            return
+        good = self.snapshot.params if self.snapshot is not None else None
+        drive = str(self.drive.value)
+        if drive == "wall" or good is None or good.drive != drive:
+            return
+        load = float(_short(10.0 ** float(event.new)))
+        sign = -1.0 if (good.load or 0.0) < 0.0 else 1.0
+        if self.si.value and good.bed is not None and good.load and good.pump:
+            per_unit = good.load / good.pump  # the bed's load per SI unit of the drive
+            self.text[PUMP_INPUT[drive]].value = _short(sign * load / per_unit)
+        else:
+            self.text[LOAD_KEYS[drive]].value = _short(sign * load)
 
     def _from_slider(self, key: str) -> Any:
         def callback(event: Any) -> None:
@@ -460,6 +599,8 @@ class ExplorerPage:
 
     def _raw(self) -> dict[str, str]:
         raw = {k: w.value for k, w in self.text.items()}
+        raw["drive"] = str(self.drive.value)
+        raw["view"] = str(self.view_choice.value)
         raw["si"] = "1" if self.si.value else "0"
         raw["twirl"] = "1" if self.twirl.value else "0"
         raw["y"] = str(self.y_choice.value)
@@ -505,11 +646,16 @@ class ExplorerPage:
                 self.y_choice.value = args["y"]
             if "x" in args and args["x"] in ("speed", "stress"):
                 self.x_choice.value = args["x"]
+            if "drive" in args and args["drive"] in DRIVES:
+                self.drive.value = args["drive"]
+            if "view" in args and args["view"] in VIEWS:
+                self.view_choice.value = args["view"]
         finally:
             self._syncing = False
         # the flags as given (not as the widgets could hold them): validate says what is wrong
         raw = self._raw()
-        raw.update({k: v for k, v in args.items() if k in ("si", "twirl", "y", "x")})
+        given = ("si", "twirl", "y", "x", "drive", "view")
+        raw.update({k: v for k, v in args.items() if k in given})
         if not self.refresh(raw):
             self._restore_fields()  # a bad link: the fields show the view on screen again
 
@@ -539,6 +685,7 @@ class ExplorerPage:
         with pn.io.hold():
             self.views.update(snap)
             self.table.object = _table_html(snap)
+            self.valve_table.object = _valve_html(snap)
             self.twirl_table.object = _twirl_html(snap)
             notes = _warnings_html(snap.warnings)
             if self.notes.object != notes:
@@ -593,6 +740,8 @@ class ExplorerPage:
             self.twirl.value = [TWIRL_LABEL] if p.twirl else []
             self.y_choice.value = p.y
             self.x_choice.value = p.x
+            self.drive.value = p.drive
+            self.view_choice.value = p.view
         finally:
             self._syncing = False
         self._sync_widgets(p)
@@ -607,13 +756,28 @@ class ExplorerPage:
             self.eps_slider.value = min(max(p.eps, 0.0), self.eps_slider.end)
             base = p.bed.base_angle if p.si and p.bed is not None else p.theta0
             self.theta0_slider.value = min(max(base, -_THETA0_MAX), _THETA0_MAX)
-            for k in ("omega2", "eps", "theta0"):  # in SI mode they follow from the bed
+            for k in ("omega2", "eps", "theta0", "pi", "q"):  # in SI: from the bed
                 self.text[k].disabled = p.si
+            pumped = p.drive != "wall"
+            self.load_slider.visible = pumped
+            for drive, key in LOAD_KEYS.items():
+                self.text[key].visible = p.drive == drive
+                self.text[PUMP_INPUT[drive]].visible = p.drive == drive
+            self.text["channel_length"].visible = p.view == "valve"
+            if pumped and p.load:
+                lo, hi = LOG_LOAD_RANGE
+                self.load_slider.value = min(max(math.log10(abs(p.load)), lo), hi)
+            valve = p.view == "valve"
+            self._branch_pane.visible = self._phase_pane.visible = not valve
+            self._valve_flow_pane.visible = self._valve_ratio_pane.visible = valve
+            self.valve_table.visible = valve
             self.eps_slider.disabled = p.si
             if p.si:
                 self.text["omega2"].value = _short(p.omega2)
                 self.text["eps"].value = p.raw["eps"]
                 self.text["theta0"].value = p.raw["theta0"]
+                if pumped:
+                    self.text[LOAD_KEYS[p.drive]].value = _short(float(p.load or 0.0))
         finally:
             self._syncing = False
 
