@@ -34,6 +34,7 @@ import warnings
 from pathlib import Path
 from urllib.parse import urlparse
 
+import numpy as np
 import pytest
 
 import hairbed
@@ -684,6 +685,113 @@ def test_downloads_carry_units_and_the_shape(browser, server, tmp_path):
         assert [float(r["x [1]"]) for r in mine] == pytest.approx(ref.x(sigma), rel=1e-12)
         assert [float(r["z [1]"]) for r in mine] == pytest.approx(ref.z(sigma), rel=1e-12)
         assert float(mine[-1]["x [1]"]) == pytest.approx(ref.tip_deflection, rel=1e-12)
+    page.close()
+
+
+def _search(page) -> dict[str, str]:
+    from urllib.parse import parse_qsl
+
+    return dict(parse_qsl(page.evaluate("window.location.search").lstrip("?")))
+
+
+def _check_loaded(page, load_key: str, omega2: float, eps: float, theta0: float) -> float:
+    """Wait until the table shows the load typed into its field, then check every state
+    against ``hairbed.solve_loaded`` (each root of ``solve_loaded_all``'s count)."""
+
+    def arrived():
+        typed = float(page.locator(f".hb-{load_key} input").input_value())
+        cells = set(_cells(page, load_key).values())
+        return typed if len(cells) == 1 and float(cells.pop()) == typed else None
+
+    load = _until(arrived, f"the view at the typed {load_key}")
+    args = {"omega2": omega2, "eps": eps, "theta0": theta0, load_key: load}
+    n = len(hairbed.solve_loaded_all(**args))
+    roots = {1: ["low"], 2: ["low", "high"], 3: ["low", "mid", "high"]}[n]
+    assert page.locator("table.hb-states").get_attribute("data-count") == str(n)
+    for field in ("tip_height", "tip_deflection", "tip_angle", "base_curvature"):
+        shown = _cells(page, field)
+        assert sorted(shown) == sorted(roots), field
+        for root in roots:
+            expected = float(getattr(hairbed.solve_loaded(**args, root=root), field))
+            assert float(shown[root]) == pytest.approx(expected, rel=1e-9, abs=1e-12), (
+                field, root,
+            )  # fmt: skip
+    return load
+
+
+def _valve_shown(page) -> dict[str, float]:
+    cells = page.locator("table.hb-valve td[data-field]").evaluate_all(
+        "els => els.map(e => [e.dataset.field, e.textContent])"
+    )
+    return {k: float(v) for k, v in cells}
+
+
+def test_pump_drives_the_load_and_the_valve(browser, server, shots):
+    """Issue 20, item 4: select each drive, move the load (typed and by its slider), switch
+    to the valve view, values against the library, and reload the view from its URL."""
+    page = _open(browser, server, "?omega2=0&eps=0.5&theta0=0.5")
+    _until(lambda: _shown_omega2(page) == 0.0, "the view at omega2 = 0")
+    page.locator(".hb-drive button", has_text="pressure gradient").click()
+    _until(lambda: _search(page).get("drive") == "pressure", "the pressure drive in the URL")
+    assert _check_loaded(page, "pi", 0.0, 0.5, 0.5) == 1.0  # the default load
+    _type(page, "pi", "5")
+    assert _check_loaded(page, "pi", 0.0, 0.5, 0.5) == 5.0
+    # the load slider (log10 abs(pi) in [-3, 3]): a click on its track near pi = 30
+    track = page.locator(".hb-load-slider .noUi-base").bounding_box()
+    page.mouse.click(track["x"] + (math.log10(30.0) + 3.0) / 6.0 * track["width"],
+                     track["y"] + track["height"] / 2)  # fmt: skip
+    _until(lambda: float(page.locator(".hb-pi input").input_value()) > 5.0, "the slider's pi")
+    pi = _check_loaded(page, "pi", 0.0, 0.5, 0.5)
+    assert 10.0 < pi < 100.0, pi
+    _type(page, "pi", "5")
+    _check_loaded(page, "pi", 0.0, 0.5, 0.5)
+    # the valve view: the flow both ways at the pump's drop, walls at rest
+    page.locator(".hb-view button", has_text="valve").click()
+    shown = _until(lambda: _valve_shown(page), "the valve's readout")
+    ref = hairbed.solve_loaded(np.zeros(2), 0.5, 0.5, pi=np.array([5.0, -5.0]))
+    u = 1.0 - 0.5 * np.asarray(ref.tip_height)
+    assert shown["drop"] == 5.0
+    assert shown["diodicity"] == pytest.approx((u[0] / u[1]) ** 3, rel=1e-9)
+    assert shown["forward_ratio"] == pytest.approx(1.0 / u[0] ** 3, rel=1e-9)
+    assert shown["forward"] == pytest.approx(5.0 * u[0] ** 3 / (2 * 0.5), rel=1e-9)
+    assert page.locator(".hb-valve-flow").is_visible()
+    assert not page.locator(".hb-branch").is_visible()
+    page.wait_for_timeout(500)
+    page.screenshot(path=str(shots / "explorer-valve.png"), full_page=True)
+    # a fresh page from the URL: the same drive, load, view and values
+    args = _until(lambda: _search(page) if _search(page).get("view") == "valve" else None, "URL")
+    assert (args["drive"], float(args["pi"])) == ("pressure", 5.0)
+    again = browser.new_page()
+    again.goto(server[0] + page.evaluate("window.location.search"))
+    assert _until(lambda: _valve_shown(again), "the valve after reload") == shown
+    assert again.locator(".hb-pi input").input_value() == "5"
+    _check_loaded(again, "pi", 0.0, 0.5, 0.5)
+    again.close()
+    # the flow drive in a window of three states, and a bad load: the library's message
+    page.locator(".hb-view button", has_text="branch diagram").click()
+    page.locator(".hb-drive button", has_text="flow rate").click()
+    _until(lambda: _search(page).get("drive") == "flow", "the flow drive in the URL")
+    _type(page, "eps", "0.9")
+    _type(page, "theta0", "-1.2")
+    _type(page, "q", "0.05")
+    _until(lambda: _cells(page, "eps").get("low") == "0.9", "eps = 0.9")
+    _until(lambda: _cells(page, "theta0").get("low") == "-1.2", "theta0 = -1.2")
+    _check_loaded(page, "q", 0.0, 0.9, -1.2)
+    assert page.locator("table.hb-states").get_attribute("data-count") == "3"
+    assert _cells(page, "stable") == {"low": "True", "mid": "False", "high": "True"}
+    page.screenshot(path=str(shots / "explorer-flow-drive.png"), full_page=True)
+    _type(page, "q", "nan")
+    with pytest.raises(ValueError) as info:
+        hairbed.solve_loaded(0.0, 0.9, -1.2, q=float("nan"))
+    assert _until(lambda: _error_text(page), "the error message") == str(info.value)
+    assert page.locator("table.hb-states").get_attribute("data-count") == "3"  # kept
+    # back to the wall speed: the closed form's states again
+    _type(page, "q", "0.05")
+    _type(page, "omega2", "1.2")
+    page.locator(".hb-drive button", has_text="wall speed").click()
+    _until(lambda: "drive" not in _search(page), "the wall drive's URL")
+    _until(lambda: _shown_omega2(page) == 1.2, "the wall drive's view")
+    _check_states(page, 1.2, 0.9, -1.2)
     page.close()
 
 

@@ -501,16 +501,16 @@ class ExplorerPage:
         # each figure in a column of its own, whose visibility switches the view (a Bokeh
         # pane's own ``visible`` follows its figure's and does not come back once cleared)
         self._branch_pane = pn.Column(
-            pn.pane.Bokeh(views.branch, css_classes=["hb-branch"]), visible=not valve
+            pn.pane.Bokeh(views.branch), css_classes=["hb-branch"], visible=not valve
         )
         self._phase_pane = pn.Column(
-            pn.pane.Bokeh(views.phase, css_classes=["hb-phase"]), visible=not valve
+            pn.pane.Bokeh(views.phase), css_classes=["hb-phase"], visible=not valve
         )
         self._valve_flow_pane = pn.Column(
-            pn.pane.Bokeh(views.valve_flow, css_classes=["hb-valve-flow"]), visible=valve
+            pn.pane.Bokeh(views.valve_flow), css_classes=["hb-valve-flow"], visible=valve
         )
         self._valve_ratio_pane = pn.Column(
-            pn.pane.Bokeh(views.valve_ratio, css_classes=["hb-valve-ratio"]), visible=valve
+            pn.pane.Bokeh(views.valve_ratio), css_classes=["hb-valve-ratio"], visible=valve
         )
         self.layout = pn.Column(
             pn.pane.HTML(
