@@ -4,7 +4,9 @@ The page (``_page``) holds the inputs as text, exactly as typed or read from the
 module turns them into validated parameters with the library's own checks
 (:func:`hairbed.solve`, :class:`hairbed.HairBed`, :meth:`hairbed.HairBed.omega2`), solves every
 coexisting state, classifies it with :func:`hairbed.stability.linear_stability` and packs what
-the views, the table and the downloads need into a :class:`Snapshot`.
+the views, the table and the downloads need into a :class:`Snapshot`. A pump drive (a set
+pressure gradient or flow rate, theory.md §11) is solved by :func:`hairbed.solve_loaded_all`
+and :meth:`hairbed.HairBed.deform`; the valve view by :mod:`hairbed.valve` (:class:`ValveView`).
 
 Everything here is plain Python and numpy, so it is tested without a browser.
 """
