@@ -6,6 +6,9 @@
    the app's own callback: validation, every state (``solve`` for each root, ``solve_all``),
    stability of each physical state, profiles, phase curves and every Bokeh source, the table
    and the URL. Reported: median and 90th percentile of the page's own ``timings["total"]``.
+   Then a pump drive (issue 20): the load slider of the flow drive across its window of three
+   states at (0.9, -1.2), wall at rest (``solve_loaded_all`` per update), in the branch view
+   and in the valve view (``flow_*``).
 2. Until the browser shows it: ``hairbed explore`` served, Debian's Chromium (headless, no
    network) on the page; a new exact omega2 is written into the text field from within the
    page (``change`` event, as typing and Enter do) and the time is taken in the page from the
@@ -178,6 +181,20 @@ def server_times(steps: int) -> dict[str, float]:
         out[f"{tag}_max_states"] = float(max(counts))
         if twirl:
             out["twirl_states_at_end"] = float(len(page.snapshot.twirling))
+    # the pump drives (issue 20): the load slider across the flow drive's window of three
+    # states at (eps, theta0) = (0.9, -1.2), wall at rest, in the branch and the valve view
+    for view in ("branch", "valve"):
+        page = ExplorerPage(f"?omega2=0&eps=0.9&theta0=-1.2&drive=flow&q=0.01&view={view}")
+        logs = np.concatenate([np.linspace(-2.0, math.log10(0.3), steps // 2)] * 2)
+        totals, counts = [], []
+        for x in logs:
+            page.load_slider.value = float(x)
+            assert page.error == "", page.error
+            totals.append(page.timings["total"])
+            counts.append(len(page.snapshot.states))
+        out[f"flow_{view}_total_median_ms"] = statistics.median(totals)
+        out[f"flow_{view}_total_p90_ms"] = _pct(totals, 90)
+        out[f"flow_{view}_max_states"] = float(max(counts))
     out["server_load_after"] = _load()
     return out
 

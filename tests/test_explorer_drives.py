@@ -290,3 +290,18 @@ def test_freed_memory_goes_back_where_the_c_library_can():
     from hairbed import explorer
 
     assert explorer._return_freed_memory() in (-1, 0, 1)
+
+
+def test_si_load_slider_moves_the_pumps_gradient_even_from_zero():
+    pytest.importorskip("panel")
+    from hairbed.explorer._page import ExplorerPage
+
+    page = ExplorerPage("?si=1&drive=pressure&velocity=0&pressure_gradient=0", served=False)
+    assert page.errors == () and page.snapshot.params.load == 0.0
+    page.load_slider.value = math.log10(0.5)  # abs(pi) = 0.5
+    per_gradient = float(hairbed.HairBed(**BED).deform(pressure_gradient=1.0).solution.pi)
+    gradient = float(page.text["pressure_gradient"].value)
+    assert gradient == pytest.approx(0.5 / per_gradient, rel=1e-5)  # 6 digits in the field
+    assert page.snapshot.params.pump == gradient
+    assert page.snapshot.params.load == pytest.approx(gradient * per_gradient, rel=1e-14)
+    page.release()

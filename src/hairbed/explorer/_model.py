@@ -527,6 +527,11 @@ def _validate_pumped(
     )  # fmt: skip
 
 
+def load_per_unit(bed: Any, drive: str) -> tuple[float, float]:
+    """(omega^2 per m/s of wall speed, pi per Pa/m or q per m^2/s) of a bed's pump drive."""
+    return _drive(bed, drive, 1.0, 1.0)
+
+
 def _drive(bed: Any, drive: str, velocity: Any, value: Any) -> tuple[float, float]:
     """(omega^2 signed, pi or q) of a bed at a wall speed [m/s] and a pump's set pressure
     gradient [Pa/m] or flow rate [m^2/s]: the conversion and the checks (ValueError naming

@@ -45,6 +45,7 @@ from ._model import (
     Snapshot,
     compute,
     inputs_from_query,
+    load_per_unit,
     query_from_inputs,
     snapshot_csv,
     snapshot_json,
@@ -569,8 +570,8 @@ class ExplorerPage:
             return
         load = float(_short(10.0 ** float(event.new)))
         sign = -1.0 if (good.load or 0.0) < 0.0 else 1.0
-        if self.si.value and good.bed is not None and good.load and good.pump:
-            per_unit = good.load / good.pump  # the bed's load per SI unit of the drive
+        if self.si.value and good.bed is not None:
+            _, per_unit = load_per_unit(good.bed, drive)  # the bed's load per SI unit
             self.text[PUMP_INPUT[drive]].value = _short(sign * load / per_unit)
         else:
             self.text[LOAD_KEYS[drive]].value = _short(sign * load)
