@@ -9,6 +9,7 @@ re-lays out the axes on every update).
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -460,6 +461,9 @@ class Views:
             },
         )
         self._update_phase(phys, twirl)
+        self.bistability.title.text = "where three states coexist" + (
+            "" if p.drive == "wall" else " (of the wall drive)"
+        )
         if snap.valve is not None:
             self._update_valve(snap.valve)
 
@@ -555,10 +559,23 @@ class Views:
         self.ch_roof.glyph.top = roof + 100.0 * scale
         flow: dict[str, list[float]] = {"x0": [], "y0": [], "x1": [], "y1": []}
         if shown and height > top_tip:
-            # the linear shear between the highest tip and the moving top wall
-            for frac in (0.25, 0.5, 0.75, 1.0):
+            # the gap flow between the highest tip and the top wall: the wall's linear shear,
+            # and for a pump Couette-Poiseuille, u ~ a y/g + b (y/g)(1 - y/g) with
+            # a = eta v/g and b = G g/2 from the low state's loads W and Pi (theory.md §11)
+            fracs = (0.25, 0.5, 0.75, 1.0)
+            profile = [f * mirror for f in fracs]
+            if p.drive != "wall" and not phys:  # no state: no gap flow to show
+                profile = []
+            elif p.drive != "wall":
+                sol = phys[0][1]
+                gap = 1.0 / p.eps - float(sol.tip_height)  # [L]
+                pressure = 0.5 * float(sol.distributed_load) * gap
+                wall = float(sol.tip_load) - pressure
+                profile = [wall * f + pressure * f * (1.0 - f) for f in fracs]
+            peak = max((abs(u) for u in profile), default=0.0)
+            for frac, u in zip(fracs, profile):
                 zf = top_tip + frac * (height - top_tip) * 0.97
-                length = 0.35 * scale * frac * (1.0 if mirror > 0 else -1.0)
+                length = 0.35 * scale * (u / peak if peak > 0.0 and math.isfinite(peak) else 0.0)
                 x0 = 0.5 * span_x - 0.45 * scale - 0.2 * scale
                 flow["x0"].append(x0)
                 flow["y0"].append(zf)
