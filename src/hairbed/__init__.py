@@ -29,6 +29,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
         calibration_files,
         inverse,
         numerics,
+        pillars,
         profile_fit,
         quasistatic,
         rheology,
@@ -46,6 +47,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
     from ._core.solver import from_parameter, from_xi, solve, solve_all
     from ._warnings import CalibrationWarning, ModelValidityWarning, UnitsWarning
     from .explorer import explore
+    from .pillars import Pillar, PillarDeformation
     from .sensitivity import derivatives
     from .sweeps import sweep
     from .units import HairBed, HairState
@@ -57,7 +59,9 @@ __all__ = [
     "LoadedBranch",
     "LoadedState",
     "ModelValidityWarning",
+    "Pillar",
     "PillarBranch",
+    "PillarDeformation",
     "PillarState",
     "Solution",
     "UnitsWarning",
@@ -73,6 +77,7 @@ __all__ = [
     "gray_hancock_ratio",
     "inverse",
     "numerics",
+    "pillars",
     "profile_fit",
     "quasistatic",
     "rheology",
@@ -99,6 +104,7 @@ _LAZY_MODULES = frozenset(
         "calibration_files",
         "inverse",
         "numerics",
+        "pillars",
         "profile_fit",
         "quasistatic",
         "rheology",
@@ -130,6 +136,8 @@ _LAZY_NAMES = {
     "solve_all": "_core.solver",
     "HairBed": "units",
     "HairState": "units",
+    "Pillar": "pillars",
+    "PillarDeformation": "pillars",
     "CalibrationWarning": "_warnings",
     "ModelValidityWarning": "_warnings",
     "UnitsWarning": "_warnings",

@@ -47,6 +47,7 @@ from ._core.validation import (
     least_squares_status,
     show,
 )
+from ._ranges import LinearRange
 from ._variables import BED, names
 from ._warnings import (
     CalibrationWarning,
@@ -752,62 +753,6 @@ def measure(
 
 
 # -- linear range ------------------------------------------------------------------------------
-
-
-@dataclass(frozen=True)
-class LinearRange:
-    """Where the linear (point-load) calibration is good enough (from :func:`linear_range`).
-
-    Attributes
-    ----------
-    tip_deflection : float
-        The largest tip deflection [m] (from the base, along +x) up to which the linear
-        calibration of :attr:`quantity` is within ``rtol`` (relative) of the exact one
-        (for "both": of the wall speed and the wall shear stress alike).
-    velocity : float
-        The exact wall speed at that deflection [m/s].
-    wall_shear_stress : float
-        The exact wall shear stress there [Pa].
-    rtol : float
-        The relative tolerance asked for (``tolerance`` is its deprecated old name).
-    velocity_error, wall_shear_stress_error : float
-        Relative errors of the linear calibrations there, linear/exact - 1 (signed).
-    success : bool
-        True when the tolerance is reached at a finite deflection (status 0).
-    status : int
-        0 found; 4 the linear calibration stays within the tolerance over the whole searched
-        range (forcing up to about omega^2 = 1e7): the values are at its end
-        (:data:`~hairbed._core.validation.STATUS_MESSAGES`).
-    message : str
-        What happened.
-    quantity : str
-        Whose linear calibration: "velocity", "wall_shear_stress" or "both".
-    limits : Mapping[str, LinearRange]
-        For "both", the range of each quantity alone ("velocity", "wall_shear_stress"); the
-        fields above are then those of the shorter one. Empty otherwise.
-    """
-
-    tip_deflection: float
-    velocity: float
-    wall_shear_stress: float
-    rtol: float
-    velocity_error: float
-    wall_shear_stress_error: float
-    success: bool
-    status: int
-    message: str
-    quantity: str = "both"
-    limits: Mapping[str, LinearRange] = field(default_factory=lambda: MappingProxyType({}))
-
-    @property
-    def tolerance(self) -> float:
-        """Deprecated: the old name of :attr:`rtol`."""
-        warnings.warn(
-            "LinearRange.tolerance is deprecated; use LinearRange.rtol",
-            FutureWarning,
-            stacklevel=2,
-        )
-        return self.rtol
 
 
 def _linear_errors(t: FloatArray, eps: float, theta0: float) -> tuple[Any, FloatArray, FloatArray]:

@@ -217,16 +217,16 @@ def _positive(value: Any, name: str, unit: str) -> float:
     return check_positive(value, name, unit)
 
 
-def _warn_implausible(bed: HairBed) -> None:
-    """A :class:`UnitsWarning` for each SI input of a valid bed outside
-    :data:`PLAUSIBLE_RANGES` (after every check has passed: an invalid bed gets only its
-    error)."""
+def _warn_implausible(bed: Any, kind: str = "HairBed") -> None:
+    """A :class:`UnitsWarning` for each SI input of a valid bed (or pillar: ``kind`` names
+    its class) outside :data:`PLAUSIBLE_RANGES` (after every check has passed: an invalid bed
+    gets only its error)."""
     for name, (low, high, shown, below, above) in PLAUSIBLE_RANGES.items():
-        x = getattr(bed, name)
+        x = getattr(bed, name, None)
         if x is not None and not low <= x <= high:
             warnings.warn(
                 f"{name} = {x:g} {shown} is outside the plausible range [{low:g}, {high:g}] "
-                f"{shown}: {below if x < low else above} (HairBed takes SI units or pint "
+                f"{shown}: {below if x < low else above} ({kind} takes SI units or pint "
                 "quantities)",
                 UnitsWarning,
                 stacklevel=4,

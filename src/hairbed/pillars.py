@@ -1,0 +1,692 @@
+"""An isolated micropillar wall-shear-stress sensor in SI units (issue 21, theory.md §12).
+
+A pillar of length L, radius a and Young's modulus E stands alone on the wall of a flow of
+viscosity eta, clamped at the base angle theta0, and is bent by the resistive-force drag of the
+undisturbed profile along its whole height. The dimensionless state
+(:func:`hairbed.solve_pillar`) depends on one forcing, for the wall shear stress tau_w::
+
+    I          = pi a^4 / 4                                  second moment of area [m^4]
+    zeta_perp  = c 4 pi eta / (ln(2L/a) + 1/2)               normal drag coefficient [Pa s]
+    gamma      = (ln(2L/a) + 1/2) / (2 ln(2L/a) - 1)         zeta_par / zeta_perp [-]
+    Lambda     = zeta_perp tau_w L^4 / (eta E I)             forcing [-]
+
+(Gray & Hancock's coefficients with the pillar length for their wavelength, theory.md §12;
+c is :attr:`Pillar.drag_scale`, 1 by default, the factor a calibration may fit: the
+coefficients are known to O(1/ln(L/a)) only). In a Couette channel of height H the wall
+stress is tau_w = eta V/H (V the moving wall's speed); in a Poiseuille channel
+tau_w = G H/2 (G = -dp/dx). The dimensionless solution gives back, in SI::
+
+    tip deflection x1 L [m],  tip height h1 L [m],  base moment E I theta'(0)/L [N m],
+    drag F(0) E I/L^2 [N],    sensitivity dx1/dtau_w = L (dx1/dLambda) Lambda/tau_w [m/Pa].
+
+Unlike a bed there is no mirror image to take: a negative stress (flow towards -x) is a
+negative Lambda, solved as it is.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._bracketing import find_root
+from ._core.outputs import float_or_array
+from ._core.pillar import (
+    PROFILES,
+    _callable_coefficients,
+    gray_hancock_ratio,
+    profile_coefficients,
+    solve_pillar,
+    solve_pillar_inverse,
+)
+from ._core.validation import (
+    HALF_PI,
+    STATUS_MESSAGES,
+    _first_index,
+    as_float_array,
+    check_number,
+    check_positive,
+    show,
+    status_messages,
+)
+from ._ranges import LinearRange
+from ._warnings import ModelValidityWarning
+from .units import _warn_implausible
+
+__all__ = [
+    "PILLAR_REYNOLDS_LIMIT",
+    "SLENDERNESS_LIMIT",
+    "Pillar",
+    "PillarDeformation",
+]
+
+FloatOrArray = float | NDArray[np.float64]
+FloatArray = NDArray[np.float64]
+
+#: Below this slenderness L/a slender-body (resistive-force) theory is out of its range
+#: (theory.md §12): a :class:`hairbed.ModelValidityWarning`.
+SLENDERNESS_LIMIT = 10.0
+#: Above this pillar Reynolds number rho abs(u(tip)) 2a/eta the Stokes drag is out of its range
+#: (theory.md §12): a :class:`hairbed.ModelValidityWarning`.
+PILLAR_REYNOLDS_LIMIT = 0.5
+#: Gauss-Legendre nodes of the linear coefficient (exact for a profile of degree < 390).
+_GAUSS = np.polynomial.legendre.leggauss(200)
+#: The search grid of :meth:`Pillar.linear_range`: the fraction u of the way from the tip at
+#: rest to the wall (x1 = sin theta0 + u (1 - sin theta0)).
+_RANGE_GRID = np.concatenate([np.geomspace(1e-6, 0.05, 60), np.linspace(0.05, 0.999, 96)[1:]])
+
+
+@dataclass(frozen=True)
+class PillarDeformation:
+    """A pillar bent by a flow, in SI units (from :meth:`Pillar.deform`).
+
+    Scalar inputs give float fields, array inputs arrays of their shape. Where no state was
+    found (``status`` < 0) the value fields are NaN.
+
+    Attributes
+    ----------
+    pillar : Pillar
+        The pillar.
+    wall_shear_stress : float or ndarray
+        The wall shear stress tau_w [Pa] (negative: flow towards -x).
+    velocity : float or ndarray
+        The moving wall's speed V = tau_w H/eta of a Couette channel [m/s]; NaN otherwise.
+    pressure_gradient : float or ndarray
+        G = -dp/dx = 2 tau_w/H of a Poiseuille channel [Pa/m]; NaN otherwise.
+    forcing : float or ndarray
+        Lambda = zeta_perp tau_w L^4/(eta E I) [-].
+    solution : PillarState
+        The dimensionless state (:func:`hairbed.solve_pillar`).
+    tip_deflection : float or ndarray
+        Horizontal position of the tip relative to the base, x1 L [m] (along +x).
+    tip_height : float or ndarray
+        Height of the tip above the wall, h1 L [m].
+    tip_angle : float or ndarray
+        Angle of the tip from the wall normal towards +x [rad].
+    tip_displacement : float or ndarray
+        Horizontal displacement of the tip from its position at rest, (x1 - sin theta0) L [m].
+    base_moment : float or ndarray
+        Bending moment at the base, E I theta'(0)/L [N m] (positive: tilting towards +x).
+    drag : float or ndarray
+        Streamwise drag on the whole pillar, F_x(0) E I/L^2 [N].
+    drag_wall_normal : float or ndarray
+        Wall-normal drag on the whole pillar, F_z(0) E I/L^2 [N].
+    sensitivity : float or ndarray
+        d(tip deflection)/d(tau_w) [m/Pa], exact (implicit differentiation of the
+        collocation system, :attr:`PillarState.tip_deflection_slope`); NaN at a fold.
+    reynolds_number : float or ndarray
+        Pillar Reynolds number rho abs(u(tip)) 2a/eta [-], u(tip) the undisturbed speed at
+        the tip's height; NaN without a ``density``. Above
+        :data:`PILLAR_REYNOLDS_LIMIT` a :class:`hairbed.ModelValidityWarning` is issued.
+    status : int or ndarray
+        The solver's status (0 ok, 3 inaccurate, negative failed; ``STATUS_MESSAGES``).
+    """
+
+    pillar: Pillar = field(repr=False)
+    wall_shear_stress: FloatOrArray
+    velocity: FloatOrArray
+    pressure_gradient: FloatOrArray
+    forcing: FloatOrArray
+    solution: Any = field(repr=False)
+    tip_deflection: FloatOrArray
+    tip_height: FloatOrArray
+    tip_angle: FloatOrArray
+    tip_displacement: FloatOrArray
+    base_moment: FloatOrArray
+    drag: FloatOrArray
+    drag_wall_normal: FloatOrArray
+    sensitivity: FloatOrArray
+    reynolds_number: FloatOrArray
+    status: Any
+
+    @property
+    def success(self) -> Any:
+        """True where the state converged within the tolerance (status 0)."""
+        return self.solution.success
+
+    @property
+    def message(self) -> str | list[Any]:
+        """``STATUS_MESSAGES`` of ``status`` (a nested list for arrays)."""
+        return status_messages(self.status, STATUS_MESSAGES)
+
+    def profile(self, num: int = 200) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """The shape of the pillar in metres, from the base (0, 0) to the tip.
+
+        Parameters
+        ----------
+        num : int
+            Number of points along the pillar, equally spaced in arc length.
+
+        Returns
+        -------
+        x, z : ndarray
+            Horizontal position along +x [m] and height above the wall [m], of shape
+            ``wall_shear_stress.shape + (num,)``.
+        """
+        _, x, z, _ = self.solution.shape(np.linspace(0.0, 1.0, num))
+        scale = self.pillar.length
+        return scale * np.asarray(x), scale * np.asarray(z)
+
+
+class _ChebyshevProfile:
+    """A dimensionless profile U(z), z in [0, 1], given by Chebyshev coefficients in 2 z - 1
+    (what the core resolves a callable into; passing it on re-resolves it exactly)."""
+
+    def __init__(self, coefs: FloatArray) -> None:
+        self.coefs = coefs
+
+    def __call__(self, z: FloatArray) -> FloatArray:
+        return np.asarray(
+            np.polynomial.chebyshev.chebval(2.0 * np.asarray(z) - 1.0, self.coefs),
+            dtype=np.float64,
+        )
+
+
+@dataclass(frozen=True)
+class Pillar:
+    """An isolated elastic pillar on the wall of a shear flow, in SI units (theory.md §12).
+
+    Parameters
+    ----------
+    length : float
+        Pillar length L [m].
+    radius : float
+        Pillar radius a [m] (the radius, not the diameter); the slenderness L/a must exceed
+        1.5 (Gray & Hancock's parallel coefficient is positive there), and below
+        :data:`SLENDERNESS_LIMIT` a :class:`hairbed.ModelValidityWarning` is issued.
+    youngs_modulus : float
+        Young's modulus E of the pillar [Pa].
+    viscosity : float
+        Dynamic viscosity eta of the fluid [Pa s].
+    base_angle : float, optional
+        Base angle theta0 from the wall normal towards +x [rad], in (-pi/2, pi/2); default 0.
+    profile : {"sublayer", "couette", "poiseuille"} or callable, optional
+        The undisturbed profile: the viscous sublayer u = tau_w z/eta (default), Couette or
+        Poiseuille flow in a channel of height ``channel_height``, or a callable u(z) [m/s]
+        of heights z [m] (an ndarray in [0, L]) giving the flow at a reference wall shear
+        stress eta u'(0), which must not vanish; :meth:`deform` scales it to the stress asked
+        for.
+    channel_height : float, optional
+        Channel height H [m] of the "couette" and "poiseuille" profiles (required there, not
+        accepted otherwise); the pillar must fit, L <= H.
+    density : float, optional
+        Fluid density rho [kg/m^3], for the check of the pillar Reynolds number.
+    drag_scale : float, optional
+        A factor c > 0 on both drag coefficients [-] (default 1: Gray & Hancock's); what a
+        calibration of the drag fits (``free=("drag_scale",)``).
+
+    Examples
+    --------
+    >>> p = Pillar(length=500e-6, radius=25e-6, youngs_modulus=1e6, viscosity=1e-3)
+    >>> st = p.deform(wall_shear_stress=1.0)  # [Pa]
+    >>> round(st.tip_deflection * 1e6, 4)  # [um]
+    7.8007
+    >>> round(float(p.wall_shear_stress_from_tip_deflection(st.tip_deflection)), 12)
+    1.0
+    """
+
+    length: float
+    radius: float
+    youngs_modulus: float
+    viscosity: float
+    base_angle: float = 0.0
+    profile: Any = "sublayer"
+    channel_height: float | None = None
+    density: float | None = None
+    drag_scale: float = 1.0
+    #: the dimensionless profile the core solves (built-in name or Chebyshev profile)
+    _core_profile: Any = field(init=False, repr=False, compare=False)
+    #: Lambda / tau_w [1/Pa] and u(tip)/(tau_w U(h1)) [m/(s Pa)]
+    _per_stress: tuple[float, float] = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        set_ = object.__setattr__
+        for name, unit in (
+            ("length", "m"),
+            ("radius", "m"),
+            ("youngs_modulus", "Pa"),
+            ("viscosity", "Pa s"),
+        ):
+            set_(self, name, check_positive(getattr(self, name), name, unit))
+        set_(
+            self,
+            "base_angle",
+            check_number(
+                self.base_angle,
+                "base_angle",
+                low=-HALF_PI,
+                high=HALF_PI,
+                low_open=True,
+                high_open=True,
+                unit="rad",
+            ),
+        )
+        set_(self, "drag_scale", check_positive(self.drag_scale, "drag_scale"))
+        if self.density is not None:
+            set_(self, "density", check_positive(self.density, "density", "kg/m^3"))
+        profile = self.profile
+        channel = isinstance(profile, str) and profile in ("couette", "poiseuille")
+        if not callable(profile) and not (isinstance(profile, str) and profile in PROFILES):
+            raise ValueError(
+                f"profile must be one of {', '.join(map(repr, PROFILES))} or a callable u(z) "
+                f"[m/s] of z [m], got {show(profile)}"
+            )
+        if channel:
+            if self.channel_height is None:
+                raise ValueError(f"profile {profile!r} needs channel_height H [m] (L <= H)")
+            h = check_positive(self.channel_height, "channel_height", "m")
+            set_(self, "channel_height", h)
+            if self.length > h:
+                raise ValueError(
+                    f"length {self.length!r} m must not exceed channel_height {h!r} m: the "
+                    "pillar must fit in its channel (L <= H)"
+                )
+        elif self.channel_height is not None:
+            raise ValueError(
+                "channel_height is used only by the 'couette' and 'poiseuille' profiles, got "
+                f"{show(self.channel_height)} with profile {show(profile)}"
+            )
+        slenderness = self.length / self.radius
+        if not slenderness > 1.5:
+            raise ValueError(
+                f"radius {self.radius!r} m: the slenderness length/radius must exceed 1.5 "
+                f"(Gray & Hancock's coefficients), got {slenderness!r}"
+            )
+        per_stress = self.normal_drag_coefficient * self.length**4
+        per_stress /= self.viscosity * self.bending_stiffness
+        speed = self.length / self.viscosity  # u(tip) = tau_w L U(h1)/eta
+        core: Any = profile
+        if callable(profile):
+            core, speed = self._callable_profile(profile)
+        if not (math.isfinite(per_stress) and per_stress > 0.0):
+            raise ValueError(
+                "the pillar's forcing per unit stress zeta_perp L^4/(eta E I) under- or "
+                f"overflows double precision ({per_stress!r} 1/Pa)"
+            )
+        set_(self, "_core_profile", core)
+        set_(self, "_per_stress", (per_stress, speed))
+        _warn_implausible(self, "Pillar")
+        if slenderness < SLENDERNESS_LIMIT:
+            warnings.warn(
+                f"the pillar's slenderness L/a = {slenderness:.3g} is below "
+                f"{SLENDERNESS_LIMIT:g}: slender-body (resistive-force) drag is out of its "
+                "range (theory.md §12)",
+                ModelValidityWarning,
+                stacklevel=3,
+            )
+
+    def _callable_profile(self, func: Callable[..., Any]) -> tuple[Any, float]:
+        """(dimensionless profile U, u(tip)/(tau_w U(h1)) [m/(s Pa)]) of a callable u(z)."""
+        length = self.length
+        coefs = _callable_coefficients(lambda z: func(np.asarray(z) * length))  # [m/s]
+        slope = 2.0 * float(
+            np.polynomial.chebyshev.chebval(-1.0, np.polynomial.chebyshev.chebder(coefs))
+        )  # du/d(z/L) at the wall [m/s]
+        big = float(np.max(np.abs(coefs)))
+        if not abs(slope) > 1e-12 * big:
+            raise ValueError(
+                "profile: the callable's wall shear stress eta u'(0) is zero (or not resolved); "
+                "a callable profile is scaled by its wall shear stress, which must not vanish"
+            )
+        tau_ref = self.viscosity * slope / length
+        # U(z) = u(z L) eta/(tau_ref L): U'(0) = 1 as for the built-in profiles
+        return _ChebyshevProfile(coefs / slope), slope / tau_ref
+
+    # -- derived quantities ---------------------------------------------------------------------
+
+    @property
+    def bending_stiffness(self) -> float:
+        """E I = E pi a^4/4 [N m^2]."""
+        return self.youngs_modulus * (math.pi / 4.0) * self.radius**4
+
+    @property
+    def slenderness(self) -> float:
+        """L/a [-]."""
+        return self.length / self.radius
+
+    @property
+    def drag_ratio(self) -> float:
+        """gamma = zeta_par/zeta_perp of Gray & Hancock's coefficients [-]
+        (:func:`hairbed.gray_hancock_ratio`)."""
+        return float(gray_hancock_ratio(self.slenderness))
+
+    @property
+    def normal_drag_coefficient(self) -> float:
+        """zeta_perp = c 4 pi eta/(ln(2L/a) + 1/2) [Pa s], c = :attr:`drag_scale`."""
+        return (
+            self.drag_scale
+            * 4.0
+            * math.pi
+            * self.viscosity
+            / (math.log(2.0 * self.slenderness) + 0.5)
+        )
+
+    @property
+    def height_ratio(self) -> float | None:
+        """L/H of a channel profile [-]; None otherwise."""
+        return None if self.channel_height is None else self.length / self.channel_height
+
+    @property
+    def forcing_per_stress(self) -> float:
+        """Lambda/tau_w = zeta_perp L^4/(eta E I) [1/Pa]."""
+        return self._per_stress[0]
+
+    @property
+    def linear_coefficient(self) -> float:
+        """c1 of the linear formula x1 = sin(theta0) + c1 Lambda [-] (theory.md §12).
+
+        c1 = cos^2(theta0) int_0^1 U(s cos theta0) s^2 (3 - s)/6 ds: 11 cos^3(theta0)/120 for
+        the sublayer and Couette, (33 - 26 L/H)/360 for Poiseuille at theta0 = 0.
+        """
+        c = math.cos(self.base_angle)
+        xg, wg = _GAUSS
+        s = 0.5 * (xg + 1.0)
+        u = self._profile_values(s * c)
+        return float(c * c * np.sum(0.5 * wg * u * s * s * (3.0 - s) / 6.0))
+
+    def _profile_values(self, z: FloatArray) -> FloatArray:
+        """The dimensionless profile U at heights z [L]."""
+        core = self._core_profile
+        if callable(core):
+            return np.asarray(core(z), dtype=np.float64)
+        coefs = profile_coefficients(core, self.height_ratio)
+        return np.asarray(np.polynomial.chebyshev.chebval(2.0 * z - 1.0, coefs))
+
+    # -- the forward problem ----------------------------------------------------------------------
+
+    def _stress(self, wall_shear_stress: Any, velocity: Any, pressure_gradient: Any) -> FloatArray:
+        """The wall shear stress [Pa] of exactly one of the three drives, checked."""
+        given = [
+            (n, v)
+            for n, v in (
+                ("wall_shear_stress", wall_shear_stress),
+                ("velocity", velocity),
+                ("pressure_gradient", pressure_gradient),
+            )
+            if v is not None
+        ]
+        if len(given) != 1:
+            raise TypeError(
+                "deform() needs exactly one of wall_shear_stress [Pa], velocity [m/s] (a "
+                "'couette' pillar) and pressure_gradient [Pa/m] (a 'poiseuille' pillar), got "
+                + (", ".join(n for n, _ in given) or "none")
+            )
+        name, value = given[0]
+        if name == "wall_shear_stress":
+            return as_float_array(value, name, unit="Pa")
+        needs = "couette" if name == "velocity" else "poiseuille"
+        if self.profile != needs:
+            raise ValueError(
+                f"{name} drives a {needs!r} channel; this pillar's profile is "
+                f"{show(self.profile)}: give wall_shear_stress [Pa]"
+            )
+        h = float(self.channel_height)  # type: ignore[arg-type]
+        if name == "velocity":  # tau_w = eta V/H
+            return as_float_array(value, name, unit="m/s") * (self.viscosity / h)
+        return as_float_array(value, name, unit="Pa/m") * (0.5 * h)  # tau_w = G H/2
+
+    def _forcing(self, tau: FloatArray) -> FloatArray:
+        with np.errstate(over="ignore"):
+            lam = tau * self.forcing_per_stress
+        bad = ~np.isfinite(lam)
+        if np.any(bad):
+            raise ValueError(
+                f"wall_shear_stress must be below "
+                f"{np.finfo(np.float64).max / self.forcing_per_stress:.3g} Pa in magnitude for "
+                f"this pillar (its forcing overflows), got {float(tau[bad].flat[0])!r}"
+                f"{_first_index(bad)}"
+            )
+        return lam
+
+    def _solve(self, lam: FloatArray) -> Any:
+        """The dimensionless states at forcings ``lam`` (checked, finite)."""
+        return solve_pillar(
+            lam,
+            self.base_angle,
+            profile=self._core_profile,
+            height_ratio=self.height_ratio,
+            gamma=self.drag_ratio,
+        )
+
+    def deform(
+        self,
+        wall_shear_stress: Any = None,
+        *,
+        velocity: Any = None,
+        pressure_gradient: Any = None,
+    ) -> PillarDeformation:
+        """The pillar's state in a flow, in SI (vectorised).
+
+        Parameters
+        ----------
+        wall_shear_stress : array_like, optional
+            The wall shear stress tau_w [Pa] (negative: flow towards -x).
+        velocity : array_like, optional
+            Instead, the moving wall's speed V [m/s] of a "couette" pillar (tau_w = eta V/H).
+        pressure_gradient : array_like, optional
+            Instead, G = -dp/dx [Pa/m] of a "poiseuille" pillar (tau_w = G H/2).
+
+        Returns
+        -------
+        PillarDeformation
+        """
+        tau = self._stress(wall_shear_stress, velocity, pressure_gradient)
+        lam = self._forcing(tau)
+        return self._state(tau, lam, self._solve(lam))
+
+    def _state(self, tau: FloatArray, lam: FloatArray, sol: Any) -> PillarDeformation:
+        """The SI view of the dimensionless states ``sol`` at stresses ``tau`` [Pa]."""
+        length, ei = self.length, self.bending_stiffness
+        x1 = np.asarray(sol.tip_deflection, dtype=np.float64)
+        h1 = np.asarray(sol.tip_height, dtype=np.float64)
+        nan = np.full(np.shape(x1), np.nan)
+        h = self.channel_height
+        if self.density is None:
+            reynolds = nan
+        else:
+            with np.errstate(invalid="ignore"):
+                u_tip = tau * self._per_stress[1] * self._profile_values(np.clip(h1, 0.0, 1.0))
+            reynolds = self.density * np.abs(u_tip) * 2.0 * self.radius / self.viscosity
+            high = reynolds > PILLAR_REYNOLDS_LIMIT
+            if np.any(high):
+                warnings.warn(
+                    f"pillar Reynolds number {float(np.max(reynolds[high])):.3g} > "
+                    f"{PILLAR_REYNOLDS_LIMIT:g}: the Stokes (resistive-force) drag of the model "
+                    "is out of its range (theory.md §12)",
+                    ModelValidityWarning,
+                    stacklevel=3,
+                )
+        return PillarDeformation(
+            pillar=self,
+            wall_shear_stress=float_or_array(tau),
+            velocity=float_or_array(
+                tau * (h / self.viscosity) if self.profile == "couette" and h else nan
+            ),
+            pressure_gradient=float_or_array(
+                2.0 * tau / h if self.profile == "poiseuille" and h else nan
+            ),
+            forcing=float_or_array(lam),
+            solution=sol,
+            tip_deflection=float_or_array(length * x1),
+            tip_height=float_or_array(length * h1),
+            tip_angle=float_or_array(sol.tip_angle),
+            tip_displacement=float_or_array(length * (x1 - math.sin(self.base_angle))),
+            base_moment=float_or_array(ei * np.asarray(sol.base_curvature) / length),
+            drag=float_or_array(ei * np.asarray(sol.drag_x) / length**2),
+            drag_wall_normal=float_or_array(ei * np.asarray(sol.drag_z) / length**2),
+            sensitivity=float_or_array(
+                length * np.asarray(sol.tip_deflection_slope) * self.forcing_per_stress
+            ),
+            reynolds_number=float_or_array(reynolds),
+            status=sol.status,
+        )
+
+    def tip_deflection(self, wall_shear_stress: Any) -> FloatOrArray:
+        """The tip deflection x1 L [m] at wall shear stresses tau_w [Pa] (the calibration
+        curve)."""
+        return self.deform(wall_shear_stress).tip_deflection
+
+    def sensitivity(self, wall_shear_stress: Any) -> FloatOrArray:
+        """d(tip deflection)/d(tau_w) [m/Pa] at wall shear stresses tau_w [Pa], exact.
+
+        L (dx1/dLambda) Lambda/tau_w, dx1/dLambda by implicit differentiation of the
+        collocation system (:attr:`PillarState.tip_deflection_slope`); NaN at a fold.
+        """
+        return self.deform(wall_shear_stress).sensitivity
+
+    # -- the inverse: the calibration curve read backwards -------------------------------------
+
+    def _deflection(self, deflection: Any, name: str = "tip_deflection") -> FloatArray:
+        """A tip deflection [m] (pint quantities converted) in (-length, length)."""
+        d = as_float_array(deflection, name, unit="m")
+        length = self.length
+        with np.errstate(over="ignore"):
+            bad = np.abs(d) / length >= 1.0
+        if np.any(bad):
+            raise ValueError(
+                f"{name} must lie in (-length, length) = ({-length!r}, {length!r}) m, got "
+                f"{float(d[bad].flat[0])!r}{_first_index(bad)} (a tip at the full length is "
+                "a pillar lying flat, reached only as the stress -> inf)"
+            )
+        return d
+
+    def _invert(self, d: FloatArray, name: str = "tip_deflection") -> tuple[FloatArray, Any]:
+        """(tau_w [Pa], the dimensionless states) of checked deflections d [m]."""
+        sol = solve_pillar_inverse(
+            d / self.length,
+            self.base_angle,
+            profile=self._core_profile,
+            height_ratio=self.height_ratio,
+            gamma=self.drag_ratio,
+        )
+        status = np.asarray(sol.status)
+        bad = status < 0
+        if np.any(bad):
+            i = _first_index(bad)
+            raise ValueError(
+                f"{name}: no state of this pillar has the tip deflection "
+                f"{float(d[bad].flat[0])!r} m{i} (beyond the reachable range: "
+                f"{STATUS_MESSAGES[int(status[bad].flat[0])]})"
+            )
+        lam = np.asarray(sol.forcing, dtype=np.float64)
+        return lam / self.forcing_per_stress, sol
+
+    def state_from_tip_deflection(self, tip_deflection: Any) -> PillarDeformation:
+        """The state of the pillar whose tip sits at ``tip_deflection`` [m] from its base.
+
+        The deflection fixes the state uniquely (x1 moves monotonically along the branch,
+        theory.md §12), snap-through windows included.
+        """
+        d = self._deflection(tip_deflection)
+        tau, sol = self._invert(d)
+        return self._state(tau, np.asarray(sol.forcing, dtype=np.float64), sol)
+
+    def wall_shear_stress_from_tip_deflection(self, tip_deflection: Any) -> FloatOrArray:
+        """The wall shear stress tau_w [Pa] that puts the tip at ``tip_deflection`` [m].
+
+        The exact calibration curve read backwards (vectorised). ``tip_deflection`` is
+        measured along +x from the base and lies in (-L, L); at rest it is L sin(theta0),
+        and a tip behind that means flow towards -x (negative tau_w).
+
+        Raises
+        ------
+        ValueError
+            If abs(tip_deflection) >= length, or no state reaches it.
+        """
+        return float_or_array(self._invert(self._deflection(tip_deflection))[0])
+
+    def linear_wall_shear_stress_from_tip_deflection(self, tip_deflection: Any) -> FloatOrArray:
+        """The linear calibration: tau_w [Pa] = (x1 - sin theta0)/(c1 Lambda/tau_w).
+
+        x1 = d/L, c1 the profile's :attr:`linear_coefficient` (x1 = sin theta0 +
+        11 Lambda cos^3(theta0)/120 for the sublayer, theory.md §12). Compare with
+        :meth:`wall_shear_stress_from_tip_deflection` to see where it fails
+        (:meth:`linear_range`).
+        """
+        d = self._deflection(tip_deflection)
+        x1 = d / self.length - math.sin(self.base_angle)
+        return float_or_array(x1 / (self.linear_coefficient * self.forcing_per_stress))
+
+    def linear_range(self, rtol: float = 0.1) -> LinearRange:
+        """The largest deflection at which the linear calibration is within ``rtol``.
+
+        The linear calibration (:meth:`linear_wall_shear_stress_from_tip_deflection`) reads
+        tau_lin = (x1 - sin theta0)/(c1 Lambda/tau_w) from a deflection; its relative error
+        tau_lin/tau_w - 1 against the exact curve (:meth:`wall_shear_stress_from_tip_deflection`)
+        is followed along the branch from rest (flow towards +x, exact states by the inverse
+        solver), and the first deflection where abs of it reaches ``rtol`` is found by a
+        bracketed root search. The linear range of tau_w is [0, ``wall_shear_stress``].
+
+        Parameters
+        ----------
+        rtol : float
+            Relative tolerance, in (0, 1).
+
+        Returns
+        -------
+        LinearRange
+            With ``quantity="wall_shear_stress"``; ``velocity`` is the Couette wall speed
+            there (NaN for the other profiles) and ``velocity_error`` the same relative error.
+        """
+        tol = check_number(rtol, "rtol", low=0.0, high=1.0, low_open=True, high_open=True)
+        rest = math.sin(self.base_angle)
+        err = self._linear_error(_RANGE_GRID)
+        over = np.flatnonzero(~(np.abs(err) <= tol))
+        if over.size == 0:
+            u_star, status = float(_RANGE_GRID[-1]), 4
+            message = "the linear calibration stays within the tolerance over the whole range"
+        elif over[0] == 0:
+            raise ValueError(
+                f"rtol {tol!r} is below the linear calibration's error at the smallest "
+                f"deflection searched ({_RANGE_GRID[0]:g} of the way to the wall)"
+            )
+        else:
+            i = int(over[0])
+            sign = 1.0 if err[i] > 0 else -1.0
+            u_star = float(
+                np.ravel(
+                    find_root(
+                        lambda u: (
+                            sign * self._linear_error(np.ravel(u)).reshape(np.shape(u)) - tol
+                        ),
+                        _RANGE_GRID[i - 1],
+                        _RANGE_GRID[i],
+                        xatol=1e-14,
+                        what="the end of the linear range",
+                    ).x
+                )[0]
+            )
+            status, message = 0, "found"
+        d = self.length * (rest + u_star * (1.0 - rest))
+        tau, _ = self._invert(np.array([d]))
+        e = float(self._linear_error(np.array([u_star]))[0])
+        velocity = (
+            float(tau[0]) * float(self.channel_height) / self.viscosity  # type: ignore[arg-type]
+            if self.profile == "couette"
+            else math.nan
+        )
+        return LinearRange(
+            tip_deflection=d,
+            velocity=velocity,
+            wall_shear_stress=float(tau[0]),
+            rtol=tol,
+            velocity_error=e if self.profile == "couette" else math.nan,
+            wall_shear_stress_error=e,
+            success=status == 0,
+            status=status,
+            message=message,
+            quantity="wall_shear_stress",
+        )
+
+    def _linear_error(self, u: FloatArray) -> FloatArray:
+        """tau_lin/tau_w - 1 at the fractions u of the way from rest to the wall."""
+        rest = math.sin(self.base_angle)
+        d = self.length * (rest + u * (1.0 - rest))
+        tau, _ = self._invert(d)
+        lin = (u * (1.0 - rest)) / (self.linear_coefficient * self.forcing_per_stress)
+        return np.asarray(lin / tau - 1.0, dtype=np.float64)
