@@ -546,7 +546,7 @@ ROWS = [
         "model bed",
         lambda: calibration.model_tip_deflection(None, velocity=0.1),
         TypeError,
-        r"bed must be a hairbed\.HairBed, got NoneType",
+        r"bed must be a hairbed\.HairBed or a hairbed\.Pillar, got NoneType",
     ),
     (
         "model velocity overflow",

@@ -55,6 +55,7 @@ from ._warnings import (
     UnitsWarning,
     renamed_parameters,
 )
+from .pillars import Pillar, PillarDeformation
 from .sensitivity import derivatives_at
 from .units import (
     CLOSE_PACKING_FRACTION,
@@ -67,6 +68,7 @@ from .units import (
 
 __all__ = [
     "FREE_PARAMETERS",
+    "PILLAR_FREE_PARAMETERS",
     "CalibrationFit",
     "CalibrationPoints",
     "LinearRange",
@@ -83,6 +85,8 @@ FloatArray = NDArray[np.float64]
 
 #: Parameters of a bed that a calibration may fit, with their units.
 FREE_PARAMETERS: dict[str, str] = {k: BED[k].unit for k in names(BED, "bed") if k != "density"}
+#: Parameters of a :class:`~hairbed.Pillar` that a calibration may fit, with their units.
+PILLAR_FREE_PARAMETERS: dict[str, str] = {"youngs_modulus": "Pa", "drag_scale": "1"}
 _LINEAR = ("base_angle",)  # fitted as themselves; the others in their logarithms
 _HALF_PI = 0.5 * math.pi
 #: The smallest sigma of a fit, relative to the hair length (1e-12 L: far below any
@@ -210,15 +214,22 @@ def _model_at(
 
 
 def model_tip_deflection(
-    bed: HairBed, *, velocity: ArrayLike | None = None, wall_shear_stress: ArrayLike | None = None
+    bed: HairBed | Pillar,
+    *,
+    velocity: ArrayLike | None = None,
+    wall_shear_stress: ArrayLike | None = None,
 ) -> Any:
     """The bed's tip deflection [m] at wall speeds [m/s] or at wall shear stresses [Pa].
 
     The calibration curve itself (flow towards +x for positive values, its mirror image for
     negative ones; the low state where several coexist at one speed). Give exactly one of
-    ``velocity`` and ``wall_shear_stress``.
+    ``velocity`` and ``wall_shear_stress``. A :class:`~hairbed.Pillar` takes
+    ``wall_shear_stress`` (or ``velocity``, the wall speed of a "couette" pillar): its
+    :meth:`~hairbed.Pillar.deform`.
     """
-    check_type(bed, "bed", HairBed, "a hairbed.HairBed")
+    check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
+    if isinstance(bed, Pillar):
+        return bed.deform(_pillar_known(bed, velocity, wall_shear_stress)[1]).tip_deflection
     kind, x = _known(bed, velocity, wall_shear_stress)
     flat = x.reshape(-1)
     sol = _curve_state(bed, kind, flat)
@@ -247,6 +258,64 @@ def _known(bed: HairBed, velocity: Any, stress: Any) -> tuple[str, FloatArray]:
             f"overflows), got {float(tau[bad].flat[0])!r}"
         )
     return "wall_shear_stress", tau
+
+
+# -- the pillar's model (theory.md §12) --------------------------------------------------------
+
+#: What ``bed`` may be.
+_SENSORS = "a hairbed.HairBed or a hairbed.Pillar"
+
+
+def _pillar_known(
+    pillar: Pillar, velocity: Any, stress: Any
+) -> tuple[str, FloatArray, FloatArray]:
+    """(kind, the known wall shear stresses [Pa], the values given) of a pillar's calibration
+    points: stresses, or the wall speeds of a "couette" pillar (tau_w = eta V/H; the kind is
+    then "velocity")."""
+    if (velocity is None) == (stress is None):
+        raise ValueError(
+            "give exactly one of velocity [m/s] (a 'couette' pillar) and wall_shear_stress "
+            f"[Pa], got velocity={show(velocity)}, wall_shear_stress={show(stress)}"
+        )
+    if velocity is not None:
+        tau = pillar._stress(None, velocity, None)
+        kind, given = "velocity", as_float_array(velocity, "velocity", unit="m/s")
+    else:
+        tau = pillar._stress(stress, None, None)
+        kind, given = "wall_shear_stress", tau
+    pillar._forcing(tau)  # its overflow, named
+    return kind, tau, given
+
+
+def _pillar_model_at(
+    pillar: Pillar, tau: FloatArray, sol: Any, free: Sequence[str]
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Tip deflection D [m] of a pillar at wall shear stresses ``tau`` [Pa] (states ``sol``),
+    dD/dP for each free parameter P in P's units (shape (len(tau), len(free))) and dD/dtau.
+
+    D = L x1(Lambda) with Lambda = c zeta_perp tau L^4/(eta E I) proportional to c/E, so
+    dD/d ln E = -L (dx1/dLambda) Lambda and dD/d ln c = +L (dx1/dLambda) Lambda, with the
+    exact slope of the collocation system (:attr:`hairbed.PillarState.tip_deflection_slope`).
+    """
+    length = pillar.length
+    x1 = np.asarray(sol.tip_deflection, dtype=np.float64).reshape(-1)
+    slope = np.asarray(sol.tip_deflection_slope, dtype=np.float64).reshape(-1)
+    lam = np.asarray(sol.forcing, dtype=np.float64).reshape(-1)
+    jac = np.empty((x1.size, len(free)))
+    for j, name in enumerate(free):
+        sign = -1.0 if name == "youngs_modulus" else 1.0  # drag_scale
+        jac[:, j] = sign * length * slope * lam / float(getattr(pillar, name))
+    return length * x1, jac, length * slope * pillar.forcing_per_stress
+
+
+def _pillar_degeneracies(names: Sequence[str]) -> list[str]:
+    """Why a pillar's model cannot determine ``names`` (empty if it can)."""
+    if len(names) > 1:
+        return [
+            f"{', '.join(names)} enter the model only through the one combination "
+            "drag_scale/E (Lambda = c zeta_perp tau_w L^4/(eta E I)): free at most one of them"
+        ]
+    return []
 
 
 # -- fit ---------------------------------------------------------------------------------------
@@ -305,7 +374,7 @@ class CalibrationFit:
         The starting value of each free parameter (the bed given to :func:`fit`).
     """
 
-    bed: HairBed
+    bed: HairBed | Pillar
     parameters: tuple[str, ...]
     values: Mapping[str, float]
     stderr: Mapping[str, float]
@@ -337,7 +406,9 @@ class CalibrationFit:
         return self.chi2 / self.dof if self.dof > 0 else float("nan")
 
 
-def _check_free(free: Any) -> tuple[str, ...]:
+def _check_free(
+    free: Any, allowed: Mapping[str, str] = FREE_PARAMETERS, what: str = "bed"
+) -> tuple[str, ...]:
     if isinstance(free, str):
         free = tuple(p.strip() for p in free.split(",") if p.strip())
     try:
@@ -345,11 +416,11 @@ def _check_free(free: Any) -> tuple[str, ...]:
     except TypeError:
         raise ValueError(f"free must be a sequence of parameter names, got {show(free)}") from None
     if not names:
-        raise ValueError("free must name at least one parameter of the bed")
+        raise ValueError(f"free must name at least one parameter of the {what}")
     for name in names:
-        if not isinstance(name, str) or name not in FREE_PARAMETERS:
+        if not isinstance(name, str) or name not in allowed:
             raise ValueError(
-                f"free: unknown parameter {show(name)}; allowed: {', '.join(FREE_PARAMETERS)}"
+                f"free: unknown parameter {show(name)}; allowed for a {what}: {', '.join(allowed)}"
             )
     if len(set(names)) != len(names):
         raise ValueError(f"free names a parameter twice: {names!r}")
@@ -455,7 +526,7 @@ def _bounds(bed: HairBed, free: tuple[str, ...], geometry: str) -> tuple[FloatAr
 
 
 def fit(
-    bed: HairBed,
+    bed: HairBed | Pillar,
     tip_deflection: ArrayLike,
     *,
     wall_shear_stress: ArrayLike | None = None,
@@ -514,10 +585,15 @@ def fit(
     >>> round(result.values["youngs_modulus"] / 1e6, 9), result.success
     (1.3, True)
     """
-    if not isinstance(bed, HairBed):
-        raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
-    names = _check_free(free)
-    kind, x = _known(bed, velocity, wall_shear_stress)
+    check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
+    pillar = isinstance(bed, Pillar)
+    if isinstance(bed, Pillar):
+        names = _check_free(free, PILLAR_FREE_PARAMETERS, "pillar")
+        kind, x, given = _pillar_known(bed, velocity, wall_shear_stress)
+    else:
+        names = _check_free(free)
+        kind, x = _known(bed, velocity, wall_shear_stress)
+        given = x
     d = as_float_array(tip_deflection, "tip_deflection", unit="m").reshape(-1)
     x = x.reshape(-1)
     if x.size != d.size:
@@ -539,7 +615,7 @@ def fit(
         weights = 1.0 / sig
     geometry = "packing_fraction" if "packing_fraction" in names else "spacing"
 
-    def coords_to_bed(p: FloatArray) -> HairBed:
+    def coords_to_bed(p: FloatArray) -> Any:
         changes = {
             name: (float(v) if name in _LINEAR else math.exp(float(v)))
             for name, v in zip(names, p)
@@ -547,9 +623,11 @@ def fit(
         with warnings.catch_warnings():  # a trial bed's: the fitted bed is checked below
             warnings.simplefilter("ignore", UnitsWarning)
             warnings.simplefilter("ignore", ModelValidityWarning)
+            if isinstance(bed, Pillar):
+                return replace(bed, **changes)  # type: ignore[arg-type]
             return _rebuild(bed, geometry, **changes)
 
-    def scale(b: HairBed) -> FloatArray:  # dP/dp of each coordinate
+    def scale(b: Any) -> FloatArray:  # dP/dp of each coordinate
         return np.array([1.0 if nm in _LINEAR else float(getattr(b, nm)) for nm in names])
 
     cache: dict[bytes, tuple[FloatArray, FloatArray]] = {}
@@ -558,7 +636,10 @@ def fit(
         key = p.tobytes()
         if key not in cache:
             b = coords_to_bed(p)
-            model, jac, _, _ = _model(b, kind, x, names, geometry)
+            if pillar:
+                model, jac, _ = _pillar_model_at(b, x, b._solve(b._forcing(x)), names)
+            else:
+                model, jac, _, _ = _model(b, kind, x, names, geometry)
             cache.clear()
             cache[key] = (weights * (model - d), weights[:, None] * jac * scale(b))
         return cache[key]
@@ -566,7 +647,10 @@ def fit(
     p0 = np.array(
         [float(getattr(bed, nm)) if nm in _LINEAR else math.log(getattr(bed, nm)) for nm in names]
     )
-    lo, hi = _bounds(bed, names, geometry)
+    if isinstance(bed, Pillar):  # E and the drag scale in their logarithms: unbounded
+        lo, hi = np.full(len(names), -np.inf), np.full(len(names), np.inf)
+    else:
+        lo, hi = _bounds(bed, names, geometry)
     p0 = np.clip(p0, lo, hi)
     try:
         res = least_squares(
@@ -587,7 +671,7 @@ def fit(
     dof = d.size - len(names)
     jn = jw / scale(fitted)  # weighted Jacobian in the parameters' own units
     u, sv, vt = np.linalg.svd(jn, full_matrices=False)
-    why = _degeneracies(names, kind, geometry)
+    why = _pillar_degeneracies(names) if pillar else _degeneracies(names, kind, geometry)
     rank_ok = not why and sv.size > 0 and sv[-1] > sv[0] * 1e-10
     status, success, message = (
         least_squares_status(int(res.status)),
@@ -613,9 +697,12 @@ def fit(
             + ("" if sigma is not None else "; without sigma the standard errors are infinite")
         )
         warnings.warn(f"calibration.fit: {message}", CalibrationWarning, stacklevel=2)
-    if set(names) & {"length", "radius", "spacing", "packing_fraction"}:
-        _warn_sparse(fitted, stacklevel=3)
-    _warn_validity(fitted, kind, x, _curve_state(fitted, kind, x), x.shape)
+    if pillar:
+        fitted.deform(x)  # the model's validity at the data (the pillar Reynolds number)
+    else:
+        if set(names) & {"length", "radius", "spacing", "packing_fraction"}:
+            _warn_sparse(fitted, stacklevel=3)
+        _warn_validity(fitted, kind, x, _curve_state(fitted, kind, x), x.shape)
     stderr = np.sqrt(np.diag(cov))
     values = {nm: float(getattr(fitted, nm)) for nm in names}
     return CalibrationFit(
@@ -636,7 +723,7 @@ def fit(
         solver_status=int(res.status),
         geometry=geometry,
         weighted=sigma is not None,
-        fingerprint=_fingerprint(kind, x, d, sig),
+        fingerprint=_fingerprint(kind, given.reshape(-1), d, sig),
         start=MappingProxyType({nm: float(getattr(bed, nm)) for nm in names}),
     )
 
@@ -672,14 +759,14 @@ class Measurement:
     wall_shear_stress_stderr: Any
     velocity: Any
     velocity_stderr: Any
-    state: HairState = field(repr=False)
+    state: HairState | PillarDeformation = field(repr=False)
     success: bool
     status: int
     message: str
 
 
 def measure(
-    bed: HairBed,
+    bed: HairBed | Pillar,
     tip_deflection: ArrayLike,
     *,
     sigma: ArrayLike = 0.0,
@@ -708,10 +795,16 @@ def measure(
     -------
     Measurement
     """
-    if not isinstance(bed, HairBed):
-        raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
+    check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
     if fit is not None:
         check_type(fit, "fit", CalibrationFit, "a CalibrationFit (from calibration.fit) or None")
+        if type(fit.bed) is not type(bed):
+            raise TypeError(
+                f"fit is the calibration of a {type(fit.bed).__name__}, but bed is a "
+                f"{type(bed).__name__}"
+            )
+    if isinstance(bed, Pillar):
+        return _measure_pillar(bed, tip_deflection, sigma, fit)
     d = bed._deflection(tip_deflection, "tip_deflection")
     s = check_sigma(sigma, "sigma", d.shape, unit="m", allow_zero=True, high=bed.length)
     v, direction, omega2, sol = bed._invert(d)  # d checked: no check again on the way down
@@ -726,15 +819,7 @@ def measure(
     collapsed = _from_parameter(sol.t, 0.0, sol.theta0)
     _, jac_t, dd_dt, _ = _model_at(bed, "wall_shear_stress", tau, collapsed, names, geometry)
     sig = np.broadcast_to(s, d.shape).reshape(-1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        var_v = (sig / dd_dv) ** 2
-        var_t = (sig / dd_dt) ** 2
-        if fit is not None:
-            g_v = -jac_v / dd_dv[:, None]
-            g_t = -jac_t / dd_dt[:, None]
-            var_v = var_v + np.einsum("ij,jk,ik->i", g_v, fit.covariance, g_v)
-            var_t = var_t + np.einsum("ij,jk,ik->i", g_t, fit.covariance, g_t)
-    ev, et = np.sqrt(var_v), np.sqrt(var_t)
+    ev, et = _stderr(sig, dd_dv, jac_v, fit), _stderr(sig, dd_dt, jac_t, fit)
     finite = bool(np.all(np.isfinite(ev)) and np.all(np.isfinite(et)))
     shape = d.shape
     return Measurement(
@@ -749,6 +834,53 @@ def measure(
         message="ok"
         if finite
         else "a standard error is infinite (a fold of the bed, or an undetermined fit)",
+    )
+
+
+def _stderr(
+    sig: FloatArray, dd_dy: FloatArray, jac: FloatArray, fit: CalibrationFit | None
+) -> FloatArray:
+    """Standard error of a flow y read from a deflection D: var = (sigma/(dD/dy))^2 +
+    g^T C g, g = dy/dP = -(dD/dP)/(dD/dy) at fixed D, C the fit's covariance."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        var = (sig / dd_dy) ** 2
+        if fit is not None:
+            g = -jac / dd_dy[:, None]
+            var = var + np.einsum("ij,jk,ik->i", g, fit.covariance, g)
+    return np.asarray(np.sqrt(var), dtype=np.float64)
+
+
+def _measure_pillar(
+    pillar: Pillar, tip_deflection: Any, sigma: Any, fit: CalibrationFit | None
+) -> Measurement:
+    """:func:`measure` of a pillar: the exact inverse (:meth:`Pillar.state_from_tip_deflection`),
+    the stress's error through dD/dtau = the sensitivity, and the wall speed's for a
+    "couette" pillar (V = tau_w H/eta; NaN for the other profiles)."""
+    d = pillar._deflection(tip_deflection)
+    s = check_sigma(sigma, "sigma", d.shape, unit="m", allow_zero=True, high=pillar.length)
+    tau, sol = pillar._invert(d)
+    state = pillar._state(tau, np.asarray(sol.forcing, dtype=np.float64), sol)
+    names = fit.parameters if fit is not None else ()
+    _, jac, dd_dt = _pillar_model_at(pillar, tau.reshape(-1), sol, names)
+    sig = np.broadcast_to(s, d.shape).reshape(-1)
+    et = _stderr(sig, dd_dt, jac, fit).reshape(d.shape)
+    if pillar.profile == "couette":
+        to_v = float(pillar.channel_height) / pillar.viscosity  # type: ignore[arg-type]
+    else:
+        to_v = math.nan
+    finite = bool(np.all(np.isfinite(et)))
+    return Measurement(
+        tip_deflection=float_or_array(d),
+        wall_shear_stress=state.wall_shear_stress,
+        wall_shear_stress_stderr=float_or_array(et),
+        velocity=state.velocity,
+        velocity_stderr=float_or_array(et * to_v),
+        state=state,
+        success=finite,
+        status=0 if finite else 2,
+        message="ok"
+        if finite
+        else "a standard error is infinite (a fold of the pillar, or an undetermined fit)",
     )
 
 
@@ -785,7 +917,9 @@ def _excess(t: FloatArray, eps: Any, theta0: Any, tol: Any, which: Any) -> Float
 
 
 @renamed_parameters(tolerance="rtol")
-def linear_range(bed: HairBed, rtol: float = 0.1, *, quantity: str = "both") -> LinearRange:
+def linear_range(
+    bed: HairBed | Pillar, rtol: float = 0.1, *, quantity: str = "both"
+) -> LinearRange:
     """The largest deflection at which the linear calibration of ``quantity`` is within ``rtol``.
 
     The linear calibration is that of a cantilever under a point load at the tip:
@@ -811,13 +945,19 @@ def linear_range(bed: HairBed, rtol: float = 0.1, *, quantity: str = "both") -> 
     -------
     LinearRange
     """
-    if not isinstance(bed, HairBed):
-        raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
+    check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
     tol = check_number(rtol, "rtol", low=0.0, high=1.0, low_open=True, high_open=True)
     if not isinstance(quantity, str) or quantity not in _QUANTITIES:
         raise ValueError(
             f"quantity must be one of {', '.join(map(repr, _QUANTITIES))}, got {show(quantity)}"
         )
+    if isinstance(bed, Pillar):
+        if quantity == "velocity" and bed.profile != "couette":
+            raise ValueError(
+                "quantity 'velocity' needs a 'couette' pillar (its wall speed); this one's "
+                f"profile is {show(bed.profile)}"
+            )
+        return bed.linear_range(tol)
     if quantity != "both":
         return _linear_range(bed, tol, quantity)
     each = {q: _linear_range(bed, tol, q) for q in ("velocity", "wall_shear_stress")}
