@@ -323,7 +323,38 @@ class Pillar:
     def _callable_profile(self, func: Callable[..., Any]) -> tuple[Any, float]:
         """(dimensionless profile U, u(tip)/(tau_w U(h1)) [m/(s Pa)]) of a callable u(z)."""
         length = self.length
-        coefs = _callable_coefficients(lambda z: func(np.asarray(z) * length))  # [m/s]
+
+        def checked(z: FloatArray) -> FloatArray:  # the user's u(z) of z [m], checked in SI
+            zm = np.asarray(z) * length
+            try:
+                raw = func(zm)
+            except Exception as exc:  # the user's function: say whose error it is
+                raise ValueError(
+                    f"profile: the callable raised {type(exc).__name__}: {exc} (it is called "
+                    "with an ndarray of heights z in [0, length] [m])"
+                ) from exc
+            try:
+                vals = np.asarray(raw, dtype=np.float64)
+            except (TypeError, ValueError):
+                raise TypeError(
+                    "profile: the callable must return real speeds [m/s], got "
+                    f"{type(raw).__name__}"
+                ) from None
+            if vals.shape != zm.shape:
+                raise ValueError(
+                    f"profile: the callable must return an array of the shape of z "
+                    f"{zm.shape}, got shape {vals.shape}"
+                )
+            bad = ~np.isfinite(vals)
+            if np.any(bad):
+                i = int(np.flatnonzero(bad)[0])
+                raise ValueError(
+                    f"profile: the callable returned {float(vals[i])!r} m/s at z = "
+                    f"{float(zm[i])!r} m (index {i}); it must be finite on [0, length]"
+                )
+            return vals
+
+        coefs = _callable_coefficients(checked)  # [m/s]
         slope = 2.0 * float(
             np.polynomial.chebyshev.chebval(-1.0, np.polynomial.chebyshev.chebder(coefs))
         )  # du/d(z/L) at the wall [m/s]
