@@ -19,6 +19,14 @@ standard errors are returned in the parameters' own units (the linearisation, de
 The weak-forcing limit is a cantilever under a point load at the tip, x1 - sin(theta0) =
 omega_eps^2 cos^2(theta0)/3 (F L^3/(3 E I) in metres); :func:`linear_range` says up to which
 deflection that line is within a tolerance of the exact calibration.
+
+The same :func:`fit`, :func:`measure`, :func:`model_tip_deflection` and :func:`linear_range`
+take an isolated pillar, a :class:`~hairbed.Pillar` (theory.md §12): its deflection
+L x1(Lambda) at known wall shear stresses (or the wall speeds of a Couette channel), with
+Lambda = c zeta_perp tau_w L^4/(eta E I). A pillar fits its Young's modulus or the drag
+coefficients' scale c (:data:`PILLAR_FREE_PARAMETERS`; they enter only as c/E, so one of
+them), with the exact Jacobian from dx1/dLambda (implicit differentiation of the collocation
+system), and :func:`measure` reads tau_w with the same propagation of sigma and covariance.
 """
 
 from __future__ import annotations
@@ -327,8 +335,8 @@ class CalibrationFit:
 
     Attributes
     ----------
-    bed : HairBed
-        The bed with the fitted parameters.
+    bed : HairBed or Pillar
+        The bed (or pillar) with the fitted parameters.
     parameters : tuple of str
         The free parameters, in the order of ``covariance``.
     values : Mapping[str, float]
@@ -543,7 +551,7 @@ def fit(
 
     Parameters
     ----------
-    bed : HairBed
+    bed : HairBed or Pillar
         The sensor, with its best prior values.
     tip_deflection : array_like
         Measured tip deflections [m] along +x, one per calibration point.
@@ -556,8 +564,10 @@ def fit(
         length): one number, or one per point. Without it the errors are estimated from the
         scatter of the residuals (chi2/dof).
     free : sequence of str or comma-separated str
-        Parameters to fit, from :data:`FREE_PARAMETERS` (``"youngs_modulus"`` by default).
-        Stress data do not determine ``channel_height`` or ``viscosity``.
+        Parameters to fit, from :data:`FREE_PARAMETERS` (``"youngs_modulus"`` by default),
+        or for a pillar :data:`PILLAR_FREE_PARAMETERS`. Stress data do not determine
+        ``channel_height`` or ``viscosity``; a pillar takes ``velocity`` only in a Couette
+        channel (tau_w = eta V/H).
 
     Returns
     -------
@@ -743,8 +753,8 @@ class Measurement:
         Wall shear stress tau [Pa] and its standard error [Pa].
     velocity, velocity_stderr : float or ndarray
         Top-wall speed v [m/s] and its standard error [m/s].
-    state : HairState
-        The state of the bed at that deflection.
+    state : HairState or PillarDeformation
+        The state of the bed (or pillar) at that deflection.
     success : bool
         True when every error is finite (no fold, no singular calibration).
     status : int
@@ -781,8 +791,9 @@ def measure(
 
     Parameters
     ----------
-    bed : HairBed
-        The calibrated sensor (usually ``fit.bed``).
+    bed : HairBed or Pillar
+        The calibrated sensor (usually ``fit.bed``). A pillar's wall speed (``velocity``) is
+        that of a Couette channel, NaN for the other profiles.
     tip_deflection : array_like
         Measured tip deflection D [m] along +x, in (-L, L).
     sigma : float or array_like
@@ -933,8 +944,9 @@ def linear_range(
 
     Parameters
     ----------
-    bed : HairBed
-        The sensor.
+    bed : HairBed or Pillar
+        The sensor; a pillar's range is :meth:`Pillar.linear_range` (its linear formula
+        x1 = sin theta0 + c1 Lambda, theory.md §12), the wall shear stress's.
     rtol : float
         Relative tolerance, in (0, 1) (``tolerance`` is its deprecated old name).
     quantity : {"both", "wall_shear_stress", "velocity"}

@@ -224,10 +224,12 @@ class Pillar:
     --------
     >>> p = Pillar(length=500e-6, radius=25e-6, youngs_modulus=1e6, viscosity=1e-3)
     >>> st = p.deform(wall_shear_stress=1.0)  # [Pa]
-    >>> round(st.tip_deflection * 1e6, 4)  # [um]
-    7.8007
-    >>> round(float(p.wall_shear_stress_from_tip_deflection(st.tip_deflection)), 12)
+    >>> round(st.tip_deflection * 1e6, 4), round(st.sensitivity * 1e6, 4)  # [um], [um/Pa]
+    (27.8862, 27.6395)
+    >>> round(p.wall_shear_stress_from_tip_deflection(st.tip_deflection), 12)  # [Pa]
     1.0
+    >>> round(p.linear_range(0.01).wall_shear_stress, 4)  # the linear formula to 1 % [Pa]
+    1.5087
     """
 
     length: float
