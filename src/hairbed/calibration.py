@@ -63,12 +63,11 @@ from ._warnings import (
     UnitsWarning,
     renamed_parameters,
 )
-from .pillars import Pillar, PillarDeformation
+from .pillars import Pillar
 from .sensitivity import derivatives_at
 from .units import (
     CLOSE_PACKING_FRACTION,
     HairBed,
-    HairState,
     _reynolds_of_stress,
     _warn_reynolds,
     _warn_sparse,
@@ -769,7 +768,7 @@ class Measurement:
     wall_shear_stress_stderr: Any
     velocity: Any
     velocity_stderr: Any
-    state: HairState | PillarDeformation = field(repr=False)
+    state: Any = field(repr=False)  # HairState or PillarDeformation
     success: bool
     status: int
     message: str

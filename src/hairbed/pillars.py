@@ -49,6 +49,7 @@ from ._core.validation import (
     STATUS_MESSAGES,
     _first_index,
     as_float_array,
+    check_int,
     check_number,
     check_positive,
     show,
@@ -168,6 +169,7 @@ class PillarDeformation:
             Horizontal position along +x [m] and height above the wall [m], of shape
             ``wall_shear_stress.shape + (num,)``.
         """
+        num = check_int(num, "num", 2, 10**7)
         _, x, z, _ = self.solution.shape(np.linspace(0.0, 1.0, num))
         scale = self.pillar.length
         return scale * np.asarray(x), scale * np.asarray(z)
@@ -294,21 +296,32 @@ class Pillar:
                 f"{show(self.channel_height)} with profile {show(profile)}"
             )
         slenderness = self.length / self.radius
+        if not math.isfinite(slenderness):
+            raise ValueError(
+                f"length {self.length!r} m over radius {self.radius!r} m overflows double "
+                "precision (the slenderness L/a)"
+            )
         if not slenderness > 1.5:
             raise ValueError(
                 f"radius {self.radius!r} m: the slenderness length/radius must exceed 1.5 "
                 f"(Gray & Hancock's coefficients), got {slenderness!r}"
             )
-        per_stress = self.normal_drag_coefficient * self.length**4
-        per_stress /= self.viscosity * self.bending_stiffness
-        speed = self.length / self.viscosity  # u(tip) = tau_w L U(h1)/eta
+        with np.errstate(all="ignore"):  # numpy floats: inf or 0 on overflow, checked below
+            length, radius = np.float64(self.length), np.float64(self.radius)
+            per_stress = float(
+                self.normal_drag_coefficient
+                * (length / radius) ** 4
+                / (self.viscosity * self.youngs_modulus * np.pi / 4.0)
+            )
+            speed = float(length / np.float64(self.viscosity))  # u(tip) = tau_w L U(h1)/eta
         core: Any = profile
         if callable(profile):
             core, speed = self._callable_profile(profile)
-        if not (math.isfinite(per_stress) and per_stress > 0.0):
+        if not (math.isfinite(per_stress) and per_stress > 0.0 and math.isfinite(speed)):
             raise ValueError(
-                "the pillar's forcing per unit stress zeta_perp L^4/(eta E I) under- or "
-                f"overflows double precision ({per_stress!r} 1/Pa)"
+                "length, radius, youngs_modulus, viscosity and drag_scale give a forcing per "
+                f"unit stress zeta_perp L^4/(eta E I) = {per_stress!r} 1/Pa (or a speed scale "
+                "L/eta) that under- or overflows double precision"
             )
         set_(self, "_core_profile", core)
         set_(self, "_per_stress", (per_stress, speed))
@@ -375,7 +388,8 @@ class Pillar:
     @property
     def bending_stiffness(self) -> float:
         """E I = E pi a^4/4 [N m^2]."""
-        return self.youngs_modulus * (math.pi / 4.0) * self.radius**4
+        with np.errstate(over="ignore"):  # inf rather than an OverflowError
+            return float(self.youngs_modulus * (np.pi / 4.0) * np.float64(self.radius) ** 4)
 
     @property
     def slenderness(self) -> float:
@@ -550,8 +564,8 @@ class Pillar:
             tip_angle=float_or_array(sol.tip_angle),
             tip_displacement=float_or_array(length * (x1 - math.sin(self.base_angle))),
             base_moment=float_or_array(ei * np.asarray(sol.base_curvature) / length),
-            drag=float_or_array(ei * np.asarray(sol.drag_x) / length**2),
-            drag_wall_normal=float_or_array(ei * np.asarray(sol.drag_z) / length**2),
+            drag=float_or_array(ei * np.asarray(sol.drag_x) / length / length),
+            drag_wall_normal=float_or_array(ei * np.asarray(sol.drag_z) / length / length),
             sensitivity=float_or_array(
                 length * np.asarray(sol.tip_deflection_slope) * self.forcing_per_stress
             ),
@@ -559,18 +573,34 @@ class Pillar:
             status=sol.status,
         )
 
+    def _solved(self, wall_shear_stress: Any) -> PillarDeformation:
+        """:meth:`deform` at stresses, or a ValueError where no state was found (a bare
+        number cannot carry a status)."""
+        st = self.deform(wall_shear_stress)
+        status = np.asarray(st.status)
+        bad = status < 0
+        if np.any(bad):
+            tau = np.asarray(st.wall_shear_stress)
+            raise ValueError(
+                f"wall_shear_stress {float(tau[bad].flat[0])!r} Pa{_first_index(bad)}: no state "
+                f"found ({STATUS_MESSAGES[int(status[bad].flat[0])]}); deform() returns the "
+                "status"
+            )
+        return st
+
     def tip_deflection(self, wall_shear_stress: Any) -> FloatOrArray:
         """The tip deflection x1 L [m] at wall shear stresses tau_w [Pa] (the calibration
-        curve)."""
-        return self.deform(wall_shear_stress).tip_deflection
+        curve); a ValueError where no state is found (:meth:`deform` gives the status)."""
+        return self._solved(wall_shear_stress).tip_deflection
 
     def sensitivity(self, wall_shear_stress: Any) -> FloatOrArray:
         """d(tip deflection)/d(tau_w) [m/Pa] at wall shear stresses tau_w [Pa], exact.
 
         L (dx1/dLambda) Lambda/tau_w, dx1/dLambda by implicit differentiation of the
-        collocation system (:attr:`PillarState.tip_deflection_slope`); NaN at a fold.
+        collocation system (:attr:`PillarState.tip_deflection_slope`); NaN at a fold; a
+        ValueError where no state is found.
         """
-        return self.deform(wall_shear_stress).sensitivity
+        return self._solved(wall_shear_stress).sensitivity
 
     # -- the inverse: the calibration curve read backwards -------------------------------------
 
