@@ -382,3 +382,14 @@ def test_measure_refuses_a_fit_of_the_other_sensor():
         TypeError, match="fit is the calibration of a HairBed, but bed is a Pillar"
     ):
         calibration.measure(_pillar(), 1e-5, fit=res)
+
+
+def test_linear_range_of_a_pillar_leaning_downstream():
+    """theta0 = 1.4: the tip starts 0.985 L out and the inverse finds no state right at the
+    wall; the search stops there instead of failing, and the range is still found."""
+    p = _pillar("sublayer", 1.4)
+    lr = p.linear_range(0.5)
+    assert lr.status == 0 and lr.wall_shear_stress_error == pytest.approx(-0.5, abs=1e-9)
+    d = lr.tip_deflection
+    lin = (d / L - math.sin(1.4)) / (11.0 * math.cos(1.4) ** 3 / 120.0 * _forcing_per_stress())
+    assert lin / p.wall_shear_stress_from_tip_deflection(d) - 1.0 == pytest.approx(-0.5, abs=1e-9)

@@ -618,8 +618,11 @@ class Pillar:
             )
         return d
 
-    def _invert(self, d: FloatArray, name: str = "tip_deflection") -> tuple[FloatArray, Any]:
-        """(tau_w [Pa], the dimensionless states) of checked deflections d [m]."""
+    def _invert(
+        self, d: FloatArray, name: str = "tip_deflection", strict: bool = True
+    ) -> tuple[FloatArray, Any]:
+        """(tau_w [Pa], the dimensionless states) of checked deflections d [m]; where no state
+        is found a ValueError naming ``name`` (``strict``) or NaN."""
         sol = solve_pillar_inverse(
             d / self.length,
             self.base_angle,
@@ -629,7 +632,7 @@ class Pillar:
         )
         status = np.asarray(sol.status)
         bad = status < 0
-        if np.any(bad):
+        if np.any(bad) and strict:
             i = _first_index(bad)
             raise ValueError(
                 f"{name}: no state of this pillar has the tip deflection "
@@ -699,9 +702,19 @@ class Pillar:
         tol = check_number(rtol, "rtol", low=0.0, high=1.0, low_open=True, high_open=True)
         rest = math.sin(self.base_angle)
         err = self._linear_error(_RANGE_GRID)
+        # the search ends where the inverse first finds no state (a pillar almost flat on
+        # the wall, Lambda beyond the solver's reach)
+        reached = np.flatnonzero(~np.isfinite(err))
+        grid = _RANGE_GRID[: reached[0]] if reached.size else _RANGE_GRID
+        err = err[: grid.size]
         over = np.flatnonzero(~(np.abs(err) <= tol))
+        if grid.size == 0:
+            raise ValueError(
+                "no state of this pillar found at the smallest deflection searched "
+                f"({_RANGE_GRID[0]:g} of the way to the wall)"
+            )
         if over.size == 0:
-            u_star, status = float(_RANGE_GRID[-1]), 4
+            u_star, status = float(grid[-1]), 4
             message = "the linear calibration stays within the tolerance over the whole range"
         elif over[0] == 0:
             raise ValueError(
@@ -750,6 +763,6 @@ class Pillar:
         """tau_lin/tau_w - 1 at the fractions u of the way from rest to the wall."""
         rest = math.sin(self.base_angle)
         d = self.length * (rest + u * (1.0 - rest))
-        tau, _ = self._invert(d)
+        tau, _ = self._invert(d, strict=False)
         lin = (u * (1.0 - rest)) / (self.linear_coefficient * self.forcing_per_stress)
         return np.asarray(lin / tau - 1.0, dtype=np.float64)
