@@ -258,6 +258,38 @@ TARGETS: list[Target] = [
         hairbed.solve_loaded,
         dict(omega2=0.5, eps=0.5, theta0=0.1, q=2.0, root="low"),
     ),
+    # the isolated pillar's core (theory.md §12)
+    Target(
+        "solve_pillar",
+        hairbed.solve_pillar,
+        dict(
+            forcing=5.0,
+            theta0=0.1,
+            profile="poiseuille",
+            height_ratio=0.5,
+            gamma=0.6,
+            tip_load=0.0,
+            root="low",
+            num=32,
+            rtol=1e-12,
+        ),
+    ),
+    Target(
+        "solve_pillar_inverse",
+        hairbed.solve_pillar_inverse,
+        dict(tip_deflection=0.3, theta0=0.1, profile="sublayer", gamma=0.6, tip_load=0.0),
+    ),
+    Target(
+        "solve_pillar_all",
+        hairbed.solve_pillar_all,
+        dict(forcing=15.0, theta0=-1.4, gamma=0.5, num=16),
+    ),
+    Target(
+        "continue_pillar",
+        hairbed.continue_pillar,
+        dict(forcing_max=20.0, theta0=-1.4, gamma=0.5, num=16),
+    ),
+    Target("gray_hancock_ratio", hairbed.gray_hancock_ratio, dict(slenderness=20.0)),
     Target("solve_all", hairbed.solve_all, dict(omega2=20.0, eps=0.5, theta0=0.1, max_n=None)),
     Target(
         "from_parameter", hairbed.from_parameter, dict(t=0.5, eps=0.5, theta0=0.1, sign=1, n=0)

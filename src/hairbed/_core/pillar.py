@@ -12,6 +12,7 @@ continuation, its ladder of N and its status codes. The model is theory.md §12:
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -42,6 +43,7 @@ from .validation import (
     check_number,
     check_positive,
     check_root,
+    show,
     status_messages,
 )
 
@@ -78,7 +80,7 @@ def gray_hancock_ratio(slenderness: ArrayLike) -> Any:
     """
     sl = as_float_array(slenderness, "slenderness")
     _check_range(sl, ~(sl > 1.5) | ~np.isfinite(sl), "slenderness", "(1.5, inf)")
-    lg = np.log(2.0 * sl)
+    lg = math.log(2.0) + np.log(sl)  # not log(2 sl): no overflow at the float range's end
     return scalar_or_array((lg + 0.5) / (2.0 * lg - 1.0))
 
 
@@ -110,7 +112,9 @@ def profile_coefficients(
     if callable(profile):
         return _callable_coefficients(profile)
     if not isinstance(profile, str) or profile not in PROFILES:
-        raise ValueError(f"profile must be one of {PROFILES} or a callable U(z), got {profile!r}")
+        raise ValueError(
+            f"profile must be one of {PROFILES} or a callable U(z), got {show(profile)}"
+        )
     if height_ratio is not None:
         r = check_number(height_ratio, "height_ratio", low=0.0, high=1.0, low_open=True)
     elif profile == "poiseuille":
@@ -542,7 +546,7 @@ def _grid_start(
     keys = np.stack([tf, gf, pf], axis=1)
     uniq, inv = np.unique(keys, axis=0, return_inverse=True)
     inv = inv.reshape(-1)
-    if xf.size < _GRID_START_RATIO * uniq.shape[0] * 4:
+    if xf.size == 0 or xf.size < _GRID_START_RATIO * uniq.shape[0] * 4:
         return None
     grid = np.concatenate([[0.0], _BRANCH_GRID])
     reps = grid.size - 1

@@ -144,6 +144,8 @@ def continue_pillar(
     if end == 0.0:
         raise ValueError("forcing_max must be non-zero (the end of the range of Lambda)")
     count = check_int(num, "num", 16, 10**4)
+    gamma = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
+    tip_load = check_number(tip_load, "tip_load")
     kw = _kwargs(profile, height_ratio, gamma, tip_load)
     t0 = float(
         check_number(
@@ -215,6 +217,8 @@ def solve_pillar_all(
         first and last are stable, the middle one is not.
     """
     lam_t = check_number(forcing, "forcing")
+    gamma = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
+    tip_load = check_number(tip_load, "tip_load")
     if lam_t == 0.0:
         return [
             solve_pillar_inverse(
@@ -227,7 +231,7 @@ def solve_pillar_all(
             )
         ]
     br = continue_pillar(
-        2.0 * lam_t,
+        2.0 * lam_t if abs(lam_t) < 1e300 else lam_t,
         theta0,
         profile=profile,
         height_ratio=height_ratio,
