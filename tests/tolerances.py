@@ -31,3 +31,10 @@ PILLAR_REFERENCE_ATOL = 1e-10
 #: The pillar with its load concentrated at the tip against the tip-loaded elastica: the
 #: error must fall at least this factor when the profile's concentration doubles (O(1/p)).
 PILLAR_CONCENTRATION_RATE = 1.8
+#: Derivatives of loaded states (implicit differentiation of the collocation) against central
+#: differences of solve_loaded with Richardson extrapolation (truncation ~h^4 = 1e-12, rounding
+#: ~1e-13/h = 1e-10 at h = 1e-3), relative to max(1, abs(value)).
+LOADED_DERIVATIVE_FD_RTOL = 1e-8
+#: Against the mpmath central differences tests/data/loaded_derivatives_mpmath.json (each
+#: accurate to ~1e-18), relative to max(1, abs(value)): the collocation's own error.
+LOADED_DERIVATIVE_REFERENCE_RTOL = 1e-9

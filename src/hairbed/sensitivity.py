@@ -47,6 +47,12 @@ linear theory). The measured figures and the references are in docs/accuracy.md 
 At a fold of the branch (a state where dR/dt = 0: it appears or disappears as the inputs vary,
 theory.md §5) the derivatives through dt/dp are infinite: they are returned as +-inf and the
 element's ``status`` is 1 ("at a fold").
+
+Pump drives (``pi=`` or ``q=``, theory.md §11) have no closed form: their states are the
+Chebyshev collocation of :func:`hairbed.solve_loaded`, and their derivatives the implicit
+differentiation of that converged discrete system, J du/dp = -dR/dp with the exact Jacobian J
+factored once per state, in a compiled kernel (``_core/_kernels/loaded_gradient.py``). They
+are exact for the discrete state, and agree with the ODE's to its error estimate.
 """
 
 from __future__ import annotations
@@ -61,12 +67,15 @@ from numpy.typing import ArrayLike, NDArray
 from scipy import special
 
 from ._carlson_gradients import rf_rd_gradient
+from ._core.loaded import LADDER, LoadedState, _check, _solve_loaded_checked
+from ._core.loaded_sensitivity import LOADED_OUTPUTS, loaded_gradient_table
 from ._core.solution import Solution
 from ._core.solver import _plain_inputs, _solve_checked
 from ._core.validation import (
     STATUS_MESSAGES,
     check_branch,
     check_inputs,
+    check_positive,
     check_root,
     scalar_or_array,
     status_messages,
@@ -76,6 +85,7 @@ from ._variables import SOLUTION, names
 
 __all__ = [
     "INPUTS",
+    "LOADED_OUTPUTS",
     "OUTPUTS",
     "STATUS_MESSAGES",
     "Derivatives",
@@ -105,25 +115,30 @@ class Derivatives(Mapping[str, Mapping[str, Any]]):
     A read-only mapping ``{output: {"omega2": ..., "eps": ..., "theta0": ...}}`` over
     :data:`OUTPUTS` (xi, omega_eps, energy, tip_height, tip_deflection, tip_displacement,
     tip_angle, base_curvature): ``d["tip_deflection"]["omega2"]`` is d x1/d omega^2 at fixed
-    eps and theta0. Units: per unit of the input ([-] for omega2 and eps, [1/rad] for theta0),
+    eps and theta0. For a pump-driven state (a :class:`hairbed.LoadedState`) the outputs are
+    :data:`LOADED_OUTPUTS` (tip_height, tip_deflection, tip_angle, base_curvature, tip_load,
+    distributed_load) and the inputs omega2, eps, theta0 and the drive's "pi" or "q".
+    Units: per unit of the input ([-] for omega2 and eps, [1/rad] for theta0),
     times the output's unit ([rad] for tip_angle, [L] for lengths). Floats for scalar inputs,
     arrays of the broadcast shape otherwise.
 
     Attributes
     ----------
-    solution : Solution
+    solution : Solution or LoadedState
         The state differentiated.
     table : Mapping
         The nested mapping itself (what indexing the object reads).
     dt : Mapping
-        dt/d omega2, dt/d eps, dt/d theta0 of the branch parameter t.
+        dt/d omega2, dt/d eps, dt/d theta0 of the branch parameter t (empty for a
+        LoadedState, which has no branch parameter).
     status : int or ndarray
-        0 exact derivatives; 1 at a fold (the derivatives are +-inf); -1 no such state (NaN);
+        0 exact derivatives; 1 at a fold (the derivatives are +-inf; for a LoadedState a
+        singular collocation Jacobian); -1 no such state (NaN);
         -5 the end t = -inf of a twirling branch (NaN). See :data:`STATUS_MESSAGES`, the one
         table of every result.
     """
 
-    solution: Solution
+    solution: Solution | LoadedState
     table: Mapping[str, Mapping[str, Any]]
     dt: Mapping[str, Any]
     status: Any
@@ -373,13 +388,21 @@ def _physical_partials(
     return h1, out_t, out_th
 
 
-def derivatives_at(sol: Solution) -> Derivatives:
-    """Exact derivatives of the outputs of the states ``sol`` (a :class:`hairbed.Solution`).
+def derivatives_at(sol: Solution | LoadedState) -> Derivatives:
+    """Exact derivatives of the outputs of the states ``sol`` (a :class:`hairbed.Solution`,
+    or a :class:`hairbed.LoadedState` of :func:`hairbed.solve_loaded`).
 
-    See :func:`derivatives`; this takes a solution already at hand (any branch, any shape).
+    See :func:`derivatives`; this takes a state already at hand (any branch or root, any
+    shape).
     """
+    if isinstance(sol, LoadedState):
+        table, status = loaded_gradient_table(sol)
+        frozen = {o: MappingProxyType(row) for o, row in table.items()}
+        return Derivatives(sol, MappingProxyType(frozen), MappingProxyType({}), status)
     if not isinstance(sol, Solution):
-        raise TypeError(f"sol must be a hairbed.Solution, got {type(sol).__name__}")
+        raise TypeError(
+            f"sol must be a hairbed.Solution or hairbed.LoadedState, got {type(sol).__name__}"
+        )
     shape = sol.shape
     t = np.broadcast_to(np.asarray(sol.t, dtype=np.float64), shape)
     eps = np.broadcast_to(np.asarray(sol.eps, dtype=np.float64), shape)
@@ -574,11 +597,17 @@ def derivatives(
     sign: int = 1,
     n: int = 0,
     root: str = "low",
+    pi: ArrayLike | None = None,
+    q: ArrayLike | None = None,
+    rtol: float = 1e-12,
 ) -> Derivatives:
-    """Exact partial derivatives of a state's outputs in omega2, eps and theta0.
+    """Exact partial derivatives of a state's outputs in omega2, eps and theta0 (and the load).
 
     Solves the state with :func:`hairbed.solve` and differentiates the branch equation
     implicitly (module docstring): closed forms, vectorised over arrays, no finite differences.
+    With ``pi`` or ``q`` (a pump drive, theory.md §11) the state is that of
+    :func:`hairbed.solve_loaded` and the derivatives, also in the load, are the implicit
+    differentiation of its collocation system (exact for the discrete state; compiled).
 
     Parameters
     ----------
@@ -586,7 +615,14 @@ def derivatives(
         Forcing omega^2 [-] (>= 0), confinement eps = L/H [-] (in [0, 1)) and base angle [rad]
         (in (-pi/2, pi/2); negative leans into the flow), broadcast together.
     sign, n, root :
-        Branch and root selection, as in :func:`hairbed.solve`.
+        Branch and root selection, as in :func:`hairbed.solve`. With a pump drive only
+        ``root`` ("low", "mid", "high": as in :func:`hairbed.solve_loaded`).
+    pi, q : array_like, optional
+        The dimensionless pressure gradient or flow rate of :func:`hairbed.solve_loaded`
+        (at most one). Then the table is over :data:`LOADED_OUTPUTS` and the inputs are
+        omega2, eps, theta0 and "pi" or "q"; d/dpi at eps = 0 is infinite.
+    rtol : float
+        The collocation's tolerance with a pump drive (as in :func:`hairbed.solve_loaded`).
 
     Returns
     -------
@@ -612,7 +648,25 @@ def derivatives(
     0.1017297125
     >>> round(hairbed.derivatives(0.0, 0.5)["tip_deflection"]["omega2"], 12)  # 1/(3 (1 - eps))
     0.666666666667
+
+    A pump drive, weak: x1 = W/3 + Pi/8 with W = (pi/2)(1/eps - h1) and h1 near 1:
+
+    >>> d = hairbed.derivatives(0.0, 0.5, pi=1e-8)
+    >>> round(d["tip_deflection"]["pi"], 6)  # (1/eps - 1)/6 + 1/8
+    0.291667
     """
+    if pi is not None or q is not None:
+        if (sign, n) != (1, 0):
+            raise ValueError(
+                "a pump drive (pi or q) has one family of states: give root=, not sign or n "
+                f"(got sign={sign!r}, n={n!r})"
+            )
+        drive, code, lw, le, lt, ld = _check(omega2, eps, theta0, pi, q)
+        root = check_root(root)
+        tol = check_positive(rtol, "rtol")
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            state = _solve_loaded_checked(drive, code, lw, le, lt, ld, root, tol, LADDER)
+        return derivatives_at(state)
     plain = _plain_inputs(omega2, eps, theta0)
     w, e, t0 = plain if plain is not None else check_inputs(omega2, eps, theta0)
     sign, n = check_branch(sign, n)
