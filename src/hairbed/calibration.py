@@ -16,6 +16,13 @@ differentiation of the branch equation) through the chain rule of the SI scaling
 differences. Positive parameters are fitted in their logarithms (the base angle as itself);
 standard errors are returned in the parameters' own units (the linearisation, delta method).
 
+A pump-driven bed (both walls at rest, theory.md §11) is calibrated the same way against known
+pressure gradients G [Pa/m] or flow rates per unit width Q' [m^2/s]: the deflection is
+L x1(pi, eps, theta0) with pi = A G L^3/(E I), or L x1(q, eps, theta0) with
+q = 6 A eta Q' L^2/(E I H^2), the states of :func:`hairbed.solve_loaded` (the low state where
+several coexist), and the Jacobian the implicit differentiation of its collocation
+(:func:`hairbed.derivatives` with ``pi=`` or ``q=``). Signs are kept (no mirror image).
+
 The weak-forcing limit is a cantilever under a point load at the tip, x1 - sin(theta0) =
 omega_eps^2 cos^2(theta0)/3 (F L^3/(3 E I) in metres); :func:`linear_range` says up to which
 deflection that line is within a tolerance of the exact calibration.
@@ -45,6 +52,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import least_squares
 
 from ._bracketing import find_root
+from ._channel_drives import gap_flow
+from ._core.loaded import _solve_loaded_trusted
 from ._core.outputs import float_or_array
 from ._core.solver import _from_parameter, _solve_checked
 from ._core.validation import (
@@ -99,6 +108,11 @@ _HALF_PI = 0.5 * math.pi
 #: The smallest sigma of a fit, relative to the hair length (1e-12 L: far below any
 #: microscope; smaller weights overflow).
 _SIGMA_LOW = 1e-12
+#: The pump drives a calibration may be given, with the unit of the known quantity and the
+#: drive of :func:`hairbed.solve_loaded` it maps to.
+_PUMPS = {"pressure_gradient": ("Pa/m", "pressure"), "flow_rate": ("m^2/s", "flow")}
+#: What each kind of data is, in words (the messages).
+_UNITS = {"velocity": "m/s", "wall_shear_stress": "Pa", **{k: v[0] for k, v in _PUMPS.items()}}
 
 
 # -- the model and its exact Jacobian ---------------------------------------------------------
@@ -114,8 +128,28 @@ def _rebuild(bed: HairBed, geometry: str, **changes: float) -> HairBed:
 
 def _log_slopes(geometry: str, kind: str) -> dict[str, tuple[float, float]]:
     """(d ln X/d ln P, d ln eps/d ln P) for each positive parameter P, where X is omega^2
-    (velocity data) or omega_eps^2 (stress data)."""
+    (velocity data), omega_eps^2 (stress data), pi (pressure gradient) or q (flow rate)."""
     radius = -4.0 if geometry == "spacing" else -2.0
+    if kind == "pressure_gradient":  # pi = A G L^3/(E I): no eta; H through eps only
+        return {
+            "length": (3.0, 1.0),
+            "radius": (radius, 0.0),
+            "youngs_modulus": (-1.0, 0.0),
+            "channel_height": (0.0, -1.0),
+            "viscosity": (0.0, 0.0),
+            "spacing": (2.0, 0.0),
+            "packing_fraction": (-1.0, 0.0),
+        }
+    if kind == "flow_rate":  # q = 6 A eta Q' L^2/(E I H^2)
+        return {
+            "length": (2.0, 1.0),
+            "radius": (radius, 0.0),
+            "youngs_modulus": (-1.0, 0.0),
+            "channel_height": (-2.0, -1.0),
+            "viscosity": (1.0, 0.0),
+            "spacing": (2.0, 0.0),
+            "packing_fraction": (-1.0, 0.0),
+        }
     if kind == "velocity":  # omega^2 = 4 L^2 eta v/(E a^2 H phi), eps = L/H
         return {
             "length": (2.0, 1.0),
@@ -140,7 +174,20 @@ def _log_slopes(geometry: str, kind: str) -> dict[str, tuple[float, float]]:
 
 def _forcing(bed: HairBed, kind: str, x: FloatArray) -> tuple[FloatArray, FloatArray, float]:
     """(direction, forcing, d forcing/d|x|) of wall speeds or stresses ``x``: the forcing is
-    omega^2 (velocity data) or omega_eps^2 (stress data), linear in |x|."""
+    omega^2 (velocity data) or omega_eps^2 (stress data), linear in |x|; for pump data the
+    signed load pi or q, linear in x (direction 1: the loaded solver takes signed loads)."""
+    if kind in _PUMPS:
+        if kind == "pressure_gradient":
+            scale = bed.wall_area_per_hair * bed.length**3 / bed.bending_stiffness
+        else:
+            scale = (
+                6.0
+                * bed.wall_area_per_hair
+                * bed.viscosity
+                * bed.length**2
+                / (bed.bending_stiffness * bed.channel_height**2)
+            )
+        return np.ones(x.shape), x * scale, scale
     direction = np.where(x < 0.0, -1.0, 1.0)
     if kind == "velocity":
         scale = 1.0 / bed.velocity_scale
@@ -163,6 +210,11 @@ def _curve_state(bed: HairBed, kind: str, x: FloatArray) -> Any:
     direction, forcing, _ = _forcing(bed, kind, x)
     if not np.all(np.isfinite(forcing)):  # a fit's trial bed far from the data's scale
         raise ValueError(f"the forcing of {kind} {float(np.max(np.abs(x)))!r} overflows")
+    if kind in _PUMPS:
+        zero = np.zeros(forcing.shape)
+        return _solve_loaded_trusted(
+            _PUMPS[kind][1], zero, bed.eps, bed.base_angle, forcing, "low"
+        )
     eps = bed.eps if kind == "velocity" else 0.0
     return _solve_checked(forcing, eps, direction * bed.base_angle)
 
@@ -176,8 +228,12 @@ def _warn_validity(
     (h1 is the same on the collapsed curve of stress data)."""
     if bed.density is None:
         return
-    gap = bed.channel_height - bed.length * np.asarray(sol.tip_height, dtype=np.float64)
-    if kind == "velocity":
+    h1 = np.asarray(sol.tip_height, dtype=np.float64).reshape(-1)
+    gap = bed.channel_height - bed.length * h1
+    if kind in _PUMPS:
+        flow = gap_flow(bed, _PUMPS[kind][1], np.zeros(x.shape), x, h1)
+        reynolds = np.where(np.isfinite(h1), flow["reynolds_number"], 0.0)
+    elif kind == "velocity":
         reynolds = bed.density * np.abs(x) * gap / bed.viscosity
     else:
         reynolds = _reynolds_of_stress(bed, x, gap)
@@ -191,16 +247,18 @@ def _model_at(
     (in P's units; shape (len(x), len(free))) and dD/dx; and the derivatives used.
 
     ``sol`` is the dimensionless state at each x (forcing of :func:`_forcing`, base angle
-    direction * theta0; eps = 0 for stress data): the one the derivatives are taken on, so
-    that inside a bistable window they are those of the state meant, not of another root.
+    direction * theta0; eps = 0 for stress data; a LoadedState of the load for pump data):
+    the one the derivatives are taken on, so that inside a bistable window they are those of
+    the state meant, not of another root.
     """
     direction, forcing, d_forcing = _forcing(bed, kind, x)
     length = bed.length
     der = derivatives_at(sol)
     x1 = np.asarray(sol.tip_deflection, dtype=np.float64).reshape(-1)
     dx1 = der["tip_deflection"]
+    load = {"pressure_gradient": "pi", "flow_rate": "q"}.get(kind, "omega2")
     dx1_w, dx1_e, dx1_t = (
-        np.asarray(dx1[name], dtype=np.float64).reshape(-1) for name in ("omega2", "eps", "theta0")
+        np.asarray(dx1[name], dtype=np.float64).reshape(-1) for name in (load, "eps", "theta0")
     )
     deflection = direction * length * x1
     slopes = _log_slopes(geometry, kind)
@@ -212,7 +270,7 @@ def _model_at(
             continue
         value = float(getattr(bed, name))
         lw, le = slopes[name]
-        dlog = dx1_w * forcing * lw + (dx1_e * eps * le if kind == "velocity" else 0.0)
+        dlog = dx1_w * forcing * lw + (dx1_e * eps * le if kind != "wall_shear_stress" else 0.0)
         d_lnp = direction * (length * dlog + (x1 * length if name == "length" else 0.0))
         jac[:, j] = d_lnp / value
     # dD/dx: dD/d forcing times d forcing/d|x| times d|x|/dx (= direction): direction^2 = 1
@@ -225,31 +283,59 @@ def model_tip_deflection(
     *,
     velocity: ArrayLike | None = None,
     wall_shear_stress: ArrayLike | None = None,
+    pressure_gradient: ArrayLike | None = None,
+    flow_rate: ArrayLike | None = None,
 ) -> Any:
-    """The bed's tip deflection [m] at wall speeds [m/s] or at wall shear stresses [Pa].
+    """The bed's tip deflection [m] at wall speeds [m/s], wall shear stresses [Pa], or (both
+    walls at rest) pressure gradients G = -dp/dx [Pa/m] or flow rates per unit width [m^2/s].
 
     The calibration curve itself (flow towards +x for positive values, its mirror image for
     negative ones; the low state where several coexist at one speed). Give exactly one of
-    ``velocity`` and ``wall_shear_stress``. A :class:`~hairbed.Pillar` takes
-    ``wall_shear_stress`` (or ``velocity``, the wall speed of a "couette" pillar): its
-    :meth:`~hairbed.Pillar.deform`.
+    the four (a :class:`~hairbed.Pillar` takes ``wall_shear_stress``, or ``velocity``, the
+    wall speed of a "couette" pillar: its :meth:`~hairbed.Pillar.deform`). Where a
+    pump-driven state is not found the deflection is NaN.
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
     if isinstance(bed, Pillar):
+        _no_pump(pressure_gradient, flow_rate)
         return bed.deform(_pillar_known(bed, velocity, wall_shear_stress)[1]).tip_deflection
-    kind, x = _known(bed, velocity, wall_shear_stress)
+    kind, x = _known(bed, velocity, wall_shear_stress, pressure_gradient, flow_rate)
     flat = x.reshape(-1)
     sol = _curve_state(bed, kind, flat)
     _warn_validity(bed, kind, flat, sol, x.shape)
     return float_or_array(_model_at(bed, kind, flat, sol, (), "spacing")[0].reshape(x.shape))
 
 
-def _known(bed: HairBed, velocity: Any, stress: Any) -> tuple[str, FloatArray]:
-    if (velocity is None) == (stress is None):
+def _known(
+    bed: HairBed, velocity: Any, stress: Any, gradient: Any = None, flow: Any = None
+) -> tuple[str, FloatArray]:
+    given = {
+        "velocity": velocity,
+        "wall_shear_stress": stress,
+        "pressure_gradient": gradient,
+        "flow_rate": flow,
+    }
+    named = [k for k, v in given.items() if v is not None]
+    if len(named) != 1:
+        got = ", ".join(f"{k}={show(v)}" for k, v in given.items() if v is not None) or "none"
         raise ValueError(
-            "give exactly one of velocity [m/s] and wall_shear_stress [Pa], "
-            f"got velocity={velocity!r}, wall_shear_stress={stress!r}"
+            "give exactly one of velocity [m/s], wall_shear_stress [Pa], pressure_gradient "
+            f"[Pa/m] and flow_rate [m^2/s], got {got}"
         )
+    kind = named[0]
+    if kind in _PUMPS:
+        value = as_float_array(given[kind], kind, unit=_UNITS[kind])
+        with np.errstate(over="ignore"):
+            load = _forcing(bed, kind, value)[1]
+        bad = ~np.isfinite(load)
+        if np.any(bad):
+            limit = np.finfo(np.float64).max / _forcing(bed, kind, np.ones(1))[2]
+            raise ValueError(
+                f"{kind} must be within +-{limit:.3g} "
+                f"{_UNITS[kind]} for this bed (its dimensionless load overflows), got "
+                f"{float(value[bad].flat[0])!r}"
+            )
+        return kind, value
     if velocity is not None:
         return "velocity", bed._forcing(velocity, "velocity")[0]
     tau = as_float_array(stress, "wall_shear_stress", unit="Pa")
@@ -271,6 +357,16 @@ def _known(bed: HairBed, velocity: Any, stress: Any) -> tuple[str, FloatArray]:
 
 #: What ``bed`` may be.
 _SENSORS = "a hairbed.HairBed or a hairbed.Pillar"
+
+
+def _no_pump(gradient: Any, flow: Any) -> None:
+    """A pillar stands in a shear layer: no pump drive to calibrate against."""
+    for name, value in (("pressure_gradient", gradient), ("flow_rate", flow)):
+        if value is not None:
+            raise ValueError(
+                f"{name} is a pump-driven HairBed's known quantity; a Pillar takes "
+                "velocity [m/s] or wall_shear_stress [Pa]"
+            )
 
 
 def _pillar_known(
@@ -353,7 +449,8 @@ class CalibrationFit:
     dof : int
         Degrees of freedom: number of points minus number of free parameters.
     kind : str
-        What the deflections were measured at: "velocity" or "wall_shear_stress".
+        What the deflections were measured at: "velocity", "wall_shear_stress",
+        "pressure_gradient" or "flow_rate".
     success : bool
         The optimiser converged and the parameters are determined by the data.
     status : int
@@ -449,12 +546,22 @@ def _degeneracies(names: Sequence[str], kind: str, geometry: str) -> list[str]:
     Stress data: D = L x1(omega_eps^2, theta0) with omega_eps^2 = 4 L^2 tau/(E a^2 phi):
     H and eta do not enter, and E, a and delta (or phi) only through delta^2/(E a^4) (or
     1/(E a^2 phi)).
+    Pressure-gradient data: D = L x1(pi, L/H, theta0) with pi = A G L^3/(E I): eta does not
+    enter, and E, a, delta (or phi) only as for stress data. Flow-rate data: q = 6 A eta Q'
+    L^2/(E I H^2), E, a, eta, delta (or phi) only as for velocity data.
     """
     out = []
     group = ["youngs_modulus", "radius", "spacing", "packing_fraction"]
-    if kind == "velocity":
+    if kind == "pressure_gradient" and "viscosity" in names:
+        out.append(
+            "viscosity does not enter pressure-gradient data (both walls at rest: the load "
+            "is the gradient times the wall area per hair)"
+        )
+    if kind in ("velocity", "flow_rate"):
         group.append("viscosity")
         combination = "eta delta^2/(E a^4)" if geometry == "spacing" else "eta/(E a^2 phi)"
+    elif kind == "pressure_gradient":
+        combination = "delta^2/(E a^4)" if geometry == "spacing" else "1/(E a^2 phi)"
     else:
         absent = [n for n in names if n in ("channel_height", "viscosity")]
         if absent:
@@ -540,6 +647,8 @@ def fit(
     velocity: ArrayLike | None = None,
     sigma: ArrayLike | None = None,
     free: Sequence[str] | str = ("youngs_modulus",),
+    pressure_gradient: ArrayLike | None = None,
+    flow_rate: ArrayLike | None = None,
 ) -> CalibrationFit:
     """Fit a bed's unknown parameters to tip deflections measured at known flows.
 
@@ -558,6 +667,10 @@ def fit(
         The known wall shear stress of each point [Pa]. Give this or ``velocity``.
     velocity : array_like, optional
         The known top-wall speed of each point [m/s].
+    pressure_gradient, flow_rate : array_like, optional
+        Or, for a pump-driven bed with both walls at rest, the known pressure gradient
+        G = -dp/dx [Pa/m] or flow rate per unit width Q' [m^2/s] of each point (module
+        docstring; the Jacobian by implicit differentiation of the loaded states).
     sigma : float or array_like, optional
         Standard deviation of each measured deflection [m], in [1e-12 L, L] (L the hair
         length): one number, or one per point. Without it the errors are estimated from the
@@ -565,8 +678,8 @@ def fit(
     free : sequence of str or comma-separated str
         Parameters to fit, from :data:`FREE_PARAMETERS` (``"youngs_modulus"`` by default),
         or for a pillar :data:`PILLAR_FREE_PARAMETERS`. Stress data do not determine
-        ``channel_height`` or ``viscosity``; a pillar takes ``velocity`` only in a Couette
-        channel (tau_w = eta V/H).
+        ``channel_height`` or ``viscosity``, pressure-gradient data not ``viscosity``; a
+        pillar takes ``velocity`` only in a Couette channel (tau_w = eta V/H).
 
     Returns
     -------
@@ -597,18 +710,18 @@ def fit(
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
     pillar = isinstance(bed, Pillar)
     if isinstance(bed, Pillar):
+        _no_pump(pressure_gradient, flow_rate)
         names = _check_free(free, PILLAR_FREE_PARAMETERS, "pillar")
         kind, x, given = _pillar_known(bed, velocity, wall_shear_stress)
     else:
         names = _check_free(free)
-        kind, x = _known(bed, velocity, wall_shear_stress)
+        kind, x = _known(bed, velocity, wall_shear_stress, pressure_gradient, flow_rate)
         given = x
     d = as_float_array(tip_deflection, "tip_deflection", unit="m").reshape(-1)
     x = x.reshape(-1)
     if x.size != d.size:
-        name = "velocity" if kind == "velocity" else "wall_shear_stress"
         raise ValueError(
-            f"tip_deflection and {name} must have the same length, got {d.size} and {x.size}"
+            f"tip_deflection and {kind} must have the same length, got {d.size} and {x.size}"
         )
     if d.size < len(names):
         raise ValueError(
