@@ -9,7 +9,10 @@ Rows:
 3. a batch of 10^4 states (both drives, W and Pi from 1e-3 to 1e3, random eps and theta0) in
    one call on one core [s];
 4. the same batch in two halves on two Python threads against one thread (the kernels
-   release the GIL), as a ratio.
+   release the GIL), as a ratio: the halves by drive (pressure on one thread, flow on the
+   other: unequal work, the flow states cost more), and balanced halves (each thread half of
+   each drive); with the CPU time of each thread (its own ``time.thread_time``) and the
+   process's CPU time over the wall time of the same run (both cores busy: 2).
 
 Each time is the best of ``--repeat`` runs. Targets (issue 20): row 1 <= 1 ms, row 2 >= 20x,
 row 3 <= 2 s, row 4 >= 1.8x (on a machine with two free cores; the figure depends on the
@@ -48,6 +51,36 @@ def _best(func: Callable[[], Any], repeat: int) -> tuple[float, Any]:
         out = func()
         best = min(best, time.perf_counter() - t0)
     return best, out
+
+
+def _best_cpu(func: Callable[[], Any], repeat: int) -> tuple[float, float, Any]:
+    """(best wall time, process CPU time of that same run, its result)."""
+    best, cpu, out = math.inf, math.nan, None
+    for _ in range(repeat):
+        c0, t0 = time.process_time(), time.perf_counter()
+        res = func()
+        wall, used = time.perf_counter() - t0, time.process_time() - c0
+        if wall < best:
+            best, cpu, out = wall, used, res
+    return best, cpu, out
+
+
+def _halves(kw: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
+    n = len(kw["omega2"]) // 2
+    return {k: v[:n] for k, v in kw.items()}, {k: v[n:] for k, v in kw.items()}
+
+
+def _threads(parts: Sequence[Sequence[dict[str, Any]]]) -> list[float]:
+    """Solve each thread's share on its own thread: the CPU time of each thread [s]."""
+
+    def share(kws: Sequence[dict[str, Any]]) -> float:
+        c0 = time.thread_time()
+        for kw in kws:
+            hairbed.solve_loaded(**kw)
+        return time.thread_time() - c0
+
+    with ThreadPoolExecutor(len(parts)) as pool:
+        return list(pool.map(share, parts))
 
 
 def _bvp(omega2: float, eps: float, theta0: float, pi: float, tol: float) -> Any:
@@ -105,16 +138,11 @@ def run(repeat: int = 5, size: int = 10_000) -> dict[str, Any]:
     def one_thread() -> list[Any]:
         return [hairbed.solve_loaded(**pressure), hairbed.solve_loaded(**flow)]
 
-    def two_threads() -> list[Any]:
-        with ThreadPoolExecutor(2) as pool:
-            return list(pool.map(lambda kw: hairbed.solve_loaded(**kw), (pressure, flow)))
-
-    c0 = time.process_time()
-    t_batch, states = _best(one_thread, repeat)
-    cpu_batch = (time.process_time() - c0) / repeat
-    c0 = time.process_time()
-    t_two, _ = _best(two_threads, repeat)
-    cpu_two = (time.process_time() - c0) / repeat
+    p1, p2 = _halves(pressure)
+    f1, f2 = _halves(flow)
+    t_batch, cpu_batch, states = _best_cpu(one_thread, repeat)
+    t_two, cpu_two, share_two = _best_cpu(lambda: _threads([[pressure], [flow]]), repeat)
+    t_bal, cpu_bal, share_bal = _best_cpu(lambda: _threads([[p1, f1], [p2, f2]]), repeat)
     status = np.concatenate([np.ravel(s.status) for s in states])
     nums = np.concatenate([np.ravel(s.num) for s in states])
     return {
@@ -140,8 +168,14 @@ def run(repeat: int = 5, size: int = 10_000) -> dict[str, Any]:
         "batch_cpu_s": cpu_batch,
         "two_threads_s": t_two,
         "two_threads_cpu_per_wall": cpu_two / t_two,
+        "two_threads_thread_cpu_s": share_two,
         "load_average": os.getloadavg()[0] if hasattr(os, "getloadavg") else math.nan,
         "two_threads_speedup": t_batch / t_two,
+        "balanced_threads_s": t_bal,
+        "balanced_threads_cpu_per_wall": cpu_bal / t_bal,
+        "balanced_threads_thread_cpu_s": share_bal,
+        "balanced_threads_speedup": t_batch / t_bal,
+        "one_thread_cpu_per_wall": cpu_batch / t_batch,
     }
 
 
@@ -166,7 +200,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             f"{figures['batch_s']:.3f}",
         ),
         ("  per state [us]", f"{figures['batch_us_per_state']:.0f}"),
-        ("  CPU time of the batch (mean of the repeats) [s]", f"{figures['batch_cpu_s']:.3f}"),
+        ("  CPU time of the batch (the same run) [s]", f"{figures['batch_cpu_s']:.3f}"),
         ("  status counts", str(figures["batch_status_counts"])),
         ("  N counts", str(figures["batch_num_counts"])),
         (
@@ -176,6 +210,16 @@ def main(argv: Sequence[str] | None = None) -> int:
         (
             f"  CPU/wall with two threads (load average {figures['load_average']:.1f})",
             f"{figures['two_threads_cpu_per_wall']:.2f}",
+        ),
+        (
+            "  CPU of each thread (pressure, flow) [s]",
+            ", ".join(f"{c:.3f}" for c in figures["two_threads_thread_cpu_s"]),
+        ),
+        ("balanced halves on two threads vs one", f"{figures['balanced_threads_speedup']:.2f}x"),
+        ("  CPU/wall with balanced halves", f"{figures['balanced_threads_cpu_per_wall']:.2f}"),
+        (
+            "  CPU of each thread [s]",
+            ", ".join(f"{c:.3f}" for c in figures["balanced_threads_thread_cpu_s"]),
         ),
     ]
     width = max(len(r[0]) for r in rows)

@@ -707,6 +707,13 @@ def _state(
 #: ``num_scan`` uniform in [0.02, 1].
 _SCAN_LOW = (1e-4, 0.02, 12)
 _BISECT_STEPS = 60
+#: The bracket refinement ends where abs(G) at a bracket's end is below this, or the bracket
+#: is narrower than _H_TOL max(1, h) (the polishing Newton of the drive follows).
+_G_TOL = 1e-13
+_H_TOL = 1e-12
+#: Illinois steps before plain bisection: a true root converges in fewer; a sign change of a
+#: G that jumps (the frozen-load state of a strong load switching between solutions) does not.
+_ILLINOIS_STEPS = 8
 
 
 def _fixed_load_states(
@@ -754,7 +761,9 @@ def solve_loaded_all(
     With the loads frozen at the drive's W(h), Pi(h), the hair has a state of tip height
     z1(h); the states of the drive are the roots of G(h) = z1(h) - h on 0 < h <= 1. G is
     scanned on 12 geometric points in [1e-4, 0.02] and ``num_scan`` uniform ones in [0.02, 1],
-    each sign change refined by bisection (at most 60 halvings, all brackets at once), and
+    each sign change refined (all brackets at once) by at most 8 steps of the Illinois
+    variant of regula falsi (superlinear, the bracket kept), then bisection, until
+    abs(G) < 1e-13 at an end or the bracket is narrower than 1e-12 (60 steps at most), and
     each root polished by :func:`solve_loaded`'s Newton from the frozen state there. Two roots
     closer than a scan cell (a tangency, the edge of a window) can be missed.
 
@@ -789,16 +798,36 @@ def solve_loaded_all(
     lo, hi = h[lo_i], h[lo_i + 1]
     glo, ghi = g[lo_i], g[lo_i + 1]
     stable = glo > ghi
-    for _ in range(_BISECT_STEPS):
-        mid = 0.5 * (lo + hi)
-        if np.all(hi - lo <= 4e-16 * np.maximum(1.0, hi)):
+    # Illinois: the secant point of the bracket; an end kept twice in a row has its G halved
+    # (each refinement is a whole batch of frozen-load solves: few steps keep the scan cheap)
+    side = np.zeros(lo.size, dtype=np.int64)  # -1: lo was kept last step, +1: hi
+    tlo, thi = glo.copy(), ghi.copy()  # the true G at the ends (glo, ghi: Illinois weights)
+    for step in range(_BISECT_STEPS):
+        done = (np.minimum(np.abs(tlo), np.abs(thi)) <= _G_TOL) | (
+            hi - lo <= _H_TOL * np.maximum(1.0, hi)
+        )
+        if np.all(done):
             break
-        gm = _gap(code, wf, ef, lf, tf, mid, tol)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            secant = (lo * ghi - hi * glo) / (ghi - glo)
+        mid = secant if step < _ILLINOIS_STEPS else 0.5 * (lo + hi)
+        # a secant point at an end (or not finite) is replaced by the midpoint
+        bad = ~np.isfinite(mid) | (mid <= lo) | (mid >= hi)
+        mid = np.where(bad, 0.5 * (lo + hi), mid)
+        gm = glo.copy()  # only the brackets not done are refined
+        gm[~done] = _gap(code, wf, ef, lf, tf, mid[~done], tol)
         gm = np.where(np.isfinite(gm), gm, 0.0)
-        left = np.sign(gm) == np.sign(glo)
-        lo, glo = np.where(left, mid, lo), np.where(left, gm, glo)
-        hi, ghi = np.where(left, hi, mid), np.where(left, ghi, gm)
-    root = np.where(np.abs(glo) <= np.abs(ghi), lo, hi)
+        left = (np.sign(gm) == np.sign(glo)) & ~done
+        right = ~left & ~done
+        lo_new, glo_new = np.where(left, mid, lo), np.where(left, gm, glo)
+        hi_new, ghi_new = np.where(right, mid, hi), np.where(right, gm, ghi)
+        tlo, thi = np.where(left, gm, tlo), np.where(right, gm, thi)
+        # the end kept (hi where lo moved, lo where hi moved) twice in a row: halve its G
+        ghi_new = np.where(left & (side == 1), 0.5 * ghi_new, ghi_new)
+        glo_new = np.where(right & (side == -1), 0.5 * glo_new, glo_new)
+        side = np.where(left, 1, np.where(right, -1, side))
+        lo, glo, hi, ghi = lo_new, glo_new, hi_new, ghi_new
+    root = np.where(np.abs(tlo) <= np.abs(thi), lo, hi)
     # polish with the drive's own Newton, from the frozen state at each root
     out_f, coefs_f, a_f = _fixed_load_states(code, wf, ef, lf, tf, root, tol)
     size = root.size
