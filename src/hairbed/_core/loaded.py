@@ -710,7 +710,7 @@ _BISECT_STEPS = 60
 #: The bracket refinement ends where abs(G) at a bracket's end is below this, or the bracket
 #: is narrower than _H_TOL max(1, h) (the polishing Newton of the drive follows).
 _G_TOL = 1e-13
-_H_TOL = 1e-12
+_H_TOL = 1e-7
 #: Illinois steps before plain bisection: a true root converges in fewer; a sign change of a
 #: G that jumps (the frozen-load state of a strong load switching between solutions) does not.
 _ILLINOIS_STEPS = 8
@@ -763,7 +763,7 @@ def solve_loaded_all(
     scanned on 12 geometric points in [1e-4, 0.02] and ``num_scan`` uniform ones in [0.02, 1],
     each sign change refined (all brackets at once) by at most 8 steps of the Illinois
     variant of regula falsi (superlinear, the bracket kept), then bisection, until
-    abs(G) < 1e-13 at an end or the bracket is narrower than 1e-12 (60 steps at most), and
+    abs(G) < 1e-13 at an end or the bracket is narrower than 1e-7 (60 steps at most), and
     each root polished by :func:`solve_loaded`'s Newton from the frozen state there. Two roots
     closer than a scan cell (a tangency, the edge of a window) can be missed.
 
