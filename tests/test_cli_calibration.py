@@ -244,3 +244,29 @@ def test_measure_with_a_calibration(tmp_path: Path) -> None:
     assert out["velocity_stderr"] > plain["velocity_stderr"] * (fitted / 1e6) * 0.999
     one_error_line(call("measure", "--tip-deflection", "3e-4", *BED, "--calibration",
                         str(data)), "--calibration")  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("column", "values"),
+    [("pressure_gradient [Pa/m]", np.linspace(-1e3, 1e4, 8)),
+     ("flow_rate [m^2/s]", np.linspace(1e-5, 1e-4, 8))],
+)  # fmt: skip
+def test_calibrate_pump_driven_points(tmp_path: Path, column: str, values: np.ndarray) -> None:
+    """A pump-driven bed's points (both walls at rest) are fitted back from a CSV column."""
+    true = hairbed.HairBed(
+        length=1e-3, radius=50e-6, youngs_modulus=1.3e6, channel_height=2e-3,
+        viscosity=1.0, spacing=400e-6,
+    )  # fmt: skip
+    kind = column.split()[0]
+    d = model_tip_deflection(true, **{kind: values})
+    data = tmp_path / "points.csv"
+    rows = "\n".join(f"{float(x)!r},{float(y)!r}" for x, y in zip(values, d))
+    data.write_text(f"{column},tip_deflection [m]\n{rows}\n")
+    proc = call("calibrate", "--data", str(data), "--sigma", "1e-6", *BED, "--json")
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    assert out["kind"] == kind
+    assert out["parameters"]["youngs_modulus"]["value"] == pytest.approx(1.3e6, rel=1e-9)
+    assert out["data"]["sha256"] == hairbed.calibration.points_fingerprint(
+        d, sigma=1e-6, **{kind: values}
+    )

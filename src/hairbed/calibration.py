@@ -585,20 +585,30 @@ def points_fingerprint(
     velocity: ArrayLike | None = None,
     wall_shear_stress: ArrayLike | None = None,
     sigma: ArrayLike | None = None,
+    pressure_gradient: ArrayLike | None = None,
+    flow_rate: ArrayLike | None = None,
 ) -> str:
     """SHA-256 (hex) of calibration points: which data a calibration came from.
 
-    The digest of the bytes of the kind ("velocity" or "wall_shear_stress", ASCII), then the
-    known flows, the deflections and (if given) sigma broadcast to them, each as little-endian
-    float64. :attr:`CalibrationFit.fingerprint` is this of the data :func:`fit` was given.
+    The digest of the bytes of the kind ("velocity", "wall_shear_stress",
+    "pressure_gradient" or "flow_rate", ASCII), then the known flows, the deflections and (if
+    given) sigma broadcast to them, each as little-endian float64.
+    :attr:`CalibrationFit.fingerprint` is this of the data :func:`fit` was given.
     """
-    if (velocity is None) == (wall_shear_stress is None):
-        raise ValueError("give exactly one of velocity [m/s] and wall_shear_stress [Pa]")
-    kind = "velocity" if velocity is not None else "wall_shear_stress"
-    unit = "m/s" if velocity is not None else "Pa"
-    known = as_float_array(
-        velocity if velocity is not None else wall_shear_stress, kind, unit=unit
-    )
+    given = {
+        "velocity": velocity,
+        "wall_shear_stress": wall_shear_stress,
+        "pressure_gradient": pressure_gradient,
+        "flow_rate": flow_rate,
+    }
+    named = [k for k, v in given.items() if v is not None]
+    if len(named) != 1:
+        raise ValueError(
+            "give exactly one of velocity [m/s], wall_shear_stress [Pa], pressure_gradient "
+            "[Pa/m] and flow_rate [m^2/s]"
+        )
+    kind = named[0]
+    known = as_float_array(given[kind], kind, unit=_UNITS[kind])
     d = as_float_array(tip_deflection, "tip_deflection", unit="m").reshape(-1)
     if known.size != d.size:
         raise ValueError(
@@ -1142,8 +1152,12 @@ POINT_COLUMNS: dict[str, str] = {
     "tip_deflection": "m",
     "velocity": "m/s",
     "wall_shear_stress": "Pa",
+    "pressure_gradient": "Pa/m",
+    "flow_rate": "m^2/s",
     "sigma": "m",
 }
+#: The columns of the known quantity, one of which a calibration file has.
+_KNOWN_COLUMNS = ("velocity", "wall_shear_stress", "pressure_gradient", "flow_rate")
 
 
 def _column(heading: str, path: Any) -> str:
@@ -1175,19 +1189,29 @@ class CalibrationPoints:
         The known wall shear stresses [Pa] (or None: speeds known).
     sigma : ndarray, shape (k,), or None
         The standard deviation of each deflection [m], if the file has them.
+    pressure_gradient, flow_rate : ndarray, shape (k,), or None
+        The known pressure gradients [Pa/m] or flow rates per unit width [m^2/s] of a
+        pump-driven bed (both walls at rest), or None.
     """
 
     tip_deflection: FloatArray
     velocity: FloatArray | None
     wall_shear_stress: FloatArray | None
     sigma: FloatArray | None
+    pressure_gradient: FloatArray | None = None
+    flow_rate: FloatArray | None = None
+
+    def known(self) -> dict[str, FloatArray]:
+        """The known quantity as the keyword :func:`fit` takes: ``{name: values}``."""
+        return {k: v for k in _KNOWN_COLUMNS if (v := getattr(self, k)) is not None}
 
 
 def read_points(path: str | os.PathLike[str]) -> CalibrationPoints:
     """Read calibration points from a CSV file with a header line.
 
     The columns (in any order, names case-insensitive) are ``tip_deflection`` [m] and exactly
-    one of ``velocity`` [m/s] and ``wall_shear_stress`` [Pa], optionally ``sigma`` [m]; empty
+    one of ``velocity`` [m/s], ``wall_shear_stress`` [Pa], ``pressure_gradient`` [Pa/m] and
+    ``flow_rate`` [m^2/s] (the last two: a pump-driven bed), optionally ``sigma`` [m]; empty
     lines and lines starting with ``#`` are skipped. A name may carry its unit in the
     ``name [units]`` style of hairbed's own CSV files (``tip_deflection [m]``), which must
     then be the SI unit above. The values are checked by :func:`fit`.
@@ -1238,9 +1262,10 @@ def read_points(path: str | os.PathLike[str]) -> CalibrationPoints:
                 raise ValueError(f"{path}: line {i}, {h}: not a number: {cell!r}") from None
     if "tip_deflection" not in columns:
         raise ValueError(f"{path}: needs a tip_deflection column [m]")
-    if ("velocity" in columns) == ("wall_shear_stress" in columns):
+    if sum(k in columns for k in _KNOWN_COLUMNS) != 1:
         raise ValueError(
-            f"{path}: needs exactly one of the columns velocity [m/s] and wall_shear_stress [Pa]"
+            f"{path}: needs exactly one of the columns velocity [m/s], wall_shear_stress [Pa], "
+            "pressure_gradient [Pa/m] and flow_rate [m^2/s]"
         )
     arrays = {h: np.array(v, dtype=np.float64) for h, v in columns.items()}
     return CalibrationPoints(
@@ -1248,4 +1273,6 @@ def read_points(path: str | os.PathLike[str]) -> CalibrationPoints:
         velocity=arrays.get("velocity"),
         wall_shear_stress=arrays.get("wall_shear_stress"),
         sigma=arrays.get("sigma"),
+        pressure_gradient=arrays.get("pressure_gradient"),
+        flow_rate=arrays.get("flow_rate"),
     )

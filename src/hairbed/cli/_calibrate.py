@@ -18,8 +18,9 @@ ABOUT = """fit a sensor's unknown parameters to measured tip deflections
 Fit the free parameters of a bed (by default Young's modulus) to tip deflections measured at
 known wall speeds or wall shear stresses, by weighted least squares on the exact calibration
 curve with its exact Jacobian (hairbed.calibration.fit). --data is a CSV file with a header
-line: tip_deflection [m] and either velocity [m/s] or wall_shear_stress [Pa], optionally
-sigma [m] (the standard deviation of each deflection); a heading may carry its unit,
+line: tip_deflection [m] and one of velocity [m/s], wall_shear_stress [Pa], or, for a
+pump-driven bed with both walls at rest, pressure_gradient [Pa/m] or flow_rate [m^2/s];
+optionally sigma [m] (the standard deviation of each deflection); a heading may carry its unit,
 'tip_deflection [m]', as hairbed's own CSV files do. The bed options give the starting
 values and the fixed parameters. --json prints the calibration file that 'hairbed measure
 --calibration' reads: the whole bed, the fitted parameters with their covariance, the
@@ -96,10 +97,9 @@ def run(args: argparse.Namespace) -> int:
     result = hairbed.calibration.fit(
         bed,
         points.tip_deflection,
-        velocity=points.velocity,
-        wall_shear_stress=points.wall_shear_stress,
         sigma=sigma,
         free=args.free,
+        **points.known(),
     )
     _print_fit(result, args.json)
     if not result.success:
