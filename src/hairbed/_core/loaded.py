@@ -763,7 +763,9 @@ def solve_loaded_all(
     scanned on 12 geometric points in [1e-4, 0.02] and ``num_scan`` uniform ones in [0.02, 1],
     each sign change refined (all brackets at once) by at most 8 steps of the Illinois
     variant of regula falsi (superlinear, the bracket kept), then bisection, until
-    abs(G) < 1e-13 at an end or the bracket is narrower than 1e-7 (60 steps at most), and
+    abs(G) < 1e-13 at an end or the bracket is narrower than 1e-7 (60 steps at most; a
+    bracket whose abs(G) did not fall tenfold in the Illinois steps is a jump of G and is
+    left there), and
     each root polished by :func:`solve_loaded`'s Newton from the frozen state there. Two roots
     closer than a scan cell (a tangency, the edge of a window) can be missed.
 
@@ -802,10 +804,15 @@ def solve_loaded_all(
     # (each refinement is a whole batch of frozen-load solves: few steps keep the scan cheap)
     side = np.zeros(lo.size, dtype=np.int64)  # -1: lo was kept last step, +1: hi
     tlo, thi = glo.copy(), ghi.copy()  # the true G at the ends (glo, ghi: Illinois weights)
+    g_start = np.minimum(np.abs(glo), np.abs(ghi))
+    jump = np.zeros(lo.size, dtype=np.bool_)
     for step in range(_BISECT_STEPS):
-        done = (np.minimum(np.abs(tlo), np.abs(thi)) <= _G_TOL) | (
-            hi - lo <= _H_TOL * np.maximum(1.0, hi)
-        )
+        best = np.minimum(np.abs(tlo), np.abs(thi))
+        if step == _ILLINOIS_STEPS:
+            # G did not fall tenfold in the Illinois steps: it jumps there (no root to refine;
+            # the polish from the better end decides)
+            jump = best > 0.1 * g_start
+        done = jump | (best <= _G_TOL) | (hi - lo <= _H_TOL * np.maximum(1.0, hi))
         if np.all(done):
             break
         with np.errstate(invalid="ignore", divide="ignore"):
