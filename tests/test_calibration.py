@@ -157,6 +157,47 @@ def test_coverage_pump_driven(kind: str) -> None:
     assert abs(np.mean(chi2) - 8.0) < 3 * 4.0 / math.sqrt(SEEDS)
 
 
+@pytest.mark.parametrize("kind", ["pressure_gradient", "flow_rate"])
+def test_measure_pump_driven(kind: str) -> None:
+    """measure(drive=) inverts a pump-driven deflection for the known drive; its standard
+    error is sigma over the slope of the curve plus the fit's covariance through the
+    derivatives at fixed deflection (both checked by central differences of independent
+    solves), and the stress and the other drive follow through their derivatives."""
+    x = PUMP_X[kind][[0, 4, 9]]
+    d = model_tip_deflection(TRUE, **{kind: x})
+    m = measure(TRUE, d, sigma=SIGMA, drive=kind)
+    other = "flow_rate" if kind == "pressure_gradient" else "pressure_gradient"
+    assert m.success and m.status == 0
+    assert np.allclose(getattr(m, kind), x, rtol=1e-12, atol=0)
+    h = 1e-4 * np.abs(x)
+    up, down = TRUE.deform(**{kind: x + h}), TRUE.deform(**{kind: x - h})
+    slope = (np.asarray(up.tip_deflection) - np.asarray(down.tip_deflection)) / (2 * h)
+    err = np.asarray(getattr(m, kind + "_stderr"))
+    assert np.allclose(err, SIGMA / np.abs(slope), rtol=1e-6)
+    for name, value in (("wall_shear_stress", m.wall_shear_stress_stderr),
+                        (other, getattr(m, other + "_stderr"))):  # fmt: skip
+        dv = (np.asarray(getattr(up, name)) - np.asarray(getattr(down, name))) / (2 * h)
+        assert np.allclose(value, np.abs(dv) * err, rtol=1e-6), name
+    # with a fit: the inversion's sensitivity to the fitted modulus at fixed deflection
+    noise = np.random.default_rng(3).normal(0.0, SIGMA, PUMP_X[kind].size)
+    cal = fit(GUESS_E, model_tip_deflection(TRUE, **{kind: PUMP_X[kind]}) + noise,
+              sigma=SIGMA, **{kind: PUMP_X[kind]})  # fmt: skip
+    with_fit = measure(cal.bed, d, sigma=SIGMA, fit=cal)  # the drive from cal.kind
+    e = cal.values["youngs_modulus"]
+    step = 1e-6 * e
+    shifted = [
+        np.asarray(getattr(measure(replace(cal.bed, packing_fraction=None,
+                                           youngs_modulus=e + sgn * step), d, drive=kind), kind))
+        for sgn in (1, -1)
+    ]  # fmt: skip
+    g = (shifted[0] - shifted[1]) / (2 * step)
+    base = np.asarray(getattr(measure(cal.bed, d, sigma=SIGMA, drive=kind), kind + "_stderr"))
+    expect = np.sqrt(base**2 + g**2 * cal.covariance[0, 0])
+    assert np.allclose(getattr(with_fit, kind + "_stderr"), expect, rtol=1e-5)
+    with pytest.raises(ValueError, match="drive must be"):
+        measure(TRUE, d, drive="velocity")
+
+
 def test_scatter_estimate_without_sigma() -> None:
     clean = model_tip_deflection(TRUE, velocity=VELOCITY)
     noise = np.random.default_rng(7).normal(0.0, SIGMA, VELOCITY.size)

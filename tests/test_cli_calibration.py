@@ -270,3 +270,14 @@ def test_calibrate_pump_driven_points(tmp_path: Path, column: str, values: np.nd
     assert out["data"]["sha256"] == hairbed.calibration.points_fingerprint(
         d, sigma=1e-6, **{kind: values}
     )
+    # measure with that calibration reads the drive back (the kind of the calibration)
+    cal = tmp_path / "cal.json"
+    cal.write_text(proc.stdout)
+    args = ("measure", "--calibration", str(cal), "--tip-deflection", repr(float(d[3])))
+    proc = call(*args, "--sigma", "1e-6", "--json")
+    assert proc.returncode == 0, proc.stderr
+    m = json.loads(proc.stdout)
+    assert m[kind] == pytest.approx(float(values[3]), rel=1e-8)
+    assert m[kind + "_stderr"] > 0 and m["velocity"] == 0.0
+    text = call(*args).stdout
+    assert "G   = " in text and "Q'  = " in text

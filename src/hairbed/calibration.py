@@ -880,10 +880,16 @@ class Measurement:
     success : bool
         True when every error is finite (no fold, no singular calibration).
     status : int
-        0 ok; 2 a standard error is infinite (at a fold of the bed, or an undetermined fit)
+        0 ok; 2 a standard error is infinite (at a fold of the bed, or an undetermined fit);
+        -2 (a pump drive) the inversion did not reach the deflection in its iteration limit
         (:data:`~hairbed._core.validation.STATUS_MESSAGES`).
     message : str
         What happened.
+    pressure_gradient, pressure_gradient_stderr : float or ndarray or None
+        For a pump-driven bed (``drive`` of :func:`measure`): the pressure gradient
+        G = -dp/dx [Pa/m] and its standard error; None otherwise.
+    flow_rate, flow_rate_stderr : float or ndarray or None
+        The same of the flow rate per unit width Q' [m^2/s].
     """
 
     tip_deflection: Any
@@ -895,6 +901,114 @@ class Measurement:
     success: bool
     status: int
     message: str
+    pressure_gradient: Any = None
+    pressure_gradient_stderr: Any = None
+    flow_rate: Any = None
+    flow_rate_stderr: Any = None
+
+
+#: The most Newton steps of the inversion of a pump-driven bed's deflection.
+_MEASURE_STEPS = 60
+#: It ends where the dimensionless deflection x1 is reached within this.
+_MEASURE_XTOL = 1e-13
+
+
+def _invert_pumped(bed: HairBed, kind: str, d: FloatArray) -> tuple[FloatArray, Any, bool]:
+    """(known drive x, LoadedState, converged) of deflections d [m] of a pump-driven bed (both
+    walls at rest): damped Newton on the load with the exact dx1/dload, from the slope at
+    rest, the low state at every step."""
+    drive = _PUMPS[kind][1]
+    name = "pi" if drive == "pressure" else "q"
+    target = d / bed.length
+    zero = np.zeros(d.size)
+    eps, angle = bed.eps, bed.base_angle
+    rest = _solve_loaded_trusted(drive, zero, eps, angle, zero, "low")
+    slope = np.asarray(derivatives_at(rest)["tip_deflection"][name], dtype=np.float64)
+    x1 = np.asarray(rest.tip_deflection, dtype=np.float64).reshape(-1)
+    load = (target - x1) / slope.reshape(-1)
+    good = zero.copy()
+    st = rest
+    converged = False
+    for _ in range(_MEASURE_STEPS):
+        st = _solve_loaded_trusted(drive, zero, eps, angle, load, "low")
+        x1 = np.asarray(st.tip_deflection, dtype=np.float64).reshape(-1)
+        lost = ~np.isfinite(x1)
+        if np.any(lost):  # no state there: back halfway to the last load that had one
+            load = np.where(lost, 0.5 * (load + good), load)
+            continue
+        good = load
+        r = x1 - target
+        if np.all(np.abs(r) <= _MEASURE_XTOL):
+            converged = True
+            break
+        dx = np.asarray(derivatives_at(st)["tip_deflection"][name], dtype=np.float64)
+        step = -r / dx.reshape(-1)
+        limit = np.maximum(1.0, np.abs(load))  # at most the load itself a step
+        load = load + np.clip(step, -limit, limit)
+    scale = _forcing(bed, kind, np.ones(1))[2]
+    return load / scale, st, converged
+
+
+def _measure_pumped(
+    bed: HairBed, kind: str, d: FloatArray, s: FloatArray, fit: CalibrationFit | None
+) -> Measurement:
+    """:func:`measure` of a pump-driven bed: the known drive of :func:`fit` from deflections."""
+    flat = d.reshape(-1)
+    x, sol, converged = _invert_pumped(bed, kind, flat)
+    names = fit.parameters if fit is not None else ()
+    geometry = fit.geometry if fit is not None else "spacing"
+    _, jac, dd_dx, der = _model_at(bed, kind, x, sol, names, geometry)
+    sig = np.broadcast_to(s, d.shape).reshape(-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        var = (sig / dd_dx) ** 2
+        if fit is not None:
+            g = -jac / dd_dx[:, None]
+            var = var + np.einsum("ij,jk,ik->i", g, fit.covariance, g)
+    err = np.sqrt(var)
+    xs = x.reshape(d.shape)  # the state in the deflection's shape (floats for a scalar)
+    state = bed._deform_pumped(None, xs if kind == "pressure_gradient" else None,
+                               xs if kind == "flow_rate" else None, "low")  # fmt: skip
+    # the stress and the other drive follow from x and h1(x): their errors through x (at
+    # fixed bed: the bed's own covariance enters through x only)
+    name = "pi" if kind == "pressure_gradient" else "q"
+    scale = _forcing(bed, kind, np.ones(1))[2]
+    dh = np.asarray(der["tip_height"][name], dtype=np.float64).reshape(-1) * scale * bed.length
+    gap = bed.channel_height - bed.length * np.asarray(sol.tip_height).reshape(-1)
+    eta = bed.viscosity
+    if kind == "pressure_gradient":  # tau = G g/2, Q' = G g^3/(12 eta), dg/dG = -dh
+        d_tau = gap / 2.0 - x * dh / 2.0
+        d_other = gap**3 / (12.0 * eta) - x * gap**2 * dh / (4.0 * eta)
+    else:  # G = 12 eta Q'/g^3, tau = G g/2 = 6 eta Q'/g^2
+        d_tau = 6.0 * eta / gap**2 + 12.0 * eta * x * dh / gap**3
+        d_other = 12.0 * eta / gap**3 + 36.0 * eta * x * dh / gap**4
+    shape = d.shape
+    errs = {
+        kind: float_or_array(err.reshape(shape)),
+        "other": float_or_array((np.abs(d_other) * err).reshape(shape)),
+    }
+    finite = bool(np.all(np.isfinite(err)))
+    status = -2 if not converged else (0 if finite else 2)
+    message = {
+        0: "ok",
+        2: "a standard error is infinite (a fold of the bed, or an undetermined fit)",
+        -2: f"the inversion did not reach the deflection in {_MEASURE_STEPS} Newton steps",
+    }[status]
+    pressure = kind == "pressure_gradient"
+    return Measurement(
+        tip_deflection=float_or_array(d),
+        wall_shear_stress=state.wall_shear_stress,
+        wall_shear_stress_stderr=float_or_array((np.abs(d_tau) * err).reshape(shape)),
+        velocity=float_or_array(np.zeros(shape)),
+        velocity_stderr=float_or_array(np.zeros(shape)),
+        state=state,
+        success=status == 0,
+        status=status,
+        message=message,
+        pressure_gradient=state.pressure_gradient,
+        pressure_gradient_stderr=errs[kind] if pressure else errs["other"],
+        flow_rate=state.flow_rate,
+        flow_rate_stderr=errs["other"] if pressure else errs[kind],
+    )
 
 
 def measure(
@@ -903,6 +1017,7 @@ def measure(
     *,
     sigma: ArrayLike = 0.0,
     fit: CalibrationFit | None = None,
+    drive: str | None = None,
 ) -> Measurement:
     """Wall shear stress and wall speed from a measured tip deflection, with standard errors.
 
@@ -923,6 +1038,13 @@ def measure(
         per deflection.
     fit : CalibrationFit, optional
         The calibration whose parameter covariance is propagated too.
+    drive : {None, "pressure_gradient", "flow_rate"}, optional
+        A pump-driven bed (both walls at rest): read the pressure gradient or the flow rate
+        instead, by Newton's method on the load with the exact derivatives of the loaded
+        state (the low state where several coexist). By default the ``kind`` of ``fit``
+        when it is one of these. The stress on the tip plane and the other drive follow
+        from the state; their standard errors are those of the drive carried through their
+        derivatives at fixed bed.
 
     Returns
     -------
@@ -940,6 +1062,14 @@ def measure(
         return _measure_pillar(bed, tip_deflection, sigma, fit)
     d = bed._deflection(tip_deflection, "tip_deflection")
     s = check_sigma(sigma, "sigma", d.shape, unit="m", allow_zero=True, high=bed.length)
+    if drive is None and fit is not None and fit.kind in _PUMPS:
+        drive = fit.kind
+    if drive is not None:
+        if drive not in _PUMPS:
+            raise ValueError(
+                f"drive must be None, 'pressure_gradient' or 'flow_rate', got {show(drive)}"
+            )
+        return _measure_pumped(bed, drive, d, s, fit)
     v, direction, omega2, sol = bed._invert(d)  # d checked: no check again on the way down
     state = bed._state(v, direction, omega2, sol)
     v = v.reshape(-1)

@@ -97,9 +97,26 @@ def run(args: argparse.Namespace) -> int:
                 "reynolds_number": m.state.reynolds_number,
                 "success": m.success,
                 "message": m.message,
+                **_pumped(m),
             }
         )
         return 0
     print(f"tau = {m.wall_shear_stress:.6g} +- {m.wall_shear_stress_stderr:.2g} Pa")
     print(f"v   = {m.velocity:.6g} +- {m.velocity_stderr:.2g} m/s")
+    if m.pressure_gradient is not None:  # a pump-driven calibration (both walls at rest)
+        print(f"G   = {m.pressure_gradient:.6g} +- {m.pressure_gradient_stderr:.2g} Pa/m")
+        print(f"Q'  = {m.flow_rate:.6g} +- {m.flow_rate_stderr:.2g} m^2/s")
     return 0
+
+
+def _pumped(m: Any) -> dict[str, Any]:
+    """The pump drive's entries of --json (a calibration at known pressure gradients or flow
+    rates): G and Q' with their standard errors; none otherwise."""
+    if m.pressure_gradient is None:
+        return {}
+    return {
+        "pressure_gradient": m.pressure_gradient,
+        "pressure_gradient_stderr": m.pressure_gradient_stderr,
+        "flow_rate": m.flow_rate,
+        "flow_rate_stderr": m.flow_rate_stderr,
+    }
