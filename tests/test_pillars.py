@@ -393,3 +393,17 @@ def test_linear_range_of_a_pillar_leaning_downstream():
     d = lr.tip_deflection
     lin = (d / L - math.sin(1.4)) / (11.0 * math.cos(1.4) ** 3 / 120.0 * _forcing_per_stress())
     assert lin / p.wall_shear_stress_from_tip_deflection(d) - 1.0 == pytest.approx(-0.5, abs=1e-9)
+
+
+def test_a_pillar_refuses_the_pump_drives_of_a_bed():
+    """A pillar stands in a shear layer: calibrating it against a pressure gradient or a flow
+    rate (a pump-driven HairBed's known quantities) is an error naming the parameter."""
+    p = _pillar()
+    d = np.array([1e-6, 2e-6])
+    for name in ("pressure_gradient", "flow_rate"):
+        with pytest.raises(ValueError, match=name):
+            calibration.model_tip_deflection(p, **{name: [1.0, 2.0]})
+        with pytest.raises(ValueError, match=name):
+            calibration.fit(p, d, **{name: [1.0, 2.0]})
+        with pytest.raises(ValueError, match="drive"):
+            calibration.measure(p, d, drive=name)

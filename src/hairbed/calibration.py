@@ -1059,6 +1059,11 @@ def measure(
                 f"{type(bed).__name__}"
             )
     if isinstance(bed, Pillar):
+        if drive is not None:
+            raise ValueError(
+                f"drive={show(drive)} is a pump-driven HairBed's; a Pillar is read back as a "
+                "wall shear stress (drive=None)"
+            )
         return _measure_pillar(bed, tip_deflection, sigma, fit)
     d = bed._deflection(tip_deflection, "tip_deflection")
     s = check_sigma(sigma, "sigma", d.shape, unit="m", allow_zero=True, high=bed.length)
