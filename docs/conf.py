@@ -122,7 +122,7 @@ def make_gallery() -> None:
 
 def make_variables_table() -> None:
     """Write every table of ``hairbed._variables`` as a list-table (included by the API)."""
-    from hairbed._variables import BED, SI, SOLUTION, WINDOW
+    from hairbed._variables import BED, PILLAR, SI, SOLUTION, WINDOW
 
     out = DOCS / "_generated"
     out.mkdir(exist_ok=True)
@@ -132,6 +132,7 @@ def make_variables_table() -> None:
         ("A bed's parameters (BED)", BED),
         ("A bed's state in SI units (SI)", SI),
         ("The bistable window of a pair (eps, theta0) (WINDOW)", WINDOW),
+        ("An isolated pillar in a shear layer (PILLAR)", PILLAR),
     ):
         lines += [title, "-" * len(title), "", ".. list-table::", "   :header-rows: 1", ""]
         lines += [

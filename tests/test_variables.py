@@ -23,6 +23,7 @@ from hairbed._variables import (
     BED_REQUIRED,
     GROUPS,
     LOADED,
+    PILLAR,
     SI,
     SOLUTION,
     WINDOW,
@@ -102,15 +103,16 @@ def test_the_si_values_are_floats():
 
 
 def test_entries_are_complete():
-    for table in (SOLUTION, BED, SI, WINDOW, LOADED):
+    for table in (SOLUTION, BED, SI, WINDOW, LOADED, PILLAR):
         for key, v in table.items():
             assert isinstance(v, Variable) and v.name == key
             assert v.group in GROUPS
             assert v.units and v.long_name and v.label and v.description, key
             assert v.dtype in ("float64", "int64", "bool"), key
             assert "[" not in v.label, key  # the unit goes in ``unit``, shown by ``heading``
-            # dimensionless in CF exactly when people read no physical unit
-            assert (v.units == "1") == (v.unit in ("", "-", "L", "1/L")), key
+            # dimensionless in CF exactly when people read no physical unit (a pillar's
+            # forces are in E I/L^2)
+            assert (v.units == "1") == (v.unit in ("", "-", "L", "1/L", "EI/L^2")), key
 
 
 def test_counts_and_flags_have_no_unit_shown():
@@ -158,3 +160,20 @@ def test_the_loaded_table_and_solution_name_every_loaded_state_field():
     fields.remove("drive")  # a string label, not a variable
     assert set(fields) == set(LOADED) | (set(fields) & set(SOLUTION))
     assert [k for k in fields if k in LOADED] == list(LOADED)
+
+
+def test_the_pillar_table_names_every_pillar_state_field_in_order():
+    from hairbed import PillarState
+
+    fields = [f.name for f in dataclasses.fields(PillarState) if not f.name.startswith("_")]
+    inputs = [k for k in names(PILLAR, "pillar_input") if k != "height_ratio"]
+    assert [*inputs, *names(PILLAR, "pillar")] == fields
+
+
+def test_the_pillar_dtypes_are_those_a_solve_returns():
+    state = hairbed.solve_pillar(np.array([0.5, 2.0]))
+    for name, v in PILLAR.items():
+        if v.group != "pillar" or name == "stable":
+            continue
+        kind = np.asarray(getattr(state, name)).dtype.kind
+        assert kind == {"float64": "f", "int64": "i"}[v.dtype], name

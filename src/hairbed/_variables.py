@@ -11,6 +11,10 @@ adding one entry (and, for a state field, the kernel's column in
 - :data:`BED`: the SI parameters of a :class:`hairbed.units.HairBed` (its dataclass fields,
   then its derived properties);
 - :data:`SI`: the SI state of a bed, the fields of :class:`hairbed.units.HairState`;
+- :data:`LOADED`: the fields of a :class:`hairbed.LoadedState` that :data:`SOLUTION` does
+  not name;
+- :data:`PILLAR`: an isolated pillar in a wall shear layer (theory.md §12), the inputs of
+  :func:`hairbed.solve_pillar` and every field of :class:`hairbed.PillarState` in its order;
 - :data:`WINDOW`: the bistable window of a pair (eps, theta0), the variables of the exact
   map :func:`hairbed.sweeps.bistability_map` (``hairbed bistability --map``).
 
@@ -41,6 +45,7 @@ __all__ = [
     "GROUPS",
     "SI",
     "LOADED",
+    "PILLAR",
     "SOLUTION",
     "WINDOW",
     "Variable",
@@ -61,6 +66,8 @@ GROUPS: Mapping[str, str] = MappingProxyType(
         "si": "a state of a bed in SI units (a field of HairState)",
         "window": "the bistable window of a pair (eps, theta0): its folds, width, count",
         "loaded": "a field of a LoadedState (a distributed load) that Solution does not have",
+        "pillar_input": "an input of an isolated pillar's problem (solve_pillar)",
+        "pillar": "a field of a PillarState (an isolated pillar in a shear layer)",
     }
 )
 
@@ -476,5 +483,117 @@ LOADED: Mapping[str, Variable] = _table(
         "stable", "loaded", "1",
         "stable under a slow change of the tip height (dG/dh1 < 0 of the fixed-load map)",
         "stable", "", "from solve_loaded_all only (None elsewhere)", "bool",
+    ),
+)  # fmt: skip
+
+
+#: An isolated pillar in a wall shear layer (theory.md §12): the inputs of
+#: :func:`hairbed.solve_pillar` (group pillar_input: the fields of a
+#: :class:`hairbed.PillarState` in its order, then ``height_ratio``, an input of the channel
+#: profiles only), then every other field of a PillarState in its order (group pillar). A
+#: table of its own, not an extension of :data:`SOLUTION`: the pillar's lengths are in its
+#: length L, its forces in E I/L^2, and its base curvature is the whole drag's moment.
+PILLAR: Mapping[str, Variable] = _table(
+    _V(
+        "forcing", "pillar_input", "1",
+        "pillar forcing Lambda = zeta_perp tau_w L^4 / (eta E I)",
+        "forcing Lambda", "-",
+        "the drag of the shear layer relative to the pillar's bending stiffness (negative: "
+        "flow towards -x)",
+    ),
+    _V(
+        "theta0", "pillar_input", "rad",
+        "base angle theta0 of the pillar from the wall normal",
+        "base angle theta0", "rad",
+        "clamping angle at the wall, in (-pi/2, pi/2); negative leans into the flow",
+    ),
+    _V(
+        "gamma", "pillar_input", "1",
+        "drag ratio gamma = zeta_par / zeta_perp of resistive-force theory",
+        "drag ratio gamma", "-",
+        "tangential over normal drag coefficient, in (0, 1]; 1/2 is the slender limit",
+    ),
+    _V(
+        "tip_load", "pillar_input", "1",
+        "horizontal force on the pillar's tip in units of E I / L^2",
+        "tip load P", "EI/L^2",
+        "a point force on the free end beside the drag (0 unless given)",
+    ),
+    _V(
+        "height_ratio", "pillar_input", "1",
+        "pillar length over channel height L / H of the channel profiles",
+        "height ratio L/H", "-",
+        "in (0, 1]: sets the Poiseuille profile U = z (1 - (L/H) z); checked for Couette",
+    ),
+    _V(
+        "tip_deflection", "pillar", "1",
+        "tip deflection x1 = x(1) of the pillar in units of its length L",
+        "tip deflection x1", "L",
+        "streamwise position of the tip relative to the base: what a pillar sensor reads",
+    ),
+    _V(
+        "tip_height", "pillar", "1",
+        "tip height h1 = z(1) of the pillar in units of its length L",
+        "tip height h1", "L",
+        "height of the tip above the wall, at most 1",
+    ),
+    _V(
+        "tip_angle", "pillar", "rad",
+        "tip angle theta1 = theta(1) of the pillar from the wall normal",
+        "tip angle theta1", "rad",
+        "angle of the pillar at its free end",
+    ),
+    _V(
+        "base_curvature", "pillar", "1",
+        "base curvature theta'(0) of the pillar in units of 1/L (base moment E I theta'(0)/L)",
+        "base curvature theta'(0)", "1/L",
+        "the moment of the whole drag about the base, in E I/L",
+    ),
+    _V(
+        "drag_x", "pillar", "1",
+        "streamwise drag on the whole pillar F_x(0) in units of E I / L^2",
+        "streamwise drag F_x", "EI/L^2",
+        "the integral of the drag per unit length along x (the tip load included)",
+    ),
+    _V(
+        "drag_z", "pillar", "1",
+        "wall-normal drag on the whole pillar F_z(0) in units of E I / L^2",
+        "wall-normal drag F_z", "EI/L^2",
+        "the integral of the drag per unit length along z",
+    ),
+    _V(
+        "tip_deflection_slope", "pillar", "1",
+        "sensitivity dx1/dLambda of the tip deflection to the forcing in units of L",
+        "sensitivity dx1/dLambda", "L",
+        "by implicit differentiation of the collocation system; NaN at a fold",
+    ),
+    _V(
+        "status", "pillar", "1",
+        "solver status: 0 converged, 3 inaccurate, negative failed (STATUS_MESSAGES)",
+        "status (0 converged)", "",
+        "how the solve ended (PillarState.message says it in words)",
+        "int64",
+    ),
+    _V(
+        "error_estimate", "pillar", "1",
+        "Chebyshev tail of theta plus its rounding part [rad]",
+        "error estimate", "-", "estimates the error of theta, x and z",
+    ),
+    _V(
+        "residual", "pillar", "1", "largest residual of the collocation equations",
+        "residual", "-", "of the returned state",
+    ),
+    _V(
+        "nit", "pillar", "1", "Newton iterations over every level of the Chebyshev ladder",
+        "Newton iterations", "", "work done", "int64",
+    ),
+    _V(
+        "num", "pillar", "1", "Chebyshev degree N of the returned state",
+        "Chebyshev degree N", "", "the resolution that met the tolerance", "int64",
+    ),
+    _V(
+        "stable", "pillar", "1",
+        "stable under a slow change of the forcing (on a rising part of Lambda(x1))",
+        "stable", "", "from solve_pillar_all only (None elsewhere)", "bool",
     ),
 )  # fmt: skip
