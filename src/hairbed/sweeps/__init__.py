@@ -7,7 +7,9 @@ of that name (in that order), every scalar a scalar coordinate. The result is an
 1 / (1 - eps h1) (theory.md §7) as data variables, CF attributes (``units``, ``long_name``)
 on every variable and coordinate, and the branch, root choice and hairbed version in the
 dataset's attributes. :func:`bed_sweep` (``HairBed.sweep``) does the same in SI units over
-the wall speed of a bed.
+the wall speed of a bed. With ``forcing=`` it sweeps an isolated pillar in a shear layer
+(:func:`hairbed.solve_pillar`, theory.md §12) over its forcing, base angle, drag ratio, tip
+load and height ratio.
 
 With ``chunks=`` the dataset is dask-backed and lazy: the grid is cut into blocks, each
 solved by one call of the compiled kernels (which release the GIL, so the threaded
@@ -55,6 +57,9 @@ from ._attributes import (
     DIMS,
     LOADED_ATTRS,
     LOADED_VARIABLES,
+    PILLAR_ATTRS,
+    PILLAR_DIMS,
+    PILLAR_VARIABLES,
     PUMPED_ATTRS,
     VARIABLES,
 )
@@ -79,6 +84,9 @@ __all__ = [
     "MAP_DIMS",
     "MAP_VARIABLES",
     "NETCDF_COMPRESSION",
+    "PILLAR_ATTRS",
+    "PILLAR_DIMS",
+    "PILLAR_VARIABLES",
     "PROGRESS_DELAY",
     "PUMPED_ATTRS",
     "VARIABLES",

@@ -7,10 +7,20 @@ from typing import Any
 
 import numpy as np
 
-from .._variables import BED, LOADED, SI, SOLUTION, names
+from .._variables import BED, LOADED, PILLAR, SI, SOLUTION, names
 from .._version import __version__
 
-__all__ = ["ATTRS", "BED_ATTRS", "DIMS", "LOADED_ATTRS", "PUMPED_ATTRS", "VARIABLES"]
+__all__ = [
+    "ATTRS",
+    "BED_ATTRS",
+    "DIMS",
+    "LOADED_ATTRS",
+    "PILLAR_ATTRS",
+    "PILLAR_DIMS",
+    "PILLAR_VARIABLES",
+    "PUMPED_ATTRS",
+    "VARIABLES",
+]
 
 #: The grid's dimensions, in their order.
 DIMS = ("omega2", "eps", "theta0")
@@ -80,6 +90,19 @@ LOADED_ATTRS: dict[str, tuple[str, str]] = {
 
 #: The integer variables of a pumped sweep.
 PUMPED_INTEGER = ("status", *(k for k in _SWEPT if LOADED[k].dtype == "int64"))
+#: The dimensions of a pillar's sweep (:func:`hairbed.sweep` with ``forcing``), in their
+#: order: the inputs of :func:`hairbed.solve_pillar` (:data:`hairbed._variables.PILLAR`).
+PILLAR_DIMS = names(PILLAR, "pillar_input")
+#: Its data variables: every PillarState field but the inputs (``stable`` comes from
+#: solve_pillar_all only).
+PILLAR_VARIABLES = tuple(k for k in names(PILLAR, "pillar") if k != "stable")
+#: CF attributes of its coordinates and variables.
+PILLAR_ATTRS: dict[str, tuple[str, str]] = {
+    k: (PILLAR[k].units, PILLAR[k].long_name) for k in (*PILLAR_DIMS, *PILLAR_VARIABLES)
+}
+#: Its integer variables.
+PILLAR_INTEGER = tuple(k for k in PILLAR_VARIABLES if PILLAR[k].dtype == "int64")
+
 #: The drives of a pumped sweep: name -> (its SI quantity, its dimensionless one).
 PUMP_DRIVES = {"pressure_gradient": "pi", "flow_rate": "q"}
 

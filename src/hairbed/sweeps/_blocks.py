@@ -15,6 +15,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .._core.loaded import solve_loaded
+from .._core.pillar import solve_pillar
 from .._core.solver import _solve_arrays
 from .._core.validation import check_int
 from .._optional import optional_import
@@ -26,6 +27,8 @@ from ._attributes import (
     DIMS,
     INTEGER,
     LOADED_VARIABLES,
+    PILLAR_DIMS,
+    PILLAR_VARIABLES,
     VARIABLES,
     pumped_variables,
 )
@@ -141,6 +144,42 @@ def loaded_block(
     out = np.empty((len(names), *shape))
     for row, name in enumerate(names):
         out[row] = getattr(st, name)
+    if progress is not None:
+        progress.update(int(np.prod(shape, dtype=np.int64)))
+    return out
+
+
+def pillar_block(
+    *axes: NDArray[np.float64],
+    dims: tuple[str, ...],
+    fixed: Mapping[str, float],
+    profile: Any,
+    progress: Any,
+) -> NDArray[np.float64]:
+    """One block of a pillar's sweep: (len(PILLAR_VARIABLES), *block shape), one call of
+    :func:`hairbed.solve_pillar` per height ratio of the block (the profile's coefficients
+    depend on it; every other input is broadcast)."""
+    if progress is not None:
+        progress.start()
+    shape = tuple(a.size for a in axes)
+    names = tuple(d for d in PILLAR_DIMS if d in dims or d in fixed)
+    full = _full_inputs(axes, dims, fixed, names)
+    out = np.empty((len(PILLAR_VARIABLES), *shape))
+    if "height_ratio" in dims:  # the last dimension: one solve per value of it
+        ratios = [(float(r), (..., j)) for j, r in enumerate(axes[dims.index("height_ratio")])]
+    else:
+        ratios = [(fixed.get("height_ratio"), (...,))]
+    for ratio, where in ratios:
+        st = solve_pillar(
+            full["forcing"][where],
+            full["theta0"][where],
+            profile=profile,
+            height_ratio=ratio,
+            gamma=full["gamma"][where],
+            tip_load=full["tip_load"][where],
+        )
+        for row, name in enumerate(PILLAR_VARIABLES):
+            out[(row, *where)] = getattr(st, name)
     if progress is not None:
         progress.update(int(np.prod(shape, dtype=np.int64)))
     return out

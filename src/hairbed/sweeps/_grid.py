@@ -29,6 +29,10 @@ from ._attributes import (
     DIMS,
     LOADED_ATTRS,
     LOADED_VARIABLES,
+    PILLAR_ATTRS,
+    PILLAR_DIMS,
+    PILLAR_INTEGER,
+    PILLAR_VARIABLES,
     PUMPED_ATTRS,
     PUMPED_INTEGER,
     VARIABLES,
@@ -42,6 +46,7 @@ from ._blocks import (
     chunk_sizes,
     grid_block,
     loaded_block,
+    pillar_block,
     pumped_block,
     stacked,
     variable,
@@ -74,8 +79,8 @@ def _si_axis(value: Any, name: str, unit: str) -> NDArray[np.float64]:
 
 
 def sweep(
-    omega2: Any,
-    eps: Any,
+    omega2: Any = None,
+    eps: Any = None,
     theta0: Any = 0.0,
     *,
     sign: int = 1,
@@ -85,8 +90,16 @@ def sweep(
     progress: bool = False,
     pi: Any = None,
     q: Any = None,
+    forcing: Any = None,
+    gamma: Any = None,
+    tip_load: Any = None,
+    height_ratio: Any = None,
+    profile: Any = None,
 ) -> Any:
     """The exact solution on the outer-product grid of the inputs, as an xarray Dataset.
+
+    With ``forcing`` it is the sweep of an isolated pillar (theory.md §12) instead: see
+    ``forcing`` below.
 
     Parameters
     ----------
@@ -114,6 +127,24 @@ def sweep(
         of :func:`hairbed.solve_loaded`, a fourth dimension after theta0. The grid is then
         solved by the distributed-load solver (the physical branch; ``sign``/``n`` must be
         the default) and the variables are :data:`LOADED_VARIABLES`.
+    forcing : float or 1-D array_like, optional
+        An isolated pillar's forcing Lambda = zeta_perp tau_w L^4/(eta E I) [-]: the grid is
+        then that of :func:`hairbed.solve_pillar` over the dimensions ``forcing``,
+        ``theta0``, ``gamma``, ``tip_load`` and ``height_ratio`` (the 1-D ones among them, in
+        that order; the others scalar coordinates), and ``omega2``, ``eps``, ``pi``, ``q``,
+        ``sign``, ``n`` and ``root`` do not apply. The data variables are
+        :data:`PILLAR_VARIABLES` (every :class:`hairbed.PillarState` field but its inputs;
+        ``status``, ``nit`` and ``num`` int64), with the CF attributes of
+        :data:`hairbed._variables.PILLAR`; the profile's name (and height ratio) are in the
+        dataset's attributes. Values are those of :func:`hairbed.solve_pillar` at the same
+        points (batched: equal to its rounding).
+    gamma, tip_load : float or 1-D array_like, optional
+        With ``forcing``: the drag ratio zeta_par/zeta_perp in (0, 1] [-] (default 1/2) and a
+        horizontal tip force [E I/L^2] (default 0).
+    height_ratio : float or 1-D array_like, optional
+        With ``forcing``: L/H in (0, 1] of the channel profiles (required for "poiseuille").
+    profile : {"sublayer", "couette", "poiseuille"} or callable, optional
+        With ``forcing``: the undisturbed profile U(z) (default "sublayer").
 
     Returns
     -------
@@ -135,6 +166,22 @@ def sweep(
         Without xarray (or dask, for ``chunks``): ``pip install "hairbed[sweep]"``.
     """
     xr = optional_import("xarray", "hairbed.sweep", "sweep")
+    pillar = {"gamma": gamma, "tip_load": tip_load, "height_ratio": height_ratio}
+    if forcing is not None:
+        given = {"omega2": omega2, "eps": eps, "pi": pi, "q": q}
+        wrong = [k for k, v in given.items() if v is not None]
+        if wrong or (sign, n, root) != (1, 0, "low"):
+            what = wrong[0] if wrong else "sign, n and root"
+            raise ValueError(
+                f"{what}: a pillar's sweep (forcing=) takes forcing, theta0, gamma, tip_load, "
+                "height_ratio and profile only"
+            )
+        return _pillar_sweep(forcing, theta0, pillar, profile, chunks, progress)
+    wrong = [k for k, v in {**pillar, "profile": profile}.items() if v is not None]
+    if wrong:
+        raise ValueError(f"{wrong[0]} applies to a pillar's sweep only (give forcing=)")
+    if omega2 is None or eps is None:
+        raise TypeError("sweep() needs omega2 and eps (or forcing= for a pillar)")
     if pi is not None or q is not None:
         return _loaded_sweep(omega2, eps, theta0, pi, q, sign, n, root, chunks, progress)
     values = {"omega2": _axis(omega2, "omega2"), "eps": _axis(eps, "eps")}
@@ -238,6 +285,74 @@ def _loaded_sweep(
     )  # fmt: skip
     attrs["drive"] = "pressure" if drive == "pi" else "flow"
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _pillar_sweep(
+    forcing: Any,
+    theta0: Any,
+    pillar: Mapping[str, Any],
+    profile: Any,
+    chunks: Any,
+    progress: bool,
+) -> Any:
+    """:func:`sweep` of an isolated pillar: the grid of (forcing, theta0, gamma, tip_load,
+    height_ratio), each block by :func:`hairbed.solve_pillar`."""
+    xr = optional_import("xarray", "hairbed.sweep", "sweep")
+    profile = "sublayer" if profile is None else profile
+    defaults = {"gamma": 0.5, "tip_load": 0.0}
+    given = {"forcing": forcing, "theta0": theta0, **defaults}
+    given.update({k: v for k, v in pillar.items() if v is not None})
+    values = {d: _si_axis(given[d], d, "-") for d in PILLAR_DIMS if d in given}
+    _check_pillar_axes(values, profile)
+    progress = check_flag(progress, "progress")
+    dims = tuple(d for d in values if values[d].ndim == 1)
+    fixed = {d: float(values[d]) for d in values if d not in dims}
+    sizes = {d: values[d].size for d in dims}
+    if chunks is not None:
+        chunk_sizes(chunks, sizes)
+    bar = Progress(int(np.prod(list(sizes.values()), dtype=np.int64))) if progress else None
+    names = PILLAR_VARIABLES
+    kw = dict(dims=dims, fixed=fixed, profile=profile)
+    axes = [values[d] for d in dims]
+    data = stacked(pillar_block, axes, dims, len(names), chunks if dims else None, bar, **kw)
+    if not dims and chunks is not None:
+        da = optional_import("dask.array", "a chunked sweep", "sweep")
+        data = da.from_array(data, chunks=-1)
+    coords = {d: ((d,) if d in dims else (), values[d], cf(PILLAR_ATTRS[d])) for d in values}
+    data_vars = {}
+    for k, name in enumerate(names):
+        var = data[k]
+        attrs = cf(PILLAR_ATTRS[name])
+        if name in PILLAR_INTEGER:
+            var = var.astype(np.int64)
+        if name == "status":
+            attrs["comment"] = "0 converged; others: hairbed._core.validation.STATUS_MESSAGES"
+        data_vars[name] = (dims, var, attrs)
+    attrs = dataset_attrs(
+        "hairbed sweep: an isolated pillar in a wall shear layer (theory.md §12)",
+        " (hairbed.sweep)", 1, 0, "low",
+    )  # fmt: skip
+    for key in ("branch_sign", "branch_n", "physical_branch", "root"):  # no branches here
+        del attrs[key]
+    attrs["profile"] = profile if isinstance(profile, str) else f"callable {profile!r}"
+    return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _check_pillar_axes(values: Mapping[str, NDArray[np.float64]], profile: Any) -> None:
+    """The ranges of a pillar's axes, before any work, as :func:`hairbed.solve_pillar`
+    checks them (its messages, naming the parameter and the first bad index)."""
+    from .._core.pillar import _check, profile_coefficients
+    from .._core.validation import _check_range
+
+    inputs = ("forcing", "theta0", "gamma", "tip_load")
+    for d in inputs:  # one axis at a time: the axes do not broadcast together
+        _check(*(values[d] if k == d else (0.5 if k == "gamma" else 0.0) for k in inputs))
+    ratios = values.get("height_ratio")
+    if ratios is not None:
+        _check_range(ratios, ~((ratios > 0.0) & (ratios <= 1.0)), "height_ratio", "(0, 1]")
+        profile_coefficients(profile, float(ratios.reshape(-1)[0]))
+    else:
+        profile_coefficients(profile, None)  # e.g. "poiseuille" without a height ratio
 
 
 def bed_sweep(
