@@ -2,8 +2,10 @@
 
 The parser reports bad input as one line (:class:`~hairbed.cli._report.UsageError`) and
 reads every negative number as a value. The builders add the options whose names and help
-texts must agree between subcommands: ``--eps``, ``--theta0``, ``--json`` and the physical
-inputs of a bed, which :func:`bed_from` turns into a :class:`hairbed.HairBed`.
+texts must agree between subcommands: ``--eps``, ``--theta0``, ``--json``, the physical
+inputs of a bed, which :func:`bed_from` turns into a :class:`hairbed.HairBed`, and those of
+an isolated pillar (``--pillar``, ``--forcing``, ``--profile`` ...), which
+:func:`pillar_keywords` turns into the keywords of :func:`hairbed.solve_pillar`.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ from collections.abc import Callable
 from typing import Any
 
 import hairbed
-from hairbed._variables import BED, BED_REQUIRED
+from hairbed._variables import BED, BED_REQUIRED, PILLAR
 
 from ._report import UsageError
 
@@ -22,6 +24,7 @@ __all__ = [
     "BED_OPTIONS",
     "EPS_HELP",
     "NEGATIVE_NUMBER",
+    "PILLAR_OPTIONS",
     "THETA0_HELP",
     "Parser",
     "add_bed_options",
@@ -29,10 +32,12 @@ __all__ = [
     "add_command",
     "add_eps",
     "add_json",
+    "add_pillar_options",
     "add_theta0",
     "bed_from",
     "formatter",
     "need_bed",
+    "pillar_keywords",
     "refuse",
 ]
 
@@ -174,3 +179,76 @@ def refuse(args: argparse.Namespace, options: dict[str, str], why: str) -> None:
         value = getattr(args, dest)
         if value is not None and value is not False:
             raise UsageError(f"{flag} {why}")
+
+
+#: The options of an isolated pillar besides ``--pillar`` and ``--theta0``: dest -> flag.
+PILLAR_OPTIONS = {
+    "forcing": "--forcing",
+    "profile": "--profile",
+    "height_ratio": "--height-ratio",
+    "gamma": "--gamma",
+    "slenderness": "--slenderness",
+    "tip_load": "--tip-load",
+}
+
+
+def add_pillar_options(p: argparse.ArgumentParser, *, spec: bool = False) -> Any:
+    """``--pillar`` and the inputs of an isolated pillar (:func:`hairbed.solve_pillar`): floats,
+    or SPECs of a sweep's axes with ``spec``. Returns the argument group (for more options)."""
+    g = p.add_argument_group(
+        "an isolated pillar in a wall shear layer (hairbed.solve_pillar, theory.md §12)"
+    )
+    g.add_argument(
+        "--pillar",
+        action="store_true",
+        help="an isolated pillar under resistive-force drag instead of a bed of hairs",
+    )
+    kind: dict[str, Any] = {"metavar": "SPEC"} if spec else {"type": float, "metavar": "X"}
+
+    def text(name: str, note: str) -> str:
+        return f"{PILLAR[name].long_name} [{PILLAR[name].unit}]{note}"
+
+    g.add_argument("--forcing", **kind, help=text("forcing", ", finite"))
+    g.add_argument(
+        "--profile",
+        choices=("sublayer", "couette", "poiseuille"),
+        help="undisturbed profile U(z): sublayer and couette U = z, poiseuille "
+        "U = z (1 - (L/H) z) (default sublayer)",
+    )
+    g.add_argument(
+        "--height-ratio", **kind, help=text("height_ratio", ", in (0, 1]; needed by poiseuille")
+    )
+    g.add_argument("--gamma", **kind, help=text("gamma", ", in (0, 1] (default 0.5)"))
+    g.add_argument(
+        "--slenderness",
+        **kind,
+        help="slenderness L/a [-], > 1.5: gamma of Gray & Hancock's coefficients (instead of "
+        "--gamma)",
+    )
+    g.add_argument("--tip-load", **kind, help=text("tip_load", " (default 0)"))
+    return g
+
+
+def pillar_keywords(
+    args: argparse.Namespace, convert: Callable[[Any, str], Any]
+) -> dict[str, Any]:
+    """The keywords ``profile``, ``height_ratio``, ``gamma`` and ``tip_load`` of
+    :func:`hairbed.solve_pillar` from the pillar options (each value through ``convert(value,
+    flag)``, e.g. a sweep's SPEC parser); ``--slenderness`` gives gamma by
+    :func:`hairbed.gray_hancock_ratio`. Options not given are left out."""
+    if args.gamma is not None and args.slenderness is not None:
+        raise UsageError("give --gamma or --slenderness, not both")
+    out: dict[str, Any] = {}
+    if args.profile is not None:
+        out["profile"] = args.profile
+    for dest in ("height_ratio", "gamma", "tip_load"):
+        value = getattr(args, dest)
+        if value is not None:
+            out[dest] = convert(value, PILLAR_OPTIONS[dest])
+    if args.slenderness is not None:
+        sl = convert(args.slenderness, "--slenderness")
+        try:
+            out["gamma"] = hairbed.gray_hancock_ratio(sl)
+        except ValueError as exc:
+            raise UsageError(f"--slenderness: {exc}") from None
+    return out

@@ -10,12 +10,14 @@ import hairbed
 from hairbed._optional import optional_import
 from hairbed._variables import SI
 
+from . import _pillar_states
 from ._options import (
     add_bed_options,
     add_branch,
     add_command,
     add_eps,
     add_json,
+    add_pillar_options,
     add_theta0,
     bed_from,
 )
@@ -44,6 +46,10 @@ examples:
       --channel-height 2e-3 --viscosity 1 --spacing 400e-6 --velocity 0.1
   hairbed solve --omega2 0.5 --eps 0.5 --pi 2        # a pump's pressure gradient too
   hairbed solve --length 1e-3 ... --spacing 400e-6 --pressure-gradient 2e4
+  hairbed solve --pillar --forcing 2                 # an isolated pillar (theory.md §12)
+  hairbed solve --pillar --forcing 15 --theta0=-1.4 --all --json
+  hairbed solve --pillar --tip-deflection 0.3 --profile poiseuille --height-ratio 0.5
+  hairbed solve --pillar --branch 40 --theta0=-1.4   # the snap-through branch and its folds
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -92,6 +98,7 @@ def add_parser(sub: Any) -> None:
         help="with a bed: the pump's flow rate per unit width Q' [m^2/s]",
     )
     add_bed_options(p)
+    _pillar_states.add_modes(add_pillar_options(p))
 
 
 #: The SI table's rows (named with their unit suffix) -> their label and unit.
@@ -216,6 +223,10 @@ def _solve_dimensionless(args: argparse.Namespace) -> list[Any]:
 
 def run(args: argparse.Namespace) -> int:
     """Solve, print, and draw the profiles with --plot."""
+    if args.pillar:
+        _pillar_states.run(args)
+        return 0
+    _pillar_states.refuse_without_pillar(args)
     fmt = ""
     if args.plot:  # checked before any work
         optional_import("matplotlib", "solve --plot")
