@@ -15,7 +15,18 @@ import numpy as np
 import hairbed
 
 from ._grids import legacy_grid, spec
-from ._options import add_bed_options, add_branch, add_command, add_eps, bed_from, refuse
+from ._options import (
+    BED_OPTIONS,
+    PILLAR_OPTIONS,
+    add_bed_options,
+    add_branch,
+    add_command,
+    add_eps,
+    add_pillar_options,
+    bed_from,
+    pillar_keywords,
+    refuse,
+)
 from ._output import NO_COMPRESS_HELP, check_dataset_output, write_dataset_output
 from ._report import UsageError
 
@@ -23,8 +34,9 @@ from ._report import UsageError
 ABOUT = """grids of omega2, eps, theta0 (or wall speed) -> netCDF, zarr, CSV, parquet
 
 Solve on the outer-product grid of --omega2, --eps and --theta0 (or over wall speeds, given
-a bed) and write a labelled table. SPEC is a value, a comma list or start:stop:num[:log]
-(negative ones too: --theta0 -1.2:1.2:25); with --quasistatic, --omega2
+a bed; or, with --pillar, an isolated pillar's grid of --forcing, --theta0, --gamma,
+--tip-load and --height-ratio) and write a labelled table. SPEC is a value, a comma list or
+start:stop:num[:log] (negative ones too: --theta0 -1.2:1.2:25); with --quasistatic, --omega2
 START:STOP:NUM:updown (or :log:updown) is a hysteresis loop, up to STOP and back. The output
 format follows the extension of --out: .nc (netCDF-4, CF attributes, compressed losslessly
 unless --no-compress), .zarr, .csv (one row per grid point, units in the header; the
@@ -45,6 +57,8 @@ examples:
       --viscosity 1 --spacing 400e-6 --wall-shear-stress 0:50:101 --out curve.csv
   hairbed sweep --length 1e-3 ... --spacing 400e-6 --pressure-gradient 10:1e5:50:log \\
       --velocity 0,0.01 --out pumped.nc
+  hairbed sweep --pillar --forcing 1e-3:1e3:200:log --theta0=-0.5,0,0.5 --out pillar.nc
+  hairbed sweep --pillar --forcing 0:20:101 --profile poiseuille --height-ratio 0.25,0.5,1
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -107,6 +121,7 @@ def add_parser(sub: Any) -> None:
     old.add_argument("--num", type=int, help="number of points (default 101)")
     old.add_argument("--log", action="store_true", help="geometric spacing")
     add_bed_options(p, velocity=False)
+    add_pillar_options(p, spec=True)
 
 
 _LEGACY_OMEGA2 = {"omega2_min": "--omega2-min", "omega2_max": "--omega2-max"}
@@ -211,6 +226,35 @@ def _quasistatic(omega2: Any, eps: Any, theta0: Any, root: str) -> Any:
     return ds
 
 
+#: What a pillar's sweep does not take: dest -> flag.
+_HAIR_OPTIONS = {
+    "omega2": "--omega2",
+    "eps": "--eps",
+    "velocity": "--velocity",
+    "pressure_gradient": "--pressure-gradient",
+    "flow_rate": "--flow-rate",
+    "wall_shear_stress": "--wall-shear-stress",
+    "quasistatic": "--quasistatic",
+    **_BRANCH,
+    **_LEGACY_OMEGA2,
+    **_LEGACY_VELOCITY,
+    **_SHAPE,
+    **{kw: flag for flag, (kw, _) in BED_OPTIONS.items()},
+}
+
+
+def _pillar_inputs(args: argparse.Namespace) -> dict[str, Any]:
+    """The keywords of a pillar's sweep (hairbed.sweep with forcing=), its axes parsed."""
+    refuse(args, _HAIR_OPTIONS, "does not apply with --pillar")
+    if args.root != "low":
+        raise UsageError("--root does not apply with --pillar (one state per forcing)")
+    if args.forcing is None:
+        raise UsageError("a pillar's sweep needs --forcing SPEC")
+    theta0 = spec(args.theta0, "--theta0")
+    kw = {"forcing": spec(args.forcing, "--forcing"), "theta0": 0.0 if theta0 is None else theta0}
+    return {**kw, **pillar_keywords(args, spec)}
+
+
 def run(args: argparse.Namespace) -> int:
     """Check everything, solve the grid (or path) and write it."""
 
@@ -221,8 +265,15 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"--chunks must be >= 1, got {args.chunks}")
     if args.scheduler is not None and args.chunks is None:
         raise UsageError("--scheduler needs --chunks N (the blocks that the workers solve)")
-    bed = bed_from(args)
-    if bed is not None:
+    pillar: dict[str, Any] = {}
+    if args.pillar:
+        pillar = _pillar_inputs(args)
+    else:
+        refuse(args, PILLAR_OPTIONS, "needs --pillar (an isolated pillar)")
+    bed = None if args.pillar else bed_from(args)
+    if pillar:
+        pass  # every input is in ``pillar``
+    elif bed is not None:
         velocity = _bed_axis(args, bed)
         kwargs: dict[str, Any] = {"root": args.root}
         for dest, flag in (
@@ -239,6 +290,8 @@ def run(args: argparse.Namespace) -> int:
             _check_quasistatic(args, omega2, eps, theta0)
 
     def build(chunks: int | None, progress: bool) -> Any:
+        if pillar:
+            return hairbed.sweep(chunks=chunks, progress=progress, **pillar)
         if bed is not None:
             return bed.sweep(velocity, chunks=chunks, progress=progress, **kwargs)
         return hairbed.sweep(omega2, eps, theta0, chunks=chunks, progress=progress, **kwargs)
