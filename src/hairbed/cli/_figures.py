@@ -26,7 +26,8 @@ num), calibration (eps_values, theta0, num), physical_units (length, radius, you
 channel_height, viscosity, spacing [SI], base_angles, max_velocity, num), fd_convergence
 (omega2s, nums, eps), speed (n, repeat), valve (length, radius, youngs_modulus,
 channel_height, viscosity, spacing, base_angle, channel_length [SI], max_flow_rate [m^2/s],
-diode_angles, num).
+diode_angles, num), pillar_calibration (theta0s, forcing_min, forcing_max, num),
+pillar_snap (theta0, forcing_max, forcing, num).
 
 examples:
   hairbed figures --out figures

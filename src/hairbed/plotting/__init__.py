@@ -36,6 +36,8 @@ from .extra import (
     fig_fd_convergence,
     fig_hysteresis,
     fig_physical_units,
+    fig_pillar_calibration,
+    fig_pillar_snap,
     fig_rheology,
     fig_speed,
     fig_states,
@@ -61,6 +63,8 @@ __all__ = [
     "fig_pendulum",
     "fig_phase_portrait",
     "fig_physical_units",
+    "fig_pillar_calibration",
+    "fig_pillar_snap",
     "fig_profiles",
     "fig_rheology",
     "fig_solution",
@@ -94,6 +98,8 @@ FIGURES: dict[str, Callable[..., Figure]] = {
     "valve": fig_valve,
     "fd_convergence": fig_fd_convergence,
     "speed": fig_speed,
+    "pillar_calibration": fig_pillar_calibration,
+    "pillar_snap": fig_pillar_snap,
 }
 
 

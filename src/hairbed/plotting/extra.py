@@ -1,4 +1,5 @@
-"""Figures beyond the paper: bistability, hysteresis, rheology, calibration, numerics, speed.
+"""Figures beyond the paper: bistability, hysteresis, rheology, calibration, numerics, speed,
+and isolated pillars (their calibration curve and snap-through).
 
 Each function returns a :class:`matplotlib.figure.Figure`. Every quantity comes from the
 public API (:func:`hairbed.solve`, the lab modules ``hairbed.branches``, ``hairbed.rheology``
@@ -25,6 +26,8 @@ __all__ = [
     "fig_fd_convergence",
     "fig_hysteresis",
     "fig_physical_units",
+    "fig_pillar_calibration",
+    "fig_pillar_snap",
     "fig_rheology",
     "fig_speed",
     "fig_states",
@@ -726,4 +729,170 @@ def fig_valve(
     axd.set_ylabel(r"diodicity $Q'(+\Delta p)/|Q'(-\Delta p)|$ [-]")
     axd.set_title("(c) the tilted bed as a diode")
     axd.legend(loc="upper left")
+    return fig
+
+
+def _crossing(lam: Any, err: Any, level: float) -> float:
+    """The first forcing where ``err`` reaches ``level`` (log-log interpolation between the
+    grid points around it); NaN if it never does."""
+    above = np.flatnonzero(np.isfinite(err) & (err >= level))
+    if above.size == 0 or above[0] == 0:
+        return float("nan")
+    i = int(above[0])
+    u = np.log([err[i - 1], err[i]])
+    t = (np.log(level) - u[0]) / (u[1] - u[0])
+    return float(np.exp(np.log(lam[i - 1]) + t * (np.log(lam[i]) - np.log(lam[i - 1]))))
+
+
+@styled
+def fig_pillar_calibration(
+    theta0s: tuple[float, ...] = (0.0, -0.6),
+    forcing_min: float = 1e-3,
+    forcing_max: float = 1e3,
+    num: int = 240,
+    ax: Any = None,
+) -> Figure:
+    """A pillar sensor's calibration: the exact tip deflection against the linear formula.
+
+    An isolated pillar in the viscous sublayer (theory.md §12, gamma = 1/2), at the base
+    angles ``theta0s``, over ``num`` forcings Lambda = zeta_perp tau_w L^4/(eta E I)
+    geometrically spaced from ``forcing_min`` to ``forcing_max``
+    (:func:`hairbed.solve_pillar`). (a) The tip displacement x1 - sin theta0 (exact, solid)
+    and the linear cantilever formula (dashed), x1 = 11 Lambda/120 upright and
+    x1 = sin theta0 + 11 Lambda cos^3(theta0)/120 tilted (theory.md §12, "Small deflection").
+    (b) The relative error of the forcing (so of the wall shear stress) that the linear
+    formula reads from the exact deflection, abs(Lambda_lin - Lambda)/Lambda; the forcings
+    where it reaches 1 % and 10 % are marked in both panels (interpolated between grid
+    points). ``ax``: two Axes.
+
+    Examples
+    --------
+    >>> fig = fig_pillar_calibration(theta0s=(0.0,), num=20)
+    >>> len(fig.axes)
+    2
+    """
+    num = check_int(num, "num", 2, MAX_POINTS)
+    if not (0.0 < forcing_min < forcing_max < np.inf):
+        raise ValueError(
+            "forcing_min and forcing_max must satisfy 0 < forcing_min < forcing_max < inf, "
+            f"got {forcing_min!r} and {forcing_max!r}"
+        )
+    lam = np.geomspace(forcing_min, forcing_max, num)
+    fig, (ax, axe) = figure_axes(ax, 1, 2, size=(9.4, 3.9))
+    marks = (("o", 0.01, "1 %"), ("s", 0.1, "10 %"))
+    lines = []
+    for t0, c in zip(theta0s, colors(len(theta0s)) if len(theta0s) > 2 else ["C0", "C3"]):
+        st = hairbed.solve_pillar(lam, t0)
+        rest = float(np.sin(t0))
+        shift = np.asarray(st.tip_deflection) - rest
+        slope = 11.0 * np.cos(t0) ** 3 / 120.0
+        read = shift / slope  # the forcing the linear formula reads from x1
+        err = np.abs(read - lam) / lam
+        ax.plot(lam, shift, color=c, label=rf"exact, $\theta_0 = {t0:g}$")
+        ax.plot(lam, slope * lam, "--", color=c, lw=1.1)
+        axe.plot(lam, err, color=c, label=rf"$\theta_0 = {t0:g}$")
+        reached = []
+        for marker, level, text in marks:
+            at = _crossing(lam, err, level)
+            if not np.isfinite(at):
+                continue
+            y = float(np.interp(np.log(at), np.log(lam), shift))
+            ax.plot([at], [y], marker, color=c, ms=5, mfc="white")
+            axe.plot([at], [level], marker, color=c, ms=5, mfc="white")
+            reached.append(f"{text} at {at:.3g}")
+        lines.append(rf"$\theta_0 = {t0:g}$: " + (", ".join(reached) or "below 1 %"))
+    axe.text(0.97, 0.03, "error reaches, at $\\Lambda$ =\n" + "\n".join(lines),
+             transform=axe.transAxes, ha="right", va="bottom", fontsize=7.5,
+             bbox={"boxstyle": "round", "fc": "white", "ec": "0.7"})  # fmt: skip
+    ax.plot([], [], "--", color="0.4", lw=1.1, label=r"linear, $11\Lambda\cos^3\theta_0/120$")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(r"forcing $\Lambda = \zeta_\perp \tau_w L^4/(\eta E I)$ [-]")
+    ax.set_ylabel(r"tip displacement $x_1 - \sin\theta_0$ [$L$]")
+    ax.set_title("(a) calibration curve, sublayer")
+    ax.legend(loc="upper left")
+    for level in (0.01, 0.1):
+        axe.axhline(level, color="0.6", lw=0.7, ls=":")
+    axe.set_xscale("log")
+    axe.set_yscale("log")
+    axe.set_ylim(max(1e-10, axe.get_ylim()[0]), 2.0)
+    axe.set_xlabel(r"forcing $\Lambda$ [-]")
+    axe.set_ylabel(r"relative error of the linear $\Lambda$ (of $\tau_w$) [-]")
+    axe.set_title("(b) error of the linear calibration")
+    axe.legend(loc="center right")
+    return fig
+
+
+def _stability_runs(stable: Any) -> list[tuple[int, int, bool]]:
+    """Runs (start, stop, stable) of equal stability, each stop the next run's start (so
+    that the lines join)."""
+    runs = []
+    start = 0
+    for i in range(1, len(stable) + 1):
+        if i == len(stable) or stable[i] != stable[start]:
+            runs.append((start, min(i + 1, len(stable)), bool(stable[start])))
+            start = i
+    return runs
+
+
+@styled
+def fig_pillar_snap(
+    theta0: float = -1.4,
+    forcing_max: float = 40.0,
+    forcing: float = 15.0,
+    num: int = 400,
+    ax: Any = None,
+) -> Figure:
+    """The snap-through of a pillar tilted far upstream: its branch, folds and three states.
+
+    (a) The tip deflection x1 against the forcing Lambda along the branch of states from rest
+    to ``forcing_max`` (:func:`hairbed.continue_pillar`, ``num`` points in x1), for the
+    sublayer, gamma = 1/2, at ``theta0`` (theory.md §12, "Folds"): stable solid, unstable
+    dashed, the folds marked and the window between them shaded. On a slow ramp up the pillar
+    jumps at the upper fold from leaning upstream to standing over its base. (b) The
+    coexisting states at ``forcing`` (:func:`hairbed.solve_pillar_all`; inside the window:
+    three), their shapes (unstable dashed). ``ax``: two Axes.
+
+    Examples
+    --------
+    >>> fig = fig_pillar_snap(num=40)
+    >>> len(fig.axes)
+    2
+    """
+    num = check_int(num, "num", 16, 10**4)
+    br = hairbed.continue_pillar(forcing_max, theta0, num=num)
+    fig, (ax, axs) = figure_axes(ax, 1, 2, size=(9.4, 3.9))
+    lam, x1 = np.asarray(br.forcing), np.asarray(br.tip_deflection)
+    for a, b, stable in _stability_runs(np.asarray(br.stable)):
+        ax.plot(lam[a:b], x1[a:b], "-" if stable else "--", color="C0" if stable else "C3")
+    ax.plot([], [], "-", color="C0", label="stable")
+    ax.plot([], [], "--", color="C3", label="unstable")
+    folds = np.asarray(br.folds)
+    if len(folds):
+        ax.plot(folds[:, 0], folds[:, 1], "ko", ms=5, mfc="white", label="folds")
+        for lf, xf in folds:
+            ax.annotate(f"$\\Lambda$ = {lf:.4g}", (lf, xf), xytext=(6, -3),
+                        textcoords="offset points", fontsize=7.5, va="top")  # fmt: skip
+    if len(folds) >= 2:
+        lo, hi = float(folds[:, 0].min()), float(folds[:, 0].max())
+        ax.axvspan(lo, hi, color="C1", alpha=0.2, lw=0, label="three states")
+    ax.axvline(forcing, color="0.5", lw=0.7, ls=":")
+    ax.set_xlabel(r"forcing $\Lambda$ [-]")
+    ax.set_ylabel(r"tip deflection $x_1$ [$L$]")
+    ax.set_title(rf"(a) the branch, $\theta_0 = {theta0:g}$ (sublayer)")
+    ax.legend(loc="lower right")
+    states = hairbed.solve_pillar_all(forcing, theta0)
+    s = np.linspace(0.0, 1.0, 200)
+    for k, st in enumerate(states):
+        _, x, z, _ = st.shape(s)
+        unstable = st.stable is False
+        axs.plot(x, z, "--" if unstable else "-", color=f"C{k % 10}",
+                 label=rf"$x_1 = {float(st.tip_deflection):.3f}$"
+                 + (" (unstable)" if unstable else ""))  # fmt: skip
+    axs.axhline(0.0, color="0.5", lw=0.8)
+    axs.set_aspect("equal", adjustable="datalim")
+    axs.set_xlabel(r"$x/L$")
+    axs.set_ylabel(r"$z/L$")
+    axs.set_title(rf"(b) the states at $\Lambda = {forcing:g}$")
+    axs.legend(loc="upper right", fontsize=7.5)
     return fig
