@@ -32,6 +32,8 @@ SMALL = {
     "fig_fd_convergence": {"omega2s": (2.0,), "nums": (10, 20, 40)},
     "fig_speed": {"n": 200, "rows": {1, 3, 6}, "repeat": 1},
     "fig_valve": {"num": 9, "diode_angles": (0.5,)},
+    "fig_pillar_calibration": {"theta0s": (0.0, -0.6), "num": 40},
+    "fig_pillar_snap": {"num": 40},
 }
 
 
@@ -131,6 +133,8 @@ PANELS = {
     "fig_rheology": 2,
     "fig_calibration": 2,
     "fig_physical_units": 2,
+    "fig_pillar_calibration": 2,
+    "fig_pillar_snap": 2,
     "fig_twirling": 8,
     "fig_valve": 3,
 }
@@ -358,6 +362,8 @@ def test_figure_parameters_and_settings():
         ("fig_model", {"eps": 0.0}),
         ("fig_pendulum", {"omega2": 0.0}),
         ("fig_fd_convergence", {"nums": (10, 1)}),
+        ("fig_pillar_calibration", {"forcing_min": 0.0}),
+        ("fig_pillar_snap", {"num": 3}),
     ],
 )
 def test_figure_parameters_are_checked(name, kwargs):
@@ -426,3 +432,36 @@ def test_valve_marks_every_state_the_folds_and_the_jumps():
         np.asarray(ln.get_xdata()).size for ln in axh.get_lines() if ln.get_marker() == "o"
     )
     assert points == int(s.count.sum())
+
+
+def test_pillar_calibration_marks_where_the_linear_error_reaches_1_and_10_percent():
+    """The marked forcings, solved here: the linear formula 11 Lambda cos^3(theta0)/120 reads
+    a forcing 1 % (10 %) off there (to the figure's interpolation between grid points)."""
+    fig = plotting.fig_pillar_calibration(theta0s=(0.0, -0.6), num=200)
+    axe = fig.axes[1]
+    for t0, color in ((0.0, "C0"), (-0.6, "C3")):
+        marks = [ln for ln in axe.get_lines() if len(ln.get_xdata()) == 1
+                 and ln.get_color() == color]  # fmt: skip
+        assert len(marks) == 2
+        for ln, level in zip(marks, (0.01, 0.1)):
+            lam = float(ln.get_xdata()[0])
+            st = hairbed.solve_pillar(lam, t0)
+            read = (st.tip_deflection - np.sin(t0)) / (11.0 * np.cos(t0) ** 3 / 120.0)
+            assert abs(read - lam) / lam == pytest.approx(level, rel=0.02)
+    # the linear formula is the small-deflection slope of the solver (theory.md §12)
+    for t0 in (0.0, -0.6):
+        slope = hairbed.solve_pillar(0.0, t0).tip_deflection_slope
+        assert slope == pytest.approx(11.0 * np.cos(t0) ** 3 / 120.0, rel=1e-10)
+
+
+def test_pillar_snap_marks_the_folds_and_dashes_the_unstable_part():
+    fig = plotting.fig_pillar_snap(num=100)
+    ax, axs = fig.axes
+    folds = next(ln for ln in ax.get_lines() if ln.get_label() == "folds")
+    lam = np.sort(folds.get_xdata())
+    assert lam == pytest.approx([13.7, 16.0], abs=0.3)  # theory.md §12 (its reference)
+    dashed = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--" and len(ln.get_xdata())]
+    assert len(dashed) == 1  # the middle part of the S, between the folds
+    x = dashed[0].get_xdata()
+    assert lam[0] - 0.5 <= x.min() and x.max() <= lam[1] + 0.5
+    assert len([ln for ln in axs.get_lines() if len(ln.get_xdata()) > 2]) == 3  # three states
