@@ -165,6 +165,7 @@ def pillar_block(
     names = tuple(d for d in PILLAR_DIMS if d in dims or d in fixed)
     full = _full_inputs(axes, dims, fixed, names)
     out = np.empty((len(PILLAR_VARIABLES), *shape))
+    ratios: list[tuple[float | None, tuple[Any, ...]]]
     if "height_ratio" in dims:  # the last dimension: one solve per value of it
         ratios = [(float(r), (..., j)) for j, r in enumerate(axes[dims.index("height_ratio")])]
     else:
