@@ -62,6 +62,12 @@ FALLBACKS = {
     ("sweep", "out"): "CSV",
     ("bistability", "out"): "CSV",  # test_bistability_map: CSV on stdout without --out
     ("solve", "root"): "inside",  # "inside a bistable window, all of them"
+    # the pillar's (test_cli_pillar.py::test_pillar_fallbacks_are_the_library_defaults)
+    **{
+        (c, d): v
+        for c in ("solve", "sweep")
+        for d, v in (("profile", "sublayer"), ("gamma", "0.5"), ("tip_load", "0"))
+    },
 }
 
 

@@ -46,6 +46,21 @@ def test_one_state_is_the_library_state_with_every_field(capsys):
     assert doc["profile"] == "sublayer" and doc["message"] == "ok"
 
 
+def test_pillar_fallbacks_are_the_library_defaults(capsys):
+    """--profile, --gamma and --tip-load not given: sublayer, 0.5 and 0, as their help says
+    (tests/test_cli_help.py), in solve and in sweep."""
+    doc = _json(capsys, "solve", "--pillar", "--forcing=3")
+    st = hairbed.solve_pillar(3.0, 0.0, profile="sublayer", gamma=0.5, tip_load=0.0)
+    assert doc["profile"] == "sublayer" and doc["gamma"] == 0.5 and doc["tip_load"] == 0.0
+    assert doc["tip_deflection"] == st.tip_deflection
+    pytest.importorskip("xarray")
+    status, out, err = _run(capsys, "sweep", "--pillar", "--forcing=3")
+    head, row = out.strip().splitlines()
+    values = dict(zip((h.split()[0] for h in head.split(",")), row.split(",")))
+    assert float(values["gamma"]) == 0.5 and float(values["tip_load"]) == 0.0
+    assert float(values["tip_deflection"]) == pytest.approx(st.tip_deflection, abs=1e-14)
+
+
 def test_the_table_names_every_field_with_its_unit(capsys):
     status, out, err = _run(capsys, "solve", "--pillar", "--forcing=2")
     assert status == 0 and err == ""
