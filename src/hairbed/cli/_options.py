@@ -15,6 +15,8 @@ import re
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
+
 import hairbed
 from hairbed._variables import BED, BED_REQUIRED, PILLAR
 
@@ -248,7 +250,12 @@ def pillar_keywords(
     if args.slenderness is not None:
         sl = convert(args.slenderness, "--slenderness")
         try:
-            out["gamma"] = hairbed.gray_hancock_ratio(sl)
+            with np.errstate(over="ignore", invalid="ignore"):  # checked just below
+                gamma = hairbed.gray_hancock_ratio(sl)
         except ValueError as exc:
             raise UsageError(f"--slenderness: {exc}") from None
+        if not np.all(np.isfinite(gamma)):  # ln(2 L/a) overflows beyond about 1e308
+            too_big = f"--slenderness {args.slenderness}: too large for ln(2 L/a) (<= 8e307)"
+            raise UsageError(too_big)
+        out["gamma"] = gamma
     return out

@@ -29,7 +29,6 @@ PILLAR_MODES = {"tip_deflection": "--tip-deflection", "all": "--all", "branch": 
 #: Each pillar variable -> its label and unit, for the tables.
 _NOTES = {name: v.heading for name, v in PILLAR.items()}
 _NOTES["profile"] = "undisturbed profile U(z)"
-_NOTES["message"] = "what the status means"
 
 #: The options of a bed of hairs, which a pillar does not take: dest -> flag.
 _HAIR_OPTIONS = {
@@ -176,5 +175,8 @@ def run(args: argparse.Namespace) -> list[Any]:
         if args.all:
             word = {True: "stable", False: "unstable", None: "not classified"}[rows.get("stable")]
             print(f"state {k + 1} ({word}):")
+        message = rows.pop("message")
         print(table(rows, _NOTES))
+        if rows["status"] != 0:  # the words of a failure, below the table (too long for it)
+            print(f"  status {rows['status']}: {message}")
     return states
