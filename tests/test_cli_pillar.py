@@ -130,6 +130,17 @@ def test_branch_and_its_folds(capsys):
     assert len(out.splitlines()) == 3 + 1 + br.forcing.size
 
 
+def test_plot_draws_the_three_states(capsys, tmp_path):
+    pytest.importorskip("matplotlib")
+    path = tmp_path / "states.png"
+    status, out, err = _run(
+        capsys, "solve", "--pillar", "--forcing=15", "--theta0=-1.4", "--all", f"--plot={path}"
+    )
+    assert status == 0 and "3 pillar state(s)" in out
+    assert err.strip() == f"wrote {path} (PNG, 3 shapes)"
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
 def test_no_fold_upright(capsys):
     status, out, err = _run(capsys, "solve", "--pillar", "--branch=50")
     assert status == 0 and "no fold" in out
@@ -158,6 +169,8 @@ def test_no_fold_upright(capsys):
         (["--pillar", "--tip-deflection=1"], "tip_deflection must lie in (-1, 1)"),
         (["--pillar", "--branch=0"], "forcing_max must be non-zero"),
         (["--pillar", "--forcing=1", "--profile=jet"], "invalid choice"),
+        (["--pillar", "--branch=3", "--plot=b.png"], "not with --branch"),
+        (["--pillar", "--forcing=1", "--plot=b.xyz"], "unknown image format"),
     ],
 )
 def test_bad_input_is_one_line(capsys, args: list[str], message: str):

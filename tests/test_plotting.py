@@ -97,6 +97,17 @@ def test_states_figure():
     assert len(fig.axes[0].get_lines()) >= 3
 
 
+def test_pillar_states_figure():
+    """Each shape ends at its state's tip; the unstable middle state of the window dashed."""
+    states = hairbed.solve_pillar_all(15.0, -1.4)
+    fig = plotting.fig_pillar_states(states)
+    lines = [ln for ln in fig.axes[0].get_lines() if len(ln.get_xdata()) > 2]
+    assert [ln.get_linestyle() for ln in lines] == ["-", "--", "-"]
+    for ln, st in zip(lines, states):
+        assert ln.get_xdata()[-1] == pytest.approx(st.tip_deflection, abs=1e-9)
+        assert ln.get_ydata()[-1] == pytest.approx(st.tip_height, abs=1e-9)
+
+
 def test_make_all_writes_pngs_and_rejects_unknown_names(tmp_path):
     paths = plotting.make_all(tmp_path, dpi=40, only=["model", "fig_theta0s"], verbose=False)
     assert [p.name for p in paths] == ["model.png", "theta0s.png"]

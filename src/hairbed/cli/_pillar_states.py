@@ -18,7 +18,7 @@ import hairbed
 from hairbed._variables import PILLAR
 
 from ._options import BED_OPTIONS, PILLAR_OPTIONS, pillar_keywords, refuse
-from ._output import print_json, table
+from ._output import check_output, figure_format, print_json, save_figure, table
 from ._report import UsageError
 
 __all__ = ["PILLAR_MODES", "add_modes", "refuse_without_pillar", "run"]
@@ -41,7 +41,6 @@ _HAIR_OPTIONS = {
     "flow_rate": "--flow-rate",
     "velocity": "--velocity",
     "all_branches": "--all-branches",
-    "plot": "--plot",
     **{kw: flag for flag, (kw, _) in BED_OPTIONS.items()},
 }
 
@@ -73,7 +72,7 @@ def refuse_without_pillar(args: argparse.Namespace) -> None:
     refuse(args, {**PILLAR_OPTIONS, **PILLAR_MODES}, "needs --pillar (an isolated pillar)")
 
 
-def _float(value: Any, flag: str) -> Any:
+def _as_given(value: Any, flag: str) -> Any:
     return value
 
 
@@ -126,8 +125,19 @@ def _print_branch(rows: dict[str, Any]) -> None:
         print(f"{x:>22.15g}  {lam:>22.15g}  {h:>22.15g}  {bool(st)!s:>22}")
 
 
+def _plot(states: list[Any], path: str, fmt: str) -> None:
+    import sys
+
+    from hairbed.plotting import fig_pillar_states
+
+    save_figure(fig_pillar_states(states), path, fmt)
+    what = f"{len(states)} shape{'s' if len(states) > 1 else ''}"
+    print(f"wrote {path} ({fmt.upper()}, {what})", file=sys.stderr)
+
+
 def run(args: argparse.Namespace) -> list[Any]:
-    """``solve --pillar``: check the options, solve, print; returns the states solved."""
+    """``solve --pillar``: check the options, solve, print (and draw the shapes with
+    ``--plot``); returns the states solved."""
     if args.sign != 1 or args.n != 0:
         raise UsageError("--sign and --n do not apply to a pillar (one branch from rest)")
     refuse(args, _HAIR_OPTIONS, "does not apply with --pillar")
@@ -146,7 +156,16 @@ def run(args: argparse.Namespace) -> list[Any]:
         raise UsageError("--branch MAX gives the range of forcing; not with --forcing")
     if args.forcing is None and args.tip_deflection is None and args.branch is None:
         raise UsageError("--pillar needs --forcing, --tip-deflection or --branch MAX")
-    kw = pillar_keywords(args, _float)
+    fmt = ""
+    if args.plot:  # checked before any work
+        if args.branch is not None:
+            raise UsageError("--plot draws states; not with --branch (see hairbed figures)")
+        from hairbed._optional import optional_import
+
+        optional_import("matplotlib", "solve --plot")
+        fmt = figure_format(args.plot, "--plot")
+        check_output(args.plot)
+    kw = pillar_keywords(args, _as_given)
     theta0 = 0.0 if args.theta0 is None else args.theta0
     inputs = {"profile": kw.get("profile", "sublayer")}
     if "height_ratio" in kw:
@@ -168,9 +187,16 @@ def run(args: argparse.Namespace) -> list[Any]:
     docs = [_rows(st, inputs) for st in states]
     if args.json:
         print_json(docs if args.all else docs[0])
-        return states
+    else:
+        _print_states(docs, args, theta0)
+    if args.plot:
+        _plot(states, args.plot, fmt)
+    return states
+
+
+def _print_states(docs: list[dict[str, Any]], args: argparse.Namespace, theta0: float) -> None:
     if args.all:
-        print(f"{len(states)} pillar state(s) at forcing {args.forcing:g}, theta0={theta0:g}:")
+        print(f"{len(docs)} pillar state(s) at forcing {args.forcing:g}, theta0={theta0:g}:")
     for k, rows in enumerate(docs):
         if args.all:
             word = {True: "stable", False: "unstable", None: "not classified"}[rows.get("stable")]
@@ -179,4 +205,3 @@ def run(args: argparse.Namespace) -> list[Any]:
         print(table(rows, _NOTES))
         if rows["status"] != 0:  # the words of a failure, below the table (too long for it)
             print(f"  status {rows['status']}: {message}")
-    return states

@@ -28,6 +28,7 @@ __all__ = [
     "fig_physical_units",
     "fig_pillar_calibration",
     "fig_pillar_snap",
+    "fig_pillar_states",
     "fig_rheology",
     "fig_speed",
     "fig_states",
@@ -895,4 +896,35 @@ def fig_pillar_snap(
     axs.set_ylabel(r"$z/L$")
     axs.set_title(rf"(b) the states at $\Lambda = {forcing:g}$")
     axs.legend(loc="upper right", fontsize=7.5)
+    return fig
+
+
+@styled
+def fig_pillar_states(states: list, ax: Any = None) -> Figure:
+    """Shapes of a few pillar states (used by ``hairbed solve --pillar --plot``): each
+    :class:`hairbed.PillarState` at 200 arc lengths (:meth:`hairbed.PillarState.shape`),
+    an unstable one (``stable`` False, from :func:`hairbed.solve_pillar_all`) dashed.
+
+    Examples
+    --------
+    >>> fig = fig_pillar_states([hairbed.solve_pillar(2.0)])
+    >>> fig.axes[0].get_xlabel()
+    '$x/L$'
+    """
+    fig, ax = figure_axes(ax, size=(7.0, 3.8))
+    s = np.linspace(0.0, 1.0, 200)
+    for i, st in enumerate(states):
+        _, x, z, _ = st.shape(s)
+        unstable = st.stable is False
+        label = rf"$\Lambda = {float(st.forcing):.4g}$, $x_1 = {float(st.tip_deflection):.3f}$"
+        ax.plot(x, z, "--" if unstable else "-", color=f"C{i % 10}",
+                label=label + (" (unstable)" if unstable else ""))  # fmt: skip
+    ax.axhline(0, color="0.5", lw=0.8)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel(r"$x/L$")
+    ax.set_ylabel(r"$z/L$")
+    if states:
+        st = states[0]
+        ax.set_title(rf"pillar, $\theta_0 = {float(st.theta0):g}$, $\gamma = {float(st.gamma):g}$")
+    ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=7.5)
     return fig
