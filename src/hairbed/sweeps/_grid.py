@@ -135,9 +135,10 @@ def sweep(
         ``sign``, ``n`` and ``root`` do not apply. The data variables are
         :data:`PILLAR_VARIABLES` (every :class:`hairbed.PillarState` field but its inputs;
         ``status``, ``nit`` and ``num`` int64), with the CF attributes of
-        :data:`hairbed._variables.PILLAR`; the profile's name (and height ratio) are in the
-        dataset's attributes. Values are those of :func:`hairbed.solve_pillar` at the same
-        points (batched: equal to its rounding).
+        :data:`hairbed._variables.PILLAR`; the profile's name is in the dataset's
+        attributes (the height ratio, when given, is a coordinate). Values are those of
+        :func:`hairbed.solve_pillar` at the same points, to its tolerance (a batch's Newton
+        iterations stop together, so a point solved alone may differ in the last digits).
     gamma, tip_load : float or 1-D array_like, optional
         With ``forcing``: the drag ratio zeta_par/zeta_perp in (0, 1] [-] (default 1/2) and a
         horizontal tip force [E I/L^2] (default 0).
