@@ -170,6 +170,7 @@ def test_no_fold_upright(capsys):
         (["--pillar", "--branch=0"], "forcing_max must be non-zero"),
         (["--pillar", "--forcing=1", "--profile=jet"], "invalid choice"),
         (["--pillar", "--branch=3", "--plot=b.png"], "not with --branch"),
+        (["--pillar", "--forcing=1", "--height-ratio=0.5"], "applies to the channel profiles"),
         (["--pillar", "--forcing=1", "--plot=b.xyz"], "unknown image format"),
     ],
 )
@@ -228,6 +229,7 @@ def test_sweep_to_csv_on_stdout(capsys):
         (["--pillar", "--forcing=1", "--profile=couette", "--height-ratio=0.5,3"], "index 1"),
         (["--pillar", "--forcing=1", "--profile=poiseuille"], "needs height_ratio"),
         (["--pillar", "--forcing=1:x:3"], "--forcing"),
+        (["--pillar", "--forcing=1", "--height-ratio=0.5"], "applies to the channel profiles"),
     ],
 )
 def test_sweep_bad_input_is_one_line(capsys, args: list[str], message: str):

@@ -240,6 +240,10 @@ def pillar_keywords(
     :func:`hairbed.gray_hancock_ratio`. Options not given are left out."""
     if args.gamma is not None and args.slenderness is not None:
         raise UsageError("give --gamma or --slenderness, not both")
+    if args.height_ratio is not None and args.profile in (None, "sublayer"):
+        raise UsageError(
+            "--height-ratio applies to the channel profiles (--profile couette or poiseuille)"
+        )
     out: dict[str, Any] = {}
     if args.profile is not None:
         out["profile"] = args.profile
