@@ -610,6 +610,12 @@ TARGETS: list[Target] = [
         ),
     ),
     Target(
+        "sweep",  # an isolated pillar's grid (forcing=)
+        hairbed.sweep,
+        dict(forcing=[0.5, 2.0], theta0=0.1, gamma=0.6, tip_load=0.0, chunks=None),
+        fuzz=("forcing", "theta0", "gamma", "tip_load"),
+    ),
+    Target(
         "sweeps.bed_sweep",
         sweeps.bed_sweep,
         dict(bed=BED, velocity=[0.05, 0.1], root="low", chunks=None, progress=False),
@@ -838,6 +844,18 @@ COMMANDS: dict[str, tuple[list[str], tuple[str, ...]]] = {
     "sweep": (
         ["sweep", "--omega2=0:2:3", "--eps=0.5", "--theta0=0.1"],
         ("--omega2", "--eps", "--theta0", "--n", "--chunks"),
+    ),
+    "solve-pillar": (
+        ["solve", "--pillar", "--forcing=2", "--theta0=0.1"],
+        ("--forcing", "--theta0", "--gamma", "--slenderness", "--tip-load", "--tip-deflection"),
+    ),
+    "solve-pillar-poiseuille": (
+        ["solve", "--pillar", "--forcing=2", "--profile=poiseuille", "--height-ratio=0.5"],
+        ("--height-ratio",),
+    ),
+    "sweep-pillar": (
+        ["sweep", "--pillar", "--forcing=1:2:2", "--theta0=0.1"],
+        ("--forcing", "--theta0", "--gamma", "--slenderness", "--tip-load"),
     ),
     "sweep-quasistatic": (
         ["sweep", "--omega2=0.5:2:4", "--eps=0.9", "--theta0=-1.5", "--quasistatic"],
