@@ -46,6 +46,7 @@ __all__ = [
     "FLAG_KEYS",
     "INPUT_KEYS",
     "PRESETS",
+    "PILLAR_DEFAULTS",
     "InputError",
     "SOLUTION_FIELDS",
     "STABILITY_SEGMENTS",
@@ -141,6 +142,22 @@ DEFAULTS: dict[str, str] = {
     "flow_rate": "1e-06",
     "channel_length": "0.01",
 }
+#: The pillar mode's inputs and their defaults (:mod:`._pillar`; appended to
+#: :data:`INPUT_KEYS` and :data:`DEFAULTS`, and carried by the URL in pillar mode only: a bed's
+#: link is the one it always was): an upright pillar in the viscous sublayer at Lambda = 1, the
+#: slender limit gamma = 1/2 (no slenderness given), no tip load.
+PILLAR_DEFAULTS: dict[str, str] = {
+    "mode": "bed",
+    "forcing": "1",
+    "pillar_theta0": "0",
+    "profile": "sublayer",
+    "height_ratio": "",
+    "slenderness": "",
+    "tip_load": "0",
+    "pillar_view": "shape",
+}
+INPUT_KEYS += tuple(PILLAR_DEFAULTS)
+DEFAULTS.update(PILLAR_DEFAULTS)
 #: Starting points, each a set of inputs (the others take :data:`DEFAULTS`): name -> inputs.
 PRESETS: dict[str, dict[str, str]] = {
     "worked example": {"omega2": "2", "eps": "0.5", "theta0": "0"},

@@ -1,0 +1,492 @@
+"""The explorer's pillar mode, without any web framework: an isolated pillar (theory.md §12).
+
+The mode selector of the page switches between the bed (:mod:`._model`) and one isolated
+pillar in a wall shear layer. Its inputs are text, as typed or read from the URL, and are
+checked one by one by the library (:func:`hairbed.solve_pillar`,
+:func:`hairbed.gray_hancock_ratio`); the states are the library's: :func:`hairbed.solve_pillar`,
+and where a snap-through window can exist (a pillar tilted far upstream, theta0 below
+``WINDOW_THETA0`` against the flow) every coexisting state by :func:`hairbed.solve_pillar_all`
+with its stability. The calibration view draws the tip deflection x1 against the forcing
+Lambda: the exact curve (a :func:`hairbed.solve_pillar` batch, and where a window can exist
+the branch of :func:`hairbed.continue_pillar` with its folds and unstable part) against the
+linear formula x1 = x1(0) + (dx1/dLambda at 0) Lambda, and the forcings where the linear
+formula's reading of Lambda is 1 % and 10 % off (the error of :meth:`hairbed.Pillar.linear_range`
+and ``fig_pillar_calibration``). The curve is cached per pillar (base angle, profile, height
+ratio, drag ratio, tip load, the flow's direction), so a move of Lambda only moves the dot.
+
+Everything here is plain Python and numpy, so it is tested without a browser.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any
+from urllib.parse import urlencode
+
+import numpy as np
+
+import hairbed
+from hairbed._core.pillar import WINDOW_THETA0, profile_coefficients
+from hairbed._jsonsafe import to_plain
+
+from ._model import DEFAULTS, INPUT_KEYS, PILLAR_DEFAULTS, InputError, _merge, _number, _recording
+
+__all__ = [
+    "CALIBRATION_GRID",
+    "MODES",
+    "PILLAR_CHOICES",
+    "PILLAR_DEFAULTS",
+    "PILLAR_FIELDS",
+    "PILLAR_VIEWS",
+    "Calibration",
+    "PillarParams",
+    "PillarView",
+    "PillarSnapshot",
+    "calibration_curve",
+    "compute_pillar",
+    "mode_of",
+    "is_pillar",
+    "pillar_query",
+    "pillar_snapshot_json",
+    "validate_pillar",
+]
+
+#: The page's modes: a bed of hairs in a channel, or one isolated pillar.
+MODES = ("bed", "pillar")
+#: The pillar mode's views: its shape in the profile, or its calibration curve.
+PILLAR_VIEWS = ("shape", "calibration")
+#: The pillar's inputs chosen from a list (not typed).
+PILLAR_CHOICES = ("mode", "profile", "pillar_view")
+#: Every :class:`hairbed.PillarState` field shown and exported, in the dataclass's order.
+PILLAR_FIELDS: tuple[str, ...] = (
+    "forcing", "theta0", "gamma", "tip_load", "tip_deflection", "tip_height", "tip_angle",
+    "base_curvature", "drag_x", "drag_z", "tip_deflection_slope", "status", "error_estimate",
+    "residual", "nit", "num",
+)  # fmt: skip
+#: The forcings abs(Lambda) of the calibration curve [-] (and of the slider, in log10).
+CALIBRATION_GRID = np.geomspace(1e-3, 1e4, 141)
+#: Where a snap-through window can exist the branch is followed (:func:`hairbed.continue_pillar`)
+#: up to this abs(Lambda), with this many points, and the batch carries the curve beyond.
+BRANCH_FORCING = 100.0
+BRANCH_POINTS = 300
+#: The linear formula's error levels marked on the calibration curve.
+ERROR_LEVELS = (0.01, 0.1)
+#: Heights of the profile drawn beside the pillar [L].
+PROFILE_POINTS = 41
+
+
+def mode_of(raw: Any) -> str:
+    """The mode the inputs (text, as typed) ask for: "bed" (also without a mode) or "pillar".
+
+    Raises
+    ------
+    InputError
+        For any other mode.
+    """
+    mode = str(raw.get("mode", "bed")).strip()
+    if mode not in MODES:
+        raise InputError([f"mode must be one of 'bed', 'pillar', got {mode!r}"])
+    return mode
+
+
+def is_pillar(raw: Any) -> bool:
+    """Whether inputs (text, as typed) ask for the pillar mode (False for a bad mode)."""
+    return str(raw.get("mode", "bed")).strip() == "pillar"
+
+
+@dataclass(frozen=True)
+class PillarParams:
+    """Validated inputs of the pillar mode.
+
+    Attributes
+    ----------
+    forcing : float
+        Lambda = zeta_perp tau_w L^4/(eta E I) [-] (negative: flow towards -x).
+    theta0 : float
+        Base angle from the wall normal [rad].
+    profile : str
+        "sublayer", "couette" or "poiseuille".
+    height_ratio : float or None
+        L/H of a channel profile.
+    slenderness : float or None
+        L/a [-]; None: the slender limit.
+    gamma : float
+        zeta_par/zeta_perp [-]: :func:`hairbed.gray_hancock_ratio` of the slenderness, 1/2
+        without one.
+    tip_load : float
+        A horizontal force on the tip [E I/L^2].
+    view : str
+        "shape" or "calibration".
+    raw : dict
+        Every input of the page as text, as validated.
+    warnings : tuple of str
+        The library's warnings while validating.
+    """
+
+    forcing: float
+    theta0: float
+    profile: str
+    height_ratio: float | None
+    slenderness: float | None
+    gamma: float
+    tip_load: float
+    view: str
+    raw: dict[str, str] = field(default_factory=dict)
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def kwargs(self) -> dict[str, Any]:
+        """The keywords of :func:`hairbed.solve_pillar` beside the forcing and theta0."""
+        return {
+            "profile": self.profile,
+            "height_ratio": self.height_ratio,
+            "gamma": self.gamma,
+            "tip_load": self.tip_load,
+        }
+
+    @property
+    def window(self) -> bool:
+        """A snap-through window can exist here: the pillar tilted far against the flow
+        (theta0 below ``WINDOW_THETA0``, mirrored for a flow towards -x)."""
+        return self.forcing != 0.0 and math.copysign(1.0, self.forcing) * self.theta0 < (
+            WINDOW_THETA0
+        )
+
+
+def _problem(check: Any, *args: Any, **kwargs: Any) -> str | None:
+    """The library's message if ``check`` refuses its arguments (ValueError or TypeError)."""
+    try:
+        check(*args, **kwargs)
+    except (ValueError, TypeError) as exc:
+        return " ".join(str(exc).split())
+    return None
+
+
+def validate_pillar(raw: Any) -> PillarParams:
+    """Check the pillar mode's inputs with the library's own checks, each by name.
+
+    Parameters
+    ----------
+    raw : mapping of str to str
+        Inputs as typed (missing keys take their defaults).
+
+    Returns
+    -------
+    PillarParams
+
+    Raises
+    ------
+    InputError
+        With the library's message for every bad input.
+
+    Examples
+    --------
+    >>> validate_pillar({"mode": "pillar", "forcing": "2"}).forcing
+    2.0
+    >>> validate_pillar({"mode": "pillar", "pillar_theta0": "2"})
+    Traceback (most recent call last):
+    ...
+    hairbed.explorer._model.InputError: theta0 must lie in (-pi/2, pi/2), got 2.0
+    """
+    problems: list[str] = []
+    unknown = sorted(set(raw) - set(INPUT_KEYS))
+    if unknown:
+        problems.append(
+            f"unknown parameter{'s' if len(unknown) > 1 else ''} "
+            f"{', '.join(repr(k) for k in unknown)}; known: {', '.join(INPUT_KEYS)}"
+        )
+    full = {k: str(raw.get(k, DEFAULTS[k])) for k in INPUT_KEYS}
+    view = full["pillar_view"].strip()
+    if view not in PILLAR_VIEWS:
+        problems.append(f"pillar_view must be one of 'shape', 'calibration', got {view!r}")
+    lam, t0, tip = (_number(full[k]) for k in ("forcing", "pillar_theta0", "tip_load"))
+    profile = full["profile"].strip()
+    ratio_text, slender_text = full["height_ratio"].strip(), full["slenderness"].strip()
+    ratio = _number(ratio_text) if ratio_text else None
+    slender = _number(slender_text) if slender_text else None
+    gamma: Any = 0.5
+    with _recording() as caught:
+        # each alone, the others at rest and upright (a solve at Lambda = 0 is ~1 ms)
+        for m in (
+            _problem(hairbed.solve_pillar, lam),
+            _problem(hairbed.solve_pillar, 0.0, t0),
+            _problem(profile_coefficients, profile, ratio),
+            _problem(hairbed.solve_pillar, 0.0, tip_load=tip),
+        ):
+            if m:
+                problems.append(m)
+        if slender is not None:
+            m = _problem(hairbed.gray_hancock_ratio, slender)
+            if m:
+                problems.append(m)
+            else:
+                gamma = float(hairbed.gray_hancock_ratio(slender))
+    if problems:
+        raise InputError(problems)
+    full["profile"], full["pillar_view"] = profile, view
+    return PillarParams(
+        float(lam), float(t0) + 0.0, profile, None if ratio is None else float(ratio),
+        None if slender is None else float(slender), float(gamma), float(tip) + 0.0, view,
+        raw=full, warnings=tuple(caught),
+    )  # fmt: skip
+
+
+def pillar_query(p: PillarParams) -> str:
+    """The URL query string of a pillar view: the mode and every pillar input.
+
+    Examples
+    --------
+    >>> pillar_query(validate_pillar({"mode": "pillar", "forcing": "2"}))
+    '?mode=pillar&forcing=2&pillar_theta0=0&profile=sublayer&height_ratio=&slenderness=&tip_load=0&pillar_view=shape'
+    """
+    return "?" + urlencode({k: p.raw[k].strip() for k in PILLAR_DEFAULTS} | {"mode": "pillar"})
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """The calibration curve of one pillar: x1 against Lambda, exact and linear.
+
+    Attributes
+    ----------
+    forcing : ndarray
+        abs(Lambda) along the curve [-], for the branch from rest in the flow's direction.
+    tip_deflection : ndarray
+        x1 there [L] (NaN where no state was found).
+    stable : ndarray of bool
+        Stable under a slow change of the forcing (False on the middle part of an S).
+    folds : ndarray
+        (k, 2): abs(Lambda) and x1 of each fold.
+    rest : float
+        x1 at Lambda = 0 [L] (sin theta0 without a tip load).
+    slope : float
+        dx1/dLambda at Lambda = 0 [L] (the state's ``tip_deflection_slope``), signed along the
+        flow: the linear formula is x1 = rest + slope abs(Lambda).
+    error : ndarray
+        abs(Lambda_lin - Lambda)/Lambda [-], Lambda_lin = (x1 - rest)/slope: the linear
+        formula's relative error in the forcing (the wall shear stress) it reads from the
+        exact deflection, at each point of the curve.
+    levels : dict of float to float
+        The first abs(Lambda) where the error reaches each of :data:`ERROR_LEVELS` along the
+        branch from rest (interpolated in log Lambda and log error; NaN: not reached).
+    status : int
+        0 every point converged; -7 some did not (NaN there).
+    """
+
+    forcing: np.ndarray
+    tip_deflection: np.ndarray
+    stable: np.ndarray
+    folds: np.ndarray
+    rest: float
+    slope: float
+    error: np.ndarray
+    levels: dict[float, float]
+    status: int
+
+    def linear(self, forcing: Any) -> Any:
+        """The linear formula's x1 at abs(Lambda) [L]."""
+        return self.rest + self.slope * np.asarray(forcing, dtype=np.float64)
+
+
+def _crossing(lam: np.ndarray, err: np.ndarray, level: float) -> float:
+    """The first abs(Lambda) where ``err`` reaches ``level`` (log-log interpolation)."""
+    ok = np.isfinite(err) & (err > 0.0)
+    above = np.flatnonzero(ok & (err >= level))
+    if above.size == 0:
+        return math.nan
+    i = int(above[0])
+    if i == 0 or not ok[i - 1]:
+        return float(lam[i])
+    u0, u1 = math.log(err[i - 1]), math.log(err[i])
+    t = (math.log(level) - u0) / (u1 - u0) if u1 != u0 else 1.0
+    return float(math.exp(math.log(lam[i - 1]) + t * (math.log(lam[i]) - math.log(lam[i - 1]))))
+
+
+@functools.lru_cache(maxsize=32)
+def calibration_curve(
+    sign: float, theta0: float, profile: str, height_ratio: float | None, gamma: float,
+    tip_load: float,
+) -> Calibration:  # fmt: skip
+    """The calibration curve of a pillar in the flow's direction ``sign`` (+1 or -1), cached.
+
+    A :func:`hairbed.solve_pillar` batch on :data:`CALIBRATION_GRID`; where a snap-through
+    window can exist, the branch of :func:`hairbed.continue_pillar` up to
+    :data:`BRANCH_FORCING` (folds, stability) in place of the batch's points there.
+    """
+    kw = {"profile": profile, "height_ratio": height_ratio, "gamma": gamma, "tip_load": tip_load}
+    at_rest = hairbed.solve_pillar(0.0, theta0, **kw)
+    rest = float(at_rest.tip_deflection)
+    slope = sign * float(at_rest.tip_deflection_slope)
+    grid = CALIBRATION_GRID
+    lam, stable = grid, np.ones(grid.shape, dtype=np.bool_)
+    folds = np.zeros((0, 2))
+    branch = None
+    if sign * theta0 < WINDOW_THETA0:
+        branch = hairbed.continue_pillar(sign * BRANCH_FORCING, theta0, num=BRANCH_POINTS, **kw)
+        if branch.status != 0 or branch.forcing.size < 2:
+            branch = None
+    if branch is None:  # the batch alone
+        st = hairbed.solve_pillar(sign * grid, theta0, **kw)
+        ok = np.asarray(st.status) >= 0
+        x = np.where(ok, np.asarray(st.tip_deflection, dtype=np.float64), np.nan)
+    else:  # the batch below and beyond the branch, the branch between
+        bl = np.abs(np.asarray(branch.forcing, dtype=np.float64))
+        out = (grid < bl[1]) | (grid > BRANCH_FORCING)
+        st = hairbed.solve_pillar(sign * grid[out], theta0, **kw)
+        ok = np.asarray(st.status) >= 0
+        xb = np.where(ok, np.asarray(st.tip_deflection, dtype=np.float64), np.nan)
+        n_low = int(np.sum(grid < bl[1]))
+        lam = np.concatenate([grid[:n_low], bl[1:], grid[out][n_low:]])
+        x = np.concatenate([xb[:n_low], np.asarray(branch.tip_deflection)[1:], xb[n_low:]])
+        ones = np.ones(n_low, dtype=np.bool_), np.ones(xb.size - n_low, dtype=np.bool_)
+        stable = np.concatenate([ones[0], np.asarray(branch.stable, dtype=np.bool_)[1:], ones[1]])
+        folds = np.array(branch.folds, dtype=np.float64).reshape(-1, 2)
+        folds[:, 0] = np.abs(folds[:, 0])
+    status = 0 if bool(np.all(ok)) else -7
+    with np.errstate(all="ignore"):
+        err = np.abs((x - rest) / slope - lam) / lam
+    # the levels along the branch from rest, before any fold
+    first = int(np.flatnonzero(~stable)[0]) if not bool(np.all(stable)) else lam.size
+    levels = {lv: _crossing(lam[:first], err[:first], lv) for lv in ERROR_LEVELS}
+    return Calibration(lam, x, stable, folds, rest, slope, err, levels, status)
+
+
+@dataclass(frozen=True)
+class PillarView:
+    """One pillar state on screen: its label ("low", "mid", "high" in a window, along the
+    branch from rest) and the library's :class:`hairbed.PillarState`."""
+
+    label: str
+    state: Any
+
+    @property
+    def stable(self) -> bool | None:
+        s = self.state.stable
+        return None if s is None else bool(s)
+
+
+@dataclass(frozen=True)
+class PillarSnapshot:
+    """Everything the pillar mode shows, computed from one :class:`PillarParams`.
+
+    Attributes
+    ----------
+    params : PillarParams
+    states : list of PillarView
+        Every coexisting state (one outside a snap-through window), along the branch from
+        rest; empty when the solve failed (then :attr:`message` says why).
+    profile_z, profile_u : ndarray
+        The undisturbed profile U(z) [-] at heights z [L] in [0, 1].
+    calibration : Calibration or None
+        The calibration curve (the calibration view only).
+    warnings : list of str
+        The library's warnings, "Category: message", each once.
+    timings : dict of str to float
+        Wall times [ms]: "solve", "calibration", "total".
+    message : str
+        Why no state is shown ("" when there are states).
+    """
+
+    params: PillarParams
+    states: list[PillarView]
+    profile_z: np.ndarray
+    profile_u: np.ndarray
+    calibration: Calibration | None
+    warnings: list[str]
+    timings: dict[str, float]
+    message: str = ""
+
+    def error_at(self) -> float:
+        """The linear formula's relative error at the first state [-] (NaN without one or
+        without the calibration curve)."""
+        c = self.calibration
+        if c is None or not self.states or self.params.forcing == 0.0:
+            return math.nan
+        x1 = float(self.states[0].state.tip_deflection)
+        lam = abs(self.params.forcing)
+        return abs((x1 - c.rest) / c.slope - lam) / lam
+
+
+def _labels(n: int, sign: float) -> list[str]:
+    names = ["low", "mid", "high"][:n] if n <= 3 else [f"state {k}" for k in range(n)]
+    return names if sign > 0 else names[::-1]
+
+
+def compute_pillar(p: PillarParams) -> PillarSnapshot:
+    """Solve every state of the pillar (and its calibration curve in the calibration view).
+
+    A failed solve (status < 0) shows no state, with the library's message.
+
+    Examples
+    --------
+    >>> snap = compute_pillar(validate_pillar({"mode": "pillar", "forcing": "20",
+    ...                                        "pillar_theta0": "-1.45"}))
+    >>> [(s.label, s.stable) for s in snap.states]
+    [('low', True), ('mid', False), ('high', True)]
+    """
+    t0 = time.perf_counter()
+    message = ""
+    with _recording() as caught:
+        found: list[Any] = []
+        if p.window:
+            found = list(hairbed.solve_pillar_all(p.forcing, p.theta0, **p.kwargs))
+            found = [s for s in found if int(s.status) >= 0]
+        if not found:
+            one = hairbed.solve_pillar(p.forcing, p.theta0, **p.kwargs)
+            if int(one.status) >= 0:
+                found = [one]
+            else:
+                message = f"no state: {one.message} (status {int(one.status)})"
+        sign = -1.0 if p.forcing < 0.0 else 1.0
+        states = [PillarView(lb, s) for lb, s in zip(_labels(len(found), sign), found)]
+        order = {"low": 0, "mid": 1, "high": 2}
+        states.sort(key=lambda v: order.get(v.label, 3))
+        t1 = time.perf_counter()
+        z = np.linspace(0.0, 1.0, PROFILE_POINTS)
+        coef = profile_coefficients(p.profile, p.height_ratio)
+        u = np.polynomial.chebyshev.chebval(2.0 * z - 1.0, coef)
+        cal = None
+        if p.view == "calibration":
+            cal = calibration_curve(sign, p.theta0, p.profile, p.height_ratio, p.gamma, p.tip_load)
+    t2 = time.perf_counter()
+    return PillarSnapshot(
+        p, states, z, u, cal, _merge(p.warnings, caught),
+        {"solve": 1e3 * (t1 - t0), "calibration": 1e3 * (t2 - t1), "total": 1e3 * (t2 - t0)},
+        message,
+    )  # fmt: skip
+
+
+def pillar_snapshot_json(snap: PillarSnapshot) -> str:
+    """The pillar view as JSON: its inputs, every state (every shown field and its shape at
+    101 arc lengths) and, in the calibration view, the linear formula's figures."""
+    p = snap.params
+    sigma = np.linspace(0.0, 1.0, 101)
+    states = []
+    for v in snap.states:
+        _, x, z, theta = v.state.shape(sigma)
+        rec: dict[str, Any] = {"state": v.label, "stable": v.stable}
+        rec.update({k: getattr(v.state, k) for k in PILLAR_FIELDS})
+        rec["message"] = v.state.message
+        rec["shape"] = {"sigma": sigma, "x": x, "z": z, "theta": theta}
+        states.append(rec)
+    doc: dict[str, Any] = {
+        "hairbed_version": hairbed.__version__,
+        "mode": "pillar",
+        "inputs": {k: p.raw[k] for k in PILLAR_DEFAULTS},
+        "solved": {"forcing": p.forcing, "theta0": p.theta0, **p.kwargs},
+        "message": snap.message,
+        "states": states,
+        "warnings": snap.warnings,
+    }
+    c = snap.calibration
+    if c is not None:
+        doc["calibration"] = {
+            "rest": c.rest,
+            "slope": c.slope,
+            "error_levels": {f"{lv:g}": c.levels[lv] for lv in ERROR_LEVELS},
+            "folds": c.folds,
+        }
+    return json.dumps(to_plain(doc), indent=2, allow_nan=False)
