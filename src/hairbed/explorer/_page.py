@@ -52,6 +52,8 @@ from ._model import (
     snapshot_shape_csv,
     validate,
 )
+from ._pillar import PILLAR_CHOICES, is_pillar
+from ._pillar_views import PillarPanel, refresh_pillar
 
 __all__ = ["ExplorerPage", "LOG_OMEGA2_RANGE"]
 
@@ -454,6 +456,8 @@ class ExplorerPage:
             w.param.watch(self._on_input, "value")
         for w in (self.twirl, self.y_choice, self.x_choice, self.si, self.drive, self.view_choice):
             w.param.watch(self._on_input, "value")
+        #: The pillar mode (:mod:`._pillar_views`), registered in :meth:`_build_layout`.
+        self.pillar = PillarPanel()
 
     def _build_layout(self) -> None:
         bed = pn.Column(
@@ -544,6 +548,7 @@ class ExplorerPage:
             ),
             *([self.history] if self._served else []),
         )
+        self.pillar.place(self, controls)
 
     # -- events -----------------------------------------------------------------------------
 
@@ -606,6 +611,7 @@ class ExplorerPage:
         raw["twirl"] = "1" if self.twirl.value else "0"
         raw["y"] = str(self.y_choice.value)
         raw["x"] = str(self.x_choice.value)
+        raw.update(self.pillar.choices())
         return raw
 
     def _on_history(self, event: Any) -> None:
@@ -651,12 +657,14 @@ class ExplorerPage:
                 self.drive.value = args["drive"]
             if "view" in args and args["view"] in VIEWS:
                 self.view_choice.value = args["view"]
+            self.pillar.apply_choices(args)
         finally:
             self._syncing = False
         # the flags as given (not as the widgets could hold them): validate says what is wrong
         raw = self._raw()
         given = ("si", "twirl", "y", "x", "drive", "view")
         raw.update({k: v for k, v in args.items() if k in given})
+        raw.update({k: v for k, v in args.items() if k in PILLAR_CHOICES})
         if not self.refresh(raw):
             self._restore_fields()  # a bad link: the fields show the view on screen again
 
@@ -667,9 +675,13 @@ class ExplorerPage:
 
         On bad input the library's message is shown and the last good state stays.
         """
+        if raw is None:
+            raw = self._raw()
+        if is_pillar(raw):  # the pillar mode (:func:`._pillar_views.refresh_pillar`)
+            return refresh_pillar(self, raw, _warnings_html)
         start = time.perf_counter()
         try:
-            params = validate(self._raw() if raw is None else raw)
+            params = validate(raw)
             snap = compute(params)
         except InputError as exc:
             self._show_error(tuple(" ".join(m.split()) for m in exc.messages))
@@ -692,6 +704,7 @@ class ExplorerPage:
             if self.notes.object != notes:
                 self.notes.object = notes
             self._sync_widgets(params)
+            self.pillar.show_mode(self, "bed")
             if self.alert.visible:
                 self.alert.visible = False
                 self.alert.object = ""
@@ -729,7 +742,7 @@ class ExplorerPage:
     def _restore_fields(self) -> None:
         """Every field, switch and slider back to the inputs of the view on screen (after a
         bad link: its text would otherwise stay in the fields the message names)."""
-        if self.snapshot is None:
+        if self.pillar.restore(self) or self.snapshot is None:
             return
         p = self.snapshot.params
         self._syncing = True
@@ -796,6 +809,7 @@ class ExplorerPage:
         session's document and models itself): the snapshot and the figures' last data."""
         self.snapshot = None
         self.views.release()
+        self.pillar.release()
 
     # -- downloads ------------------------------------------------------------------------
 

@@ -94,8 +94,9 @@ def mode_of(raw: Any) -> str:
 
 
 def is_pillar(raw: Any) -> bool:
-    """Whether inputs (text, as typed) ask for the pillar mode (False for a bad mode)."""
-    return str(raw.get("mode", "bed")).strip() == "pillar"
+    """Whether inputs (text, as typed) leave the bed's mode: for the pillar's, or for a bad
+    mode (which :func:`mode_of` then names)."""
+    return str(raw.get("mode", "bed")).strip() != "bed"
 
 
 @dataclass(frozen=True)
@@ -410,6 +411,17 @@ class PillarSnapshot:
         return abs((x1 - c.rest) / c.slope - lam) / lam
 
 
+@functools.lru_cache(maxsize=64)
+def _every_state(
+    forcing: float, theta0: float, profile: str, height_ratio: float | None, gamma: float,
+    tip_load: float,
+) -> tuple[Any, ...]:  # fmt: skip
+    """:func:`hairbed.solve_pillar_all` (seconds in a window: cached, so that a slider moved
+    back and forth solves each forcing once)."""
+    kw = {"profile": profile, "height_ratio": height_ratio, "gamma": gamma, "tip_load": tip_load}
+    return tuple(hairbed.solve_pillar_all(forcing, theta0, **kw))
+
+
 def _labels(n: int, sign: float) -> list[str]:
     names = ["low", "mid", "high"][:n] if n <= 3 else [f"state {k}" for k in range(n)]
     return names if sign > 0 else names[::-1]
@@ -432,8 +444,11 @@ def compute_pillar(p: PillarParams) -> PillarSnapshot:
     with _recording() as caught:
         found: list[Any] = []
         if p.window:
-            found = list(hairbed.solve_pillar_all(p.forcing, p.theta0, **p.kwargs))
-            found = [s for s in found if int(s.status) >= 0]
+            found = [
+                s
+                for s in _every_state(p.forcing, p.theta0, *p.kwargs.values())
+                if int(s.status) >= 0
+            ]
         if not found:
             one = hairbed.solve_pillar(p.forcing, p.theta0, **p.kwargs)
             if int(one.status) >= 0:

@@ -1,0 +1,661 @@
+"""The pillar mode on the page: its widgets, figures and readouts (Panel and Bokeh).
+
+:class:`PillarPanel` holds the pillar's inputs (text fields with sliders, the profile and the
+view), three figures built once and updated in place (the pillar in its undisturbed profile
+u(z), the calibration curve x1 against Lambda and the linear formula's error) and the table of
+every coexisting state. The page (:class:`~._page.ExplorerPage`) registers it: a mode selector
+switches between the bed's controls and views and the pillar's, its text fields join the
+page's (the URL, Back and Forward, a bad link's restore work as for the bed), and
+:func:`refresh_pillar` is the page's update in pillar mode.
+"""
+
+from __future__ import annotations
+
+import html
+import io
+import math
+import sys
+import time
+from typing import Any
+
+import numpy as np
+import panel as pn
+from bokeh.models import ColumnDataSource, CustomJSTickFormatter, Range1d, Span
+
+from .._jsonsafe import to_plain
+from ._figures import (
+    FOLD_COLOR,
+    REST_COLOR,
+    STATE_COLORS,
+    UNSTABLE_DASH,
+    _equal,
+    _fig,
+    _legend_lines,
+    _style_legend,
+)
+from ._model import PILLAR_DEFAULTS, InputError
+from ._pillar import (
+    ERROR_LEVELS,
+    PILLAR_FIELDS,
+    PillarSnapshot,
+    compute_pillar,
+    mode_of,
+    pillar_query,
+    pillar_snapshot_json,
+    validate_pillar,
+)
+
+__all__ = ["LOG_FORCING_RANGE", "PillarPanel", "refresh_pillar"]
+
+#: Range of the forcing slider, in log10(abs(Lambda)); the sign is the typed value's.
+LOG_FORCING_RANGE = (-3.0, 4.0)
+_THETA0_MAX = 1.57
+#: The pillar's text fields: key -> label.
+TEXT_LABELS = {
+    "forcing": "Lambda [-], zeta_perp tau_w L^4/(eta E I) (exact, signed)",
+    "pillar_theta0": "theta0 [rad], in (-pi/2, pi/2) (exact)",
+    "height_ratio": "height ratio L/H [-], in (0, 1] (couette, poiseuille)",
+    "slenderness": "slenderness L/a [-], > 1.5 (empty: gamma = 1/2)",
+    "tip_load": "tip load [E I/L^2] (along +x)",
+}
+MODE_OPTIONS = {"bed of hairs": "bed", "isolated pillar": "pillar"}
+PROFILE_OPTIONS = {"sublayer": "sublayer", "couette": "couette", "poiseuille": "poiseuille"}
+VIEW_OPTIONS = {"shape": "shape", "calibration curve": "calibration"}
+#: Rows of the state table: field -> label [unit].
+FIELD_LABELS = {
+    "forcing": "forcing Lambda [-]",
+    "theta0": "base angle theta0 [rad]",
+    "gamma": "drag ratio gamma = zeta_par/zeta_perp [-]",
+    "tip_load": "tip load [E I/L^2]",
+    "tip_deflection": "tip deflection x1 [L]",
+    "tip_height": "tip height h1 [L]",
+    "tip_angle": "tip angle theta(1) [rad]",
+    "base_curvature": "base curvature theta'(0) [1/L]",
+    "drag_x": "drag, streamwise [E I/L^2]",
+    "drag_z": "drag, wall-normal [E I/L^2]",
+    "tip_deflection_slope": "dx1/dLambda [L]",
+    "status": "status",
+    "error_estimate": "error estimate [rad]",
+    "residual": "residual",
+    "nit": "Newton iterations",
+    "num": "Chebyshev degree N",
+}
+_CSS = """
+:host { font-size: 13px; }
+table.hb { border-collapse: collapse; font-family: ui-monospace, monospace; font-size: 12px; }
+table.hb th, table.hb td { padding: 1px 8px; border-bottom: 1px solid #e5e5e5; }
+table.hb th { text-align: left; background: #f4f4f4; }
+table.hb td.num { text-align: right; }
+"""
+_SHAPE_POINTS = 121
+#: The forcing slider's shown value: abs(Lambda), to 6 significant digits.
+_SHOWN_LOG = "return String(Number((10 ** tick).toPrecision(6)))"
+#: Where the profile's arrows start [L], and the length of the largest [L].
+_PROFILE_X0, _PROFILE_LEN = -1.7, 0.6
+
+
+def _fmt(value: Any) -> str:
+    if value is None:
+        return "-"
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, (int, np.integer, str)):
+        return html.escape(str(value))
+    value = float(value)
+    return "nan" if math.isnan(value) else f"{value:.12g}"
+
+
+def _short(value: float) -> str:
+    return f"{value:.6g}"
+
+
+def _widget(cls: Any, label: str, **kw: Any) -> Any:
+    kw["label" if "label" in cls.param else "name"] = label
+    return cls(**kw)
+
+
+def table_html(snap: PillarSnapshot) -> str:
+    """Every shown :class:`hairbed.PillarState` field of every state (a column each); no
+    state: the library's message."""
+    if not snap.states:
+        return (
+            '<table class="hb hb-pillar-states" data-count="0"><thead><tr><th>no state</th>'
+            "</tr></thead></table>"
+            f'<p class="hb-pillar-nostate">{html.escape(snap.message or "no state")}</p>'
+        )
+    head = "".join(
+        f'<th style="color:{STATE_COLORS.get(v.label, "black")}">{html.escape(v.label)}</th>'
+        for v in snap.states
+    )
+    rows = []
+
+    def row(key: str, label: str, values: list[Any]) -> None:
+        cells = "".join(
+            f'<td class="num" data-state="{v.label}" data-field="{key}">{_fmt(x)}</td>'
+            for v, x in zip(snap.states, values)
+        )
+        rows.append(f'<tr data-row="{key}"><th>{html.escape(label)}</th>{cells}</tr>')
+
+    if snap.params.window:
+        row("stable", "stable (solve_pillar_all)", [v.stable for v in snap.states])
+    for key in PILLAR_FIELDS:
+        row(key, FIELD_LABELS[key], [getattr(v.state, key) for v in snap.states])
+    row("message", "message", [v.state.message for v in snap.states])
+    n = len(snap.states)
+    return (
+        f'<table class="hb hb-pillar-states" data-count="{n}"><thead><tr>'
+        f"<th>{n} state{'s' if n > 1 else ''}</th>{head}</tr></thead>"
+        f"<tbody>{''.join(rows)}</tbody></table>"
+    )
+
+
+def linear_html(snap: PillarSnapshot) -> str:
+    """The linear formula at the current forcing (the calibration view only)."""
+    c = snap.calibration
+    if c is None:
+        return ""
+    lam = abs(snap.params.forcing)
+    rows: list[tuple[str, str, Any]] = [
+        ("rest", "x1 at rest (Lambda = 0) [L]", c.rest),
+        ("slope", "dx1/dLambda at Lambda = 0 [L]", c.slope),
+        ("linear", "linear x1 at abs(Lambda) [L]", float(c.linear(lam))),
+        ("error", "error of the linear Lambda read from x1 [-]", snap.error_at()),
+        *((f"level_{lv:g}", f"abs(Lambda) where it reaches {lv:.0%}", c.levels[lv])
+          for lv in ERROR_LEVELS),
+    ]  # fmt: skip
+    for k, (lf, xf) in enumerate(c.folds):
+        rows.append((f"fold_{k}", f"fold {k + 1}: abs(Lambda), x1", f"{lf:.8g}, {xf:.8g}"))
+    body = "".join(
+        f'<tr><th>{html.escape(label)}</th><td class="num" data-field="{key}">{_fmt(v)}</td></tr>'
+        for key, label, v in rows
+    )
+    return (
+        f'<table class="hb hb-pillar-linear" data-status="{c.status}"><thead><tr>'
+        f"<th>the linear formula</th><th></th></tr></thead><tbody>{body}</tbody></table>"
+    )
+
+
+def _runs(stable: np.ndarray) -> list[tuple[int, int, bool]]:
+    """Runs (start, stop, stable) of equal stability, each ending on the next one's start."""
+    runs, start = [], 0
+    for i in range(1, len(stable) + 1):
+        if i == len(stable) or stable[i] != stable[start]:
+            runs.append((start, min(i + 1, len(stable)), bool(stable[start])))
+            start = i
+    return runs
+
+
+class PillarPanel:
+    """The pillar mode's widgets, figures and tables (see the module's description)."""
+
+    def __init__(self) -> None:
+        self._shown: dict[int, dict[str, Any]] = {}
+        self._syncing = False
+        #: The last good pillar view on screen (None: none yet).
+        self.snapshot: PillarSnapshot | None = None
+        #: The mode on screen: "bed" or "pillar".
+        self.shown_mode = "bed"
+        self._build_widgets()
+        self._build_figures()
+        self._build_layout()
+
+    # -- widgets ----------------------------------------------------------------------------
+
+    def _build_widgets(self) -> None:
+        lo, hi = LOG_FORCING_RANGE
+        self.mode = pn.widgets.RadioButtonGroup(
+            options=MODE_OPTIONS, value=PILLAR_DEFAULTS["mode"], css_classes=["hb-mode"]
+        )
+        self.forcing_slider = _widget(
+            pn.widgets.FloatSlider, "forcing abs(Lambda) (log scale)", start=lo, end=hi,
+            step=0.005, value=math.log10(float(PILLAR_DEFAULTS["forcing"])),
+            format=CustomJSTickFormatter(code=_SHOWN_LOG),
+            css_classes=["hb-forcing-slider"], sizing_mode="stretch_width",
+        )  # fmt: skip
+        self.theta0_slider = _widget(
+            pn.widgets.FloatSlider, "base angle theta0 [rad]", start=-_THETA0_MAX,
+            end=_THETA0_MAX, step=0.005, value=float(PILLAR_DEFAULTS["pillar_theta0"]),
+            css_classes=["hb-pillar_theta0-slider"], sizing_mode="stretch_width",
+        )  # fmt: skip
+        self.text = {
+            k: _widget(
+                pn.widgets.TextInput,
+                label,
+                value=PILLAR_DEFAULTS[k],
+                css_classes=[f"hb-{k}"],
+                sizing_mode="stretch_width",
+            )  # fmt: skip
+            for k, label in TEXT_LABELS.items()
+        }
+        self.profile = pn.widgets.RadioButtonGroup(
+            options=PROFILE_OPTIONS, value=PILLAR_DEFAULTS["profile"], css_classes=["hb-profile"]
+        )
+        self.view = pn.widgets.RadioButtonGroup(
+            options=VIEW_OPTIONS, value=PILLAR_DEFAULTS["pillar_view"],
+            css_classes=["hb-pillar-view"],
+        )  # fmt: skip
+        self.table = pn.pane.HTML("", css_classes=["hb-pillar-table"], stylesheets=[_CSS])
+        self.linear_table = pn.pane.HTML("", css_classes=["hb-pillar-linear"], stylesheets=[_CSS])
+        self.download_json = pn.widgets.FileDownload(
+            callback=self._json_file, filename="hairbed-pillar.json", label="download JSON",
+            css_classes=["hb-pillar-download-json"],
+        )  # fmt: skip
+        self.forcing_slider.param.watch(self._from_forcing_slider, "value")
+        self.theta0_slider.param.watch(self._from_theta0_slider, "value")
+
+    def choices(self) -> dict[str, str]:
+        """The chosen (not typed) inputs, as text."""
+        return {
+            "mode": str(self.mode.value),
+            "profile": str(self.profile.value),
+            "pillar_view": str(self.view.value),
+        }
+
+    def apply_choices(self, args: dict[str, str]) -> None:
+        """The choices a URL names (a bad one stays as it was: validation names it)."""
+        for key, w in (("mode", self.mode), ("profile", self.profile), ("pillar_view", self.view)):
+            if key in args and args[key].strip() in w.options.values():
+                w.value = args[key].strip()
+
+    def _from_forcing_slider(self, event: Any) -> None:
+        if self._syncing:
+            return
+        last = self.snapshot.params.forcing if self.snapshot is not None else 1.0
+        sign = -1.0 if last < 0.0 else 1.0
+        self.text["forcing"].value = _short(sign * float(_short(10.0 ** float(event.new))))
+
+    def _from_theta0_slider(self, event: Any) -> None:
+        if not self._syncing:
+            self.text["pillar_theta0"].value = _short(float(event.new))
+
+    # -- figures ------------------------------------------------------------------------------
+
+    def _build_figures(self) -> None:
+        f = _fig(
+            "the pillar in the undisturbed flow u(z), to scale",
+            "x/L [-] (along the flow)",
+            "z/L [-] (height)",
+            x_range=Range1d(-1.8, 1.2),
+            y_range=Range1d(-0.1, 1.3),
+            frame_width=460,
+            frame_height=int(460 * 1.4 / 3.0),
+        )
+        f.quad(left=-100, right=100, bottom=-100, top=0, fill_color="#d9d9d9", line_color="black")
+        self.top_wall = Span(dimension="width", location=1e9, line_color="black", line_width=2)
+        f.add_layout(self.top_wall)
+        self.sh_flow = ColumnDataSource({"x0": [], "y0": [], "x1": [], "y1": []})
+        f.segment("x0", "y0", "x1", "y1", source=self.sh_flow, color="#9ecae1", line_width=2)
+        f.scatter("x1", "y1", source=self.sh_flow, marker="triangle", angle=-np.pi / 2, size=7,
+                  color="#9ecae1")  # fmt: skip
+        self.sh_profile = ColumnDataSource({"x": [], "y": []})
+        f.line("x", "y", source=self.sh_profile, color="#3182bd", line_width=2)
+        self.sh_rest = ColumnDataSource({"x": [], "y": []})
+        f.line("x", "y", source=self.sh_rest, color=REST_COLOR, line_width=2)
+        self.sh_stable = ColumnDataSource({"xs": [], "ys": [], "color": []})
+        f.multi_line("xs", "ys", source=self.sh_stable, color="color", line_width=3)
+        self.sh_unstable = ColumnDataSource({"xs": [], "ys": [], "color": []})
+        f.multi_line("xs", "ys", source=self.sh_unstable, color="color", line_width=3,
+                     line_dash=UNSTABLE_DASH)  # fmt: skip
+        self.sh_tips = ColumnDataSource({"x": [], "y": [], "color": [], "label": []})
+        f.scatter("x", "y", source=self.sh_tips, color="color", size=7)
+        f.text("x", "y", text="label", source=self.sh_tips, text_font_size="11px", x_offset=6,
+               y_offset=-4, text_color="color")  # fmt: skip
+        sample = _legend_lines(f, "stable", "unstable", "rest")
+        prof = f.line([math.nan], [math.nan], color="#3182bd", line_width=2)
+        _style_legend(
+            f,
+            [
+                ("stable", [sample["stable"]]),
+                ("unstable", [sample["unstable"]]),
+                ("at rest", [sample["rest"]]),
+                ("u(z), scaled", [prof]),
+            ],
+            "top_right",
+        )
+        f.grid.grid_line_alpha = 0.3
+        self.shape_fig = f
+
+        c = _fig(
+            "calibration curve: tip deflection against the forcing",
+            "forcing abs(Lambda) [-]",
+            "tip deflection x1 [L]",
+            x_axis_type="log",
+            x_range=Range1d(1e-3, 1e4),
+            y_range=Range1d(-1.0, 1.0),
+            width=470,
+            height=360,
+        )
+        self.cal_stable = ColumnDataSource({"xs": [], "ys": []})
+        c.multi_line("xs", "ys", source=self.cal_stable, color="black", line_width=2)
+        self.cal_unstable = ColumnDataSource({"xs": [], "ys": []})
+        c.multi_line("xs", "ys", source=self.cal_unstable, color="black", line_width=2,
+                     line_dash=UNSTABLE_DASH)  # fmt: skip
+        self.cal_linear = ColumnDataSource({"x": [], "y": []})
+        lin = c.line("x", "y", source=self.cal_linear, color="#E69F00", line_width=2,
+                     line_dash="dashed")  # fmt: skip
+        self.cal_folds = ColumnDataSource({"x": [], "y": []})
+        c.scatter("x", "y", source=self.cal_folds, marker="x", size=12, line_width=3,
+                  color=FOLD_COLOR)  # fmt: skip
+        self.cal_levels = ColumnDataSource({"x": [], "y": [], "marker": [], "label": []})
+        lv = c.scatter("x", "y", source=self.cal_levels, marker="marker", size=9,
+                       fill_color="white", line_color="#E69F00", line_width=2)  # fmt: skip
+        c.text("x", "y", text="label", source=self.cal_levels, text_font_size="11px",
+               x_offset=8, y_offset=8, text_color="#b07800")  # fmt: skip
+        self.cal_now = Span(dimension="height", location=1.0, line_color="#999999",
+                            line_dash="dashed")  # fmt: skip
+        c.add_layout(self.cal_now)
+        self.cal_states = ColumnDataSource({"x": [], "y": [], "color": []})
+        c.scatter("x", "y", source=self.cal_states, color="color", size=10, line_color="black")
+        sample = _legend_lines(c, "curve", "folds", "state")
+        unst = c.line([math.nan], [math.nan], color="black", line_width=2, line_dash=UNSTABLE_DASH)
+        _style_legend(
+            c,
+            [
+                ("exact (stable)", [sample["curve"]]),
+                ("exact (unstable)", [unst]),
+                ("linear formula", [lin]),
+                ("linear 1 %, 10 % off", [lv]),
+                ("folds", [sample["folds"]]),
+                ("current state", [sample["state"]]),
+            ],
+            "top_left",
+        )
+        self.cal_fig = c
+
+        e = _fig(
+            "error of the linear formula's Lambda read from x1",
+            "forcing abs(Lambda) [-]",
+            "abs(Lambda_lin - Lambda)/Lambda [-]",
+            x_axis_type="log",
+            y_axis_type="log",
+            x_range=Range1d(1e-3, 1e4),
+            y_range=Range1d(1e-5, 10.0),
+            width=470,
+            height=300,
+        )
+        self.err_curve = ColumnDataSource({"x": [], "y": []})
+        e.line("x", "y", source=self.err_curve, color="black", line_width=2)
+        for level in ERROR_LEVELS:
+            e.add_layout(Span(dimension="width", location=level, line_color="#E69F00",
+                              line_dash="dotted", line_width=2))  # fmt: skip
+        self.err_now = ColumnDataSource({"x": [], "y": [], "color": []})
+        e.scatter("x", "y", source=self.err_now, color="color", size=10, line_color="black")
+        self.err_fig = e
+
+    def _build_layout(self) -> None:
+        self.controls = pn.Column(
+            pn.pane.HTML("<b>Isolated pillar</b> (theory.md §12)", margin=(5, 10, 0, 10)),
+            self.forcing_slider,
+            self.text["forcing"],
+            self.theta0_slider,
+            self.text["pillar_theta0"],
+            pn.pane.HTML("undisturbed profile u(z):", margin=(5, 10, 0, 10)),
+            self.profile,
+            self.text["height_ratio"],
+            self.text["slenderness"],
+            self.text["tip_load"],
+            pn.pane.HTML("view:", margin=(5, 10, 0, 10)),
+            self.view,
+            self.download_json,
+            visible=False,
+            margin=0,
+        )
+        self._cal_pane = pn.Column(
+            pn.pane.Bokeh(self.cal_fig), pn.pane.Bokeh(self.err_fig),
+            css_classes=["hb-pillar-calibration"], visible=False,
+        )  # fmt: skip
+        self.views = pn.Column(
+            pn.Row(
+                pn.Column(pn.pane.Bokeh(self.shape_fig), css_classes=["hb-pillar-shape"]),
+                self._cal_pane,
+            ),
+            self.linear_table,
+            self.table,
+            visible=False,
+        )
+
+    # -- update -------------------------------------------------------------------------------
+
+    def _set(self, source: Any, data: dict[str, Any]) -> None:
+        last = self._shown.get(id(source))
+        if last is not None and last.keys() == data.keys():
+            if all(_equal(last[k], data[k]) for k in data):
+                return
+        self._shown[id(source)] = data
+        source.data = {k: to_plain(v, strict=False) for k, v in data.items()}
+
+    def update(self, snap: PillarSnapshot) -> None:
+        """Show a snapshot: the shape, the profile, the curve, the tables."""
+        p = snap.params
+        s = np.linspace(0.0, 1.0, _SHAPE_POINTS)
+        stable: dict[str, list[Any]] = {"xs": [], "ys": [], "color": []}
+        unstable: dict[str, list[Any]] = {"xs": [], "ys": [], "color": []}
+        tips: dict[str, list[Any]] = {"x": [], "y": [], "color": [], "label": []}
+        for v in snap.states:
+            _, x, z, _ = v.state.shape(s)
+            target = unstable if v.stable is False else stable
+            color = STATE_COLORS.get(v.label, "black")
+            target["xs"].append(np.asarray(x, dtype=np.float64))
+            target["ys"].append(np.asarray(z, dtype=np.float64))
+            target["color"].append(color)
+            tips["x"].append(float(v.state.tip_deflection))
+            tips["y"].append(float(v.state.tip_height))
+            tips["color"].append(color)
+            tips["label"].append(v.label if len(snap.states) > 1 else "")
+        self._set(self.sh_stable, stable)
+        self._set(self.sh_unstable, unstable)
+        self._set(self.sh_tips, tips)
+        self._set(self.sh_rest, {"x": [0.0, math.sin(p.theta0)], "y": [0.0, math.cos(p.theta0)]})
+        u = np.asarray(snap.profile_u, dtype=np.float64)
+        big = float(np.max(np.abs(u))) or 1.0
+        sign = -1.0 if p.forcing < 0.0 else 1.0
+        ux = _PROFILE_X0 + sign * _PROFILE_LEN * u / big
+        if sign < 0.0:
+            ux = ux + _PROFILE_LEN
+        self._set(self.sh_profile, {"x": ux, "y": snap.profile_z})
+        every = slice(0, None, 8)
+        base = _PROFILE_X0 + (_PROFILE_LEN if sign < 0.0 else 0.0)
+        arrows = {
+            "x0": np.full(u[every].shape, base),
+            "y0": snap.profile_z[every],
+            "x1": ux[every],
+            "y1": snap.profile_z[every],
+        }
+        self._set(self.sh_flow, arrows)
+        channel = p.profile != "sublayer" and p.height_ratio is not None
+        self.top_wall.location = 1.0 / p.height_ratio if channel and p.height_ratio else 1e9
+        self._update_calibration(snap)
+        self.table.object = table_html(snap)
+        self.linear_table.object = linear_html(snap)
+        self.linear_table.visible = snap.calibration is not None
+        self._cal_pane.visible = p.view == "calibration"
+
+    def _update_calibration(self, snap: PillarSnapshot) -> None:
+        c = snap.calibration
+        if c is None:
+            return
+        lam, x1 = c.forcing, c.tip_deflection
+        stable: dict[str, list[Any]] = {"xs": [], "ys": []}
+        unstable: dict[str, list[Any]] = {"xs": [], "ys": []}
+        for a, b, ok in _runs(c.stable):
+            target = stable if ok else unstable
+            target["xs"].append(lam[a:b])
+            target["ys"].append(x1[a:b])
+        self._set(self.cal_stable, stable)
+        self._set(self.cal_unstable, unstable)
+        self._set(self.cal_linear, {"x": lam, "y": c.linear(lam)})
+        self._set(self.cal_folds, {"x": c.folds[:, 0], "y": c.folds[:, 1]})
+        levels: dict[str, list[Any]] = {"x": [], "y": [], "marker": [], "label": []}
+        for lv, marker in zip(ERROR_LEVELS, ("circle", "square")):
+            at = c.levels[lv]
+            if math.isfinite(at):
+                levels["x"].append(at)
+                levels["y"].append(float(np.interp(np.log(at), np.log(lam), x1)))
+                levels["marker"].append(marker)
+                levels["label"].append(f"{lv:.0%}")
+        self._set(self.cal_levels, levels)
+        lam_now = abs(snap.params.forcing)
+        dots: dict[str, list[Any]] = {"x": [], "y": [], "color": []}
+        if lam_now > 0.0:
+            for v in snap.states:
+                dots["x"].append(lam_now)
+                dots["y"].append(float(v.state.tip_deflection))
+                dots["color"].append(STATE_COLORS.get(v.label, "black"))
+        self._set(self.cal_states, dots)
+        self.cal_now.location = lam_now if lam_now > 0.0 else 1e-30
+        finite = np.isfinite(x1)
+        lo = min(float(np.min(x1[finite])), c.rest) if finite.any() else -1.0
+        hi = max(float(np.max(x1[finite])), c.rest) if finite.any() else 1.0
+        pad = 0.05 * (hi - lo or 1.0)
+        rng = self.cal_fig.y_range
+        if (rng.start, rng.end) != (lo - pad, hi + pad):
+            rng.start, rng.end = lo - pad, hi + pad
+        keep = np.isfinite(c.error) & (c.error > 0.0) & c.stable
+        self._set(self.err_curve, {"x": lam[keep], "y": c.error[keep]})
+        now_err = snap.error_at()
+        ok = lam_now > 0.0 and math.isfinite(now_err) and now_err > 0.0
+        color = STATE_COLORS.get(snap.states[0].label, "black") if snap.states else "black"
+        self._set(self.err_now, {"x": [lam_now] if ok else [], "y": [now_err] if ok else [],
+                                 "color": [color] if ok else []})  # fmt: skip
+        if keep.any():
+            top = max(10.0, float(np.max(c.error[keep])) * 2.0)
+            bottom = max(1e-12, float(np.min(c.error[keep])) / 2.0)
+            rng = self.err_fig.y_range
+            if (rng.start, rng.end) != (bottom, top):
+                rng.start, rng.end = bottom, top
+
+    def sync(self, snap: PillarSnapshot) -> None:
+        """Sliders and choices to the validated inputs."""
+        p = snap.params
+        self._syncing = True
+        try:
+            lo, hi = LOG_FORCING_RANGE
+            if p.forcing != 0.0:
+                self.forcing_slider.value = min(max(math.log10(abs(p.forcing)), lo), hi)
+            self.theta0_slider.value = min(max(p.theta0, -_THETA0_MAX), _THETA0_MAX)
+            self.text["height_ratio"].visible = p.profile != "sublayer"
+            self.profile.value = p.profile
+            self.view.value = p.view
+        finally:
+            self._syncing = False
+
+    def show_mode(self, page: Any, mode: str) -> None:
+        """Show the bed's or the pillar's controls and views (and the mode selector's)."""
+        pillar = mode == "pillar"
+        self.shown_mode = mode
+        self._syncing = True
+        try:
+            self.mode.value = mode
+        finally:
+            self._syncing = False
+        for obj, on in (
+            (page._bed_controls, not pillar),
+            (page._bed_views, not pillar),
+            (self.controls, pillar),
+            (self.views, pillar),
+        ):
+            if obj.visible != on:
+                obj.visible = on
+
+    def place(self, page: Any, controls: Any) -> None:
+        """Register the mode on the page: the mode selector on top of the controls, the
+        bed's controls (but the link and the timing) in a column of their own beside the
+        pillar's, the pillar's views beside the bed's, the pillar's fields among the page's."""
+        keep = (page.link, page.status)
+        page._bed_controls = pn.Column(*(o for o in controls.objects if o not in keep), margin=0)
+        controls.objects = [
+            pn.pane.HTML("<b>What to explore</b>", margin=(5, 10, 0, 10)),
+            self.mode,
+            page._bed_controls,
+            self.controls,
+            *keep,
+        ]
+        for obj in page.layout.objects:
+            if isinstance(obj, pn.Row) and any(o is controls for o in obj.objects):
+                page._bed_views = obj.objects[1]
+                obj.append(self.views)
+                break
+        page.text.update(self.text)
+        for w in (*self.text.values(), self.mode, self.profile, self.view):
+            w.param.watch(page._on_input, "value")
+
+    def restore(self, page: Any) -> bool:
+        """After a bad link: the fields back to the view on screen. True if that is the
+        pillar's (then the page's own restore is not wanted)."""
+        if self.shown_mode != "pillar" or self.snapshot is None:
+            self.show_mode(page, "bed")
+            return False
+        p = self.snapshot.params
+        page._syncing = True
+        try:
+            for k, w in page.text.items():
+                w.value = p.raw[k]
+        finally:
+            page._syncing = False
+        self.sync(self.snapshot)
+        self.show_mode(page, "pillar")
+        return True
+
+    def release(self) -> None:
+        self.snapshot = None
+        self._shown.clear()
+
+    def _json_file(self) -> io.StringIO:
+        assert self.snapshot is not None
+        return io.StringIO(pillar_snapshot_json(self.snapshot))
+
+
+def refresh_pillar(page: Any, raw: dict[str, str], notes_html: Any) -> bool:
+    """The page's update in pillar mode: validate, solve, show; False on bad input (the
+    library's message above the views, the last good view kept). ``notes_html``: the page's
+    HTML of the library's warnings."""
+    panel: PillarPanel = page.pillar
+    start = time.perf_counter()
+    try:
+        mode_of(raw)
+        params = validate_pillar(raw)
+        snap = compute_pillar(params)
+    except InputError as exc:
+        page._show_error(tuple(" ".join(m.split()) for m in exc.messages))
+        return False
+    except (ValueError, TypeError) as exc:
+        page._show_error((" ".join(str(exc).split()),))
+        return False
+    except Exception as exc:  # a bug: one line in the page and on stderr, no traceback
+        message = f"internal error: {type(exc).__name__}: {exc}"
+        print(f"hairbed explore: {message}", file=sys.stderr, flush=True)
+        page._show_error((message,))
+        return False
+    solved = time.perf_counter()
+    with pn.io.hold():
+        panel.update(snap)
+        panel.sync(snap)
+        panel.show_mode(page, "pillar")
+        notes = notes_html(snap.warnings)
+        if page.notes.object != notes:
+            page.notes.object = notes
+        if page.alert.visible:
+            page.alert.visible = False
+            page.alert.object = ""
+        page.error, page.errors = "", ()
+        query = pillar_query(params)
+        page.link.object = (
+            f'<a class="hb-permalink" href="{html.escape(query)}">link to this view</a>'
+        )
+        page._set_url(query)
+        panel.snapshot = snap
+        done = time.perf_counter()
+        page.timings = {
+            "solve": snap.timings["solve"],
+            "calibration": snap.timings["calibration"],
+            "compute": 1e3 * (solved - start),
+            "views": 1e3 * (done - solved),
+            "total": 1e3 * (done - start),
+        }
+        t = page.timings
+        page.status.object = (
+            f'<small class="hb-timing" data-total-ms="{t["total"]:.3f}">server update '
+            f"{t['total']:.1f} ms: solve {t['solve']:.2f} ms, calibration curve "
+            f"{t['calibration']:.1f} ms, views {t['views']:.1f} ms</small>"
+        )
+    return True
