@@ -795,6 +795,84 @@ def test_pump_drives_the_load_and_the_valve(browser, server, shots):
     page.close()
 
 
+def _pillar_cells(page, table: str = "hb-pillar-states") -> dict[str, str]:
+    """The pillar's one-state table (or the linear formula's): field -> text."""
+    cells = page.locator(f"table.{table} td[data-field]").evaluate_all(
+        "els => els.map(e => [e.dataset.field, e.textContent])"
+    )
+    return dict(cells)
+
+
+def _pillar_at(page, forcing: float) -> dict[str, str] | None:
+    """The pillar's table once it shows ``forcing`` (the update arrived)."""
+    cells = _pillar_cells(page)
+    return cells if cells and float(cells.get("forcing", "nan")) == forcing else None
+
+
+def _check_pillar(cells: dict[str, str], forcing: float, theta0: float) -> None:
+    ref = hairbed.solve_pillar(forcing, theta0)
+    for field in ("tip_deflection", "tip_height", "tip_angle", "base_curvature", "drag_x"):
+        assert float(cells[field]) == pytest.approx(getattr(ref, field), rel=1e-11, abs=1e-13)
+    assert cells["status"] == "0" and cells["message"] == "ok"
+
+
+def test_pillar_mode_lambda_and_the_calibration_curve(browser, server, shots):
+    """Issue 21, item 3: select the pillar mode, move Lambda by its slider, switch to the
+    calibration view, the numbers against hairbed.solve_pillar and the linear cantilever
+    formula, and a fresh page from the URL."""
+    page = _open(browser, server, "?omega2=2")
+    page.locator(".hb-mode button", has_text="isolated pillar").click()
+    _until(lambda: _search(page).get("mode") == "pillar", "the pillar mode in the URL")
+    _check_pillar(_until(lambda: _pillar_at(page, 1.0), "the pillar at Lambda = 1"), 1.0, 0.0)
+    assert not page.locator(".hb-channel").is_visible()
+    _type(page, "pillar_theta0", "0.3")
+    _until(lambda: _pillar_cells(page).get("theta0") == "0.3", "theta0 = 0.3")
+    # the Lambda slider (log10 abs(Lambda) in [-3, 4]): a click on its track near 30
+    track = page.locator(".hb-forcing-slider .noUi-base").bounding_box()
+    page.mouse.click(track["x"] + (math.log10(30.0) + 3.0) / 7.0 * track["width"],
+                     track["y"] + track["height"] / 2)  # fmt: skip
+    lam = _until(
+        lambda: (v := float(page.locator(".hb-forcing input").input_value())) > 5.0 and v,
+        "the slider's Lambda",
+    )
+    assert 10.0 < lam < 100.0, lam
+    _check_pillar(_until(lambda: _pillar_at(page, lam), "the pillar at the slider's Lambda"),
+                  lam, 0.3)  # fmt: skip
+    # the calibration view: the linear formula's slope and error, and where it is 1 % off
+    page.locator(".hb-pillar-view button", has_text="calibration curve").click()
+    lin = _until(lambda: _pillar_cells(page, "hb-pillar-linear"), "the linear formula")
+    slope = 11.0 * math.cos(0.3) ** 3 / 120.0
+    assert float(lin["slope"]) == pytest.approx(slope, rel=1e-10)
+    assert float(lin["rest"]) == pytest.approx(math.sin(0.3), rel=1e-11)  # 12 digits shown
+    x1 = float(hairbed.solve_pillar(lam, 0.3).tip_deflection)
+    assert float(lin["error"]) == pytest.approx(abs((x1 - math.sin(0.3)) / slope - lam) / lam)
+    at = float(lin["level_0.01"])
+    x1 = float(hairbed.solve_pillar(at, 0.3).tip_deflection)
+    assert abs((x1 - math.sin(0.3)) / slope - at) / at == pytest.approx(0.01, rel=0.02)
+    assert page.locator(".hb-pillar-calibration").is_visible()
+    page.wait_for_timeout(500)
+    page.screenshot(path=str(shots / "explorer-pillar-calibration.png"), full_page=True)
+    # a fresh page from the URL: the same mode, inputs, view and numbers
+    args = _until(
+        lambda: _search(page) if _search(page).get("pillar_view") == "calibration" else None,
+        "the calibration view in the URL",
+    )
+    assert (args["mode"], float(args["forcing"]), args["pillar_theta0"]) == ("pillar", lam, "0.3")
+    again = browser.new_page()
+    again.goto(server[0] + page.evaluate("window.location.search"))
+    again_lin = _until(lambda: _pillar_cells(again, "hb-pillar-linear"), "the view after reload")
+    assert again_lin == lin
+    assert _until(lambda: _pillar_at(again, lam), "the states after reload") == _pillar_cells(page)
+    again.close()
+    # bad input: the library's message, the last good view kept
+    _type(page, "pillar_theta0", "2")
+    with pytest.raises(ValueError) as info:
+        hairbed.solve_pillar(0.0, 2.0)
+    assert _until(lambda: _error_text(page), "the error message") == str(info.value)
+    assert _pillar_cells(page).get("theta0") == "0.3"
+    page.close()
+
+
 def test_zz_server_clean_and_ctrl_c(server, browser):
     """Last: the server wrote no traceback, and Ctrl-C ends it with one line, status 130."""
     base, proc, err = server

@@ -17,6 +17,12 @@ A drive selector switches to a pump-driven channel (theory.md §11): a set press
 flow rate, its load pi or q beside omega^2, every state by :func:`hairbed.solve_loaded_all`
 (and :meth:`hairbed.HairBed.deform` in SI units); the valve view shows the bed as a valve
 (:mod:`hairbed.valve`: flow against pressure drop, resistance, diodicity).
+
+A mode selector switches to one isolated pillar in a wall shear layer (theory.md §12,
+:mod:`._pillar`): its state by :func:`hairbed.solve_pillar` (every coexisting state by
+:func:`hairbed.solve_pillar_all` where a snap-through window can exist) drawn in the
+undisturbed profile u(z), and its calibration curve, the tip deflection against the forcing
+Lambda against the linear formula, with where that formula is 1 % and 10 % off.
 """
 
 from __future__ import annotations
@@ -216,6 +222,9 @@ def serve(
     print("hairbed explore: preparing (kernels, the cusp curve) ...", file=out, flush=True)
     cusp_curve()
     compute(validate({"twirl": "1"}))  # load the compiled kernels
+    from ._pillar import compute_pillar, validate_pillar
+
+    compute_pillar(validate_pillar({"mode": "pillar"}))  # and the pillar's
     server.start()
     actual = server.port
     url = f"http://{_url_host(host)}:{actual}/"
