@@ -274,4 +274,10 @@ def test_page_pillar_mode_slider_view_and_a_bad_link():
     page._apply_query("?mode=pillar&forcing=3", restore=True)  # Back to a pillar view
     assert panel.shown_mode == "pillar" and panel.snapshot.params.forcing == 3.0
     assert panel.snapshot.params.view == "shape" and not panel._cal_pane.visible
+    panel.mode.value = "bed"
+    page.presets["pillar snap-through"].clicks += 1  # a preset opens the pillar mode
+    assert panel.shown_mode == "pillar" and [v.label for v in panel.snapshot.states] == [
+        "low", "mid", "high",
+    ]  # fmt: skip
+    assert 'data-count="3"' in panel.table.object and 'data-field="stable"' in panel.table.object
     page.release()

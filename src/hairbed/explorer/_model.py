@@ -171,6 +171,8 @@ PRESETS: dict[str, dict[str, str]] = {
         "omega2": "0", "eps": "0.5", "theta0": "0.5", "drive": "pressure", "pi": "5",
         "view": "valve",
     },
+    # an isolated pillar tilted far upstream, inside its snap-through window (theory.md §12)
+    "pillar snap-through": {"mode": "pillar", "forcing": "20", "pillar_theta0": "-1.45"},
 }  # fmt: skip
 #: Quantities plotted against the forcing in the branch diagram.
 Y_CHOICES = {"x1": "tip_deflection", "xi": "xi"}
