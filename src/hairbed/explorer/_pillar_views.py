@@ -511,7 +511,8 @@ class PillarPanel:
         if (rng.start, rng.end) != (lo - pad, hi + pad):
             rng.start, rng.end = lo - pad, hi + pad
         keep = np.isfinite(c.error) & (c.error > 0.0) & c.stable
-        self._set(self.err_curve, {"x": lam[keep], "y": c.error[keep]})
+        # the stable parts only: a NaN breaks the line over the unstable part of an S
+        self._set(self.err_curve, {"x": lam, "y": np.where(keep, c.error, np.nan)})
         now_err = snap.error_at()
         ok = lam_now > 0.0 and math.isfinite(now_err) and now_err > 0.0
         color = STATE_COLORS.get(snap.states[0].label, "black") if snap.states else "black"
