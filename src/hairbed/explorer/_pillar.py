@@ -423,7 +423,11 @@ def _every_state(
 
 
 def _labels(n: int, sign: float) -> list[str]:
-    names = ["low", "mid", "high"][:n] if n <= 3 else [f"state {k}" for k in range(n)]
+    """Labels of n states sorted by x1: along the branch from rest (towards -x for a negative
+    forcing), as :func:`hairbed.solve_pillar`'s roots; two exactly at a fold."""
+    names = {1: ["low"], 2: ["low", "high"], 3: ["low", "mid", "high"]}.get(
+        n, [f"state {k}" for k in range(n)]
+    )
     return names if sign > 0 else names[::-1]
 
 
