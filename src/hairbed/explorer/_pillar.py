@@ -226,6 +226,12 @@ def validate_pillar(raw: Any) -> PillarParams:
                 problems.append(m)
             else:
                 gamma = float(hairbed.gray_hancock_ratio(slender))
+                m = _problem(hairbed.solve_pillar, 0.0, gamma=gamma)
+                if m:  # a stubby pillar: Gray & Hancock's ratio leaves the solver's range
+                    problems.append(
+                        f"slenderness {slender!r} gives gamma = {gamma!r} "
+                        f"(hairbed.gray_hancock_ratio), which the pillar refuses: {m}"
+                    )
     if problems:
         raise InputError(problems)
     full["profile"], full["pillar_view"] = profile, view
