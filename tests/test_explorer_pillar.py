@@ -307,3 +307,14 @@ def test_window_towards_minus_x_is_the_mirror_image():
     assert [(v.label, v.stable) for v in snap.states] == [
         ("low", True), ("mid", False), ("high", True),
     ]  # fmt: skip
+
+
+def test_a_bed_session_builds_no_pillar_figure():
+    pytest.importorskip("panel")
+    from hairbed.explorer._page import ExplorerPage
+
+    page = ExplorerPage("?omega2=1.2", served=False)
+    assert page.pillar.views.objects == [] and not page.pillar.views.visible
+    page.pillar.mode.value = "pillar"
+    assert page.pillar.views.visible and len(page.pillar.views.objects) == 3
+    page.release()

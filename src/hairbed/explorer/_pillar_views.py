@@ -196,7 +196,6 @@ class PillarPanel:
         #: The mode on screen: "bed" or "pillar".
         self.shown_mode = "bed"
         self._build_widgets()
-        self._build_figures()
         self._build_layout()
 
     # -- widgets ----------------------------------------------------------------------------
@@ -400,19 +399,27 @@ class PillarPanel:
             visible=False,
             margin=0,
         )
+        #: The pillar's views: empty until the pillar mode is first shown (a session that
+        #: stays with the bed sends no figure of the pillar to its browser).
+        self.views = pn.Column(visible=False)
+
+    def _ensure_views(self) -> None:
+        """Build the figures and fill :attr:`views` (once)."""
+        if self.views.objects:
+            return
+        self._build_figures()
         self._cal_pane = pn.Column(
             pn.pane.Bokeh(self.cal_fig), pn.pane.Bokeh(self.err_fig),
             css_classes=["hb-pillar-calibration"], visible=False,
         )  # fmt: skip
-        self.views = pn.Column(
+        self.views.objects = [
             pn.Row(
                 pn.Column(pn.pane.Bokeh(self.shape_fig), css_classes=["hb-pillar-shape"]),
                 self._cal_pane,
             ),
             self.linear_table,
             self.table,
-            visible=False,
-        )
+        ]
 
     # -- update -------------------------------------------------------------------------------
 
@@ -426,6 +433,7 @@ class PillarPanel:
 
     def update(self, snap: PillarSnapshot) -> None:
         """Show a snapshot: the shape, the profile, the curve, the tables."""
+        self._ensure_views()
         p = snap.params
         s = np.linspace(0.0, 1.0, _SHAPE_POINTS)
         stable: dict[str, list[Any]] = {"xs": [], "ys": [], "color": []}
