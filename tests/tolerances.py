@@ -38,3 +38,10 @@ LOADED_DERIVATIVE_FD_RTOL = 1e-8
 #: Against the mpmath central differences tests/data/loaded_derivatives_mpmath.json (each
 #: accurate to ~1e-18), relative to max(1, abs(value)): the collocation's own error.
 LOADED_DERIVATIVE_REFERENCE_RTOL = 1e-9
+#: Derivatives of pillar states (implicit differentiation of the collocation) against central
+#: differences of solve_pillar with Richardson extrapolation (truncation ~h^4, rounding
+#: ~1e-14/h), relative to max(1e-3, abs(value)) (the derivatives' own scale is O(1e-2)).
+PILLAR_DERIVATIVE_FD_RTOL = 1e-8
+#: Against the mpmath central differences tests/data/pillar_derivatives_mpmath.json (each
+#: accurate to ~1e-15), relative to max(1, abs(value)): the collocation's own error.
+PILLAR_DERIVATIVE_REFERENCE_RTOL = 1e-9

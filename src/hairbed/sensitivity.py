@@ -69,6 +69,8 @@ from scipy import special
 from ._carlson_gradients import rf_rd_gradient
 from ._core.loaded import LADDER, LoadedState, _check, _solve_loaded_checked
 from ._core.loaded_sensitivity import LOADED_OUTPUTS, loaded_gradient_table
+from ._core.pillar import PillarState
+from ._core.pillar_sensitivity import PILLAR_INPUTS, PILLAR_OUTPUTS, pillar_gradient_table
 from ._core.solution import Solution
 from ._core.solver import _plain_inputs, _solve_checked
 from ._core.validation import (
@@ -87,6 +89,8 @@ __all__ = [
     "INPUTS",
     "LOADED_OUTPUTS",
     "OUTPUTS",
+    "PILLAR_INPUTS",
+    "PILLAR_OUTPUTS",
     "STATUS_MESSAGES",
     "Derivatives",
     "derivatives",
@@ -117,14 +121,16 @@ class Derivatives(Mapping[str, Mapping[str, Any]]):
     tip_angle, base_curvature): ``d["tip_deflection"]["omega2"]`` is d x1/d omega^2 at fixed
     eps and theta0. For a pump-driven state (a :class:`hairbed.LoadedState`) the outputs are
     :data:`LOADED_OUTPUTS` (tip_height, tip_deflection, tip_angle, base_curvature, tip_load,
-    distributed_load) and the inputs omega2, eps, theta0 and the drive's "pi" or "q".
+    distributed_load) and the inputs omega2, eps, theta0 and the drive's "pi" or "q"; for a
+    pillar state (a :class:`hairbed.PillarState`) :data:`PILLAR_OUTPUTS` in
+    :data:`PILLAR_INPUTS` (:func:`derivatives_at`).
     Units: per unit of the input ([-] for omega2 and eps, [1/rad] for theta0),
     times the output's unit ([rad] for tip_angle, [L] for lengths). Floats for scalar inputs,
     arrays of the broadcast shape otherwise.
 
     Attributes
     ----------
-    solution : Solution or LoadedState
+    solution : Solution, LoadedState or PillarState
         The state differentiated.
     table : Mapping
         The nested mapping itself (what indexing the object reads).
@@ -138,7 +144,7 @@ class Derivatives(Mapping[str, Mapping[str, Any]]):
         table of every result.
     """
 
-    solution: Solution | LoadedState
+    solution: Solution | LoadedState | PillarState
     table: Mapping[str, Mapping[str, Any]]
     dt: Mapping[str, Any]
     status: Any
@@ -388,20 +394,62 @@ def _physical_partials(
     return h1, out_t, out_th
 
 
-def derivatives_at(sol: Solution | LoadedState) -> Derivatives:
+def derivatives_at(
+    sol: Solution | LoadedState | PillarState,
+    *,
+    profile: Any = "sublayer",
+    height_ratio: float | None = None,
+) -> Derivatives:
     """Exact derivatives of the outputs of the states ``sol`` (a :class:`hairbed.Solution`,
-    or a :class:`hairbed.LoadedState` of :func:`hairbed.solve_loaded`).
+    a :class:`hairbed.LoadedState` of :func:`hairbed.solve_loaded`, or a
+    :class:`hairbed.PillarState` of :func:`hairbed.solve_pillar`).
 
     See :func:`derivatives`; this takes a state already at hand (any branch or root, any
     shape).
+
+    For a PillarState the outputs are :data:`PILLAR_OUTPUTS` (tip_height, tip_deflection,
+    tip_angle, base_curvature, drag_x, drag_z) and the inputs :data:`PILLAR_INPUTS`: forcing
+    (Lambda), theta0, gamma, tip_load and, for a channel profile, height_ratio (L/H; at fixed
+    Lambda: for "couette" the dimensionless profile does not depend on it, so its column is
+    zero). They are the implicit differentiation of the converged collocation system,
+    J du/dp = -dR/dp with its exact Jacobian (compiled, ``_core/_kernels/pillar_gradient.py``,
+    theory.md §12): exact for the discrete state, equal to the ODE's to its error estimate.
+    At a fold (a singular Jacobian) the derivatives are NaN with status 1; where there is no
+    state (status < 0) NaN with status -1.
+
+    Parameters
+    ----------
+    sol : Solution, LoadedState or PillarState
+        The states.
+    profile, height_ratio : optional
+        Only for a PillarState: the profile and height ratio it was solved with (as in
+        :func:`hairbed.solve_pillar`; a state that is not a root of that profile's system is
+        refused with a ValueError).
+
+    Examples
+    --------
+    >>> import hairbed
+    >>> d = hairbed.sensitivity.derivatives_at(hairbed.solve_pillar(1e-6))
+    >>> round(d["tip_deflection"]["forcing"] * 120, 9)  # the linear limit 11/120
+    11.0
     """
+    if isinstance(sol, PillarState):
+        table, status = pillar_gradient_table(sol, profile, height_ratio)
+        frozen = {o: MappingProxyType(row) for o, row in table.items()}
+        return Derivatives(sol, MappingProxyType(frozen), MappingProxyType({}), status)
+    if profile != "sublayer" or height_ratio is not None:
+        raise ValueError(
+            "profile and height_ratio are a PillarState's (hairbed.solve_pillar); got "
+            f"profile={profile!r}, height_ratio={height_ratio!r} with a {type(sol).__name__}"
+        )
     if isinstance(sol, LoadedState):
         table, status = loaded_gradient_table(sol)
         frozen = {o: MappingProxyType(row) for o, row in table.items()}
         return Derivatives(sol, MappingProxyType(frozen), MappingProxyType({}), status)
     if not isinstance(sol, Solution):
         raise TypeError(
-            f"sol must be a hairbed.Solution or hairbed.LoadedState, got {type(sol).__name__}"
+            "sol must be a hairbed.Solution, hairbed.LoadedState or hairbed.PillarState, got "
+            f"{type(sol).__name__}"
         )
     shape = sol.shape
     t = np.broadcast_to(np.asarray(sol.t, dtype=np.float64), shape)
