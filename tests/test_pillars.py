@@ -345,9 +345,10 @@ def _wrong_shape(z):
         ),
         (lambda: _pillar().linear_range(0.0), ValueError, r"rtol must lie in \(0, 1\)"),
         (
-            lambda: calibration.fit(_pillar(), [1e-5], wall_shear_stress=[1.0], free="base_angle"),
+            lambda: calibration.fit(_pillar(), [1e-5], wall_shear_stress=[1.0], free="spacing"),
             ValueError,
-            r"unknown parameter 'base_angle'; allowed for a pillar: youngs_modulus, drag_scale",
+            r"unknown parameter 'spacing'; allowed for a pillar: youngs_modulus, drag_scale, "
+            "base_angle, length, radius",
         ),
         (
             lambda: calibration.fit(_pillar(), [1e-5], velocity=[1.0]),

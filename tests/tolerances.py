@@ -45,3 +45,7 @@ PILLAR_DERIVATIVE_FD_RTOL = 1e-8
 #: Against the mpmath central differences tests/data/pillar_derivatives_mpmath.json (each
 #: accurate to ~1e-15), relative to max(1, abs(value)): the collocation's own error.
 PILLAR_DERIVATIVE_REFERENCE_RTOL = 1e-9
+#: A pillar calibration's exact Jacobian (derivatives_at through the SI scaling) against
+#: central differences of model_tip_deflection at relative step 1e-5 (truncation ~1e-10,
+#: rounding ~1e-16/1e-5), relative to the column's largest entry.
+PILLAR_JACOBIAN_FD_RTOL = 1e-8

@@ -31,9 +31,14 @@ The same :func:`fit`, :func:`measure`, :func:`model_tip_deflection` and :func:`l
 take an isolated pillar, a :class:`~hairbed.Pillar` (theory.md §12): its deflection
 L x1(Lambda) at known wall shear stresses (or the wall speeds of a Couette channel), with
 Lambda = c zeta_perp tau_w L^4/(eta E I). A pillar fits its Young's modulus or the drag
-coefficients' scale c (:data:`PILLAR_FREE_PARAMETERS`; they enter only as c/E, so one of
-them), with the exact Jacobian from dx1/dLambda (implicit differentiation of the collocation
-system), and :func:`measure` reads tau_w with the same propagation of sigma and covariance.
+coefficients' scale c (they enter only as c/E, so one of them), its base angle, length and
+radius (:data:`PILLAR_FREE_PARAMETERS`; L and a enter Lambda, gamma = gray_hancock_ratio(L/a),
+the height ratio L/H of a Poiseuille channel and the scale of D = L x1), with the exact
+Jacobian of the implicit differentiation of the collocation system
+(:func:`hairbed.sensitivity.derivatives_at` of a PillarState) through that SI scaling, and
+:func:`measure` reads tau_w with the same propagation of sigma and covariance. Stress data
+determine a and E apart only through the slow gamma(L/a) and ln(2L/a): free both and expect
+large, strongly correlated errors.
 """
 
 from __future__ import annotations
@@ -102,7 +107,13 @@ FloatArray = NDArray[np.float64]
 #: Parameters of a bed that a calibration may fit, with their units.
 FREE_PARAMETERS: dict[str, str] = {k: BED[k].unit for k in names(BED, "bed") if k != "density"}
 #: Parameters of a :class:`~hairbed.Pillar` that a calibration may fit, with their units.
-PILLAR_FREE_PARAMETERS: dict[str, str] = {"youngs_modulus": "Pa", "drag_scale": "1"}
+PILLAR_FREE_PARAMETERS: dict[str, str] = {
+    "youngs_modulus": "Pa",
+    "drag_scale": "1",
+    "base_angle": "rad",
+    "length": "m",
+    "radius": "m",
+}
 _LINEAR = ("base_angle",)  # fitted as themselves; the others in their logarithms
 _HALF_PI = 0.5 * math.pi
 #: The smallest sigma of a fit, relative to the hair length (1e-12 L: far below any
@@ -396,29 +407,83 @@ def _pillar_model_at(
     """Tip deflection D [m] of a pillar at wall shear stresses ``tau`` [Pa] (states ``sol``),
     dD/dP for each free parameter P in P's units (shape (len(tau), len(free))) and dD/dtau.
 
-    D = L x1(Lambda) with Lambda = c zeta_perp tau L^4/(eta E I) proportional to c/E, so
-    dD/d ln E = -L (dx1/dLambda) Lambda and dD/d ln c = +L (dx1/dLambda) Lambda, with the
-    exact slope of the collocation system (:attr:`hairbed.PillarState.tip_deflection_slope`).
+    D = L x1(Lambda, theta0, gamma[, L/H]) with (theory.md §12)
+
+        Lambda = 16 c tau L^4/(E a^4 (ln(2L/a) + 1/2)),
+        gamma = (ln(2L/a) + 1/2)/(2 ln(2L/a) - 1),
+
+    so dD/d ln E = -L x1_Lambda Lambda, dD/d ln c = +L x1_Lambda Lambda, dD/d theta0 =
+    L x1_theta0, dD/d ln L = D + L [x1_Lambda Lambda (4 - 1/(ln(2L/a) + 1/2)) + x1_gamma
+    dgamma/dln(2L/a) + x1_r r] (r = L/H of a Poiseuille channel) and dD/d ln a = L [-x1_Lambda
+    Lambda (4 - 1/(ln(2L/a) + 1/2)) - x1_gamma dgamma/dln(2L/a)], with
+    dgamma/dln(2L/a) = -2/(2 ln(2L/a) - 1)^2: the exact derivatives of the collocation system
+    (:func:`hairbed.sensitivity.derivatives_at` of a PillarState; for E and c alone its
+    :attr:`hairbed.PillarState.tip_deflection_slope`).
     """
     length = pillar.length
     x1 = np.asarray(sol.tip_deflection, dtype=np.float64).reshape(-1)
     slope = np.asarray(sol.tip_deflection_slope, dtype=np.float64).reshape(-1)
     lam = np.asarray(sol.forcing, dtype=np.float64).reshape(-1)
     jac = np.empty((x1.size, len(free)))
+    geometric = [n for n in free if n in _PILLAR_GEOMETRY]
+    d: Any = None
+    if geometric:
+        with np.errstate(all="ignore"):
+            d = derivatives_at(sol, profile=pillar._core_profile, height_ratio=pillar.height_ratio)
+    lg = math.log(2.0 * pillar.slenderness)
+    dlam = 4.0 - 1.0 / (lg + 0.5)  # d ln Lambda/d ln L = -d ln Lambda/d ln a
+    dgam = -2.0 / (2.0 * lg - 1.0) ** 2  # d gamma/d ln(2L/a)
+
+    def of(name: str) -> FloatArray:
+        return np.asarray(d["tip_deflection"][name], dtype=np.float64).reshape(-1)
+
     for j, name in enumerate(free):
-        sign = -1.0 if name == "youngs_modulus" else 1.0  # drag_scale
-        jac[:, j] = sign * length * slope * lam / float(getattr(pillar, name))
+        if name in ("youngs_modulus", "drag_scale"):
+            sign = -1.0 if name == "youngs_modulus" else 1.0
+            jac[:, j] = sign * length * slope * lam / float(getattr(pillar, name))
+        elif name == "base_angle":
+            jac[:, j] = length * of("theta0")
+        else:
+            # the part through ln(2L/a), + for L, - for a
+            part = of("forcing") * lam * dlam + of("gamma") * dgam
+            if name == "length":
+                extra = x1.copy()
+                if pillar.profile == "poiseuille":
+                    extra += of("height_ratio") * float(pillar.height_ratio)  # type: ignore[arg-type]
+                jac[:, j] = extra + part
+            else:
+                jac[:, j] = -length * part / pillar.radius
     return length * x1, jac, length * slope * pillar.forcing_per_stress
 
 
-def _pillar_degeneracies(names: Sequence[str]) -> list[str]:
-    """Why a pillar's model cannot determine ``names`` (empty if it can)."""
-    if len(names) > 1:
-        return [
-            f"{', '.join(names)} enter the model only through the one combination "
+#: The geometric parameters of a pillar whose Jacobian needs the derivatives of the state in
+#: theta0, gamma and the height ratio (not only in Lambda).
+_PILLAR_GEOMETRY = ("base_angle", "length", "radius")
+
+
+def _pillar_degeneracies(pillar: Pillar, names: Sequence[str]) -> list[str]:
+    """Why a pillar's model cannot determine ``names`` (empty if it can).
+
+    D = L x1(Lambda, theta0, gamma, L/H) with Lambda proportional to c tau L^4/(E a^4
+    (ln(2L/a) + 1/2)) and gamma a function of L/a alone: E and the drag scale c enter only as
+    c/E, whatever else is free. (L, a, E) map one to one to (the scale L of D, gamma(L/a),
+    Lambda/tau), so they are determined together, but a and E apart only through the slow
+    gamma(L/a) and the logarithm in Lambda: expect large, strongly correlated errors.
+    """
+    out = []
+    together = [n for n in names if n in ("youngs_modulus", "drag_scale")]
+    if len(together) > 1:
+        out.append(
+            f"{', '.join(together)} enter the model only through the one combination "
             "drag_scale/E (Lambda = c zeta_perp tau_w L^4/(eta E I)): free at most one of them"
-        ]
-    return []
+        )
+    if "length" in names and callable(pillar.profile):
+        out.append(
+            "length: a callable profile u(z) is given in metres, so its dimensionless shape "
+            "U(z/L) changes with L in a way the model does not differentiate; fix the length "
+            "or use a built-in profile"
+        )
+    return out
 
 
 # -- fit ---------------------------------------------------------------------------------------
@@ -628,6 +693,26 @@ def _fingerprint(kind: str, x: FloatArray, d: FloatArray, sigma: Any) -> str:
     return digest.hexdigest()
 
 
+def _pillar_bounds(pillar: Pillar, free: tuple[str, ...]) -> tuple[FloatArray, FloatArray]:
+    """Bounds of a pillar's fitted coordinates (theta0 in (-pi/2, pi/2), L <= H, L/a > 1.5
+    for the one of L, a that is free alone); E and the drag scale in their logarithms are
+    unbounded."""
+    lo = np.full(len(free), -np.inf)
+    hi = np.full(len(free), np.inf)
+    margin = 1e-9
+    for j, name in enumerate(free):
+        if name == "base_angle":
+            lo[j], hi[j] = -_HALF_PI + margin, _HALF_PI - margin
+        elif name == "length":
+            if pillar.channel_height is not None:
+                hi[j] = math.log(pillar.channel_height)
+            if "radius" not in free:
+                lo[j] = math.log(1.5 * pillar.radius) + margin
+        elif name == "radius" and "length" not in free:
+            hi[j] = math.log(pillar.length / 1.5) - margin
+    return lo, hi
+
+
 def _bounds(bed: HairBed, free: tuple[str, ...], geometry: str) -> tuple[FloatArray, FloatArray]:
     """Bounds of the fitted coordinates that keep the bed valid (L < H, a < delta/2, ...)."""
     lo = np.full(len(free), -np.inf)
@@ -687,8 +772,10 @@ def fit(
         scatter of the residuals (chi2/dof).
     free : sequence of str or comma-separated str
         Parameters to fit, from :data:`FREE_PARAMETERS` (``"youngs_modulus"`` by default),
-        or for a pillar :data:`PILLAR_FREE_PARAMETERS`. Stress data do not determine
-        ``channel_height`` or ``viscosity``, pressure-gradient data not ``viscosity``; a
+        or for a pillar :data:`PILLAR_FREE_PARAMETERS` (youngs_modulus or drag_scale,
+        base_angle, length, radius; length not with a callable profile). Stress data do
+        not determine ``channel_height`` or ``viscosity``, pressure-gradient data not
+        ``viscosity``; a
         pillar takes ``velocity`` only in a Couette channel (tau_w = eta V/H).
 
     Returns
@@ -779,8 +866,11 @@ def fit(
     p0 = np.array(
         [float(getattr(bed, nm)) if nm in _LINEAR else math.log(getattr(bed, nm)) for nm in names]
     )
-    if isinstance(bed, Pillar):  # E and the drag scale in their logarithms: unbounded
-        lo, hi = np.full(len(names), -np.inf), np.full(len(names), np.inf)
+    if isinstance(bed, Pillar):
+        why = _pillar_degeneracies(bed, names)
+        if "length" in names and callable(bed.profile):
+            raise ValueError(f"free: {why[-1]}")
+        lo, hi = _pillar_bounds(bed, names)
     else:
         lo, hi = _bounds(bed, names, geometry)
     p0 = np.clip(p0, lo, hi)
@@ -802,8 +892,16 @@ def fit(
     chi2 = float(r @ r)  # of the internal weights: the scatter estimate below uses it
     dof = d.size - len(names)
     jn = jw / scale(fitted)  # weighted Jacobian in the parameters' own units
-    u, sv, vt = np.linalg.svd(jn, full_matrices=False)
-    why = _pillar_degeneracies(names) if pillar else _degeneracies(names, kind, geometry)
+    # a pillar's rank in the fitted coordinates (logarithms: E [Pa] and a [m] differ by 1e11
+    # in their own units, which alone would pass for a singular Jacobian), its covariance
+    # then carried to the own units, diag(dP/dp) C diag(dP/dp)
+    to_units = scale(fitted) if pillar else np.ones(len(names))
+    u, sv, vt = np.linalg.svd(jw if pillar else jn, full_matrices=False)
+    why = (
+        _pillar_degeneracies(bed, names)
+        if isinstance(bed, Pillar)
+        else _degeneracies(names, kind, geometry)
+    )
     rank_ok = not why and sv.size > 0 and sv[-1] > sv[0] * 1e-10
     status, success, message = (
         least_squares_status(int(res.status)),
@@ -812,6 +910,7 @@ def fit(
     )
     if rank_ok:
         cov = (vt.T / sv**2) @ vt
+        cov = to_units[:, None] * cov * to_units[None, :]
     else:
         cov = np.full((len(names), len(names)), np.inf)
         status, success = -4, False
