@@ -559,6 +559,28 @@ TARGETS: list[Target] = [
         fuzz=("tip_deflection", "wall_shear_stress", "sigma", "free"),
     ),
     Target(
+        "calibration.fit[pillar geometry]",
+        calibration.fit,
+        dict(
+            bed=PILLAR,
+            tip_deflection=PILLAR_D,
+            wall_shear_stress=PILLAR_TAU,
+            sigma=1e-7,
+            free=("youngs_modulus", "base_angle"),
+        ),
+        fuzz=("tip_deflection", "wall_shear_stress", "free"),
+    ),
+    Target(
+        "sensitivity.derivatives_at[pillar]",
+        sensitivity.derivatives_at,
+        dict(
+            sol=hairbed.solve_pillar(20.0, 0.2, profile="poiseuille", height_ratio=0.5),
+            profile="poiseuille",
+            height_ratio=0.5,
+        ),
+        fuzz=("profile", "height_ratio"),
+    ),
+    Target(
         "calibration.measure[pillar]",
         calibration.measure,
         dict(bed=PILLAR, tip_deflection=3e-5, sigma=1e-7, fit=PILLAR_FIT),
@@ -815,6 +837,14 @@ BED_ARGS = [
     "--viscosity=1",
     "--spacing=400e-6",
 ]
+#: An isolated SI pillar sensor (calibrate/measure --pillar).
+PILLAR_ARGS = [
+    "--length=500e-6",
+    "--radius=25e-6",
+    "--youngs-modulus=1e6",
+    "--viscosity=1e-3",
+    "--base-angle=0.1",
+]
 #: command -> (valid argv, options to fuzz: each replaced by --opt=VALUE)
 COMMANDS: dict[str, tuple[list[str], tuple[str, ...]]] = {
     "solve": (
@@ -884,6 +914,10 @@ COMMANDS: dict[str, tuple[list[str], tuple[str, ...]]] = {
     "measure": (
         ["measure", "--tip-deflection=3e-4", "--sigma=1e-6", *BED_ARGS],
         ("--tip-deflection", "--sigma", "--base-angle"),
+    ),
+    "measure-pillar": (
+        ["measure", "--pillar", "--tip-deflection=1e-4", "--sigma=1e-6", *PILLAR_ARGS],
+        ("--tip-deflection", "--sigma", "--base-angle", "--radius", "--drag-scale"),
     ),
     "linear-range": (
         ["linear-range", "--rtol=0.05", *BED_ARGS],

@@ -18,6 +18,11 @@ The format is JSON (strict: non-finite numbers are the strings "inf", "-inf", "n
      "covariance": [[...]], "chi2": ..., "chi2_unit": "1", "dof": 8, "residuals": [...],
      "success": true, "status": 0, "message": "...", "nfev": 7, "nit": 6,
      "solver_status": 1}
+
+A calibration of an isolated pillar (:class:`hairbed.Pillar`) has ``"sensor": "pillar"`` and
+its "bed" holds the Pillar's fields (length, radius, youngs_modulus, viscosity, base_angle,
+profile, channel_height, density, drag_scale; a callable profile is not data and is refused);
+without "sensor" the file is a bed's.
 """
 
 from __future__ import annotations
@@ -33,7 +38,8 @@ import numpy as np
 
 from ._variables import BED, names
 from ._version import __version__
-from .calibration import FREE_PARAMETERS, CalibrationFit
+from .calibration import FREE_PARAMETERS, PILLAR_FREE_PARAMETERS, CalibrationFit
+from .pillars import Pillar
 from .safe_files import write_text
 from .units import HairBed
 
@@ -52,6 +58,18 @@ FORMAT = "hairbed calibration"
 FORMAT_VERSION = 1
 #: The bed's parameters, as the file's "bed" holds them (HairBed's dataclass fields).
 _BED_FIELDS = names(BED, "bed")
+#: The pillar's parameters, as the file's "bed" of a pillar holds them (Pillar's fields).
+_PILLAR_FIELDS = (
+    "length",
+    "radius",
+    "youngs_modulus",
+    "viscosity",
+    "base_angle",
+    "profile",
+    "channel_height",
+    "density",
+    "drag_scale",
+)
 
 
 def _number(x: float) -> float | str:
@@ -74,13 +92,24 @@ def calibration_to_dict(fit: CalibrationFit) -> dict[str, Any]:
     if not isinstance(fit, CalibrationFit):
         raise TypeError(f"fit must be a hairbed.calibration.CalibrationFit, got {type(fit)}")
     bed = fit.bed
+    pillar = isinstance(bed, Pillar)
+    if isinstance(bed, Pillar) and callable(bed.profile):
+        raise ValueError(
+            "a calibration of a pillar with a callable profile cannot be written to a file "
+            "(the function is not data): use a built-in profile"
+        )
+    units = PILLAR_FREE_PARAMETERS if pillar else FREE_PARAMETERS
+
+    def value(k: str) -> Any:
+        v = getattr(bed, k)
+        return v if v is None or isinstance(v, str) else float(v)
+
     return {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
         "hairbed_version": __version__,
-        "bed": {
-            k: (None if getattr(bed, k) is None else float(getattr(bed, k))) for k in _BED_FIELDS
-        },
+        **({"sensor": "pillar"} if pillar else {}),
+        "bed": {k: value(k) for k in (_PILLAR_FIELDS if pillar else _BED_FIELDS)},
         "geometry": fit.geometry,
         "kind": fit.kind,
         "points": int(np.size(fit.residuals)),
@@ -95,7 +124,7 @@ def calibration_to_dict(fit: CalibrationFit) -> dict[str, Any]:
                 "value": _number(fit.values[p]),
                 "stderr": _number(fit.stderr[p]),
                 "start": _number(fit.start.get(p, math.nan)),
-                "unit": FREE_PARAMETERS[p],
+                "unit": units[p],
             }
             for p in fit.parameters
         },
@@ -165,17 +194,23 @@ def calibration_from_dict(data: Mapping[str, Any], *, source: str = "data") -> C
         raise ValueError(f"{source}: incomplete calibration file ({exc})") from None
     if geometry not in ("spacing", "packing_fraction"):
         raise ValueError(f"{source}: geometry must be spacing or packing_fraction")
-    unknown = set(bed_fields) - set(_BED_FIELDS)
+    sensor = data.get("sensor", "bed")
+    if sensor not in ("bed", "pillar"):
+        raise ValueError(f"{source}: sensor must be 'bed' or 'pillar', got {sensor!r}")
+    fields = _PILLAR_FIELDS if sensor == "pillar" else _BED_FIELDS
+    allowed = PILLAR_FREE_PARAMETERS if sensor == "pillar" else FREE_PARAMETERS
+    unknown = set(bed_fields) - set(fields)
     if unknown:
-        raise ValueError(f"{source}: unknown bed parameter(s) {sorted(unknown)}")
+        raise ValueError(f"{source}: unknown {sensor} parameter(s) {sorted(unknown)}")
     other = "packing_fraction" if geometry == "spacing" else "spacing"
     kwargs = {k: v for k, v in bed_fields.items() if k != other and v is not None}
+    bed: HairBed | Pillar
     try:
-        bed = HairBed(**kwargs)
+        bed = Pillar(**kwargs) if sensor == "pillar" else HairBed(**kwargs)
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"{source}: the bed is not valid: {exc}") from None
+        raise ValueError(f"{source}: the {sensor} is not valid: {exc}") from None
     for p, entry in params.items():
-        if p not in FREE_PARAMETERS:
+        if p not in allowed:
             raise ValueError(f"{source}: unknown fitted parameter {p!r}")
         value = _float(entry.get("value"), f"{source}: {p} value")
         if not math.isclose(value, float(getattr(bed, p)), rel_tol=1e-12):

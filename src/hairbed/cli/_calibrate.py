@@ -8,7 +8,15 @@ from typing import Any
 
 import hairbed
 
-from ._options import add_bed_options, add_command, add_json, need_bed
+from ._options import (
+    add_bed_options,
+    add_command,
+    add_json,
+    add_sensor_pillar_options,
+    need_bed,
+    refuse_without_sensor_pillar,
+    sensor_pillar_from,
+)
 from ._output import print_json, read_input
 from ._report import PROG, UsageError
 
@@ -27,10 +35,18 @@ values and the fixed parameters. --json prints the calibration file that 'hairbe
 SHA-256 of the points and the hairbed version. A fit with no degrees of freedom warns
 (status 5); exit status 1 when the fit does not succeed.
 
+With --pillar the sensor is an isolated pillar in a wall shear layer (hairbed.Pillar,
+theory.md §12): --length, --radius, --youngs-modulus and --viscosity, optionally
+--base-angle, --profile (a couette or poiseuille channel needs --channel-height), --density
+and --drag-scale; the points are wall shear stresses, or the wall speeds of a couette
+channel; --free from youngs_modulus or drag_scale, base_angle, length, radius.
+
 examples:
   hairbed calibrate --data points.csv --length 1e-3 --radius 50e-6 \\
       --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6
   hairbed calibrate --data points.csv --free youngs_modulus,base_angle --sigma 1e-6 ... --json
+  hairbed calibrate --pillar --data stress.csv --free youngs_modulus,base_angle \\
+      --length 500e-6 --radius 25e-6 --youngs-modulus 1e6 --viscosity 1e-3
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -45,14 +61,15 @@ def add_parser(sub: Any) -> None:
         default="youngs_modulus",
         metavar="P1,P2",
         help="parameters to fit, comma-separated: length, radius, youngs_modulus, "
-        "channel_height, viscosity, spacing, packing_fraction, base_angle "
-        "(default youngs_modulus)",
+        "channel_height, viscosity, spacing, packing_fraction, base_angle; with --pillar "
+        "youngs_modulus, drag_scale, base_angle, length, radius (default youngs_modulus)",
     )
     p.add_argument(
         "--sigma", type=float, metavar="S", help="standard deviation of every deflection [m]"
     )
     add_json(p)
     add_bed_options(p, velocity=False)
+    add_sensor_pillar_options(p)
 
 
 def _points(path: str) -> Any:
@@ -61,7 +78,10 @@ def _points(path: str) -> Any:
 
 
 def _print_fit(result: Any, as_json: bool) -> None:
-    units = hairbed.calibration.FREE_PARAMETERS
+    if isinstance(result.bed, hairbed.Pillar):
+        units = hairbed.calibration.PILLAR_FREE_PARAMETERS
+    else:
+        units = hairbed.calibration.FREE_PARAMETERS
     if as_json:  # the calibration file: the whole bed, the data's SHA-256, the version
         print_json(hairbed.calibration_files.calibration_to_dict(result))
         return
@@ -87,7 +107,11 @@ def _print_fit(result: Any, as_json: bool) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Read the points, fit, print; exit status 1 when the fit does not succeed."""
-    bed = need_bed(args, "calibrate")
+    if args.pillar:
+        bed = sensor_pillar_from(args, "calibrate")
+    else:
+        refuse_without_sensor_pillar(args)
+        bed = need_bed(args, "calibrate")
     points = _points(args.data)
     sigma: Any = points.sigma
     if args.sigma is not None:

@@ -8,7 +8,16 @@ from typing import Any
 
 import hairbed
 
-from ._options import BED_OPTIONS, add_bed_options, add_command, add_json, need_bed
+from ._options import (
+    BED_OPTIONS,
+    add_bed_options,
+    add_command,
+    add_json,
+    add_sensor_pillar_options,
+    need_bed,
+    refuse_without_sensor_pillar,
+    sensor_pillar_from,
+)
 from ._output import print_json, read_input
 from ._report import UsageError
 
@@ -23,11 +32,18 @@ it is refused (the calibrate options, starting values included, are accepted). W
 --calibration this is 'hairbed invert' with a bed: the same numbers, printed as tau and v
 with their standard errors (invert also gives omega2, the force per hair and the tip height).
 
+With --pillar the sensor is an isolated pillar (hairbed.Pillar, theory.md §12; its options
+as for 'hairbed calibrate --pillar'), or the pillar of a --calibration written by
+'hairbed calibrate --pillar --json': the exact inverse of its calibration curve; v is the
+wall speed of a couette channel (nan for the other profiles).
+
 examples:
   hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --length 1e-3 --radius 50e-6 \\
       --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 --spacing 400e-6
   hairbed calibrate --data points.csv ... --json > cal.json
   hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --calibration cal.json
+  hairbed measure --pillar --tip-deflection 2e-4 --sigma 1e-6 --length 500e-6 \\
+      --radius 25e-6 --youngs-modulus 1e6 --viscosity 1e-3
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -50,6 +66,7 @@ def add_parser(sub: Any) -> None:
     )
     add_json(p)
     add_bed_options(p, velocity=False)
+    add_sensor_pillar_options(p)
 
 
 def _load_calibration(path: str) -> Any:
@@ -60,10 +77,28 @@ def _load_calibration(path: str) -> Any:
 def _check_bed_options(args: argparse.Namespace, fit: Any, path: str) -> None:
     """Refuse a bed option that is neither the calibrated bed's value nor, for a fitted
     parameter, the starting value of the calibration (the options given to calibrate)."""
+    pillar = isinstance(fit.bed, hairbed.Pillar)
+    if pillar != bool(args.pillar):
+        raise UsageError(
+            f"--calibration {path} is "
+            + ("a pillar's: add --pillar" if pillar else "a bed's: drop --pillar")
+        )
+    if not pillar:
+        refuse_without_sensor_pillar(args)
+    else:
+        for opt, name in (("--profile", "profile"), ("--drag-scale", "drag_scale")):
+            given = getattr(args, name)
+            if given is not None and given != getattr(fit.bed, name):
+                raise UsageError(
+                    f"{opt} {given} disagrees with the pillar of --calibration {path} ({name} = "
+                    f"{getattr(fit.bed, name)!r}): drop {opt} or calibrate again"
+                )
     for opt, (name, _) in BED_OPTIONS.items():
         given = getattr(args, name)
         if given is None:
             continue
+        if not hasattr(fit.bed, name):
+            raise UsageError(f"{opt} does not apply to a pillar (--calibration {path})")
         held = getattr(fit.bed, name)
         allowed = [held] + ([fit.start[name]] if name in fit.start else [])
         if not any(v is not None and math.isclose(given, v, rel_tol=1e-9) for v in allowed):
@@ -78,7 +113,11 @@ def run(args: argparse.Namespace) -> int:
     """Invert the deflection on the (calibrated) bed; print tau and v with their errors."""
     if args.calibration is None:
         fit = None
-        bed = need_bed(args, "measure (or --calibration)")
+        if args.pillar:
+            bed = sensor_pillar_from(args, "measure")
+        else:
+            refuse_without_sensor_pillar(args)
+            bed = need_bed(args, "measure (or --calibration)")
     else:
         fit = _load_calibration(args.calibration)
         _check_bed_options(args, fit, args.calibration)
@@ -93,7 +132,11 @@ def run(args: argparse.Namespace) -> int:
                 "wall_shear_stress_stderr": m.wall_shear_stress_stderr,
                 "velocity": m.velocity,
                 "velocity_stderr": m.velocity_stderr,
-                "omega2": m.state.omega2,
+                **(
+                    {"forcing": m.state.forcing}
+                    if isinstance(bed, hairbed.Pillar)
+                    else {"omega2": m.state.omega2}
+                ),
                 "reynolds_number": m.state.reynolds_number,
                 "success": m.success,
                 "message": m.message,

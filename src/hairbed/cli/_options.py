@@ -41,6 +41,9 @@ __all__ = [
     "need_bed",
     "pillar_keywords",
     "refuse",
+    "refuse_without_sensor_pillar",
+    "sensor_pillar_from",
+    "add_sensor_pillar_options",
 ]
 
 #: A negative number as a value, not an option: -1, -.5, -1e-1, -1.2:1.2:25, -inf, -nan
@@ -263,3 +266,58 @@ def pillar_keywords(
             raise UsageError(too_big)
         out["gamma"] = gamma
     return out
+
+
+#: The dimensionless pillar options that an SI pillar sensor (``calibrate``/``measure``
+#: ``--pillar``) does not take: its gamma is Gray & Hancock's of L/a, its L/H is L over
+#: --channel-height, its forcing follows from the known stress.
+_DIMENSIONLESS_PILLAR = {k: v for k, v in PILLAR_OPTIONS.items() if k not in ("profile",)}
+#: The bed options an SI pillar does not have.
+_NOT_A_PILLAR = {"spacing": "--spacing", "packing_fraction": "--packing-fraction"}
+
+
+def add_sensor_pillar_options(p: argparse.ArgumentParser) -> None:
+    """``--pillar`` (an isolated SI pillar sensor, :class:`hairbed.Pillar`) for the commands
+    that take the bed options: the shared pillar group of :func:`add_pillar_options`, whose
+    ``--profile`` it uses, plus ``--drag-scale``."""
+    g = add_pillar_options(p)
+    g.add_argument(
+        "--drag-scale",
+        type=float,
+        metavar="C",
+        help="with --pillar: a factor c > 0 on both drag coefficients [-] (default 1, Gray & "
+        "Hancock's)",
+    )
+
+
+def sensor_pillar_from(args: argparse.Namespace, what: str) -> Any:
+    """The :class:`hairbed.Pillar` of the bed options (--length, --radius, --youngs-modulus,
+    --viscosity; --base-angle, --channel-height, --density optional), --profile and
+    --drag-scale, for ``what`` with ``--pillar``."""
+    refuse(
+        args,
+        _DIMENSIONLESS_PILLAR,
+        f"does not apply to {what} --pillar (an SI pillar: give --length, --radius, ...)",
+    )
+    refuse(args, _NOT_A_PILLAR, f"does not apply to {what} --pillar (an isolated pillar)")
+    given = {kw: getattr(args, kw) for kw, _ in BED_OPTIONS.values() if kw not in _NOT_A_PILLAR}
+    given = {k: v for k, v in given.items() if v is not None}
+    missing = [k for k in ("length", "radius", "youngs_modulus", "viscosity") if k not in given]
+    if missing:
+        names = ", ".join("--" + k.replace("_", "-") for k in missing)
+        raise UsageError(f"{what} --pillar needs also {names}")
+    if args.profile is not None:
+        given["profile"] = args.profile
+    if args.drag_scale is not None:
+        given["drag_scale"] = args.drag_scale
+    return hairbed.Pillar(**given)
+
+
+def refuse_without_sensor_pillar(args: argparse.Namespace) -> None:
+    """An option of :func:`add_sensor_pillar_options` given without ``--pillar``: a usage
+    error naming it."""
+    refuse(
+        args,
+        {**PILLAR_OPTIONS, "drag_scale": "--drag-scale"},
+        "needs --pillar (an isolated pillar sensor)",
+    )
