@@ -65,9 +65,11 @@ FALLBACKS = {
     # the pillar's (test_cli_pillar.py::test_pillar_fallbacks_are_the_library_defaults)
     **{
         (c, d): v
-        for c in ("solve", "sweep", "calibrate", "measure")
+        for c in ("solve", "sweep")
         for d, v in (("profile", "sublayer"), ("gamma", "0.5"), ("tip_load", "0"))
     },
+    ("calibrate", "profile"): "sublayer",
+    ("measure", "profile"): "sublayer",
     # the pillar sensor's drag scale (hairbed.Pillar's default drag_scale = 1)
     ("calibrate", "drag_scale"): "1",
     ("measure", "drag_scale"): "1",

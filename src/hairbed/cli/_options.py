@@ -279,8 +279,12 @@ _NOT_A_PILLAR = {"spacing": "--spacing", "packing_fraction": "--packing-fraction
 def add_sensor_pillar_options(p: argparse.ArgumentParser) -> None:
     """``--pillar`` (an isolated SI pillar sensor, :class:`hairbed.Pillar`) for the commands
     that take the bed options: the shared pillar group of :func:`add_pillar_options`, whose
-    ``--profile`` it uses, plus ``--drag-scale``."""
+    ``--profile`` it uses (its dimensionless options are hidden from the help and refused),
+    plus ``--drag-scale``."""
     g = add_pillar_options(p)
+    for action in g._group_actions:  # refused with --pillar here (sensor_pillar_from): hidden
+        if action.dest in _DIMENSIONLESS_PILLAR:
+            action.help = argparse.SUPPRESS
     g.add_argument(
         "--drag-scale",
         type=float,
