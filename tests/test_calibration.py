@@ -465,3 +465,35 @@ def test_read_points_names_the_file_line_and_column(tmp_path, text, message):
         read_points(path)
     with pytest.raises(OSError):
         read_points(tmp_path / "missing.csv")
+
+
+def test_fit_of_parameters_of_very_different_units_is_not_called_singular():
+    """E [Pa] and L [m] differ by 1e9 in their own units: the fit of both recovers them and
+    its standard errors are those of the linearised least squares, (J^T J)^-1 sigma^2 with J
+    by central differences of model_tip_deflection (the rank test runs in the fitted
+    coordinates, not in the units)."""
+    geometry = {"radius": 50e-6, "channel_height": 2e-3, "viscosity": 1.0, "spacing": 400e-6}
+    truth = {"youngs_modulus": 1.3e6, "length": 1.1e-3}
+    v = np.linspace(0.01, 0.3, 12)
+    d = model_tip_deflection(HairBed(**geometry, **truth), velocity=v)
+    sigma = 1e-7
+    res = fit(
+        HairBed(**geometry, length=1.0e-3, youngs_modulus=1.0e6),
+        d,
+        velocity=v,
+        sigma=sigma,
+        free=("youngs_modulus", "length"),
+    )
+    assert res.status == 0 and res.success
+    for name, value in truth.items():
+        assert res.values[name] == pytest.approx(value, rel=1e-9)
+    cols = []
+    for name, value in truth.items():
+        h = 1e-5 * value
+        up = model_tip_deflection(HairBed(**geometry, **{**truth, name: value + h}), velocity=v)
+        dn = model_tip_deflection(HairBed(**geometry, **{**truth, name: value - h}), velocity=v)
+        cols.append((np.asarray(up) - np.asarray(dn)) / (2 * h))
+    jac = np.column_stack(cols) / sigma
+    ref = np.sqrt(np.diag(np.linalg.inv(jac.T @ jac)))
+    got = [res.stderr[name] for name in truth]
+    assert got == pytest.approx(ref, rel=1e-5)

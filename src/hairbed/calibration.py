@@ -891,12 +891,11 @@ def fit(
     r, jw = evaluate(res.x)
     chi2 = float(r @ r)  # of the internal weights: the scatter estimate below uses it
     dof = d.size - len(names)
-    jn = jw / scale(fitted)  # weighted Jacobian in the parameters' own units
-    # a pillar's rank in the fitted coordinates (logarithms: E [Pa] and a [m] differ by 1e11
-    # in their own units, which alone would pass for a singular Jacobian), its covariance
-    # then carried to the own units, diag(dP/dp) C diag(dP/dp)
-    to_units = scale(fitted) if pillar else np.ones(len(names))
-    u, sv, vt = np.linalg.svd(jw if pillar else jn, full_matrices=False)
+    # the rank in the fitted coordinates (logarithms: E [Pa] and L [m] differ by 1e9 in their
+    # own units, which alone would pass for a singular Jacobian), the covariance then carried
+    # to the own units, diag(dP/dp) C diag(dP/dp)
+    to_units = scale(fitted)
+    u, sv, vt = np.linalg.svd(jw, full_matrices=False)
     why = (
         _pillar_degeneracies(bed, names)
         if isinstance(bed, Pillar)
