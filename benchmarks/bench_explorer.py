@@ -281,22 +281,53 @@ def _rss_mb() -> float:
 
 #: Bad inputs of the misbehaving session, and the parameter each message must name.
 BAD_INPUTS = [("omega2", "lots"), ("omega2", "-1"), ("eps", "nan"), ("theta0", "2")]
+#: The same for a pump drive's session (the flow drive: its load q).
+BAD_PUMP_INPUTS = [("q", "lots"), ("q", "nan"), ("eps", "nan"), ("theta0", "2")]
+#: Where each drive's sessions start: the wall drive inside the window of three states of
+#: (0.9, -1.5); the flow drive (walls at rest) below the window of (0.9, -1.2), which its
+#: load q in [0.027, 0.15] crosses (one state, three, one).
+START = {
+    "wall": {"omega2": "0.8", "eps": "0.9", "theta0": "-1.5"},
+    "pump": {"omega2": "0", "eps": "0.9", "theta0": "-1.2", "drive": "flow", "q": "0.01"},
+}
+#: The views each drive's sessions switch to and fro (a toggle each: to the other value).
+TOGGLES = {"twirl": ("0", "1"), "y": ("x1", "xi"), "view": ("branch", "valve")}
 
 
-def _plan(k: int, updates: int, bad: bool) -> list[tuple[str, str]]:
-    """The (field, value) updates of session ``k``: omega2 across both folds, views switched."""
-    logs = np.linspace(math.log10(0.5), math.log10(2.5), 25)
+def _bad_inputs(drive: str) -> list[tuple[str, str]]:
+    return BAD_PUMP_INPUTS if drive == "pump" else BAD_INPUTS
+
+
+def _plan(
+    k: int, updates: int, bad: bool, drive: str = "wall", distinct: bool = False
+) -> list[tuple[str, str]]:
+    """The (field, value) updates of session ``k``: the forcing across both folds (omega2 of
+    the wall drive, the load q of the flow drive), every 10th update another view (the wall
+    drive's twirling states and ordinate; a pump's valve view and ordinate) or another eps
+    or theta0. The sessions sweep the same values (as users on the same slider steps), each
+    from another start; ``distinct``: each session's values 1e-4 k apart from the others'
+    (no session meets another's inputs: the explorer's caches serve only its own sweep's
+    way back)."""
+    if drive == "pump":
+        logs = np.linspace(-2.0, math.log10(0.3), 25)
+        field, views = "q", [("view", ""), ("y", "")]
+        eps0, theta0 = 0.9, "-1.2"
+    else:
+        logs = np.linspace(math.log10(0.5), math.log10(2.5), 25)
+        field, views = "omega2", [("twirl", ""), ("y", "")]
+        eps0, theta0 = 0.9, "-1.5"
     sweep = np.concatenate([logs, logs[-2:0:-1]])  # up and down, no value twice in a row
+    bad_inputs = _bad_inputs(drive)
     plan: list[tuple[str, str]] = []
     for i in range(updates):
         if bad and i % 7 == 3:
-            plan.append(BAD_INPUTS[(i // 7) % len(BAD_INPUTS)])
+            plan.append(bad_inputs[(i // 7) % len(bad_inputs)])
         elif i % 10 == 9:
-            views = [("twirl", str((i // 10) % 2)), ("y", "xi" if (i // 10) % 3 else "x1"),
-                     ("eps", f"{0.9 - 0.001 * (k % 5):.3f}"), ("theta0", "-1.5")]  # fmt: skip
-            plan.append(views[(i // 10 + k) % len(views)])
+            choices = [*views, ("eps", f"{eps0 - 0.001 * (k % 5):.3f}"), ("theta0", theta0)]
+            plan.append(choices[(i // 10 + k) % len(choices)])
         else:
-            plan.append(("omega2", f"{10.0 ** sweep[(i + 3 * k) % sweep.size]:.6g}"))
+            value = 10.0 ** sweep[(i + 3 * k) % sweep.size] * (1.0 + 1e-4 * k * distinct)
+            plan.append((field, f"{value:.6g}"))
     return plan
 
 
@@ -306,7 +337,12 @@ def _server_sessions(server: Any) -> int:
 
 
 def sessions(
-    n_sessions: int = 8, updates: int = 250, timeout: float = 20.0, rounds: int = 2
+    n_sessions: int = 8,
+    updates: int = 250,
+    timeout: float = 20.0,
+    rounds: int = 2,
+    drive: str = "wall",
+    distinct: bool = False,
 ) -> dict[str, Any]:
     """Part 3 of the module docstring. Returns the figures and ``problems`` (a list of str).
 
@@ -348,7 +384,12 @@ def sessions(
     loop = threading.Thread(target=server.io_loop.start, daemon=True)
     loop.start()
     url = f"http://127.0.0.1:{server.port}/"
-    out: dict[str, Any] = {"sessions": n_sessions, "updates_per_session": updates}
+    out: dict[str, Any] = {
+        "drive": drive,
+        "distinct": distinct,
+        "sessions": n_sessions,
+        "updates_per_session": updates,
+    }
     problems: list[str] = []
 
     def settle() -> int:
@@ -364,7 +405,7 @@ def sessions(
         return sum(ref() is not None for ref in pages.values())
 
     try:
-        warm = _round(url, pages, 1, 12, timeout)
+        warm = _round(url, pages, 1, 12, timeout, drive, distinct)
         problems += [f"warm-up: {p}" for p in warm["problems"]]
         out["warmup_pages_left"] = settle()
         out["load_before"] = _load()
@@ -372,9 +413,11 @@ def sessions(
         out["blocks_start"] = sys.getallocatedblocks()
         totals: list[float] = []
         waits: list[float] = []
+        counts: set[int] = set()
         start = time.perf_counter()
         for r in range(1, rounds + 1):
-            res = _round(url, pages, n_sessions, updates, timeout)
+            res = _round(url, pages, n_sessions, updates, timeout, drive, distinct)
+            counts |= res["counts"]
             totals += res["totals"]
             waits += res["waits"]
             problems += [f"round {r}: {p}" for p in res["problems"]]
@@ -393,6 +436,11 @@ def sessions(
         server.io_loop.add_callback(server.io_loop.stop)
         loop.join(10)
     out["updates"] = len(waits)
+    out["state_counts"] = sorted(counts)  # 1 and 3: the folds crossed
+    states_cache = getattr(_model, "_PUMP_STATES", None)  # the pump states' cache (hits)
+    if states_cache is not None:
+        out["state_cache_hits"] = states_cache.hits
+        out["state_cache_misses"] = states_cache.misses
     out["server_median_ms"] = statistics.median(totals) if totals else math.nan
     out["server_p90_ms"] = _pct(totals, 90) if totals else math.nan
     out["wait_median_ms"] = statistics.median(waits) if waits else math.nan
@@ -402,7 +450,8 @@ def sessions(
 
 
 def _round(url: str, pages: dict[str, Any], n_sessions: int, updates: int,
-           timeout: float) -> dict[str, Any]:  # fmt: skip
+           timeout: float, drive: str = "wall", distinct: bool = False
+           ) -> dict[str, Any]:  # fmt: skip
     """``n_sessions`` client sessions at once, ``updates`` each (session 0 gives bad input
     too), then closed: the pages' server times, the waits, problems and the memory."""
     import gc
@@ -413,14 +462,15 @@ def _round(url: str, pages: dict[str, Any], n_sessions: int, updates: int,
     problems: list[str] = []
     totals: list[float] = []
     waits: list[float] = []
+    counts: set[int] = set()
+    bad_inputs = _bad_inputs(drive)
     lock = threading.Lock()
     barrier = threading.Barrier(n_sessions)
     opened: list[Any] = []
 
-    def drive(k: int) -> None:
+    def run_session(k: int) -> None:
         bad = k == 0
-        session = pull_session(url=url, arguments={"omega2": "0.8", "eps": "0.9",
-                                                   "theta0": "-1.5"})  # fmt: skip
+        session = pull_session(url=url, arguments=START[drive])
         with lock:
             opened.append(session)
         page = pages[session.id]()  # made for this session, in the server's thread
@@ -441,9 +491,11 @@ def _round(url: str, pages: dict[str, Any], n_sessions: int, updates: int,
                 box.active = ([0] if on else []) if isinstance(box.active, list) else on
             elif field == "y":
                 by_class["hb-y"].active = 0 if value == "x1" else 1
+            elif field == "view":
+                by_class["hb-view"].active = 0 if value == "branch" else 1
             else:
                 by_class[f"hb-{field}"].value = value
-            is_bad = (field, value) in BAD_INPUTS
+            is_bad = (field, value) in bad_inputs
             while page.timings is timings and page.snapshot is snapshot:
                 if is_bad and page.error:
                     break
@@ -463,24 +515,26 @@ def _round(url: str, pages: dict[str, Any], n_sessions: int, updates: int,
                 return
             with lock:
                 totals.append(page.timings["total"])
+                counts.add(len(page.snapshot.states))
             raw = page.snapshot.params.raw
             if raw[field] != value:
                 problems.append(f"session {k}: shows {field}={raw[field]}, was given {value}")
 
-        for i, (field, value) in enumerate(_plan(k, updates, bad)):
+        for i, (field, value) in enumerate(_plan(k, updates, bad, drive, distinct)):
             current = page.snapshot.params.raw
-            if field in ("twirl", "y"):  # a view switch: always to the other view
-                value = {"0": "1", "1": "0", "x1": "xi", "xi": "x1"}[current[field]]
-            elif value == current[field] and (field, value) not in BAD_INPUTS:
+            if field in TOGGLES:  # a view switch: always to the other view
+                a, b = TOGGLES[field]
+                value = b if current[field] == a else a
+            elif value == current[field] and (field, value) not in bad_inputs:
                 # the same value again (the sweep's turning point next to a view switch)
                 # would be no change at all: a neighbouring value instead
-                value = {"eps": "0.895", "theta0": "-1.45"}.get(
-                    field, f"{1.01 * float(value):.6g}"
-                )
+                theta0 = START[drive]["theta0"]
+                near = f"{float(theta0) + 0.05:.6g}"
+                value = {"eps": "0.895", "theta0": near}.get(field, f"{1.01 * float(value):.6g}")
                 if value == current[field]:
-                    value = {"eps": "0.9", "theta0": "-1.5"}.get(field, value)
+                    value = {"eps": "0.9", "theta0": theta0}.get(field, value)
             update(i, field, value)
-            if (field, value) in BAD_INPUTS:  # the field back to its last good value
+            if (field, value) in bad_inputs:  # the field back to its last good value
                 update(i, field, current[field])
         # the downloads of the last view: strict JSON (no NaN), a CSV with a header
         try:
@@ -492,7 +546,7 @@ def _round(url: str, pages: dict[str, Any], n_sessions: int, updates: int,
 
     def guarded(k: int) -> None:
         try:
-            drive(k)
+            run_session(k)
         except Exception as exc:  # a failure of the driver itself: reported, never silent
             barrier.abort()
             problems.append(f"session {k}: {type(exc).__name__}: {exc}")
@@ -515,6 +569,7 @@ def _round(url: str, pages: dict[str, Any], n_sessions: int, updates: int,
     return {
         "totals": totals,
         "waits": waits,
+        "counts": counts,
         "problems": problems,
         "wall_s": wall,
         "rss_after_updates_mb": rss,
@@ -534,23 +589,44 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--sessions", type=int, default=0, help="part 3 only: N client sessions")
     ap.add_argument("--updates", type=int, default=250, help="updates per session (part 3)")
     ap.add_argument("--rounds", type=int, default=2, help="rounds of N sessions (part 3)")
+    ap.add_argument(
+        "--drive",
+        choices=("wall", "pump", "both"),
+        default="both",
+        help="part 3: the wall drive's sessions, the flow drive's (a pump), or both in turn",
+    )
+    ap.add_argument(
+        "--distinct",
+        action="store_true",
+        help="part 3: no two sessions at the same inputs (each its own values)",
+    )
     args = ap.parse_args(argv)
     if args.sessions:
-        many = sessions(args.sessions, args.updates, rounds=args.rounds)
-        for k, v in many.items():
-            print(f"{k:32s} {v}" if not isinstance(v, float) else f"{k:32s} {v:10.2f}")
-        start, last = many["rss_start_mb"], args.rounds
-        print(
-            f"targets: p90 server {many['server_p90_ms']:.1f} ms (<= 100), memory after "
-            f"updates +{many['round1_rss_after_updates_mb'] - start:.1f} MB (<= 100), "
-            f"after close +{many['round1_rss_after_close_mb'] - start:.1f} MB (round 1), "
-            f"+{many[f'round{last}_rss_after_close_mb'] - start:.1f} MB (round {last}), "
-            f"{len(many['problems'])} problems (0)"
-        )
+        drives = ["wall", "pump"] if args.drive == "both" else [args.drive]
+        results, failed = {}, False
+        for drive in drives:
+            many = sessions(
+                args.sessions, args.updates, rounds=args.rounds, drive=drive,
+                distinct=args.distinct,
+            )  # fmt: skip
+            results[drive] = many
+            print(f"-- {drive} drive, {args.sessions} sessions x {args.updates} updates")
+            for k, v in many.items():
+                print(f"{k:32s} {v}" if not isinstance(v, float) else f"{k:32s} {v:10.2f}")
+            failed = failed or bool(many["problems"])
+        for drive, many in results.items():
+            start, last = many["rss_start_mb"], args.rounds
+            print(
+                f"targets ({drive} drive): p90 server {many['server_p90_ms']:.1f} ms (<= 100), "
+                f"memory after updates +{many['round1_rss_after_updates_mb'] - start:.1f} MB "
+                f"(<= 100), after close +{many['round1_rss_after_close_mb'] - start:.1f} MB "
+                f"(round 1), +{many[f'round{last}_rss_after_close_mb'] - start:.1f} MB "
+                f"(round {last}), {len(many['problems'])} problems (0)"
+            )
         if args.json:
             with open(args.json, "w") as fh:
-                json.dump(many, fh, indent=2)
-        return 0 if not many["problems"] else 1
+                json.dump(results, fh, indent=2)
+        return 1 if failed else 0
     res = server_times(args.steps)
     if not args.no_browser:
         res.update(browser_times(args.browser_steps))
