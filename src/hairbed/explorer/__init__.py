@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import signal
 import sys
+import threading
 import webbrowser
 from collections.abc import Sequence
 from typing import Any
@@ -80,9 +81,15 @@ def explore(query: str = "") -> Any:
     return page.ExplorerPage(query).layout
 
 
+#: Served sessions whose page was made and not yet discarded (:func:`_on_destroyed`).
+_open_sessions = 0
+_sessions_lock = threading.Lock()
+
+
 def _session_page() -> Any:
     """One browser session's page (an :class:`~._page.ExplorerPage`), started from the inputs
     in its URL; released when the server discards the session (:func:`_on_destroyed`)."""
+    global _open_sessions
     import weakref
 
     import panel as pn
@@ -98,6 +105,8 @@ def _session_page() -> Any:
     doc = pn.state.curdoc
     if doc is not None and doc.session_context is not None:
         ref = weakref.ref(page)  # the document's callback must not keep the page alive
+        with _sessions_lock:
+            _open_sessions += 1
         doc.on_session_destroyed(lambda _context: _on_destroyed(ref))
     return page
 
@@ -110,12 +119,22 @@ def _session() -> Any:
 def _on_destroyed(ref: Any) -> None:
     """A session was discarded: its page drops what it holds (its snapshot, the data last sent
     to each figure), even if something outside the session's document still refers to it;
-    then, once the server has let go of the session's document, the memory freed goes back to
-    the operating system (:func:`_return_freed_memory`)."""
+    once no session is left, the caches the sessions shared (states per input, branch and
+    valve curves: :func:`._model.clear_caches`) are emptied too. Then, once the server has let
+    go of the session's document, the memory freed goes back to the operating system
+    (:func:`_return_freed_memory`)."""
+    global _open_sessions
     page = ref()
     if page is not None:
         page.release()
     del page
+    with _sessions_lock:
+        _open_sessions = max(_open_sessions - 1, 0)
+        last = _open_sessions == 0
+    if last:
+        from ._model import clear_caches
+
+        clear_caches()
     try:
         from tornado.ioloop import IOLoop
 

@@ -10,6 +10,7 @@ re-lays out the axes on every update).
 from __future__ import annotations
 
 import math
+import weakref
 from typing import Any
 
 import numpy as np
@@ -150,23 +151,48 @@ def _fit(rng: Any, bounds: tuple[float, float] | None, sticky: bool) -> None:
     rng.start, rng.end = lo - pad, hi + pad
 
 
+#: (x, z, theta) of a pump drive's states at ``num`` points, kept as long as the state
+#: itself (the model caches states per input: a state shown again is not evaluated again).
+_LOADED_SHAPES: weakref.WeakKeyDictionary[Any, dict[int, tuple[np.ndarray, ...]]] = (
+    weakref.WeakKeyDictionary()
+)
+
+
+def _loaded_shape(sol: Any, num: int) -> tuple[np.ndarray, ...]:
+    """(x, z, theta) [L, L, rad] of a :class:`hairbed.LoadedState` at ``num`` equally spaced
+    arc lengths in [0, 1] (its spectral interpolant, ``shape``), evaluated once per state
+    and ``num`` (read-only arrays: the channel view and the phase portrait share them)."""
+    per = _LOADED_SHAPES.get(sol)
+    if per is None:
+        per = _LOADED_SHAPES.setdefault(sol, {})
+    got = per.get(num)
+    if got is None:
+        _, x, z, theta = sol.shape(np.linspace(0.0, 1.0, num))
+        got = tuple(np.asarray(v, dtype=np.float64) for v in (x, z, theta))
+        for a in got:
+            a.flags.writeable = False
+        per[num] = got
+    return got
+
+
 def _profile(sol: Any, num: int) -> tuple[np.ndarray, np.ndarray]:
     """(x, z) [L] of a state along the hair: a closed-form Solution's ``profile`` or a pump
     drive's :class:`hairbed.LoadedState` (its spectral interpolant, ``shape``)."""
     if hasattr(sol, "profile"):
         x, z = sol.profile(num)
-    else:
-        _, x, z, _ = sol.shape(np.linspace(0.0, 1.0, num))
-    return np.asarray(x, dtype=np.float64), np.asarray(z, dtype=np.float64)
+        return np.asarray(x, dtype=np.float64), np.asarray(z, dtype=np.float64)
+    x, z, _ = _loaded_shape(sol, num)
+    return x, z
 
 
-def _phase(sol: Any, sigma: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """theta(sigma) and theta'(sigma) [1/L]: the magnitude from the first integral
-    theta'^2 / 2 + omega_eps^2 sin(theta) = E (theory.md §2), the sign from the slope. A
-    pump drive's state has no such integral: theta' there is the slope of its interpolant."""
+def _phase(sol: Any, num: int) -> tuple[np.ndarray, np.ndarray]:
+    """theta(sigma) and theta'(sigma) [1/L] at ``num`` equally spaced sigma in [0, 1]: the
+    magnitude from the first integral theta'^2 / 2 + omega_eps^2 sin(theta) = E
+    (theory.md §2), the sign from the slope. A pump drive's state has no such integral:
+    theta' there is the slope of its interpolant."""
+    sigma = np.linspace(0.0, 1.0, num)
     if not hasattr(sol, "omega_eps"):
-        _, _, _, theta = sol.shape(sigma)
-        th = np.asarray(theta, dtype=np.float64)
+        th = _loaded_shape(sol, num)[2]
         return th, np.gradient(th, sigma, edge_order=2)
     th = np.asarray(sol.theta(sigma), dtype=np.float64)
     w2 = float(sol.omega_eps) ** 2
@@ -626,11 +652,10 @@ class Views:
         )
 
     def _update_phase(self, phys: list[Any], twirl: list[Any]) -> None:
-        sigma = np.linspace(0.0, 1.0, _PHASE_POINTS)
         lines = {True: _empty_lines(), False: _empty_lines()}
         ends: dict[str, list[Any]] = {"x": [], "y": [], "color": [], "marker": []}
         for label, sol, stable in phys:
-            th, dth = _phase(sol, sigma)
+            th, dth = _phase(sol, _PHASE_POINTS)
             d = lines[bool(stable)]
             d["xs"].append(th)
             d["ys"].append(dth)
@@ -645,7 +670,7 @@ class Views:
         self._set(self.ph_unstable, lines[False])
         tw = _empty_lines()
         for sol in twirl:
-            th, dth = _phase(sol, np.linspace(0.0, 1.0, _TWIRL_POINTS))
+            th, dth = _phase(sol, _TWIRL_POINTS)
             tw["xs"].append(th)
             tw["ys"].append(dth)
             tw["color"].append(TWIRL_COLOR)

@@ -22,7 +22,8 @@ import math
 import threading
 import time
 import warnings
-from collections.abc import Iterator, Mapping
+from collections import OrderedDict
+from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
@@ -314,6 +315,51 @@ def _merge(*groups: Any) -> list[str]:
     return list(dict.fromkeys(w for g in groups for w in g))
 
 
+class _Cache:
+    """A bounded, thread-safe LRU of results by their exact inputs, shared by every session.
+
+    What it holds is never changed after it is made (frozen states, tuples of warnings), so
+    sessions can share it. Keys are the inputs' ``repr`` (0.0 and -0.0 apart, an input that
+    is not a number by its text); a call that raises is not cached.
+    """
+
+    def __init__(self, size: int) -> None:
+        self.size = size
+        self._items: OrderedDict[tuple[str, ...], Any] = OrderedDict()
+        self._lock = threading.Lock()
+        self.hits = 0
+        self.misses = 0
+
+    def get(self, make: Callable[..., Any], *args: Any) -> Any:
+        """``make(*args)``, from the cache if these exact arguments were given before."""
+        key = tuple(repr(a) for a in args)
+        with self._lock:
+            if key in self._items:
+                self._items.move_to_end(key)
+                self.hits += 1
+                return self._items[key]
+            self.misses += 1
+        value = make(*args)
+        with self._lock:
+            self._items[key] = value
+            self._items.move_to_end(key)
+            while len(self._items) > self.size:
+                self._items.popitem(last=False)
+        return value
+
+    def clear(self) -> None:
+        with self._lock:
+            self._items.clear()
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+
+#: Entries of each cache of a pump drive's states (per parameter tuple: a whole slider's
+#: range, visited to and fro, fits; each entry holds one to three states of a few kB).
+PUMP_CACHE_SIZE = 256
+
+
 #: Valid stand-ins for the inputs not under test when each one is checked alone.
 _GOOD = {"omega2": 1.0, "eps": 0.5, "theta0": 0.0}
 #: The SI units in which :class:`hairbed.HairBed` checks each positive size.
@@ -497,9 +543,10 @@ def _validate_pumped(
     if not si:
         values = {k: _number(full[k]) for k in ("omega2", "eps", "theta0", key)}
         m = None
+        solved: tuple[str, ...] = ()
         with _recording() as caught:
-            try:
-                hairbed.solve_loaded(**values)  # the library's checks, with its messages
+            try:  # the library's checks, with its messages (the state is kept for compute)
+                _, solved = _loaded_one(key, *values.values())
             except ValueError as exc:
                 m = str(exc)
         if m is not None:  # which of them: each alone, the others at valid values
@@ -510,8 +557,8 @@ def _validate_pumped(
             raise InputError(problems)
         w, e, th, ld = (float(values[k]) for k in ("omega2", "eps", "theta0", key))
         return Params(
-            w, e, th, y, si, twirl, raw=full, warnings=tuple(caught), x=x_kind, drive=drive,
-            load=ld, view=view,
+            w, e, th, y, si, twirl, raw=full, warnings=tuple(_merge(caught, solved)), x=x_kind,
+            drive=drive, load=ld, view=view,
         )  # fmt: skip
     bed_args = _bed_args(full)
     name = PUMP_INPUT[drive]
@@ -1065,32 +1112,90 @@ def _loaded_labels(n: int) -> tuple[str, ...]:
     return _roots(n) if n <= 3 else ("low", "mid", "high")
 
 
+def _solve_loaded_recorded(
+    key: str, omega2: Any, eps: Any, theta0: Any, load: Any
+) -> tuple[Any, tuple[str, ...]]:
+    """:func:`hairbed.solve_loaded` of a pump drive (``key``: "pi" or "q") and the warnings
+    it issued."""
+    with _recording() as caught:
+        st = hairbed.solve_loaded(omega2, eps, theta0, **{key: load})
+    return st, tuple(caught)
+
+
+_LOADED_ONE = _Cache(PUMP_CACHE_SIZE)
+
+
+def _loaded_one(
+    key: str, omega2: Any, eps: Any, theta0: Any, load: Any
+) -> tuple[Any, tuple[str, ...]]:
+    """:func:`_solve_loaded_recorded`, cached per exact inputs (:func:`validate` checks the
+    inputs with it and :func:`compute` falls back on the same state)."""
+    return _LOADED_ONE.get(_solve_loaded_recorded, key, omega2, eps, theta0, load)
+
+
+def _pump_states_uncached(
+    drive: str, omega2: float, eps: float, theta0: float, load: float
+) -> tuple[tuple[Any, ...], str, tuple[str, ...]]:
+    """(states, message, warnings) of a pump drive: every coexisting state by
+    :func:`hairbed.solve_loaded_all` (at most the lowest, the middle and the highest), else
+    the state of :func:`hairbed.solve_loaded` if its status is not negative, else none and
+    the library's message."""
+    key = LOAD_KEYS[drive]
+    message = ""
+    with _recording() as caught:
+        found = hairbed.solve_loaded_all(omega2, eps, theta0, **{key: load})
+        if len(found) > 3:  # more than a window's three: the lowest, the middle, the highest
+            found = [found[0], found[len(found) // 2], found[-1]]
+        one_warnings: tuple[str, ...] = ()
+        if not found:
+            one, one_warnings = _loaded_one(key, omega2, eps, theta0, load)
+            found = [one] if int(one.status) >= 0 else []
+            if not found:
+                message = f"no state: {one.message} (status {int(one.status)})"
+    return tuple(found), message, tuple(_merge(caught, one_warnings))
+
+
+_PUMP_STATES = _Cache(PUMP_CACHE_SIZE)
+
+
+def _deformed_uncached(
+    bed: Any, velocity: float, drive: str, pump: Any, root: str
+) -> tuple[Any, tuple[str, ...]]:
+    """:meth:`hairbed.HairBed.deform` of a pump drive's state ``root``, and its warnings."""
+    with _recording() as caught:
+        si = bed.deform(velocity, **{PUMP_INPUT[drive]: pump}, root=root)
+    return si, tuple(caught)
+
+
+_DEFORMED = _Cache(PUMP_CACHE_SIZE)
+
+
 def _compute_pumped(p: Params) -> Snapshot:
     """:func:`compute` of a pump drive: every coexisting state by
     :func:`hairbed.solve_loaded_all` (with its stability under a slow change of the tip
     height), else the state of :func:`hairbed.solve_loaded`; in SI mode each also by
     :meth:`hairbed.HairBed.deform`. A solve with a negative status shows no state, with the
-    library's message."""
+    library's message.
+
+    The states (and the SI states) are cached per exact inputs (:data:`PUMP_CACHE_SIZE`
+    each, shared by every session, with the warnings their solve issued): a slider dragged
+    back over values it passed, or another session at the same inputs, costs no new solve."""
     t0 = time.perf_counter()
-    key = LOAD_KEYS[p.drive]
-    args: dict[str, Any] = {"omega2": p.omega2, "eps": p.eps, "theta0": p.theta0, key: p.load}
-    message = ""
+    found, message, solve_warnings = _PUMP_STATES.get(
+        _pump_states_uncached, p.drive, p.omega2, p.eps, p.theta0, p.load
+    )
     with _recording() as caught:
-        found = hairbed.solve_loaded_all(**args)
-        if len(found) > 3:  # more than a window's three: the lowest, the middle, the highest
-            found = [found[0], found[len(found) // 2], found[-1]]
-        if not found:
-            one = hairbed.solve_loaded(**args)
-            found = [one] if int(one.status) >= 0 else []
-            if not found:
-                message = f"no state: {one.message} (status {int(one.status)})"
         labels = _loaded_labels(len(found))
         t1 = time.perf_counter()
         states = []
+        deform_warnings: list[str] = []
         for label, sol in zip(labels, found):
             si = None
             if p.si and p.bed is not None:
-                si = p.bed.deform(p.velocity or 0.0, **{PUMP_INPUT[p.drive]: p.pump}, root=label)
+                si, w = _DEFORMED.get(
+                    _deformed_uncached, p.bed, p.velocity or 0.0, p.drive, p.pump, label
+                )
+                deform_warnings += w
             stable = None if sol.stable is None else bool(sol.stable)
             states.append(StateView(label, sol, stable, float("nan"), si))
         t2 = time.perf_counter()
@@ -1100,10 +1205,20 @@ def _compute_pumped(p: Params) -> Snapshot:
     t3 = time.perf_counter()
     return Snapshot(
         p, states, [], diagram.curve_x, diagram.curve_y, [], e, e, diagram,
-        _merge(p.warnings, caught),
+        _merge(p.warnings, solve_warnings, deform_warnings, caught),
         {"solve": 1e3 * (t1 - t0), "stability": 1e3 * (t2 - t1), "total": 1e3 * (t3 - t0)},
         valve, message,
     )  # fmt: skip
+
+
+def clear_caches() -> None:
+    """Empty every cache of this module (the pump drives' states, the branch curves, folds,
+    valve curves): what no session needs once none is open."""
+    for cache in (_LOADED_ONE, _PUMP_STATES, _DEFORMED):
+        cache.clear()
+    for func in (_branch_curve, _folds, _without_density, _si_branch, _valve_plain, _valve_si,
+                 _loaded_branch):  # fmt: skip
+        func.cache_clear()
 
 
 def compute(p: Params) -> Snapshot:
