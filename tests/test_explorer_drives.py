@@ -305,3 +305,70 @@ def test_si_load_slider_moves_the_pumps_gradient_even_from_zero():
     assert page.snapshot.params.pump == gradient
     assert page.snapshot.params.load == pytest.approx(gradient * per_gradient, rel=1e-14)
     page.release()
+
+
+# -- the caches of the update path (issue 19 item 5) --------------------------------------------
+
+
+def test_cached_pump_states_are_the_librarys_and_keep_their_warnings():
+    """A second view at the same inputs comes from the cache: the same states, equal to a
+    fresh solve of the library's, and the same warnings (the solve's own, replayed)."""
+    model.clear_caches()
+    raw = _raw(si=1, drive="flow", velocity=0.05, flow_rate=1e-3)
+    first = model.compute(model.validate(raw))
+    misses = model._PUMP_STATES.misses
+    again = model.compute(model.validate(raw))
+    assert model._PUMP_STATES.misses == misses  # no new solve
+    assert [s.solution for s in again.states] == [s.solution for s in first.states]
+    assert again.warnings == first.warnings
+    assert any("Reynolds number" in w for w in again.warnings)
+    ref = hairbed.HairBed(**BED).deform(0.05, flow_rate=1e-3)
+    assert again.states[0].si.tip_deflection == pytest.approx(float(ref.tip_deflection), rel=REL)
+    # the window of three states, twice: the library's states each time
+    args = {"omega2": 0.0, "eps": 0.9, "theta0": -1.2, "q": 0.05}
+    for _ in range(2):
+        snap = model.compute(model.validate(_raw(**args, drive="flow")))
+        fresh = hairbed.solve_loaded_all(**args)
+        assert [float(s.solution.tip_height) for s in snap.states] == [
+            float(f.tip_height) for f in fresh
+        ]
+
+
+def test_cache_is_bounded_least_recently_used_and_exact_in_its_keys():
+    calls: list[tuple[float, ...]] = []
+
+    def make(*args: float) -> tuple[float, ...]:
+        calls.append(args)
+        return args
+
+    cache = model._Cache(3)
+    for x in (1.0, 2.0, 3.0, 1.0, 4.0):  # 1.0 used again: 2.0 is the oldest when 4.0 comes
+        cache.get(make, x)
+    assert len(cache) == 3 and calls == [(1.0,), (2.0,), (3.0,), (4.0,)]
+    cache.get(make, 2.0)  # evicted: made again
+    assert calls[-1] == (2.0,) and len(cache) == 3
+    cache.get(make, -0.0)
+    cache.get(make, 0.0)  # 0.0 and -0.0 are other inputs
+    assert calls[-2:] == [(-0.0,), (0.0,)]
+
+    def bad(x: float) -> None:
+        raise ValueError("x is bad")
+
+    with pytest.raises(ValueError):
+        cache.get(bad, 5.0)
+    with pytest.raises(ValueError):  # a refused input is not cached: refused again
+        cache.get(bad, 5.0)
+    cache.clear()
+    assert len(cache) == 0
+
+
+def test_a_pump_state_shape_is_evaluated_once_for_both_views():
+    from hairbed.explorer import _figures
+
+    st = hairbed.solve_loaded(0.0, 0.9, -1.2, q=0.05)
+    x, z = _figures._profile(st, 200)
+    th, dth = _figures._phase(st, 200)
+    _, x_ref, z_ref, th_ref = st.shape(np.linspace(0.0, 1.0, 200))
+    assert np.array_equal(x, x_ref) and np.array_equal(z, z_ref) and np.array_equal(th, th_ref)
+    assert _figures._loaded_shape(st, 200)[2] is th  # shared, not evaluated again
+    assert not th.flags.writeable

@@ -5,17 +5,20 @@
 server in this process; a few Bokeh client sessions (one thread each, as many websocket
 clients as browsers would be) drive their pages at the same time: omega2 across both folds of
 (eps, theta0) = (0.9, -1.5) (one state, three, one), the twirling states on and off, the branch
-diagram's ordinate switched. One session is opened with a bad link and types bad values.
+diagram's ordinate switched; the last session drives a pump instead (the flow drive, its
+load q across the window of three states of (0.9, -1.2), the valve view switched on and off).
+One session is opened with a bad link and types bad values.
 
 Checked: no session but the bad one ever shows an error; every page shows its own session's
 inputs after every update, and its states are the library's (``hairbed.solve`` for every root,
-computed here) for those inputs; the bad session gets the library's message naming the
-parameter and keeps its last good view. Memory: after the sessions close, every page is
-collected and every session discarded by the server, and a second identical round leaves the
-resident memory within :data:`RSS_BOUND_MB` of the first round's (the allocator keeps what the
-first round's peak took for reuse: that is not a leak) and Python's live heap within
-:data:`BLOCKS_BOUND` allocated blocks of it. (The clients' documents live in this process
-too.)
+or ``hairbed.solve_loaded_all``, computed here) for those inputs: the explorer's caches,
+shared by the sessions, never show one session's states in another; the bad session gets
+the library's message naming the parameter and keeps its last good view. Memory: after the
+sessions close, every page is collected, every session discarded by the server and the caches
+the sessions shared are emptied, and a second identical round leaves the resident memory
+within :data:`RSS_BOUND_MB` of the first round's (the allocator keeps what the first round's
+peak took for reuse: that is not a leak) and Python's live heap within :data:`BLOCKS_BOUND`
+allocated blocks of it. (The clients' documents live in this process too.)
 """
 
 from __future__ import annotations
@@ -49,6 +52,8 @@ RSS_BOUND_MB = 20.0
 #: ~600, nearly all of them Bokeh's client connections, which stay with their closed loops).
 BLOCKS_BOUND = 20_000
 EPS, THETA0 = "0.9", "-1.5"
+#: Where the pump session starts: the flow drive below the window of (0.9, -1.2).
+PUMP = {"omega2": "0", "eps": "0.9", "theta0": "-1.2", "drive": "flow", "q": "0.01"}
 #: The bad session's typed values, and the parameter each message must name.
 BAD = [("omega2", "lots"), ("omega2", "-1"), ("theta0", "2"), ("eps", "nan")]
 
@@ -61,18 +66,22 @@ def _rss_mb() -> float:
     raise RuntimeError("no VmRSS in /proc/self/status")
 
 
-def _plan(k: int) -> list[tuple[str, str]]:
-    """Session k's updates: omega2 up and down across both folds (offset per session, so that
-    no two sessions show the same inputs at once), every 5th a view switch."""
-    logs = np.linspace(math.log10(0.5), math.log10(2.5), 12)
+def _plan(k: int, pump: bool = False) -> list[tuple[str, str]]:
+    """Session k's updates: omega2 (or a pump's q) up and down across both folds (offset per
+    session, so that no two sessions show the same inputs at once), every 5th a view switch
+    (twirling states or the ordinate; a pump's valve view or the ordinate)."""
+    if pump:
+        logs, field, switch = np.linspace(-2.0, math.log10(0.3), 12), "q", "view"
+    else:
+        logs, field, switch = np.linspace(math.log10(0.5), math.log10(2.5), 12), "omega2", "twirl"
     sweep = np.concatenate([logs, logs[-2:0:-1]])
     plan = []
     for i in range(UPDATES):
         if i % 5 == 4:
-            plan.append(("twirl", "") if (i // 5) % 2 else ("y", ""))
+            plan.append((switch, "") if (i // 5) % 2 else ("y", ""))
         else:
             w = 10.0 ** sweep[(i + 5 * k) % sweep.size] * (1.0 + 0.001 * k)
-            plan.append(("omega2", f"{w:.6g}"))
+            plan.append((field, f"{w:.6g}"))
     return plan
 
 
@@ -123,20 +132,28 @@ def _library_xi(raw: dict[str, str]) -> list[float]:
     return [float(hairbed.solve(w, e, th, root=r).xi) for r in roots]
 
 
+def _library_tip_heights(raw: dict[str, str]) -> list[float]:
+    """Tip height of every coexisting state of the flow drive, from the library directly."""
+    w, e, th, q = (float(raw[k]) for k in ("omega2", "eps", "theta0", "q"))
+    found = hairbed.solve_loaded_all(w, e, th, q=q) or [hairbed.solve_loaded(w, e, th, q=q)]
+    return [float(s.tip_height) for s in found]
+
+
 def _round(url: str, pages: dict[str, Any]) -> dict[str, Any]:
     """SESSIONS client sessions at once (session 0 the bad one), then closed."""
     from bokeh.client import pull_session
 
     problems: list[str] = []
-    counts: set[int] = set()
+    counts: set[tuple[bool, int]] = set()
     lock = threading.Lock()
     barrier = threading.Barrier(SESSIONS)
     opened: list[Any] = []
 
     def drive(k: int) -> None:
-        bad = k == 0
+        bad, pump = k == 0, k == SESSIONS - 1
         args = {"omega2": "lots", "eps": "2"} if bad else {"omega2": "0.8", "eps": EPS}
-        session = pull_session(url=url, arguments={**args, "theta0": THETA0})
+        args = PUMP if pump else {**args, "theta0": THETA0}
+        session = pull_session(url=url, arguments=args)
         with lock:
             opened.append(session)
         page = pages[session.id]()
@@ -160,8 +177,8 @@ def _round(url: str, pages: dict[str, Any]) -> dict[str, Any]:
             if field == "twirl":
                 box = models["hb-twirl-toggle"]  # the page's CheckBoxGroup
                 box.active = [] if box.active else [0]
-            elif field == "y":
-                box = models["hb-y"]
+            elif field in ("y", "view"):
+                box = models[f"hb-{field}"]
                 box.active = 1 - box.active
             else:
                 models[f"hb-{field}"].value = value
@@ -180,20 +197,26 @@ def _round(url: str, pages: dict[str, Any]) -> dict[str, Any]:
                 problems.append(f"session {k} update {i} ({field}={value}): {page.error}")
                 return
             raw = page.snapshot.params.raw
-            if field not in ("twirl", "y") and raw[field] != value:
+            if field not in ("twirl", "y", "view") and raw[field] != value:
                 problems.append(f"session {k}: shows {field}={raw[field]}, was given {value}")
-            if not bad and (raw["eps"], raw["theta0"]) != (EPS, THETA0):
+            want = (PUMP["eps"], PUMP["theta0"]) if pump else (EPS, THETA0)
+            if not bad and (raw["eps"], raw["theta0"]) != want:
                 problems.append(f"session {k}: shows eps, theta0 = {raw['eps']}, {raw['theta0']}")
-            xi = [float(s.solution.xi) for s in page.snapshot.states]
-            if xi != _library_xi(raw):
-                problems.append(f"session {k} update {i}: states {xi} are not the library's")
+            if pump:
+                got = [float(s.solution.tip_height) for s in page.snapshot.states]
+                library = _library_tip_heights(raw)
+            else:
+                got = [float(s.solution.xi) for s in page.snapshot.states]
+                library = _library_xi(raw)
+            if got != library:
+                problems.append(f"session {k} update {i}: states {got} are not the library's")
             with lock:
-                counts.add(len(xi))
+                counts.add((pump, len(got)))
 
         if bad:  # the defaults' (eps, theta0) back to the others' before the plan
             update(-1, "eps", EPS)
             update(-1, "theta0", THETA0)
-        for i, (field, value) in enumerate(_plan(k)):
+        for i, (field, value) in enumerate(_plan(k, pump)):
             if bad and i % 6 == 2:
                 last = page.snapshot.params.raw
                 wrong = BAD[(i // 6) % len(BAD)]
@@ -237,8 +260,13 @@ def test_sessions_isolated_correct_and_released(served):
     url, pages, server = served
     first = _round(url, pages)
     assert first["problems"] == []
-    assert first["counts"] == {1, 3}  # both folds crossed, in every session's plan
+    # both folds crossed, in every session's plan (the wall's and the pump's)
+    assert first["counts"] == {(False, 1), (False, 3), (True, 1), (True, 3)}
     assert _settle(pages, server) == (0, 0)
+    from hairbed.explorer import _model
+
+    # no session left: the caches they shared are empty
+    assert len(_model._PUMP_STATES) == 0 and _model._branch_curve.cache_info().currsize == 0
     rss, blocks = _rss_mb(), sys.getallocatedblocks()
     pages.clear()
     second = _round(url, pages)
