@@ -41,16 +41,27 @@
    websocket clients, as from browsers. The clients' documents live in this process too:
    the resident memory is the server's and the clients' together.)
 
+   ``--drive pump`` drives the flow drive instead (walls at rest, (0.9, -1.2)): its load q
+   across the window of three states and back, every 10th update the valve view or the
+   ordinate switched, or eps or theta0; the bad session types a word, NaN, a bad eps or
+   theta0. ``--drive both`` (the default) runs the wall drive's sessions, then the pump's,
+   each reported on its own. The sessions sweep the same slider values (each from another
+   start), so the explorer's caches of a pump's states per input serve other sessions too;
+   ``--distinct`` gives each session its own values (the caches then serve only a session's
+   own way back): ``state_cache_hits`` / ``_misses`` count them.
+
    Memory after the sessions close: the server keeps nothing of them (every page collected,
-   no session left, Python's live heap back within ~10^3 blocks of the start, most of them
-   Bokeh's client connections), but the resident memory stays at the high-water mark of the
-   busiest round: CPython's and the C library's allocators keep freed memory for reuse
-   rather than handing it back. A second round of as many sessions reuses it (+3 to +7 MB)
-   instead of adding to it. The session-destroy hook collects and calls glibc's
-   ``malloc_trim(0)`` (:func:`hairbed.explorer._return_freed_memory`); measured with 8 x 100
-   updates, 2 rounds: after close +58 / +64 MB with it against +61 / +70 MB without (the C
-   library's share is small); with ``PYTHONMALLOC=malloc`` (every object from the C
-   allocator, so trimmed too) +18 / +26 MB: the rest is CPython's partly used arenas.
+   no session left, the shared caches emptied, Python's live heap back within ~10^4 blocks
+   of the start, most of them the benchmark's closed Bokeh client connections), but the
+   resident memory stays near the high-water mark of the busiest round. Measured with
+   ``sys._debugmallocstats`` (8 x 60 updates): CPython's small-object heap holds 72.1 MB in
+   live blocks at the start, 145.7 MB after the updates and 72.7 MB after close, but its
+   arenas (1 MiB each) stay at 150 against 80 at the start: 71 MB of empty pools inside
+   arenas that each keep a few live objects, so none can be unmapped. A second round of as
+   many sessions reuses them instead of adding to them. The session-destroy hook collects
+   and calls glibc's ``malloc_trim(0)`` (:func:`hairbed.explorer._return_freed_memory`);
+   with ``PYTHONMALLOC=malloc`` (every object from the C allocator, so trimmed too) +18 /
+   +26 MB remain (8 x 100, 2 rounds).
 
 The machine's load average (:func:`os.getloadavg`, 1 min) is reported before and after each
 part: other work on the two cores slows both the server and the browser.

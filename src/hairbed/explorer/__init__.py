@@ -206,13 +206,17 @@ def serve(
         Seconds a session token stays valid before the page connects.
     check_unused_sessions, unused_session_lifetime : int
         How often [ms] to look for, and after how long [ms] to discard, sessions whose page was
-        closed. An open session holds about 7 MB of server memory (measured with
-        ``benchmarks/bench_explorer.py --sessions 8 --updates 100``: 8 sessions added 54 to
-        64 MB, the benchmark's own Bokeh client documents included). Once the sessions are
-        discarded, their objects are collected and the C allocator's free memory is handed
-        back to the system (``malloc_trim`` where glibc has it), but the resident memory
-        stays some 40 to 65 MB above the start: CPython's own allocator keeps its partly
-        used arenas (with ``PYTHONMALLOC=malloc`` it falls to +18 to +26 MB).
+        closed. An open session holds about 10 MB of server memory (measured with
+        ``benchmarks/bench_explorer.py --sessions 8 --updates 250``: 8 sessions added 80 to
+        87 MB, the benchmark's own Bokeh client documents included). Once the sessions are
+        discarded, their objects are collected, the caches they shared are emptied and the
+        C allocator's free memory is handed back to the system (``malloc_trim`` where glibc
+        has it), but the resident memory stays some 65 to 75 MB above the start: Python's
+        live heap is back (+0.6 MB in CPython's small-object blocks, measured with
+        ``sys._debugmallocstats``), yet the 70 extra 1 MiB arenas of the busiest moment stay
+        mapped, each kept by a few surviving objects with 71 MB of empty pools among them
+        (with ``PYTHONMALLOC=malloc`` the rest falls to +18 to +26 MB). A later round of
+        sessions reuses that memory instead of adding to it.
     log : file, optional
         Where to print the address (default stdout).
     """
