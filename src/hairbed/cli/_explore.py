@@ -15,8 +15,9 @@ Serve the interactive explorer (needs the app extra: pip install 'hairbed[app]')
 and exact entry of omega2, eps and theta0 or of a bed in SI units; every coexisting state in
 the channel, the branch diagram, the bistability map, the phase portrait and a table; the
 inputs in the page's URL; JSON and CSV downloads. Listens on the loopback interface unless
---host says otherwise. Each browser session holds about 1 MB of server memory until it is
-discarded, --unused-session-lifetime after its page was closed.
+--host says otherwise. Each browser session holds about 10 MB of server memory until it is
+discarded, --unused-session-lifetime after its page was closed (PYTHONMALLOC=malloc lets
+more of it go back to the system after the sessions close).
 
 examples:
   hairbed explore
