@@ -398,49 +398,20 @@ def _jacobian_drag(u, num, dd, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz, gw,
 def _system(u, num, dd, ii, theta0, code, omega2, eps, load, prof, work, res):
     """The residual of either model (``DRIVE_DRAG`` or a bed's drive) at u into res:
     (sum of squares, W, Pi, dW, dPi), the loads zero for the pillar."""
-    if code == DRIVE_DRAG_INVERSE:  # u[num + 2] is Lambda, omega2 the tip deflection
+    if code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE:
+        # for the inverse u[num + 2] is Lambda and omega2 the tip deflection
+        inverse = code == DRIVE_DRAG_INVERSE
         n1 = num + 1
-        f = _residual_drag(
-            u,
-            num,
-            dd,
-            ii,
-            theta0,
-            u[n1 + 1],
-            eps,
-            load,
-            prof,
-            work[0],
-            work[1],
-            work[2],
-            res,
-            work[6],
-            work[7],
-        )
+        lam = u[n1 + 1] if inverse else omega2
+        cs, sn, z, fx, fz = work[0], work[1], work[2], work[6], work[7]
+        f = _residual_drag(u, num, dd, ii, theta0, lam, eps, load, prof, cs, sn, z, res, fx, fz)
+        if not inverse:
+            return f, 0.0, 0.0, 0.0, 0.0
         x1 = 0.0
         for j in range(n1):
-            x1 += ii[num, j] * work[1, j]
+            x1 += ii[num, j] * sn[j]
         res[n1 + 1] = x1 - omega2
         return f + res[n1 + 1] ** 2, 0.0, 0.0, 0.0, 0.0
-    if code == DRIVE_DRAG:
-        f = _residual_drag(
-            u,
-            num,
-            dd,
-            ii,
-            theta0,
-            omega2,
-            eps,
-            load,
-            prof,
-            work[0],
-            work[1],
-            work[2],
-            res,
-            work[6],
-            work[7],
-        )
-        return f, 0.0, 0.0, 0.0, 0.0
     return _residual(
         u, num, dd, ii, theta0, code, omega2, eps, load, work[0], work[1], work[2], res
     )
