@@ -315,6 +315,21 @@ def _internal_force(i, num, ii, fx, fz, tx, tz):
 
 
 @kernel
+def _unit_load(u, num, ii, gamma, prof, cs, sn, z, fx, fz, col):
+    """dR/dLambda of the pillar's collocation system (rows 0 .. num + 1) into col: the drag
+    at Lambda = 1 without the tip load (f is linear in Lambda), its per-unit-length values in
+    fx, fz (workspace) and cos, sin, z at the nodes of u in cs, sn, z."""
+    n1 = num + 1
+    tx, tz = _drag_forces(u, num, ii, 1.0, gamma, 0.0, prof, cs, sn, z, fx, fz)
+    col[0] = 0.0
+    for i in range(1, num):
+        fxi, fzi = _internal_force(i, num, ii, fx, fz, tx, tz)
+        col[i] = fxi * cs[i] - fzi * sn[i]
+    col[num] = 0.0
+    col[n1] = 0.0
+
+
+@kernel
 def _residual_drag(u, num, dd, ii, theta0, lam, gamma, tip, prof, cs, sn, z, res, fx, fz):
     """The residual of the pillar's collocation system (theta'' = -(F_x cos - F_z sin)) at u
     into res; returns its sum of squares. Rows as :func:`_residual`."""
@@ -431,14 +446,7 @@ def _system_jacobian(u, num, dd, ii, code, omega2, eps, load, prof, work, pm, w,
         if inverse:
             # the column of Lambda: the load at Lambda = 1 (f is linear in Lambda); the row of
             # x1 = int_0^1 sin(theta) ds
-            fx, fz = work[8], work[9]
-            tx, tz = _drag_forces(u, num, ii, 1.0, eps, 0.0, prof, cs, sn, z, fx, fz)
-            jac[0, n1 + 1] = 0.0
-            for i in range(1, num):
-                fxi, fzi = _internal_force(i, num, ii, fx, fz, tx, tz)
-                jac[i, n1 + 1] = fxi * cs[i] - fzi * sn[i]
-            jac[num, n1 + 1] = 0.0
-            jac[n1, n1 + 1] = 0.0
+            _unit_load(u, num, ii, eps, prof, cs, sn, z, work[8], work[9], jac[:, n1 + 1])
             for k in range(n1):
                 jac[n1 + 1, k] = ii[num, k] * cs[k]
             jac[n1 + 1, n1] = 0.0
@@ -618,15 +626,10 @@ def _drag_slope(u, num, dd, ii, lam, gamma, tip, prof, work, pm, jac, piv):
     _jacobian_drag(u, num, dd, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz, work[8:12], pm, jac)
     if not _lu_factor(jac, piv, n1 + 1):
         return math.nan
-    ux, uz = work[8], work[9]
-    tx, tz = _drag_forces(u, num, ii, 1.0, gamma, 0.0, prof, cs, sn, z, ux, uz)
     rhs = work[4]
-    rhs[0] = 0.0
-    for i in range(1, num):
-        fxi, fzi = _internal_force(i, num, ii, ux, uz, tx, tz)
-        rhs[i] = -(fxi * cs[i] - fzi * sn[i])
-    rhs[num] = 0.0
-    rhs[n1] = 0.0
+    _unit_load(u, num, ii, gamma, prof, cs, sn, z, work[8], work[9], rhs)
+    for i in range(n1 + 1):
+        rhs[i] = -rhs[i]
     _lu_apply(jac, piv, rhs, n1 + 1)
     slope = 0.0
     for k in range(n1):
