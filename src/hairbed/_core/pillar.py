@@ -404,35 +404,84 @@ def _forward_run(
     tol: float,
     nums: tuple[int, ...],
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """The kernel's forward problem on flat checked arrays from the closed-form start of the
-    equivalent tip load: (out, coefs, a)."""
+    """The kernel's forward problem on flat checked arrays: (out, coefs, a).
+
+    The elements are solved as curves (``solve_loaded_chain``): sorted by their parameters
+    and forcing, each element whose neighbour below has the same theta0, gamma, tip load and
+    profile and a forcing within ``_CHAIN_STEP`` starts from that neighbour's state (its
+    tangent predictor and Jacobian factors); the first of each curve from the closed-form
+    start of the equivalent tip load."""
+    order, chain = _curve_order(lf, tf, gf, pf, prof)
+    lf, tf, gf, pf = (np.ascontiguousarray(v[order]) for v in (lf, tf, gf, pf))
+    prof_s = np.ascontiguousarray(prof[order]) if prof.shape[0] > 1 else prof
     weq = _equivalent_tip_load(lf, tf, prof[:1]) + pf
     zero = np.zeros(lf.size)
-    ts, es, ths, mirror, hs = _start(2, weq, zero, zero, tf, "low")
-    a = _map_parameter(2, weq, zero, zero, hs)
-    ok = ~np.isnan(ts)
-    theta_start = _closed_form_start(ts, es, ths, mirror, a, nums, ok)
-    theta_start[~ok] = tf[~ok, None]
-    hs = np.where(ok, hs, np.cos(tf))
+    a = _map_parameter(2, weq, zero, zero, np.cos(tf))
+    theta_start = np.repeat(tf[:, None], nums[0] + 1, axis=1)
+    hs = np.cos(tf)
+    head = np.flatnonzero(~chain)
+    if head.size:
+        zh = np.zeros(head.size)
+        ts, es, ths, mirror, hh = _start(2, weq[head], zh, zh, tf[head], "low")
+        ok = ~np.isnan(ts)
+        th = _closed_form_start(ts, es, ths, mirror, a[head], nums, ok)
+        th[~ok] = tf[head][~ok, None]
+        theta_start[head] = th
+        hs[head] = np.where(ok, hh, hs[head])
     k = _kernels()
-    out = np.empty((k.NCOLS, lf.size))
-    coefs = np.empty((3, lf.size, int(max(nums)) + 1))
-    k.solve_loaded_array(
+    out_s = np.empty((k.NCOLS, lf.size))
+    coefs_s = np.empty((3, lf.size, int(max(nums)) + 1))
+    k.solve_loaded_chain(
         _DRAG,
         lf,
         gf,
         pf,
         tf,
         a,
-        theta_start,
-        hs[:, None],
+        np.ascontiguousarray(theta_start),
+        np.ascontiguousarray(hs[:, None]),
         *_ladder(tuple(nums)),
         tol,
-        prof,
-        out,
-        coefs,
+        prof_s,
+        out_s,
+        coefs_s,
+        chain,
     )
-    return out, coefs, a
+    out = np.empty_like(out_s)
+    coefs = np.empty_like(coefs_s)
+    a_out = np.empty_like(a)
+    out[:, order] = out_s
+    coefs[:, order] = coefs_s
+    a_out[order] = a
+    return out, coefs, a_out
+
+
+#: Neighbours on a curve whose forcings differ by at most this fraction of the larger (or
+#: by at most _CHAIN_ABS) start one from the other (:func:`_forward_run`).
+_CHAIN_STEP = 0.25
+_CHAIN_ABS = 1e-2
+
+
+def _curve_order(
+    lf: FloatArray, tf: FloatArray, gf: FloatArray, pf: FloatArray, prof: FloatArray
+) -> tuple[NDArray[np.intp], NDArray[np.bool_]]:
+    """The order that lays the elements out as curves in the forcing (per distinct theta0,
+    gamma, tip load and profile row) and, in that order, which element continues the curve
+    of the one before it."""
+    if prof.shape[0] > 1:
+        rows = np.unique(prof, axis=0, return_inverse=True)[1].reshape(-1).astype(np.float64)
+    else:
+        rows = np.zeros(lf.size)
+    order = np.lexsort((lf, pf, gf, tf, rows))
+    chain = np.zeros(lf.size, dtype=np.bool_)
+    if lf.size > 1:
+        keys = np.stack([rows, tf, gf, pf])[:, order]
+        ls = lf[order]
+        same = np.all(keys[:, 1:] == keys[:, :-1], axis=0)
+        gap = np.abs(ls[1:] - ls[:-1])
+        near = (gap <= _CHAIN_STEP * np.maximum(ls[1:], ls[:-1])) | (gap <= _CHAIN_ABS)
+        chain[1:] = same & near & np.isfinite(ls[1:]) & np.isfinite(ls[:-1])
+    return order, chain
 
 
 def _pillar_state(

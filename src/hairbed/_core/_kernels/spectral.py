@@ -55,6 +55,7 @@ __all__ = [
     "STATUS_MAXITER",
     "drive_loads",
     "solve_loaded_array",
+    "solve_loaded_chain",
 ]
 
 DRIVE_PRESSURE = 0
@@ -469,20 +470,24 @@ def _step_size(step, u, n1, m):
 
 @kernel
 def _newton(
-    u, num, dd, ii, theta0, code, omega2, eps, load, prof, work, pm, jac, piv, nit0, maxiter
+    u, num, dd, ii, theta0, code, omega2, eps, load, prof, work, pm, jac, piv, nit0, maxiter, warm
 ):
     """Damped Newton on the collocation system from u (updated in place).
 
-    Returns (status, iterations, max |residual|). ``work`` is (12, >= num + 2), ``pm``
-    (2, >= num + 1, >= num + 1); ``prof`` the pillar's profile (``DRIVE_DRAG``).
+    Returns (status, iterations, max abs(residual)). ``work`` is (12, >= num + 2), ``pm``
+    (2, >= num + 1, >= num + 1); ``prof`` the pillar's profile (``DRIVE_DRAG``). ``warm``:
+    jac and piv already hold the LU factors of a nearby state's Jacobian of this size (a
+    neighbour on a curve), so the iteration starts with chord steps on them; the first
+    chord step is kept if it is below ``_CHORD_START``, later ones if they contract by
+    ``_CHORD_RATE``, else the Jacobian is refreshed as after any chord step.
     """
     n1 = num + 1
     m = n1 + 2 if code == DRIVE_DRAG_INVERSE else n1 + 1
     res, step, trial = work[3], work[4], work[5]
     drag = code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE
     f, w, p, dw, dp = _system(u, num, dd, ii, theta0, code, omega2, eps, load, prof, work, res)
-    chord = False  # reuse the last factors (a chord step) once Newton contracts fast
-    last = math.inf
+    chord = warm  # reuse the last factors (a chord step) once Newton contracts fast
+    last = _CHORD_START / _CHORD_RATE if warm else math.inf
     for it in range(maxiter):
         if not math.isfinite(f):
             return STATUS_BREAKDOWN, nit0 + it, math.nan
@@ -597,6 +602,7 @@ def _continuation(
             piv,
             nit,
             12,
+            False,
         )
         if status == 0:
             for j in range(m):
@@ -693,6 +699,88 @@ def solve_loaded_array(
     theta, x and z into ``coefs`` (3, size, largest N + 1). For the pillar the columns W, Pi
     hold the drag F_x(0), F_z(0) and theta'(0) is int_0^1 (z f_x - x f_z) ds.
     """
+    solve_loaded_chain(
+        code,
+        omega2,
+        eps,
+        load,
+        theta0,
+        a,
+        start,
+        h_start,
+        nums,
+        nodes,
+        d1s,
+        d2s,
+        ims,
+        cms,
+        rtol,
+        prof,
+        out,
+        coefs,
+        np.zeros(0, dtype=np.bool_),
+    )
+
+
+@kernel
+def _warm_start(u, tan, step, num_prev, cm_prev, a_prev, extra, num, nodes, a, sp, ss, coef):
+    """The start of a curve's next element from the previous element's state u (theta at its
+    num_prev + 1 mapped nodes, then h1 and, for the inverse, Lambda) plus ``step`` times its
+    tangent ``tan`` (du/dLambda of the forward problem; step 0 for the inverse): the
+    predictor's interpolant at this element's first-level nodes (map a), in u."""
+    n_prev = num_prev + 1 + extra
+    for j in range(n_prev):
+        u[j] += step * tan[j]
+    if num_prev == num and a_prev == a:
+        return
+    tail0 = u[num_prev + 1]
+    tail1 = u[num_prev + 2] if extra == 2 else 0.0
+    _coefficients(u, num_prev, cm_prev, coef)
+    _map(a, num, nodes, sp, ss)
+    e_prev = math.expm1(a_prev)
+    for j in range(num + 1):
+        # this element's node s_j in the previous element's coordinate xi
+        y = math.log1p(ss[j] * e_prev) / a_prev if a_prev != 0.0 else ss[j]
+        sp[j] = _clenshaw(coef, num_prev, min(1.0, max(-1.0, 2.0 * y - 1.0)))
+    for j in range(num + 1):
+        u[j] = sp[j]
+    u[num + 1] = tail0
+    if extra == 2:
+        u[num + 2] = tail1
+
+
+@kernel
+def solve_loaded_chain(
+    code,
+    omega2,
+    eps,
+    load,
+    theta0,
+    a,
+    start,
+    h_start,
+    nums,
+    nodes,
+    d1s,
+    d2s,
+    ims,
+    cms,
+    rtol,
+    prof,
+    out,
+    coefs,
+    chain,
+):
+    """:func:`solve_loaded_array` along a curve: where ``chain[e]`` (size 0: nowhere) the
+    element e is started from the converged element e - 1 (the same problem at a nearby
+    forcing or tip deflection) instead of ``start``: for the pillar's forward problem by the
+    tangent predictor u + (Lambda_e - Lambda_e-1) du/dLambda (the tangent of its
+    ``_drag_slope``), for the inverse from the state itself, interpolated to this element's
+    map; and the first Newton steps are chord steps on the LU factors of the previous
+    element's Jacobian (:func:`_newton` with ``warm``). Where that Newton fails, the load
+    continuation from rest, as for a cold start. The same states to rounding (the same
+    discrete problem, the same tolerance and ladder), at a fraction of the work.
+    """
     levels = nums.size
     nmax = nums[levels - 1]
     for lev in range(levels):
@@ -704,7 +792,12 @@ def solve_loaded_array(
     xs = np.empty(nmax + 1)
     jac = np.empty((m, m))
     piv = np.empty(m, dtype=np.int64)
+    # the slope's factors: apart from Newton's for the inverse (a system one larger), whose
+    # own factors the next element's chord steps use
+    jac_s = np.empty((m, m)) if extra == 2 else jac
+    piv_s = np.empty(m, dtype=np.int64) if extra == 2 else piv
     u = np.empty(m)
+    tan = np.zeros(m)
     sp = np.empty(nmax + 1)
     ss = np.empty(nmax + 1)
     coef = np.empty(nmax + 1)
@@ -712,14 +805,41 @@ def solve_loaded_array(
     keep = np.empty((3, m))
     dd = np.empty((nmax + 1, nmax + 1))
     ii = np.empty((nmax + 1, nmax + 1))
+    prev_ok = False  # the previous element's state is in u
+    prev_num = 0
+    prev_lev = 0
+    prev_a = 0.0
+    fact_num = -1  # jac, piv hold factors of this level's N (-1: none)
     for e in range(omega2.size):
         pe = e if prof.shape[0] > 1 else 0
         pr = prof[pe]
         num = nums[0]
-        for j in range(num + 1):
-            u[j] = start[e, j]
-        for c in range(extra):
-            u[num + 1 + c] = h_start[e, c]
+        warm = chain.size > 0 and chain[e] and prev_ok
+        if warm:
+            step = omega2[e] - omega2[e - 1] if extra == 1 else 0.0
+            _warm_start(
+                u,
+                tan,
+                step,
+                prev_num,
+                cms[prev_lev],
+                prev_a,
+                extra,
+                num,
+                nodes[0],
+                a[e],
+                sp,
+                ss,
+                coef,
+            )
+        else:
+            for j in range(num + 1):
+                u[j] = start[e, j]
+            for c in range(extra):
+                u[num + 1 + c] = h_start[e, c]
+        chord = warm and fact_num == num
+        prev_ok = False
+        fact_num = -1
         nit = 0
         status = 0
         rmax = math.nan
@@ -761,6 +881,7 @@ def solve_loaded_array(
                 piv,
                 nit,
                 MAXITER,
+                chord and lev == 0,
             )
             if status != 0 and lev == 0:
                 # continuation in the load factor from the hair at rest
@@ -833,9 +954,21 @@ def solve_loaded_array(
             quad = load[e] * h
             for j in range(num + 1):
                 quad += ii[num, j] * (work[2, j] * fx[j] - xs[j] * fz[j])
-            out[13, e] = _drag_slope(
-                u, num, dd, ii, forcing, eps[e], load[e], pr, work, pm, jac, piv
+            slope = _drag_slope(
+                u, num, dd, ii, forcing, eps[e], load[e], pr, work, pm, jac_s, piv_s
             )
+            out[13, e] = slope
+            # what the next element of a curve starts from: this state (u is untouched),
+            # the forward problem's tangent du/dLambda (work row 4 after _drag_slope) and
+            # the factors in jac, piv (the slope's exact ones for the forward problem,
+            # Newton's last for the inverse)
+            prev_ok = True
+            prev_num = num
+            prev_lev = lev_done
+            prev_a = a[e]
+            fact_num = num if extra == 2 or math.isfinite(slope) else -1
+            for j in range(num + 2):
+                tan[j] = work[4, j] if extra == 1 and math.isfinite(slope) else 0.0
         else:
             out[13, e] = math.nan
             w, p, _, _ = drive_loads(code, omega2[e], eps[e], load[e], h)
