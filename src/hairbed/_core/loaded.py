@@ -15,12 +15,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .collocated import CollocatedState
 from .outputs import scalar_or_array
 from .solution import Solution
 from .solver import _solve_checked
 from .validation import (
     HALF_PI,
-    STATUS_MESSAGES,
     _check_range,
     _first_index,
     as_float_array,
@@ -28,7 +28,6 @@ from .validation import (
     check_int,
     check_positive,
     check_root,
-    status_messages,
 )
 
 __all__ = ["LADDER", "LoadedState", "solve_loaded", "solve_loaded_all"]
@@ -233,7 +232,7 @@ def _shape_at(
 
 
 @dataclass(frozen=True, eq=False)
-class LoadedState:
+class LoadedState(CollocatedState):
     """A state of a hair under a tip load W and a load per unit height Pi (theory.md §11).
 
     Scalar inputs give float fields, array inputs arrays of the broadcast shape. Where no
@@ -304,21 +303,6 @@ class LoadedState:
     _map: FloatArray
     _coefs: FloatArray
     stable: Any = None
-
-    @property
-    def success(self) -> Any:
-        """True where the state converged within the tolerance (status 0)."""
-        return scalar_or_array(np.asarray(self.status) == 0)
-
-    @property
-    def message(self) -> str | list[Any]:
-        """``STATUS_MESSAGES`` of ``status`` (a nested list for arrays)."""
-        return status_messages(self.status, STATUS_MESSAGES)
-
-    @property
-    def shape_of_fields(self) -> tuple[int, ...]:
-        """Shape of the array fields (() for a single state)."""
-        return np.shape(self.tip_height)
 
     def shape(self, s: ArrayLike) -> tuple[Any, Any, Any, Any]:
         """The hair at arc lengths ``s``: (s, x, z, theta).

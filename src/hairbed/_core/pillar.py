@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .collocated import CollocatedState
 from .loaded import (
     LADDER,
     _clenshaw,
@@ -35,7 +36,6 @@ from .loaded import (
 from .outputs import scalar_or_array
 from .validation import (
     HALF_PI,
-    STATUS_MESSAGES,
     _check_range,
     as_float_array,
     broadcast_named,
@@ -44,7 +44,6 @@ from .validation import (
     check_positive,
     check_root,
     show,
-    status_messages,
 )
 
 __all__ = [
@@ -169,7 +168,7 @@ def _callable_coefficients(func: Callable[..., Any]) -> FloatArray:
 
 
 @dataclass(frozen=True, eq=False)
-class PillarState:
+class PillarState(CollocatedState):
     """A steady state of an isolated pillar in a shear flow (theory.md §12).
 
     Scalar inputs give float fields, array inputs arrays of the broadcast shape. Where no
@@ -234,21 +233,6 @@ class PillarState:
     _map: FloatArray
     _coefs: FloatArray
     stable: Any = None
-
-    @property
-    def success(self) -> Any:
-        """True where the state converged within the tolerance (status 0)."""
-        return scalar_or_array(np.asarray(self.status) == 0)
-
-    @property
-    def message(self) -> str | list[Any]:
-        """``STATUS_MESSAGES`` of ``status`` (a nested list for arrays)."""
-        return status_messages(self.status, STATUS_MESSAGES)
-
-    @property
-    def shape_of_fields(self) -> tuple[int, ...]:
-        """Shape of the array fields (() for a single state)."""
-        return np.shape(self.tip_height)
 
     def shape(self, s: ArrayLike) -> tuple[Any, Any, Any, Any]:
         """The pillar at arc lengths ``s`` in [0, 1] [L]: (s, x, z, theta), as
