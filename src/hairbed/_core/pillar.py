@@ -265,6 +265,16 @@ def _equivalent_tip_load(lam: FloatArray, t0: FloatArray, prof: FloatArray) -> F
     return lam * (u @ (0.5 * wg * s * s * (3.0 - s) / 2.0))
 
 
+def _start_load(
+    lam: FloatArray, t0: FloatArray, tip: FloatArray, prof: FloatArray
+) -> tuple[FloatArray, FloatArray]:
+    """(W_eq, a): the tip load of a start (the drag's equivalent tip load plus the tip load
+    itself) and the collocation's map parameter from it (as for a tip load W_eq)."""
+    weq = _equivalent_tip_load(lam, t0, prof[:1]) + tip
+    zero = np.zeros(lam.size)
+    return weq, _map_parameter(2, weq, zero, zero, np.cos(t0))
+
+
 @_quiet
 def solve_pillar(
     forcing: ArrayLike,
@@ -398,9 +408,7 @@ def _forward_run(
     order, chain = _curve_order(lf, tf, gf, pf, prof)
     lf, tf, gf, pf = (np.ascontiguousarray(v[order]) for v in (lf, tf, gf, pf))
     prof_s = np.ascontiguousarray(prof[order]) if prof.shape[0] > 1 else prof
-    weq = _equivalent_tip_load(lf, tf, prof[:1]) + pf
-    zero = np.zeros(lf.size)
-    a = _map_parameter(2, weq, zero, zero, np.cos(tf))
+    weq, a = _start_load(lf, tf, pf, prof)
     theta_start = np.repeat(tf[:, None], nums[0] + 1, axis=1)
     hs = np.cos(tf)
     head = np.flatnonzero(~chain)
@@ -734,9 +742,7 @@ def _on_branch(
     lam1 = lam_b[good, j + 1]
     wgt = np.clip((lf[e] - lam0) / np.where(lam1 != lam0, lam1 - lam0, 1.0), 0.0, 1.0)
     # the start: the grid states on either side, at the nodes of the forcing's own map
-    weq = _equivalent_tip_load(lf[e], tf[e], prof[:1]) + pf[e]
-    zero = np.zeros(e.size)
-    a2 = _map_parameter(2, weq, zero, zero, np.cos(tf[e]))
+    _, a2 = _start_load(lf[e], tf[e], pf[e], prof)
     xi = 2.0 * _mapped_nodes(a2, nums[0]) - 1.0
     th1 = _clenshaw(coef_grid[gu, j], xi)
     th0 = np.where(
