@@ -24,16 +24,16 @@ Run: ``python benchmarks/bench_loaded.py [--quick] [--repeat N] [--json PATH]``.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from typing import Any
 
 import numpy as np
+from bench_common import best, best_cpu, report
 from scipy.integrate import solve_bvp
 
 import hairbed
@@ -42,27 +42,6 @@ __all__ = ["main", "run"]
 
 #: The state of rows 1 and 2: a pressure drive with a moving wall.
 STATE = {"omega2": 2.0, "eps": 0.5, "theta0": 0.3, "pi": 5.0}
-
-
-def _best(func: Callable[[], Any], repeat: int) -> tuple[float, Any]:
-    best, out = math.inf, None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = func()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
-
-
-def _best_cpu(func: Callable[[], Any], repeat: int) -> tuple[float, float, Any]:
-    """(best wall time, process CPU time of that same run, its result)."""
-    best, cpu, out = math.inf, math.nan, None
-    for _ in range(repeat):
-        c0, t0 = time.process_time(), time.perf_counter()
-        res = func()
-        wall, used = time.perf_counter() - t0, time.process_time() - c0
-        if wall < best:
-            best, cpu, out = wall, used, res
-    return best, cpu, out
 
 
 def _halves(kw: dict[str, Any]) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -120,7 +99,7 @@ def _batch(size: int) -> tuple[dict[str, Any], dict[str, Any]]:
 def run(repeat: int = 5, size: int = 10_000) -> dict[str, Any]:
     """Every row; a dict of the figures."""
     hairbed.solve_loaded(**STATE)  # compile or load the kernels
-    t_one, st = _best(lambda: hairbed.solve_loaded(**STATE), max(repeat, 20))
+    t_one, st = best(lambda: hairbed.solve_loaded(**STATE), max(repeat, 20))
     tips = np.array([st.tip_height, st.tip_deflection, st.tip_angle])
     tol, bvp_err, sol = 1e-6, math.inf, None
     while tol >= 1e-14:
@@ -130,7 +109,7 @@ def run(repeat: int = 5, size: int = 10_000) -> dict[str, Any]:
         if sol.success and bvp_err <= 1e-10:
             break
         tol /= 10.0
-    t_bvp, _ = _best(lambda: _bvp(**STATE, tol=tol), max(1, repeat // 2))
+    t_bvp, _ = best(lambda: _bvp(**STATE, tol=tol), max(1, repeat // 2))
     pressure, flow = _batch(size)
     hairbed.solve_loaded(**{k: v[:4] for k, v in pressure.items()})
     hairbed.solve_loaded(**{k: v[:4] for k, v in flow.items()})
@@ -140,9 +119,9 @@ def run(repeat: int = 5, size: int = 10_000) -> dict[str, Any]:
 
     p1, p2 = _halves(pressure)
     f1, f2 = _halves(flow)
-    t_batch, cpu_batch, states = _best_cpu(one_thread, repeat)
-    t_two, cpu_two, share_two = _best_cpu(lambda: _threads([[pressure], [flow]]), repeat)
-    t_bal, cpu_bal, share_bal = _best_cpu(lambda: _threads([[p1, f1], [p2, f2]]), repeat)
+    t_batch, cpu_batch, states = best_cpu(one_thread, repeat)
+    t_two, cpu_two, share_two = best_cpu(lambda: _threads([[pressure], [flow]]), repeat)
+    t_bal, cpu_bal, share_bal = best_cpu(lambda: _threads([[p1, f1], [p2, f2]]), repeat)
     status = np.concatenate([np.ravel(s.status) for s in states])
     nums = np.concatenate([np.ravel(s.num) for s in states])
     return {
@@ -222,12 +201,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             ", ".join(f"{c:.3f}" for c in figures["balanced_threads_thread_cpu_s"]),
         ),
     ]
-    width = max(len(r[0]) for r in rows)
-    for name, value in rows:
-        print(f"{name:<{width}}  {value}")
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(figures, fh, indent=2)
+    report(rows, figures, args.json)
     return 0
 
 

@@ -19,15 +19,14 @@ Run: ``python benchmarks/bench_pillar.py [--quick] [--repeat N] [--json PATH]``.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import sys
-import time
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
+from bench_common import best, report
 from scipy.integrate import solve_bvp
 
 import hairbed
@@ -37,15 +36,6 @@ __all__ = ["main", "run"]
 #: The state of rows 1 and 2: a sublayer pillar at L/a = 20, tilted downstream.
 GAMMA = float(hairbed.gray_hancock_ratio(20.0))
 STATE = {"forcing": 5.0, "theta0": 0.3, "gamma": GAMMA}
-
-
-def _best(func: Callable[[], Any], repeat: int) -> tuple[float, Any]:
-    best, out = math.inf, None
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        out = func()
-        best = min(best, time.perf_counter() - t0)
-    return best, out
 
 
 def _bvp(forcing: float, theta0: float, gamma: float, tol: float) -> Any:
@@ -71,7 +61,7 @@ def _bvp(forcing: float, theta0: float, gamma: float, tol: float) -> Any:
 def run(repeat: int = 5, size: int = 10_000) -> dict[str, Any]:
     """Every row; a dict of the figures."""
     hairbed.solve_pillar(**STATE)  # compile or load the kernels
-    t_one, st = _best(lambda: hairbed.solve_pillar(**STATE), max(repeat, 20))
+    t_one, st = best(lambda: hairbed.solve_pillar(**STATE), max(repeat, 20))
     tips = np.array([st.tip_height, st.tip_deflection, st.tip_angle])
     tol, bvp_err, sol = 1e-6, math.inf, None
     while tol >= 1e-14:
@@ -81,12 +71,12 @@ def run(repeat: int = 5, size: int = 10_000) -> dict[str, Any]:
         if sol.success and bvp_err <= 1e-10:
             break
         tol /= 10.0
-    t_bvp, _ = _best(lambda: _bvp(**STATE, tol=tol), max(1, repeat // 2))
+    t_bvp, _ = best(lambda: _bvp(**STATE, tol=tol), max(1, repeat // 2))
     lam = np.geomspace(1e-3, 1e3, size)
     hairbed.solve_pillar(lam[:4], 0.0, gamma=GAMMA)
-    t_curve, curve = _best(lambda: hairbed.solve_pillar(lam, 0.0, gamma=GAMMA), repeat)
+    t_curve, curve = best(lambda: hairbed.solve_pillar(lam, 0.0, gamma=GAMMA), repeat)
     x1 = np.asarray(curve.tip_deflection)
-    t_inv, inv = _best(lambda: hairbed.solve_pillar_inverse(x1, 0.0, gamma=GAMMA), repeat)
+    t_inv, inv = best(lambda: hairbed.solve_pillar_inverse(x1, 0.0, gamma=GAMMA), repeat)
     round_trip = float(np.max(np.abs(np.asarray(inv.forcing) / lam - 1.0)))
     status = np.ravel(curve.status)
     return {
@@ -141,12 +131,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         ),
         ("load average", f"{figures['load_average']:.1f}"),
     ]
-    width = max(len(r[0]) for r in rows)
-    for name, value in rows:
-        print(f"{name:<{width}}  {value}")
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(figures, fh, indent=2)
+    report(rows, figures, args.json)
     return 0
 
 
