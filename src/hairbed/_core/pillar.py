@@ -554,6 +554,19 @@ def solve_pillar_inverse(
     prof = profile_coefficients(profile, height_ratio)[None, :]
     tol = check_positive(rtol, "rtol")
     nums = LADDER if num is None else (check_int(num, "num", 8, 512),)
+    return _inverse_checked(x1b, t0, g, tip, prof, tol, nums)
+
+
+def _inverse_checked(
+    x1b: FloatArray,
+    t0: FloatArray,
+    g: FloatArray,
+    tip: FloatArray,
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+) -> PillarState:
+    """:func:`solve_pillar_inverse` of checked, broadcast inputs (x1 in (-1, 1))."""
     shape = x1b.shape
     xf, tf, gf, pf = (
         np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for v in (x1b, t0, g, tip)

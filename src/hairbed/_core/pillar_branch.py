@@ -19,13 +19,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .loaded import _quiet
+from .loaded import LADDER, _quiet
 from .pillar import (
     PillarState,
     _check,
+    _inverse_checked,
     _solve_pillar_checked,
     profile_coefficients,
-    solve_pillar_inverse,
 )
 from .validation import check_int, check_number
 
@@ -66,22 +66,30 @@ class PillarBranch:
 
 
 class _Branch:
-    """Lambda(x1) of one pillar by the batched inverse, counting nothing but its inputs."""
+    """Lambda(x1) of one pillar by the batched inverse, counting nothing but its inputs
+    (checked scalars and the profile's coefficients, as ``solve_pillar_inverse`` passes them
+    on after its checks)."""
 
-    def __init__(self, theta0: float, kwargs: dict[str, Any]) -> None:
+    def __init__(self, theta0: float, gamma: float, tip_load: float, prof: FloatArray) -> None:
         self.theta0 = theta0
-        self.kwargs = kwargs
+        self.gamma = gamma
+        self.tip_load = tip_load
+        self.prof = prof
 
     def states(self, x1: Any) -> PillarState:
-        return solve_pillar_inverse(np.asarray(x1, dtype=np.float64), self.theta0, **self.kwargs)
+        x, t0, g, tip = _check(x1, self.theta0, self.gamma, self.tip_load)
+        return _inverse_checked(x, t0, g, tip, self.prof, 1e-12, LADDER)
 
     def forcing(self, x1: float) -> float:
         return float(self.states(x1).forcing)
 
 
-def _kwargs(profile: Any, height_ratio: Any, gamma: float, tip_load: float) -> dict[str, Any]:
-    profile_coefficients(profile, height_ratio)  # checked here, once, for the message
-    return {"profile": profile, "height_ratio": height_ratio, "gamma": gamma, "tip_load": tip_load}
+def _branch(
+    theta0: float, profile: Any, height_ratio: Any, gamma: float, tip_load: float
+) -> _Branch:
+    """The :class:`_Branch` of checked scalars and a profile (checked here)."""
+    prof = profile_coefficients(profile, height_ratio)[None, :]
+    return _Branch(theta0, float(gamma), float(tip_load), prof)
 
 
 def _end_deflection(
@@ -89,7 +97,7 @@ def _end_deflection(
 ) -> float:
     """x1 of the forward state at the end of the range (beyond any window there)."""
     lam, t0, g, tp = _check(forcing, theta0, gamma, tip)
-    st = _solve_pillar_checked(lam, t0, g, tp, prof, 1e-12, (32, 64, 128))
+    st = _solve_pillar_checked(lam, t0, g, tp, prof, 1e-12, LADDER)
     return float(st.tip_deflection)
 
 
@@ -146,16 +154,15 @@ def continue_pillar(
     count = check_int(num, "num", 16, 10**4)
     gamma = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
     tip_load = check_number(tip_load, "tip_load")
-    kw = _kwargs(profile, height_ratio, gamma, tip_load)
+    prof = profile_coefficients(profile, height_ratio)[None, :]
     t0 = float(
         check_number(
             theta0, "theta0", low=-math.pi / 2, high=math.pi / 2, low_open=True, high_open=True
         )
     )
-    prof = profile_coefficients(profile, height_ratio)[None, :]
     x_end = _end_deflection(end, t0, float(gamma), float(tip_load), prof)
     x_rest = math.sin(t0)
-    branch = _Branch(t0, kw)
+    branch = _Branch(t0, float(gamma), float(tip_load), prof)
     if not math.isfinite(x_end):
         nan = np.full(0, np.nan)
         return PillarBranch(nan, nan, nan, np.zeros(0, dtype=np.bool_), np.zeros((0, 2)), -7)
@@ -220,16 +227,8 @@ def solve_pillar_all(
     gamma = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
     tip_load = check_number(tip_load, "tip_load")
     if lam_t == 0.0:
-        return [
-            solve_pillar_inverse(
-                math.sin(float(theta0)),
-                theta0,
-                profile=profile,
-                height_ratio=height_ratio,
-                gamma=gamma,
-                tip_load=tip_load,
-            )
-        ]
+        t0 = float(theta0)
+        return [_branch(t0, profile, height_ratio, gamma, tip_load).states(math.sin(t0))]
     br = continue_pillar(
         2.0 * lam_t if abs(lam_t) < 1e300 else lam_t,
         theta0,
@@ -239,8 +238,7 @@ def solve_pillar_all(
         tip_load=tip_load,
         num=num,
     )
-    kw = _kwargs(profile, height_ratio, gamma, tip_load)
-    branch = _Branch(float(theta0), kw)
+    branch = _branch(float(theta0), profile, height_ratio, gamma, tip_load)
     g = br.forcing - lam_t
     idx = np.flatnonzero(np.isfinite(g[:-1]) & np.isfinite(g[1:]) & (g[:-1] * g[1:] <= 0.0))
     idx = idx[~np.isin(idx - 1, idx) | (g[idx] != 0.0)]
