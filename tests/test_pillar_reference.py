@@ -171,6 +171,29 @@ def test_folds_of_the_window(theta0, gamma, label):
 
 
 @pytest.mark.parametrize(
+    "forcing_max, theta0",
+    [(1e-16, 0.3), (1e-300, 0.0), (-1e-14, 0.3), (40.0, -1.4), (-40.0, 1.4)],
+)
+def test_branch_stability_against_its_folds(forcing_max, theta0):
+    """``stable`` (the sign of the states' dx1/dLambda) is False exactly between the two
+    folds in x1 (found apart, as extrema of Lambda(x1) by golden section) and True elsewhere;
+    with no fold, True at every point, the rest state included, also at a forcing so small
+    that the grid's x1 or Lambda round to one value (where a difference quotient vanished)."""
+    br = hairbed.continue_pillar(forcing_max, theta0, num=64)
+    assert br.status == 0
+    x = br.tip_deflection
+    if br.folds.shape[0] == 0:
+        assert br.stable.all()
+        return
+    assert br.folds.shape[0] == 2
+    lo, hi = sorted(br.folds[:, 1])
+    step = abs(x[1] - x[0])
+    far = np.min(np.abs(x[:, None] - br.folds[None, :, 1]), axis=1) > step
+    between = (x > lo) & (x < hi)
+    assert np.array_equal(br.stable[far], ~between[far])
+
+
+@pytest.mark.parametrize(
     "label", [f["label"] for f in REF["folds"] if not f["folds_near_forcing"]]
 )
 def test_no_fold_where_the_reference_has_none(label):

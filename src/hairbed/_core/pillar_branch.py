@@ -49,7 +49,8 @@ class PillarBranch:
     tip_height : ndarray
         h1 at each point [L].
     stable : ndarray of bool
-        dLambda/dx1 > 0 (< 0 for a negative forcing): stable under a slow change of the
+        dLambda/dx1 > 0 (for either sign of the forcing: the mirror x -> -x changes the sign
+        of both), by the states' exact dx1/dLambda: stable under a slow change of the
         forcing; the middle part of an S between two folds is not.
     folds : ndarray
         (k, 2): Lambda and x1 of each fold, in the order along the branch.
@@ -166,13 +167,15 @@ def continue_pillar(
     if not math.isfinite(x_end):
         nan = np.full(0, np.nan)
         return PillarBranch(nan, nan, nan, np.zeros(0, dtype=np.bool_), np.zeros((0, 2)), -7)
-    # a grid denser near the rest state's end, where Lambda grows from 0
+    # a uniform grid in x1 from rest to the end of the range
     x = x_rest + (x_end - x_rest) * np.linspace(0.0, 1.0, count)
     st = branch.states(x)
     lam = np.asarray(st.forcing, dtype=np.float64)
-    sign = 1.0 if end > 0 else -1.0
-    slope = np.gradient(lam, x) * (1.0 if x_end > x_rest else -1.0)
-    stable = sign * slope > 0.0
+    # stable where dLambda/dx1 > 0: the sign of the states' exact dx1/dLambda (implicit
+    # differentiation; NaN at a fold), not a difference quotient of the grid, which
+    # vanishes where the grid's x1 or Lambda round to the same values (a tiny forcing)
+    with np.errstate(invalid="ignore"):
+        stable = np.asarray(st.tip_deflection_slope, dtype=np.float64) > 0.0
     folds = []
     dl = np.diff(lam)
     turns = np.flatnonzero(np.isfinite(dl[:-1]) & np.isfinite(dl[1:]) & (dl[:-1] * dl[1:] < 0))
