@@ -420,32 +420,58 @@ def _forward_run(
         th[~ok] = tf[head][~ok, None]
         theta_start[head] = th
         hs[head] = np.where(ok, hh, hs[head])
+    out, coefs = _kernel_run(
+        _DRAG, lf, tf, gf, pf, a, theta_start, hs[:, None], prof_s, tol, nums, chain
+    )
+    return _unsort(order, out, coefs, a)
+
+
+def _kernel_run(
+    code: int,
+    values: FloatArray,
+    tf: FloatArray,
+    gf: FloatArray,
+    pf: FloatArray,
+    a: FloatArray,
+    theta_start: FloatArray,
+    extra: FloatArray,
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+    chain: NDArray[np.bool_] | None = None,
+) -> tuple[FloatArray, FloatArray]:
+    """``solve_loaded_chain`` of the drag drive ``code`` (the forcing or, for the inverse,
+    the tip deflection in ``values``): (out, coefs); no element chained where ``chain`` is
+    None."""
     k = _kernels()
-    out_s = np.empty((k.NCOLS, lf.size))
-    coefs_s = np.empty((3, lf.size, int(max(nums)) + 1))
+    out = np.empty((k.NCOLS, values.size))
+    coefs = np.empty((3, values.size, int(max(nums)) + 1))
     k.solve_loaded_chain(
-        _DRAG,
-        lf,
+        code,
+        np.ascontiguousarray(values),
         gf,
         pf,
         tf,
         a,
         np.ascontiguousarray(theta_start),
-        np.ascontiguousarray(hs[:, None]),
+        np.ascontiguousarray(extra),
         *_ladder(tuple(nums)),
         tol,
-        prof_s,
-        out_s,
-        coefs_s,
-        chain,
+        prof,
+        out,
+        coefs,
+        np.zeros(0, dtype=np.bool_) if chain is None else chain,
     )
-    out = np.empty_like(out_s)
-    coefs = np.empty_like(coefs_s)
-    a_out = np.empty_like(a)
-    out[:, order] = out_s
-    coefs[:, order] = coefs_s
-    a_out[order] = a
-    return out, coefs, a_out
+    return out, coefs
+
+
+def _unsort(
+    order: NDArray[np.intp], out: FloatArray, coefs: FloatArray, a: FloatArray
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """(out, coefs, a) of elements solved in ``order``, back in the order of the input."""
+    back = np.empty_like(order)
+    back[order] = np.arange(order.size)
+    return out[:, back], coefs[:, back], a[back]
 
 
 #: Neighbours on a curve whose forcings differ by at most this fraction of the larger (or
@@ -644,31 +670,17 @@ def _inverse_run(
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """The kernel's inverse problem on flat checked arrays: (out, coefs, a); out[12] is
     Lambda. Started from ``start`` (theta at the first level's nodes; h1 and Lambda), or from
-    the straight pillar (Lambda = 0; the kernel continues in x1 where Newton fails)."""
+    the straight pillar (Lambda = 0; the kernel continues in x1 where Newton fails). Not as
+    curves (:func:`_forward_run`): chord steps end with an absolute error of Lambda of their
+    rate times the step tolerance, too much for a relative accuracy of a small Lambda (and a
+    branch grid of a tiny forcing then had turns of rounding)."""
     if start is None:
-        theta_start = np.ascontiguousarray(np.repeat(tf[:, None], nums[0] + 1, axis=1))
+        theta_start = np.repeat(tf[:, None], nums[0] + 1, axis=1)
         extra = np.stack([np.cos(tf), np.zeros(xf.size)], axis=1)
     else:
-        theta_start, extra = (np.ascontiguousarray(v) for v in start)
-    k = _kernels()
-    out = np.empty((k.NCOLS, xf.size))
-    coefs = np.empty((3, xf.size, int(max(nums)) + 1))
+        theta_start, extra = start
     a = np.zeros(xf.size)
-    k.solve_loaded_array(
-        _DRAG_INVERSE,
-        xf,
-        gf,
-        pf,
-        tf,
-        a,
-        theta_start,
-        extra,
-        *_ladder(tuple(nums)),
-        tol,
-        prof,
-        out,
-        coefs,
-    )
+    out, coefs = _kernel_run(_DRAG_INVERSE, xf, tf, gf, pf, a, theta_start, extra, prof, tol, nums)
     return out, coefs, a
 
 
@@ -765,24 +777,7 @@ def _on_branch(
     h1 = h_grid[gu, j]
     start = np.ascontiguousarray((1.0 - wgt)[:, None] * th0 + wgt[:, None] * th1)
     hs = np.ascontiguousarray(((1.0 - wgt) * h0 + wgt * h1)[:, None])
-    k = _kernels()
-    o2 = np.empty((k.NCOLS, e.size))
-    c2 = np.empty((3, e.size, int(max(nums)) + 1))
-    k.solve_loaded_array(
-        _DRAG,
-        lf[e],
-        gf[e],
-        pf[e],
-        tf[e],
-        a2,
-        start,
-        hs,
-        *_ladder(tuple(nums)),
-        tol,
-        prof,
-        o2,
-        c2,
-    )
+    o2, c2 = _kernel_run(_DRAG, lf[e], tf[e], gf[e], pf[e], a2, start, hs, prof, tol, nums)
     out[:, e] = o2
     coefs[:, e, : c2.shape[-1]] = c2
     a[e] = a2

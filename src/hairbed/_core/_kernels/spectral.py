@@ -359,8 +359,9 @@ def _residual_drag(u, num, dd, ii, theta0, lam, gamma, tip, prof, cs, sn, z, res
 @kernel
 def _jacobian_drag(u, num, dd, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz, gw, pm, jac):
     """The exact Jacobian of :func:`_residual_drag` at u into jac (cs, sn, z, fx, fz from that
-    call). gw (4, >= num + 1) and pm (2, >= num + 1, >= num + 1) are workspace: pm holds
-    I diag(df/dz) I, through which z = I cos(theta) enters F = int_s^1 f."""
+    call). gw (4, >= num + 1) and pm (2, >= num + 1, >= num + 1) are workspace: gw holds
+    df/dtheta and df/dz at the nodes, pm rows of I diag(df/dz) I, through which
+    z = I cos(theta) enters F = int_s^1 f."""
     n1 = num + 1
     one_g = 1.0 - gamma
     bx, bz, ax, az = gw[0], gw[1], gw[2], gw[3]
@@ -371,20 +372,21 @@ def _jacobian_drag(u, num, dd, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz, gw,
         bz[j] = -lam * uu * one_g * (c * c - s * s)  # d fz / d theta
         ax[j] = lam * du * (c * c + gamma * s * s)  # d fx / d z
         az[j] = -lam * du * one_g * s * c  # d fz / d z
-    px, pz = pm[0], pm[1]
-    # px = I diag(ax) I, pz = I diag(az) I, the inner loop along rows (contiguous)
-    for i in range(n1):
+    # F(s_i) = F(0) - (I f)_i depends on theta_k through z = I cos(theta): with
+    # P_x = I diag(ax) I and P_z = I diag(az) I, row i needs
+    # ci (P_x[num] - P_x[i]) - si (P_z[num] - P_z[i]); the rows at the tip once, and row i's
+    # combination ci P_x[i] - si P_z[i] = I[i] diag(ci ax - si az) I in one product (one
+    # triple loop, not two). pm[0] rows 0-2 are the row buffers.
+    tipx, tipz, row = pm[0, 0], pm[0, 1], pm[0, 2]
+    for k in range(n1):
+        tipx[k] = 0.0
+        tipz[k] = 0.0
+    for j in range(n1):
+        wx = ii[num, j] * ax[j]
+        wz = ii[num, j] * az[j]
         for k in range(n1):
-            px[i, k] = 0.0
-            pz[i, k] = 0.0
-        for j in range(n1):
-            tx = ii[i, j] * ax[j]
-            tz = ii[i, j] * az[j]
-            if tx == 0.0 and tz == 0.0:
-                continue
-            for k in range(n1):
-                px[i, k] += tx * ii[j, k]
-                pz[i, k] += tz * ii[j, k]
+            tipx[k] += wx * ii[j, k]
+            tipz[k] += wz * ii[j, k]
     tx = tip
     tz = 0.0
     for j in range(n1):
@@ -395,12 +397,19 @@ def _jacobian_drag(u, num, dd, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz, gw,
     jac[0, 0] = 1.0
     for i in range(1, num):
         ci, si = cs[i], sn[i]
+        for k in range(n1):
+            row[k] = 0.0
+        for j in range(n1):
+            wj = ii[i, j] * (ci * ax[j] - si * az[j])
+            if wj == 0.0:
+                continue
+            for k in range(n1):
+                row[k] += wj * ii[j, k]
         fxi, fzi = _internal_force(i, num, ii, fx, fz, tx, tz)
         for k in range(n1):
             r = ii[num, k] - ii[i, k]
-            dfx = r * bx[k] - sn[k] * (px[num, k] - px[i, k])
-            dfz = r * bz[k] - sn[k] * (pz[num, k] - pz[i, k])
-            jac[i, k] = dd[i, k] + ci * dfx - si * dfz
+            via_z = ci * tipx[k] - si * tipz[k] - row[k]
+            jac[i, k] = dd[i, k] + r * (ci * bx[k] - si * bz[k]) - sn[k] * via_z
         jac[i, i] -= fxi * si + fzi * ci
         jac[i, n1] = 0.0
     for j in range(n1):
@@ -726,7 +735,7 @@ def solve_loaded_array(
 def _warm_start(u, tan, step, num_prev, cm_prev, a_prev, extra, num, nodes, a, sp, ss, coef):
     """The start of a curve's next element from the previous element's state u (theta at its
     num_prev + 1 mapped nodes, then h1 and, for the inverse, Lambda) plus ``step`` times its
-    tangent ``tan`` (du/dLambda of the forward problem; step 0 for the inverse): the
+    tangent ``tan`` (du/dLambda of the forward problem, du/dx1 of the inverse): the
     predictor's interpolant at this element's first-level nodes (map a), in u."""
     n_prev = num_prev + 1 + extra
     for j in range(n_prev):
@@ -773,10 +782,10 @@ def solve_loaded_chain(
 ):
     """:func:`solve_loaded_array` along a curve: where ``chain[e]`` (size 0: nowhere) the
     element e is started from the converged element e - 1 (the same problem at a nearby
-    forcing or tip deflection) instead of ``start``: for the pillar's forward problem by the
-    tangent predictor u + (Lambda_e - Lambda_e-1) du/dLambda (the tangent of its
-    ``_drag_slope``), for the inverse from the state itself, interpolated to this element's
-    map; and the first Newton steps are chord steps on the LU factors of the previous
+    forcing or tip deflection) instead of ``start``: by the tangent predictor
+    u + (Lambda_e - Lambda_e-1) du/dLambda (the tangent ``_drag_slope`` solves for; for the
+    inverse u + (x1_e - x1_e-1) du/dx1 from the same tangent), interpolated to this
+    element's map; and the first Newton steps are chord steps on the LU factors of the previous
     element's Jacobian (:func:`_newton` with ``warm``). Where that Newton fails, the load
     continuation from rest, as for a cold start. The same states to rounding (the same
     discrete problem, the same tolerance and ladder), at a fraction of the work.
@@ -816,7 +825,7 @@ def solve_loaded_chain(
         num = nums[0]
         warm = chain.size > 0 and chain[e] and prev_ok
         if warm:
-            step = omega2[e] - omega2[e - 1] if extra == 1 else 0.0
+            step = omega2[e] - omega2[e - 1]
             _warm_start(
                 u,
                 tan,
@@ -967,8 +976,14 @@ def solve_loaded_chain(
             prev_lev = lev_done
             prev_a = a[e]
             fact_num = num if extra == 2 or math.isfinite(slope) else -1
+            # the tangent along the curve's variable: du/dLambda, or for the inverse
+            # du/dx1 = (du/dLambda)/(dx1/dLambda) with dLambda/dx1 = 1/(dx1/dLambda)
+            good = math.isfinite(slope) and (extra == 1 or slope != 0.0)
+            scale = 1.0 if extra == 1 or not good else 1.0 / slope
             for j in range(num + 2):
-                tan[j] = work[4, j] if extra == 1 and math.isfinite(slope) else 0.0
+                tan[j] = work[4, j] * scale if good else 0.0
+            if extra == 2:
+                tan[num + 2] = scale if good else 0.0
         else:
             out[13, e] = math.nan
             w, p, _, _ = drive_loads(code, omega2[e], eps[e], load[e], h)
