@@ -335,11 +335,19 @@ def solve_pillar(
     1.0
     """
     lam, t0, g, tip = _check(forcing, theta0, gamma, tip_load)
+    prof, tol, nums = _options(profile, height_ratio, rtol, num)
+    return _solve_pillar_checked(lam, t0, g, tip, prof, tol, nums, check_root(root))
+
+
+def _options(
+    profile: Any, height_ratio: float | None, rtol: float, num: int | None
+) -> tuple[FloatArray, float, tuple[int, ...]]:
+    """The checked keywords shared by the forward and the inverse: the profile's
+    coefficients (one row), the tolerance and the ladder of N."""
     prof = profile_coefficients(profile, height_ratio)[None, :]
-    root = check_root(root)
     tol = check_positive(rtol, "rtol")
     nums = LADDER if num is None else (check_int(num, "num", 8, 512),)
-    return _solve_pillar_checked(lam, t0, g, tip, prof, tol, nums, root)
+    return prof, tol, nums
 
 
 def _solve_pillar_checked(
@@ -577,9 +585,7 @@ def solve_pillar_inverse(
     x1 = as_float_array(tip_deflection, "tip_deflection")
     _check_range(x1, np.abs(x1) >= 1.0, "tip_deflection", "(-1, 1)")
     x1b, t0, g, tip = _check(x1, theta0, gamma, tip_load)
-    prof = profile_coefficients(profile, height_ratio)[None, :]
-    tol = check_positive(rtol, "rtol")
-    nums = LADDER if num is None else (check_int(num, "num", 8, 512),)
+    prof, tol, nums = _options(profile, height_ratio, rtol, num)
     return _inverse_checked(x1b, t0, g, tip, prof, tol, nums)
 
 

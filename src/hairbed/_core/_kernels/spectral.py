@@ -88,6 +88,8 @@ _CHORD_START = 1e-3
 _CHORD_RATE = 0.1
 #: Steps below this are taken whole, without the line search (rounding-level merit).
 _FULL_STEP = 1e-7
+#: The chain argument of :func:`solve_loaded_chain` that chains no element.
+_NO_CHAIN = np.zeros(0, dtype=np.bool_)
 
 
 @kernel
@@ -674,61 +676,25 @@ def _clenshaw(coef, num, x):
     return x * b1 - b2 + coef[0]
 
 
-@kernel
-def solve_loaded_array(
-    code,
-    omega2,
-    eps,
-    load,
-    theta0,
-    a,
-    start,
-    h_start,
-    nums,
-    nodes,
-    d1s,
-    d2s,
-    ims,
-    cms,
-    rtol,
-    prof,
-    out,
-    coefs,
-):
+def solve_loaded_array(*args):
     """Solve every element: the collocation system on the ladder of N ``nums``.
 
-    ``start`` (size, nums[0] + 1): theta at the mapped nodes of the first level; ``h_start``
-    (size, 1) the start's h1, or (size, 2) h1 and Lambda for ``DRIVE_DRAG_INVERSE`` (whose
-    omega2 is the tip deflection); ``a`` the map parameter of each element. ``nodes``,
-    ``d1s``, ``d2s``, ``ims``, ``cms`` hold per level (padded to the largest N): the nodes in
-    xi, the first and second differentiation matrices, the integration matrix from xi = -1,
-    and the matrix from node values to Chebyshev coefficients. ``prof`` (1 or size, K): the
-    pillar's profile U(z) per element, Chebyshev coefficients in 2 z - 1 (``DRIVE_DRAG``;
-    unused otherwise). Writes ``out`` (NCOLS, size) and the Chebyshev coefficients in xi of
-    theta, x and z into ``coefs`` (3, size, largest N + 1). For the pillar the columns W, Pi
-    hold the drag F_x(0), F_z(0) and theta'(0) is int_0^1 (z f_x - x f_z) ds.
+    The arguments, in order: code, omega2, eps, load, theta0, a, start, h_start, nums, nodes,
+    d1s, d2s, ims, cms, rtol, prof, out, coefs. ``start`` (size, nums[0] + 1): theta at the
+    mapped nodes of the first level; ``h_start`` (size, 1) the start's h1, or (size, 2) h1
+    and Lambda for ``DRIVE_DRAG_INVERSE`` (whose omega2 is the tip deflection); ``a`` the map
+    parameter of each element. ``nodes``, ``d1s``, ``d2s``, ``ims``, ``cms`` hold per level
+    (padded to the largest N): the nodes in xi, the first and second differentiation
+    matrices, the integration matrix from xi = -1, and the matrix from node values to
+    Chebyshev coefficients. ``prof`` (1 or size, K): the pillar's profile U(z) per element,
+    Chebyshev coefficients in 2 z - 1 (``DRIVE_DRAG``; unused otherwise). Writes ``out``
+    (NCOLS, size) and the Chebyshev coefficients in xi of theta, x and z into ``coefs``
+    (3, size, largest N + 1). For the pillar the columns W, Pi hold the drag F_x(0), F_z(0)
+    and theta'(0) is int_0^1 (z f_x - x f_z) ds.
+
+    A Python call of :func:`solve_loaded_chain` with no element chained.
     """
-    solve_loaded_chain(
-        code,
-        omega2,
-        eps,
-        load,
-        theta0,
-        a,
-        start,
-        h_start,
-        nums,
-        nodes,
-        d1s,
-        d2s,
-        ims,
-        cms,
-        rtol,
-        prof,
-        out,
-        coefs,
-        np.zeros(0, dtype=np.bool_),
-    )
+    solve_loaded_chain(*args, _NO_CHAIN)
 
 
 @kernel
