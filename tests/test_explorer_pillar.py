@@ -290,13 +290,6 @@ def test_page_pillar_mode_slider_view_and_a_bad_link():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    raises=AssertionError,
-    reason="hairbed.solve_pillar_all's stability is inverted for a negative forcing (its "
-    "'rising' test multiplies by the sign of Lambda and by that of dx1, which is the same "
-    "sign along a branch towards -x); the explorer shows the library's",
-)
 def test_window_towards_minus_x_is_the_mirror_image():
     """Lambda -> -Lambda with theta0 -> -theta0 is the mirror image x -> -x (theory.md §12):
     the same three states, mirrored, with the same stability."""

@@ -324,3 +324,44 @@ def test_a_ramp_through_the_window_is_monotone():
     jump = int(np.argmax(steps))
     fold = max(hairbed.continue_pillar(40.0, -1.4).folds[:, 0])
     assert lam[jump] <= fold <= lam[jump + 1]
+
+
+def test_branch_near_the_wall_is_whole_and_its_folds_do_not_depend_on_the_grid():
+    """theta0 = -1.5 (the pillar nearly on the wall): every inverse state of the branch near
+    rest is found, each round-trips through the forward solver on its own root, and the folds
+    are extrema of Lambda(x1) whatever the grid (they were misplaced by missing points)."""
+    x = np.linspace(-0.9935, -0.984, 20)
+    inv = hairbed.solve_pillar_inverse(x, -1.5)
+    assert np.all(np.asarray(inv.status) == 0)
+    # below the upper fold (x1 = -0.98975) the low state, above it the middle one; within
+    # about 0.2 % of the fold's forcing the branch grid of root= cannot tell the pair apart
+    # (theory.md §12), so the points there are left out of the round trip
+    lam = np.asarray(inv.forcing)
+    for root, part in (("low", x < -0.9904), ("mid", x > -0.9886)):
+        fwd = hairbed.solve_pillar(lam[part], -1.5, root=root)
+        assert np.asarray(fwd.tip_deflection) == pytest.approx(x[part], abs=1e-10)
+    single = hairbed.solve_pillar_inverse(-0.992, -1.5)  # alone, no neighbour to start from
+    assert single.status == 0
+    folds = [
+        np.sort(hairbed.continue_pillar(100.0, -1.5, num=n).folds[:, 0]) for n in (64, 200, 301)
+    ]
+    for f in folds[1:]:
+        assert f == pytest.approx(folds[0], rel=1e-10)
+    # the upper fold is a maximum of Lambda(x1): above every solved point near it
+    assert folds[0][1] >= lam.max() and folds[0][1] - lam.max() < 1e-2
+
+
+@pytest.mark.parametrize("theta0, forcing", [(-1.45, 20.0), (-1.4, 15.0)])
+def test_flow_towards_minus_x_is_the_mirror_image(theta0, forcing):
+    """Lambda -> -Lambda with theta0 -> -theta0 is the mirror image x -> -x (theory.md §12):
+    the folds of the branch and every coexisting state, with its stability, mirrored."""
+    br = hairbed.continue_pillar(2 * forcing, theta0, num=150)
+    mr = hairbed.continue_pillar(-2 * forcing, -theta0, num=150)
+    assert mr.folds[:, 0] == pytest.approx(-br.folds[:, 0], rel=1e-12)
+    states = hairbed.solve_pillar_all(forcing, theta0)
+    mirrored = hairbed.solve_pillar_all(-forcing, -theta0)
+    assert len(states) == len(mirrored) == 3
+    for s, m in zip(states, reversed(mirrored)):
+        assert m.tip_deflection == pytest.approx(-s.tip_deflection, abs=1e-12)
+        assert m.stable == s.stable
+    assert [s.stable for s in states] == [True, False, True]

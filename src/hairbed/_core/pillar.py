@@ -607,8 +607,62 @@ def _inverse_checked(
     xm, tm, pm = mirror * xf, mirror * tf, mirror * pf
     start = _grid_start(xm, tm, gf, pm, prof, tol, nums)
     out, coefs, a = _inverse_run(xm, tm, gf, pm, prof, tol, nums, start)
+    _walk_failed(xm, tm, gf, pm, prof, tol, nums, out, coefs, a)
     _mirror(out, coefs, mirror)
     return _pillar_state(shape, out[12], t0, g, tip, out, coefs, a)
+
+
+#: Steps in x1 from the straight pillar by which :func:`_walk_failed` reaches an inverse
+#: problem that the kernel's own start and continuation did not.
+_WALK_STEPS = 16
+
+
+def _state_start(
+    out: FloatArray, coefs: FloatArray, nums: tuple[int, ...]
+) -> tuple[FloatArray, FloatArray]:
+    """Starts (theta at the first level's nodes; h1 and Lambda) from solved states."""
+    nodes = _ladder(tuple(nums))[1][0, : nums[0] + 1]
+    theta = _clenshaw(coefs[0], np.broadcast_to(nodes, (coefs.shape[1], nodes.size)))
+    return np.ascontiguousarray(theta), np.stack([out[4], out[12]], axis=1)
+
+
+def _walk_failed(
+    xf: FloatArray,
+    tf: FloatArray,
+    gf: FloatArray,
+    pf: FloatArray,
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+    out: FloatArray,
+    coefs: FloatArray,
+    a: FloatArray,
+) -> None:
+    """Inverse problems (x1 >= sin(theta0)) whose run failed, solved again by a walk in
+    x1 from the straight pillar, each step started from the state of the step before (x1 is
+    monotone along the branch: no fold on the way); in place where the walk arrives.
+
+    Near the wall (theta0 -> -pi/2) the kernel's continuation from rest stops at isolated
+    x1 between solved ones (theory.md §12), which left NaN points on a branch and folds
+    missed or misplaced."""
+    bad = np.flatnonzero(out[0] < 0)
+    if bad.size == 0:
+        return
+    xb, tb, gb, pb = (np.ascontiguousarray(v[bad]) for v in (xf, tf, gf, pf))
+    rest = np.sin(tb)
+    start = None
+    step = None
+    for k in range(1, _WALK_STEPS + 1):
+        xk = np.ascontiguousarray(rest + (xb - rest) * (k / _WALK_STEPS))
+        step = _inverse_run(xk, tb, gb, pb, prof, tol, nums, start)
+        if not np.all(step[0][0] >= 0):
+            return  # the walk stopped too: the kernel's status stands
+        start = _state_start(step[0], step[1], nums)
+    assert step is not None
+    o, c, am = step
+    out[:, bad] = o
+    coefs[:, bad] = c
+    a[bad] = am
 
 
 #: A batch of at least this many inverse problems per distinct (theta0, gamma, tip load)
@@ -639,7 +693,8 @@ def _grid_start(
     rest = np.sin(uniq[:, 0])
     xg = (rest[:, None] + (1.0 - rest)[:, None] * grid[None, 1:]).reshape(-1)
     rep = [np.ascontiguousarray(np.repeat(uniq[:, c], reps)) for c in range(3)]
-    o, c, _ = _inverse_run(xg, rep[0], rep[1], rep[2], prof, tol, nums)
+    o, c, ag = _inverse_run(xg, rep[0], rep[1], rep[2], prof, tol, nums)
+    _walk_failed(xg, rep[0], rep[1], rep[2], prof, tol, nums, o, c, ag)
     nodes = _ladder(tuple(nums))[1][0, : nums[0] + 1]
     vals = _clenshaw(c[0], np.broadcast_to(nodes, (c.shape[1], nodes.size)))
     ng = uniq.shape[0]
@@ -691,10 +746,16 @@ def _inverse_run(
 
 
 #: The branch grid of :func:`_on_branch` in the fraction u of the way from the straight
-#: pillar's x1 to the wall's (x1 = sin(theta0) + u (+-1 - sin(theta0))): fine through the
-#: snap-through windows, then geometric towards the wall (Lambda ~ 1e5 at u = 0.999).
+#: pillar's x1 to the wall's (x1 = sin(theta0) + u (+-1 - sin(theta0))): geometric from
+#: rest (a pillar tilted nearly onto the wall, theta0 -> -pi/2, turns at u ~ 0.004 already),
+#: fine through the snap-through windows, then geometric towards the wall (Lambda ~ 1e5 at
+#: u = 0.999).
 _BRANCH_GRID = np.concatenate(
-    [np.linspace(0.0, 0.9, 121)[1:], 1.0 - np.geomspace(0.1, 1e-3, 25)[1:]]
+    [
+        np.geomspace(1e-6, 0.0075, 49)[:-1],
+        np.linspace(0.0, 0.9, 121)[1:],
+        1.0 - np.geomspace(0.1, 1e-3, 25)[1:],
+    ]
 )
 #: Below this base angle a pillar may have a snap-through window (the cusp lies between
 #: -1.35 and -1.3 for the sublayer; no fold was found above -1.25 in the reference or the
@@ -740,7 +801,8 @@ def _on_branch(
     rest = np.sin(uniq[:, 0])
     x = (rest[:, None] + (uniq[:, 3] - rest)[:, None] * grid[None, :]).reshape(-1)
     rep = [np.ascontiguousarray(np.repeat(uniq[:, c], reps)) for c in range(3)]
-    o, c, _ = _inverse_run(x, rep[0], rep[1], rep[2], prof, tol, nums)
+    o, c, ag = _inverse_run(x, rep[0], rep[1], rep[2], prof, tol, nums)
+    _walk_failed(x, rep[0], rep[1], rep[2], prof, tol, nums, o, c, ag)
     lam_grid = o[12].reshape(-1, reps)
     coef_grid = c[0].reshape(uniq.shape[0], reps, -1)  # theta of the grid states (a = 0)
     h_grid = o[4].reshape(-1, reps)

@@ -181,7 +181,7 @@ def continue_pillar(
     turns = np.flatnonzero(np.isfinite(dl[:-1]) & np.isfinite(dl[1:]) & (dl[:-1] * dl[1:] < 0))
     for i in turns:
         lo, hi = sorted((float(x[i]), float(x[i + 2])))
-        kind = 1.0 if dl[i] * (x[i + 1] - x[i]) > 0 else -1.0  # a maximum of Lambda(x1)
+        kind = 1.0 if dl[i] > 0 else -1.0  # Lambda rises then falls along the grid: a maximum
         xf, lf = _golden(branch, lo, hi, kind)
         folds.append((lf, xf))
     status = 0 if np.all(np.asarray(st.status) >= 0) else -7
@@ -249,7 +249,8 @@ def solve_pillar_all(
     rising = []
     for i in idx:
         rising.append(
-            bool((g[i + 1] - g[i]) * (br.tip_deflection[i + 1] - br.tip_deflection[i]) * lam_t > 0)
+            # dLambda/dx1 > 0 for either sign of the forcing (the mirror flips both)
+            bool((g[i + 1] - g[i]) * (br.tip_deflection[i + 1] - br.tip_deflection[i]) > 0)
         )
         lo, hi = float(br.tip_deflection[i]), float(br.tip_deflection[i + 1])
         glo = float(g[i])
