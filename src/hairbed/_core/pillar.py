@@ -695,11 +695,9 @@ def _grid_start(
     rep = [np.ascontiguousarray(np.repeat(uniq[:, c], reps)) for c in range(3)]
     o, c, ag = _inverse_run(xg, rep[0], rep[1], rep[2], prof, tol, nums)
     _walk_failed(xg, rep[0], rep[1], rep[2], prof, tol, nums, o, c, ag)
-    nodes = _ladder(tuple(nums))[1][0, : nums[0] + 1]
-    vals = _clenshaw(c[0], np.broadcast_to(nodes, (c.shape[1], nodes.size)))
     ng = uniq.shape[0]
-    vals = vals.reshape(ng, reps, -1)
-    straight = np.repeat(uniq[:, 0][:, None, None], nodes.size, axis=2)
+    vals = _state_start(o, c, nums)[0].reshape(ng, reps, -1)
+    straight = np.repeat(uniq[:, 0][:, None, None], vals.shape[2], axis=2)
     vals = np.concatenate([straight, vals], axis=1)  # the rest state first
     hg = np.concatenate([np.cos(uniq[:, 0])[:, None], o[4].reshape(ng, reps)], axis=1)
     lg = np.concatenate([np.zeros((ng, 1)), o[12].reshape(ng, reps)], axis=1)
