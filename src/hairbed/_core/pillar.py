@@ -648,18 +648,17 @@ def _walk_failed(
     bad = np.flatnonzero(out[0] < 0)
     if bad.size == 0:
         return
-    xb, tb, gb, pb = (np.ascontiguousarray(v[bad]) for v in (xf, tf, gf, pf))
-    rest = np.sin(tb)
     start = None
-    step = None
     for k in range(1, _WALK_STEPS + 1):
+        xb, tb, gb, pb = (np.ascontiguousarray(v[bad]) for v in (xf, tf, gf, pf))
+        rest = np.sin(tb)
         xk = np.ascontiguousarray(rest + (xb - rest) * (k / _WALK_STEPS))
-        step = _inverse_run(xk, tb, gb, pb, prof, tol, nums, start)
-        if not np.all(step[0][0] >= 0):
-            return  # the walk stopped too: the kernel's status stands
-        start = _state_start(step[0], step[1], nums)
-    assert step is not None
-    o, c, am = step
+        o, c, am = _inverse_run(xk, tb, gb, pb, prof, tol, nums, start)
+        on = o[0] >= 0  # where a step fails the walk stops: the kernel's status stands
+        bad, o, c, am = bad[on], o[:, on], c[:, on], am[on]
+        if bad.size == 0:
+            return
+        start = _state_start(o, c, nums)
     out[:, bad] = o
     coefs[:, bad] = c
     a[bad] = am
