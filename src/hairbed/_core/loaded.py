@@ -60,6 +60,16 @@ def _kernels() -> Any:
 
 
 @functools.lru_cache(maxsize=16)
+def _chebyshev_values(num: int) -> FloatArray:
+    """T_k(xi_j) = cos(k (pi - pi j/N)) at the N + 1 Chebyshev-Gauss-Lobatto nodes
+    xi_j = -cos(pi j/N): (j, k). Built once per N; shared, so read-only."""
+    j = np.arange(num + 1)
+    vand = np.cos(np.outer(np.pi - np.pi * j / num, j))
+    vand.flags.writeable = False
+    return vand
+
+
+@functools.lru_cache(maxsize=16)
 def _matrices(num: int) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray, FloatArray]:
     """(nodes, D, D^2, I, C) in xi on [-1, 1] at the N + 1 Chebyshev-Gauss-Lobatto nodes
     xi_j = -cos(pi j/N): differentiation, its square, integration from -1, and the map from
@@ -78,9 +88,7 @@ def _matrices(num: int) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray,
     d2 = d @ d
     np.fill_diagonal(d2, 0.0)
     np.fill_diagonal(d2, -d2.sum(axis=1))  # the second derivative of a constant is 0 too
-    k = np.arange(num + 1)
-    # T_k(x_j) = cos(k (pi - pi j/N))
-    vand = np.cos(np.outer(np.pi - np.pi * j / num, k))
+    vand = _chebyshev_values(num)
     half = np.ones(num + 1)
     half[0] = half[-1] = 0.5
     cmat = (2.0 / num) * (vand * half[:, None]).T * half[:, None]

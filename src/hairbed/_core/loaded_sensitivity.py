@@ -7,13 +7,12 @@ and assembles the table that :func:`hairbed.derivatives` returns (theory.md §11
 
 from __future__ import annotations
 
-import functools
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from .loaded import LoadedState, _ladder
+from .loaded import LoadedState, _chebyshev_values, _ladder
 from .outputs import scalar_or_array
 
 __all__ = ["LOADED_OUTPUTS", "loaded_gradient_table"]
@@ -40,13 +39,6 @@ def _kernel() -> Any:
 
         _gradient = loaded_gradient
     return _gradient
-
-
-@functools.lru_cache(maxsize=8)
-def _values_of_coefficients(num: int) -> FloatArray:
-    """T_k(xi_j) at the N + 1 Chebyshev-Gauss-Lobatto nodes xi_j = -cos(pi j/N): (j, k)."""
-    j = np.arange(num + 1)
-    return np.cos(np.outer(np.pi - np.pi * j / num, np.arange(num + 1)))
 
 
 def loaded_gradient_table(
@@ -79,7 +71,7 @@ def loaded_gradient_table(
     for n in np.unique(num[ok]):
         n = int(n)
         sel = np.flatnonzero(ok & (num == n))
-        theta = np.ascontiguousarray(coefs[sel, : n + 1] @ _values_of_coefficients(n).T)
+        theta = np.ascontiguousarray(coefs[sel, : n + 1] @ _chebyshev_values(n).T)
         _, nodes, d1, d2, im, _ = _ladder((n,))
         part = np.empty((k.NOUT, k.NIN, sel.size))
         st = np.empty(sel.size, dtype=np.int64)

@@ -23,6 +23,7 @@ from numpy.typing import ArrayLike, NDArray
 from .collocated import CollocatedState
 from .loaded import (
     LADDER,
+    _chebyshev_values,
     _clenshaw,
     _closed_form_start,
     _kernels,
@@ -86,8 +87,7 @@ def gray_hancock_ratio(slenderness: ArrayLike) -> Any:
 def _chebyshev_fit(values: FloatArray) -> FloatArray:
     """Chebyshev coefficients of the values at the K + 1 points t_j = -cos(pi j/K)."""
     k = values.size - 1
-    j = np.arange(k + 1)
-    vand = np.cos(np.outer(np.pi - np.pi * j / k, j))  # T_m(t_j), rows j
+    vand = _chebyshev_values(k)  # T_m(t_j), rows j
     half = np.ones(k + 1)
     half[0] = half[-1] = 0.5
     return (2.0 / k) * half * ((vand * half[:, None]).T @ values)
