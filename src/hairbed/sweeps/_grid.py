@@ -3,7 +3,7 @@ xarray Dataset, eager or dask-backed, with CF attributes on every variable."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -265,21 +265,9 @@ def _loaded_sweep(
     bar = Progress(int(np.prod(list(sizes.values()), dtype=np.int64))) if progress else None
     names = LOADED_VARIABLES
     kw = dict(dims=dims, fixed=fixed, drive=drive, root=root)
-    axes = [values[d] for d in dims]
-    data = stacked(loaded_block, axes, dims, len(names), chunks if dims else None, bar, **kw)
-    if not dims and chunks is not None:
-        da = optional_import("dask.array", "a chunked sweep", "sweep")
-        data = da.from_array(data, chunks=-1)
+    data = _stacked_grid(loaded_block, values, dims, names, chunks, bar, **kw)
     coords = {d: ((d,) if d in dims else (), values[d], cf(LOADED_ATTRS[d])) for d in values}
-    data_vars = {}
-    for k, name in enumerate(names):
-        var = data[k]
-        attrs = cf(LOADED_ATTRS[name])
-        if name in PUMPED_INTEGER:
-            var = var.astype(np.int64)
-        if name == "status":
-            attrs["comment"] = "0 converged; others: hairbed._core.validation.STATUS_MESSAGES"
-        data_vars[name] = (dims, var, attrs)
+    data_vars = _coded_variables(data, names, dims, LOADED_ATTRS, PUMPED_INTEGER)
     attrs = dataset_attrs(
         "hairbed sweep: a boundary hair under a pump's distributed load", " (hairbed.sweep)",
         1, 0, root,
@@ -314,21 +302,9 @@ def _pillar_sweep(
     bar = Progress(int(np.prod(list(sizes.values()), dtype=np.int64))) if progress else None
     names = PILLAR_VARIABLES
     kw = dict(dims=dims, fixed=fixed, profile=profile)
-    axes = [values[d] for d in dims]
-    data = stacked(pillar_block, axes, dims, len(names), chunks if dims else None, bar, **kw)
-    if not dims and chunks is not None:
-        da = optional_import("dask.array", "a chunked sweep", "sweep")
-        data = da.from_array(data, chunks=-1)
+    data = _stacked_grid(pillar_block, values, dims, names, chunks, bar, **kw)
     coords = {d: ((d,) if d in dims else (), values[d], cf(PILLAR_ATTRS[d])) for d in values}
-    data_vars = {}
-    for k, name in enumerate(names):
-        var = data[k]
-        attrs = cf(PILLAR_ATTRS[name])
-        if name in PILLAR_INTEGER:
-            var = var.astype(np.int64)
-        if name == "status":
-            attrs["comment"] = "0 converged; others: hairbed._core.validation.STATUS_MESSAGES"
-        data_vars[name] = (dims, var, attrs)
+    data_vars = _coded_variables(data, names, dims, PILLAR_ATTRS, PILLAR_INTEGER)
     attrs = dataset_attrs(
         "hairbed sweep: an isolated pillar in a wall shear layer (theory.md §12)",
         " (hairbed.sweep)", 1, 0, "low",
@@ -337,6 +313,48 @@ def _pillar_sweep(
         del attrs[key]
     attrs["profile"] = profile if isinstance(profile, str) else f"callable {profile!r}"
     return xr.Dataset(data_vars, coords=coords, attrs=attrs)
+
+
+def _stacked_grid(
+    block: Any,
+    values: Mapping[str, NDArray[np.float64]],
+    axis_dims: tuple[str, ...],
+    names: Sequence[str],
+    chunks: Any,
+    bar: Any,
+    /,
+    **kw: Any,
+) -> Any:
+    """The stacked fields of a collocation sweep's grid (one dask chunk of the one state where
+    no input is an axis but chunks are asked for); ``kw`` go to the block."""
+    axes = [values[d] for d in axis_dims]
+    data = stacked(block, axes, axis_dims, len(names), chunks if axis_dims else None, bar, **kw)
+    if not axis_dims and chunks is not None:
+        da = optional_import("dask.array", "a chunked sweep", "sweep")
+        data = da.from_array(data, chunks=-1)
+    return data
+
+
+def _coded_variables(
+    data: Any,
+    names: Sequence[str],
+    dims: tuple[str, ...],
+    table: Mapping[str, Any],
+    integer: Any,
+) -> dict[str, Any]:
+    """The data variables of a collocation sweep: CF attributes from ``table``, the integer
+    fields as int64, and the status pointing to the solver's codes (more than the closed
+    form's flags)."""
+    out = {}
+    for k, name in enumerate(names):
+        var = data[k]
+        if name in integer:
+            var = var.astype(np.int64)
+        attrs = cf(table[name])
+        if name == "status":
+            attrs["comment"] = "0 converged; others: hairbed._core.validation.STATUS_MESSAGES"
+        out[name] = (dims, var, attrs)
+    return out
 
 
 def _check_pillar_axes(values: Mapping[str, NDArray[np.float64]], profile: Any) -> None:
@@ -484,30 +502,12 @@ def _pumped_sweep(
     bar = Progress(int(np.prod(list(sizes.values()), dtype=np.int64))) if progress else None
     names = ("omega2", *pumped_variables(drive))
     kw = dict(dims=dims, fixed=fixed, bed=bed, drive=drive, root=root)
-    axes = [values[d] for d in dims]
-    if dims:
-        data = stacked(pumped_block, axes, dims, len(names), chunks, bar, **kw)
-    else:
-        data = stacked(pumped_block, [], (), len(names), None, bar, **kw)
-        if chunks is not None:
-            da = optional_import("dask.array", "a chunked sweep", "sweep")
-            data = da.from_array(data, chunks=-1)
+    data = _stacked_grid(pumped_block, values, dims, names, chunks, bar, **kw)
     coords: dict[str, Any] = {
         d: ((d,) if d in dims else (), values[d], cf(PUMPED_ATTRS[d])) for d in values
     }
-    data_vars = {}
-    for k, name in enumerate(names):
-        var = data[k]
-        if name in PUMPED_INTEGER:
-            var = var.astype(np.int64)
-        attrs = cf(PUMPED_ATTRS[name])
-        if name == "status":  # the solver's codes: more than the closed form's flags
-            attrs["comment"] = "0 converged; others: hairbed._core.validation.STATUS_MESSAGES"
-        entry = (dims, var, attrs)
-        if name == "omega2":
-            coords[name] = entry
-        else:
-            data_vars[name] = entry
+    data_vars = _coded_variables(data, names, dims, PUMPED_ATTRS, PUMPED_INTEGER)
+    coords["omega2"] = data_vars.pop("omega2")  # the forcing each state has: a coordinate
     what = "pressure gradient" if drive == "pressure_gradient" else "flow rate"
     attrs = dataset_attrs(
         f"hairbed sweep of a pump-driven hair bed over the {what} (SI units)",
