@@ -683,54 +683,77 @@ class ExplorerPage:
         try:
             params = validate(raw)
             snap = compute(params)
-        except InputError as exc:
-            self._show_error(tuple(" ".join(m.split()) for m in exc.messages))
-            return False
-        except ValueError as exc:
-            self._show_error((" ".join(str(exc).split()),))
-            return False
-        except Exception as exc:  # a bug: one line in the page and on stderr, no traceback
-            message = f"internal error: {type(exc).__name__}: {exc}"
-            print(f"hairbed explore: {message}", file=sys.stderr, flush=True)
-            self._show_error((message,))
-            return False
+        except Exception as exc:
+            return self._failed(exc, (ValueError,))
         solved = time.perf_counter()
         with pn.io.hold():
             self.views.update(snap)
             self.table.object = _table_html(snap)
             self.valve_table.object = _valve_html(snap)
             self.twirl_table.object = _twirl_html(snap)
-            notes = _warnings_html(snap.warnings)
-            if self.notes.object != notes:
-                self.notes.object = notes
             self._sync_widgets(params)
             self.pillar.show_mode(self, "bed")
-            if self.alert.visible:
-                self.alert.visible = False
-                self.alert.object = ""
-            self.error = ""
-            self.errors = ()
-            query = query_from_inputs(params)
-            self.link.object = (
-                f'<a class="hb-permalink" href="{html.escape(query)}">link to this view</a>'
+            self._published(
+                _warnings_html(snap.warnings),
+                query_from_inputs(params),
+                snap.timings,
+                ("stability", "stability"),
+                (start, solved),
             )
-            self._set_url(query)
-            done = time.perf_counter()
             self.snapshot = snap
-            self.timings = {
-                "solve": snap.timings["solve"],
-                "stability": snap.timings["stability"],
-                "compute": 1e3 * (solved - start),
-                "views": 1e3 * (done - solved),
-                "total": 1e3 * (done - start),
-            }
-            t = self.timings
-            self.status.object = (
-                f'<small class="hb-timing" data-total-ms="{t["total"]:.3f}">server update '
-                f"{t['total']:.1f} ms: solve {t['solve']:.2f} ms, stability "
-                f"{t['stability']:.1f} ms, views {t['views']:.1f} ms</small>"
-            )
         return True
+
+    def _failed(self, exc: Exception, expected: tuple[type[Exception], ...]) -> bool:
+        """Show why an update failed and return False: an :class:`InputError`'s messages, an
+        ``expected`` error's one line, or any other (a bug) as an internal error, also on
+        stderr, with no traceback."""
+        if isinstance(exc, InputError):
+            self._show_error(tuple(" ".join(m.split()) for m in exc.messages))
+        elif isinstance(exc, expected):
+            self._show_error((" ".join(str(exc).split()),))
+        else:
+            message = f"internal error: {type(exc).__name__}: {exc}"
+            print(f"hairbed explore: {message}", file=sys.stderr, flush=True)
+            self._show_error((message,))
+        return False
+
+    def _published(
+        self,
+        notes: str,
+        query: str,
+        solved_ms: dict[str, float],
+        stage: tuple[str, str],
+        clock: tuple[float, float],
+    ) -> None:
+        """The end of a good update (in ``pn.io.hold``): the library's warnings ``notes``, no
+        error, the permalink and URL of ``query``, and the server times: the snapshot's solve
+        and ``stage`` = (its key, its words) [ms], from ``clock`` = (start, solved)."""
+        if self.notes.object != notes:
+            self.notes.object = notes
+        if self.alert.visible:
+            self.alert.visible = False
+            self.alert.object = ""
+        self.error, self.errors = "", ()
+        self.link.object = (
+            f'<a class="hb-permalink" href="{html.escape(query)}">link to this view</a>'
+        )
+        self._set_url(query)
+        start, solved = clock
+        done = time.perf_counter()
+        key, words = stage
+        self.timings = {
+            "solve": solved_ms["solve"],
+            key: solved_ms[key],
+            "compute": 1e3 * (solved - start),
+            "views": 1e3 * (done - solved),
+            "total": 1e3 * (done - start),
+        }
+        t = self.timings
+        self.status.object = (
+            f'<small class="hb-timing" data-total-ms="{t["total"]:.3f}">server update '
+            f"{t['total']:.1f} ms: solve {t['solve']:.2f} ms, {words} "
+            f"{t[key]:.1f} ms, views {t['views']:.1f} ms</small>"
+        )
 
     def _show_error(self, messages: tuple[str, ...]) -> None:
         """Every message, one line each, above the views (the last good view stays)."""

@@ -14,7 +14,6 @@ from __future__ import annotations
 import html
 import io
 import math
-import sys
 import time
 from typing import Any
 
@@ -33,7 +32,7 @@ from ._figures import (
     _legend_lines,
     _style_legend,
 )
-from ._model import PILLAR_DEFAULTS, InputError
+from ._model import PILLAR_DEFAULTS
 from ._pillar import (
     ERROR_LEVELS,
     PILLAR_FIELDS,
@@ -624,47 +623,19 @@ def refresh_pillar(page: Any, raw: dict[str, str], notes_html: Any) -> bool:
         mode_of(raw)
         params = validate_pillar(raw)
         snap = compute_pillar(params)
-    except InputError as exc:
-        page._show_error(tuple(" ".join(m.split()) for m in exc.messages))
-        return False
-    except (ValueError, TypeError) as exc:
-        page._show_error((" ".join(str(exc).split()),))
-        return False
-    except Exception as exc:  # a bug: one line in the page and on stderr, no traceback
-        message = f"internal error: {type(exc).__name__}: {exc}"
-        print(f"hairbed explore: {message}", file=sys.stderr, flush=True)
-        page._show_error((message,))
-        return False
+    except Exception as exc:
+        return bool(page._failed(exc, (ValueError, TypeError)))
     solved = time.perf_counter()
     with pn.io.hold():
         panel.update(snap)
         panel.sync(snap)
         panel.show_mode(page, "pillar")
-        notes = notes_html(snap.warnings)
-        if page.notes.object != notes:
-            page.notes.object = notes
-        if page.alert.visible:
-            page.alert.visible = False
-            page.alert.object = ""
-        page.error, page.errors = "", ()
-        query = pillar_query(params)
-        page.link.object = (
-            f'<a class="hb-permalink" href="{html.escape(query)}">link to this view</a>'
+        page._published(
+            notes_html(snap.warnings),
+            pillar_query(params),
+            snap.timings,
+            ("calibration", "calibration curve"),
+            (start, solved),
         )
-        page._set_url(query)
         panel.snapshot = snap
-        done = time.perf_counter()
-        page.timings = {
-            "solve": snap.timings["solve"],
-            "calibration": snap.timings["calibration"],
-            "compute": 1e3 * (solved - start),
-            "views": 1e3 * (done - solved),
-            "total": 1e3 * (done - start),
-        }
-        t = page.timings
-        page.status.object = (
-            f'<small class="hb-timing" data-total-ms="{t["total"]:.3f}">server update '
-            f"{t['total']:.1f} ms: solve {t['solve']:.2f} ms, calibration curve "
-            f"{t['calibration']:.1f} ms, views {t['views']:.1f} ms</small>"
-        )
     return True
