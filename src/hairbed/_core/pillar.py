@@ -607,7 +607,6 @@ def _inverse_checked(
     xm, tm, pm = mirror * xf, mirror * tf, mirror * pf
     start = _grid_start(xm, tm, gf, pm, prof, tol, nums)
     out, coefs, a = _inverse_run(xm, tm, gf, pm, prof, tol, nums, start)
-    _walk_failed(xm, tm, gf, pm, prof, tol, nums, out, coefs, a)
     _mirror(out, coefs, mirror)
     return _pillar_state(shape, out[12], t0, g, tip, out, coefs, a)
 
@@ -653,7 +652,7 @@ def _walk_failed(
         xb, tb, gb, pb = (np.ascontiguousarray(v[bad]) for v in (xf, tf, gf, pf))
         rest = np.sin(tb)
         xk = np.ascontiguousarray(rest + (xb - rest) * (k / _WALK_STEPS))
-        o, c, am = _inverse_run(xk, tb, gb, pb, prof, tol, nums, start)
+        o, c, am = _inverse_run(xk, tb, gb, pb, prof, tol, nums, start, walk=False)
         on = o[0] >= 0  # where a step fails the walk stops: the kernel's status stands
         bad, o, c, am = bad[on], o[:, on], c[:, on], am[on]
         if bad.size == 0:
@@ -692,8 +691,7 @@ def _grid_start(
     rest = np.sin(uniq[:, 0])
     xg = (rest[:, None] + (1.0 - rest)[:, None] * grid[None, 1:]).reshape(-1)
     rep = [np.ascontiguousarray(np.repeat(uniq[:, c], reps)) for c in range(3)]
-    o, c, ag = _inverse_run(xg, rep[0], rep[1], rep[2], prof, tol, nums)
-    _walk_failed(xg, rep[0], rep[1], rep[2], prof, tol, nums, o, c, ag)
+    o, c, _ = _inverse_run(xg, rep[0], rep[1], rep[2], prof, tol, nums)
     ng = uniq.shape[0]
     vals = _state_start(o, c, nums)[0].reshape(ng, reps, -1)
     straight = np.repeat(uniq[:, 0][:, None, None], vals.shape[2], axis=2)
@@ -725,10 +723,12 @@ def _inverse_run(
     tol: float,
     nums: tuple[int, ...],
     start: tuple[FloatArray, FloatArray] | None = None,
+    walk: bool = True,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """The kernel's inverse problem on flat checked arrays: (out, coefs, a); out[12] is
     Lambda. Started from ``start`` (theta at the first level's nodes; h1 and Lambda), or from
-    the straight pillar (Lambda = 0; the kernel continues in x1 where Newton fails). Not as
+    the straight pillar (Lambda = 0; the kernel continues in x1 where Newton fails); what
+    fails then is walked to from rest (:func:`_walk_failed`, unless ``walk`` is False). Not as
     curves (:func:`_forward_run`): chord steps end with an absolute error of Lambda of their
     rate times the step tolerance, too much for a relative accuracy of a small Lambda (and a
     branch grid of a tiny forcing then had turns of rounding)."""
@@ -739,6 +739,8 @@ def _inverse_run(
         theta_start, extra = start
     a = np.zeros(xf.size)
     out, coefs = _kernel_run(_DRAG_INVERSE, xf, tf, gf, pf, a, theta_start, extra, prof, tol, nums)
+    if walk:
+        _walk_failed(xf, tf, gf, pf, prof, tol, nums, out, coefs, a)
     return out, coefs, a
 
 
@@ -798,8 +800,7 @@ def _on_branch(
     rest = np.sin(uniq[:, 0])
     x = (rest[:, None] + (uniq[:, 3] - rest)[:, None] * grid[None, :]).reshape(-1)
     rep = [np.ascontiguousarray(np.repeat(uniq[:, c], reps)) for c in range(3)]
-    o, c, ag = _inverse_run(x, rep[0], rep[1], rep[2], prof, tol, nums)
-    _walk_failed(x, rep[0], rep[1], rep[2], prof, tol, nums, o, c, ag)
+    o, c, _ = _inverse_run(x, rep[0], rep[1], rep[2], prof, tol, nums)
     lam_grid = o[12].reshape(-1, reps)
     coef_grid = c[0].reshape(uniq.shape[0], reps, -1)  # theta of the grid states (a = 0)
     h_grid = o[4].reshape(-1, reps)
