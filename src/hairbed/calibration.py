@@ -1156,15 +1156,15 @@ def measure(
                 f"fit is the calibration of a {type(fit.bed).__name__}, but bed is a "
                 f"{type(bed).__name__}"
             )
-    if isinstance(bed, Pillar):
-        if drive is not None:
-            raise ValueError(
-                f"drive={show(drive)} is a pump-driven HairBed's; a Pillar is read back as a "
-                "wall shear stress (drive=None)"
-            )
-        return _measure_pillar(bed, tip_deflection, sigma, fit)
+    if isinstance(bed, Pillar) and drive is not None:
+        raise ValueError(
+            f"drive={show(drive)} is a pump-driven HairBed's; a Pillar is read back as a "
+            "wall shear stress (drive=None)"
+        )
     d = bed._deflection(tip_deflection, "tip_deflection")
     s = check_sigma(sigma, "sigma", d.shape, unit="m", allow_zero=True, high=bed.length)
+    if isinstance(bed, Pillar):
+        return _measure_pillar(bed, d, s, fit)
     if drive is None and fit is not None and fit.kind in _PUMPS:
         drive = fit.kind
     if drive is not None:
@@ -1217,13 +1217,12 @@ def _stderr(
 
 
 def _measure_pillar(
-    pillar: Pillar, tip_deflection: Any, sigma: Any, fit: CalibrationFit | None
+    pillar: Pillar, d: FloatArray, s: FloatArray, fit: CalibrationFit | None
 ) -> Measurement:
-    """:func:`measure` of a pillar: the exact inverse (:meth:`Pillar.state_from_tip_deflection`),
-    the stress's error through dD/dtau = the sensitivity, and the wall speed's for a
-    "couette" pillar (V = tau_w H/eta; NaN for the other profiles)."""
-    d = pillar._deflection(tip_deflection)
-    s = check_sigma(sigma, "sigma", d.shape, unit="m", allow_zero=True, high=pillar.length)
+    """:func:`measure` of a pillar at checked deflections ``d`` [m] and their ``s`` [m]: the
+    exact inverse (:meth:`Pillar.state_from_tip_deflection`), the stress's error through
+    dD/dtau = the sensitivity, and the wall speed's for a "couette" pillar (V = tau_w H/eta;
+    NaN for the other profiles)."""
     tau, sol = pillar._invert(d)
     state = pillar._state(tau, np.asarray(sol.forcing, dtype=np.float64), sol)
     names = fit.parameters if fit is not None else ()

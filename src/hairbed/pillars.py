@@ -39,10 +39,11 @@ from ._core.outputs import float_or_array
 from ._core.pillar import (
     PROFILES,
     _callable_coefficients,
+    _inverse_checked,
+    _options,
+    _solve_pillar_checked,
     gray_hancock_ratio,
     profile_coefficients,
-    solve_pillar,
-    solve_pillar_inverse,
 )
 from ._core.validation import (
     HALF_PI,
@@ -245,6 +246,7 @@ class Pillar:
     drag_scale: float = 1.0
     #: the dimensionless profile the core solves (built-in name or Chebyshev profile)
     _core_profile: Any = field(init=False, repr=False, compare=False)
+    _core_options: Any = field(init=False, repr=False, compare=False)
     #: Lambda / tau_w [1/Pa] and u(tip)/(tau_w U(h1)) [m/(s Pa)]
     _per_stress: tuple[float, float] = field(init=False, repr=False, compare=False)
 
@@ -324,6 +326,8 @@ class Pillar:
                 "L/eta) that under- or overflows double precision"
             )
         set_(self, "_core_profile", core)
+        # the core's checked keywords (solve_pillar's defaults), once: the solves trust them
+        set_(self, "_core_options", _options(core, self.height_ratio, 1e-12, None))
         set_(self, "_per_stress", (per_stress, speed))
         _warn_implausible(self, "Pillar")
         if slenderness < SLENDERNESS_LIMIT:
@@ -492,12 +496,16 @@ class Pillar:
 
     def _solve(self, lam: FloatArray) -> Any:
         """The dimensionless states at forcings ``lam`` (checked, finite)."""
-        return solve_pillar(
-            lam,
-            self.base_angle,
-            profile=self._core_profile,
-            height_ratio=self.height_ratio,
-            gamma=self.drag_ratio,
+        t0, g, tip = self._checked_like(lam)
+        return _solve_pillar_checked(lam, t0, g, tip, *self._core_options)
+
+    def _checked_like(self, a: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        """theta0, gamma and the tip load (none) at the shape of checked inputs ``a``."""
+        shape = np.shape(a)
+        return (
+            np.full(shape, self.base_angle),
+            np.full(shape, self.drag_ratio),
+            np.zeros(shape),
         )
 
     def deform(
@@ -623,13 +631,8 @@ class Pillar:
     ) -> tuple[FloatArray, Any]:
         """(tau_w [Pa], the dimensionless states) of checked deflections d [m]; where no state
         is found a ValueError naming ``name`` (``strict``) or NaN."""
-        sol = solve_pillar_inverse(
-            d / self.length,
-            self.base_angle,
-            profile=self._core_profile,
-            height_ratio=self.height_ratio,
-            gamma=self.drag_ratio,
-        )
+        x1 = np.asarray(d / self.length, dtype=np.float64)  # in (-1, 1): d was checked
+        sol = _inverse_checked(x1, *self._checked_like(x1), *self._core_options)
         status = np.asarray(sol.status)
         bad = status < 0
         if np.any(bad) and strict:

@@ -33,7 +33,8 @@ import numpy as np
 
 import hairbed
 from hairbed._channel_drives import drive_inputs
-from hairbed._core.validation import check_positive
+from hairbed._core.loaded import _check as _check_loaded
+from hairbed._core.validation import check_inputs, check_positive
 from hairbed._jsonsafe import to_plain
 from hairbed._variables import BED, BED_REQUIRED, LOADED, SI, SOLUTION, cf_attrs, names
 
@@ -477,11 +478,11 @@ def validate(raw: Mapping[str, str]) -> Params:
         m = None
         with _recording() as caught:
             try:
-                hairbed.solve(**values)  # the library's checks, with its messages
+                check_inputs(**values)  # hairbed.solve's own checks, with its messages
             except ValueError as exc:
                 m = str(exc)
         if m is not None:  # which of them: each alone, the others at valid values
-            alone = [_message(hairbed.solve, **{**_GOOD, k: v}) for k, v in values.items()]
+            alone = [_message(check_inputs, **{**_GOOD, k: v}) for k, v in values.items()]
             problems += [a for a in alone if a] or [m]
         if problems:
             raise InputError(problems)
@@ -550,8 +551,8 @@ def _validate_pumped(
             except ValueError as exc:
                 m = str(exc)
         if m is not None:  # which of them: each alone, the others at valid values
-            good = {**_GOOD, key: 1.0}
-            alone = [_message(hairbed.solve_loaded, **{**good, k: v}) for k, v in values.items()]
+            good = {**_GOOD, "pi": None, "q": None, key: 1.0}
+            alone = [_message(_check_loaded, **{**good, k: v}) for k, v in values.items()]
             problems += [a for a in alone if a] or [m]
         if problems:
             raise InputError(problems)
