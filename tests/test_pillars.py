@@ -318,7 +318,12 @@ def _wrong_shape(z):
         (
             lambda: _pillar().__class__(L, L, E, ETA),
             ValueError,
-            r"slenderness length/radius must exceed 1.5",
+            r"slenderness length/radius must be at least e\^1.5/2 = 2.2408",
+        ),
+        (  # gamma 1.064 > 1: the core's drag ratio is out of (0, 1]
+            lambda: _pillar().__class__(L, L / 2.0, E, ETA),
+            ValueError,
+            r"slenderness length/radius must be at least .* got 2.0",
         ),
         (lambda: _pillar(drag_scale=-1.0), ValueError, r"drag_scale must be positive"),
         (lambda: _pillar(density=0.0), ValueError, r"density must be positive"),

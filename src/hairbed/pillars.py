@@ -61,6 +61,7 @@ from ._warnings import ModelValidityWarning
 from .units import _warn_implausible
 
 __all__ = [
+    "MIN_SLENDERNESS",
     "PILLAR_REYNOLDS_LIMIT",
     "SLENDERNESS_LIMIT",
     "Pillar",
@@ -73,6 +74,9 @@ FloatArray = NDArray[np.float64]
 #: Below this slenderness L/a slender-body (resistive-force) theory is out of its range
 #: (theory.md §12): a :class:`hairbed.ModelValidityWarning`.
 SLENDERNESS_LIMIT = 10.0
+#: The least slenderness L/a of a pillar: Gray & Hancock's gamma = (ln(2L/a) + 1/2)/
+#: (2 ln(2L/a) - 1) is 1 at ln(2L/a) = 3/2 and above 1 (no longer a slender body) below.
+MIN_SLENDERNESS = math.exp(1.5) / 2.0
 #: Above this pillar Reynolds number rho abs(u(tip)) 2a/eta the Stokes drag is out of its range
 #: (theory.md §12): a :class:`hairbed.ModelValidityWarning`.
 PILLAR_REYNOLDS_LIMIT = 0.5
@@ -199,8 +203,8 @@ class Pillar:
     length : float
         Pillar length L [m].
     radius : float
-        Pillar radius a [m] (the radius, not the diameter); the slenderness L/a must exceed
-        1.5 (Gray & Hancock's parallel coefficient is positive there), and below
+        Pillar radius a [m] (the radius, not the diameter); the slenderness L/a must be at
+        least :data:`MIN_SLENDERNESS` = e^1.5/2 (Gray & Hancock's ratio gamma <= 1), and below
         :data:`SLENDERNESS_LIMIT` a :class:`hairbed.ModelValidityWarning` is issued.
     youngs_modulus : float
         Young's modulus E of the pillar [Pa].
@@ -303,10 +307,12 @@ class Pillar:
                 f"length {self.length!r} m over radius {self.radius!r} m overflows double "
                 "precision (the slenderness L/a)"
             )
-        if not slenderness > 1.5:
+        # the core takes gamma in (0, 1]: Gray & Hancock's ratio passes 1 at L/a = e^1.5/2
+        if not (slenderness > 1.5 and gray_hancock_ratio(slenderness) <= 1.0):
             raise ValueError(
-                f"radius {self.radius!r} m: the slenderness length/radius must exceed 1.5 "
-                f"(Gray & Hancock's coefficients), got {slenderness!r}"
+                f"radius {self.radius!r} m: the slenderness length/radius must be at least "
+                f"e^1.5/2 = {MIN_SLENDERNESS:.4f} (Gray & Hancock's ratio zeta_par/zeta_perp "
+                f"<= 1), got {slenderness!r}"
             )
         with np.errstate(all="ignore"):  # numpy floats: inf or 0 on overflow, checked below
             length, radius = np.float64(self.length), np.float64(self.radius)
