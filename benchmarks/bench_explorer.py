@@ -61,7 +61,20 @@
    many sessions reuses them instead of adding to them. The session-destroy hook collects
    and calls glibc's ``malloc_trim(0)`` (:func:`hairbed.explorer._return_freed_memory`);
    with ``PYTHONMALLOC=malloc`` (every object from the C allocator, so trimmed too) +18 /
-   +26 MB remain (8 x 100, 2 rounds).
+   +26 MB remain (8 x 100, 2 rounds). Part of that is the clients' documents, which live in
+   this process too: part 4 measures the served process alone.
+
+4. The served process alone (``--served``, with ``--sessions`` (default 8), ``--updates`` and
+   ``--rounds``): ``hairbed explore`` started as users start it, a process of its own, once
+   with each ``--allocator`` (malloc, the default, and pymalloc), driven by Bokeh client
+   sessions in this process (the wall drive's plan of part 3, session 0's bad input included;
+   each update awaited until the server's patch of the page's link arrives, a bad one until
+   its alert shows and goes again). Its resident memory is read from ``/proc/<pid>/status``
+   after a warm-up session (the start), after each round's updates and once the closed
+   sessions are discarded; the server time per update is read from the status line's
+   patches. Measured (8 x 250 updates, 2 rounds): with malloc +22 / +31 MB after the updates
+   and +3.9 MB after close; with pymalloc +35 MB and +31 MB (the arenas of part 3), at the
+   same speed (75 s a round both, server p90 6.4 / 6.2 ms: the clients are not in its process).
 
 The machine's load average (:func:`os.getloadavg`, 1 min) is reported before and after each
 part: other work on the two cores slows both the server and the browser.
@@ -74,7 +87,7 @@ near the start once the sessions are closed.
 Usage::
 
     python benchmarks/bench_explorer.py [--steps 40] [--browser-steps 30] [--no-browser]
-        [--sessions 8 --updates 250] [--json out.json]
+        [--sessions 8 --updates 250] [--served] [--json out.json]
 """
 
 from __future__ import annotations
@@ -90,6 +103,7 @@ import sys
 import tempfile
 import time
 import urllib.request
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -587,6 +601,170 @@ def _round(url: str, pages: dict[str, Any], n_sessions: int, updates: int,
     }
 
 
+def _process_rss_mb(pid: int) -> float:
+    """Resident memory [MB] of process ``pid`` (Linux /proc)."""
+    with open(f"/proc/{pid}/status") as fh:
+        for line in fh:
+            if line.startswith("VmRSS:"):
+                return float(line.split()[1]) / 1024.0
+    raise RuntimeError(f"no VmRSS for process {pid}")
+
+
+def served(
+    n_sessions: int = 8, updates: int = 200, rounds: int = 2, allocator: str = "malloc"
+) -> dict[str, Any]:
+    """Part 4 (``--served``): the resident memory of ``hairbed explore`` itself, a process
+    of its own as users run it (``--allocator``), while ``n_sessions`` Bokeh client sessions
+    in this process drive it: the wall drive's plan of part 3 (omega2 across both folds,
+    every 10th update the twirling states or the ordinate, session 0's bad input every 7th).
+    Each update waits until the client's copy of the page's status line changes; the
+    server time per update is read from it, and a bad input must show the alert (a good one
+    must not). Memory: after one warm-up session (the start), after each round's updates, and
+    once its sessions are closed and discarded (the served process's memory steady)."""
+    import threading
+
+    import panel  # noqa: F401  (the client resolves Panel's models)
+    from bokeh.client import pull_session
+
+    import hairbed.explorer._page  # noqa: F401  (and the explorer's own)
+
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    command = [
+        sys.executable, "-m", "hairbed", "explore", "--port", str(port), "--no-browser",
+        "--check-unused-sessions", "500", "--unused-session-lifetime", "1000",
+        "--allocator", allocator,
+    ]  # fmt: skip
+    proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    url = f"http://127.0.0.1:{port}/"
+    out: dict[str, Any] = {"allocator": allocator, "sessions": n_sessions, "updates": updates}
+    problems: list[str] = []
+    totals: list[float] = []
+    lock = threading.Lock()
+
+    def run(k: int, n: int) -> None:
+        session = pull_session(url=url, arguments=START["wall"])
+        try:
+            by = {
+                c: m
+                for m in session.document.select({})
+                for c in (getattr(m, "css_classes", None) or [])
+            }
+            # what the server sends, read off each message (Bokeh's client drops the patches
+            # that arrive while it waits for a reply): the link changes with every good update
+            # (it holds every input), the status line carries the server time, the alert
+            # shows a bad input
+            link, status, alert = (by[c].id for c in ("hb-link", "hb-status", "hb-error"))
+            seen: dict[str, Any] = {"links": 0, "alert": False}
+            connection = session._connection
+            pop = connection._pop_message
+
+            async def watched() -> Any:
+                message = await pop()
+                if message is not None and message.msgtype == "PATCH-DOC":
+                    for ev in message.content.get("events", []):
+                        model, attr = (ev.get("model") or {}).get("id"), ev.get("attr")
+                        if model == link and attr == "text":
+                            seen["links"] += 1
+                        elif model == alert and attr == "visible":
+                            seen["alert"] = bool(ev["new"])
+                        elif model == status and "data-total-ms=&quot;" in str(ev.get("new")):
+                            ms = str(ev["new"]).split("data-total-ms=&quot;")[1]
+                            with lock:
+                                totals.append(float(ms.split("&quot;")[0]))
+                return message
+
+            connection._pop_message = watched
+
+            def wait(i: int, field: str, value: str, done: Callable[[], bool]) -> None:
+                deadline = time.monotonic() + 60
+                while not done():
+                    if time.monotonic() > deadline:
+                        problems.append(f"session {k} update {i} ({field}={value}): no refresh")
+                        return
+                    session.force_roundtrip()
+                    time.sleep(0.002)
+
+            twirl, y, current = False, 0, dict(START["wall"])
+            for i, (field, value) in enumerate(_plan(k, n, k == 0)):
+                before = seen["links"]
+                if field == "twirl":  # a view switch: always to the other view
+                    twirl = not twirl
+                    box = by["hb-twirl-toggle"]
+                    box.active = ([0] if twirl else []) if isinstance(box.active, list) else twirl
+                elif field == "y":
+                    y = 1 - y
+                    by["hb-y"].active = y
+                else:
+                    if (field, value) not in BAD_INPUTS:
+                        if float(value) == float(current[field]):  # no change: a neighbour
+                            value = {"eps": "0.895", "theta0": "-1.45"}.get(
+                                field, f"{1.01 * float(value):.6g}"
+                            )
+                        current[field] = value
+                    by[f"hb-{field}"].value = value
+                if (field, value) not in BAD_INPUTS:
+                    wait(i, field, value, lambda n=before: seen["links"] != n)
+                    if seen["alert"]:
+                        problems.append(f"session {k} update {i} ({field}={value}): an alert")
+                    continue
+                wait(i, field, value, lambda: seen["alert"])
+                by[f"hb-{field}"].value = current[field]  # back to a good value
+                wait(i, field, current[field], lambda: not seen["alert"])
+        finally:
+            session.close()
+            session._connection._loop.close(all_fds=True)
+
+    def round_(n_sess: int, n: int) -> float:
+        threads = [threading.Thread(target=run, args=(k, n)) for k in range(n_sess)]
+        t0 = time.perf_counter()
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        return time.perf_counter() - t0
+
+    def steady() -> float:
+        """The served process's memory once it stopped falling (sessions discarded)."""
+        time.sleep(3.0)
+        last = _process_rss_mb(proc.pid)
+        for _ in range(30):
+            time.sleep(1.0)
+            now = _process_rss_mb(proc.pid)
+            if abs(now - last) < 0.5:
+                return now
+            last = now
+        return last
+
+    try:
+        deadline = time.monotonic() + 300
+        while True:
+            try:
+                with urllib.request.urlopen(url, timeout=5):
+                    break
+            except OSError:
+                if time.monotonic() > deadline or proc.poll() is not None:
+                    raise RuntimeError("hairbed explore did not start") from None
+                time.sleep(0.5)
+        with open(f"/proc/{proc.pid}/environ", "rb") as fh:
+            env = dict(v.split(b"=", 1) for v in fh.read().split(b"\0") if b"=" in v)
+        out["served_pythonmalloc"] = env.get(b"PYTHONMALLOC", b"").decode()
+        round_(1, 12)
+        out["rss_start_mb"] = steady()
+        for r in range(1, rounds + 1):
+            out[f"round{r}_wall_s"] = round_(n_sessions, updates)
+            out[f"round{r}_rss_after_updates_mb"] = _process_rss_mb(proc.pid)
+            out[f"round{r}_rss_after_close_mb"] = steady()
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
+    out["server_median_ms"] = statistics.median(totals) if totals else math.nan
+    out["server_p90_ms"] = _pct(totals, 90) if totals else math.nan
+    out["problems"] = problems
+    return out
+
+
 def _no_constant(name: str) -> Any:
     raise ValueError(f"{name} in a JSON download")
 
@@ -611,7 +789,34 @@ def main(argv: list[str] | None = None) -> int:
         action="store_true",
         help="part 3: no two sessions at the same inputs (each its own values)",
     )
+    ap.add_argument(
+        "--served",
+        action="store_true",
+        help="part 4: the memory of a served `hairbed explore` (its own process) under "
+        "--sessions N (default 8) x --updates, with each --allocator",
+    )
     args = ap.parse_args(argv)
+    if args.served:
+        results, failed = {}, False
+        for allocator in ("malloc", "pymalloc"):
+            res = served(args.sessions or 8, args.updates, args.rounds, allocator)
+            results[allocator] = res
+            print(f"-- served, --allocator {allocator}")
+            for k, v in res.items():
+                print(f"{k:32s} {v}" if not isinstance(v, float) else f"{k:32s} {v:10.2f}")
+            start = res["rss_start_mb"]
+            closed = res[f"round{args.rounds}_rss_after_close_mb"] - start
+            print(
+                f"targets: after updates +{res['round1_rss_after_updates_mb'] - start:.1f} MB "
+                f"(<= 100), after close +{closed:.1f} MB (near 0), "
+                f"p90 server {res['server_p90_ms']:.1f} ms, "
+                f"{len(res['problems'])} problems (0)"
+            )
+            failed = failed or bool(res["problems"])
+        if args.json:
+            with open(args.json, "w") as fh:
+                json.dump(results, fh, indent=2)
+        return 1 if failed else 0
     if args.sessions:
         drives = ["wall", "pump"] if args.drive == "both" else [args.drive]
         results, failed = {}, False

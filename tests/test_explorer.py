@@ -104,6 +104,28 @@ def test_explore_help_names_the_options():
     assert "127.0.0.1" in out.stdout
 
 
+def test_explore_restarts_with_the_same_options():
+    """``hairbed explore`` restarts itself with PYTHONMALLOC=<--allocator>: the restarted
+    command line gives back every option it was given."""
+    from hairbed.cli import build_parser
+    from hairbed.cli._explore import _argv
+
+    parser = build_parser()
+    given = [
+        "explore", "--port", "0", "--host", "0.0.0.0", "--no-browser",
+        "--allow-websocket-origin", "a.org", "--allow-websocket-origin", "b.org:81",
+        "--session-token-expiration", "9", "--check-unused-sessions", "700",
+        "--unused-session-lifetime", "800", "--allocator", "pymalloc",
+    ]  # fmt: skip
+    args = parser.parse_args(given)
+    again = parser.parse_args(["explore", *_argv(args)])
+    assert vars(again) == vars(args)
+    default = parser.parse_args(["explore"])
+    assert default.allocator == "malloc" and vars(
+        parser.parse_args(["explore", *_argv(default)])
+    ) == vars(default)
+
+
 def test_taken_port_is_a_one_line_error():
     import socket
 

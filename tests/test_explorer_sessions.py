@@ -19,6 +19,10 @@ the sessions shared are emptied, and a second identical round leaves the residen
 within :data:`RSS_BOUND_MB` of the first round's (the allocator keeps what the first round's
 peak took for reuse: that is not a leak) and Python's live heap within :data:`BLOCKS_BOUND`
 allocated blocks of it. (The clients' documents live in this process too.)
+
+And ``hairbed explore`` as users run it, a process of its own: it restarts itself with
+PYTHONMALLOC=malloc, and once 8 sessions closed and were discarded, its resident memory is
+back within :data:`SERVED_BOUND_MB` of the start.
 """
 
 from __future__ import annotations
@@ -277,3 +281,137 @@ def test_sessions_isolated_correct_and_released(served):
     print(f"after the second round: {grown_mb:+.1f} MB resident, {grown_blocks:+d} blocks")
     assert grown_mb <= RSS_BOUND_MB
     assert grown_blocks <= BLOCKS_BOUND
+
+
+#: Resident memory [MB] that ``hairbed explore``, served in a process of its own as users run
+#: it, may keep once 8 sessions of SERVED_UPDATES updates closed (it restarts itself with
+#: PYTHONMALLOC=malloc; measured +3.6 MB, against +24 MB with --allocator pymalloc).
+SERVED_BOUND_MB = 12.0
+SERVED_SESSIONS, SERVED_UPDATES = 8, 40
+
+
+def _process_rss_mb(pid: int) -> float:
+    with open(f"/proc/{pid}/status") as fh:
+        for line in fh:
+            if line.startswith("VmRSS:"):
+                return float(line.split()[1]) / 1024.0
+    raise RuntimeError(f"no VmRSS for process {pid}")
+
+
+def _steady_rss_mb(pid: int) -> float:
+    """The process's resident memory once it stopped falling (its sessions discarded)."""
+    time.sleep(2.0)
+    last = _process_rss_mb(pid)
+    for _ in range(30):
+        time.sleep(1.0)
+        now = _process_rss_mb(pid)
+        if abs(now - last) < 0.5:
+            return now
+        last = now
+    return last
+
+
+def _drive_served(url: str, k: int, updates: int, problems: list[str]) -> None:
+    """Client session k: omega2 typed across both folds of (0.9, -1.5), each update awaited
+    until the server's patch of the page's link (which holds every input) arrives, read off
+    the websocket: Bokeh's client drops the patches that come while it waits for a reply."""
+    from bokeh.client import pull_session
+
+    session = pull_session(url=url, arguments={"omega2": "0.8", "eps": EPS, "theta0": THETA0})
+    try:
+        models = {
+            c: m
+            for m in session.document.select({})
+            for c in (getattr(m, "css_classes", None) or [])
+        }
+        link, alert = models["hb-link"].id, models["hb-error"].id
+        seen = {"updates": 0, "alerts": 0}
+        connection = session._connection
+        pop = connection._pop_message
+
+        async def watched() -> Any:
+            message = await pop()
+            if message is not None and message.msgtype == "PATCH-DOC":
+                for ev in message.content.get("events", []):
+                    model = (ev.get("model") or {}).get("id")
+                    seen["updates"] += model == link and ev.get("attr") == "text"
+                    seen["alerts"] += model == alert and ev.get("new") is True
+            return message
+
+        connection._pop_message = watched
+        logs = np.linspace(math.log10(0.5), math.log10(2.5), 12)
+        sweep = np.concatenate([logs, logs[-2:0:-1]])
+        for i in range(updates):
+            before = seen["updates"]
+            value = f"{10.0 ** sweep[(i + 5 * k) % sweep.size] * (1.0 + 0.001 * k):.6g}"
+            models["hb-omega2"].value = value
+            deadline = time.monotonic() + TIMEOUT
+            while seen["updates"] == before:
+                if time.monotonic() > deadline:
+                    problems.append(f"served session {k} update {i} (omega2={value}): no refresh")
+                    return
+                session.force_roundtrip()
+                time.sleep(0.002)
+        if seen["alerts"]:
+            problems.append(f"served session {k}: an error was shown")
+    finally:
+        session.close()
+        session._connection._loop.close(all_fds=True)  # the client's own loop (Bokeh's)
+
+
+def test_served_explorer_hands_its_memory_back():
+    """``hairbed explore`` as users run it (its own process, default options): it runs with
+    Python's objects from the C allocator, and once 8 sessions closed and were discarded its
+    resident memory is back near the start (issue 19 item 5; the benchmark:
+    ``bench_explorer.py --served``)."""
+    import os
+    import socket
+    import subprocess
+    import urllib.request
+
+    import hairbed.explorer._page  # noqa: F401  (the client resolves the explorer's models)
+
+    if not sys.platform.startswith("linux"):
+        pytest.skip("resident memory read from /proc (Linux)")
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    command = [
+        sys.executable, "-m", "hairbed", "explore", "--port", str(port), "--no-browser",
+        "--check-unused-sessions", "300", "--unused-session-lifetime", "500",
+    ]  # fmt: skip
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONMALLOC"}
+    proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
+    url = f"http://127.0.0.1:{port}/"
+    try:
+        deadline = time.monotonic() + 300
+        while True:
+            try:
+                with urllib.request.urlopen(url, timeout=5):
+                    break
+            except OSError:
+                assert proc.poll() is None, proc.stderr.read().decode() if proc.stderr else ""
+                assert time.monotonic() < deadline, "hairbed explore did not start"
+                time.sleep(0.5)
+        with open(f"/proc/{proc.pid}/environ", "rb") as fh:
+            served_env = fh.read().split(b"\0")
+        assert b"PYTHONMALLOC=malloc" in served_env  # restarted with the C allocator
+        problems: list[str] = []
+        _drive_served(url, 0, 10, problems)  # the server's one-time costs
+        start = _steady_rss_mb(proc.pid)
+        threads = [
+            threading.Thread(target=_drive_served, args=(url, k, SERVED_UPDATES, problems))
+            for k in range(SERVED_SESSIONS)
+        ]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        busy = _process_rss_mb(proc.pid)
+        after = _steady_rss_mb(proc.pid)
+    finally:
+        proc.terminate()
+        proc.wait(timeout=30)
+    print(f"served: start {start:.1f} MB, busy {busy - start:+.1f}, closed {after - start:+.1f}")
+    assert problems == []
+    assert after - start <= SERVED_BOUND_MB

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import argparse
+import os
+import sys
 from typing import Any
 
 from ._options import add_command
@@ -15,9 +17,11 @@ Serve the interactive explorer (needs the app extra: pip install 'hairbed[app]')
 and exact entry of omega2, eps and theta0 or of a bed in SI units; every coexisting state in
 the channel, the branch diagram, the bistability map, the phase portrait and a table; the
 inputs in the page's URL; JSON and CSV downloads. Listens on the loopback interface unless
---host says otherwise. Each browser session holds about 10 MB of server memory until it is
-discarded, --unused-session-lifetime after its page was closed (PYTHONMALLOC=malloc lets
-more of it go back to the system after the sessions close).
+--host says otherwise. Each browser session holds some 4 to 5 MB of server memory until it
+is discarded, --unused-session-lifetime after its page was closed. The server runs with
+Python's objects from the C allocator (--allocator malloc, the default: it restarts itself
+with PYTHONMALLOC=malloc), so that memory goes back to the system once the sessions close
+(within ~4 MB); with CPython's own allocator (--allocator pymalloc) some 30 MB stay behind.
 
 examples:
   hairbed explore
@@ -40,6 +44,8 @@ _OPTIONS = (
      "discard a closed session's state after this long [ms] (default 15000)"),
 )  # fmt: skip
 _SESSION_OPTIONS = tuple(o for o in _OPTIONS if o[3] is not None)
+#: --allocator's choices: the values of PYTHONMALLOC it runs the server with.
+ALLOCATORS = ("malloc", "pymalloc")
 
 
 def add_parser(sub: Any) -> None:
@@ -57,6 +63,13 @@ def add_parser(sub: Any) -> None:
     for dest, kind, default, metavar, text in _SESSION_OPTIONS:
         option = "--" + dest.replace("_", "-")
         p.add_argument(option, type=kind, default=default, metavar=metavar, help=text)
+    p.add_argument(
+        "--allocator",
+        choices=ALLOCATORS,
+        default="malloc",
+        help="where Python's objects live: the C allocator, whose freed memory goes back to "
+        "the system (malloc, default), or CPython's own arenas (pymalloc)",
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -69,6 +82,7 @@ def run(args: argparse.Namespace) -> int:
         if getattr(args, dest) < 1:
             option = "--" + dest.replace("_", "-")
             raise UsageError(f"{option} must be >= 1, got {getattr(args, dest)}")
+    _run_with_allocator(args)
     try:
         serve(
             port=args.port,
@@ -84,3 +98,34 @@ def run(args: argparse.Namespace) -> int:
             f"cannot serve on {args.host}:{args.port}: {exc.strerror or exc}"
         ) from None
     return 0
+
+
+def _run_with_allocator(args: argparse.Namespace) -> None:
+    """Restart this command in a fresh interpreter with ``PYTHONMALLOC=<--allocator>`` when the
+    running one has another allocator (POSIX; Windows keeps the running one).
+
+    PYTHONMALLOC is read only when the interpreter starts. With CPython's pymalloc a 1 MiB
+    arena goes back to the system only when every object in it is gone, and the few that
+    outlive the sessions (interned strings, caches filled on first use) pin the arenas of the
+    busiest moment: measured (``benchmarks/bench_explorer.py --served``, 8 sessions x 250
+    updates, the served process alone) +31 MB after the sessions closed with pymalloc, +4 MB
+    with malloc (glibc's free memory trimmed when a session is discarded), at the same speed.
+    """
+    if os.name != "posix" or os.environ.get("PYTHONMALLOC", "pymalloc") == args.allocator:
+        return
+    argv = [sys.executable, "-m", "hairbed", "explore", *_argv(args)]
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os.execve(sys.executable, argv, {**os.environ, "PYTHONMALLOC": args.allocator})
+
+
+def _argv(args: argparse.Namespace) -> list[str]:
+    """The command line of ``hairbed explore`` that gives ``args`` (checked)."""
+    out: list[str] = []
+    for dest, *_ in _OPTIONS:
+        out += ["--" + dest.replace("_", "-"), str(getattr(args, dest))]
+    for origin in args.allow_websocket_origin or ():
+        out += ["--allow-websocket-origin", origin]
+    if args.no_browser:
+        out.append("--no-browser")
+    return out + ["--allocator", args.allocator]

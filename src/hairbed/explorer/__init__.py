@@ -206,17 +206,17 @@ def serve(
         Seconds a session token stays valid before the page connects.
     check_unused_sessions, unused_session_lifetime : int
         How often [ms] to look for, and after how long [ms] to discard, sessions whose page was
-        closed. An open session holds about 10 MB of server memory (measured with
-        ``benchmarks/bench_explorer.py --sessions 8 --updates 250``: 8 sessions added 80 to
-        87 MB, the benchmark's own Bokeh client documents included). Once the sessions are
-        discarded, their objects are collected, the caches they shared are emptied and the
-        C allocator's free memory is handed back to the system (``malloc_trim`` where glibc
-        has it), but the resident memory stays some 65 to 75 MB above the start: Python's
-        live heap is back (+0.6 MB in CPython's small-object blocks, measured with
-        ``sys._debugmallocstats``), yet the 70 extra 1 MiB arenas of the busiest moment stay
-        mapped, each kept by a few surviving objects with 71 MB of empty pools among them
-        (with ``PYTHONMALLOC=malloc`` the rest falls to +18 to +26 MB). A later round of
-        sessions reuses that memory instead of adding to it.
+        closed. An open session holds some 4 to 5 MB of server memory (measured with
+        ``benchmarks/bench_explorer.py --served``: 8 sessions of 250 updates added 22 to
+        35 MB to the served process). Once the sessions are discarded, their objects are
+        collected, the caches they shared are emptied and the C allocator's free memory is
+        handed back to the system (``malloc_trim`` where glibc has it). How much of it the
+        process returns depends on the allocator, fixed when the interpreter starts:
+        with ``PYTHONMALLOC=malloc`` the resident memory is back within ~4 MB of the start;
+        with CPython's default pymalloc some 31 MB stay (the 1 MiB arenas of the busiest
+        moment, each kept mapped by a few objects that outlive the sessions; a later round
+        reuses them). ``hairbed explore`` restarts itself with ``PYTHONMALLOC=malloc``
+        (``--allocator``); this function serves in the running interpreter as it is.
     log : file, optional
         Where to print the address (default stdout).
     """
