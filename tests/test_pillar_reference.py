@@ -312,6 +312,78 @@ def test_root_picks_every_window_state():
     assert hairbed.solve_pillar(3.0, -1.4, root="high").status == 0
 
 
+@pytest.mark.parametrize(
+    ("theta0", "gap"), [(-1.5, 1e-3), (-1.5, 1e-7), (-1.4, 1e-3), (-1.4, 1e-7), (1.5, 1e-5)]
+)
+def test_every_window_state_right_up_to_its_folds(theta0, gap):
+    """Within ``gap`` (relative) of either fold, inside the window: three states, the same from
+    solve_pillar's root= and from solve_pillar_all, each a true state (the inverse problem at
+    its tip deflection gives back its forcing); just outside: one. Before, a forcing between
+    a branch grid's extreme Lambda and the fold's lost two states (theta0 = -1.5: at
+    Lambda = 37.44, within 0.08 % of the upper fold, root="low" gave the high state, and
+    solve_pillar_all found one state from 15.9856 to 18.73, its branch ending before the
+    lower fold)."""
+    sign = -1.0 if theta0 > 0 else 1.0  # theta0 = +1.5: the mirror, a flow towards -x
+    folds = sorted(abs(hairbed.continue_pillar(sign * 60.0, theta0).folds[:, 0]))
+    assert len(folds) == 2
+    lo, hi = folds
+    for lam, inside in [
+        (lo * (1 + gap), True),
+        (hi * (1 - gap), True),
+        (lo * (1 - gap), False),
+        (hi * (1 + gap), False),
+    ]:
+        every = hairbed.solve_pillar_all(sign * lam, theta0)
+        picked = [hairbed.solve_pillar(sign * lam, theta0, root=r) for r in ("low", "mid", "high")]
+        assert len(every) == (3 if inside else 1), (lam, inside)
+        if inside:
+            assert [p.status for p in picked] == [0, 0, 0]
+            x_picked = sorted(float(p.tip_deflection) for p in picked)
+            x_every = [float(s.tip_deflection) for s in every]
+            assert np.allclose(x_picked, x_every, rtol=0, atol=1e-9), (lam, x_picked, x_every)
+            assert len(set(np.round(x_picked, 12))) == 3
+        else:
+            assert picked[1].status == -1
+            assert float(picked[0].tip_deflection) == pytest.approx(
+                float(every[0].tip_deflection), abs=1e-9
+            )
+        for p in picked:
+            if p.status == 0:
+                back = hairbed.solve_pillar_inverse(float(p.tip_deflection), theta0)
+                assert float(back.forcing) == pytest.approx(sign * lam, rel=1e-9)
+
+
+def test_a_window_state_is_found_in_its_cell_where_newton_strays(monkeypatch):
+    """Where the forward Newton from the branch grid fails or lands outside its crossing's
+    cell (another state of the window), root= solves Lambda(x1) = forcing in that cell (the
+    Illinois method on the inverse): here every forward Newton of the branch is made to fail,
+    and the states are those of the normal path, each a true state."""
+    from hairbed._core import pillar as core
+
+    lam = np.array([37.0, 37.4689, 16.0, 15.9857, 60.0])
+    normal = {r: hairbed.solve_pillar(lam, -1.5, root=r) for r in ("low", "mid", "high")}
+    run = core._kernel_run
+
+    def failing(code, *args, **kwargs):
+        out, coefs = run(code, *args, **kwargs)
+        if code == core._DRAG:  # theta0 = -1.5: only the branch's forward Newton
+            out = out.copy()
+            out[0] = -7
+        return out, coefs
+
+    monkeypatch.setattr(core, "_kernel_run", failing)
+    for root, ref in normal.items():
+        st = hairbed.solve_pillar(lam, -1.5, root=root)
+        status = np.asarray(st.status)
+        assert np.array_equal(status, np.asarray(ref.status)), root
+        ok = status == 0
+        x1, x_ref = np.asarray(st.tip_deflection), np.asarray(ref.tip_deflection)
+        assert np.allclose(x1[ok], x_ref[ok], rtol=0, atol=1e-10), root
+        back = core.solve_pillar_inverse(x1[ok], -1.5)
+        assert np.allclose(back.forcing, lam[ok], rtol=1e-12, atol=0), root
+        assert np.all(np.isfinite(np.asarray(st.tip_angle)[ok]))
+
+
 def test_a_ramp_through_the_window_is_monotone():
     """root="low" along a ramp of the forcing through the window jumps once, upwards, at the
     upper fold (the quasi-static ramp from rest)."""

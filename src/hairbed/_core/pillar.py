@@ -804,6 +804,10 @@ def _on_branch(
     lam_grid = o[12].reshape(-1, reps)
     coef_grid = c[0].reshape(uniq.shape[0], reps, -1)  # theta of the grid states (a = 0)
     h_grid = o[4].reshape(-1, reps)
+    x_grid = x.reshape(-1, reps)
+    # each fold between grid points in place of the grid's extreme point: else a forcing
+    # between the grid's extreme Lambda and the fold's misses two states of the window
+    _refine_turns(uniq, x_grid, lam_grid, coef_grid, h_grid, prof, tol, nums)
     # every element's crossings of its forcing along its branch (from rest: Lambda = 0)
     lam_b = np.concatenate([np.zeros((uniq.shape[0], 1)), lam_grid], axis=1)[inv]
     gexc = sign[:, None] * (lam_b - lf[idx][:, None])
@@ -844,6 +848,140 @@ def _on_branch(
     start = np.ascontiguousarray((1.0 - wgt)[:, None] * th0 + wgt[:, None] * th1)
     hs = np.ascontiguousarray(((1.0 - wgt) * h0 + wgt * h1)[:, None])
     o2, c2 = _kernel_run(_DRAG, lf[e], tf[e], gf[e], pf[e], a2, start, hs, prof, tol, nums)
+    # x1 moves monotonically along the branch: the state of the crossing lies in its cell; a
+    # Newton that went to another state of the window (near a fold the two that merge there
+    # are close) is replaced by the root of Lambda(x1) = forcing in the cell
+    x_b = np.concatenate([rest[:, None], x_grid], axis=1)
+    xa, xb = x_b[gu, j], x_b[gu, j + 1]
+    lo, hi = np.minimum(xa, xb), np.maximum(xa, xb)
+    slack = 1e-12 * np.maximum(1.0, np.abs(hi))
+    miss = ~((o2[0] >= 0) & (o2[5] >= lo - slack) & (o2[5] <= hi + slack))
+    if np.any(miss):
+        m = np.flatnonzero(miss)
+        o3, c3 = _cell_root(xa[m], xb[m], lf[e][m], tf[e][m], gf[e][m], pf[e][m], prof, tol, nums)
+        o2[:, m] = o3
+        c2 = np.array(c2)
+        width = min(c2.shape[-1], c3.shape[-1])
+        c2[:, m, :] = np.nan
+        c2[:, m, :width] = c3[:, :, :width]
+        a2 = np.where(miss, 0.0, a2)
     out[:, e] = o2
     coefs[:, e, : c2.shape[-1]] = c2
     a[e] = a2
+
+
+#: Steps of the golden-section search for a fold between grid points (its bracket shrinks
+#: by 0.618 a step). It stops at a bracket of 1e-9 in x1: Lambda is flat at the fold, so its
+#: extreme value is then within ~1e-18 relative, below rounding.
+_GOLDEN_STEPS = 60
+_GOLDEN_XTOL = 1e-9
+_GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
+
+
+def _refine_turns(
+    keys: FloatArray,
+    x_grid: FloatArray,
+    lam_grid: FloatArray,
+    coef_grid: FloatArray,
+    h_grid: FloatArray,
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+) -> None:
+    """Each turn of Lambda along a branch grid (a fold between grid points i and i + 2)
+    refined by a golden-section search in x1, every turn of every key at once (one batched
+    inverse a step), and the fold's state written in place of the grid's extreme point
+    i + 1 (x1 stays monotone along the grid), in place."""
+    dl = np.diff(lam_grid, axis=1)
+    turn = np.isfinite(dl[:, :-1]) & np.isfinite(dl[:, 1:]) & (dl[:, :-1] * dl[:, 1:] < 0.0)
+    kk, ii = np.nonzero(turn)
+    if kk.size == 0:
+        return
+    kind = np.where(dl[kk, ii] > 0.0, 1.0, -1.0)  # Lambda rises then falls: a maximum
+    t, g, p = (np.ascontiguousarray(keys[kk, c]) for c in range(3))
+
+    def value(xs: FloatArray) -> FloatArray:
+        o, _, _ = _inverse_run(np.ascontiguousarray(xs), t, g, p, prof, tol, nums)
+        return np.where(np.isfinite(o[12]), kind * o[12], -np.inf)
+
+    a, b = x_grid[kk, ii].copy(), x_grid[kk, ii + 2].copy()
+    c, d = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
+    fc, fd = value(c), value(d)
+    for _ in range(_GOLDEN_STEPS):
+        if np.all(np.abs(b - a) <= _GOLDEN_XTOL * np.maximum(1.0, np.abs(a))):
+            break
+        left = fc > fd  # the maximum lies in [a, d]: d <- c, and a new c
+        b, a = np.where(left, d, b), np.where(left, a, c)
+        new = np.where(left, b - _GOLDEN * (b - a), a + _GOLDEN * (b - a))
+        f_new = value(new)
+        c, d, fc, fd = (
+            np.where(left, new, d),
+            np.where(left, c, new),
+            np.where(left, f_new, fd),
+            np.where(left, fc, f_new),
+        )
+    xf = np.where(fc > fd, c, d)
+    o, cf, _ = _inverse_run(np.ascontiguousarray(xf), t, g, p, prof, tol, nums)
+    ok = (o[0] >= 0) & np.isfinite(o[12]) & (kind * o[12] >= kind * lam_grid[kk, ii + 1])
+    kk, ii, o, cf = kk[ok], ii[ok], o[:, ok], cf[:, ok]
+    x_grid[kk, ii + 1] = xf[ok]
+    lam_grid[kk, ii + 1] = o[12]
+    h_grid[kk, ii + 1] = o[4]
+    width = min(coef_grid.shape[-1], cf.shape[-1])
+    coef_grid[kk, ii + 1, :] = np.nan
+    coef_grid[kk, ii + 1, :width] = cf[0][:, :width]
+
+
+#: Illinois steps of :func:`_cell_root` (superlinear: ~10 reach the rounding of x1).
+_CELL_STEPS = 60
+
+
+def _cell_root(
+    xa: FloatArray,
+    xb: FloatArray,
+    lam: FloatArray,
+    tf: FloatArray,
+    gf: FloatArray,
+    pf: FloatArray,
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+) -> tuple[FloatArray, FloatArray]:
+    """The states where Lambda(x1) = ``lam`` with x1 between the branch points xa and xb (one
+    crossing there): the Illinois method in x1, every element at once (one batched inverse
+    a step), then the inverse state at the root: (out, coefs)."""
+    tf, gf, pf = (np.ascontiguousarray(v) for v in (tf, gf, pf))
+
+    def residual(xs: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
+        o, cf, _ = _inverse_run(np.ascontiguousarray(xs), tf, gf, pf, prof, tol, nums)
+        return o[12] - lam, o, cf
+
+    a, b = xa.copy(), xb.copy()
+    fa, oa, ca = residual(a)
+    fb, ob, cb = residual(b)
+    # a branch point at rest (Lambda = 0) or a fold may sit exactly on the forcing: done
+    best_o = np.where((fa == 0.0)[None, :], oa, ob)
+    best_c = np.where((fa == 0.0)[None, :, None], ca, cb)
+    done = (fa == 0.0) | (fb == 0.0) | ~np.isfinite(fa) | ~np.isfinite(fb)
+    side = np.zeros(a.size)
+    for _ in range(_CELL_STEPS):
+        if np.all(done):
+            break
+        with np.errstate(invalid="ignore", divide="ignore"):
+            x = np.where(fb != fa, b - fb * (b - a) / (fb - fa), 0.5 * (a + b))
+        inside = (x - a) * (x - b) < 0.0
+        x = np.where(inside, x, 0.5 * (a + b))
+        fx, ox, cx = residual(x)
+        upd = ~done
+        best_o[:, upd], best_c[:, upd] = ox[:, upd], cx[:, upd]
+        same = np.sign(fx) == np.sign(fb)
+        # Illinois: halve the stale end's value when the same end is kept twice
+        fa = np.where(upd & same & (side == 1.0), 0.5 * fa, fa)
+        a = np.where(upd & ~same, b, a)
+        fa = np.where(upd & ~same, fb, fa)
+        b, fb = np.where(upd, x, b), np.where(upd, fx, fb)
+        side = np.where(upd, np.where(same, 1.0, -1.0), side)
+        done |= (
+            (fx == 0.0) | ~np.isfinite(fx) | (np.abs(b - a) <= 4e-16 * np.maximum(1.0, np.abs(b)))
+        )
+    return best_o, best_c

@@ -94,11 +94,11 @@ def _branch(
 
 
 def _end_deflection(
-    forcing: float, theta0: float, gamma: float, tip: float, prof: FloatArray
+    forcing: float, theta0: float, gamma: float, tip: float, prof: FloatArray, root: str
 ) -> float:
-    """x1 of the forward state at the end of the range (beyond any window there)."""
+    """x1 of the state ``root`` at the end of the range."""
     lam, t0, g, tp = _check(forcing, theta0, gamma, tip)
-    st = _solve_pillar_checked(lam, t0, g, tp, prof, 1e-12, LADDER)
+    st = _solve_pillar_checked(lam, t0, g, tp, prof, 1e-12, LADDER, root)
     return float(st.tip_deflection)
 
 
@@ -161,9 +161,16 @@ def continue_pillar(
             theta0, "theta0", low=-math.pi / 2, high=math.pi / 2, low_open=True, high_open=True
         )
     )
-    x_end = _end_deflection(end, t0, float(gamma), float(tip_load), prof)
+    return _continue(end, _Branch(t0, float(gamma), float(tip_load), prof), count, "low")
+
+
+def _continue(end: float, branch: _Branch, count: int, root: str) -> PillarBranch:
+    """:func:`continue_pillar` of checked inputs, to the state ``root`` at ``end``: "low"
+    ends before a window there (the state a slow ramp from rest reaches), "high" beyond it
+    (so every state of Lambda up to ``end`` lies on the branch)."""
+    t0 = branch.theta0
+    x_end = _end_deflection(end, t0, branch.gamma, branch.tip_load, branch.prof, root)
     x_rest = math.sin(t0)
-    branch = _Branch(t0, float(gamma), float(tip_load), prof)
     if not math.isfinite(x_end):
         nan = np.full(0, np.nan)
         return PillarBranch(nan, nan, nan, np.zeros(0, dtype=np.bool_), np.zeros((0, 2)), -7)
@@ -229,20 +236,22 @@ def solve_pillar_all(
     lam_t = check_number(forcing, "forcing")
     gamma = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
     tip_load = check_number(tip_load, "tip_load")
-    if lam_t == 0.0:
-        t0 = float(theta0)
-        return [_branch(t0, profile, height_ratio, gamma, tip_load).states(math.sin(t0))]
-    br = continue_pillar(
-        2.0 * lam_t if abs(lam_t) < 1e300 else lam_t,
-        theta0,
-        profile=profile,
-        height_ratio=height_ratio,
-        gamma=gamma,
-        tip_load=tip_load,
-        num=num,
+    t0 = check_number(
+        theta0, "theta0", low=-math.pi / 2, high=math.pi / 2, low_open=True, high_open=True
     )
-    branch = _branch(float(theta0), profile, height_ratio, gamma, tip_load)
-    g = br.forcing - lam_t
+    count = check_int(num, "num", 16, 10**4)
+    branch = _branch(float(t0), profile, height_ratio, gamma, tip_load)
+    if lam_t == 0.0:
+        return [branch.states(math.sin(t0))]
+    # to the last state at twice the forcing: past a window there, whose far states (and
+    # its lower fold) lie beyond the state a ramp from rest reaches
+    br = _continue(2.0 * lam_t if abs(lam_t) < 1e300 else lam_t, branch, count, "high")
+    # the folds among the grid's points (x1 monotone along the branch): else a forcing
+    # between the grid's extreme Lambda and the fold's misses two states of the window
+    xs = np.concatenate([br.tip_deflection, br.folds[:, 1]])
+    order = np.argsort(xs if lam_t > 0.0 else -xs, kind="stable")
+    xs = xs[order]
+    g = np.concatenate([br.forcing, br.folds[:, 0]])[order] - lam_t
     idx = np.flatnonzero(np.isfinite(g[:-1]) & np.isfinite(g[1:]) & (g[:-1] * g[1:] <= 0.0))
     idx = idx[~np.isin(idx - 1, idx) | (g[idx] != 0.0)]
     roots = []
@@ -250,9 +259,9 @@ def solve_pillar_all(
     for i in idx:
         rising.append(
             # dLambda/dx1 > 0 for either sign of the forcing (the mirror flips both)
-            bool((g[i + 1] - g[i]) * (br.tip_deflection[i + 1] - br.tip_deflection[i]) > 0)
+            bool((g[i + 1] - g[i]) * (xs[i + 1] - xs[i]) > 0)
         )
-        lo, hi = float(br.tip_deflection[i]), float(br.tip_deflection[i + 1])
+        lo, hi = float(xs[i]), float(xs[i + 1])
         glo = float(g[i])
         for _ in range(_MAX_STEPS):
             if abs(hi - lo) <= 4e-16 * max(1.0, abs(hi)):
