@@ -74,7 +74,7 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Check the options, then serve until interrupted."""
-    from hairbed.explorer import AppMissingError, serve
+    from hairbed.explorer import AppMissingError, _check_installed, serve
 
     if not 0 <= args.port <= 65535:
         raise UsageError(f"--port must be in [0, 65535], got {args.port}")
@@ -82,6 +82,10 @@ def run(args: argparse.Namespace) -> int:
         if getattr(args, dest) < 1:
             option = "--" + dest.replace("_", "-")
             raise UsageError(f"{option} must be >= 1, got {getattr(args, dest)}")
+    try:
+        _check_installed()  # before a restart: a missing extra is this process's one line
+    except AppMissingError as exc:
+        raise CommandError(one_line(exc)) from None  # names the module and the app extra
     _run_with_allocator(args)
     try:
         serve(

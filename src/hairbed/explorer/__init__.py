@@ -43,6 +43,18 @@ class AppMissingError(ImportError):
     """Panel or Bokeh is not installed (the ``app`` extra)."""
 
 
+def _check_installed() -> None:
+    """Raise :class:`AppMissingError` if Panel or Bokeh is not installed, without importing
+    them (``hairbed explore`` asks before it restarts itself)."""
+    import importlib.util
+
+    for package in ("panel", "bokeh"):
+        if importlib.util.find_spec(package) is None:
+            raise AppMissingError(
+                f"the explorer needs {package}, which is not installed: {install_hint(package)}"
+            )
+
+
 def _page_module() -> Any:
     try:
         from . import _page
