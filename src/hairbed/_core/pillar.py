@@ -870,12 +870,37 @@ def _on_branch(
     a[e] = a2
 
 
-#: Steps of the golden-section search for a fold between grid points (its bracket shrinks
-#: by 0.618 a step). It stops at a bracket of 1e-9 in x1: Lambda is flat at the fold, so its
-#: extreme value is then within ~1e-18 relative, below rounding.
-_GOLDEN_STEPS = 60
+#: Steps of the golden-section search for a fold (its bracket shrinks by 0.618 a step: 1e-12
+#: of it after 58). For root= it stops at a bracket of 1e-9 in x1: Lambda is flat at the
+#: fold, so its extreme value is then within ~1e-18 relative, below rounding.
+_GOLDEN_STEPS = 80
 _GOLDEN_XTOL = 1e-9
 _GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
+
+
+def _golden_max(
+    value: Callable[[FloatArray], FloatArray], a: FloatArray, b: FloatArray, xtol: float
+) -> tuple[FloatArray, FloatArray]:
+    """Maxima of ``value`` (elementwise, one call a step for every bracket) on the brackets
+    [a, b] (either order) by golden-section search, to a bracket of ``xtol`` relative (and
+    absolute below 1): (x, value there)."""
+    a, b = np.array(a, dtype=np.float64), np.array(b, dtype=np.float64)
+    c, d = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
+    fc, fd = value(c), value(d)
+    for _ in range(_GOLDEN_STEPS):
+        if np.all(np.abs(b - a) <= xtol * np.maximum(1.0, np.abs(a))):
+            break
+        left = fc > fd  # the maximum lies in [a, d]: d <- c, and a new c
+        b, a = np.where(left, d, b), np.where(left, a, c)
+        new = np.where(left, b - _GOLDEN * (b - a), a + _GOLDEN * (b - a))
+        f_new = value(new)
+        c, d, fc, fd = (
+            np.where(left, new, d),
+            np.where(left, c, new),
+            np.where(left, f_new, fd),
+            np.where(left, fc, f_new),
+        )
+    return np.where(fc > fd, c, d), np.maximum(fc, fd)
 
 
 def _refine_turns(
@@ -904,23 +929,7 @@ def _refine_turns(
         o, _, _ = _inverse_run(np.ascontiguousarray(xs), t, g, p, prof, tol, nums)
         return np.where(np.isfinite(o[12]), kind * o[12], -np.inf)
 
-    a, b = x_grid[kk, ii].copy(), x_grid[kk, ii + 2].copy()
-    c, d = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
-    fc, fd = value(c), value(d)
-    for _ in range(_GOLDEN_STEPS):
-        if np.all(np.abs(b - a) <= _GOLDEN_XTOL * np.maximum(1.0, np.abs(a))):
-            break
-        left = fc > fd  # the maximum lies in [a, d]: d <- c, and a new c
-        b, a = np.where(left, d, b), np.where(left, a, c)
-        new = np.where(left, b - _GOLDEN * (b - a), a + _GOLDEN * (b - a))
-        f_new = value(new)
-        c, d, fc, fd = (
-            np.where(left, new, d),
-            np.where(left, c, new),
-            np.where(left, f_new, fd),
-            np.where(left, fc, f_new),
-        )
-    xf = np.where(fc > fd, c, d)
+    xf, _ = _golden_max(value, x_grid[kk, ii], x_grid[kk, ii + 2], _GOLDEN_XTOL)
     o, cf, _ = _inverse_run(np.ascontiguousarray(xf), t, g, p, prof, tol, nums)
     ok = (o[0] >= 0) & np.isfinite(o[12]) & (kind * o[12] >= kind * lam_grid[kk, ii + 1])
     kk, ii, o, cf = kk[ok], ii[ok], o[:, ok], cf[:, ok]

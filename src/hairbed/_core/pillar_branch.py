@@ -6,8 +6,9 @@ pillar's sin(theta0) at Lambda = 0 towards the wall (theory.md §12), while Lamb
 is the inverse problem of ``pillar.solve_pillar_inverse`` (the shared collocation kernel with
 Lambda as an unknown), all points of a grid in one batch, and the branch passes its folds
 without a special step. A fold is a local extremum of Lambda(x1), refined by a golden-section
-search; the states at a forcing are the roots of Lambda(x1) = Lambda, refined by bisection on
-x1. Bounded work: a fixed grid, at most 80 golden-section or bisection steps a root.
+search (every fold of the branch at once); the states at a forcing are the roots of Lambda(x1)
+= Lambda, refined by bisection on x1. Bounded work: a fixed grid, at most 80 golden-section or
+bisection steps a root.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from .loaded import LADDER, _quiet
 from .pillar import (
     PillarState,
     _check,
+    _golden_max,
     _inverse_checked,
     _solve_pillar_checked,
     profile_coefficients,
@@ -32,7 +34,6 @@ from .validation import check_int, check_number
 __all__ = ["PillarBranch", "continue_pillar", "solve_pillar_all"]
 
 FloatArray = NDArray[np.float64]
-_GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
 _MAX_STEPS = 80
 
 
@@ -102,27 +103,6 @@ def _end_deflection(
     return float(st.tip_deflection)
 
 
-def _golden(branch: _Branch, lo: float, hi: float, sign: float) -> tuple[float, float]:
-    """The extremum of sign * Lambda(x1) on [lo, hi] (a maximum): (x1, Lambda)."""
-    a, b = lo, hi
-    c = b - _GOLDEN * (b - a)
-    d = a + _GOLDEN * (b - a)
-    fc, fd = sign * branch.forcing(c), sign * branch.forcing(d)
-    for _ in range(_MAX_STEPS):
-        if abs(b - a) <= 1e-12 * max(1.0, abs(a)):
-            break
-        if fc > fd:
-            b, d, fd = d, c, fc
-            c = b - _GOLDEN * (b - a)
-            fc = sign * branch.forcing(c)
-        else:
-            a, c, fc = c, d, fd
-            d = a + _GOLDEN * (b - a)
-            fd = sign * branch.forcing(d)
-    x = c if fc > fd else d
-    return x, sign * max(fc, fd)
-
-
 @_quiet
 def continue_pillar(
     forcing_max: float,
@@ -183,21 +163,24 @@ def _continue(end: float, branch: _Branch, count: int, root: str) -> PillarBranc
     # vanishes where the grid's x1 or Lambda round to the same values (a tiny forcing)
     with np.errstate(invalid="ignore"):
         stable = np.asarray(st.tip_deflection_slope, dtype=np.float64) > 0.0
-    folds = []
     dl = np.diff(lam)
     turns = np.flatnonzero(np.isfinite(dl[:-1]) & np.isfinite(dl[1:]) & (dl[:-1] * dl[1:] < 0))
-    for i in turns:
-        lo, hi = sorted((float(x[i]), float(x[i + 2])))
-        kind = 1.0 if dl[i] > 0 else -1.0  # Lambda rises then falls along the grid: a maximum
-        xf, lf = _golden(branch, lo, hi, kind)
-        folds.append((lf, xf))
+    kind = np.where(dl[turns] > 0, 1.0, -1.0)  # Lambda rises then falls along the grid: a max
+
+    def value(xs: FloatArray) -> FloatArray:
+        return kind * np.asarray(branch.states(xs).forcing, dtype=np.float64)
+
+    folds = np.zeros((0, 2))
+    if turns.size:  # every fold at once, to 1e-12 in x1
+        xf, best = _golden_max(value, x[turns], x[turns + 2], 1e-12)
+        folds = np.stack([kind * best, xf], axis=1)
     status = 0 if np.all(np.asarray(st.status) >= 0) else -7
     return PillarBranch(
         tip_deflection=x,
         forcing=lam,
         tip_height=np.asarray(st.tip_height, dtype=np.float64),
         stable=stable,
-        folds=np.array(folds, dtype=np.float64).reshape(-1, 2),
+        folds=folds,
         status=status,
     )
 
