@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .loaded import LoadedState, _chebyshev_values, _ladder
+from .loaded import LoadedState, _ladder, _nodal_values
 from .outputs import scalar_or_array
 
 __all__ = ["LOADED_OUTPUTS", "loaded_gradient_table"]
@@ -71,7 +71,7 @@ def loaded_gradient_table(
     for n in np.unique(num[ok]):
         n = int(n)
         sel = np.flatnonzero(ok & (num == n))
-        theta = np.ascontiguousarray(coefs[sel, : n + 1] @ _chebyshev_values(n).T)
+        theta = _nodal_values(coefs[sel], n)
         _, nodes, d1, d2, im, _ = _ladder((n,))
         part = np.empty((k.NOUT, k.NIN, sel.size))
         st = np.empty(sel.size, dtype=np.int64)

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from .loaded import _chebyshev_values, _ladder
+from .loaded import _ladder, _nodal_values
 from .outputs import scalar_or_array
 from .pillar import PillarState, profile_coefficients
 from .validation import check_number
@@ -97,7 +97,7 @@ def pillar_gradient_table(
     for n in np.unique(num[ok]):
         n = int(n)
         sel = np.flatnonzero(ok & (num == n))
-        theta = np.ascontiguousarray(coefs[sel, : n + 1] @ _chebyshev_values(n).T)
+        theta = _nodal_values(coefs[sel], n)
         _, nodes, d1, d2, im, _ = _ladder((n,))
         part = np.empty((k.NOUT, k.NIN, sel.size))
         st = np.empty(sel.size, dtype=np.int64)
