@@ -43,6 +43,12 @@ class AppMissingError(ImportError):
     """Panel or Bokeh is not installed (the ``app`` extra)."""
 
 
+def _missing(package: str) -> AppMissingError:
+    return AppMissingError(
+        f"the explorer needs {package}, which is not installed: {install_hint(package)}"
+    )
+
+
 def _check_installed() -> None:
     """Raise :class:`AppMissingError` if Panel or Bokeh is not installed, without importing
     them (``hairbed explore`` asks before it restarts itself)."""
@@ -50,9 +56,7 @@ def _check_installed() -> None:
 
     for package in ("panel", "bokeh"):
         if importlib.util.find_spec(package) is None:
-            raise AppMissingError(
-                f"the explorer needs {package}, which is not installed: {install_hint(package)}"
-            )
+            raise _missing(package)
 
 
 def _page_module() -> Any:
@@ -60,10 +64,7 @@ def _page_module() -> Any:
         from . import _page
     except ModuleNotFoundError as exc:
         if extra_of(exc) == "app":
-            package = (exc.name or "").split(".")[0]
-            raise AppMissingError(
-                f"the explorer needs {package}, which is not installed: {install_hint(package)}"
-            ) from None
+            raise _missing((exc.name or "").split(".")[0]) from None
         raise
     return _page
 
