@@ -903,6 +903,18 @@ def _golden_max(
     return np.where(fc > fd, c, d), np.maximum(fc, fd)
 
 
+def _grid_turns(
+    lam_grid: FloatArray,
+) -> tuple[NDArray[np.intp], NDArray[np.intp], FloatArray]:
+    """The turns of Lambda along each row of branch grids (rows, points): (row, i, kind) of
+    each, a fold between points i and i + 2; kind 1 where Lambda rises then falls (a
+    maximum), -1 for a minimum. Points with a non-finite Lambda turn nothing."""
+    dl = np.diff(lam_grid, axis=1)
+    turn = np.isfinite(dl[:, :-1]) & np.isfinite(dl[:, 1:]) & (dl[:, :-1] * dl[:, 1:] < 0.0)
+    kk, ii = np.nonzero(turn)
+    return kk, ii, np.where(dl[kk, ii] > 0.0, 1.0, -1.0)
+
+
 def _refine_turns(
     keys: FloatArray,
     x_grid: FloatArray,
@@ -917,12 +929,9 @@ def _refine_turns(
     refined by a golden-section search in x1, every turn of every key at once (one batched
     inverse a step), and the fold's state written in place of the grid's extreme point
     i + 1 (x1 stays monotone along the grid), in place."""
-    dl = np.diff(lam_grid, axis=1)
-    turn = np.isfinite(dl[:, :-1]) & np.isfinite(dl[:, 1:]) & (dl[:, :-1] * dl[:, 1:] < 0.0)
-    kk, ii = np.nonzero(turn)
+    kk, ii, kind = _grid_turns(lam_grid)
     if kk.size == 0:
         return
-    kind = np.where(dl[kk, ii] > 0.0, 1.0, -1.0)  # Lambda rises then falls: a maximum
     t, g, p = (np.ascontiguousarray(keys[kk, c]) for c in range(3))
 
     def value(xs: FloatArray) -> FloatArray:

@@ -25,6 +25,7 @@ from .pillar import (
     PillarState,
     _check,
     _golden_max,
+    _grid_turns,
     _inverse_checked,
     _solve_pillar_checked,
     profile_coefficients,
@@ -86,12 +87,15 @@ class _Branch:
         return float(self.states(x1).forcing)
 
 
-def _branch(
-    theta0: float, profile: Any, height_ratio: Any, gamma: float, tip_load: float
-) -> _Branch:
-    """The :class:`_Branch` of checked scalars and a profile (checked here)."""
+def _branch(theta0: Any, profile: Any, height_ratio: Any, gamma: Any, tip_load: Any) -> _Branch:
+    """The :class:`_Branch` of a pillar's scalar inputs and profile, checked here."""
+    g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
+    tip = check_number(tip_load, "tip_load")
     prof = profile_coefficients(profile, height_ratio)[None, :]
-    return _Branch(theta0, float(gamma), float(tip_load), prof)
+    t0 = check_number(
+        theta0, "theta0", low=-math.pi / 2, high=math.pi / 2, low_open=True, high_open=True
+    )
+    return _Branch(float(t0), float(g), float(tip), prof)
 
 
 def _end_deflection(
@@ -133,15 +137,7 @@ def continue_pillar(
     if end == 0.0:
         raise ValueError("forcing_max must be non-zero (the end of the range of Lambda)")
     count = check_int(num, "num", 16, 10**4)
-    gamma = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
-    tip_load = check_number(tip_load, "tip_load")
-    prof = profile_coefficients(profile, height_ratio)[None, :]
-    t0 = float(
-        check_number(
-            theta0, "theta0", low=-math.pi / 2, high=math.pi / 2, low_open=True, high_open=True
-        )
-    )
-    return _continue(end, _Branch(t0, float(gamma), float(tip_load), prof), count, "low")
+    return _continue(end, _branch(theta0, profile, height_ratio, gamma, tip_load), count, "low")
 
 
 def _continue(end: float, branch: _Branch, count: int, root: str) -> PillarBranch:
@@ -163,9 +159,7 @@ def _continue(end: float, branch: _Branch, count: int, root: str) -> PillarBranc
     # vanishes where the grid's x1 or Lambda round to the same values (a tiny forcing)
     with np.errstate(invalid="ignore"):
         stable = np.asarray(st.tip_deflection_slope, dtype=np.float64) > 0.0
-    dl = np.diff(lam)
-    turns = np.flatnonzero(np.isfinite(dl[:-1]) & np.isfinite(dl[1:]) & (dl[:-1] * dl[1:] < 0))
-    kind = np.where(dl[turns] > 0, 1.0, -1.0)  # Lambda rises then falls along the grid: a max
+    _, turns, kind = _grid_turns(lam[None, :])
 
     def value(xs: FloatArray) -> FloatArray:
         return kind * np.asarray(branch.states(xs).forcing, dtype=np.float64)
@@ -217,15 +211,10 @@ def solve_pillar_all(
         first and last are stable, the middle one is not.
     """
     lam_t = check_number(forcing, "forcing")
-    gamma = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
-    tip_load = check_number(tip_load, "tip_load")
-    t0 = check_number(
-        theta0, "theta0", low=-math.pi / 2, high=math.pi / 2, low_open=True, high_open=True
-    )
+    branch = _branch(theta0, profile, height_ratio, gamma, tip_load)
     count = check_int(num, "num", 16, 10**4)
-    branch = _branch(float(t0), profile, height_ratio, gamma, tip_load)
     if lam_t == 0.0:
-        return [branch.states(math.sin(t0))]
+        return [branch.states(math.sin(branch.theta0))]
     # to the last state at twice the forcing: past a window there, whose far states (and
     # its lower fold) lie beyond the state a ramp from rest reaches
     br = _continue(2.0 * lam_t if abs(lam_t) < 1e300 else lam_t, branch, count, "high")
