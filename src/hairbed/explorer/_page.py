@@ -224,6 +224,23 @@ def _errors_html(messages: tuple[str, ...]) -> str:
     return f'<div class="hb-notes hb-errors">{items}</div>'
 
 
+def ignored_message(names: tuple[str, ...]) -> str:
+    """What the alert says of unknown URL parameters (ignored; the known ones applied)."""
+    s = "s" if len(names) > 1 else ""
+    return (
+        f"ignored the unknown URL parameter{s} {', '.join(repr(k) for k in names)} "
+        f"(the others are applied); known: {', '.join(INPUT_KEYS)}"
+    )
+
+
+def _ignored_html(names: tuple[str, ...]) -> str:
+    """The unknown URL parameters of the link just applied (empty: nothing)."""
+    if not names:
+        return ""
+    text = html.escape(ignored_message(names))
+    return f'<div class="hb-notes hb-warnings hb-ignored"><p>{text}</p></div>'
+
+
 def _twirl_html(snap: Snapshot) -> str:
     if not snap.params.twirl:
         return ""
@@ -283,6 +300,8 @@ class ExplorerPage:
         self.error = ""
         #: The messages of the last bad input (one per bad parameter); () after a good one.
         self.errors: tuple[str, ...] = ()
+        #: The unknown parameters of the link being applied (ignored, and said in the alert).
+        self.ignored: tuple[str, ...] = ()
         self.views = Views()
         self._build_widgets()
         self._build_layout()
@@ -620,22 +639,16 @@ class ExplorerPage:
             self._apply_query(event.new, restore=True)
 
     def _apply_query(self, query: str, *, restore: bool = False) -> None:
-        """Inputs from a URL query: put them into the fields and refresh. Unknown names or
-        bad values show the library's message; the last good state stays on screen.
+        """Inputs from a URL query: put them into the fields and refresh. Unknown names are
+        ignored and named in the alert (the known ones apply); bad values show the library's
+        message and the last good state stays on screen.
 
         With ``restore`` (a URL of the browser's history), the inputs the query does not name
         take their defaults, as in a page loaded from that URL."""
         args = inputs_from_query(query)
-        unknown = sorted(set(args) - set(INPUT_KEYS))
-        if unknown:
-            self._show_error(
-                (
-                    f"unknown parameter{'s' if len(unknown) > 1 else ''} "
-                    f"{', '.join(repr(k) for k in unknown)} in the URL; known: "
-                    f"{', '.join(INPUT_KEYS)}",
-                )
-            )
-            return
+        # unknown names are ignored (and named above the views): the known ones still apply
+        self.ignored = tuple(sorted(set(args) - set(INPUT_KEYS)))
+        args = {k: v for k, v in args.items() if k in INPUT_KEYS}
         if restore:
             args = {**{k: DEFAULTS[k] for k in INPUT_KEYS}, **args}
         self._syncing = True
@@ -665,8 +678,11 @@ class ExplorerPage:
         given = ("si", "twirl", "y", "x", "drive", "view")
         raw.update({k: v for k, v in args.items() if k in given})
         raw.update({k: v for k, v in args.items() if k in PILLAR_CHOICES})
-        if not self.refresh(raw):
-            self._restore_fields()  # a bad link: the fields show the view on screen again
+        try:
+            if not self.refresh(raw):
+                self._restore_fields()  # a bad link: the fields show the view on screen again
+        finally:
+            self.ignored = ()  # said once, for this link; the next change clears the alert
 
     # -- the update -----------------------------------------------------------------------
 
@@ -730,10 +746,14 @@ class ExplorerPage:
         and ``stage`` = (its key, its words) [ms], from ``clock`` = (start, solved)."""
         if self.notes.object != notes:
             self.notes.object = notes
-        if self.alert.visible:
+        self.error, self.errors = "", ()
+        ignored = _ignored_html(self.ignored)
+        if ignored:
+            self.alert.object = ignored
+            self.alert.visible = True
+        elif self.alert.visible:
             self.alert.visible = False
             self.alert.object = ""
-        self.error, self.errors = "", ()
         self.link.object = (
             f'<a class="hb-permalink" href="{html.escape(query)}">link to this view</a>'
         )
@@ -759,7 +779,7 @@ class ExplorerPage:
         """Every message, one line each, above the views (the last good view stays)."""
         self.errors = messages
         self.error = "; ".join(messages)
-        self.alert.object = _errors_html(messages)
+        self.alert.object = _errors_html(messages) + _ignored_html(self.ignored)
         self.alert.visible = True
 
     def _restore_fields(self) -> None:
