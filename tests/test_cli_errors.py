@@ -1,9 +1,11 @@
 """The command line's errors, signals and outputs keep their promises, in real processes.
 
 Every failure is exactly one line on stderr with no "Traceback" and no "Warning" text and a
-non-zero exit status: bad input ``hairbed: error: ...`` (2), a file that cannot be written
-``hairbed: cannot write PATH: reason`` (1), a missing optional dependency ``hairbed: <command>
-needs <module>: pip install 'hairbed[<extra>]'`` (1), Ctrl-C ``hairbed: interrupted`` (130).
+non-zero exit status: bad input ``hairbed: error: ...`` (2), an output path that cannot be
+written, refused before any work, ``hairbed: error: cannot write PATH: reason`` (2, bad
+input as the README promises; a write failing after the work stays 1,
+tests/test_safe_files_faults), a missing optional dependency ``hairbed: <command> needs
+<module>: pip install 'hairbed[<extra>]'`` (1), Ctrl-C ``hairbed: interrupted`` (130).
 Negative numbers in exponent form are values of every numeric option.
 """
 
@@ -136,27 +138,27 @@ def test_write_errors_are_one_line(writer, place, places, capsys):
     if writer == "figures --out":
         path, reason = path.replace("/x.{ext}", "/figs"), "not a directory"
     path = path.format(ext=ext)
-    assert main([*argv, path]) == 1
+    assert main([*argv, path]) == 2
     line = one_line(capsys.readouterr().err)
-    assert line.startswith(f"hairbed: cannot write {path}: "), line
+    assert line.startswith(f"hairbed: error: cannot write {path}: "), line
     assert reason in line.lower(), line
 
 
 def test_write_error_in_a_real_process(tmp_path):
     target = tmp_path / "missing" / "states.png"
     out = run("solve", "--omega2", "1", "--eps", "0.5", "--plot", str(target))
-    assert out.returncode == 1
+    assert out.returncode == 2
     assert out.stdout == ""  # refused before any work
     assert one_line(out.stderr) == (
-        f"hairbed: cannot write {target}: directory '{target.parent}' does not exist"
+        f"hairbed: error: cannot write {target}: directory '{target.parent}' does not exist"
     )
 
 
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs a file system refusing files")
 def test_unwritable_place_is_refused_before_work():
     out = run("solve", "--omega2", "1", "--eps", "0.5", "--plot", "/proc/states.png")
-    assert out.returncode == 1 and out.stdout == ""
-    assert one_line(out.stderr).startswith("hairbed: cannot write /proc/states.png: ")
+    assert out.returncode == 2 and out.stdout == ""
+    assert one_line(out.stderr).startswith("hairbed: error: cannot write /proc/states.png: ")
 
 
 def test_plot_takes_a_file_name_and_says_what_it_wrote(tmp_path):

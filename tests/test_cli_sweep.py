@@ -156,10 +156,10 @@ def test_out_in_a_missing_directory_is_a_write_error(capsys):
     """Refused before any work, as every output of the command line (test_cli_errors)."""
     from hairbed.cli import main
 
-    assert main(["sweep", "--omega2", "1", "--eps", "0.5", "--out", "/no/such/dir/x.nc"]) == 1
+    assert main(["sweep", "--omega2", "1", "--eps", "0.5", "--out", "/no/such/dir/x.nc"]) == 2
     out, err = capsys.readouterr()
     assert out == "" and err == (
-        "hairbed: cannot write /no/such/dir/x.nc: directory '/no/such/dir' does not exist\n"
+        "hairbed: error: cannot write /no/such/dir/x.nc: directory '/no/such/dir' does not exist\n"
     )
 
 

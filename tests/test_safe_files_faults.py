@@ -158,10 +158,10 @@ def _cli(capsys, *args: str) -> tuple[int, str, str]:
     return status, out, err
 
 
-def _one_line(err: str, path: Path, *reasons: str) -> None:
+def _one_line(err: str, path: Path, *reasons: str, head: str = "hairbed: ") -> None:
     lines = err.strip().splitlines()
     assert len(lines) == 1, err
-    assert lines[0].startswith(f"hairbed: cannot write {path}: "), lines[0]
+    assert lines[0].startswith(f"{head}cannot write {path}: "), lines[0]
     assert any(r in lines[0] for r in reasons), lines[0]
 
 
@@ -184,8 +184,9 @@ def test_hairbed_sweep_into_a_read_only_directory_says_so_in_one_line(read_only,
     for name in (f"new{ext}", f"old{ext}"):
         target = read_only / name
         status, out, err = _cli(capsys, "sweep", *GRID, "--out", str(target))
-        assert status == 1 and out == ""
-        _one_line(err, target, "read-only file system" if ROOT else "permission denied")
+        assert status == 2 and out == ""  # refused before any work: bad input
+        reason = "read-only file system" if ROOT else "permission denied"
+        _one_line(err, target, reason, head="hairbed: error: ")
     assert _listing(read_only) == before
     assert _unchanged(read_only / f"old{ext}")
 
@@ -240,9 +241,9 @@ def test_hairbed_figures_on_a_full_disk_says_so_in_one_line(full_disk, capsys):
 def test_hairbed_figures_into_a_read_only_directory_says_so_in_one_line(read_only, capsys):
     out = read_only / f"figs-{uuid.uuid4().hex}"
     status, _, err = _cli(capsys, "figures", "--only", FIGURE, "--quiet", "--out", str(out))
-    assert status == 1
+    assert status == 2  # refused before any work: bad input (the README's exit status 2)
     lines = err.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith(f"hairbed: cannot write {out}"), err
+    assert len(lines) == 1 and lines[0].startswith(f"hairbed: error: cannot write {out}"), err
     assert not out.exists()
 
 

@@ -260,8 +260,9 @@ def read_calibration(path: str | os.PathLike[str]) -> CalibrationFit:
     OSError
         The file cannot be read.
     ValueError
-        It is not a calibration file (:func:`calibration_from_dict`); the message starts with
-        the path.
+        It is not a calibration file (:func:`calibration_from_dict`), is JSON but not an
+        object (``[1, 2, 3]``, ``42``, ``null``) or is nested too deeply to read; the message
+        starts with the path.
     """
     with open(path) as fh:
         text = fh.read()
@@ -269,4 +270,13 @@ def read_calibration(path: str | os.PathLike[str]) -> CalibrationFit:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise ValueError(f"{path}: not JSON ({exc})") from None
+    except RecursionError:  # arrays or objects nested thousands deep
+        raise ValueError(f"{path}: not a calibration file (JSON nested too deeply)") from None
+    if not isinstance(data, dict):  # [1, 2, 3], 42, null, "text", ...
+        names = {list: "array", int: "number", float: "number", str: "string", bool: "boolean"}
+        kind = "null" if data is None else names.get(type(data), type(data).__name__)
+        raise ValueError(
+            f"{path}: not a calibration file (a JSON object with a bed and its parameters), "
+            f"got a JSON {kind}"
+        )
     return calibration_from_dict(data, source=str(path))

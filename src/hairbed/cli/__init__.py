@@ -3,9 +3,11 @@
 Subcommands: ``solve``, ``sweep``, ``invert``, ``bistability``, ``calibrate``, ``measure``,
 ``linear-range``, ``figures``, ``bench``, ``demo``, ``explore``. Run ``hairbed <command>
 --help`` for the options and examples of each. Bad input ends with one line ``hairbed: error:
-<message>`` on stderr and exit status 2; a file that cannot be written with ``hairbed: cannot
-write PATH: <reason>`` and a missing optional dependency with ``hairbed: <command> needs
-<module>: pip install 'hairbed[<extra>]'``, both exit status 1; Ctrl-C with the one line
+<message>`` on stderr and exit status 2, an output path that cannot be written (refused before
+any work) included, as ``hairbed: error: cannot write PATH: <reason>``; a file whose writing
+fails after the work (a full disk) with ``hairbed: cannot write PATH: <reason>`` and a missing
+optional dependency with ``hairbed: <command> needs <module>: pip install
+'hairbed[<extra>]'``, both exit status 1; Ctrl-C with the one line
 ``hairbed: interrupted`` and exit status 130, leaving no partial file behind; a warning (of the
 library, such as a flow outside the model's validity, or of numpy) is the one line ``hairbed:
 warning: <message>`` on stderr. Negative numbers parse as values everywhere, in exponent form
@@ -97,8 +99,9 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit status (0 ok, 1 a file not writable or an extra
-    not installed, 2 bad input, 130 Ctrl-C).
+    """Run the command line; returns the exit status (0 ok, 1 a write that failed after the
+    work or an extra not installed, 2 bad input, an output path refused before any work
+    included, 130 Ctrl-C).
 
     Warnings (of the library, such as :class:`hairbed.ModelValidityWarning`, or of numpy) are
     printed as one line ``hairbed: warning: <message>`` on stderr, each text once.

@@ -11,7 +11,7 @@ from hairbed._optional import optional_import
 
 from ._options import add_command
 from ._output import check_output
-from ._report import UsageError, WriteError
+from ._report import UnwritableOutput, UsageError, WriteError
 
 #: ``hairbed figures --help``: the summary line, the description and the examples.
 ABOUT = """write every figure as PNG
@@ -63,11 +63,11 @@ def run(args: argparse.Namespace) -> int:
     settings = parse_settings(args.set or [], args.only)  # names and values, before any work
     out = Path(args.out)
     if out.exists() and not out.is_dir():
-        raise WriteError(args.out, "it exists and is not a directory")
+        raise UnwritableOutput(args.out, "it exists and is not a directory")
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise WriteError(args.out, exc) from None
+        raise UnwritableOutput(args.out, exc) from None
     check_output(str(out / "figure.png"))
     start = time.perf_counter()
     try:

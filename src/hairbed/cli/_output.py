@@ -17,7 +17,7 @@ import numpy as np
 from hairbed._jsonsafe import to_plain
 from hairbed._variables import SOLUTION
 
-from ._report import UsageError, WriteError
+from ._report import UnwritableOutput, UsageError, WriteError
 
 __all__ = [
     "FIELDS",
@@ -100,7 +100,8 @@ def read_input(read: Any, path: str, option: str) -> Any:
 
 
 def check_output(path: str, *, directory: bool = False, parents: bool = False) -> None:
-    """Refuse, before any work, an output ``path`` that cannot be written (a WriteError).
+    """Refuse, before any work, an output ``path`` that cannot be written: bad input, an
+    :class:`~hairbed.cli._report.UnwritableOutput` (exit status 2).
 
     With ``parents`` the missing directories of ``path`` will be created: the nearest one
     that exists is checked instead.
@@ -111,20 +112,20 @@ def check_output(path: str, *, directory: bool = False, parents: bool = False) -
         while not parent.exists() and parent != parent.parent:
             parent, target = parent.parent, parent
     if not parent.exists():
-        raise WriteError(path, f"directory {str(parent)!r} does not exist")
+        raise UnwritableOutput(path, f"directory {str(parent)!r} does not exist")
     if not parent.is_dir():
-        raise WriteError(path, f"{str(parent)!r} is not a directory")
+        raise UnwritableOutput(path, f"{str(parent)!r} is not a directory")
     if target.is_dir() and not directory:
-        raise WriteError(path, "it is a directory")
+        raise UnwritableOutput(path, "it is a directory")
     if not os.access(parent, os.W_OK | os.X_OK):
         read_only = hasattr(os, "statvfs") and os.statvfs(parent).f_flag & os.ST_RDONLY
         reason = "read-only file system at" if read_only else "permission denied in"
-        raise WriteError(path, f"{reason} {str(parent)!r}")
+        raise UnwritableOutput(path, f"{reason} {str(parent)!r}")
     try:  # what access() cannot tell (a read-only or special file system, root's rights)
         with tempfile.TemporaryFile(dir=parent, prefix=f".{target.name}.probe"):
             pass
     except OSError as exc:
-        raise WriteError(path, exc) from None
+        raise UnwritableOutput(path, exc) from None
 
 
 def figure_format(path: str, option: str) -> str:

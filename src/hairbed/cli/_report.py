@@ -1,9 +1,11 @@
 """How the command line reports: its errors (one line, an exit status each) and warnings.
 
 Bad input is a :class:`UsageError` (or a ValueError of the library): ``hairbed: error:
-<message>``, exit status 2. A command that cannot run here is a :class:`CommandError`
-(``hairbed: <message>``, exit status 1), such as a file that cannot be written
-(:class:`WriteError`) or an optional dependency not installed. A warning is the one line
+<message>``, exit status 2; an output path that cannot be written, found before any work, is
+bad input too (:class:`UnwritableOutput`: ``hairbed: error: cannot write PATH: <reason>``). A
+command that cannot run here is a :class:`CommandError` (``hairbed: <message>``, exit status
+1), such as a file whose writing fails after the work (:class:`WriteError`: a full disk) or an
+optional dependency not installed. A warning is the one line
 ``hairbed: warning: <message>``, each text once per run.
 """
 
@@ -15,6 +17,7 @@ from typing import Any
 __all__ = [
     "PROG",
     "CommandError",
+    "UnwritableOutput",
     "UsageError",
     "WriteError",
     "one_line",
@@ -33,13 +36,26 @@ class CommandError(Exception):
     the one line ``hairbed: <message>``, exit status 1."""
 
 
-class WriteError(CommandError):
-    """``path`` cannot be written: ``hairbed: cannot write PATH: <reason>``."""
+def _cannot_write(path: Any, reason: Any) -> str:
+    if isinstance(reason, OSError):
+        reason = reason.strerror or str(reason)
+    return f"cannot write {path}: {reason}"
+
+
+class UnwritableOutput(UsageError):
+    """An output ``path`` refused before any work (a missing folder, no permission, a
+    directory): bad input, ``hairbed: error: cannot write PATH: <reason>``, exit status 2."""
 
     def __init__(self, path: Any, reason: Any) -> None:
-        if isinstance(reason, OSError):
-            reason = reason.strerror or str(reason)
-        super().__init__(f"cannot write {path}: {reason}")
+        super().__init__(_cannot_write(path, reason))
+
+
+class WriteError(CommandError):
+    """Writing ``path`` failed after the work (a full disk, a file system that failed):
+    ``hairbed: cannot write PATH: <reason>``, exit status 1."""
+
+    def __init__(self, path: Any, reason: Any) -> None:
+        super().__init__(_cannot_write(path, reason))
 
 
 def one_line(exc: BaseException) -> str:

@@ -1,0 +1,51 @@
+"""Hostile input to the newer options of the command line (issue 33): every refusal is one line
+``hairbed: error: ...`` naming the option, exit status 2, never a traceback.
+
+In process (:func:`hairbed.cli.main`), fast; the real-process promises are those of
+tests/test_cli_errors.py.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from hairbed.cli import main
+
+
+def one_error(capsys: pytest.CaptureFixture[str], argv: list[str], *words: str) -> str:
+    """``main(argv)`` exits 2 with one line ``hairbed: error: ...`` holding every word."""
+    assert main(argv) == 2
+    out, err = capsys.readouterr()
+    lines = err.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("hairbed: error: "), err
+    assert "Traceback" not in err and out == "", (out, err)
+    for word in words:
+        assert word in lines[0], lines[0]
+    return lines[0]
+
+
+# -- item 5: calibration files that are JSON but not a calibration ------------------------------
+
+NOT_A_CALIBRATION = {
+    "array": ("[1,2,3]", "got a JSON array"),
+    "number": ("42", "got a JSON number"),
+    "null": ("null", "got a JSON null"),
+    "string": ('"cal"', "got a JSON string"),
+    "boolean": ("true", "got a JSON boolean"),
+    "nested array": ("[" * 40 + "1" + "]" * 40, "got a JSON array"),
+    "nested too deeply": ("[" * 200_000 + "]" * 200_000, "nested too deeply"),
+    "nested objects": ('{"a":' * 200_000 + "1" + "}" * 200_000, "nested too deeply"),
+    "empty object": ("{}", "not a hairbed calibration file"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(NOT_A_CALIBRATION))
+@pytest.mark.parametrize("command", ["measure", "measure --pillar"])
+def test_a_file_that_is_not_a_calibration_is_one_line(name, command, tmp_path: Path, capsys):
+    text, words = NOT_A_CALIBRATION[name]
+    path = tmp_path / "cal.json"
+    path.write_text(text)
+    argv = [*command.split(), "--tip-deflection", "1e-4", "--calibration", str(path)]
+    one_error(capsys, argv, "--calibration", str(path), words)
