@@ -43,6 +43,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
     from ._core.loaded import LoadedState, solve_loaded, solve_loaded_all
     from ._core.pillar import PillarState, gray_hancock_ratio, solve_pillar, solve_pillar_inverse
     from ._core.pillar_branch import PillarBranch, continue_pillar, solve_pillar_all
+    from ._core.porous import PorousState, solve_porous, solve_porous_all
     from ._core.solution import Solution
     from ._core.solver import from_parameter, from_xi, solve, solve_all
     from ._warnings import CalibrationWarning, ModelValidityWarning, UnitsWarning
@@ -63,6 +64,7 @@ __all__ = [
     "PillarBranch",
     "PillarDeformation",
     "PillarState",
+    "PorousState",
     "Solution",
     "UnitsWarning",
     "branches",
@@ -87,6 +89,8 @@ __all__ = [
     "solve_pillar",
     "solve_pillar_all",
     "solve_pillar_inverse",
+    "solve_porous",
+    "solve_porous_all",
     "sensitivity",
     "solve_all",
     "stability",
@@ -128,6 +132,9 @@ _LAZY_NAMES = {
     "PillarBranch": "_core.pillar_branch",
     "continue_pillar": "_core.pillar_branch",
     "solve_pillar_all": "_core.pillar_branch",
+    "PorousState": "_core.porous",
+    "solve_porous": "_core.porous",
+    "solve_porous_all": "_core.porous",
     "LoadedBranch": "_core.arclength",
     "continue_loaded": "_core.arclength",
     "from_parameter": "_core.solver",

@@ -65,6 +65,10 @@ STATUS_MESSAGES: Mapping[int, str] = MappingProxyType(
             "no state reached from the start: Newton and the load continuation from rest "
             "stopped (a fold on the way, or no state at these inputs)"
         ),
+        -8: (
+            "outside the model: the hair reaches |theta| = pi/2, where its height z(s) stops "
+            "being monotone (the porous bed's fluid is solved along z)"
+        ),
     }
 )
 

@@ -1,0 +1,674 @@
+"""Chebyshev collocation of the porous bed (issue 29, theory.md §13): a hair in a Brinkman bed.
+
+The fluid inside the bed is solved with the hair, on the hair's own nodes: while z(s) is
+monotone, the bed's momentum balance eta u_zz + G = (1/A) f_x/cos(theta) is, along the arc
+length, w' = cos(theta) Q and Q' = f_x - Pi cos(theta), with w the fluid's velocity and Q its
+shear stress in load units (theory.md §13). Unknowns at the N + 1 mapped nodes s_j: theta_j,
+w_j, Q_j, then h1 and, for the flow drive, Pi. The rows:
+
+    theta_0 = theta0
+    (d2 theta)_i + F_x(s_i) cos theta_i - F_z(s_i) sin theta_i = 0,   i = 1 .. N - 1
+    (d theta)_N = 0
+    w_i - (I [cos(theta) Q])_i = 0,                                  i = 0 .. N
+    Q_i - Q_N + ((I_N - I_i) [f_x - Pi cos(theta)]) = 0,             i = 0 .. N - 1
+    eps w_N + u Q_N - Pi u^2/(2 eps) - omega2 = 0,   u = 1 - eps h1   (the gap's exact profile)
+    h1 - (I [cos(theta)])_N = 0
+    flow drive: 6 eps^2 Phi - q = 0,  Phi = (I [w cos(theta)])_N + w_N g + Q_N g^2/2 - Pi g^3/6,
+    g = 1/eps - h1
+
+with the drag per unit length f_x = (w/kappa)(cos^2 + gamma sin^2),
+f_z = -(w/kappa)(1 - gamma) sin cos, and F(s_i) = (I_N - I_i) f, I the spectral integration
+matrix from the base. Every entry of the Jacobian is written out (no z-dependence enters: the
+fluid lives on the hair's arc length), so one Jacobian costs O(N^2) and one Newton step the LU
+of a (3N + 4)-square matrix. ``hfix`` (NaN: free) freezes the tip height that the gap sees,
+for the scan of ``solve_porous_all``: the states are the roots of z1(hfix) - hfix.
+
+Newton, its line search, the chord steps, the ladder of N and the load continuation from rest
+are those of ``spectral`` (the same constants and the same in-place LU). The error estimate is
+the largest Chebyshev tail of theta, w and Q (the fluid's relative to its largest value) plus
+the rounding part ``ROUNDING`` N^2 max(1, |theta|). Status codes as ``spectral``'s.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._jit import kernel
+from .spectral import (
+    MAX_CONTINUATION,
+    MAXITER,
+    ROUNDING,
+    STATUS_BREAKDOWN,
+    STATUS_INACCURATE,
+    STATUS_LOST,
+    STATUS_MAXITER,
+    _clenshaw,
+    _coefficients,
+    _lu_apply,
+    _lu_factor,
+    _map,
+    _operators,
+)
+
+__all__ = ["DRIVE_FLOW", "DRIVE_PRESSURE", "NCOLS", "solve_porous_array"]
+
+DRIVE_PRESSURE = 0
+DRIVE_FLOW = 1
+_XTOL = 1e-12
+_FULL_STEP = 1e-7
+_CHORD_START = 1e-3
+_CHORD_RATE = 0.1
+#: Output columns of :func:`solve_porous_array`: status, nit, num, h1, x1, theta1, theta'(0),
+#: Q(1) (the tip plane's stress), w(1), Pi, Q(0) (the wall's stress), error estimate,
+#: residual, max |theta|, F_x(0), F_z(0) (the drag's totals), the map parameter, 0.
+NCOLS = 18
+
+
+@kernel
+def _fields(u, num, ii, kappa, gamma, cs, sn, fx, fz):
+    """cos, sin, f_x, f_z at the nodes; returns the totals F_x(0), F_z(0)."""
+    n1 = num + 1
+    one_g = 1.0 - gamma
+    for j in range(n1):
+        c = math.cos(u[j])
+        s = math.sin(u[j])
+        cs[j] = c
+        sn[j] = s
+        wk = u[n1 + j] / kappa
+        fx[j] = wk * (c * c + gamma * s * s)
+        fz[j] = -wk * one_g * s * c
+    tx = 0.0
+    tz = 0.0
+    for j in range(n1):
+        tx += ii[num, j] * fx[j]
+        tz += ii[num, j] * fz[j]
+    return tx, tz
+
+
+@kernel
+def _residual(
+    u, num, dd, ii, theta0, kappa, gamma, omega2, eps, pi_in, code, q, hfix, cs, sn, fx, fz, res
+):
+    n1 = num + 1
+    wo = n1
+    qo = 2 * n1
+    hi = 3 * n1
+    h = u[hi] if math.isnan(hfix) else hfix
+    pi_l = u[hi + 1] if code == DRIVE_FLOW else pi_in
+    tx, tz = _fields(u, num, ii, kappa, gamma, cs, sn, fx, fz)
+    res[0] = u[0] - theta0
+    ref = u[num]
+    for i in range(1, num):
+        a2 = 0.0
+        ax = 0.0
+        az = 0.0
+        for j in range(n1):
+            a2 += dd[i, j] * (u[j] - ref)
+            ax += ii[i, j] * fx[j]
+            az += ii[i, j] * fz[j]
+        res[i] = a2 + (tx - ax) * cs[i] - (tz - az) * sn[i]
+    a1 = 0.0
+    for j in range(n1):
+        a1 += dd[num, j] * (u[j] - ref)
+    res[num] = a1
+    # the fluid
+    totg = 0.0
+    for j in range(n1):
+        totg += ii[num, j] * (fx[j] - pi_l * cs[j])
+    qn = u[qo + num]
+    for i in range(n1):
+        acc = 0.0
+        accg = 0.0
+        for j in range(n1):
+            acc += ii[i, j] * cs[j] * u[qo + j]
+            accg += ii[i, j] * (fx[j] - pi_l * cs[j])
+        res[wo + i] = u[wo + i] - acc
+        if i < num:
+            res[qo + i] = u[qo + i] - qn + (totg - accg)
+    uu = 1.0 - eps * h
+    gap = eps * u[wo + num] + uu * qn - omega2
+    if pi_l != 0.0:
+        gap -= pi_l * uu * uu / (2.0 * eps)
+    res[qo + num] = gap
+    zt = 0.0
+    for j in range(n1):
+        zt += ii[num, j] * cs[j]
+    res[hi] = u[hi] - zt
+    m = hi + 1
+    if code == DRIVE_FLOW:
+        g = 1.0 / eps - h
+        phi = u[wo + num] * g + qn * g * g / 2.0 - pi_l * g * g * g / 6.0
+        for j in range(n1):
+            phi += ii[num, j] * u[wo + j] * cs[j]
+        res[hi + 1] = 6.0 * eps * eps * phi - q
+        m = hi + 2
+    ss = 0.0
+    for i in range(m):
+        ss += res[i] * res[i]
+    return ss
+
+
+@kernel
+def _jacobian(u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, fz, dfx, dfz, jac):
+    n1 = num + 1
+    wo = n1
+    qo = 2 * n1
+    hi = 3 * n1
+    m = hi + 2 if code == DRIVE_FLOW else hi + 1
+    free = math.isnan(hfix)
+    h = u[hi] if free else hfix
+    pi_l = u[hi + 1] if code == DRIVE_FLOW else pi_in
+    one_g = 1.0 - gamma
+    for i in range(m):
+        for k in range(m):
+            jac[i, k] = 0.0
+    for j in range(n1):
+        c, s = cs[j], sn[j]
+        wk = u[wo + j] / kappa
+        dfx[j] = -2.0 * wk * one_g * s * c  # d f_x / d theta
+        dfz[j] = -wk * one_g * (c * c - s * s)  # d f_z / d theta
+    tx = 0.0
+    tz = 0.0
+    for j in range(n1):
+        tx += ii[num, j] * fx[j]
+        tz += ii[num, j] * fz[j]
+    jac[0, 0] = 1.0
+    for i in range(1, num):
+        ci, si = cs[i], sn[i]
+        ax = 0.0
+        az = 0.0
+        for j in range(n1):
+            ax += ii[i, j] * fx[j]
+            az += ii[i, j] * fz[j]
+        fxi = tx - ax
+        fzi = tz - az
+        for k in range(n1):
+            r = ii[num, k] - ii[i, k]
+            ak = cs[k] * cs[k] + gamma * sn[k] * sn[k]
+            bk = one_g * sn[k] * cs[k]
+            jac[i, k] = dd[i, k] + r * (ci * dfx[k] - si * dfz[k])
+            jac[i, wo + k] = r * (ci * ak + si * bk) / kappa
+        jac[i, i] -= fxi * si + fzi * ci
+    for k in range(n1):
+        jac[num, k] = dd[num, k]
+    # w rows
+    for i in range(n1):
+        jac[wo + i, wo + i] = 1.0
+        for k in range(n1):
+            jac[wo + i, k] = ii[i, k] * sn[k] * u[qo + k]
+            jac[wo + i, qo + k] = -ii[i, k] * cs[k]
+    # Q rows
+    for i in range(num):
+        jac[qo + i, qo + i] += 1.0
+        jac[qo + i, qo + num] -= 1.0
+        dp = 0.0
+        for k in range(n1):
+            r = ii[num, k] - ii[i, k]
+            ak = cs[k] * cs[k] + gamma * sn[k] * sn[k]
+            jac[qo + i, k] = r * (dfx[k] + pi_l * sn[k])
+            jac[qo + i, wo + k] = r * ak / kappa
+            dp -= r * cs[k]
+        if code == DRIVE_FLOW:
+            jac[qo + i, hi + 1] = dp
+    uu = 1.0 - eps * h
+    qn = u[qo + num]
+    jac[qo + num, wo + num] = eps
+    jac[qo + num, qo + num] = uu
+    if free:
+        jac[qo + num, hi] = -eps * qn
+        if pi_l != 0.0:
+            jac[qo + num, hi] += pi_l * uu
+    if code == DRIVE_FLOW:
+        jac[qo + num, hi + 1] = -uu * uu / (2.0 * eps)
+    for k in range(n1):
+        jac[hi, k] = ii[num, k] * sn[k]
+    jac[hi, hi] = 1.0
+    if code == DRIVE_FLOW:
+        g = 1.0 / eps - h
+        e6 = 6.0 * eps * eps
+        for k in range(n1):
+            jac[hi + 1, k] = -e6 * ii[num, k] * u[wo + k] * sn[k]
+            jac[hi + 1, wo + k] = e6 * ii[num, k] * cs[k]
+        jac[hi + 1, wo + num] += e6 * g
+        jac[hi + 1, qo + num] = e6 * g * g / 2.0
+        if free:
+            jac[hi + 1, hi] = e6 * (-u[wo + num] - qn * g + pi_l * g * g / 2.0)
+        jac[hi + 1, hi + 1] = -eps * eps * g * g * g
+
+
+@kernel
+def _step_size(step, u, num, m):
+    n1 = num + 1
+    scale = 1.0
+    for i in range(n1, 3 * n1):
+        scale = max(scale, abs(u[i]))
+    big = 0.0
+    for i in range(n1):
+        big = max(big, abs(step[i]))
+    for i in range(n1, 3 * n1):
+        big = max(big, abs(step[i]) / scale)
+    big = max(big, abs(step[3 * n1]))
+    if m > 3 * n1 + 1:
+        big = max(big, abs(step[m - 1]) / max(1.0, abs(u[m - 1])))
+    return big
+
+
+@kernel
+def _newton(
+    u,
+    num,
+    dd,
+    ii,
+    theta0,
+    kappa,
+    gamma,
+    omega2,
+    eps,
+    pi_in,
+    code,
+    q,
+    hfix,
+    work,
+    jac,
+    piv,
+    nit0,
+    maxiter,
+):
+    n1 = num + 1
+    hi = 3 * n1
+    m = hi + 2 if code == DRIVE_FLOW else hi + 1
+    cs, sn, fx, fz, dfx, dfz = work[0], work[1], work[2], work[3], work[4], work[5]
+    res, step, trial = work[6], work[7], work[8]
+    f = _residual(
+        u,
+        num,
+        dd,
+        ii,
+        theta0,
+        kappa,
+        gamma,
+        omega2,
+        eps,
+        pi_in,
+        code,
+        q,
+        hfix,
+        cs,
+        sn,
+        fx,
+        fz,
+        res,
+    )
+    chord = False
+    last = math.inf
+    for it in range(maxiter):
+        if not math.isfinite(f):
+            return STATUS_BREAKDOWN, nit0 + it, math.nan
+        if not chord:
+            _jacobian(
+                u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, fz, dfx, dfz, jac
+            )
+            if not _lu_factor(jac, piv, m):
+                return STATUS_BREAKDOWN, nit0 + it, math.nan
+        for i in range(m):
+            step[i] = -res[i]
+        _lu_apply(jac, piv, step, m)
+        big = _step_size(step, u, num, m)
+        if not math.isfinite(big):
+            return STATUS_BREAKDOWN, nit0 + it, math.nan
+        if chord and big > _CHORD_RATE * last:  # the chord contracts too slowly: refresh
+            chord = False
+            _jacobian(
+                u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, fz, dfx, dfz, jac
+            )
+            if not _lu_factor(jac, piv, m):
+                return STATUS_BREAKDOWN, nit0 + it, math.nan
+            for i in range(m):
+                step[i] = -res[i]
+            _lu_apply(jac, piv, step, m)
+            big = _step_size(step, u, num, m)
+        lam = 1.0
+        if big > _FULL_STEP:
+            lam = min(1.0, 1.0 / big, 0.1 / max(abs(step[hi]), 1e-300))
+        while True:
+            for i in range(m):
+                trial[i] = u[i] + lam * step[i]
+            if math.isnan(hfix) and 1.0 - eps * trial[hi] <= 0.0:
+                ft = math.inf
+            else:
+                ft = _residual(
+                    trial,
+                    num,
+                    dd,
+                    ii,
+                    theta0,
+                    kappa,
+                    gamma,
+                    omega2,
+                    eps,
+                    pi_in,
+                    code,
+                    q,
+                    hfix,
+                    cs,
+                    sn,
+                    fx,
+                    fz,
+                    res,
+                )
+            if big <= _FULL_STEP or ft <= (1.0 - 1e-4 * lam) * f:
+                break
+            lam *= 0.5
+            if lam < 1e-6:
+                return STATUS_BREAKDOWN, nit0 + it + 1, math.sqrt(f)
+        for i in range(m):
+            u[i] = trial[i]
+        f = ft
+        chord = lam == 1.0 and big <= _CHORD_START and big <= _CHORD_RATE * last
+        last = big
+        if abs(u[hi]) > 1.0 + 1e-9 or (math.isnan(hfix) and 1.0 - eps * u[hi] <= 0.0):
+            return STATUS_LOST, nit0 + it + 1, math.nan
+        for j in range(n1):
+            if abs(u[j]) > 10.0:
+                return STATUS_LOST, nit0 + it + 1, math.nan
+        if lam * big <= _XTOL:
+            rmax = 0.0
+            for i in range(m):
+                rmax = max(rmax, abs(res[i]))
+            return 0, nit0 + it + 1, rmax
+    return STATUS_MAXITER, nit0 + maxiter, math.sqrt(f)
+
+
+@kernel
+def _continuation(
+    u,
+    keep,
+    num,
+    dd,
+    ii,
+    theta0,
+    kappa,
+    gamma,
+    omega2,
+    eps,
+    pi_in,
+    code,
+    q,
+    hfix,
+    work,
+    jac,
+    piv,
+    nit0,
+):
+    """Newton along the load factor lam from 0 (at rest) to 1, scaling omega2, Pi and q."""
+    n1 = num + 1
+    hi = 3 * n1
+    m = hi + 2 if code == DRIVE_FLOW else hi + 1
+    prev = keep[1]
+    last = keep[2]
+    for j in range(m):
+        last[j] = 0.0
+    for j in range(n1):
+        last[j] = theta0
+    last[hi] = math.cos(theta0)
+    for j in range(m):
+        prev[j] = last[j]
+    lam = 0.0
+    lam_prev = 0.0
+    dlam = 0.125
+    nit = nit0
+    rmax = math.nan
+    for _ in range(MAX_CONTINUATION):
+        target = min(1.0, lam + dlam)
+        slope = (target - lam) / (lam - lam_prev) if lam > lam_prev else 0.0
+        for j in range(m):
+            u[j] = last[j] + slope * (last[j] - prev[j])
+        status, nit, rmax = _newton(
+            u,
+            num,
+            dd,
+            ii,
+            theta0,
+            kappa,
+            gamma,
+            target * omega2,
+            eps,
+            target * pi_in,
+            code,
+            target * q,
+            hfix,
+            work,
+            jac,
+            piv,
+            nit,
+            12,
+        )
+        if status == 0:
+            for j in range(m):
+                prev[j] = last[j]
+                last[j] = u[j]
+            lam_prev = lam
+            lam = target
+            if lam >= 1.0:
+                return 0, nit, rmax
+            dlam *= 2.0
+        else:
+            dlam *= 0.25
+            if dlam < 1e-6:
+                return STATUS_LOST, nit, math.nan
+    return STATUS_MAXITER, nit, math.nan
+
+
+@kernel
+def solve_porous_array(
+    code,
+    kappa,
+    gamma,
+    omega2,
+    eps,
+    pi_in,
+    q,
+    hfix,
+    theta0,
+    a,
+    start,
+    nums,
+    nodes,
+    d1s,
+    d2s,
+    ims,
+    cms,
+    rtol,
+    out,
+    coefs,
+):
+    """Every element on the ladder of N. ``start`` (size, 3 (nums[0] + 1) + 2): theta, w, Q
+    at the first level's nodes, h1, Pi (flow drive). Writes out (NCOLS, size) and coefs
+    (5, size, nmax + 1): Chebyshev coefficients of theta, x, z, w, Q."""
+    levels = nums.size
+    nmax = 0
+    for lev in range(levels):
+        nmax = max(nmax, nums[lev])
+    mmax = 3 * (nmax + 1) + 2
+    work = np.empty((12, mmax))
+    jac = np.empty((mmax, mmax))
+    piv = np.empty(mmax, dtype=np.int64)
+    u = np.empty(mmax)
+    keep = np.empty((3, mmax))
+    dd = np.empty((nmax + 1, nmax + 1))
+    ii = np.empty((nmax + 1, nmax + 1))
+    sp = np.empty(nmax + 1)
+    ss = np.empty(nmax + 1)
+    coef = np.empty(nmax + 1)
+    vals = np.empty((3, nmax + 1))
+    for e in range(kappa.size):
+        num = nums[0]
+        n1 = num + 1
+        nst = 3 * n1 + 2
+        for j in range(nst):
+            u[j] = start[e, j]
+        status = 0
+        nit = 0
+        rmax = math.nan
+        tail = math.nan
+        rounding = 0.0
+        lev_done = 0
+        for lev in range(levels):
+            num = nums[lev]
+            n1 = num + 1
+            if lev > 0:
+                prev = nums[lev - 1]
+                p1 = prev + 1
+                h = u[3 * p1]
+                pl = u[3 * p1 + 1]
+                for c in range(3):
+                    for j in range(p1):
+                        sp[j] = u[c * p1 + j]
+                    _coefficients(sp, prev, cms[lev - 1], coef)
+                    for j in range(n1):
+                        vals[c, j] = _clenshaw(coef, prev, nodes[lev, j])
+                for c in range(3):
+                    for j in range(n1):
+                        u[c * n1 + j] = vals[c, j]
+                u[3 * n1] = h
+                u[3 * n1 + 1] = pl
+            _map(a[e], num, nodes[lev], sp, ss)
+            _operators(num, d1s[lev], d2s[lev], ims[lev], sp, a[e], dd, ii)
+            m = 3 * n1 + 2
+            for j in range(m):
+                keep[0, j] = u[j]
+            status, nit, rmax = _newton(
+                u,
+                num,
+                dd,
+                ii,
+                theta0[e],
+                kappa[e],
+                gamma[e],
+                omega2[e],
+                eps[e],
+                pi_in[e],
+                code,
+                q[e],
+                hfix[e],
+                work,
+                jac,
+                piv,
+                nit,
+                MAXITER,
+            )
+            if status != 0 and lev == 0:
+                status, nit, rmax = _continuation(
+                    u,
+                    keep,
+                    num,
+                    dd,
+                    ii,
+                    theta0[e],
+                    kappa[e],
+                    gamma[e],
+                    omega2[e],
+                    eps[e],
+                    pi_in[e],
+                    code,
+                    q[e],
+                    hfix[e],
+                    work,
+                    jac,
+                    piv,
+                    nit,
+                )
+            lev_done = lev
+            if status != 0:
+                break
+            # the tail of theta and of Q (relative to its scale)
+            _coefficients(u, num, cms[lev], coef)
+            tail = abs(coef[num]) + abs(coef[num - 1]) + abs(coef[num - 2])
+            scale = 1.0
+            for j in range(n1):
+                scale = max(scale, abs(u[2 * n1 + j]), abs(u[n1 + j]))
+            for c in (1, 2):
+                for j in range(n1):
+                    sp[j] = u[c * n1 + j]
+                _coefficients(sp, num, cms[lev], coef)
+                tail = max(
+                    tail, (abs(coef[num]) + abs(coef[num - 1]) + abs(coef[num - 2])) / scale
+                )
+            big = 1.0
+            for j in range(n1):
+                big = max(big, abs(u[j]))
+            rounding = ROUNDING * num * num * big
+            if tail <= rtol:
+                break
+        num = nums[lev_done]
+        n1 = num + 1
+        if status == 0 and tail > rtol:
+            status = STATUS_INACCURATE
+        out[0, e] = status
+        out[1, e] = nit
+        out[2, e] = num
+        for c in range(5):
+            for k in range(nmax + 1):
+                coefs[c, e, k] = math.nan if status < 0 else 0.0
+        if status < 0:
+            for c in range(3, NCOLS):
+                out[c, e] = math.nan
+            continue
+        _map(a[e], num, nodes[lev_done], sp, ss)
+        _operators(num, d1s[lev_done], d2s[lev_done], ims[lev_done], sp, a[e], dd, ii)
+        cs, sn, fx, fz = work[0], work[1], work[2], work[3]
+        tx, tz = _fields(u, num, ii, kappa[e], gamma[e], cs, sn, fx, fz)
+        hi = 3 * n1
+        h = u[hi]
+        x1 = 0.0
+        for j in range(n1):
+            x1 += ii[num, j] * sn[j]
+        # base moment theta'(0) = int_0^1 (F_x cos - F_z sin) ds
+        quad = 0.0
+        for i in range(n1):
+            ax = 0.0
+            az = 0.0
+            for j in range(n1):
+                ax += ii[i, j] * fx[j]
+                az += ii[i, j] * fz[j]
+            quad += ii[num, i] * ((tx - ax) * cs[i] - (tz - az) * sn[i])
+        tmax = 0.0
+        for j in range(n1):
+            tmax = max(tmax, abs(u[j]))
+        out[3, e] = h
+        out[4, e] = x1
+        out[5, e] = u[num]
+        out[6, e] = quad
+        out[7, e] = u[2 * n1 + num]  # Q(1), the tip stress
+        out[8, e] = u[n1 + num]  # w(1)
+        out[9, e] = u[hi + 1] if code == DRIVE_FLOW else pi_in[e]
+        out[10, e] = u[2 * n1]  # Q(0), the wall stress
+        out[11, e] = tail + rounding
+        out[12, e] = rmax
+        out[13, e] = tmax
+        out[14, e] = tx
+        out[15, e] = tz
+        out[16, e] = a[e]
+        out[17, e] = 0.0
+        cm = cms[lev_done]
+        _coefficients(u, num, cm, coef)
+        for k in range(n1):
+            coefs[0, e, k] = coef[k]
+        for c in range(2):
+            g = sn if c == 0 else cs
+            for i in range(n1):
+                acc = 0.0
+                for j in range(n1):
+                    acc += ii[i, j] * g[j]
+                sp[i] = acc
+            _coefficients(sp, num, cm, coef)
+            for k in range(n1):
+                coefs[1 + c, e, k] = coef[k]
+        for c in range(2):
+            for j in range(n1):
+                sp[j] = u[(1 + c) * n1 + j]
+            _coefficients(sp, num, cm, coef)
+            for k in range(n1):
+                coefs[3 + c, e, k] = coef[k]

@@ -1,0 +1,509 @@
+"""The porous bed: a hair in a Brinkman bed of its neighbours, one model for every density.
+
+:func:`solve_porous` validates, builds a start, hands whole arrays to the compiled Chebyshev
+collocation of ``_kernels.porous`` (hair and fluid solved together on the hair's nodes) and
+wraps its columns in a :class:`PorousState`; :func:`solve_porous_all` finds every coexisting
+state by a scan in the tip height the gap sees. The model, its assumptions and its limits are
+in theory.md §13:
+
+    theta'' = -(F_x cos theta - F_z sin theta),  theta(0) = theta0,  theta'(1) = 0,
+    F(s) = int_s^1 (w/kappa) (cos^2 + gamma sin^2, -(1 - gamma) sin cos) ds',
+    w' = cos(theta) Q,  w(0) = 0,  Q' = (w/kappa)(cos^2 + gamma sin^2) - Pi cos(theta),
+    eps w(1) + (1 - eps h1) Q(1) - Pi (1 - eps h1)^2/(2 eps) = omega2.
+
+kappa = k/L^2 is the bed's permeability k = eta A/zeta_perp over L^2 (the square of its
+Brinkman length in L). As kappa -> 0 this is the paper's dense bed (:func:`hairbed.solve`,
+:func:`hairbed.solve_loaded`); as kappa -> infinity at fixed Lambda = omega2/kappa the
+isolated pillar in Couette flow (:func:`hairbed.solve_pillar`).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .collocated import CollocatedState
+from .loaded import _clenshaw, _ladder, _matrices
+from .outputs import scalar_or_array
+from .validation import (
+    HALF_PI,
+    _check_range,
+    _first_index,
+    as_float_array,
+    broadcast_named,
+    check_int,
+    check_positive,
+)
+
+__all__ = ["LADDER", "PorousState", "solve_porous", "solve_porous_all"]
+
+FloatArray = NDArray[np.float64]
+Value = float | FloatArray
+IntValue = int | NDArray[np.int64]
+
+#: The ladder of Chebyshev degrees N (a thin bed's tip layer of width sqrt(kappa) needs the
+#: upper levels; measured: kappa = 1e-4 converges at N = 64, 1e-6 at 256).
+LADDER = (32, 64, 128, 256)
+_DRIVES = {"pressure": 0, "flow": 1}
+_kernel_module: Any = None
+
+
+def _kernels() -> Any:
+    """The kernel module, imported (compiled or loaded from the cache) on first use."""
+    global _kernel_module
+    if _kernel_module is None:
+        from ._kernels import porous
+
+        _kernel_module = porous
+    return _kernel_module
+
+
+@dataclass(frozen=True, eq=False)
+class PorousState(CollocatedState):
+    """A state of a hair in a porous (Brinkman) bed (theory.md §13).
+
+    Scalar inputs give float fields, array inputs arrays of the broadcast shape. Where no
+    state was found (``status`` < 0) every value field is NaN. Loads and stresses are in the
+    load unit E I/(A L^2) of the paper's omega^2 (a stress times A L^2/(E I)).
+
+    Attributes
+    ----------
+    drive : str
+        "pressure" (set pressure gradient pi; pi = 0 is the wall drive) or "flow" (set q).
+    omega2, eps, theta0, kappa, gamma : float or ndarray
+        The inputs: wall forcing omega^2 [-], confinement eps = L/H [-], base angle [rad],
+        permeability kappa = k/L^2 [-], drag ratio gamma = zeta_par/zeta_perp [-].
+    pi : float or ndarray
+        Dimensionless pressure gradient pi = A G L^3/(E I) [-]: the input of the pressure
+        drive, the solved one of the flow drive.
+    q : float or ndarray
+        Dimensionless flow rate q = 6 A eta Q' L^2/(E I H^2) [-] (NaN for the pressure drive).
+    tip_height, tip_deflection : float or ndarray
+        h1 = z(1), x1 = x(1) [L].
+    tip_angle : float or ndarray
+        theta(1) [rad].
+    base_curvature : float or ndarray
+        theta'(0) [1/L] = int_0^1 (F_x cos theta - F_z sin theta) ds (the base moment).
+    tip_stress : float or ndarray
+        Q(1) [-]: the fluid's shear stress on the tip plane (the dense bed's tip load W).
+    wall_stress : float or ndarray
+        Q(0) [-]: the fluid's shear stress on the bottom wall (0 in the dense limit).
+    tip_velocity : float or ndarray
+        w(1) [-]: the fluid's velocity at the tip plane, in load units (omega2 z/eps scale).
+    drag_x, drag_z : float or ndarray
+        F_x(0), F_z(0) [-]: the total drag on one hair (the base's shear and axial force).
+    max_angle : float or ndarray
+        max |theta| along the hair [rad]; the model needs it below pi/2 (z monotone).
+    status : int or ndarray
+        0 converged within the tolerance; 3 converged but inaccurate; -2, -3, -7 as
+        :func:`hairbed.solve_loaded`; -8 the hair reaches |theta| = pi/2, outside the model
+        (``STATUS_MESSAGES``).
+    error_estimate : float or ndarray
+        The largest Chebyshev tail of theta, w and Q (relative) plus the rounding part.
+    residual : float or ndarray
+        The largest residual of the collocation equations at the returned state.
+    nit, num : int or ndarray
+        Newton iterations over the ladder; the Chebyshev degree N of the returned state.
+    stable : bool or None
+        From :func:`solve_porous_all`: stable under a slow change of the gap (dG/dh1 < 0).
+    """
+
+    drive: str
+    omega2: Value
+    eps: Value
+    theta0: Value
+    kappa: Value
+    gamma: Value
+    pi: Value
+    q: Value
+    tip_height: Value
+    tip_deflection: Value
+    tip_angle: Value
+    base_curvature: Value
+    tip_stress: Value
+    wall_stress: Value
+    tip_velocity: Value
+    drag_x: Value
+    drag_z: Value
+    max_angle: Value
+    status: IntValue
+    error_estimate: Value
+    residual: Value
+    nit: IntValue
+    num: IntValue
+    _map: FloatArray
+    _coefs: FloatArray
+    stable: Any = None
+
+    def shape(self, s: ArrayLike) -> tuple[Any, Any, Any, Any]:
+        """The hair at arc lengths ``s`` in [0, 1] [L]: (s, x [L], z [L], theta [rad]),
+        each of shape ``self.shape_of_fields + s.shape``."""
+        sv, fields = _fields_at(self._map, self._coefs, self.shape_of_fields, s)
+        return sv, fields[1], fields[2], fields[0]
+
+    def fluid(self, s: ArrayLike) -> tuple[Any, Any, Any, Any]:
+        """The bed's fluid along the hair: (s, z [L], w [-], Q [-]) at arc lengths ``s``: its
+        velocity w and shear stress Q (load units) at the height z(s) of the hair."""
+        sv, fields = _fields_at(self._map, self._coefs, self.shape_of_fields, s)
+        return sv, fields[2], fields[3], fields[4]
+
+
+def _fields_at(
+    mapping: FloatArray, coefs: FloatArray, fields: tuple[int, ...], s: ArrayLike
+) -> tuple[Any, list[Any]]:
+    """The five Chebyshev interpolants (theta, x, z, w, Q) at arc lengths ``s``."""
+    sv = as_float_array(s, "s")
+    bad = (sv < 0.0) | (sv > 1.0)
+    if np.any(bad):
+        raise ValueError(
+            f"s must lie in [0, 1], got {float(sv[bad].flat[0])!r}{_first_index(bad)}"
+        )
+    if sv.ndim > 1:
+        raise ValueError(f"s must be a scalar or 1-d, got shape {sv.shape}")
+    flat = np.atleast_1d(sv)
+    a = mapping.reshape(-1, 1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        y = np.where(a > 0.0, np.log1p(flat[None, :] * np.expm1(a)) / np.where(a > 0, a, 1), flat)
+    xi = 2.0 * y - 1.0
+    coefs = coefs.reshape(5, -1, coefs.shape[-1])
+    fs = fields + flat.shape if sv.ndim else fields
+    return sv, [scalar_or_array(_clenshaw(coefs[c], xi).reshape(fs)) for c in range(5)]
+
+
+def _check(
+    omega2: Any, eps: Any, theta0: Any, kappa: Any, gamma: Any, pi: Any, q: Any
+) -> tuple[str, int, tuple[FloatArray, ...]]:
+    """The inputs validated and broadcast: (drive, code, (omega2, eps, theta0, kappa, gamma,
+    pi or q))."""
+    if pi is not None and q is not None:
+        raise ValueError("give at most one of pi (pressure drive) and q (flow drive), got both")
+    drive = "flow" if q is not None else "pressure"
+    w = as_float_array(omega2, "omega2")
+    e = as_float_array(eps, "eps")
+    t0 = as_float_array(theta0, "theta0")
+    k = as_float_array(kappa, "kappa")
+    g = as_float_array(gamma, "gamma")
+    _check_range(e, (e < 0.0) | (e >= 1.0), "eps", "[0, 1)")
+    _check_range(t0, np.abs(t0) >= HALF_PI, "theta0", "(-pi/2, pi/2)")
+    _check_range(k, k <= 0.0, "kappa", "(0, inf)")
+    _check_range(g, (g <= 0.0) | (g > 1.0), "gamma", "(0, 1]")
+    name = "q" if q is not None else "pi"
+    ld = as_float_array(q if q is not None else (0.0 if pi is None else pi), name)
+    w, e, t0, k, g, ld = broadcast_named(
+        ("omega2", w), ("eps", e), ("theta0", t0), ("kappa", k), ("gamma", g), (name, ld)
+    )
+    bad = (e == 0.0) & ((ld != 0.0) if drive == "pressure" else np.ones(e.shape, bool))
+    if np.any(bad):
+        raise ValueError(
+            f"{name} needs eps > 0 (the gap's Poiseuille flow grows with H/L = 1/eps), got "
+            f"{name} = {float(ld[bad].flat[0])!r} with eps = 0{_first_index(bad)}"
+        )
+    return drive, _DRIVES[drive], (w, e, t0, k, g, ld)
+
+
+def _start(code: int, t0: FloatArray, ld: FloatArray, num: int) -> FloatArray:
+    """The start of every element: the hair at rest (theta = theta0, h1 = cos theta0), the
+    fluid at rest, Pi = pi (the flow drive's Pi from 0). Newton, and where it fails the load
+    continuation from rest, take it from there."""
+    n1 = num + 1
+    start = np.zeros((t0.size, 3 * n1 + 2))
+    start[:, :n1] = t0[:, None]
+    start[:, 3 * n1] = np.cos(t0)
+    if code == 0:
+        start[:, 3 * n1 + 1] = ld
+    return start
+
+
+def _run(
+    code: int,
+    arrays: tuple[FloatArray, ...],
+    hfix: FloatArray,
+    start: FloatArray,
+    nums: tuple[int, ...],
+    tol: float,
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The kernel on flat arrays: (out (NCOLS, size), coefs (5, size, N + 1), map)."""
+    k = _kernels()
+    w, e, t0, kap, g, ld = arrays
+    size = w.size
+    out = np.empty((k.NCOLS, size))
+    coefs = np.empty((5, size, int(max(nums)) + 1))
+    a = np.zeros(size)
+    pi_in = ld if code == 0 else np.zeros(size)
+    q = ld if code == 1 else np.zeros(size)
+    k.solve_porous_array(
+        code, kap, g, w, e, pi_in, q, hfix, t0, a, start, *_ladder(tuple(nums)), tol, out, coefs
+    )
+    # the model needs z(s) monotone: a state that reaches |theta| = pi/2 is outside it
+    outside = (out[0] >= 0) & (out[13] >= HALF_PI)
+    out[0, outside] = -8
+    return out, coefs, a
+
+
+def _quiet(func: Any) -> Any:
+    """Run ``func`` with numpy's floating-point warnings off (the status says what came)."""
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            return func(*args, **kwargs)
+
+    return wrapper
+
+
+@_quiet
+def solve_porous(
+    omega2: ArrayLike,
+    eps: ArrayLike,
+    theta0: ArrayLike = 0.0,
+    *,
+    kappa: ArrayLike,
+    gamma: ArrayLike = 1.0,
+    pi: ArrayLike | None = None,
+    q: ArrayLike | None = None,
+    num: int | None = None,
+    rtol: float = 1e-12,
+) -> PorousState:
+    """A hair in a porous (Brinkman) bed, hair and fluid by one Chebyshev collocation.
+
+    Solves, with lengths in L and s the arc length (theory.md §13),
+
+    .. math::
+
+        \\theta'' = -(F_x \\cos\\theta - F_z \\sin\\theta),\\quad
+        F(s) = \\int_s^1 \\frac{w}{\\kappa}
+        (\\cos^2\\theta + \\gamma \\sin^2\\theta, -(1 - \\gamma) \\sin\\theta \\cos\\theta)\\,ds',
+
+        w' = Q \\cos\\theta,\\quad
+        Q' = \\frac{w}{\\kappa}(\\cos^2\\theta + \\gamma\\sin^2\\theta) - \\Pi \\cos\\theta,
+
+    with theta(0) = theta0, theta'(1) = 0, w(0) = 0, and the gap's exact Couette-Poiseuille
+    profile at the tip plane, eps w(1) + u Q(1) - Pi u^2/(2 eps) = omega2, u = 1 - eps h1.
+    For the flow drive Pi is solved to hold 6 eps^2 Phi = q, Phi the flux through bed and gap.
+
+    Parameters
+    ----------
+    omega2 : array_like
+        Wall forcing omega^2 = eta V A L^2/(E I H) [-], finite (negative: towards -x).
+    eps : array_like
+        Confinement eps = L/H [-], in [0, 1); > 0 where pi != 0 and for the flow drive.
+    theta0 : array_like, optional
+        Base angle [rad], in (-pi/2, pi/2). Default 0.
+    kappa : array_like
+        The bed's permeability over L^2, kappa = eta A/(zeta_perp L^2) [-], in (0, inf):
+        the square of its Brinkman length in units of L.
+    gamma : array_like, optional
+        Drag ratio zeta_par/zeta_perp [-], in (0, 1]. Default 1 (isotropic drag).
+    pi : array_like, optional
+        Dimensionless pressure gradient pi = A G L^3/(E I) [-] (pressure drive).
+    q : array_like, optional
+        Dimensionless flow rate q = 6 A eta Q' L^2/(E I H^2) [-] (flow drive). At most one
+        of ``pi`` and ``q``.
+    num : int, optional
+        A fixed Chebyshev degree N in [8, 512] instead of the ladder (32, 64, 128, 256).
+    rtol : float, optional
+        Tolerance on the Chebyshev tails; default 1e-12.
+
+    Returns
+    -------
+    PorousState
+
+    Raises
+    ------
+    ValueError
+        For inputs outside their ranges (naming the parameter, its range and the first bad
+        index), both ``pi`` and ``q``, or pi != 0 (or q) with eps = 0.
+
+    Examples
+    --------
+    >>> import hairbed
+    >>> st = hairbed.solve_porous(2.0, 0.5, kappa=1.0)
+    >>> round(st.tip_deflection, 10)
+    0.1457938982
+    """
+    drive, code, arrays = _check(omega2, eps, theta0, kappa, gamma, pi, q)
+    tol = check_positive(rtol, "rtol")
+    nums = LADDER if num is None else (check_int(num, "num", 8, 512),)
+    shape = arrays[0].shape
+    flat = tuple(np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for v in arrays)
+    start = _start(code, flat[2], flat[5], nums[0])
+    out, coefs, a = _run(code, flat, np.full(flat[0].size, np.nan), start, nums, tol)
+    return _state(drive, code, shape, arrays, out, coefs, a)
+
+
+def _state(
+    drive: str,
+    code: int,
+    shape: tuple[int, ...],
+    arrays: tuple[FloatArray, ...],
+    out: FloatArray,
+    coefs: FloatArray,
+    a: FloatArray,
+    stable: Any = None,
+) -> PorousState:
+    """A PorousState of the kernel's columns, reshaped to ``shape``."""
+    w, e, t0, k, g, ld = (np.reshape(v, shape) for v in arrays)
+    top = coefs.shape[-1]
+
+    def col(i: int) -> Any:
+        return scalar_or_array(out[i].reshape(shape))
+
+    return PorousState(
+        drive=drive,
+        omega2=scalar_or_array(w),
+        eps=scalar_or_array(e),
+        theta0=scalar_or_array(t0),
+        kappa=scalar_or_array(k),
+        gamma=scalar_or_array(g),
+        pi=col(9),
+        q=scalar_or_array(ld if code == 1 else np.full(shape, np.nan)),
+        tip_height=col(3),
+        tip_deflection=col(4),
+        tip_angle=col(5),
+        base_curvature=col(6),
+        tip_stress=col(7),
+        wall_stress=col(10),
+        tip_velocity=col(8),
+        drag_x=col(14),
+        drag_z=col(15),
+        max_angle=col(13),
+        status=scalar_or_array(out[0].astype(np.int64).reshape(shape)),
+        error_estimate=col(11),
+        residual=col(12),
+        nit=scalar_or_array(out[1].astype(np.int64).reshape(shape)),
+        num=scalar_or_array(out[2].astype(np.int64).reshape(shape)),
+        _map=a.reshape(shape),
+        _coefs=coefs.reshape((5, *shape, top)),
+        stable=stable,
+    )
+
+
+#: The tip heights the gap sees in the scan of :func:`solve_porous_all`.
+_SCAN_LOW = (1e-4, 0.02, 12)
+_BISECT_STEPS = 60
+_G_TOL = 1e-13
+_H_TOL = 1e-12
+
+
+def _frozen(
+    code: int, arrays: tuple[FloatArray, ...], h: FloatArray, tol: float
+) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """The states with the gap's height frozen at 1/eps - h, for every h (the scalars of
+    ``arrays`` repeated)."""
+    full = tuple(np.full(h.size, float(v.reshape(-1)[0])) for v in arrays)
+    start = _start(code, full[2], full[5], LADDER[0])
+    return _run(code, full, np.ascontiguousarray(h, dtype=np.float64), start, LADDER, tol)
+
+
+@_quiet
+def solve_porous_all(
+    omega2: float,
+    eps: float,
+    theta0: float = 0.0,
+    *,
+    kappa: float,
+    gamma: float = 1.0,
+    pi: float | None = None,
+    q: float | None = None,
+    num_scan: int = 64,
+    rtol: float = 1e-12,
+) -> list[PorousState]:
+    """Every coexisting state at scalar inputs, by a scan in the tip height the gap sees.
+
+    With the gap frozen at the height 1/eps - h (in L), the hair and its bed have a state of
+    tip height z1(h); the states of the bed are the roots of G(h) = z1(h) - h on
+    0 < h <= 1. G is scanned on 12 geometric points in [1e-4, 0.02] and ``num_scan`` uniform
+    ones in [0.02, 1], each sign change refined by bisection to 1e-12, and each root polished
+    by the full Newton from the frozen state. At eps = 0 the gap does not feed back: one state.
+
+    Parameters
+    ----------
+    omega2, eps, theta0, kappa, gamma, pi, q, rtol
+        As in :func:`solve_porous`, scalars.
+    num_scan : int, optional
+        Uniform scan points in [0.02, 1], in [8, 10^4]. Default 64.
+
+    Returns
+    -------
+    list of PorousState
+        Sorted by tip height, each with ``stable`` (dG/dh < 0 at the root: True stable).
+    """
+    named: tuple[tuple[str, Any], ...] = (
+        ("omega2", omega2),
+        ("eps", eps),
+        ("theta0", theta0),
+        ("kappa", kappa),
+        ("gamma", gamma),
+        ("pi", pi),
+        ("q", q),
+    )
+    for name, value in named:
+        if value is not None and np.shape(value) != ():
+            raise ValueError(f"{name} must be a single number (a scalar) for solve_porous_all")
+    drive, code, arrays = _check(omega2, eps, theta0, kappa, gamma, pi, q)
+    tol = check_positive(rtol, "rtol")
+    count = check_int(num_scan, "num_scan", 8, 10**4)
+    if float(arrays[1]) == 0.0:
+        one = solve_porous(omega2, eps, theta0, kappa=kappa, gamma=gamma, pi=pi, q=q, rtol=tol)
+        return [one] if one.status >= 0 else []
+    h = np.unique(np.concatenate([np.geomspace(*_SCAN_LOW), np.linspace(0.02, 1.0, count)]))
+    out = _frozen(code, arrays, h, tol)[0]
+    g = np.where(out[0] >= 0, out[3] - h, np.nan)
+    lo_i = np.flatnonzero(np.isfinite(g[:-1]) & np.isfinite(g[1:]) & (g[:-1] * g[1:] <= 0.0))
+    lo_i = lo_i[~np.isin(lo_i - 1, lo_i) | (g[lo_i] != 0.0)]
+    if lo_i.size == 0:
+        return []
+    lo, hi = h[lo_i], h[lo_i + 1]
+    glo = g[lo_i]
+    stable = glo > g[lo_i + 1]
+    for _ in range(_BISECT_STEPS):
+        if np.all(hi - lo <= _H_TOL):
+            break
+        mid = 0.5 * (lo + hi)
+        o = _frozen(code, arrays, mid, tol)[0]
+        gm = np.where(o[0] >= 0, o[3] - mid, 0.0)
+        left = np.sign(gm) == np.sign(glo)
+        lo, glo = np.where(left, mid, lo), np.where(left, gm, glo)
+        hi = np.where(left, hi, mid)
+    root = 0.5 * (lo + hi)
+    # polish: the full Newton (the gap's own h1) from the frozen state at each root
+    of, cf, _ = _frozen(code, arrays, root, tol)
+    size = root.size
+    full = tuple(np.full(size, float(v.reshape(-1)[0])) for v in arrays)
+    n1 = LADDER[0] + 1
+    start = _start(code, full[2], full[5], LADDER[0])
+    xi = _matrices(LADDER[0])[0]
+    for c in range(3):
+        start[:, c * n1 : (c + 1) * n1] = _clenshaw(
+            np.where(np.isfinite(cf[(0, 3, 4)[c]]), cf[(0, 3, 4)[c]], 0.0),
+            np.broadcast_to(xi, (size, n1)),
+        )
+    start[:, 3 * n1] = np.where(np.isfinite(of[3]), of[3], root)
+    start[:, 3 * n1 + 1] = np.where(np.isfinite(of[9]), of[9], start[:, 3 * n1 + 1])
+    out, coefs, a = _run(code, full, np.full(size, np.nan), start, LADDER, tol)
+    order = np.argsort(np.where(np.isfinite(out[3]), out[3], np.inf), kind="stable")
+    states: list[PorousState] = []
+    last = -math.inf
+    for i in order:
+        if out[0, i] < 0 or abs(out[3, i] - last) <= 1e-9:
+            continue
+        last = out[3, i]
+        one = tuple(np.array(v[i]) for v in full)
+        states.append(
+            _state(
+                drive,
+                code,
+                (),
+                one,
+                out[:, i : i + 1],
+                coefs[:, i : i + 1],
+                a[i : i + 1],
+                bool(stable[i]),
+            )
+        )
+    return states
