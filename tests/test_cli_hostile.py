@@ -49,3 +49,35 @@ def test_a_file_that_is_not_a_calibration_is_one_line(name, command, tmp_path: P
     path.write_text(text)
     argv = [*command.split(), "--tip-deflection", "1e-4", "--calibration", str(path)]
     one_error(capsys, argv, "--calibration", str(path), words)
+
+
+# -- item 2: --free with an empty item ----------------------------------------------------------
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLE = ROOT / "docs" / "examples" / "points.csv"
+BED = [
+    "--length", "1e-3", "--radius", "50e-6", "--youngs-modulus", "1e6",
+    "--channel-height", "2e-3", "--viscosity", "1", "--spacing", "400e-6",
+]  # fmt: skip
+PILLAR = [
+    "--pillar", "--length", "500e-6", "--radius", "25e-6", "--youngs-modulus", "1e6",
+    "--viscosity", "1e-3",
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("free", "item"),
+    [
+        ("youngs_modulus,,base_angle", "item 2"),
+        ("youngs_modulus,", "item 2"),
+        (",youngs_modulus", "item 1"),
+        (",", "item 1"),
+        ("", "item 1"),
+        ("youngs_modulus, ,base_angle", "item 2"),
+    ],
+)
+@pytest.mark.parametrize("sensor", ["bed", "pillar"])
+def test_free_with_an_empty_item_is_refused(capsys, free: str, item: str, sensor: str):
+    options = BED if sensor == "bed" else PILLAR
+    argv = ["calibrate", "--data", str(EXAMPLE), "--free", free, *options]
+    one_error(capsys, argv, "--free", item, "is empty")

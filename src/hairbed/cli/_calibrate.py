@@ -105,8 +105,22 @@ def _print_fit(result: Any, as_json: bool) -> None:
     print(f"  {word}: {result.message}")
 
 
+def _free(text: str) -> tuple[str, ...]:
+    """The names of --free, each item checked: an empty one (``a,,b``, a trailing comma) is
+    a usage error naming its position, not skipped."""
+    items = [item.strip() for item in text.split(",")]
+    for k, item in enumerate(items, start=1):
+        if not item:
+            raise UsageError(
+                f"--free: item {k} of {text!r} is empty; give parameter names separated by "
+                "single commas, e.g. youngs_modulus,base_angle"
+            )
+    return tuple(items)
+
+
 def run(args: argparse.Namespace) -> int:
     """Read the points, fit, print; exit status 1 when the fit does not succeed."""
+    free = _free(args.free)
     if args.pillar:
         bed = sensor_pillar_from(args, "calibrate")
     else:
@@ -122,7 +136,7 @@ def run(args: argparse.Namespace) -> int:
         bed,
         points.tip_deflection,
         sigma=sigma,
-        free=args.free,
+        free=free,
         **points.known(),
     )
     _print_fit(result, args.json)

@@ -1,10 +1,14 @@
 """``hairbed solve --pillar``: an isolated pillar in a wall shear layer (theory.md §12).
 
-One state at ``--forcing`` (:func:`hairbed.solve_pillar`), every coexisting one with ``--all``
-(:func:`hairbed.solve_pillar_all`), the forcing of a measured ``--tip-deflection``
-(:func:`hairbed.solve_pillar_inverse`), or the branch from rest to ``--branch MAX`` with its
-folds (:func:`hairbed.continue_pillar`). Every field is printed with its unit, from the one
-variables table (:data:`hairbed._variables.PILLAR`).
+One state at ``--forcing`` (:func:`hairbed.solve_pillar`, ``--root`` choosing in a
+snap-through window), every coexisting one with ``--all`` (:func:`hairbed.solve_pillar_all`),
+the forcing of a measured ``--tip-deflection`` (:func:`hairbed.solve_pillar_inverse`), or the
+branch from rest to ``--branch MAX`` with its folds (:func:`hairbed.continue_pillar`). Given
+the SI inputs of a pillar (``--length``, ``--radius``, ``--youngs-modulus``, ``--viscosity``,
+...), the state at a ``--wall-shear-stress`` [Pa] (or the ``--velocity`` of a Couette channel,
+the ``--pressure-gradient`` of a Poiseuille one) in SI units (:meth:`hairbed.Pillar.deform`).
+Every field is printed with its unit, from the one variables table
+(:data:`hairbed._variables.PILLAR`).
 """
 
 from __future__ import annotations
@@ -17,7 +21,7 @@ import numpy as np
 import hairbed
 from hairbed._variables import PILLAR
 
-from ._options import BED_OPTIONS, PILLAR_OPTIONS, pillar_keywords, refuse
+from ._options import BED_OPTIONS, PILLAR_OPTIONS, pillar_keywords, refuse, sensor_pillar_from
 from ._output import check_output, figure_format, print_json, save_figure, table
 from ._report import UsageError
 
@@ -34,19 +38,48 @@ _NOTES["profile"] = "undisturbed profile U(z)"
 _HAIR_OPTIONS = {
     "omega2": "--omega2",
     "eps": "--eps",
-    "root": "--root",
     "pi": "--pi",
     "q": "--q",
-    "pressure_gradient": "--pressure-gradient",
     "flow_rate": "--flow-rate",
-    "velocity": "--velocity",
     "all_branches": "--all-branches",
-    **{kw: flag for flag, (kw, _) in BED_OPTIONS.items()},
+}
+
+#: The drives of an SI pillar (:meth:`hairbed.Pillar.deform`): dest -> flag.
+SI_DRIVES = {
+    "wall_shear_stress": "--wall-shear-stress",
+    "velocity": "--velocity",
+    "pressure_gradient": "--pressure-gradient",
+}
+
+#: What only an SI pillar takes (its drives and --drag-scale): dest -> flag.
+_SI_ONLY = {**SI_DRIVES, "drag_scale": "--drag-scale"}
+
+#: The rows of an SI pillar's table: PillarDeformation field -> (row name, label [unit]).
+_SI_ROWS = {
+    "wall_shear_stress": ("wall_shear_stress_Pa", "wall shear stress tau_w [Pa]"),
+    "velocity": ("velocity", "wall speed V = tau_w H/eta of the Couette channel [m/s]"),
+    "pressure_gradient": (
+        "pressure_gradient_Pa/m",
+        "pressure gradient G = 2 tau_w/H of the Poiseuille channel [Pa/m]",
+    ),
+    "forcing": ("forcing", "forcing Lambda = zeta_perp tau_w L^4/(eta E I) [-]"),
+    "tip_deflection": ("tip_deflection_m", "tip position x1 L from the base, along +x [m]"),
+    "tip_displacement": ("tip_displacement_m", "tip displacement (x1 - sin theta0) L [m]"),
+    "tip_height": ("tip_height_m", "tip height h1 L [m]"),
+    "tip_angle": ("tip_angle", "tip angle theta1 [rad]"),
+    "base_moment": ("base_moment_N_m", "bending moment at the base E I theta'(0)/L [N m]"),
+    "drag": ("drag_N", "streamwise drag on the pillar [N]"),
+    "drag_wall_normal": ("drag_wall_normal_N", "wall-normal drag on the pillar [N]"),
+    "sensitivity": ("sensitivity_m/Pa", "d(tip deflection)/d(tau_w) [m/Pa]"),
+    "reynolds_number": ("reynolds_number", "pillar Reynolds number rho |u(tip)| 2a/eta [-]"),
+    "status": ("status", "status (0 converged)"),
 }
 
 
 def add_modes(group: Any) -> None:
-    """``--tip-deflection``, ``--all`` and ``--branch`` into the pillar options' group."""
+    """``--tip-deflection``, ``--all`` and ``--branch`` into the pillar options' group, and
+    what an SI pillar takes beside the bed options: ``--wall-shear-stress``,
+    ``--drag-scale``."""
     group.add_argument(
         "--tip-deflection",
         type=float,
@@ -65,11 +98,31 @@ def add_modes(group: Any) -> None:
         metavar="MAX",
         help="the branch of states from rest to the forcing MAX [-], with its folds",
     )
+    group.add_argument(
+        "--wall-shear-stress",
+        type=float,
+        metavar="TAU",
+        help="with the SI inputs of a pillar (--length, --radius, --youngs-modulus, "
+        "--viscosity; instead of --forcing): the wall shear stress tau_w [Pa]; or "
+        "--velocity [m/s] with --profile couette, --pressure-gradient [Pa/m] with poiseuille",
+    )
+    group.add_argument(
+        "--drag-scale",
+        type=float,
+        metavar="C",
+        help="with the SI inputs of a pillar: a factor c > 0 on both drag coefficients [-] "
+        "(default 1, Gray & Hancock's)",
+    )
 
 
 def refuse_without_pillar(args: argparse.Namespace) -> None:
     """A pillar's option given without ``--pillar``: a usage error naming it."""
-    refuse(args, {**PILLAR_OPTIONS, **PILLAR_MODES}, "needs --pillar (an isolated pillar)")
+    refuse(
+        args,
+        {**PILLAR_OPTIONS, **PILLAR_MODES, "wall_shear_stress": "--wall-shear-stress"},
+        "needs --pillar (an isolated pillar)",
+    )
+    refuse(args, {"drag_scale": "--drag-scale"}, "needs --pillar and its SI inputs")
 
 
 def _as_given(value: Any, flag: str) -> Any:
@@ -135,12 +188,78 @@ def _plot(states: list[Any], path: str, fmt: str) -> None:
     print(f"wrote {path} ({fmt.upper()}, {what})", file=sys.stderr)
 
 
+def _check_plot(args: argparse.Namespace) -> str:
+    """The image format of --plot, checked (with the path) before any work; "" without."""
+    if not args.plot:
+        return ""
+    if args.branch is not None:
+        raise UsageError("--plot draws states; not with --branch (see hairbed figures)")
+    from hairbed._optional import optional_import
+
+    optional_import("matplotlib", "solve --plot")
+    fmt = figure_format(args.plot, "--plot")
+    check_output(args.plot)
+    return fmt
+
+
+def _si_rows(d: Any) -> dict[str, Any]:
+    """A PillarDeformation's SI fields, by row name; the drives its channel has not (NaN)
+    and the Reynolds number without a density left out."""
+    rows: dict[str, Any] = {}
+    for name, (row, _) in _SI_ROWS.items():
+        value = getattr(d, name)
+        if name in ("velocity", "pressure_gradient", "reynolds_number") and value != value:
+            continue
+        rows[row] = value
+    return rows
+
+
+def _run_si(args: argparse.Namespace) -> list[Any]:
+    """``solve --pillar`` with the SI inputs of a pillar: the state at a wall shear stress
+    (or the wall speed of a Couette channel, the pressure gradient of a Poiseuille one)."""
+    why = "does not apply to solve --pillar with SI inputs (give --wall-shear-stress [Pa])"
+    refuse(args, {**PILLAR_MODES, "root": "--root"}, why)
+    pillar = sensor_pillar_from(args, "solve")
+    drives = [flag for dest, flag in SI_DRIVES.items() if getattr(args, dest) is not None]
+    if len(drives) != 1:
+        got = f", got {' and '.join(drives)}" if drives else ""
+        raise UsageError(
+            "solve --pillar with SI inputs needs one of --wall-shear-stress [Pa], --velocity "
+            f"[m/s] (couette) and --pressure-gradient [Pa/m] (poiseuille){got}"
+        )
+    fmt = _check_plot(args)
+    d = pillar.deform(
+        args.wall_shear_stress, velocity=args.velocity, pressure_gradient=args.pressure_gradient
+    )
+    si = _si_rows(d)
+    inputs = {"profile": pillar.profile}
+    if pillar.height_ratio is not None:
+        inputs["height_ratio"] = pillar.height_ratio
+    dimensionless = _rows(d.solution, inputs)
+    if args.json:
+        print_json({**si, "solution": dimensionless})
+    else:
+        print(f"isolated pillar {pillar!r}")
+        print(table(si, {row: note for row, note in _SI_ROWS.values()}))
+        print("dimensionless state:")
+        message = dimensionless.pop("message")
+        print(table(dimensionless, _NOTES))
+        if dimensionless["status"] != 0:
+            print(f"  status {dimensionless['status']}: {message}")
+    if args.plot:
+        _plot([d.solution], args.plot, fmt)
+    return [d.solution]
+
+
 def run(args: argparse.Namespace) -> list[Any]:
     """``solve --pillar``: check the options, solve, print (and draw the shapes with
     ``--plot``); returns the states solved."""
     if args.sign != 1 or args.n != 0:
         raise UsageError("--sign and --n do not apply to a pillar (one branch from rest)")
     refuse(args, _HAIR_OPTIONS, "does not apply with --pillar")
+    if any(getattr(args, kw) is not None for kw, _ in BED_OPTIONS.values()):
+        return _run_si(args)
+    refuse(args, _SI_ONLY, "needs the SI inputs of a pillar (--length, --radius, ...)")
     modes = [
         flag for dest, flag in PILLAR_MODES.items() if getattr(args, dest) not in (None, False)
     ]
@@ -155,16 +274,20 @@ def run(args: argparse.Namespace) -> list[Any]:
     if args.branch is not None and args.forcing is not None:
         raise UsageError("--branch MAX gives the range of forcing; not with --forcing")
     if args.forcing is None and args.tip_deflection is None and args.branch is None:
-        raise UsageError("--pillar needs --forcing, --tip-deflection or --branch MAX")
-    fmt = ""
-    if args.plot:  # checked before any work
-        if args.branch is not None:
-            raise UsageError("--plot draws states; not with --branch (see hairbed figures)")
-        from hairbed._optional import optional_import
-
-        optional_import("matplotlib", "solve --plot")
-        fmt = figure_format(args.plot, "--plot")
-        check_output(args.plot)
+        raise UsageError(
+            "--pillar needs --forcing, --tip-deflection or --branch MAX (or the SI inputs of "
+            "a pillar with --wall-shear-stress)"
+        )
+    if args.root is not None and args.forcing is None:
+        raise UsageError("--root chooses the state at --forcing (where several coexist)")
+    if args.root is not None and args.all:
+        raise UsageError("--root does not apply with --all (which gives every state)")
+    if args.all and args.forcing == 0.0:
+        raise UsageError(
+            "--all needs a non-zero --forcing (at rest the one state is the straight pillar; "
+            "drop --all)"
+        )
+    fmt = _check_plot(args)
     kw = pillar_keywords(args, _as_given)
     theta0 = 0.0 if args.theta0 is None else args.theta0
     inputs = {"profile": kw.get("profile", "sublayer")}
@@ -183,7 +306,7 @@ def run(args: argparse.Namespace) -> list[Any]:
     elif args.all:
         states = hairbed.solve_pillar_all(args.forcing, theta0, **kw)
     else:
-        states = [hairbed.solve_pillar(args.forcing, theta0, **kw)]
+        states = [hairbed.solve_pillar(args.forcing, theta0, **kw, root=args.root or "low")]
     docs = [_rows(st, inputs) for st in states]
     if args.json:
         print_json(docs if args.all else docs[0])

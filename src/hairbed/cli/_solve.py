@@ -49,7 +49,10 @@ examples:
   hairbed solve --pillar --forcing 2                 # an isolated pillar (theory.md §12)
   hairbed solve --pillar --forcing 15 --theta0=-1.4 --all --json
   hairbed solve --pillar --tip-deflection 0.3 --profile poiseuille --height-ratio 0.5
+  hairbed solve --pillar --forcing 15 --theta0=-1.4 --root mid   # one of them
   hairbed solve --pillar --branch 40 --theta0=-1.4   # the snap-through branch and its folds
+  hairbed solve --pillar --length 500e-6 --radius 25e-6 --youngs-modulus 1e6 \\
+      --viscosity 1e-3 --wall-shear-stress 2       # an SI pillar: the state at tau_w [Pa]
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -67,7 +70,8 @@ def add_parser(sub: Any) -> None:
         n=0,
         root=None,
         root_help="which state where several coexist (default: inside a bistable window, all "
-        "of them, labelled low/mid/high with their stability; elsewhere the one state)",
+        "of them, labelled low/mid/high with their stability; elsewhere the one state); with "
+        "--pillar --forcing, the state in a snap-through window (default low)",
     )
     p.add_argument(
         "--all-branches",
