@@ -181,3 +181,41 @@ def test_linear_range_of_a_couette_pillar_gives_the_wall_speed(capsys):
 )
 def test_linear_range_pillar_bad_input_is_one_line(capsys, args: list[str], words: str):
     assert words in _error(capsys, "linear-range", *args)
+
+
+# -- measure: a pillar's calibration needs no --pillar; no 'v = nan' ----------------------------
+
+
+def test_measure_of_a_sublayer_pillar_prints_no_nan_speed(capsys):
+    args = ["measure", "--pillar", *SI, "--tip-deflection", "5e-5", "--sigma", "1e-7"]
+    assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "nan" not in out and "no wall speed" in out and out.startswith("tau = ")
+    tau = float(out.split()[2])
+    exact = hairbed.solve_pillar(forcing_of(tau), 0.0, gamma=gamma_of())
+    assert L * exact.tip_deflection == pytest.approx(5e-5, rel=1e-5)  # tau printed to 6 digits
+    assert main(["measure", "--pillar", *SI, "--profile=couette", "--channel-height=1e-3",
+                 "--tip-deflection", "5e-5"]) == 0  # fmt: skip
+    out = capsys.readouterr().out
+    v = float(next(ln.split()[2] for ln in out.splitlines() if ln.startswith("v ")))
+    assert v == pytest.approx(tau * 1e-3 / ETA, rel=1e-5)
+
+
+def test_measure_takes_the_sensor_from_the_calibration_file(capsys, tmp_path):
+    tau = [1.0, 2.0, 4.0, 8.0]
+    pillar = hairbed.Pillar(length=L, radius=A, youngs_modulus=1.2e6, viscosity=ETA)
+    d = [float(pillar.deform(t).tip_deflection) for t in tau]
+    data = tmp_path / "points.csv"
+    data.write_text("wall_shear_stress,tip_deflection\n" + "".join(
+        f"{t!r},{x!r}\n" for t, x in zip(tau, d)))  # fmt: skip
+    assert main(["calibrate", "--data", str(data), *["--pillar", *SI], "--json"]) == 0
+    cal = tmp_path / "cal.json"
+    cal.write_text(capsys.readouterr().out)
+    with_flag = _json(capsys, "measure", "--pillar", "--calibration", str(cal),
+                      "--tip-deflection", repr(d[2]))  # fmt: skip
+    without = _json(capsys, "measure", "--calibration", str(cal), "--tip-deflection", repr(d[2]))
+    assert without == with_flag
+    assert without["wall_shear_stress"] == pytest.approx(4.0, rel=1e-8)
+    assert main(["measure", "--calibration", str(cal), "--tip-deflection", repr(d[2])]) == 0
+    out = capsys.readouterr().out
+    assert "nan" not in out and "no wall speed" in out

@@ -33,9 +33,10 @@ it is refused (the calibrate options, starting values included, are accepted). W
 with their standard errors (invert also gives omega2, the force per hair and the tip height).
 
 With --pillar the sensor is an isolated pillar (hairbed.Pillar, theory.md §12; its options
-as for 'hairbed calibrate --pillar'), or the pillar of a --calibration written by
-'hairbed calibrate --pillar --json': the exact inverse of its calibration curve; v is the
-wall speed of a couette channel (nan for the other profiles).
+as for 'hairbed calibrate --pillar'); a --calibration written by 'hairbed calibrate --pillar
+--json' says itself that it is a pillar's (--pillar may be left out): the exact inverse of
+its calibration curve. v is the wall speed of a couette channel; the other profiles have
+none, and the table says so (JSON: null).
 
 examples:
   hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --length 1e-3 --radius 50e-6 \\
@@ -78,11 +79,8 @@ def _check_bed_options(args: argparse.Namespace, fit: Any, path: str) -> None:
     """Refuse a bed option that is neither the calibrated bed's value nor, for a fitted
     parameter, the starting value of the calibration (the options given to calibrate)."""
     pillar = isinstance(fit.bed, hairbed.Pillar)
-    if pillar != bool(args.pillar):
-        raise UsageError(
-            f"--calibration {path} is "
-            + ("a pillar's: add --pillar" if pillar else "a bed's: drop --pillar")
-        )
+    if args.pillar and not pillar:  # the file says which sensor it is: --pillar is optional
+        raise UsageError(f"--calibration {path} is a bed's: drop --pillar")
     if not pillar:
         refuse_without_sensor_pillar(args)
     else:
@@ -145,7 +143,10 @@ def run(args: argparse.Namespace) -> int:
         )
         return 0
     print(f"tau = {m.wall_shear_stress:.6g} +- {m.wall_shear_stress_stderr:.2g} Pa")
-    print(f"v   = {m.velocity:.6g} +- {m.velocity_stderr:.2g} m/s")
+    if m.velocity == m.velocity:
+        print(f"v   = {m.velocity:.6g} +- {m.velocity_stderr:.2g} m/s")
+    else:  # a pillar whose profile has no wall speed (sublayer, poiseuille)
+        print(f"(no wall speed v: a pillar in a {bed.profile} profile has none; couette has)")
     if m.pressure_gradient is not None:  # a pump-driven calibration (both walls at rest)
         print(f"G   = {m.pressure_gradient:.6g} +- {m.pressure_gradient_stderr:.2g} Pa/m")
         print(f"Q'  = {m.flow_rate:.6g} +- {m.flow_rate_stderr:.2g} m^2/s")
