@@ -70,9 +70,12 @@ FALLBACKS = {
     },
     ("calibrate", "profile"): "sublayer",
     ("measure", "profile"): "sublayer",
+    ("linear-range", "profile"): "sublayer",
     # the pillar sensor's drag scale (hairbed.Pillar's default drag_scale = 1)
     ("calibrate", "drag_scale"): "1",
     ("measure", "drag_scale"): "1",
+    ("linear-range", "drag_scale"): "1",
+    ("solve", "drag_scale"): "1",
 }
 
 

@@ -55,7 +55,7 @@ examples:
       --viscosity 1e-3 --wall-shear-stress 2       # an SI pillar: the state at tau_w [Pa]
 """
 
-__all__ = ["ABOUT", "add_parser", "run"]
+__all__ = ["ABOUT", "add_parser", "run", "twirling_onset"]
 
 
 def add_parser(sub: Any) -> None:
@@ -76,7 +76,9 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--all-branches",
         action="store_true",
-        help="every state on every branch, labelled low/mid/high and stable/unstable",
+        help="every state on every branch, labelled low/mid/high and stable/unstable; below "
+        "the twirling onset (the fold of branch sign=-1, n=0) the physical states only, with "
+        "the onset's omega2",
     )
     add_json(p, "print JSON (fields by API names)")
     p.add_argument("--plot", metavar="FILE", help="also draw the profile(s) into FILE (PNG)")
@@ -194,6 +196,30 @@ def _solve_bed(args: argparse.Namespace, bed: Any) -> list[Any]:
     return [state.solution]
 
 
+def twirling_onset(eps: float, theta0: float) -> float:
+    """The least omega^2 at which a twirling branch has a state: the fold of the branch
+    (sign=-1, n=0), its minimum of omega^2 (theory.md §9; the other twirling branches start
+    higher); NaN if the fold search finds none."""
+    from hairbed.branches import fold_parameters
+
+    t = fold_parameters(eps, theta0, sign=-1, n=0)
+    if t.size == 0:
+        return float("nan")
+    w = hairbed.from_parameter(t, eps, theta0, sign=-1, n=0).omega2
+    return float(min(w.tolist() if hasattr(w, "tolist") else [w]))
+
+
+def _below_twirling(eps: float, theta0: float) -> str:
+    """Why --all-branches found only physical states: the forcing is below the onset."""
+    onset = twirling_onset(eps, theta0)
+    if onset != onset:
+        return "no twirling branch has a state at this forcing"
+    return (
+        f"no twirling branch has a state below omega2 = {onset:.10g}, the fold of branch "
+        "sign=-1, n=0 where the first twirling states appear"
+    )
+
+
 def _solve_dimensionless(args: argparse.Namespace) -> list[Any]:
     """The state at --omega2/--eps/--theta0, or every coexisting one, labelled."""
     if args.omega2 is None or args.eps is None:
@@ -204,6 +230,11 @@ def _solve_dimensionless(args: argparse.Namespace) -> list[Any]:
     if args.all_branches:
         sols = hairbed.solve_all(w, eps, theta0)
         head = f"{len(sols)} state(s) at {at}:"
+        if all(s.physical for s in sols):  # below the twirling onset: say so, and where it is
+            why = _below_twirling(eps, theta0)
+            if args.json:
+                print(f"hairbed: note: {why}", file=sys.stderr)
+            head = f"{len(sols)} state(s) at {at} (the physical branch only: {why}):"
         print_states(hairbed.branches.label_states(sols), args.json, head)
         return sols
     branch = {"sign": args.sign, "n": args.n}

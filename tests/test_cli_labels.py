@@ -1,0 +1,49 @@
+"""What the command line's tables say is what they hold (issue 33, "Labels", "Twirling
+branches", "hairbed bench FAIL rows"): names and notes checked against independent values."""
+
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+
+import hairbed
+from hairbed.cli import main
+
+
+def _run(capsys, *args: str) -> tuple[int, str, str]:
+    status = main(list(args))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+# -- --all-branches below the twirling onset says why one state ---------------------------------
+
+
+@pytest.mark.parametrize(
+    ("omega2", "eps", "theta0"), [(2.0, 0.5, 0.0), (0.5, 0.95, -1.2), (1e-3, 0.0, 1.4)]
+)
+def test_all_branches_below_the_onset_says_where_twirling_starts(capsys, omega2, eps, theta0):
+    argv = ["solve", f"--omega2={omega2}", f"--eps={eps}", f"--theta0={theta0}", "--all-branches"]
+    status, out, err = _run(capsys, *argv)
+    assert status == 0 and err == ""
+    head = out.splitlines()[0]
+    assert "physical branch only" in head and "no twirling branch has a state below" in head
+    onset = float(re.search(r"below omega2 = ([0-9.e+-]+),", head).group(1))
+    assert onset > omega2
+
+    # the onset brackets the forcings at which solve_all first finds a twirling state
+    def twirls(w: float) -> bool:
+        return any(not s.physical for s in hairbed.solve_all(w, eps, theta0))
+
+    assert twirls(onset * (1 + 1e-8)) and not twirls(onset * (1 - 1e-8))
+    status, out, err = _run(capsys, *argv, "--json")
+    assert status == 0 and all(s["physical"] for s in json.loads(out))
+    assert err.startswith("hairbed: note: no twirling branch has a state below"), err
+
+
+def test_all_branches_above_the_onset_has_no_note(capsys):
+    status, out, err = _run(capsys, "solve", "--omega2=20", "--eps=0.5", "--all-branches")
+    assert status == 0 and err == "" and "physical branch only" not in out
+    assert out.startswith("3 state(s) at omega2=20")
