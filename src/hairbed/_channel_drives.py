@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from ._core.validation import _first_index, as_float_array, broadcast_named
 
-__all__ = ["drive_inputs", "gap_flow", "pump_drive"]
+__all__ = ["drive_inputs", "gap_flow", "porous_flow", "pump_drive"]
 
 FloatArray = NDArray[np.float64]
 
@@ -120,6 +120,67 @@ def gap_flow(
     else:
         reynolds = bed.density * u_max * gap / eta
     force = bed.wall_area_per_hair * (tau + g_grad * h1 * bed.length)
+    return {
+        "pressure_gradient": np.asarray(g_grad, dtype=np.float64),
+        "flow_rate": np.asarray(flow, dtype=np.float64),
+        "wall_shear_stress": np.asarray(tau, dtype=np.float64),
+        "force_per_hair": np.asarray(force, dtype=np.float64),
+        "stress_ratio": np.asarray(ratio, dtype=np.float64),
+        "reynolds_number": np.asarray(reynolds, dtype=np.float64),
+    }
+
+
+#: Gauss-Legendre nodes and weights on [0, 1] of the flux through a porous bed.
+_GAUSS_X, _GAUSS_V = np.polynomial.legendre.leggauss(64)
+_GAUSS_S, _GAUSS_W = 0.5 * (_GAUSS_X + 1.0), 0.5 * _GAUSS_V
+
+
+def porous_flow(
+    bed: Any, state: Any, v: FloatArray, drive: str, value: FloatArray
+) -> dict[str, FloatArray]:
+    """The flow of porous-bed states (a :class:`hairbed.PorousState` of ``bed``) in SI: G,
+    Q' (through bed and gap), the stress on the tip plane, the force per hair, the stress
+    ratio and the gap's Reynolds number (theory.md §13).
+
+    The state's fluid is in load units: w = eta A L u/(E I), Q = A L^2 q/(E I); its Pi is
+    A G L^3/(E I) and its flux Phi = eta A Q'/(E I). The stress ratio compares the tip
+    plane's stress with the stress the same drive puts on the bottom wall of the bare channel,
+    as :func:`gap_flow` does.
+    """
+    ei, area, length = bed.bending_stiffness, bed.wall_area_per_hair, bed.length
+    eta, height = bed.viscosity, bed.channel_height
+    stress = ei / (area * length**2)
+    h1 = np.asarray(state.tip_height, dtype=np.float64)
+    tau = np.asarray(state.tip_stress, dtype=np.float64) * stress
+    g_grad = np.asarray(state.pi, dtype=np.float64) * ei / (area * length**3)
+    u_tip = np.asarray(state.tip_velocity, dtype=np.float64) * ei / (eta * area * length)
+    gap = height - h1 * length
+    # the flux through the bed, int_0^1 w cos(theta) ds, by Gauss-Legendre on the interpolants
+    _, _, _, theta = state.shape(_GAUSS_S)
+    _, _, w, _ = state.fluid(_GAUSS_S)
+    inside = np.sum(np.asarray(w) * np.cos(np.asarray(theta)) * _GAUSS_W, axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        bed_flux = inside * ei / (eta * area)
+        flow = bed_flux + u_tip * gap + tau * gap**2 / (2.0 * eta) - g_grad * gap**3 / (6.0 * eta)
+        if drive == "pressure":
+            bare = eta * v / height + g_grad * height / 2.0
+        else:
+            g_bare = 12.0 * eta * (value - v * height / 2.0) / height**3
+            bare = eta * v / height + g_bare * height / 2.0
+        ratio = tau / bare
+        # the gap's largest speed: its ends, or the parabola's vertex inside it
+        vertex = np.where(g_grad != 0.0, tau / g_grad, -1.0)
+        in_gap = (vertex > 0.0) & (vertex < gap)
+        y = np.where(in_gap, vertex, 0.0)
+        u_vertex = u_tip + tau * y / eta - g_grad * y * y / (2.0 * eta)
+        u_max = np.maximum(
+            np.maximum(np.abs(v), np.abs(u_tip)), np.where(in_gap, np.abs(u_vertex), 0.0)
+        )
+    if bed.density is None:
+        reynolds = np.full(np.shape(gap), np.nan)
+    else:
+        reynolds = bed.density * u_max * gap / eta
+    force = np.asarray(state.drag_x, dtype=np.float64) * ei / length**2
     return {
         "pressure_gradient": np.asarray(g_grad, dtype=np.float64),
         "flow_rate": np.asarray(flow, dtype=np.float64),

@@ -43,14 +43,17 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from ._channel_drives import drive_inputs, gap_flow
+from ._bed_drag import DRAG_MODELS, MAX_PACKING_FRACTION, drag_coefficients
+from ._channel_drives import drive_inputs, gap_flow, porous_flow
 from ._core.loaded import _solve_loaded_trusted
 from ._core.outputs import float_or_array
+from ._core.porous import _solve_porous_checked
 from ._core.solver import _from_parameter, _solve_checked
 from ._core.validation import (
     HALF_PI,
     _first_index,
     as_float_array,
+    check_choice,
     check_number,
     check_positive,
     check_root,
@@ -77,6 +80,8 @@ CLOSE_PACKING_FRACTION = math.pi / (2.0 * math.sqrt(3.0))
 #: while the Brinkman length sqrt(k) over which the flow penetrates the bed is small against the
 #: hair length; above sqrt(k)/L = 0.1 a :class:`hairbed.ModelValidityWarning` is issued.
 DENSE_BED_LIMIT = 0.1
+#: The bed models of :class:`HairBed`: the paper's dense bed, or the porous (Brinkman) bed.
+MODELS = ("dense", "porous")
 
 FloatOrArray = float | NDArray[np.float64]
 
@@ -138,7 +143,8 @@ def _warn_sparse(bed: HairBed, stacklevel: int = 4) -> None:
             f"{bed.brinkman_length:.3g} m, {ratio:.3g} of the hair length (limit "
             f"{DENSE_BED_LIMIT:g}; packing fraction {bed.packing_fraction:.3g}), but the model "
             "loads the hairs at their tips only (to first order it overestimates the "
-            "deflection by 1.5 sqrt(k)/L)",
+            "deflection by 1.5 sqrt(k)/L); HairBed(..., model='porous') solves the flow "
+            "through the bed (theory.md §13)",
             ModelValidityWarning,
             stacklevel=stacklevel,
         )
@@ -417,6 +423,8 @@ class HairBed:
     packing_fraction: float | None = field(default=None, repr=False)
     base_angle: float = 0.0
     density: float | None = None
+    model: str = "dense"
+    drag: str = "crossover"
 
     def __post_init__(self) -> None:
         """Validate the inputs and fill in the one of spacing / packing fraction not given."""
@@ -482,8 +490,23 @@ class HairBed:
                 f"{scales[2]:g} m/s, second moment {scales[0]:g} m^4 and wall area per hair "
                 f"{scales[1]:g} m^2 that under- or overflow double precision: check their units"
             )
+        object.__setattr__(self, "model", check_choice(self.model, "model", MODELS))
+        object.__setattr__(self, "drag", check_choice(self.drag, "drag", DRAG_MODELS))
+        if self.model == "porous":
+            if phi > MAX_PACKING_FRACTION:
+                raise ValueError(
+                    f"packing_fraction must lie in (0, {MAX_PACKING_FRACTION}] for "
+                    f"model='porous', got {phi!r}: the array's permeabilities (Drummond & "
+                    "Tahir) that set the hairs' drag hold only below it"
+                )
+            if not length > 1.5 * radius:
+                raise ValueError(
+                    f"length/radius must exceed 1.5 for model='porous' (a slender hair: "
+                    f"ln(2L/a) > 1/2 keeps zeta_par positive), got {length / radius!r}"
+                )
         _warn_implausible(self)
-        _warn_sparse(self)
+        if self.model == "dense":
+            _warn_sparse(self)
 
     # -- the bed -------------------------------------------------------------------------------
 
@@ -519,6 +542,34 @@ class HairBed:
         """Depth sqrt(k) over which the flow penetrates the bed [m] (theory.md §10): the model
         needs it small against the hair length (:data:`DENSE_BED_LIMIT`)."""
         return math.sqrt(self.permeability)
+
+    @property
+    def drag_coefficients(self) -> tuple[float, float]:
+        """(zeta_perp, zeta_par) [Pa s]: one hair's drag per unit length and speed, normal and
+        along it, under the bed's ``drag`` model (theory.md §13)."""
+        phi = cast(float, self.packing_fraction)  # set and checked by post-init
+        return drag_coefficients(
+            self.drag,
+            self.viscosity,
+            self.length,
+            self.radius,
+            self.wall_area_per_hair,
+            self.permeability,
+            phi,
+        )
+
+    @property
+    def kappa(self) -> float:
+        """The porous bed's permeability over L^2, kappa = eta A/(zeta_perp L^2) [-]: the
+        square of its Brinkman length in hair lengths (theory.md §13)."""
+        zeta = self.drag_coefficients[0]
+        return self.viscosity * self.wall_area_per_hair / (zeta * self.length**2)
+
+    @property
+    def drag_ratio(self) -> float:
+        """gamma = zeta_par/zeta_perp [-] of the bed's ``drag`` model."""
+        perp, par = self.drag_coefficients
+        return par / perp
 
     @property
     def velocity_scale(self) -> float:
@@ -609,6 +660,8 @@ class HairBed:
         (1.6466, 0.0167)
         """
         root = check_root(root)
+        if self.model == "porous":
+            return self._deform_porous(velocity, pressure_gradient, flow_rate, root)
         if pressure_gradient is not None or flow_rate is not None:
             return self._deform_pumped(velocity, pressure_gradient, flow_rate, root)
         if velocity is None:
@@ -642,6 +695,52 @@ class HairBed:
             direction=float_or_array(np.ones(np.shape(h1))),
             tip_deflection=float_or_array(length * x1),
             tip_height=float_or_array(length * h1),
+            tip_angle=sol.tip_angle,
+            wall_shear_stress=float_or_array(flow["wall_shear_stress"]),
+            force_per_hair=float_or_array(flow["force_per_hair"]),
+            stress_ratio=float_or_array(flow["stress_ratio"]),
+            tip_displacement=float_or_array(length * (x1 - math.sin(self.base_angle))),
+            reynolds_number=float_or_array(flow["reynolds_number"]),
+            pressure_gradient=float_or_array(flow["pressure_gradient"]),
+            flow_rate=float_or_array(flow["flow_rate"]),
+        )
+
+    def _deform_porous(
+        self, velocity: Any, pressure_gradient: Any, flow_rate: Any, root: str
+    ) -> HairState:
+        """:meth:`deform` of the porous bed (theory.md §13): any drive, signs kept."""
+        if pressure_gradient is None and flow_rate is None:
+            if velocity is None:
+                raise TypeError(
+                    "deform() needs velocity [m/s], pressure_gradient [Pa/m] or flow_rate [m^2/s]"
+                )
+            v, omega2 = self._forcing(velocity, "velocity")
+            omega2 = np.where(v < 0.0, -omega2, omega2)
+            drive, value, load = "pressure", np.zeros(v.shape), np.zeros(v.shape)
+        else:
+            drive, v, value, omega2, load = drive_inputs(
+                self, velocity, pressure_gradient, flow_rate
+            )
+        shape = np.shape(omega2)
+        arrays = tuple(
+            np.array(np.broadcast_to(np.asarray(x, dtype=np.float64), shape))
+            for x in (omega2, self.eps, self.base_angle, self.kappa, self.drag_ratio, load)
+        )
+        # checked: the drive by _forcing or drive_inputs, the rest by the bed itself
+        sol = _solve_porous_checked(drive, 0 if drive == "pressure" else 1, arrays, root)
+        flow = porous_flow(self, sol, np.asarray(v, dtype=np.float64), drive, value)
+        if self.density is not None:
+            _warn_reynolds(flow["reynolds_number"])
+        length = self.length
+        x1 = np.asarray(sol.tip_deflection, dtype=np.float64)
+        return HairState(
+            bed=self,
+            velocity=float_or_array(v),
+            omega2=float_or_array(np.abs(omega2)),
+            solution=sol,
+            direction=float_or_array(np.ones(shape)),
+            tip_deflection=float_or_array(length * x1),
+            tip_height=float_or_array(length * np.asarray(sol.tip_height)),
             tip_angle=sol.tip_angle,
             wall_shear_stress=float_or_array(flow["wall_shear_stress"]),
             force_per_hair=float_or_array(flow["force_per_hair"]),

@@ -38,6 +38,7 @@ from .validation import (
     broadcast_named,
     check_int,
     check_positive,
+    check_root,
 )
 
 __all__ = ["LADDER", "PorousState", "solve_porous", "solve_porous_all"]
@@ -138,6 +139,7 @@ class PorousState(CollocatedState):
     num: IntValue
     _map: FloatArray
     _coefs: FloatArray
+    _out: FloatArray
     stable: Any = None
 
     def shape(self, s: ArrayLike) -> tuple[Any, Any, Any, Any]:
@@ -266,6 +268,7 @@ def solve_porous(
     gamma: ArrayLike = 1.0,
     pi: ArrayLike | None = None,
     q: ArrayLike | None = None,
+    root: str = "low",
     num: int | None = None,
     rtol: float = 1e-12,
 ) -> PorousState:
@@ -304,6 +307,12 @@ def solve_porous(
     q : array_like, optional
         Dimensionless flow rate q = 6 A eta Q' L^2/(E I H^2) [-] (flow drive). At most one
         of ``pi`` and ``q``.
+    root : {"low", "mid", "high"}, optional
+        Which state where several coexist (an upstream tilt in a tight channel): "low"
+        (default) the state Newton reaches from the hair at rest by the load continuation
+        (the least deformed); "mid" and "high" the middle (of three) and the highest tip
+        height of :func:`solve_porous_all`'s scan (status -1 where there are fewer). Where
+        Newton and the continuation fail (a fold on the way), the scan's lowest state.
     num : int, optional
         A fixed Chebyshev degree N in [8, 512] instead of the ladder (32, 64, 128, 256).
     rtol : float, optional
@@ -327,13 +336,64 @@ def solve_porous(
     0.1457938982
     """
     drive, code, arrays = _check(omega2, eps, theta0, kappa, gamma, pi, q)
+    root = check_root(root)
     tol = check_positive(rtol, "rtol")
     nums = LADDER if num is None else (check_int(num, "num", 8, 512),)
+    return _solve_porous_checked(drive, code, arrays, root, tol, nums)
+
+
+def _solve_porous_checked(
+    drive: str,
+    code: int,
+    arrays: tuple[FloatArray, ...],
+    root: str = "low",
+    tol: float = 1e-12,
+    nums: tuple[int, ...] = LADDER,
+) -> PorousState:
+    """:func:`solve_porous` of checked, broadcast inputs (``_check``), trusted."""
     shape = arrays[0].shape
     flat = tuple(np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for v in arrays)
     start = _start(code, flat[2], flat[5], nums[0])
     out, coefs, a = _run(code, flat, np.full(flat[0].size, np.nan), start, nums, tol)
+    if nums == LADDER:
+        _rescue(drive, code, flat, root, tol, out, coefs)
     return _state(drive, code, shape, arrays, out, coefs, a)
+
+
+#: The most failed elements of one call that :func:`_rescue` scans (each ~0.1 s).
+MAX_RESCUE = 100
+
+
+def _rescue(
+    drive: str,
+    code: int,
+    flat: tuple[FloatArray, ...],
+    root: str,
+    tol: float,
+    out: FloatArray,
+    coefs: FloatArray,
+) -> None:
+    """The scan of :func:`solve_porous_all` where Newton and the continuation failed (status
+    -2, -3, -7: a fold on the way; at most ``MAX_RESCUE`` a call) and on every element for
+    ``root`` "mid" or "high": its state of ``root`` written into out and coefs in place."""
+    if root == "low":
+        todo = np.flatnonzero(np.isin(out[0], (-2, -3, -7)))[:MAX_RESCUE]
+    else:
+        todo = np.arange(out.shape[1])
+    for i in todo:
+        w, e, t0, k, g, ld = (float(v[i]) for v in flat)
+        kw = {"pi": ld} if drive == "pressure" else {"q": ld}
+        found = solve_porous_all(w, e, t0, kappa=k, gamma=g, rtol=tol, **kw)
+        if not found or (root == "mid" and len(found) < 3):
+            out[0, i] = -1 if found else out[0, i]
+            out[3:, i] = np.nan
+            coefs[:, i, :] = np.nan
+            continue
+        pick = found[0] if root == "low" else found[-1] if root == "high" else found[1]
+        out[:, i] = pick._out
+        top = pick._coefs.shape[-1]
+        coefs[:, i, :] = 0.0
+        coefs[:, i, :top] = pick._coefs.reshape(5, top)
 
 
 def _state(
@@ -379,6 +439,7 @@ def _state(
         num=scalar_or_array(out[2].astype(np.int64).reshape(shape)),
         _map=a.reshape(shape),
         _coefs=coefs.reshape((5, *shape, top)),
+        _out=out.reshape((out.shape[0], *shape)),
         stable=stable,
     )
 
