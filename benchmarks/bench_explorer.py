@@ -76,6 +76,11 @@
    and +3.9 MB after close; with pymalloc +35 MB and +31 MB (the arenas of part 3), at the
    same speed (75 s a round both, server p90 6.4 / 6.2 ms: the clients are not in its process).
 
+5. The pillar in a snap-through window (issue 33; ``--pillar`` alone, and in part 1): new
+   forcings between the folds of theta0 = -1.45, each read from the pillar's branch cached on
+   the first view (``pillar_window_*``), against one ``solve_pillar_all`` (a branch per
+   forcing, the way before) as a ratio.
+
 The machine's load average (:func:`os.getloadavg`, 1 min) is reported before and after each
 part: other work on the two cores slows both the server and the browser.
 
@@ -220,8 +225,48 @@ def server_times(steps: int) -> dict[str, float]:
         out[f"flow_{view}_total_median_ms"] = statistics.median(totals)
         out[f"flow_{view}_total_p90_ms"] = _pct(totals, 90)
         out[f"flow_{view}_max_states"] = float(max(counts))
+    out.update(pillar_window_times(steps))
     out["server_load_after"] = _load()
     return out
+
+
+def pillar_window_times(steps: int) -> dict[str, float]:
+    """The pillar mode inside a snap-through window (issue 33): theta0 = -1.45, ``steps`` new
+    forcings Lambda between its folds (14.83 and 22.29, three states each), every one new to
+    the page, after the first view (which follows the pillar's branch, cached per pillar).
+    Reported: that first update, the median and 90th percentile of the new forcings' updates
+    [ms], and what one :func:`hairbed.solve_pillar_all` (the way before: a branch per
+    forcing) takes at such a forcing, as a ratio to the median."""
+    import hairbed
+    from hairbed.explorer._page import ExplorerPage
+    from hairbed.explorer._pillar import clear_pillar_caches
+
+    clear_pillar_caches()
+    hairbed.solve_pillar(1.0)  # the kernels compiled
+    start = time.perf_counter()
+    page = ExplorerPage("?mode=pillar&forcing=20&pillar_theta0=-1.45", served=False)
+    first = page.timings["total"]
+    page_ms = 1e3 * (time.perf_counter() - start)
+    totals, counts = [], []
+    for lam in np.linspace(15.0, 22.2, max(steps, 2)):
+        page.text["forcing"].value = f"{lam:.6g}"
+        assert page.error == "", page.error
+        totals.append(page.timings["total"])
+        counts.append(len(page.pillar.snapshot.states))
+    start = time.perf_counter()
+    hairbed.solve_pillar_all(18.5, -1.45)
+    every = 1e3 * (time.perf_counter() - start)
+    new = statistics.median(totals)
+    page.release()
+    return {
+        "pillar_window_first_ms": first,
+        "pillar_window_page_ms": page_ms,
+        "pillar_window_new_median_ms": new,
+        "pillar_window_new_p90_ms": _pct(totals, 90),
+        "pillar_window_min_states": float(min(counts)),
+        "solve_pillar_all_ms": every,
+        "solve_pillar_all_over_new": every / new,
+    }
 
 
 def browser_times(steps: int) -> dict[str, float]:
@@ -774,6 +819,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--steps", type=int, default=40, help="slider steps per run (default 40)")
     ap.add_argument("--browser-steps", type=int, default=30, help="browser updates (default 30)")
     ap.add_argument("--no-browser", action="store_true", help="server times only")
+    ap.add_argument(
+        "--pillar", action="store_true", help="the pillar's snap-through window rows only"
+    )
     ap.add_argument("--json", metavar="PATH", help="also write the figures as JSON")
     ap.add_argument("--sessions", type=int, default=0, help="part 3 only: N client sessions")
     ap.add_argument("--updates", type=int, default=250, help="updates per session (part 3)")
@@ -843,13 +891,20 @@ def main(argv: list[str] | None = None) -> int:
             with open(args.json, "w") as fh:
                 json.dump(results, fh, indent=2)
         return 1 if failed else 0
-    res = server_times(args.steps)
-    if not args.no_browser:
+    res = pillar_window_times(args.steps) if args.pillar else server_times(args.steps)
+    if not args.no_browser and not args.pillar:
         res.update(browser_times(args.browser_steps))
     for k, v in res.items():
         print(f"{k:32s} {v:10.2f}")
     if "physical_total_median_ms" in res:
         print(f"server target <= 50 ms: median {res['physical_total_median_ms']:.1f} ms")
+    if "pillar_window_new_median_ms" in res:
+        median, p90 = res["pillar_window_new_median_ms"], res["pillar_window_new_p90_ms"]
+        print(
+            f"pillar window target <= 100 ms per new Lambda: median {median:.1f} ms, "
+            f"p90 {p90:.1f} ms ({res['solve_pillar_all_over_new']:.0f}x less than a "
+            "solve_pillar_all)"
+        )
     if "browser_median_ms" in res:
         print(f"browser target <= 150 ms: median {res['browser_median_ms']:.1f} ms")
     if args.json:

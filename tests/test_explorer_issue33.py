@@ -68,3 +68,71 @@ def test_an_unknown_parameter_of_a_pillar_link_and_of_the_history():
     assert (q.omega2, q.eps, q.theta0) == (0.7, 0.6, 0.1)
     assert "'foo'" in _alert(page) and page.pillar.shown_mode == "bed"
     assert math.isfinite(page.snapshot.states[0].solution.xi)
+
+
+# -- a pillar's branch, cached: every forcing's states read from it ------------------------
+
+
+def _counting(monkeypatch) -> dict[str, int]:
+    """Count the library's branch solvers as the explorer calls them."""
+    calls = {"continue_pillar": 0, "solve_pillar_all": 0}
+    for name in calls:
+        real = getattr(hairbed, name)
+
+        def counted(*args, _real=real, _name=name, **kwargs):
+            calls[_name] += 1
+            return _real(*args, **kwargs)
+
+        monkeypatch.setattr(hairbed, name, counted)
+    return calls
+
+
+def test_a_new_forcing_in_a_window_reads_the_pillars_cached_branch(monkeypatch):
+    from hairbed.explorer import _pillar as pillar
+
+    pillar.clear_pillar_caches()
+    calls = _counting(monkeypatch)
+    page = _page("?mode=pillar&forcing=20&pillar_theta0=-1.45")
+    assert calls == {"continue_pillar": 1, "solve_pillar_all": 0}
+    counts = []
+    for lam in ("15.5", "18", "21", "22", "1", "30"):
+        page.text["forcing"].value = lam
+        assert page.errors == ()
+        counts.append(len(page.pillar.snapshot.states))
+    # the window of theta0 = -1.45 lies between its folds, Lambda = 14.83 and 22.29
+    assert counts == [3, 3, 3, 3, 1, 1]
+    page.pillar.view.value = "calibration"  # the calibration curve reads the same branch
+    assert page.pillar.snapshot.calibration.folds.shape == (2, 2)
+    assert calls == {"continue_pillar": 1, "solve_pillar_all": 0}
+    page.text["forcing"].value = "-20"  # towards -x it leans downstream: no window
+    assert len(page.pillar.snapshot.states) == 1
+    assert calls == {"continue_pillar": 1, "solve_pillar_all": 0}
+    page.text["pillar_theta0"].value = "1.45"  # the mirror image: a pillar of its own
+    page.text["forcing"].value = "-21"
+    assert len(page.pillar.snapshot.states) == 3
+    assert calls == {"continue_pillar": 2, "solve_pillar_all": 0}
+    pillar.clear_pillar_caches()
+    assert pillar.pillar_branch.cache_info().currsize == 0
+
+
+@pytest.mark.parametrize(("forcing", "theta0"), [(21.0, -1.45), (-22.2, 1.45)])
+def test_the_states_read_from_the_branch_are_solve_pillar_alls(forcing, theta0):
+    """Against the library's own every-state solver (bisection on its branch, no Newton),
+    in both flow directions, one forcing close to the upper fold."""
+    from hairbed.explorer import _pillar as pillar
+
+    p = pillar.validate_pillar(
+        {"mode": "pillar", "forcing": str(forcing), "pillar_theta0": str(theta0)}
+    )
+    got = pillar.branch_states(p)
+    ref = hairbed.solve_pillar_all(forcing, theta0)
+    assert got is not None and len(got) == len(ref) == 3
+    for a, b in zip(got, ref):
+        assert float(a.tip_deflection) == pytest.approx(float(b.tip_deflection), abs=1e-10)
+        assert float(a.tip_height) == pytest.approx(float(b.tip_height), abs=1e-10)
+        assert float(a.tip_angle) == pytest.approx(float(b.tip_angle), abs=1e-9)
+        assert float(a.forcing) == pytest.approx(forcing, rel=1e-12)
+        assert a.stable == b.stable and int(a.status) == 0
+    assert [a.stable for a in got] == [True, False, True]
+    labels = [v.label for v in pillar.compute_pillar(p).states]
+    assert labels == ["low", "mid", "high"]

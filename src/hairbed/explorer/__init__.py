@@ -19,8 +19,9 @@ flow rate, its load pi or q beside omega^2, every state by :func:`hairbed.solve_
 (:mod:`hairbed.valve`: flow against pressure drop, resistance, diodicity).
 
 A mode selector switches to one isolated pillar in a wall shear layer (theory.md §12,
-:mod:`._pillar`): its state by :func:`hairbed.solve_pillar` (every coexisting state by
-:func:`hairbed.solve_pillar_all` where a snap-through window can exist) drawn in the
+:mod:`._pillar`): its state by :func:`hairbed.solve_pillar` (every coexisting state, where a
+snap-through window can exist, read from its branch, :func:`hairbed.continue_pillar`, cached
+per pillar) drawn in the
 undisturbed profile u(z), and its calibration curve, the tip deflection against the forcing
 Lambda against the linear formula, with where that formula is 1 % and 10 % off.
 """
@@ -146,8 +147,10 @@ def _on_destroyed(ref: Any) -> None:
         last = _open_sessions == 0
     if last:
         from ._model import clear_caches
+        from ._pillar import clear_pillar_caches
 
         clear_caches()
+        clear_pillar_caches()
     try:
         from tornado.ioloop import IOLoop
 

@@ -5,20 +5,26 @@ pillar in a wall shear layer. Its inputs are text, as typed or read from the URL
 checked one by one by the library (:func:`hairbed.solve_pillar`,
 :func:`hairbed.gray_hancock_ratio`); the states are the library's: :func:`hairbed.solve_pillar`,
 and where a snap-through window can exist (a pillar tilted far upstream, theta0 below
-``WINDOW_THETA0`` against the flow) every coexisting state by :func:`hairbed.solve_pillar_all`
-with its stability. The calibration view draws the tip deflection x1 against the forcing
+``WINDOW_THETA0`` against the flow) every coexisting state with its stability, read from the
+pillar's cached branch (:func:`branch_states`; :func:`hairbed.solve_pillar_all` beyond it).
+The calibration view draws the tip deflection x1 against the forcing
 Lambda: the exact curve (a :func:`hairbed.solve_pillar` batch, and where a window can exist
 the branch of :func:`hairbed.continue_pillar` with its folds and unstable part) against the
 linear formula x1 = x1(0) + (dx1/dLambda at 0) Lambda, and the forcings where the linear
 formula's reading of Lambda is 1 % and 10 % off (the error of :meth:`hairbed.Pillar.linear_range`
 and ``fig_pillar_calibration``). The curve is cached per pillar (base angle, profile, height
-ratio, drag ratio, tip load, the flow's direction), so a move of Lambda only moves the dot.
+ratio, drag ratio, tip load, the flow's direction), so a move of Lambda only moves the dot;
+where a window can exist, the branch of :func:`hairbed.continue_pillar` is cached per pillar
+too (:func:`pillar_branch`), and every forcing's states are read from it
+(:func:`branch_states`): a new forcing in the window costs a few inverse solves, not a new
+branch.
 
 Everything here is plain Python and numpy, so it is tested without a browser.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import json
 import math
@@ -46,10 +52,13 @@ __all__ = [
     "PillarParams",
     "PillarView",
     "PillarSnapshot",
+    "branch_states",
     "calibration_curve",
+    "clear_pillar_caches",
     "compute_pillar",
     "mode_of",
     "is_pillar",
+    "pillar_branch",
     "pillar_query",
     "pillar_snapshot_json",
     "validate_pillar",
@@ -313,6 +322,132 @@ def _crossing(lam: np.ndarray, err: np.ndarray, level: float) -> float:
 
 
 @functools.lru_cache(maxsize=32)
+def pillar_branch(
+    sign: float, theta0: float, profile: str, height_ratio: float | None, gamma: float,
+    tip_load: float, level: int,
+) -> Any:  # fmt: skip
+    """The branch of a pillar from rest in the flow's direction ``sign`` (+1 or -1), cached
+    per pillar: :func:`hairbed.continue_pillar` to ``sign`` :data:`BRANCH_FORCING` 10^level
+    with :data:`BRANCH_POINTS` points, or None where it failed (status < 0, or no point).
+
+    The calibration curve (level 0) and every forcing's states in a snap-through window
+    (:func:`branch_states`) read it: a new forcing solves no branch again.
+    """
+    kw = {"profile": profile, "height_ratio": height_ratio, "gamma": gamma, "tip_load": tip_load}
+    end = sign * BRANCH_FORCING * 10.0**level
+    branch = hairbed.continue_pillar(end, theta0, num=BRANCH_POINTS, **kw)
+    if branch.status != 0 or branch.forcing.size < 2:
+        return None
+    return branch
+
+
+#: Newton steps (each one batched inverse solve of every root) of :func:`branch_states`,
+#: and its ends: Lambda within this relative rounding of the forcing, or a step in x1 below
+#: this relative rounding (the inverse solve's Lambda is noisy at ~1e-15).
+_NEWTON_STEPS = 40
+_LAMBDA_ROUNDING = 1e-14
+_X_ROUNDING = 2 * 2.0**-52
+
+
+def _cubic_root(xs: np.ndarray, g: np.ndarray, idx: np.ndarray) -> np.ndarray:
+    """A start for each root of g in [xs[i], xs[i + 1]] (g changes sign there): the root in
+    the bracket of the cubic through the four points around it, or the chord's where there
+    is none (fewer than four points, a NaN among them)."""
+    n = xs.size
+    lo, hi = xs[idx], xs[idx + 1]
+    glo, ghi = g[idx], g[idx + 1]
+    with np.errstate(all="ignore"):
+        out = np.where(ghi != glo, lo - glo * (hi - lo) / (ghi - glo), lo)
+    if n >= 4:
+        first = np.clip(idx - 1, 0, n - 4)
+        for k in range(idx.size):
+            px, pg = xs[first[k] : first[k] + 4], g[first[k] : first[k] + 4]
+            width = hi[k] - lo[k]
+            if not (np.all(np.isfinite(pg)) and width != 0.0):
+                continue
+            t = (px - lo[k]) / width  # the bracket is [0, 1] in t
+            if np.unique(t).size < 4:
+                continue
+            roots = np.roots(np.polyfit(t, pg, 3))
+            real = roots[np.abs(roots.imag) <= 1e-9].real
+            real = real[(real >= 0.0) & (real <= 1.0)]
+            if real.size:
+                out[k] = lo[k] + width * float(real[np.argmin(np.abs(real - 0.5))])
+    return np.where(glo == 0.0, lo, np.where(ghi == 0.0, hi, out))
+
+
+def branch_states(p: PillarParams) -> list[Any] | None:
+    """Every coexisting state of a pillar at its forcing, read from its cached branch
+    (:func:`pillar_branch`), sorted by tip deflection, each with ``stable`` in the branch's
+    sense (dLambda/dx1 > 0); None where the branch does not cover the forcing (then
+    :func:`hairbed.solve_pillar_all` is the way).
+
+    As :func:`hairbed.solve_pillar_all`, the states at Lambda are the roots of
+    Lambda(x1) = Lambda on a branch followed up to twice the forcing (the first of the levels
+    :data:`BRANCH_FORCING` 10^k that reaches it), bracketed between its points and folds.
+    Each root starts from the linear interpolation of Lambda in its bracket and is refined
+    by Newton's method on x1 with the exact dLambda/dx1 = 1/``tip_deflection_slope`` of
+    :func:`hairbed.solve_pillar_inverse` (every root in one batch per step; a step that
+    leaves its bracket bisects it instead) until Lambda is the forcing to rounding. A
+    forcing inside the window costs a few batched inverse solves, not a new branch.
+    """
+    lam = p.forcing
+    if lam == 0.0 or not math.isfinite(lam):
+        return None
+    sign = -1.0 if lam < 0.0 else 1.0
+    level = max(0, math.ceil(math.log10(2.0 * abs(lam) / BRANCH_FORCING)))
+    if level > 3:
+        return None
+    kw = p.kwargs
+    branch = pillar_branch(sign, p.theta0, *kw.values(), level)
+    if branch is None:
+        return None
+    xs = np.concatenate([branch.tip_deflection, branch.folds[:, 1]])
+    order = np.argsort(sign * xs, kind="stable")
+    xs = xs[order]
+    g = np.concatenate([branch.forcing, branch.folds[:, 0]])[order] - lam
+    idx = np.flatnonzero(np.isfinite(g[:-1]) & np.isfinite(g[1:]) & (g[:-1] * g[1:] <= 0.0))
+    idx = idx[~np.isin(idx - 1, idx) | (g[idx] != 0.0)]  # a root on a point: once
+    if idx.size == 0:
+        return None
+    lo, hi = xs[idx].copy(), xs[idx + 1].copy()
+    glo = g[idx].copy()
+    x = _cubic_root(xs, g, idx)
+    best_x, best_g = x.copy(), np.full(x.shape, np.inf)
+    todo = np.arange(x.size)  # the roots not converged yet: solved together each step
+    for _ in range(_NEWTON_STEPS):
+        st = hairbed.solve_pillar_inverse(x[todo], p.theta0, **kw)
+        gx = np.asarray(st.forcing, dtype=np.float64).reshape(-1) - lam
+        xt = x[todo]
+        better = np.abs(gx) < np.abs(best_g[todo])
+        best_x[todo] = np.where(better, xt, best_x[todo])
+        best_g[todo] = np.where(better, gx, best_g[todo])
+        # the bracket shrinks to the side of x where the sign of g stays
+        left = np.sign(gx) == np.sign(glo[todo])
+        lo[todo], glo[todo] = np.where(left, xt, lo[todo]), np.where(left, gx, glo[todo])
+        hi[todo] = np.where(left, hi[todo], xt)
+        with np.errstate(all="ignore"):
+            step = -gx * np.asarray(st.tip_deflection_slope, dtype=np.float64).reshape(-1)
+            new = xt + step
+        a, b = lo[todo], hi[todo]
+        inside = np.isfinite(new) & ((new - a) * (new - b) < 0.0)
+        new = np.where(inside, new, 0.5 * (a + b))
+        # converged: Lambda to rounding, or a Newton step (or bracket) below x1's rounding
+        tiny = _X_ROUNDING * np.maximum(1.0, np.abs(xt))
+        done = (np.abs(best_g[todo]) <= _LAMBDA_ROUNDING * abs(lam)) | (
+            (inside & (np.abs(step) <= tiny)) | (np.abs(b - a) <= tiny)
+        )
+        x[todo] = np.where(done, xt, new)
+        todo = todo[~done]
+        if todo.size == 0:
+            break
+    found = [hairbed.solve_pillar_inverse(float(v), p.theta0, **kw) for v in np.sort(best_x)]
+    if any(int(s.status) < 0 for s in found):
+        return None
+    return [dataclasses.replace(s, stable=bool(s.tip_deflection_slope > 0.0)) for s in found]
+
+
+@functools.lru_cache(maxsize=32)
 def calibration_curve(
     sign: float, theta0: float, profile: str, height_ratio: float | None, gamma: float,
     tip_load: float,
@@ -332,9 +467,7 @@ def calibration_curve(
     folds = np.zeros((0, 2))
     branch = None
     if sign * theta0 < WINDOW_THETA0:
-        branch = hairbed.continue_pillar(sign * BRANCH_FORCING, theta0, num=BRANCH_POINTS, **kw)
-        if branch.status != 0 or branch.forcing.size < 2:
-            branch = None
+        branch = pillar_branch(sign, theta0, profile, height_ratio, gamma, tip_load, 0)
     if branch is None:  # the batch alone
         st = hairbed.solve_pillar(sign * grid, theta0, **kw)
         ok = np.asarray(st.status) >= 0
@@ -428,6 +561,13 @@ def _every_state(
     return tuple(hairbed.solve_pillar_all(forcing, theta0, **kw))
 
 
+def clear_pillar_caches() -> None:
+    """Empty the pillar mode's caches (branches, calibration curves, states): what no session
+    needs once none is open."""
+    for func in (pillar_branch, calibration_curve, _every_state):
+        func.cache_clear()
+
+
 def _labels(n: int, sign: float) -> list[str]:
     """Labels of n states sorted by x1: along the branch from rest (towards -x for a negative
     forcing), as :func:`hairbed.solve_pillar`'s roots; two exactly at a fold."""
@@ -440,7 +580,9 @@ def _labels(n: int, sign: float) -> list[str]:
 def compute_pillar(p: PillarParams) -> PillarSnapshot:
     """Solve every state of the pillar (and its calibration curve in the calibration view).
 
-    A failed solve (status < 0) shows no state, with the library's message.
+    Where a snap-through window can exist, every state is read from the pillar's cached
+    branch (:func:`branch_states`), by :func:`hairbed.solve_pillar_all` where that branch
+    does not reach. A failed solve (status < 0) shows no state, with the library's message.
 
     Examples
     --------
@@ -453,12 +595,13 @@ def compute_pillar(p: PillarParams) -> PillarSnapshot:
     message = ""
     with _recording() as caught:
         found: list[Any] = []
-        if p.window:
-            found = [
+        if p.window:  # from the pillar's cached branch; beyond it, solve_pillar_all
+            read = branch_states(p)
+            found = read if read is not None else [
                 s
                 for s in _every_state(p.forcing, p.theta0, *p.kwargs.values())
                 if int(s.status) >= 0
-            ]
+            ]  # fmt: skip
         if not found:
             one = hairbed.solve_pillar(p.forcing, p.theta0, **p.kwargs)
             if int(one.status) >= 0:
