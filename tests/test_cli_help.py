@@ -76,6 +76,7 @@ FALLBACKS = {
     ("measure", "drag_scale"): "1",
     ("linear-range", "drag_scale"): "1",
     ("solve", "drag_scale"): "1",
+    ("sweep", "drag_scale"): "1",
 }
 
 

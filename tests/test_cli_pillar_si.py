@@ -219,3 +219,58 @@ def test_measure_takes_the_sensor_from_the_calibration_file(capsys, tmp_path):
     assert main(["measure", "--calibration", str(cal), "--tip-deflection", repr(d[2])]) == 0
     out = capsys.readouterr().out
     assert "nan" not in out and "no wall speed" in out
+
+
+# -- sweep --pillar with SI inputs ----------------------------------------------------------------
+
+
+def test_sweep_of_an_si_pillar_over_wall_shear_stress(capsys, tmp_path):
+    xr = pytest.importorskip("xarray")
+    out = tmp_path / "pillar.nc"
+    assert main(["sweep", "--pillar", *SI, "--wall-shear-stress", "0:8:5", "--out", str(out)]) == 0
+    capsys.readouterr()
+    with xr.open_dataset(out) as ds:
+        tau = ds["wall_shear_stress"].values
+        assert tau.tolist() == [0.0, 2.0, 4.0, 6.0, 8.0]
+        assert ds["wall_shear_stress"].attrs["units"] == "Pa"
+        assert ds["tip_deflection"].attrs["units"] == "m"
+        assert ds.attrs["gamma"] == pytest.approx(gamma_of(), rel=1e-14)
+        for k, t in enumerate(tau):
+            lam = forcing_of(float(t))
+            assert float(ds["forcing"][k]) == pytest.approx(lam, rel=1e-13, abs=0)
+            st = hairbed.solve_pillar(lam, 0.0, gamma=gamma_of())
+            assert float(ds["tip_deflection"][k]) == pytest.approx(
+                L * st.tip_deflection, rel=1e-12, abs=1e-20
+            )
+            assert float(ds["scaled_tip_height"][k]) == pytest.approx(st.tip_height, rel=1e-12)
+        assert "velocity" not in ds and "reynolds_number" not in ds  # no column of NaN
+
+
+def test_sweep_of_an_si_pillar_in_a_couette_channel_over_wall_speed(capsys):
+    argv = ["sweep", "--pillar", *SI, "--profile=couette", "--channel-height=1e-3",
+            "--velocity", "0.5,1"]  # fmt: skip
+    assert main(argv) == 0
+    lines = capsys.readouterr().out.splitlines()
+    head = lines[0].split(",")
+    assert head[0] == "velocity [m s-1]" and "wall_shear_stress [Pa]" in head
+    rows = [dict(zip(head, map(float, ln.split(",")))) for ln in lines[1:]]
+    for row, v in zip(rows, (0.5, 1.0), strict=True):
+        assert row["wall_shear_stress [Pa]"] == pytest.approx(ETA * v / 1e-3, rel=1e-14)
+        assert row["forcing [1]"] == pytest.approx(forcing_of(ETA * v / 1e-3), rel=1e-13)
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        ([*SI], "needs one of --wall-shear-stress SPEC"),
+        ([*SI, "--wall-shear-stress=1", "--velocity=1"], "got --wall-shear-stress and --velocity"),
+        ([*SI, "--forcing=1"], "--forcing does not apply to sweep --pillar"),
+        ([*SI, "--wall-shear-stress=1", "--chunks=2"], "--chunks does not apply"),
+        ([*SI, "--wall-shear-stress=1", "--theta0=0.1"], "--theta0 does not apply"),
+        ([*SI, "--wall-shear-stress=1:2:x"], "--wall-shear-stress must be"),
+        ([*SI, "--wall-shear-stress=1", "--spacing=1e-3"], "--spacing does not apply"),
+        (["--forcing=1", "--drag-scale=2"], "--drag-scale needs the SI inputs"),
+    ],
+)
+def test_sweep_of_an_si_pillar_bad_input_is_one_line(capsys, args: list[str], words: str):
+    assert words in _error(capsys, "sweep", "--pillar", *args)

@@ -35,7 +35,9 @@ ABOUT = """grids of omega2, eps, theta0 (or wall speed) -> netCDF, zarr, CSV, pa
 
 Solve on the outer-product grid of --omega2, --eps and --theta0 (or over wall speeds, given
 a bed; or, with --pillar, an isolated pillar's grid of --forcing, --theta0, --gamma,
---tip-load and --height-ratio) and write a labelled table. SPEC is a value, a comma list or
+--tip-load and --height-ratio; or, with --pillar and the SI inputs of a pillar, its states
+over --wall-shear-stress [Pa], the --velocity of a couette or the --pressure-gradient of a
+poiseuille channel, in SI units) and write a labelled table. SPEC is a value, a comma list or
 start:stop:num[:log] (negative ones too: --theta0 -1.2:1.2:25); with --quasistatic, --omega2
 START:STOP:NUM:updown (or :log:updown) is a hysteresis loop, up to STOP and back. The output
 format follows the extension of --out: .nc (netCDF-4, CF attributes, compressed losslessly
@@ -59,6 +61,8 @@ examples:
       --velocity 0,0.01 --out pumped.nc
   hairbed sweep --pillar --forcing 1e-3:1e3:200:log --theta0=-0.5,0,0.5 --out pillar.nc
   hairbed sweep --pillar --forcing 0:20:101 --profile poiseuille --height-ratio 0.25,0.5,1
+  hairbed sweep --pillar --length 500e-6 --radius 25e-6 --youngs-modulus 1e6 \\
+      --viscosity 1e-3 --wall-shear-stress 0:10:101 --out pillar_si.csv
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -121,7 +125,14 @@ def add_parser(sub: Any) -> None:
     old.add_argument("--num", type=int, help="number of points (default 101)")
     old.add_argument("--log", action="store_true", help="geometric spacing")
     add_bed_options(p, velocity=False)
-    add_pillar_options(p, spec=True)
+    g = add_pillar_options(p, spec=True)
+    g.add_argument(
+        "--drag-scale",
+        type=float,
+        metavar="C",
+        help="with --pillar and its SI inputs: a factor c > 0 on both drag coefficients [-] "
+        "(default 1, Gray & Hancock's)",
+    )
 
 
 _LEGACY_OMEGA2 = {"omega2_min": "--omega2-min", "omega2_max": "--omega2-max"}
@@ -243,6 +254,104 @@ _HAIR_OPTIONS = {
 }
 
 
+#: The drives of an SI pillar's sweep: dest -> (flag, the Pillar.deform keyword).
+_SI_PILLAR_DRIVES = {
+    "wall_shear_stress": "--wall-shear-stress",
+    "velocity": "--velocity",
+    "pressure_gradient": "--pressure-gradient",
+}
+#: The SI variables of a pillar's sweep: PillarDeformation field -> (units, long_name).
+_SI_PILLAR_VARIABLES = {
+    "wall_shear_stress": ("Pa", "wall shear stress tau_w"),
+    "velocity": ("m s-1", "wall speed V = tau_w H / eta of the Couette channel"),
+    "pressure_gradient": ("Pa m-1", "pressure gradient G = 2 tau_w / H of the Poiseuille channel"),
+    "forcing": ("1", "pillar forcing Lambda = zeta_perp tau_w L^4 / (eta E I)"),
+    "tip_deflection": ("m", "tip position x1 L relative to the base, along +x"),
+    "tip_displacement": ("m", "tip displacement from rest (x1 - sin theta0) L"),
+    "tip_height": ("m", "tip height h1 L above the wall"),
+    "tip_angle": ("rad", "tip angle theta1 from the wall normal"),
+    "base_moment": ("N m", "bending moment at the base E I theta'(0) / L"),
+    "drag": ("N", "streamwise drag on the whole pillar"),
+    "drag_wall_normal": ("N", "wall-normal drag on the whole pillar"),
+    "sensitivity": ("m Pa-1", "d(tip deflection)/d(tau_w), exact"),
+    "reynolds_number": ("1", "pillar Reynolds number rho |u(tip)| 2a / eta"),
+    "status": ("1", "solver status: 0 converged, 3 inaccurate, negative failed"),
+}
+
+
+def _si_pillar_sweep(args: argparse.Namespace) -> Any:
+    """``sweep --pillar`` with the SI inputs of a pillar: its states over one drive (wall
+    shear stress, or a channel's wall speed or pressure gradient) as a labelled Dataset of
+    :meth:`hairbed.Pillar.deform`'s SI fields, the dimensionless ones as ``scaled_*``."""
+    from hairbed._optional import optional_import
+    from hairbed._variables import PILLAR, cf_attrs
+
+    from ._options import sensor_pillar_from
+
+    xr = optional_import("xarray", "sweep", "sweep")
+    why = "does not apply to the sweep of an SI pillar (one axis: its drive)"
+    refuse(args, {"chunks": "--chunks", "scheduler": "--scheduler", "progress": "--progress"},
+           why)  # fmt: skip
+    refuse(args, {"omega2": "--omega2", "eps": "--eps", "quasistatic": "--quasistatic",
+                  "flow_rate": "--flow-rate", "theta0": "--theta0", **_BRANCH,
+                  **_LEGACY_OMEGA2, **_LEGACY_VELOCITY, **_SHAPE}, why)  # fmt: skip
+    if args.root != "low":
+        raise UsageError("--root does not apply with --pillar (one state per drive)")
+    pillar = sensor_pillar_from(args, "sweep")
+    given = [dest for dest in _SI_PILLAR_DRIVES if getattr(args, dest) is not None]
+    if len(given) != 1:
+        got = f", got {' and '.join(_SI_PILLAR_DRIVES[d] for d in given)}" if given else ""
+        raise UsageError(
+            "a sweep of an SI pillar needs one of --wall-shear-stress SPEC [Pa], --velocity "
+            f"SPEC [m/s] (couette) and --pressure-gradient SPEC [Pa/m] (poiseuille){got}"
+        )
+    drive = given[0]
+    values = np.atleast_1d(spec(getattr(args, drive), _SI_PILLAR_DRIVES[drive]))
+    d = pillar.deform(**{drive: values})
+    dims = (drive,)
+    data: dict[str, Any] = {}
+    for name, (units, long_name) in _SI_PILLAR_VARIABLES.items():
+        if name == drive:
+            continue
+        value = np.asarray(getattr(d, name))
+        if name in ("velocity", "pressure_gradient", "reynolds_number") and np.all(
+            np.isnan(value)
+        ):
+            continue  # the channel has no such drive, or no density: not a column of NaN
+        data[name] = (dims, value, {"units": units, "long_name": long_name})
+    st = d.solution
+    for name in ("tip_deflection", "tip_height", "base_curvature", "drag_x", "drag_z",
+                 "tip_deflection_slope", "error_estimate", "residual", "nit", "num"):  # fmt: skip
+        key = name if name not in ("tip_deflection", "tip_height") else f"scaled_{name}"
+        data[key] = (dims, np.asarray(getattr(st, name)), cf_attrs(PILLAR[name]))
+    units, long_name = _SI_PILLAR_VARIABLES[drive]
+    coords = {drive: (dims, values, {"units": units, "long_name": long_name})}
+    attrs = {
+        "title": "hairbed sweep: an isolated pillar in SI units (hairbed.Pillar.deform)",
+        "Conventions": "CF-1.8",
+        "source": f"hairbed {hairbed.__version__} (hairbed.Pillar.deform)",
+        "references": "arXiv:2203.04169",
+        "hairbed_version": hairbed.__version__,
+        **{
+            k: (v if isinstance(v, str) else float(v))
+            for k in (
+                "length",
+                "radius",
+                "youngs_modulus",
+                "viscosity",
+                "base_angle",
+                "profile",
+                "channel_height",
+                "density",
+                "drag_scale",
+            )  # fmt: skip
+            if (v := getattr(pillar, k)) is not None
+        },
+        "gamma": float(pillar.drag_ratio),
+    }
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
 def _pillar_inputs(args: argparse.Namespace) -> dict[str, Any]:
     """The keywords of a pillar's sweep (hairbed.sweep with forcing=), its axes parsed."""
     refuse(args, _HAIR_OPTIONS, "does not apply with --pillar")
@@ -266,10 +375,15 @@ def run(args: argparse.Namespace) -> int:
     if args.scheduler is not None and args.chunks is None:
         raise UsageError("--scheduler needs --chunks N (the blocks that the workers solve)")
     pillar: dict[str, Any] = {}
+    if args.pillar and any(getattr(args, kw) is not None for kw, _ in BED_OPTIONS.values()):
+        write_dataset_output(_si_pillar_sweep(args), args.out, args.no_compress)
+        return 0
     if args.pillar:
+        refuse(args, {"drag_scale": "--drag-scale"}, "needs the SI inputs of a pillar")
         pillar = _pillar_inputs(args)
     else:
-        refuse(args, PILLAR_OPTIONS, "needs --pillar (an isolated pillar)")
+        refuse(args, {**PILLAR_OPTIONS, "drag_scale": "--drag-scale"},
+               "needs --pillar (an isolated pillar)")  # fmt: skip
     bed = None if args.pillar else bed_from(args)
     if pillar:
         pass  # every input is in ``pillar``
