@@ -50,3 +50,6 @@ PILLAR_DERIVATIVE_REFERENCE_RTOL = 1e-11
 #: central differences of model_tip_deflection at relative step 1e-5 (truncation ~1e-10,
 #: rounding ~1e-16/1e-5), relative to the column's largest entry.
 PILLAR_JACOBIAN_FD_RTOL = 1e-8
+#: Linear pillar dynamics (issue 30) against the Euler-Bernoulli cantilever's Krylov-function
+#: transfer functions and eigenvalues in mpmath, relative (the issue's target 1e-10).
+DYNAMICS_LINEAR_RTOL = 1e-10
