@@ -228,7 +228,7 @@ def test_sweep_to_csv_on_stdout(capsys):
         (["--pillar", "--forcing=1", "--eps=0.5"], "--eps does not apply with --pillar"),
         (["--pillar", "--forcing=1", "--quasistatic"], "--quasistatic does not apply"),
         (["--pillar", "--forcing=1", "--root=high"], "--root does not apply"),
-        (["--pillar", "--forcing=1", "--radius=1e-5"], "--radius does not apply"),
+        (["--pillar", "--forcing=1", "--radius=1e-5"], "--forcing does not apply to sweep"),
         (["--forcing=1", "--eps=0.5"], "--forcing needs --pillar"),
         (["--pillar", "--forcing=1", "--gamma=0.2,2"], "gamma must lie in (0, 1]"),
         (["--pillar", "--forcing=1", "--profile=couette", "--height-ratio=0.5,3"], "index 1"),
