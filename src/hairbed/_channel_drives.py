@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from ._core.validation import _first_index, as_float_array, broadcast_named
 
-__all__ = ["drive_inputs", "gap_flow", "porous_flow", "pump_drive"]
+__all__ = ["drive_inputs", "gap_flow", "load_scale", "porous_flow", "pump_drive"]
 
 FloatArray = NDArray[np.float64]
 
@@ -56,6 +56,19 @@ def pump_drive(pressure_gradient: Any, flow_rate: Any) -> tuple[str, str, Any]:
     return "flow_rate", "m^2/s", flow_rate
 
 
+def load_scale(bed: Any, drive: str) -> float:
+    """pi/G [m/Pa] of the "pressure" drive, q/Q' [s/m^2] of the "flow" drive."""
+    if drive == "pressure":
+        return float(bed.wall_area_per_hair * bed.length**3 / bed.bending_stiffness)
+    return float(
+        6.0
+        * bed.wall_area_per_hair
+        * bed.viscosity
+        * bed.length**2
+        / (bed.bending_stiffness * bed.channel_height**2)
+    )
+
+
 def drive_inputs(
     bed: Any, velocity: Any, pressure_gradient: Any, flow_rate: Any
 ) -> tuple[str, FloatArray, FloatArray, FloatArray, FloatArray]:
@@ -66,18 +79,8 @@ def drive_inputs(
     """
     name, unit, given = pump_drive(pressure_gradient, flow_rate)
     v = np.zeros(()) if velocity is None else as_float_array(velocity, "velocity", unit="m/s")
-    if name == "pressure_gradient":
-        drive = "pressure"
-        scale = bed.wall_area_per_hair * bed.length**3 / bed.bending_stiffness
-    else:
-        drive = "flow"
-        scale = (
-            6.0
-            * bed.wall_area_per_hair
-            * bed.viscosity
-            * bed.length**2
-            / (bed.bending_stiffness * bed.channel_height**2)
-        )
+    drive = "pressure" if name == "pressure_gradient" else "flow"
+    scale = load_scale(bed, drive)
     value = as_float_array(given, name, unit=unit)
     v, value = broadcast_named(("velocity", v), (name, value))
     omega2 = _finite_scaled(v, 1.0 / bed.velocity_scale, "velocity", "m/s")
@@ -109,6 +112,13 @@ def gap_flow(
             bare = eta * v / height + g_bare * height / 2.0
         tau = eta * v / gap + g_grad * gap / 2.0
         ratio = tau / bare
+        # a pump with the wall at rest: tau and the bare stress are both proportional to the
+        # drive, so their ratio is its limit at any drive, also at zero (not 0/0): g/H for a
+        # set G, (H/g)^2 for a set Q' (the walls at rest and no drive: the hair at rest)
+        still = v == 0.0
+        if np.any(still):
+            limit = gap / height if drive == "pressure" else (height / gap) ** 2
+            ratio = np.where(still, limit, ratio)
         # the profile's largest speed: the wall, or the parabola's vertex inside the gap
         vertex = gap / 2.0 + np.where(g_grad != 0.0, eta * v / (g_grad * gap), np.inf)
         inside = (vertex > 0.0) & (vertex < gap)

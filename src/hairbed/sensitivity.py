@@ -507,7 +507,9 @@ def derivatives_at(
         o: MappingProxyType({name: _out(v) for name, v in row.items()})
         for o, row in values.items()
     }
-    dt_out = MappingProxyType({name: _out(np.where(live, v, np.nan)) for name, v in dt.items()})
+    dt_out = MappingProxyType(
+        {name: _out(np.where(live | rest, v, np.nan)) for name, v in dt.items()}
+    )
     return Derivatives(sol, MappingProxyType(frozen), dt_out, _out(status))
 
 
@@ -603,7 +605,8 @@ def _rest_values(
 
     theta = theta0 + omega_eps^2 cos(theta0) (sigma - sigma^2/2): xi = s + omega_eps^2 c^2/2,
     h1 = c - omega_eps^2 s c/3, x1 = s + omega_eps^2 c^2/3 (a point load at the tip) and
-    omega_eps^2 = omega2/(1 - eps c) to first order; d omega_eps/d omega2 is infinite there.
+    omega_eps^2 = omega2/(1 - eps c) to first order; d omega_eps/d omega2 is infinite there,
+    and so is dt/d omega2 (t = -inf at rest).
     """
     s, c = np.sin(theta0), np.cos(theta0)
     g = 1.0 / (1.0 - eps * c)  # d omega_eps^2 / d omega2 at rest
@@ -633,8 +636,15 @@ def _rest_values(
         row["omega2"] = np.where(rest, d_w[o], row["omega2"])
         row["eps"] = np.where(rest, 0.0, row["eps"])
         row["theta0"] = np.where(rest, d_th[o], row["theta0"])
+    # t -> -inf: xi - sin(theta0) = (1 - sin theta0) e^t to first order, so
+    # t = ln omega2 + 2 ln c - ln 2 - ln(1 - s) - ln(1 - eps c) (issue 33: it was NaN)
+    rest_dt = {
+        "omega2": np.full_like(g, np.inf),
+        "eps": c * g,
+        "theta0": -2.0 * np.tan(theta0) + c / (1.0 - s) - eps * s * g,
+    }
     for name in INPUTS:
-        dt[name] = np.where(rest, np.inf if name == "omega2" else 0.0, dt[name])
+        dt[name] = np.where(rest, rest_dt[name], dt[name])
 
 
 def derivatives(

@@ -449,9 +449,25 @@ def solve_loaded(
     nums = LADDER if num is None else (check_int(num, "num", 8, 512),)
     if guess is not None and not isinstance(guess, Solution):
         raise TypeError(f"guess must be a hairbed.Solution, got {type(guess).__name__}")
+    if guess is not None:
+        _check_guess_shape(guess, w.shape)
     # loads near the float range overflow on the way (a state is then not reached: status -7)
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         return _solve_loaded_checked(drive, code, w, e, t0, ld, root, tol, nums, guess)
+
+
+def _check_guess_shape(guess: Solution, shape: tuple[int, ...]) -> None:
+    """A guess must be a single state or broadcast to the inputs' shape ``shape``."""
+    gshape = np.shape(guess.t)
+    try:
+        ok = np.broadcast_shapes(gshape, shape) == shape
+    except ValueError:
+        ok = False
+    if not ok:
+        raise ValueError(
+            f"guess must be a single state or of the inputs' broadcast shape {shape}, got "
+            f"shape {gshape}"
+        )
 
 
 def _solve_loaded_trusted(

@@ -87,7 +87,8 @@ def pillar_gradient_table(
     h1, a = flat(state.tip_height), flat(state._map)
     num = np.broadcast_to(np.asarray(state.num), shape).reshape(-1)
     ok = np.broadcast_to(np.asarray(state.status) >= 0, shape).reshape(-1)
-    coefs = np.asarray(state._coefs, dtype=np.float64).reshape(3, size, -1)[0]
+    raw = np.asarray(state._coefs, dtype=np.float64)
+    coefs = raw.reshape(3, size, raw.shape[-1])[0]  # not -1: an empty state has size 0
     k = _kernel()
     out = np.full((k.NOUT, k.NIN, size), np.nan)
     status = np.full(size, -1, dtype=np.int64)
