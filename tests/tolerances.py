@@ -50,6 +50,12 @@ PILLAR_DERIVATIVE_REFERENCE_RTOL = 1e-11
 #: central differences of model_tip_deflection at relative step 1e-5 (truncation ~1e-10,
 #: rounding ~1e-16/1e-5), relative to the column's largest entry.
 PILLAR_JACOBIAN_FD_RTOL = 1e-8
+#: Spalding's law of the wall (issue 31): hairbed.spalding_u_plus against mpmath's root of the
+#: formula, relative (the issue's target 1e-12).
+WALL_LAW_RTOL = 1e-12
+#: The wall-law profile U(z) = u+(L+ z)/L+ as the collocation takes it (Chebyshev
+#: coefficients) against mpmath, absolute (U <= 1).
+WALL_LAW_PROFILE_ATOL = 1e-13
 #: Linear pillar dynamics (issue 30) against the Euler-Bernoulli cantilever's Krylov-function
 #: transfer functions and eigenvalues in mpmath, relative (the issue's target 1e-10).
 DYNAMICS_LINEAR_RTOL = 1e-10

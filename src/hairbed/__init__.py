@@ -46,6 +46,7 @@ if TYPE_CHECKING:  # the lazy names, for type checkers and IDEs
     from ._core.porous import PorousState, solve_porous, solve_porous_all
     from ._core.solution import Solution
     from ._core.solver import from_parameter, from_xi, solve, solve_all
+    from ._core.wall_law import spalding_u_plus, spalding_y_plus
     from ._warnings import CalibrationWarning, ModelValidityWarning, UnitsWarning
     from .explorer import explore
     from .pillars import Pillar, PillarDeformation
@@ -93,6 +94,8 @@ __all__ = [
     "solve_porous_all",
     "sensitivity",
     "solve_all",
+    "spalding_u_plus",
+    "spalding_y_plus",
     "stability",
     "sweep",
     "sweeps",
@@ -126,6 +129,8 @@ _LAZY_NAMES = {
     "solve_loaded": "_core.loaded",
     "solve_loaded_all": "_core.loaded",
     "PillarState": "_core.pillar",
+    "spalding_u_plus": "_core.wall_law",
+    "spalding_y_plus": "_core.wall_law",
     "gray_hancock_ratio": "_core.pillar",
     "solve_pillar": "_core.pillar",
     "solve_pillar_inverse": "_core.pillar",

@@ -407,7 +407,7 @@ def _pillar_model_at(
     """Tip deflection D [m] of a pillar at wall shear stresses ``tau`` [Pa] (states ``sol``),
     dD/dP for each free parameter P in P's units (shape (len(tau), len(free))) and dD/dtau.
 
-    D = L x1(Lambda, theta0, gamma[, L/H]) with (theory.md §12)
+    D = L x1(Lambda, theta0, gamma[, L/H][, L+]) with (theory.md §12)
 
         Lambda = 16 c tau L^4/(E a^4 (ln(2L/a) + 1/2)),
         gamma = (ln(2L/a) + 1/2)/(2 ln(2L/a) - 1),
@@ -418,7 +418,9 @@ def _pillar_model_at(
     Lambda (4 - 1/(ln(2L/a) + 1/2)) - x1_gamma dgamma/dln(2L/a)], with
     dgamma/dln(2L/a) = -2/(2 ln(2L/a) - 1)^2: the exact derivatives of the collocation system
     (:func:`hairbed.sensitivity.derivatives_at` of a PillarState; for E and c alone its
-    :attr:`hairbed.PillarState.tip_deflection_slope`).
+    :attr:`hairbed.PillarState.tip_deflection_slope`). With the "wall-law" profile, whose
+    shape depends on L+ = L sqrt(tau/rho)/nu (not on E, c or a), dD/d ln L gains
+    L x1_(ln L+) and dD/dtau is the pillar's sensitivity (through Lambda and L+).
     """
     length = pillar.length
     x1 = np.asarray(sol.tip_deflection, dtype=np.float64).reshape(-1)
@@ -428,14 +430,13 @@ def _pillar_model_at(
     geometric = [n for n in free if n in _PILLAR_GEOMETRY]
     d: Any = None
     if geometric:
-        with np.errstate(all="ignore"):
-            d = derivatives_at(sol, profile=pillar._core_profile, height_ratio=pillar.height_ratio)
+        d = pillar._tip_derivatives(tau, sol)
     lg = math.log(2.0 * pillar.slenderness)
     dlam = 4.0 - 1.0 / (lg + 0.5)  # d ln Lambda/d ln L = -d ln Lambda/d ln a
     dgam = -2.0 / (2.0 * lg - 1.0) ** 2  # d gamma/d ln(2L/a)
 
     def of(name: str) -> FloatArray:
-        return np.asarray(d["tip_deflection"][name], dtype=np.float64).reshape(-1)
+        return np.asarray(d[name], dtype=np.float64).reshape(-1)
 
     for j, name in enumerate(free):
         if name in ("youngs_modulus", "drag_scale"):
@@ -450,10 +451,12 @@ def _pillar_model_at(
                 extra = x1.copy()
                 if pillar.profile == "poiseuille":
                     extra += of("height_ratio") * float(pillar.height_ratio)  # type: ignore[arg-type]
+                # the wall law's L+ = L u_tau/nu: d ln L+/d ln L = 1
+                extra += of("log_l_plus")
                 jac[:, j] = extra + part
             else:
                 jac[:, j] = -length * part / pillar.radius
-    return length * x1, jac, length * slope * pillar.forcing_per_stress
+    return length * x1, jac, length * pillar._stress_slope(tau, sol).reshape(-1)
 
 
 #: The geometric parameters of a pillar whose Jacobian needs the derivatives of the state in
@@ -928,7 +931,10 @@ def fit(
         )
         warnings.warn(f"calibration.fit: {message}", CalibrationWarning, stacklevel=2)
     if pillar:
-        fitted.deform(x)  # the model's validity at the data (the pillar Reynolds number)
+        # the model's validity at the data (the pillar Reynolds number, L+); without a density
+        # that the checks are off is said by the fitted pillar's first state asked for
+        lam = fitted._forcing(x)
+        fitted._state(x, lam, fitted._solve(lam), tell=False)
     else:
         if set(names) & {"length", "radius", "spacing", "packing_fraction"}:
             _warn_sparse(fitted, stacklevel=3)

@@ -21,10 +21,17 @@ tau_w = G H/2 (G = -dp/dx). The dimensionless solution gives back, in SI::
 
 Unlike a bed there is no mirror image to take: a negative stress (flow towards -x) is a
 negative Lambda, solved as it is.
+
+The profile "wall-law" is Spalding's law of the wall (theory.md §12, "The mean flow the
+pillar stands in") in the wall units of the stress, u_tau = sqrt(abs(tau_w)/rho) and
+nu = eta/rho: the pillar's height in wall units L+ = L u_tau/nu sets its dimensionless
+profile U(z) = u+(L+ z)/L+, so the forcing depends on tau_w through Lambda and through the
+shape of U. Every SI state reports L+ (with a density, or a ``fluid`` preset that gives it).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from collections.abc import Callable
@@ -35,16 +42,24 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._bracketing import find_root
-from ._core.outputs import float_or_array
+from ._core.loaded import _kernels
+from ._core.outputs import float_or_array, scalar_or_array
 from ._core.pillar import (
+    _DRAG_INVERSE,
     PROFILES,
+    PillarState,
     _callable_coefficients,
     _inverse_checked,
+    _kernel_run,
+    _mirror,
     _options,
+    _pillar_state,
     _solve_pillar_checked,
+    _state_start,
     gray_hancock_ratio,
     profile_coefficients,
 )
+from ._core.pillar_sensitivity import _profile_derivative
 from ._core.validation import (
     HALF_PI,
     STATUS_MESSAGES,
@@ -56,14 +71,26 @@ from ._core.validation import (
     show,
     status_messages,
 )
+from ._core.wall_law import (
+    MAX_L_PLUS,
+    WALL_LAW_B,
+    WALL_LAW_KAPPA,
+    _u_plus,
+    pillar_gradient_rows,
+    row_groups,
+    wall_law_coefficients,
+)
 from ._ranges import LinearRange
 from ._warnings import ModelValidityWarning
 from .units import _warn_implausible
 
 __all__ = [
+    "FLUIDS",
     "MIN_SLENDERNESS",
+    "PILLAR_PROFILES",
     "PILLAR_REYNOLDS_LIMIT",
     "SLENDERNESS_LIMIT",
+    "SUBLAYER_L_PLUS_LIMIT",
     "Pillar",
     "PillarDeformation",
 ]
@@ -80,6 +107,23 @@ MIN_SLENDERNESS = math.exp(1.5) / 2.0
 #: Above this pillar Reynolds number rho abs(u(tip)) 2a/eta the Stokes drag is out of its range
 #: (theory.md §12): a :class:`hairbed.ModelValidityWarning`.
 PILLAR_REYNOLDS_LIMIT = 0.5
+#: The profiles of a :class:`Pillar`: the core's and Spalding's law of the wall.
+PILLAR_PROFILES = (*PROFILES, "wall-law")
+#: Above this height in wall units L+ the viscous sublayer (u+ = y+ within 2 % up to
+#: y+ ~ 5) no longer holds along the pillar: the "sublayer" profile gets a
+#: :class:`hairbed.ModelValidityWarning` that points to the "wall-law" profile.
+SUBLAYER_L_PLUS_LIMIT = 5.0
+#: Fluid presets at 20 C and 101.325 kPa: name -> (viscosity eta [Pa s], density rho
+#: [kg/m^3]). Water and air: CRC Handbook of Chemistry and Physics (W. M. Haynes, ed., 97th
+#: ed., CRC Press 2016: "Viscosity of liquids", "Properties of water in the range 0-100 C",
+#: "Viscosity of gases", dry air); glycerol: the viscosity of J. B. Segur and H. E. Oberstar,
+#: "Viscosity of glycerol and its aqueous solutions", Ind. Eng. Chem. 43, 2117-2120 (1951),
+#: and the density of the CRC Handbook.
+FLUIDS: dict[str, tuple[float, float]] = {
+    "water": (1.0016e-3, 998.21),
+    "glycerol": (1.412, 1261.3),
+    "air": (1.825e-5, 1.2041),
+}
 #: Gauss-Legendre nodes of the linear coefficient (exact for a profile of degree < 390).
 _GAUSS = np.polynomial.legendre.leggauss(200)
 #: The search grid of :meth:`Pillar.linear_range`: the fraction u of the way from the tip at
@@ -129,6 +173,11 @@ class PillarDeformation:
         Pillar Reynolds number rho abs(u(tip)) 2a/eta [-], u(tip) the undisturbed speed at
         the tip's height; NaN without a ``density``. Above
         :data:`PILLAR_REYNOLDS_LIMIT` a :class:`hairbed.ModelValidityWarning` is issued.
+    height_in_wall_units : float or ndarray
+        The pillar's length in wall units L+ = L sqrt(abs(tau_w)/rho)/nu [-], nu = eta/rho
+        (the height of the upright pillar); NaN without a ``density``. The "wall-law"
+        profile's shape depends on it; with the "sublayer" profile above
+        :data:`SUBLAYER_L_PLUS_LIMIT` a :class:`hairbed.ModelValidityWarning` is issued.
     status : int or ndarray
         The solver's status (0 ok, 3 inaccurate, negative failed; ``STATUS_MESSAGES``).
     """
@@ -149,6 +198,7 @@ class PillarDeformation:
     sensitivity: FloatOrArray
     reynolds_number: FloatOrArray
     status: Any
+    height_in_wall_units: FloatOrArray = math.nan
 
     @property
     def success(self) -> Any:
@@ -194,6 +244,83 @@ class _ChebyshevProfile:
         )
 
 
+def _merged(
+    shape: tuple[int, ...],
+    flat: FloatArray,
+    solve: Callable[[NDArray[np.intp], FloatArray], Any],
+    prof: FloatArray,
+) -> Any:
+    """One PillarState of ``shape`` from the solves ``solve(indices, profile row)`` of the
+    flat elements that share each distinct profile row of ``prof`` (the core takes one
+    profile a call where it walks a branch)."""
+    _, inv = np.unique(prof, axis=0, return_inverse=True)
+    inv = inv.reshape(-1)
+    size = flat.size
+    merged: dict[str, Any] = {}
+    for g in range(int(inv.max()) + 1 if size else 0):
+        sel = np.flatnonzero(inv == g)
+        part = solve(sel, row_groups(prof[sel[:1]])[0][1])
+        for f in dataclasses.fields(part):
+            if f.name == "stable":
+                continue
+            value = np.asarray(getattr(part, f.name))
+            if f.name == "_coefs":
+                value = value.reshape(3, sel.size, value.shape[-1])
+                if f.name not in merged:
+                    merged[f.name] = np.full((3, size, value.shape[-1]), np.nan)
+                merged[f.name][:, sel, :] = value
+                continue
+            value = value.reshape(sel.size)
+            if f.name not in merged:
+                merged[f.name] = np.zeros(size, dtype=value.dtype)
+            merged[f.name][sel] = value
+    if not merged:  # an empty input: the core's own empty state
+        return solve(np.zeros(0, dtype=np.intp), np.ascontiguousarray(prof[:1]))
+    fields = {}
+    for name, value in merged.items():
+        if name == "_coefs":
+            fields[name] = value.reshape((3, *shape, value.shape[-1]))
+        elif name == "_map":
+            fields[name] = value.reshape(shape)
+        else:
+            fields[name] = scalar_or_array(value.reshape(shape))
+    return PillarState(**fields)
+
+
+#: The kernel's columns of a PillarState's fields (``_core.pillar._pillar_state``).
+_COLUMNS = {
+    "status": 0,
+    "nit": 1,
+    "num": 2,
+    "tip_height": 4,
+    "tip_deflection": 5,
+    "tip_angle": 6,
+    "base_curvature": 7,
+    "drag_x": 8,
+    "drag_z": 9,
+    "error_estimate": 10,
+    "residual": 11,
+    "forcing": 12,
+    "tip_deflection_slope": 13,
+}
+
+
+def _raw(state: Any) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """A PillarState back as the kernel's flat (out, coefs, a), to start from it."""
+    size = int(np.prod(state.shape_of_fields, dtype=np.int64))
+    out = np.zeros((_kernels().NCOLS, size))
+    for name, col in _COLUMNS.items():
+        out[col] = np.asarray(getattr(state, name), dtype=np.float64).reshape(-1)
+    raw = np.asarray(state._coefs, dtype=np.float64)
+    coefs = np.array(raw.reshape(3, size, raw.shape[-1]))
+    return out, coefs, np.array(np.asarray(state._map, dtype=np.float64).reshape(-1))
+
+
+#: Newton steps of the wall-law inverse in the stress, and its relative step tolerance.
+_WALL_NEWTON = 40
+_WALL_XTOL = 1e-13
+
+
 @dataclass(frozen=True)
 class Pillar:
     """An isolated elastic pillar on the wall of a shear flow, in SI units (theory.md §12).
@@ -208,13 +335,16 @@ class Pillar:
         :data:`SLENDERNESS_LIMIT` a :class:`hairbed.ModelValidityWarning` is issued.
     youngs_modulus : float
         Young's modulus E of the pillar [Pa].
-    viscosity : float
-        Dynamic viscosity eta of the fluid [Pa s].
+    viscosity : float, optional
+        Dynamic viscosity eta of the fluid [Pa s]; required unless a ``fluid`` gives it.
     base_angle : float, optional
         Base angle theta0 from the wall normal towards +x [rad], in (-pi/2, pi/2); default 0.
-    profile : {"sublayer", "couette", "poiseuille"} or callable, optional
+    profile : {"sublayer", "couette", "poiseuille", "wall-law"} or callable, optional
         The undisturbed profile: the viscous sublayer u = tau_w z/eta (default), Couette or
-        Poiseuille flow in a channel of height ``channel_height``, or a callable u(z) [m/s]
+        Poiseuille flow in a channel of height ``channel_height``, Spalding's law of the wall
+        u = u_tau u+(z u_tau/nu) from the sublayer through the log region ("wall-law": needs
+        the ``density``; theory.md §12, valid within the inner layer of a turbulent
+        boundary layer, L+ up to :data:`hairbed.MAX_L_PLUS`), or a callable u(z) [m/s]
         of heights z [m] (an ndarray in [0, L]) giving the flow at a reference wall shear
         stress eta u'(0), which must not vanish; :meth:`deform` scales it to the stress asked
         for.
@@ -222,10 +352,16 @@ class Pillar:
         Channel height H [m] of the "couette" and "poiseuille" profiles (required there, not
         accepted otherwise); the pillar must fit, L <= H.
     density : float, optional
-        Fluid density rho [kg/m^3], for the check of the pillar Reynolds number.
+        Fluid density rho [kg/m^3]: the wall units of the "wall-law" profile, and the
+        validity checks of every state (the pillar Reynolds number, the height in wall units
+        L+). Without it (and without a ``fluid``) those checks are off, which the first SI
+        state of the pillar says once (a :class:`hairbed.ModelValidityWarning`).
     drag_scale : float, optional
         A factor c > 0 on both drag coefficients [-] (default 1: Gray & Hancock's); what a
         calibration of the drag fits (``free=("drag_scale",)``).
+    fluid : {"water", "glycerol", "air"}, optional
+        A fluid preset at 20 C (:data:`FLUIDS`): its viscosity and density, unless
+        ``viscosity`` or ``density`` is given too (then the value given is used).
 
     Examples
     --------
@@ -237,25 +373,53 @@ class Pillar:
     1.0
     >>> round(p.linear_range(0.01).wall_shear_stress, 4)  # the linear formula to 1 % [Pa]
     1.5087
+
+    A 1 mm pillar in water stands about 30 wall units tall at 1 Pa, above the sublayer:
+
+    >>> w = Pillar(length=1e-3, radius=50e-6, youngs_modulus=1e6, fluid="water",
+    ...            profile="wall-law")
+    >>> st = w.deform(1.0)
+    >>> round(st.height_in_wall_units, 2)  # L+ [-]
+    31.56
     """
 
     length: float
     radius: float
     youngs_modulus: float
-    viscosity: float
+    viscosity: float = None  # type: ignore[assignment]  # or from ``fluid``
     base_angle: float = 0.0
     profile: Any = "sublayer"
     channel_height: float | None = None
     density: float | None = None
     drag_scale: float = 1.0
+    fluid: str | None = None
     #: the dimensionless profile the core solves (built-in name or Chebyshev profile)
     _core_profile: Any = field(init=False, repr=False, compare=False)
     _core_options: Any = field(init=False, repr=False, compare=False)
     #: Lambda / tau_w [1/Pa] and u(tip)/(tau_w U(h1)) [m/(s Pa)]
     _per_stress: tuple[float, float] = field(init=False, repr=False, compare=False)
+    #: whether the missing density has been told (once per pillar)
+    _told: list[bool] = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
+        set_(self, "_told", [False])
+        if self.fluid is not None:
+            if not isinstance(self.fluid, str) or self.fluid not in FLUIDS:
+                raise ValueError(
+                    f"fluid must be one of {', '.join(map(repr, FLUIDS))} (at 20 C), got "
+                    f"{show(self.fluid)}"
+                )
+            eta, rho = FLUIDS[self.fluid]
+            if self.viscosity is None:
+                set_(self, "viscosity", eta)
+            if self.density is None:
+                set_(self, "density", rho)
+        if self.viscosity is None:
+            raise TypeError(
+                "Pillar() needs the viscosity [Pa s] of the fluid, or a fluid preset "
+                f"(fluid= one of {', '.join(map(repr, FLUIDS))})"
+            )
         for name, unit in (
             ("length", "m"),
             ("radius", "m"),
@@ -281,10 +445,15 @@ class Pillar:
             set_(self, "density", check_positive(self.density, "density", "kg/m^3"))
         profile = self.profile
         channel = isinstance(profile, str) and profile in ("couette", "poiseuille")
-        if not callable(profile) and not (isinstance(profile, str) and profile in PROFILES):
+        if not callable(profile) and not (isinstance(profile, str) and profile in PILLAR_PROFILES):
             raise ValueError(
-                f"profile must be one of {', '.join(map(repr, PROFILES))} or a callable u(z) "
-                f"[m/s] of z [m], got {show(profile)}"
+                f"profile must be one of {', '.join(map(repr, PILLAR_PROFILES))} or a callable "
+                f"u(z) [m/s] of z [m], got {show(profile)}"
+            )
+        if profile == "wall-law" and self.density is None:
+            raise ValueError(
+                "profile 'wall-law' needs the fluid's density [kg/m^3] for its wall units "
+                "u_tau = sqrt(tau_w/rho), nu = eta/rho: give density= or fluid="
             )
         if channel:
             if self.channel_height is None:
@@ -322,7 +491,7 @@ class Pillar:
                 / (self.viscosity * self.youngs_modulus * np.pi / 4.0)
             )
             speed = float(length / np.float64(self.viscosity))  # u(tip) = tau_w L U(h1)/eta
-        core: Any = profile
+        core: Any = "sublayer" if profile == "wall-law" else profile
         if callable(profile):
             core, speed = self._callable_profile(profile)
         if not (math.isfinite(per_stress) and per_stress > 0.0 and math.isfinite(speed)):
@@ -503,7 +672,102 @@ class Pillar:
     def _solve(self, lam: FloatArray) -> Any:
         """The dimensionless states at forcings ``lam`` (checked, finite)."""
         t0, g, tip = self._checked_like(lam)
-        return _solve_pillar_checked(lam, t0, g, tip, *self._core_options)
+        if self.profile != "wall-law" or np.size(lam) == 0:
+            return _solve_pillar_checked(lam, t0, g, tip, *self._core_options)
+        # the profile of each stress: one solve per distinct L+ (tau_w = Lambda/(Lambda/tau_w))
+        _, tol, nums = self._core_options
+        flat = np.asarray(lam, dtype=np.float64).reshape(-1)
+        prof, _ = self._wall_rows(flat / self.forcing_per_stress)
+        return _merged(
+            np.shape(lam),
+            flat,
+            lambda sel, row: _solve_pillar_checked(
+                flat[sel],
+                t0.reshape(-1)[sel],
+                g.reshape(-1)[sel],
+                tip.reshape(-1)[sel],
+                row,
+                tol,
+                nums,
+            ),
+            prof,
+        )
+
+    # -- the law of the wall ----------------------------------------------------------------------
+
+    def _l_plus(self, tau: FloatArray) -> FloatArray:
+        """L+ = L sqrt(abs(tau_w)/rho)/nu [-] at stresses ``tau`` [Pa]; NaN without a density."""
+        if self.density is None:
+            return np.full(np.shape(tau), np.nan)
+        rho = self.density
+        with np.errstate(over="ignore", invalid="ignore"):
+            return np.asarray(
+                self.length * np.sqrt(np.abs(tau) / rho) * rho / self.viscosity, dtype=np.float64
+            )
+
+    def _wall_rows(self, tau: FloatArray) -> tuple[FloatArray, FloatArray]:
+        """The wall-law profile's Chebyshev rows U and L+ dU/dL+ at flat stresses ``tau``
+        [Pa] (:func:`hairbed._core.wall_law.wall_law_coefficients`); a ValueError naming the
+        stress where L+ exceeds :data:`MAX_L_PLUS`."""
+        lp = self._l_plus(tau)
+        lp = np.where(np.isnan(lp), 0.0, lp)  # no state there (NaN stays NaN): any profile
+        bad = ~(lp <= MAX_L_PLUS)
+        if np.any(bad):
+            limit = MAX_L_PLUS * self.viscosity / (self.length * math.sqrt(self.density))  # type: ignore[arg-type]
+            raise ValueError(
+                f"wall_shear_stress {float(tau[bad].flat[0])!r} Pa{_first_index(bad)} puts "
+                f"the pillar {float(lp[bad].flat[0]):.4g} wall units tall, above "
+                f"L+ = {MAX_L_PLUS:g}, the tallest the 'wall-law' profile resolves: the "
+                f"stress must stay below {limit * limit:.4g} Pa in magnitude"
+            )
+        return wall_law_coefficients(lp)
+
+    def _stress_slope(self, tau: FloatArray, sol: Any) -> FloatArray:
+        """dx1/dtau_w [1/Pa] of the states ``sol`` at stresses ``tau`` [Pa] (their shape):
+        dx1/dLambda Lambda/tau_w, plus the profile's part for the "wall-law" profile."""
+        if self.profile == "wall-law":
+            flat = np.asarray(tau, dtype=np.float64).reshape(-1)
+            return self._wall_slope(flat, sol).reshape(np.shape(tau))
+        return np.asarray(sol.tip_deflection_slope) * self.forcing_per_stress
+
+    def _tip_derivatives(self, tau: FloatArray, sol: Any) -> dict[str, FloatArray]:
+        """dx1/d(forcing, theta0, gamma, height_ratio, log_l_plus) (flat) of states ``sol`` at
+        stresses ``tau`` [Pa], exact (implicit differentiation of the collocation, each state
+        with its own profile); "log_l_plus" is d/d ln L+ at fixed Lambda (0 unless the profile
+        is "wall-law"), for a calibration that frees the length."""
+        flat = np.asarray(tau, dtype=np.float64).reshape(-1)
+        if self.profile == "wall-law":
+            prof, dprof = self._wall_rows(flat)
+        else:
+            prof = np.asarray(self._core_options[0])
+            dp = _profile_derivative(self._core_profile, self.height_ratio)
+            dprof = np.zeros((1, 1)) if dp is None else dp[None, :]
+        with np.errstate(all="ignore"):
+            out, _ = pillar_gradient_rows(sol, prof, dprof)
+        x1 = out[1]
+        wall = self.profile == "wall-law"
+        return {
+            "forcing": x1[0],
+            "theta0": x1[1],
+            "gamma": x1[2],
+            "height_ratio": np.zeros(flat.size) if wall else x1[3],
+            "log_l_plus": x1[3] if wall else np.zeros(flat.size),
+        }
+
+    def _wall_slope(self, tau: FloatArray, sol: Any) -> FloatArray:
+        """d(x1)/d(tau_w) [1/Pa] of wall-law states ``sol`` at stresses ``tau`` (flat):
+        through Lambda ~ tau_w and through the profile's L+ ~ sqrt(tau_w),
+
+            dx1/dtau_w = x1_Lambda Lambda/tau_w + x1_q/(2 tau_w),   q = ln L+,
+
+        both derivatives exact (:func:`hairbed._core.wall_law.pillar_gradient_rows` with
+        dU/dq = z U' - U); x1_q/tau_w -> 0 as tau_w -> 0 (the sublayer)."""
+        prof, dprof = self._wall_rows(tau)
+        out, _ = pillar_gradient_rows(sol, prof, dprof)
+        x1_lam, x1_q = out[1, 0], out[1, 3]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            shape_part = np.where(tau != 0.0, x1_q / (2.0 * tau), 0.0)
+        return np.asarray(x1_lam * self.forcing_per_stress + shape_part, dtype=np.float64)
 
     def _checked_like(self, a: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """theta0, gamma and the tip load (none) at the shape of checked inputs ``a``."""
@@ -540,18 +804,45 @@ class Pillar:
         lam = self._forcing(tau)
         return self._state(tau, lam, self._solve(lam))
 
-    def _state(self, tau: FloatArray, lam: FloatArray, sol: Any) -> PillarDeformation:
-        """The SI view of the dimensionless states ``sol`` at stresses ``tau`` [Pa]."""
+    def _state(
+        self, tau: FloatArray, lam: FloatArray, sol: Any, tell: bool = True
+    ) -> PillarDeformation:
+        """The SI view of the dimensionless states ``sol`` at stresses ``tau`` [Pa]; without a
+        density the first (with ``tell``) says once that the validity checks are off."""
         length, ei = self.length, self.bending_stiffness
         x1 = np.asarray(sol.tip_deflection, dtype=np.float64)
         h1 = np.asarray(sol.tip_height, dtype=np.float64)
         nan = np.full(np.shape(x1), np.nan)
         h = self.channel_height
+        l_plus = self._l_plus(tau)
+        wall = self.profile == "wall-law"
+        slope = self._stress_slope(tau, sol)
         if self.density is None:
             reynolds = nan
+            if tell and not self._told[0]:
+                self._told[0] = True
+                warnings.warn(
+                    "this pillar has no density: the checks of the model's validity (the "
+                    "pillar Reynolds number, the height in wall units L+) are off; give "
+                    f"density= [kg/m^3] or fluid= (one of {', '.join(map(repr, FLUIDS))})",
+                    ModelValidityWarning,
+                    stacklevel=3,
+                )
         else:
             with np.errstate(invalid="ignore"):
-                u_tip = tau * self._per_stress[1] * self._profile_values(np.clip(h1, 0.0, 1.0))
+                hz = np.clip(h1, 0.0, 1.0)
+                if wall:  # u(tip) = sign(tau) u_tau u+(h1 L+)
+                    rho = self.density
+                    y = np.where(np.isfinite(hz * l_plus), hz * l_plus, 0.0).reshape(-1)
+                    u_tip = np.where(
+                        np.isfinite(hz),
+                        np.sign(tau)
+                        * np.sqrt(np.abs(tau) / rho)
+                        * _u_plus(y, WALL_LAW_KAPPA, WALL_LAW_B).reshape(np.shape(hz)),
+                        np.nan,
+                    )
+                else:
+                    u_tip = tau * self._per_stress[1] * self._profile_values(hz)
             reynolds = self.density * np.abs(u_tip) * 2.0 * self.radius / self.viscosity
             high = reynolds > PILLAR_REYNOLDS_LIMIT
             if np.any(high):
@@ -559,6 +850,16 @@ class Pillar:
                     f"pillar Reynolds number {float(np.max(reynolds[high])):.3g} > "
                     f"{PILLAR_REYNOLDS_LIMIT:g}: the Stokes (resistive-force) drag of the model "
                     "is out of its range (theory.md §12)",
+                    ModelValidityWarning,
+                    stacklevel=3,
+                )
+            high = l_plus > SUBLAYER_L_PLUS_LIMIT
+            if self.profile == "sublayer" and np.any(high):
+                warnings.warn(
+                    f"the pillar stands L+ = {float(np.max(l_plus[high])):.3g} wall units "
+                    f"tall, above the viscous sublayer (L+ ~ {SUBLAYER_L_PLUS_LIMIT:g}) that "
+                    "its 'sublayer' profile assumes: use profile='wall-law' (Spalding's law "
+                    "of the wall, theory.md §12)",
                     ModelValidityWarning,
                     stacklevel=3,
                 )
@@ -580,11 +881,10 @@ class Pillar:
             base_moment=float_or_array(ei * np.asarray(sol.base_curvature) / length),
             drag=float_or_array(ei * np.asarray(sol.drag_x) / length / length),
             drag_wall_normal=float_or_array(ei * np.asarray(sol.drag_z) / length / length),
-            sensitivity=float_or_array(
-                length * np.asarray(sol.tip_deflection_slope) * self.forcing_per_stress
-            ),
+            sensitivity=float_or_array(length * slope),
             reynolds_number=float_or_array(reynolds),
             status=sol.status,
+            height_in_wall_units=float_or_array(l_plus),
         )
 
     def _solved(self, wall_shear_stress: Any) -> PillarDeformation:
@@ -638,7 +938,10 @@ class Pillar:
         """(tau_w [Pa], the dimensionless states) of checked deflections d [m]; where no state
         is found a ValueError naming ``name`` (``strict``) or NaN."""
         x1 = np.asarray(d / self.length, dtype=np.float64)  # in (-1, 1): d was checked
-        sol = _inverse_checked(x1, *self._checked_like(x1), *self._core_options)
+        if self.profile == "wall-law":
+            sol = self._invert_wall(x1)
+        else:
+            sol = _inverse_checked(x1, *self._checked_like(x1), *self._core_options)
         status = np.asarray(sol.status)
         bad = status < 0
         if np.any(bad) and strict:
@@ -650,6 +953,108 @@ class Pillar:
             )
         lam = np.asarray(sol.forcing, dtype=np.float64)
         return lam / self.forcing_per_stress, sol
+
+    def _inverse_rows(self, x1: FloatArray, prof: FloatArray) -> Any:
+        """The inverse states at flat tip deflections x1 [L], each with its profile row."""
+        t0, g, tip = self._checked_like(x1)
+        _, tol, nums = self._core_options
+        return _merged(
+            x1.shape,
+            x1,
+            lambda sel, row: _inverse_checked(x1[sel], t0[sel], g[sel], tip[sel], row, tol, nums),
+            prof,
+        )
+
+    def _invert_wall(self, x1: Any) -> Any:
+        """The wall-law states at tip deflections x1 [L] (any shape).
+
+        The stress t = abs(tau_w) solves g = ln Lambda(x1; L+(t)) - ln(t Lambda/tau_w) = 0
+        (flow towards -x as its mirror image), Lambda(x1; L+) the inverse problem at the
+        profile of L+ = L sqrt(t/rho)/nu. In ln t, dg/d ln t = beta/2 - 1 with
+        beta = d ln Lambda/d ln L+ = -x1_q/(x1_Lambda Lambda) at fixed x1 (the state's exact
+        derivatives, q = ln L+); beta lies in [0, 1) (u+ is concave: the wall law's U falls
+        with L+ at most like 1/L+), so g falls strictly and Newton's method in ln t from the
+        sublayer's stress (L+ = 0, where g >= 0) converges to the one root. Each step's inverse
+        is one batched call started from the step before (each element with its own profile),
+        and what that misses is solved again from the straight pillar. No state, no convergence in
+        ``_WALL_NEWTON`` steps, or a stress beyond the resolved range of the profile (L+ above
+        ``MAX_L_PLUS``): status -2 and NaN."""
+        shape = np.shape(x1)
+        flat = np.asarray(x1, dtype=np.float64).reshape(-1)
+        t0, g, tip = (v.reshape(-1) for v in self._checked_like(flat))
+        _, tol, nums = self._core_options
+        fps = self.forcing_per_stress
+        mirror = np.where(flat < np.sin(t0), -1.0, 1.0)
+        xm, tm = mirror * flat, mirror * t0
+        out, coefs, a = _raw(_inverse_checked(xm, tm, g, tip, *self._core_options))
+        t = out[12] / fps
+        # the largest stress whose profile is resolved (L+ = MAX_L_PLUS); the root lies at or
+        # above the sublayer's stress (the wall law's U is below z), so beyond it: no state
+        rho = float(self.density)  # type: ignore[arg-type]
+        t_max = rho * (MAX_L_PLUS * self.viscosity / (rho * self.length)) ** 2 * (1.0 - 1e-12)
+        failed = ~np.isfinite(t) | (t > t_max)
+        active = ~failed & (t > 0.0)
+        for _ in range(_WALL_NEWTON):
+            idx = np.flatnonzero(active)
+            if idx.size == 0:
+                break
+            ta = t[idx]
+            prof, dprof = self._wall_rows(ta)
+            o = np.empty((out.shape[0], idx.size))
+            c = np.empty((3, idx.size, coefs.shape[-1]))
+            theta_start, extra = _state_start(out[:, idx], coefs[:, idx], nums)
+            for grp, rows in row_groups(prof):  # each its profile's length
+                e = idx[grp]
+                o[:, grp], c[:, grp] = _kernel_run(
+                    _DRAG_INVERSE,
+                    xm[e],
+                    tm[e],
+                    g[e],
+                    tip[e],
+                    np.zeros(e.size),
+                    np.ascontiguousarray(theta_start[grp]),
+                    np.ascontiguousarray(extra[grp]),
+                    rows,
+                    tol,
+                    nums,
+                )
+            miss = np.flatnonzero(o[0] < 0)
+            if miss.size:  # from the straight pillar, with the core's continuation and walk
+                mo, mc, _ = _raw(self._inverse_rows(xm[idx[miss]], prof[miss]))
+                o[:, miss], c[:, miss] = mo, mc
+            st = _pillar_state((idx.size,), o[12], tm[idx], g[idx], tip[idx], o, c, a[idx])
+            out[:, idx], coefs[:, idx] = o, c
+            lam = o[12]
+            grad, _ = pillar_gradient_rows(st, prof, dprof)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                beta = -grad[1, 3] / grad[1, 0] / lam  # d ln Lambda/d ln L+ at fixed x1
+                gt = np.log(lam / (fps * ta))
+                step = gt / (0.5 * beta - 1.0)  # in ln t
+            new = ta * np.exp(-step)
+            # a step beyond the resolved range goes to its end; from there, a root beyond it
+            # (g > 0 at t_max, g falling) is no state of this profile
+            beyond = (ta >= t_max) & (gt > 0.0)
+            new = np.minimum(new, t_max)
+            bad = ~np.isfinite(new) | beyond | (o[0] < 0)
+            failed[idx[bad]] = True
+            t[idx] = np.where(bad, ta, new)
+            done = bad | (np.abs(step) <= _WALL_XTOL)
+            active[idx[done]] = False
+        failed |= active  # no convergence
+        out[0, failed] = -2
+        out[4:, failed] = np.nan
+        coefs[:, failed, :] = np.nan
+        _mirror(out, coefs, mirror)
+        return _pillar_state(
+            shape,
+            out[12].reshape(shape),
+            t0.reshape(shape),
+            g.reshape(shape),
+            tip.reshape(shape),
+            out,
+            coefs,
+            a,
+        )
 
     def state_from_tip_deflection(self, tip_deflection: Any) -> PillarDeformation:
         """The state of the pillar whose tip sits at ``tip_deflection`` [m] from its base.

@@ -43,6 +43,7 @@ __all__ = [
     "refuse",
     "refuse_without_sensor_pillar",
     "sensor_pillar_from",
+    "add_fluid_option",
     "add_sensor_pillar_options",
 ]
 
@@ -216,9 +217,10 @@ def add_pillar_options(p: argparse.ArgumentParser, *, spec: bool = False) -> Any
     g.add_argument("--forcing", **kind, help=text("forcing", ", finite"))
     g.add_argument(
         "--profile",
-        choices=("sublayer", "couette", "poiseuille"),
+        choices=("sublayer", "couette", "poiseuille", "wall-law"),
         help="undisturbed profile U(z): sublayer and couette U = z, poiseuille "
-        "U = z (1 - (L/H) z) (default sublayer)",
+        "U = z (1 - (L/H) z) (default sublayer); wall-law, Spalding's law of the wall, for an "
+        "SI pillar with --density or --fluid",
     )
     g.add_argument(
         "--height-ratio", **kind, help=text("height_ratio", ", in (0, 1]; needed by poiseuille")
@@ -246,6 +248,12 @@ def pillar_keywords(
     if args.height_ratio is not None and args.profile in (None, "sublayer"):
         raise UsageError(
             "--height-ratio applies to the channel profiles (--profile couette or poiseuille)"
+        )
+    if args.profile == "wall-law":
+        raise UsageError(
+            "--profile wall-law needs an SI pillar (its shape depends on the stress in wall "
+            "units: --length, --radius, --youngs-modulus and --fluid or --viscosity and "
+            "--density), not --forcing"
         )
     out: dict[str, Any] = {}
     if args.profile is not None:
@@ -292,12 +300,25 @@ def add_sensor_pillar_options(p: argparse.ArgumentParser) -> None:
         help="with --pillar: a factor c > 0 on both drag coefficients [-] (default 1, Gray & "
         "Hancock's)",
     )
+    add_fluid_option(g)
+
+
+def add_fluid_option(g: Any) -> None:
+    """``--fluid``: a fluid preset of :class:`hairbed.Pillar` (viscosity and density at 20 C)."""
+    g.add_argument(
+        "--fluid",
+        choices=("water", "glycerol", "air"),
+        help="with --pillar: the fluid at 20 C (its viscosity and density, "
+        "hairbed.pillars.FLUIDS; --viscosity or --density given too override it); with a "
+        "density the Reynolds-number and L+ checks run",
+    )
 
 
 def sensor_pillar_from(args: argparse.Namespace, what: str) -> Any:
     """The :class:`hairbed.Pillar` of the bed options (--length, --radius, --youngs-modulus,
-    --viscosity; --base-angle, --channel-height, --density optional), --profile and
-    --drag-scale, for ``what`` with ``--pillar``."""
+    --viscosity, or --fluid instead of the viscosity; --base-angle, --channel-height,
+    --density optional), --profile, --drag-scale and --fluid, for ``what`` with
+    ``--pillar``."""
     refuse(
         args,
         _DIMENSIONLESS_PILLAR,
@@ -306,7 +327,9 @@ def sensor_pillar_from(args: argparse.Namespace, what: str) -> Any:
     refuse(args, _NOT_A_PILLAR, f"does not apply to {what} --pillar (an isolated pillar)")
     given = {kw: getattr(args, kw) for kw, _ in BED_OPTIONS.values() if kw not in _NOT_A_PILLAR}
     given = {k: v for k, v in given.items() if v is not None}
-    missing = [k for k in ("length", "radius", "youngs_modulus", "viscosity") if k not in given]
+    fluid = getattr(args, "fluid", None)
+    required = ("length", "radius", "youngs_modulus") + (() if fluid else ("viscosity",))
+    missing = [k for k in required if k not in given]
     if missing:
         names = ", ".join("--" + k.replace("_", "-") for k in missing)
         raise UsageError(f"{what} --pillar needs also {names}")
@@ -314,6 +337,8 @@ def sensor_pillar_from(args: argparse.Namespace, what: str) -> Any:
         given["profile"] = args.profile
     if args.drag_scale is not None:
         given["drag_scale"] = args.drag_scale
+    if fluid is not None:
+        given["fluid"] = fluid
     return hairbed.Pillar(**given)
 
 
@@ -322,6 +347,6 @@ def refuse_without_sensor_pillar(args: argparse.Namespace) -> None:
     error naming it."""
     refuse(
         args,
-        {**PILLAR_OPTIONS, "drag_scale": "--drag-scale"},
+        {**PILLAR_OPTIONS, "drag_scale": "--drag-scale", "fluid": "--fluid"},
         "needs --pillar (an isolated pillar sensor)",
     )
