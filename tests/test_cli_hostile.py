@@ -81,3 +81,42 @@ def test_free_with_an_empty_item_is_refused(capsys, free: str, item: str, sensor
     options = BED if sensor == "bed" else PILLAR
     argv = ["calibrate", "--data", str(EXAMPLE), "--free", free, *options]
     one_error(capsys, argv, "--free", item, "is empty")
+
+
+# -- Ranges and sweeps: the two-sided logarithmic range on the command line ---------------------
+
+VALVE_BED = [
+    "--length", "1.8e-3", "--radius", "50e-6", "--youngs-modulus", "1e6",
+    "--channel-height", "2e-3", "--viscosity", "1", "--spacing", "400e-6",
+    "--base-angle", "1.0", "--channel-length", "0.01",
+]  # fmt: skip
+
+
+def test_valve_takes_a_two_sided_log_range_and_says_so_in_help(capsys):
+    import json
+
+    assert main(["valve", "--pressure-drop", "+-10:1e3:2:log", *VALVE_BED, "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    drops = [r["pressure_drop"] for r in doc["curve"]]
+    assert drops == pytest.approx([-1e3, -10.0, 10.0, 1e3], rel=4e-16)
+    # backward flow for the negative drops, forward for the positive
+    assert [r["flow_rate"] < 0 for r in doc["curve"]] == [True] * 2 + [False] * 2
+    with pytest.raises(SystemExit):
+        main(["valve", "--help"])
+    assert "+-START:STOP:NUM:log" in capsys.readouterr().out
+    with pytest.raises(SystemExit):
+        main(["sweep", "--help"])
+    assert "+-start:stop:num:log" in capsys.readouterr().out
+
+
+def test_a_range_through_zero_prints_zero(capsys):
+    assert main(["sweep", *BED, "--velocity=-0.05:0.1:4"]) == 0
+    rows = capsys.readouterr().out.splitlines()[1:]
+    assert [r.split(",")[0] for r in rows][:2] == ["-0.05", "0.0"] and len(rows) == 4
+
+
+@pytest.mark.parametrize(
+    "spec", ["+-10:1e4:4", "+-1e4:10:3:log", "+-0:1:3:log", "+-10:1e4:3:log:updown"]
+)
+def test_bad_two_sided_ranges_are_one_line(capsys, spec: str):
+    one_error(capsys, ["valve", "--pressure-drop", spec, *VALVE_BED], "--pressure-drop", spec)

@@ -8,6 +8,8 @@ axes and paths and for ``quasistatic.sweep_with_jumps``.
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -131,3 +133,59 @@ def test_cli_refuses_updown_on_a_grid_axis(capsys):
         assert main(argv) == 2
         err = capsys.readouterr().err
         assert ":updown makes a path" in err and len(err.splitlines()) == 1, err
+
+
+# -- issue 33: two-sided logarithmic ranges, negative ones, and zero in a linear range ----------
+
+
+@pytest.mark.parametrize(
+    ("text", "expected"),
+    [
+        ("+-10:1e4:4:log", [-1e4, -1e3, -100.0, -10.0, 10.0, 100.0, 1e3, 1e4]),
+        ("\u00b110:\u00b11e4:2:log", [-1e4, -10.0, 10.0, 1e4]),
+        ("+-10:+-1e4:2:log", [-1e4, -10.0, 10.0, 1e4]),
+        ("-1e4:-10:4:log", [-1e4, -1e3, -100.0, -10.0]),
+    ],
+)
+def test_two_sided_and_negative_log_ranges(text, expected):
+    values = parse_spec(text, "--pressure-drop")
+    np.testing.assert_allclose(values, expected, rtol=4e-16)
+    assert np.all(np.diff(values) > 0) or text.startswith("-")
+
+
+@pytest.mark.parametrize(
+    ("text", "words"),
+    [
+        ("+-10:1e4:4", "+-start:stop:num:log"),
+        ("+-10", "two-sided logarithmic range"),
+        ("+-1,2", "two-sided logarithmic range"),
+        ("+-1e4:10:3:log", "needs 0 < start < stop"),
+        ("+-0:10:3:log", "needs 0 < start < stop"),
+        ("-1:10:3:log", "a log range needs positive bounds (or both negative"),
+        ("+-x:10:3:log", "must be a number"),
+    ],
+)
+def test_two_sided_log_range_errors_say_the_form(text, words):
+    with pytest.raises(ValueError, match=re.escape(words)):
+        parse_spec(text, "--pressure-drop")
+
+
+def test_a_linear_range_through_zero_holds_zero_exactly():
+    """Wherever start + k (stop - start)/(num - 1) is 0 in exact decimal arithmetic of the
+    bounds as written (k integer), the value is 0.0, not a rounding residue such as 6.9e-18;
+    every other value is numpy's."""
+    from fractions import Fraction
+
+    checked = 0
+    for num in range(2, 120):
+        for start, stop in [(-0.05, 0.1), (-0.3, 0.7), (-2e-3, 4e-3), (-1.1, 2.2), (-0.5, 0.5)]:
+            values = parse_spec(f"{start!r}:{stop!r}:{num}", "--velocity")
+            a, b = Fraction(repr(start)), Fraction(repr(stop))
+            for k, v in enumerate(values):
+                exact = a + k * (b - a) / (num - 1)
+                if exact == 0:
+                    assert v == 0.0, (start, stop, num, k, v)
+                    checked += 1
+                else:
+                    assert v == np.linspace(start, stop, num)[k]
+    assert checked > 100

@@ -38,7 +38,10 @@ a bed; or, with --pillar, an isolated pillar's grid of --forcing, --theta0, --ga
 --tip-load and --height-ratio; or, with --pillar and the SI inputs of a pillar, its states
 over --wall-shear-stress [Pa], the --velocity of a couette or the --pressure-gradient of a
 poiseuille channel, in SI units) and write a labelled table. SPEC is a value, a comma list or
-start:stop:num[:log] (negative ones too: --theta0 -1.2:1.2:25); with --quasistatic, --omega2
+start:stop:num[:log] (negative ones too: --theta0 -1.2:1.2:25, --velocity=-1:-1e-3:4:log; a
+linear range through zero holds 0 exactly), or the two-sided logarithmic range
++-start:stop:num:log (the num values of start:stop:num:log and their negatives, 2 num in
+increasing order: --wall-shear-stress +-0.01:10:13:log); with --quasistatic, --omega2
 START:STOP:NUM:updown (or :log:updown) is a hysteresis loop, up to STOP and back. The output
 format follows the extension of --out: .nc (netCDF-4, CF attributes, compressed losslessly
 unless --no-compress), .zarr, .csv (one row per grid point, units in the header; the

@@ -51,7 +51,9 @@ def add_parser(sub: Any) -> None:
     p.add_argument(
         "--pressure-drop",
         metavar="SPEC",
-        help="pressure drop dp = p(0) - p(l) [Pa]: a value, a comma list or START:STOP:NUM[:log]",
+        help="pressure drop dp = p(0) - p(l) [Pa]: a value, a comma list, START:STOP:NUM[:log] "
+        "or the two-sided +-START:STOP:NUM:log (e.g. +-10:1e4:16:log: 16 drops from 10 Pa to "
+        "10 kPa each way, negative first)",
     )
     p.add_argument(
         "--flow-rate",
