@@ -313,3 +313,39 @@ def test_wall_law_bad_input():
         ValueError, match=r"wall_shear_stress 1000000.0 Pa \(first at index 1\).*above L\+ = 10000"
     ):
         p.deform([1.0, 1e6])
+
+
+# -- the command line -------------------------------------------------------------------------
+
+
+def _cli(*args):
+    import contextlib
+    import io
+
+    from hairbed.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(list(args))
+    return code, out.getvalue(), err.getvalue()
+
+
+def test_cli_wall_law_and_fluid():
+    si = ["--pillar", "--length", "1e-3", "--radius", "50e-6", "--youngs-modulus", "1e5"]
+    code, out, _ = _cli(
+        "solve", *si, "--fluid", "water", "--profile", "wall-law", "--wall-shear-stress", "1",
+        "--json",
+    )  # fmt: skip
+    assert code == 0
+    got = json.loads(out)
+    st = _pillar().deform(1.0)
+    assert got["height_in_wall_units"] == pytest.approx(st.height_in_wall_units, rel=1e-15)
+    assert got["tip_deflection_m"] == pytest.approx(st.tip_deflection, rel=1e-15)
+    code, out, err = _cli("solve", "--pillar", "--forcing", "2", "--profile", "wall-law")
+    lines = err.strip().splitlines()
+    assert code == 2 and len(lines) == 1 and "--profile wall-law needs an SI pillar" in lines[0]
+    code, _, err = _cli("solve", *si, "--fluid", "honey", "--wall-shear-stress", "1")
+    assert code == 2 and "--fluid" in err and "'water'" in err
+    code, _, err = _cli("solve", *si, "--profile", "wall-law", "--viscosity", "1e-3",
+                        "--wall-shear-stress", "1")  # fmt: skip
+    assert code == 2 and "needs the fluid's density" in err

@@ -21,7 +21,14 @@ import numpy as np
 import hairbed
 from hairbed._variables import PILLAR
 
-from ._options import BED_OPTIONS, PILLAR_OPTIONS, pillar_keywords, refuse, sensor_pillar_from
+from ._options import (
+    BED_OPTIONS,
+    PILLAR_OPTIONS,
+    add_fluid_option,
+    pillar_keywords,
+    refuse,
+    sensor_pillar_from,
+)
 from ._output import check_output, figure_format, print_json, save_figure, table
 from ._report import UsageError
 
@@ -51,8 +58,8 @@ SI_DRIVES = {
     "pressure_gradient": "--pressure-gradient",
 }
 
-#: What only an SI pillar takes (its drives and --drag-scale): dest -> flag.
-_SI_ONLY = {**SI_DRIVES, "drag_scale": "--drag-scale"}
+#: What only an SI pillar takes (its drives, --drag-scale and --fluid): dest -> flag.
+_SI_ONLY = {**SI_DRIVES, "drag_scale": "--drag-scale", "fluid": "--fluid"}
 
 #: The rows of an SI pillar's table: PillarDeformation field -> (row name, label [unit]).
 _SI_ROWS = {
@@ -72,6 +79,10 @@ _SI_ROWS = {
     "drag_wall_normal": ("drag_wall_normal_N", "wall-normal drag on the pillar [N]"),
     "sensitivity": ("sensitivity_m/Pa", "d(tip deflection)/d(tau_w) [m/Pa]"),
     "reynolds_number": ("reynolds_number", "pillar Reynolds number rho |u(tip)| 2a/eta [-]"),
+    "height_in_wall_units": (
+        "height_in_wall_units",
+        "pillar length in wall units L+ = L sqrt(abs(tau_w)/rho)/nu [-]",
+    ),
     "status": ("status", "status (0 converged)"),
 }
 
@@ -113,6 +124,7 @@ def add_modes(group: Any) -> None:
         help="with the SI inputs of a pillar: a factor c > 0 on both drag coefficients [-] "
         "(default 1, Gray & Hancock's)",
     )
+    add_fluid_option(group)
 
 
 def refuse_without_pillar(args: argparse.Namespace) -> None:
@@ -122,7 +134,11 @@ def refuse_without_pillar(args: argparse.Namespace) -> None:
         {**PILLAR_OPTIONS, **PILLAR_MODES, "wall_shear_stress": "--wall-shear-stress"},
         "needs --pillar (an isolated pillar)",
     )
-    refuse(args, {"drag_scale": "--drag-scale"}, "needs --pillar and its SI inputs")
+    refuse(
+        args,
+        {"drag_scale": "--drag-scale", "fluid": "--fluid"},
+        "needs --pillar and its SI inputs",
+    )
 
 
 def _as_given(value: Any, flag: str) -> Any:
@@ -204,11 +220,14 @@ def _check_plot(args: argparse.Namespace) -> str:
 
 def _si_rows(d: Any) -> dict[str, Any]:
     """A PillarDeformation's SI fields, by row name; the drives its channel has not (NaN)
-    and the Reynolds number without a density left out."""
+    and the Reynolds number and L+ without a density left out."""
     rows: dict[str, Any] = {}
     for name, (row, _) in _SI_ROWS.items():
         value = getattr(d, name)
-        if name in ("velocity", "pressure_gradient", "reynolds_number") and value != value:
+        if (
+            name in ("velocity", "pressure_gradient", "reynolds_number", "height_in_wall_units")
+            and value != value
+        ):
             continue
         rows[row] = value
     return rows
