@@ -47,3 +47,32 @@ def test_all_branches_above_the_onset_has_no_note(capsys):
     status, out, err = _run(capsys, "solve", "--omega2=20", "--eps=0.5", "--all-branches")
     assert status == 0 and err == "" and "physical branch only" not in out
     assert out.startswith("3 state(s) at omega2=20")
+
+
+# -- the valve table's dx1 is the tip's deflection from rest ------------------------------------
+
+VALVE = [
+    "--channel-length", "0.01", "--length", "1.8e-3", "--radius", "50e-6",
+    "--youngs-modulus", "1e6", "--channel-height", "2e-3", "--viscosity", "1",
+    "--spacing", "400e-6", "--base-angle", "1.0",
+]  # fmt: skip
+
+
+def test_valve_table_gives_the_tip_deflection_from_rest(capsys):
+    import math
+
+    status, out, _ = _run(capsys, "valve", "--pressure-drop", "1e-9,200", *VALVE, "--json")
+    assert status == 0
+    rows = json.loads(out)["curve"]
+    for r in rows:  # the displacement is the position less its value at rest, L sin(theta0)
+        assert r["tip_displacement"] == pytest.approx(
+            r["tip_deflection"] - 1.8e-3 * math.sin(1.0), rel=1e-12, abs=1e-18
+        )
+    assert abs(rows[0]["tip_displacement"]) < 1e-12  # no drop: no deflection
+    assert rows[0]["tip_deflection"] == pytest.approx(1.8e-3 * math.sin(1.0), rel=1e-9)
+    status, out, _ = _run(capsys, "valve", "--pressure-drop", "1e-9,200", *VALVE)
+    lines = out.splitlines()
+    assert "dx1 [m]" in lines[1] and "x1 [m]" not in lines[1].replace("dx1 [m]", "")
+    cells = [ln.split() for ln in lines[2:]]
+    assert float(cells[1][3]) == pytest.approx(rows[1]["tip_displacement"], rel=1e-5)
+    assert abs(float(cells[0][3])) < 1e-12

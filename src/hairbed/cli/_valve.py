@@ -19,7 +19,9 @@ A pump holds a pressure drop dp [Pa] over a channel of length --channel-length [
 at rest: the pressure gradient dp/l loads the hairs along their height (the distributed-load
 solver, hairbed.solve_loaded) and the flow per unit width through the gap above the tips,
 Q' = G g^3/(12 eta), follows (hairbed.valve.valve_curve). Each line gives dp, Q' [m^2/s], the
-resistance relative to the empty channel (H/g)^3, the tip deflection and height [m] and the
+resistance relative to the empty channel (H/g)^3, the tip's deflection dx1 [m] (its
+displacement from rest along +x, (x1 - sin theta0) L; --json gives it as tip_displacement,
+beside the tip's position from the base, tip_deflection = x1 L), its height h1 [m] and the
 solver's status. With --diodicity the drops are taken in magnitude and each line gives
 Di = Q'(+dp)/abs(Q'(-dp)) (hairbed.valve.diodicity): above 1 when the hairs lean towards +x
 (--base-angle > 0), as forward flow bends them down and opens the gap.
@@ -111,8 +113,14 @@ def add_parser(sub: Any) -> None:
 def _rows(curve: Any) -> list[dict[str, Any]]:
     import numpy as np
 
-    fields = ("pressure_drop", "flow_rate", "resistance_ratio", "tip_deflection", "tip_height")
-    cols = {f: np.atleast_1d(np.asarray(getattr(curve, f), dtype=float)) for f in fields}
+    fields = ("pressure_drop", "flow_rate", "resistance_ratio", "tip_displacement", "tip_height")
+    cols = {f: np.atleast_1d(np.asarray(getattr(curve, f), dtype=float)) for f in fields[:3]}
+    cols["tip_displacement"] = np.atleast_1d(
+        np.asarray(curve.states.tip_displacement, dtype=float)
+    )
+    cols["tip_height"] = np.atleast_1d(np.asarray(curve.tip_height, dtype=float))
+    cols["tip_deflection"] = np.atleast_1d(np.asarray(curve.tip_deflection, dtype=float))
+    fields = (*fields, "tip_deflection")
     status = np.atleast_1d(np.asarray(curve.status))
     return [
         {**{f: float(cols[f][i]) for f in fields}, "status": int(status[i])}
@@ -285,7 +293,7 @@ def run(args: argparse.Namespace) -> int:
         print_json({"channel_length": args.channel_length, "curve": rows})
         return 0
     print(f"valve curve over l = {args.channel_length:g} m:")
-    head = ("dp [Pa]", "Q' [m^2/s]", "R/R0", "x1 [m]", "h1 [m]")
+    head = ("dp [Pa]", "Q' [m^2/s]", "R/R0", "dx1 [m]", "h1 [m]")
     print("  " + "  ".join(f"{h:>12}" for h in head) + "  status")
     for r in rows:
         cells = (r[k] for k in list(r)[:5])
