@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 from .collocated import CollocatedState
 from .loaded import _clenshaw, _ladder, _matrices
 from .outputs import scalar_or_array
+from .solver import _solve_checked
 from .validation import (
     HALF_PI,
     _check_range,
@@ -170,7 +171,9 @@ def _fields_at(
     flat = np.atleast_1d(sv)
     a = mapping.reshape(-1, 1)
     with np.errstate(invalid="ignore", divide="ignore"):
-        y = np.where(a > 0.0, np.log1p(flat[None, :] * np.expm1(a)) / np.where(a > 0, a, 1), flat)
+        y = np.where(
+            a != 0.0, np.log1p(flat[None, :] * np.expm1(a)) / np.where(a != 0, a, 1), flat
+        )
     xi = 2.0 * y - 1.0
     coefs = coefs.reshape(5, -1, coefs.shape[-1])
     fs = fields + flat.shape if sv.ndim else fields
@@ -208,16 +211,122 @@ def _check(
     return drive, _DRIVES[drive], (w, e, t0, k, g, ld)
 
 
-def _start(code: int, t0: FloatArray, ld: FloatArray, num: int) -> FloatArray:
-    """The start of every element: the hair at rest (theta = theta0, h1 = cos theta0), the
-    fluid at rest, Pi = pi (the flow drive's Pi from 0). Newton, and where it fails the load
-    continuation from rest, take it from there."""
+#: Gauss-Legendre nodes and weights on [0, 1] of the start's linear tip deflection.
+_GAUSS_X, _GAUSS_V = np.polynomial.legendre.leggauss(48)
+_GAUSS_S, _GAUSS_W = 0.5 * (_GAUSS_X + 1.0), 0.5 * _GAUSS_V
+#: The tips' map: a = -ln(_TIP_MAP / sqrt(kappa)) below kappa = _TIP_MAP^2 (measured: all of
+#: a 2000-state batch from kappa = 1e-4 to 1e4 then converges at N = 32, against 12 % at N = 64
+#: with the plain map).
+_TIP_MAP = 0.1
+#: The forcings, relative to the equivalent one, at which a hair leaning into its load is
+#: checked for the dense bed's windows (:func:`_start`).
+_LEAN_FACTORS = np.geomspace(1.0 / 16.0, 16.0, 48)
+
+
+def _linear_deflection(
+    omega2: FloatArray, eps: FloatArray, kappa: FloatArray, pi: FloatArray
+) -> FloatArray:
+    """x1 of the straight bed's linear Brinkman theory (theory.md §13): w'' = w/kappa - Pi,
+    w(0) = 0, the gap condition at z = 1, and x1 = int_0^1 (w/kappa)(z^2/2 - z^3/6) dz. With
+    l = sqrt(kappa), w = kappa Pi + B1 e^((z - 1)/l) + B2 e^(-z/l) (no overflow at small l)."""
+    ell = np.sqrt(kappa)
+    e1 = np.exp(-1.0 / ell)
+    safe = np.where(eps > 0.0, eps, 1.0)
+    gp = np.where(pi != 0.0, pi * (1.0 - eps) ** 2 / (2.0 * safe), 0.0)
+    a21 = eps + (1.0 - eps) / ell
+    a22 = eps * e1 - (1.0 - eps) * e1 / ell
+    r1 = -kappa * pi
+    r2 = omega2 + gp - eps * kappa * pi
+    det = e1 * a22 - a21
+    b1 = (r1 * a22 - r2) / det
+    b2 = (e1 * r2 - a21 * r1) / det
+    z = _GAUSS_S[None, :]
+    w = (
+        (kappa * pi)[:, None]
+        + b1[:, None] * np.exp((z - 1.0) / ell[:, None])
+        + b2[:, None] * np.exp(-z / ell[:, None])
+    )
+    return np.sum(w / kappa[:, None] * (z * z / 2.0 - z**3 / 6.0) * _GAUSS_W, axis=1)
+
+
+def _tip_map(code: int, kappa: FloatArray, pi: FloatArray) -> FloatArray:
+    """The map parameter of each element: nodes clustered at the tips for a thin bed under
+    the wall drive alone. A pressure load has a second layer at the wall (the fluid's
+    w = kappa Pi deep in the bed falls to 0 there): the plain map, dense at both ends."""
+    a = -np.clip(np.log(_TIP_MAP / np.sqrt(kappa)), 0.0, 30.0)
+    return np.where((code == 0) & (pi == 0.0), a, 0.0)
+
+
+def _mapped_nodes(a: FloatArray, num: int) -> FloatArray:
+    """s at the N + 1 Chebyshev nodes under each element's map s = expm1(a y)/expm1(a)."""
+    y = 0.5 * (_matrices(num)[0] + 1.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        sig = np.where(
+            a[:, None] != 0.0,
+            np.expm1(a[:, None] * y[None, :]) / np.expm1(np.where(a != 0.0, a, 1.0))[:, None],
+            y[None, :],
+        )
+    sig[:, 0] = 0.0
+    sig[:, -1] = 1.0
+    return np.ascontiguousarray(np.clip(sig, 0.0, 1.0))
+
+
+def _start(
+    code: int, arrays: tuple[FloatArray, ...], a: FloatArray, num: int, hfix: FloatArray
+) -> FloatArray:
+    """The start of every element: the closed-form hair (§3) under the tip load W_eq that
+    deflects the straight hair as the bed's linear Brinkman load does, W_eq = 3 x1_lin
+    (mirrored where negative), at the first level's mapped nodes; Pi = pi (the flow drive's
+    Pi from the dense bed's formula of §11). A hair leaning into its load starts at rest
+    (unless the gap is frozen at ``hfix``, solve_porous_all's scan, whose load is fixed).
+    The kernel replaces the fluid by the fluid of this shape before Newton; where Newton
+    fails, the load continuation from rest."""
+    w, e, t0, kap, _, ld = arrays
     n1 = num + 1
-    start = np.zeros((t0.size, 3 * n1 + 2))
-    start[:, :n1] = t0[:, None]
-    start[:, 3 * n1] = np.cos(t0)
-    if code == 0:
-        start[:, 3 * n1 + 1] = ld
+    if code == 1:
+        u = 1.0 - e * np.cos(t0)
+        pi = 2.0 * e * ld / u**3 - 6.0 * e * w / u**2
+    else:
+        pi = ld
+    weq = 3.0 * _linear_deflection(w, e, kap, pi)
+    frozen = ~np.isnan(hfix)
+    # a frozen gap (solve_porous_all's scan): its stress, not the straight hair's
+    weq = np.where(frozen, weq * (1.0 - e) / (1.0 - e * np.where(frozen, hfix, 1.0)), weq)
+    weq = np.where(np.isfinite(weq), weq, 0.0)
+    mirror = np.where(weq < 0.0, -1.0, 1.0)
+    sol = _solve_checked(np.minimum(np.abs(weq), 1e12), np.zeros(w.size), mirror * t0)
+    ts = np.asarray(sol.t, dtype=np.float64).reshape(-1)
+    ok = ~np.isnan(ts)
+    shape = np.empty((6, w.size, n1))
+    from ._kernels import state as closed
+
+    closed.shape_array(
+        np.where(ok, ts, -np.inf),
+        np.zeros(w.size),
+        mirror * t0,
+        1,
+        0,
+        _mapped_nodes(a, num),
+        shape,
+    )
+    # a hair leaning into its load can have several states (theory.md §5): there the hair
+    # at rest, whose load continuation follows the least deformed state (root "low"), unless
+    # the wall drive's dense bed has one state at every forcing within a factor of 16 either
+    # way of the equivalent one (its windows hold the porous bed's: the flow through the bed
+    # narrows them, theory.md §13)
+    lean = (mirror * t0 < 0.0) & (e > 0.0) & ~frozen
+    if np.any(lean):
+        single = np.full(w.size, code == 0) & (pi == 0.0)
+        base = (np.abs(weq) * (1.0 - e))[lean]
+        grid = base[:, None] * _LEAN_FACTORS[None, :]
+        roots = _solve_checked(grid, e[lean][:, None], (mirror * t0)[lean][:, None]).n_roots
+        single[lean] &= np.all(np.asarray(roots) == 1, axis=1)
+        ok &= ~lean | single
+    start = np.zeros((w.size, 3 * n1 + 2))
+    start[:, :n1] = np.where(ok[:, None], mirror[:, None] * shape[0], t0[:, None])
+    h = np.asarray(sol.tip_height, dtype=np.float64).reshape(-1)
+    start[:, 3 * n1] = np.where(ok & np.isfinite(h), h, np.cos(t0))
+    start[:, 3 * n1 + 1] = pi
     return start
 
 
@@ -225,21 +334,41 @@ def _run(
     code: int,
     arrays: tuple[FloatArray, ...],
     hfix: FloatArray,
-    start: FloatArray,
     nums: tuple[int, ...],
     tol: float,
+    start: FloatArray | None = None,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """The kernel on flat arrays: (out (NCOLS, size), coefs (5, size, N + 1), map)."""
+    """The kernel on flat arrays: (out (NCOLS, size), coefs (5, size, N + 1), map). Without
+    a ``start`` (theta, w, Q at the plain map's nodes, h1, Pi) the closed-form start of
+    :func:`_start` on the tips' map."""
     k = _kernels()
     w, e, t0, kap, g, ld = arrays
     size = w.size
     out = np.empty((k.NCOLS, size))
     coefs = np.empty((5, size, int(max(nums)) + 1))
-    a = np.zeros(size)
+    given = start is not None
+    a = np.zeros(size) if given else _tip_map(code, kap, ld)
+    if start is None:
+        start = _start(code, arrays, a, nums[0], hfix)
     pi_in = ld if code == 0 else np.zeros(size)
     q = ld if code == 1 else np.zeros(size)
     k.solve_porous_array(
-        code, kap, g, w, e, pi_in, q, hfix, t0, a, start, *_ladder(tuple(nums)), tol, out, coefs
+        code,
+        kap,
+        g,
+        w,
+        e,
+        pi_in,
+        q,
+        hfix,
+        t0,
+        a,
+        start,
+        *_ladder(tuple(nums)),
+        tol,
+        out,
+        coefs,
+        not given,
     )
     # the model needs z(s) monotone: a state that reaches |theta| = pi/2 is outside it
     outside = (out[0] >= 0) & (out[13] >= HALF_PI)
@@ -353,8 +482,7 @@ def _solve_porous_checked(
     """:func:`solve_porous` of checked, broadcast inputs (``_check``), trusted."""
     shape = arrays[0].shape
     flat = tuple(np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for v in arrays)
-    start = _start(code, flat[2], flat[5], nums[0])
-    out, coefs, a = _run(code, flat, np.full(flat[0].size, np.nan), start, nums, tol)
+    out, coefs, a = _run(code, flat, np.full(flat[0].size, np.nan), nums, tol)
     if nums == LADDER:
         _rescue(drive, code, flat, root, tol, out, coefs)
     return _state(drive, code, shape, arrays, out, coefs, a)
@@ -457,8 +585,7 @@ def _frozen(
     """The states with the gap's height frozen at 1/eps - h, for every h (the scalars of
     ``arrays`` repeated)."""
     full = tuple(np.full(h.size, float(v.reshape(-1)[0])) for v in arrays)
-    start = _start(code, full[2], full[5], LADDER[0])
-    return _run(code, full, np.ascontiguousarray(h, dtype=np.float64), start, LADDER, tol)
+    return _run(code, full, np.ascontiguousarray(h, dtype=np.float64), LADDER, tol)
 
 
 @_quiet
@@ -533,20 +660,24 @@ def solve_porous_all(
         hi = np.where(left, hi, mid)
     root = 0.5 * (lo + hi)
     # polish: the full Newton (the gap's own h1) from the frozen state at each root
-    of, cf, _ = _frozen(code, arrays, root, tol)
+    of, cf, af = _frozen(code, arrays, root, tol)
     size = root.size
     full = tuple(np.full(size, float(v.reshape(-1)[0])) for v in arrays)
     n1 = LADDER[0] + 1
-    start = _start(code, full[2], full[5], LADDER[0])
-    xi = _matrices(LADDER[0])[0]
+    # the frozen states' interpolants at the plain map's nodes (the polish's start)
+    sig = _mapped_nodes(np.zeros(size), LADDER[0])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        am = af[:, None]
+        y = np.where(am != 0.0, np.log1p(sig * np.expm1(am)) / np.where(am != 0, am, 1.0), sig)
+    start = np.zeros((size, 3 * n1 + 2))
     for c in range(3):
+        field = cf[(0, 3, 4)[c]]
         start[:, c * n1 : (c + 1) * n1] = _clenshaw(
-            np.where(np.isfinite(cf[(0, 3, 4)[c]]), cf[(0, 3, 4)[c]], 0.0),
-            np.broadcast_to(xi, (size, n1)),
+            np.where(np.isfinite(field), field, 0.0), 2.0 * y - 1.0
         )
     start[:, 3 * n1] = np.where(np.isfinite(of[3]), of[3], root)
-    start[:, 3 * n1 + 1] = np.where(np.isfinite(of[9]), of[9], start[:, 3 * n1 + 1])
-    out, coefs, a = _run(code, full, np.full(size, np.nan), start, LADDER, tol)
+    start[:, 3 * n1 + 1] = np.where(np.isfinite(of[9]), of[9], 0.0)
+    out, coefs, a = _run(code, full, np.full(size, np.nan), LADDER, tol, start)
     order = np.argsort(np.where(np.isfinite(out[3]), out[3], np.inf), kind="stable")
     states: list[PorousState] = []
     last = -math.inf

@@ -91,6 +91,8 @@ def _fields(u, num, ii, kappa, gamma, cs, sn, fx, fz):
 def _residual(
     u, num, dd, ii, theta0, kappa, gamma, omega2, eps, pi_in, code, q, hfix, cs, sn, fx, fz, res
 ):
+    """The residual of the collocation system (the module's rows) at u into res, with cos,
+    sin and the drag at the nodes into cs, sn, fx, fz; returns its sum of squares."""
     n1 = num + 1
     wo = n1
     qo = 2 * n1
@@ -152,6 +154,8 @@ def _residual(
 
 @kernel
 def _jacobian(u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, fz, dfx, dfz, jac):
+    """The exact Jacobian of :func:`_residual` at u into jac (cs, sn, fx, fz from that call;
+    dfx, dfz workspace for the drag's derivatives in theta)."""
     n1 = num + 1
     wo = n1
     qo = 2 * n1
@@ -240,6 +244,8 @@ def _jacobian(u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, 
 
 @kernel
 def _step_size(step, u, num, m):
+    """The max norm of a Newton step: theta and h1 in radians and L, the fluid relative to
+    its largest value, Pi relative to max(1, |Pi|)."""
     n1 = num + 1
     scale = 1.0
     for i in range(n1, 3 * n1):
@@ -253,6 +259,55 @@ def _step_size(step, u, num, m):
     if m > 3 * n1 + 1:
         big = max(big, abs(step[m - 1]) / max(1.0, abs(u[m - 1])))
     return big
+
+
+@kernel
+def _fluid_solve(
+    u, num, dd, ii, theta0, kappa, gamma, omega2, eps, pi_in, code, q, hfix, work, jac, sub, piv
+):
+    """The fluid (w, Q and, for the flow drive, Pi) of the hair's shape in u, in place: the
+    fluid's rows are linear in the fluid's unknowns at a fixed shape, so one solve of their
+    block. Returns False where that block is singular."""
+    n1 = num + 1
+    hi = 3 * n1
+    cs, sn, fx, fz, dfx, dfz = work[0], work[1], work[2], work[3], work[4], work[5]
+    res = work[6]
+    _residual(
+        u,
+        num,
+        dd,
+        ii,
+        theta0,
+        kappa,
+        gamma,
+        omega2,
+        eps,
+        pi_in,
+        code,
+        q,
+        hfix,
+        cs,
+        sn,
+        fx,
+        fz,
+        res,
+    )
+    _jacobian(u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, fz, dfx, dfz, jac)
+    k = 2 * n1 + (1 if code == DRIVE_FLOW else 0)
+    rhs = work[7]
+    for a in range(k):
+        ra = n1 + a if a < 2 * n1 else hi + 1
+        rhs[a] = -res[ra]
+        for b in range(k):
+            cb = n1 + b if b < 2 * n1 else hi + 1
+            sub[a, b] = jac[ra, cb]
+    if not _lu_factor(sub, piv, k):
+        return False
+    _lu_apply(sub, piv, rhs, k)
+    for a in range(k):
+        ra = n1 + a if a < 2 * n1 else hi + 1
+        u[ra] += rhs[a]
+    return True
 
 
 @kernel
@@ -276,6 +331,10 @@ def _newton(
     nit0,
     maxiter,
 ):
+    """Damped Newton on the collocation system from u (in place), as ``spectral``'s: the
+    exact Jacobian, a backtracking line search on the squared residual (a step limited to
+    one radian and a tenth of the height first), chord steps once it contracts fast.
+    Returns (status, iterations, max abs(residual)). ``work`` is (12, >= m)."""
     n1 = num + 1
     hi = 3 * n1
     m = hi + 2 if code == DRIVE_FLOW else hi + 1
@@ -483,10 +542,14 @@ def solve_porous_array(
     rtol,
     out,
     coefs,
+    fluid_start,
 ):
     """Every element on the ladder of N. ``start`` (size, 3 (nums[0] + 1) + 2): theta, w, Q
-    at the first level's nodes, h1, Pi (flow drive). Writes out (NCOLS, size) and coefs
-    (5, size, nmax + 1): Chebyshev coefficients of theta, x, z, w, Q."""
+    at the first level's nodes, h1, Pi (flow drive); with ``fluid_start`` its fluid is
+    replaced by the fluid of its shape (:func:`_fluid_solve`) before Newton. ``a`` the map
+    parameter of each element (negative: nodes clustered at the tips, for a thin bed's
+    layer). Writes out (NCOLS, size) and coefs (5, size, nmax + 1): the Chebyshev
+    coefficients in xi of theta, x, z, w, Q."""
     levels = nums.size
     nmax = 0
     for lev in range(levels):
@@ -494,6 +557,7 @@ def solve_porous_array(
     mmax = 3 * (nmax + 1) + 2
     work = np.empty((12, mmax))
     jac = np.empty((mmax, mmax))
+    sub = np.empty((mmax, mmax))
     piv = np.empty(mmax, dtype=np.int64)
     u = np.empty(mmax)
     keep = np.empty((3, mmax))
@@ -539,6 +603,26 @@ def solve_porous_array(
             m = 3 * n1 + 2
             for j in range(m):
                 keep[0, j] = u[j]
+            if lev == 0 and fluid_start:
+                _fluid_solve(
+                    u,
+                    num,
+                    dd,
+                    ii,
+                    theta0[e],
+                    kappa[e],
+                    gamma[e],
+                    omega2[e],
+                    eps[e],
+                    pi_in[e],
+                    code,
+                    q[e],
+                    hfix[e],
+                    work,
+                    jac,
+                    sub,
+                    piv,
+                )
             status, nit, rmax = _newton(
                 u,
                 num,
