@@ -432,7 +432,7 @@ def test_valve_marks_every_state_the_folds_and_the_jumps():
         spacing=400e-6,
         base_angle=-1.2,
     )
-    s = valve_states(bed, 0.01, flow_rate=np.linspace(0.0, 3e-6, 9))
+    s = valve_states(bed, 0.01, flow_rate=np.linspace(-3e-6, 3e-6, 17))  # both directions
     dashed = next(ln for ln in axq.get_lines() if ln.get_gid() == "unstable")
     x = np.asarray(dashed.get_xdata())[np.isfinite(np.asarray(dashed.get_ydata(), dtype=float))]
     lo, hi = np.sort(s.fold_pressure_drop)
@@ -443,6 +443,43 @@ def test_valve_marks_every_state_the_folds_and_the_jumps():
         np.asarray(ln.get_xdata()).size for ln in axh.get_lines() if ln.get_marker() == "o"
     )
     assert points == int(s.count.sum())
+    # both directions (issue 33): backward flow at negative drops, in both panels
+    curve = next(ln for ln in axq.get_lines() if ln.get_gid() == "stable")
+    xq, yq = np.asarray(curve.get_xdata()), np.asarray(curve.get_ydata(), dtype=float)
+    assert xq.min() < 0 and np.nanmin(yq) < -2.9 and np.nanmax(yq) > 2.9
+    assert np.all(
+        np.sign(yq[np.isfinite(yq) & (xq != 0)]) == np.sign(xq[np.isfinite(yq) & (xq != 0)])
+    )
+    assert min(np.min(ln.get_xdata()) for ln in axh.get_lines() if ln.get_marker() == "o") < 0
+
+
+def _legend_texts(ax) -> list[str]:
+    legend = ax.get_legend()
+    return [] if legend is None else [t.get_text() for t in legend.get_texts()]
+
+
+def test_valve_legend_lists_only_what_the_bed_has():
+    """A bed leaning with the forward flow (theta0 = 0.5) has one state at every flow rate
+    (valve_states, computed here): no folds, no unstable state, no jumps, no window, and the
+    legends say none of them; the bistable default bed lists each of them."""
+    from hairbed.valve import valve_states
+
+    kw = dict(num=9, diode_angles=(0.5,))
+    bed = hairbed.HairBed(length=1.6e-3, radius=50e-6, youngs_modulus=1e6,
+                          channel_height=2e-3, viscosity=1.0, spacing=400e-6,
+                          base_angle=0.5)  # fmt: skip
+    s = valve_states(bed, 0.01, flow_rate=np.linspace(-3e-6, 3e-6, 17))
+    assert s.fold_pressure_drop.size == 0 and np.all(s.count == 1) and np.all(s.stable[:, 0])
+    assert not s.ramp_up.jumps and not s.ramp_down.jumps
+    axq, axh, _ = plotting.fig_valve(base_angle=0.5, **kw).axes
+    words = " ".join(_legend_texts(axq) + _legend_texts(axh))
+    for absent in ("fold", "unstable", "jump", "three states", "ramp"):
+        assert absent not in words, words
+    assert "stable at the set flow rate" in words
+    axq, axh, _ = plotting.fig_valve(**kw).axes  # the bistable bed: every item
+    words = " ".join(_legend_texts(axq) + _legend_texts(axh))
+    for present in ("folds", "unstable", "and its jump", "three states"):
+        assert present in words, words
 
 
 def test_pillar_calibration_marks_where_the_linear_error_reaches_1_and_10_percent():

@@ -616,17 +616,20 @@ def fig_valve(
 
     By default 1.6 mm hairs leaning at ``base_angle`` = -1.2 rad against the flow in a 2 mm
     channel of glycerol (eps = 0.8), a channel ``channel_length`` long, the pump setting the
-    flow rate per unit width Q' from 0 to ``max_flow_rate`` [m^2/s]. The flow lifts the hairs
-    and closes the gap, so the pressure drop that carries Q' grows faster than Q': the bed is
-    bistable (theory.md §11). (a) Q' against the pressure drop dp [Pa]
-    (:func:`hairbed.valve.valve_curve`, one state per dp): stable at the set flow rate (solid)
-    outside the folds of :func:`hairbed.valve.valve_states` (circles), unstable (dashed)
-    between them; the quasi-static ramps up and down the flow rate and their jumps in dp at
-    the folds (arrows): the hysteresis loop. The empty channel, dp H^3/(12 eta l), is dotted.
-    (b) The tip height of every coexisting state at ``num`` set flow rates (filled: stable,
-    open: unstable) over the same curve, the three-state window shaded. (c) The diodicity
+    flow rate per unit width Q' from -``max_flow_rate`` to ``max_flow_rate`` [m^2/s]: both
+    directions. Forward flow lifts these hairs and closes the gap, so the pressure drop that
+    carries Q' grows faster than Q': the bed is bistable (theory.md §11); backward flow lays
+    them down. (a) Q' against the pressure drop dp [Pa] (:func:`hairbed.valve.valve_curve`,
+    one state per dp): stable at the set flow rate (solid) outside the folds of
+    :func:`hairbed.valve.valve_states` (circles), unstable (dashed) between them; the
+    quasi-static ramps up and down the flow rate and their jumps in dp at the folds (arrows):
+    the hysteresis loop. The empty channel, dp H^3/(12 eta l), is dotted. (b) The tip height
+    of every coexisting state at ``2 num - 1`` set flow rates (filled: stable, open:
+    unstable) over the same curve, the three-state window shaded. (c) The diodicity
     Di = Q'(+dp)/abs(Q'(-dp)) (:func:`hairbed.valve.diodicity`) of beds tilted by
-    ``diode_angles`` [rad] towards +x, over the pressure drops of (a). ``ax``: three Axes.
+    ``diode_angles`` [rad] towards +x, over the pressure drops of (a). The legends list only
+    what the bed has: no folds, unstable states, jumps or window where there are none.
+    ``ax``: three Axes.
 
     Examples
     --------
@@ -649,10 +652,11 @@ def fig_valve(
         "spacing": spacing,
     }
     bed = HairBed(**geometry, base_angle=base_angle)
-    flows = np.linspace(0.0, max_flow_rate, num)
+    flows = np.linspace(-max_flow_rate, max_flow_rate, 2 * num - 1)
     s = valve_states(bed, channel_length, flow_rate=flows)
     top = float(np.nanmax(s.branch_pressure_drop))
-    dp = np.linspace(0.0, top, max(num, 400))
+    bottom = float(np.nanmin(s.branch_pressure_drop))
+    dp = np.unique(np.concatenate([np.linspace(bottom, top, max(2 * num, 800)), [0.0]]))
     curve = valve_curve(bed, dp, channel_length)
     q_mm = np.asarray(curve.flow_rate) * 1e6  # [mm^2/s]
     h_mm = np.asarray(curve.tip_height) * 1e3  # [mm]
@@ -665,6 +669,8 @@ def fig_valve(
         xs = dp if target is axq else q_mm
         yv = y if target is axq else h_mm
         for flag, style, label in ((False, "-", "stable"), (True, "--", "unstable")):
+            if flag and not np.any(unstable):
+                continue  # no unstable part: not in the legend either
             masked = np.where(unstable == flag, yv, np.nan)
             # keep each piece connected to its neighbour at the fold
             edge = np.flatnonzero(np.diff(unstable.astype(int)) != 0)
@@ -674,19 +680,24 @@ def fig_valve(
                         label=f"{label} at the set flow rate")  # fmt: skip
     axq.plot(dp, np.asarray(curve.empty_flow_rate) * 1e6, ":", color="0.5",
              label=r"no hairs, $\Delta p\,H^3/(12\eta l)$")  # fmt: skip
-    axq.plot(s.fold_pressure_drop, s.fold_flow_rate * 1e6, "o", color="k", ms=5, label="folds")
+    if s.fold_pressure_drop.size:
+        axq.plot(s.fold_pressure_drop, s.fold_flow_rate * 1e6, "o", color="k", ms=5,
+                 label="folds")  # fmt: skip
     ramps = (
         (s.ramp_up, "C3", r"ramp up ($Q'\uparrow$)"),
         (s.ramp_down, "C0", r"ramp down ($Q'\downarrow$)"),
     )
+    jumped = any(ramp.jumps for ramp, _, _ in ramps)
     for ramp, c, name in ramps:
+        if not jumped:
+            break  # one state at every flow rate: the ramps are the curve itself
         # the ramp's path on the curve: every drop except those it jumps over
         skipped = np.zeros(dp.size, dtype=bool)
         for j in ramp.jumps:
             a, b = sorted((j.pressure_drop_before, j.pressure_drop_after))
             skipped |= (dp > a) & (dp < b)
         axq.plot(dp, np.where(skipped, np.nan, q_mm), "-", color=c, lw=3.0, alpha=0.45,
-                 label=name)  # fmt: skip
+                 label=name + (" and its jump" if ramp.jumps else ""))  # fmt: skip
         for j in ramp.jumps:
             axq.add_patch(
                 FancyArrowPatch(
@@ -698,9 +709,11 @@ def fig_valve(
                     lw=1.4,
                 )
             )
-    axq.set_xlim(0.0, top)
-    axq.set_ylim(0.0, 1.15 * max_flow_rate * 1e6)
-    axq.set_xlabel(r"pressure drop $\Delta p$ [Pa]")
+    axq.axhline(0.0, color="0.8", lw=0.6, zorder=0)
+    axq.axvline(0.0, color="0.8", lw=0.6, zorder=0)
+    axq.set_xlim(bottom, top)
+    axq.set_ylim(-1.15 * max_flow_rate * 1e6, 1.15 * max_flow_rate * 1e6)
+    axq.set_xlabel(r"pressure drop $\Delta p$ [Pa] (negative: backward flow)")
     axq.set_ylabel(r"flow rate per width $Q'$ [mm$^2$/s]")
     axq.set_title(rf"(a) valve curve, $\theta_0 = {base_angle:g}$, $\epsilon = {bed.eps:.3g}$")
     axq.legend(loc="lower right", fontsize=7.5)
@@ -713,12 +726,14 @@ def fig_valve(
     axh.plot(q_states[s.stable], h_states[s.stable], "o", color="C2", ms=3.5,
              label="states (valve_states): stable")  # fmt: skip
     bad = ~s.stable & np.isfinite(h_states)
-    axh.plot(q_states[bad], h_states[bad], "o", mfc="none", color="C1", ms=4, label="unstable")
-    axh.set_xlim(0.0, max_flow_rate * 1e6)
+    if np.any(bad):
+        axh.plot(q_states[bad], h_states[bad], "o", mfc="none", color="C1", ms=4,
+                 label="unstable")  # fmt: skip
+    axh.set_xlim(-max_flow_rate * 1e6, max_flow_rate * 1e6)
     axh.set_xlabel(r"set flow rate per width $Q'$ [mm$^2$/s]")
     axh.set_ylabel(r"tip height $h_1 L$ [mm]")
     axh.set_title("(b) every coexisting state")
-    axh.legend(loc="lower right", fontsize=7.5)
+    axh.legend(loc="lower left", fontsize=7.5)
     drops = np.geomspace(max(top * 1e-3, 1e-9), top, max(num // 4, 8))
     cols = colors(len(diode_angles), "plasma")
     for c, angle in zip(cols, diode_angles):
