@@ -113,7 +113,13 @@ def add_parser(sub: Any) -> None:
 def _rows(curve: Any) -> list[dict[str, Any]]:
     import numpy as np
 
-    fields = ("pressure_drop", "flow_rate", "resistance_ratio", "tip_displacement", "tip_height")
+    fields: tuple[str, ...] = (
+        "pressure_drop",
+        "flow_rate",
+        "resistance_ratio",
+        "tip_displacement",
+        "tip_height",
+    )
     cols = {f: np.atleast_1d(np.asarray(getattr(curve, f), dtype=float)) for f in fields[:3]}
     cols["tip_displacement"] = np.atleast_1d(
         np.asarray(curve.states.tip_displacement, dtype=float)

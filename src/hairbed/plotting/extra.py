@@ -643,7 +643,7 @@ def fig_valve(
     num = check_int(num, "num", 2, MAX_POINTS)
     if not (np.isfinite(max_flow_rate) and max_flow_rate > 0):
         raise ValueError(f"max_flow_rate must be finite and > 0 [m^2/s], got {max_flow_rate!r}")
-    geometry = {
+    geometry: dict[str, Any] = {
         "length": length,
         "radius": radius,
         "youngs_modulus": youngs_modulus,
