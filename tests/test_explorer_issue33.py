@@ -10,6 +10,7 @@ from __future__ import annotations
 import html
 import math
 
+import numpy as np
 import pytest
 
 import hairbed
@@ -136,3 +137,117 @@ def test_the_states_read_from_the_branch_are_solve_pillar_alls(forcing, theta0):
     assert [a.stable for a in got] == [True, False, True]
     labels = [v.label for v in pillar.compute_pillar(p).states]
     assert labels == ["low", "mid", "high"]
+
+
+# -- the view as a PNG, without a browser ---------------------------------------------------
+
+#: Colours of the low, mid and high states (Okabe-Ito), as the page draws them.
+STATE_RGB = {"low": (0, 114, 178), "mid": (213, 94, 0), "high": (0, 158, 115)}
+
+
+def _pixels(path) -> dict[tuple[int, int, int], int]:
+    """How many pixels of the PNG have each colour (RGB, 0-255)."""
+    import matplotlib.image
+
+    img = matplotlib.image.imread(path)
+    rgb = np.round(img[..., :3] * 255.0).astype(np.int64).reshape(-1, 3)
+    keys, counts = np.unique((rgb[:, 0] << 16) | (rgb[:, 1] << 8) | rgb[:, 2], return_counts=True)
+    return {
+        (int(k) >> 16, (int(k) >> 8) & 255, int(k) & 255): int(c) for k, c in zip(keys, counts)
+    }
+
+
+def _tips(ax) -> list[tuple[float, float]]:
+    """The single round markers of an axes (each state's tip), sorted."""
+    out = []
+    for line in ax.get_lines():
+        x, y = (np.asarray(v, dtype=float) for v in line.get_data())
+        if line.get_marker() == "o" and line.get_linestyle() == "None" and x.size == 1:
+            out.append((float(x[0]), float(y[0])))
+    return sorted(out)
+
+
+def test_export_png_of_a_bed_draws_the_librarys_states(tmp_path):
+    from hairbed.explorer import export_png
+    from hairbed.explorer._export import view_figure
+
+    query = "?omega2=1.2&eps=0.9&theta0=-1.5"
+    out = export_png(tmp_path / "view.png", "http://127.0.0.1:5006/" + query)
+    assert out == tmp_path / "view.png" and out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["view.png"]  # no temporary left
+    seen = _pixels(out)
+    for label, rgb in STATE_RGB.items():  # not blank: each state painted in its colour
+        assert seen.get(rgb, 0) > 100, label
+    # the figure behind it: the channel view's tips are hairbed.solve's roots
+    page = _page(query)
+    fig = view_figure(page)
+    assert len(fig.axes) == 4
+    channel = fig.axes[0]
+    assert channel.get_title(loc="left").startswith("the hair in the channel")
+    want = sorted(
+        (float(s.tip_deflection), float(s.tip_height))
+        for s in (hairbed.solve(1.2, 0.9, -1.5, root=r) for r in ("low", "mid", "high"))
+    )
+    got = _tips(channel)
+    assert len(got) == 3
+    assert np.allclose(got, want, rtol=0, atol=1e-12)
+    # to scale: one unit of x as long as one of z on the picture
+    box = channel.get_window_extent()
+    (x0, x1), (y0, y1) = channel.get_xlim(), channel.get_ylim()
+    assert (x1 - x0) / box.width == pytest.approx((y1 - y0) / box.height, rel=0.01)
+    assert "link: ?omega2=1.2&eps=0.9&theta0=-1.5" in " ".join(t.get_text() for t in fig.texts)
+
+
+def test_export_png_of_a_pillar_in_its_window(tmp_path):
+    from hairbed.explorer import export_png
+    from hairbed.explorer._export import view_figure
+
+    query = "?mode=pillar&forcing=21&pillar_theta0=-1.45&pillar_view=calibration"
+    out = export_png(tmp_path / "pillar.png", query)
+    seen = _pixels(out)
+    for label, rgb in STATE_RGB.items():
+        assert seen.get(rgb, 0) > 50, label
+    fig = view_figure(_page(query))
+    titles = [ax.get_title(loc="left") for ax in fig.axes]
+    assert titles[0].startswith("the pillar") and titles[1].startswith("calibration curve")
+    assert fig.axes[1].get_xscale() == "log" and fig.axes[2].get_yscale() == "log"
+    want = sorted(
+        (float(s.tip_deflection), float(s.tip_height))
+        for s in (hairbed.solve_pillar(21.0, -1.45, root=r) for r in ("low", "mid", "high"))
+    )
+    assert np.allclose(_tips(fig.axes[0]), want, rtol=0, atol=1e-9)
+
+
+def test_export_png_refuses_a_bad_view_and_writes_nothing(tmp_path):
+    from hairbed.explorer import export_png
+
+    target = tmp_path / "view.png"
+    target.write_bytes(b"before")
+    with pytest.raises(ValueError, match="unknown URL parameter 'colour'; known: omega2"):
+        export_png(target, "?omega2=2&colour=red")
+    with pytest.raises(ValueError) as info:
+        export_png(target, "?omega2=2&eps=1.5")
+    with pytest.raises(ValueError) as lib:
+        hairbed.solve(2.0, 1.5)
+    assert str(info.value) == str(lib.value)
+    assert target.read_bytes() == b"before"  # whole or not at all
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["view.png"]
+
+
+def test_hairbed_explore_export(tmp_path, capsys):
+    from hairbed.cli import main
+
+    out = tmp_path / "v.png"
+    assert main(["explore", "--export", str(out), "--url-params", "?omega2=0.5"]) == 0
+    assert out.read_bytes()[:4] == b"\x89PNG"
+    capsys.readouterr()
+    for argv, words in (
+        (["--export", str(out), "--url-params", "?omega2=-1"], "--url-params: omega2"),
+        (["--export", str(out), "--url-params", "?zoom=2"], "unknown URL parameter 'zoom'"),
+        (["--export", str(tmp_path / "no" / "v.png")], "cannot write"),
+        (["--export", str(tmp_path / "v.svg")], "give a .png file"),
+        (["--url-params", "?omega2=2"], "--url-params needs --export"),
+    ):
+        assert main(["explore", *argv]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and words in err, err

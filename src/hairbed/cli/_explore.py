@@ -23,10 +23,16 @@ Python's objects from the C allocator (--allocator malloc, the default: it resta
 with PYTHONMALLOC=malloc), so that memory goes back to the system once the sessions close
 (within ~4 MB); with CPython's own allocator (--allocator pymalloc) some 30 MB stay behind.
 
+With --export PATH it serves nothing: it writes the view of --url-params (the query of a
+link to the explorer) as a PNG, the picture of the page's "download PNG" button, drawn with
+matplotlib from the page's own figures (no browser), and exits.
+
 examples:
   hairbed explore
   hairbed explore --port 8000 --no-browser
   hairbed explore --host 0.0.0.0 --port 8000 --allow-websocket-origin example.org
+  hairbed explore --export view.png --url-params '?omega2=1.2&eps=0.9&theta0=-1.5'
+  hairbed explore --export pillar.png --url-params '?mode=pillar&forcing=20&pillar_theta0=-1.45'
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -64,6 +70,16 @@ def add_parser(sub: Any) -> None:
         option = "--" + dest.replace("_", "-")
         p.add_argument(option, type=kind, default=default, metavar=metavar, help=text)
     p.add_argument(
+        "--export",
+        metavar="PATH",
+        help="write the view of --url-params as a PNG and exit (no server, no browser)",
+    )
+    p.add_argument(
+        "--url-params",
+        metavar="QUERY",
+        help="the view to export: a link's query string ('?omega2=1.2&eps=0.9'), or the link",
+    )
+    p.add_argument(
         "--allocator",
         choices=ALLOCATORS,
         default="malloc",
@@ -76,6 +92,8 @@ def run(args: argparse.Namespace) -> int:
     """Check the options, then serve until interrupted."""
     from hairbed.explorer import AppMissingError, _check_installed, serve
 
+    if args.export is not None or args.url_params is not None:
+        return _export(args)
     if not 0 <= args.port <= 65535:
         raise UsageError(f"--port must be in [0, 65535], got {args.port}")
     for dest, *_ in _SESSION_OPTIONS:
@@ -101,6 +119,33 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(
             f"cannot serve on {args.host}:{args.port}: {exc.strerror or exc}"
         ) from None
+    return 0
+
+
+def _export(args: argparse.Namespace) -> int:
+    """``--export PATH``: the view of ``--url-params`` as a PNG, written whole or not at all."""
+    from hairbed.explorer import AppMissingError, _check_installed, export_png
+
+    from ._output import check_output
+    from ._report import WriteError
+
+    if args.export is None:
+        raise UsageError("--url-params needs --export PATH (the served page takes its own URL)")
+    if not args.export.lower().endswith(".png"):
+        raise UsageError(f"--export {args.export}: the view is written as PNG: give a .png file")
+    check_output(args.export)
+    try:
+        _check_installed()
+        export_png(args.export, args.url_params or "")
+    except AppMissingError as exc:
+        raise CommandError(one_line(exc)) from None
+    except ValueError as exc:
+        raise UsageError(f"--url-params: {one_line(exc)}") from None
+    except ImportError as exc:  # matplotlib, which draws it
+        raise CommandError(one_line(exc)) from None
+    except OSError as exc:
+        raise WriteError(args.export, exc) from None
+    print(f"hairbed explore: wrote {args.export}")
     return 0
 
 

@@ -24,6 +24,10 @@ snap-through window can exist, read from its branch, :func:`hairbed.continue_pil
 per pillar) drawn in the
 undisturbed profile u(z), and its calibration curve, the tip deflection against the forcing
 Lambda against the linear formula, with where that formula is 1 % and 10 % off.
+
+:func:`export_png` (``hairbed explore --export``, and the page's "download PNG" button) writes
+a view as a PNG without a browser: matplotlib draws the page's own Bokeh figures from the data
+they hold (:mod:`._export`).
 """
 
 from __future__ import annotations
@@ -37,7 +41,7 @@ from typing import Any
 
 from .._optional import extra_of, install_hint
 
-__all__ = ["AppMissingError", "explore", "serve"]
+__all__ = ["AppMissingError", "explore", "export_png", "serve"]
 
 
 class AppMissingError(ImportError):
@@ -93,6 +97,69 @@ def explore(query: str = "") -> Any:
 
     pn.extension()
     return page.ExplorerPage(query).layout
+
+
+def export_png(path: Any, query: str = "") -> Any:
+    """Write the explorer's view of ``query`` as a PNG, without a browser.
+
+    The page is made as ``hairbed explore`` makes it for a link with this query, and its
+    figures (those of the view: the bed's four, or the pillar's) are drawn by matplotlib from
+    the data the page sends to the browser, with the view's link and the page's messages
+    above them: the picture the page's "download PNG" button gives. The file is written whole
+    or not at all (:mod:`hairbed.safe_files`).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The PNG file to write.
+    query : str, optional
+        The view's inputs as a URL query string (``"?omega2=1.2&eps=0.9&theta0=-1.5"``, or a
+        whole link to the explorer); empty: the page at first sight.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Raises
+    ------
+    ValueError
+        If the query names an unknown parameter or gives a bad value (the library's message
+        for each): a script's view must be the one it asks for.
+    AppMissingError
+        If Panel or Bokeh is not installed (``pip install 'hairbed[app]'``).
+    ImportError
+        If matplotlib is not installed (``pip install 'hairbed[plot]'``).
+
+    Examples
+    --------
+    >>> from hairbed.explorer import export_png
+    >>> export_png("view.png", "?omega2=1.2&eps=0.9&theta0=-1.5")  # doctest: +SKIP
+    PosixPath('view.png')
+    """
+    from pathlib import Path
+
+    from ..safe_files import write_bytes
+
+    text = str(query)
+    query = text.split("?", 1)[1] if "?" in text else text
+    page_module = _page_module()
+    from ._export import render_png
+    from ._model import INPUT_KEYS, inputs_from_query
+
+    unknown = sorted(set(inputs_from_query(query)) - set(INPUT_KEYS))
+    if unknown:
+        raise ValueError(
+            f"unknown URL parameter{'s' if len(unknown) > 1 else ''} "
+            f"{', '.join(repr(k) for k in unknown)}; known: {', '.join(INPUT_KEYS)}"
+        )
+    page = page_module.ExplorerPage(query, served=False)
+    if page.errors:
+        raise ValueError("; ".join(page.errors))
+    data = render_png(page)
+    page.release()
+    write_bytes(path, data)
+    return Path(path)
 
 
 #: Served sessions whose page was made and not yet discarded (:func:`_on_destroyed`).

@@ -13,6 +13,7 @@ while a bad typed value stays in its field to be corrected.
 from __future__ import annotations
 
 import html
+import importlib.util
 import io
 import math
 import sys
@@ -467,6 +468,15 @@ class ExplorerPage:
             label="shape CSV",
             css_classes=["hb-download-shape"],
         )
+        #: The view on screen as a PNG, drawn on the server (:mod:`._export`): no browser.
+        png = importlib.util.find_spec("matplotlib") is not None
+        self.download_png = pn.widgets.FileDownload(
+            callback=self._png_file,
+            filename="hairbed-view.png",
+            label="download PNG" if png else "PNG: needs matplotlib (pip install 'hairbed[plot]')",
+            disabled=not png,
+            css_classes=["hb-download-png"],
+        )
         self.omega2_slider.param.watch(self._from_omega2_slider, "value")
         self.eps_slider.param.watch(self._from_slider("eps"), "value")
         self.theta0_slider.param.watch(self._from_slider("theta0"), "value")
@@ -516,6 +526,7 @@ class ExplorerPage:
             pn.pane.HTML("branch diagram ordinate:", margin=(5, 10, 0, 10)),
             self.y_choice,
             pn.Row(self.download_json, self.download_csv, self.download_shape),
+            self.download_png,
             self.link,
             self.status,
             width=330,
@@ -867,3 +878,9 @@ class ExplorerPage:
     def _shape_file(self) -> io.StringIO:
         assert self.snapshot is not None
         return io.StringIO(snapshot_shape_csv(self.snapshot))
+
+    def _png_file(self) -> io.BytesIO:
+        """The view on screen (the bed's or the pillar's) as a PNG."""
+        from ._export import render_png
+
+        return io.BytesIO(render_png(self))

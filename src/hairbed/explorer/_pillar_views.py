@@ -567,9 +567,10 @@ class PillarPanel:
 
     def place(self, page: Any, controls: Any) -> None:
         """Register the mode on the page: the mode selector on top of the controls, the
-        bed's controls (but the link and the timing) in a column of their own beside the
-        pillar's, the pillar's views beside the bed's, the pillar's fields among the page's."""
-        keep = (page.link, page.status)
+        bed's controls (but the PNG download, the link and the timing) in a column of their
+        own beside the pillar's, the pillar's views beside the bed's, the pillar's fields among
+        the page's."""
+        keep = (page.download_png, page.link, page.status)
         page._bed_controls = pn.Column(*(o for o in controls.objects if o not in keep), margin=0)
         controls.objects = [
             pn.pane.HTML("<b>What to explore</b>", margin=(5, 10, 0, 10)),
