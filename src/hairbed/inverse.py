@@ -62,6 +62,7 @@ from ._core.validation import (
 )
 
 __all__ = [
+    "porous_state_from_tip_deflection",
     "linear_omega2_from_tip_deflection",
     "max_tip_height",
     "omega2_from_tip_deflection",
@@ -163,6 +164,64 @@ def _solution_from_tip_deflection(x1: FloatArray, eps: Any, theta0: FloatArray) 
     theta0 in range, x1 and theta0 of one shape), trusted."""
     t = _t_from_tip_deflection(x1, theta0)
     return _physical(t, eps, theta0)
+
+
+def porous_state_from_tip_deflection(
+    x1: Any, eps: Any, theta0: Any = 0.0, *, kappa: Any, gamma: Any = 1.0
+) -> Any:
+    """The porous bed's state (theory.md §13) whose tip deflection is ``x1``, the wall drive's
+    forcing omega2 solved with it (:class:`hairbed.PorousState`, its ``omega2`` the answer).
+
+    The collocation of :func:`hairbed.solve_porous` with omega2 one more unknown and the tip
+    deflection one more row, from the closed-form hair (§3) with that tip deflection under a
+    fixed tip load; where Newton fails, the continuation of the tip deflection from rest. A
+    tip deflection determines the state, even inside a window of several states.
+
+    Parameters
+    ----------
+    x1 : array_like
+        Tip deflection x(1) [L], in [sin(theta0), 1) (flow towards +x).
+    eps, theta0, kappa, gamma : array_like
+        As in :func:`hairbed.solve_porous`; all broadcast together.
+
+    Returns
+    -------
+    PorousState
+
+    Examples
+    --------
+    >>> import hairbed
+    >>> st = hairbed.solve_porous(2.0, 0.5, 0.3, kappa=0.1)
+    >>> inv = porous_state_from_tip_deflection(st.tip_deflection, 0.5, 0.3, kappa=0.1)
+    >>> round(inv.omega2, 10)
+    2.0
+    """
+    from ._core import porous
+    from ._core._kernels import state as closed
+    from ._core.loaded import _matrices
+
+    v, e, t = check_tip_deflection(x1, eps, theta0)
+    _, _, arrays = porous._check(0.0, e, t, kappa, gamma, None, None)
+    shape = arrays[0].shape
+    flat = tuple(np.ascontiguousarray(a, dtype=np.float64).reshape(-1) for a in arrays)
+    xf = np.ascontiguousarray(np.broadcast_to(v, shape), dtype=np.float64).reshape(-1)
+    tf = flat[2]
+    # the closed-form hair with this tip deflection under a fixed tip load W (eps = 0)
+    tpar = _t_from_tip_deflection(xf, tf)
+    fixed = _from_parameter(tpar, np.zeros(xf.size), tf)
+    big_w = np.asarray(fixed.omega2, dtype=np.float64).reshape(-1)
+    h = np.asarray(fixed.tip_height, dtype=np.float64).reshape(-1)
+    num = porous.LADDER[0]
+    sig = np.broadcast_to(0.5 * (_matrices(num)[0] + 1.0), (xf.size, num + 1))
+    out6 = np.empty((6, xf.size, num + 1))
+    closed.shape_array(tpar, np.zeros(xf.size), tf, 1, 0, np.ascontiguousarray(sig), out6)
+    # omega2 of the same load through the bed: the linear theory's ratio, the gap at h
+    unit = porous._linear_deflection(np.ones(xf.size), flat[1], flat[3], np.zeros(xf.size))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        omega2 = big_w * (1.0 - flat[1] * h) / (3.0 * unit * (1.0 - flat[1]))
+    omega2 = np.where(np.isfinite(omega2), omega2, 0.0)
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        return porous._solve_inverse_checked(xf, flat, out6[0], h, omega2, shape)
 
 
 def omega2_from_tip_deflection(x1: Any, eps: Any, theta0: Any = 0.0) -> FloatOrArray:

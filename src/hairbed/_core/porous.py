@@ -44,6 +44,9 @@ from .validation import (
 
 __all__ = ["LADDER", "PorousState", "solve_porous", "solve_porous_all"]
 
+#: The kernel code of the wall drive's inverse (omega2 unknown, the tip deflection given).
+_INVERSE = 2
+
 FloatArray = NDArray[np.float64]
 Value = float | FloatArray
 IntValue = int | NDArray[np.int64]
@@ -337,10 +340,14 @@ def _run(
     nums: tuple[int, ...],
     tol: float,
     start: FloatArray | None = None,
+    x1t: FloatArray | None = None,
+    fluid: bool = False,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """The kernel on flat arrays: (out (NCOLS, size), coefs (5, size, N + 1), map). Without
-    a ``start`` (theta, w, Q at the plain map's nodes, h1, Pi) the closed-form start of
-    :func:`_start` on the tips' map."""
+    a ``start`` (theta, w, Q at the plain map's nodes, h1, then Pi or the inverse's omega2)
+    the closed-form start of :func:`_start` on the tips' map, whose fluid the kernel solves;
+    with one, its fluid is used as it is unless ``fluid``. ``x1t`` the inverse's tip
+    deflections (code 2)."""
     k = _kernels()
     w, e, t0, kap, g, ld = arrays
     size = w.size
@@ -350,8 +357,10 @@ def _run(
     a = np.zeros(size) if given else _tip_map(code, kap, ld)
     if start is None:
         start = _start(code, arrays, a, nums[0], hfix)
+        fluid = True
     pi_in = ld if code == 0 else np.zeros(size)
     q = ld if code == 1 else np.zeros(size)
+    x1t = np.zeros(size) if x1t is None else x1t
     k.solve_porous_array(
         code,
         kap,
@@ -360,6 +369,7 @@ def _run(
         e,
         pi_in,
         q,
+        x1t,
         hfix,
         t0,
         a,
@@ -368,7 +378,7 @@ def _run(
         tol,
         out,
         coefs,
-        not given,
+        fluid,
     )
     # the model needs z(s) monotone: a state that reaches |theta| = pi/2 is outside it
     outside = (out[0] >= 0) & (out[13] >= HALF_PI)
@@ -699,3 +709,31 @@ def solve_porous_all(
             )
         )
     return states
+
+
+def _solve_inverse_checked(
+    x1: FloatArray,
+    arrays: tuple[FloatArray, ...],
+    theta_start: FloatArray,
+    h_start: FloatArray,
+    omega2_start: FloatArray,
+    shape: tuple[int, ...],
+    tol: float = 1e-12,
+) -> PorousState:
+    """The wall drive's inverse, of checked, flat inputs, trusted: the state whose tip
+    deflection is ``x1`` (in (sin theta0, 1), the hair's own frame: flow towards +x), omega2
+    solved, from the start theta (at the plain map's first-level nodes), h1, omega2 (the
+    inverse module builds it from the closed form). ``arrays`` as :func:`_check`'s with
+    omega2 and the load unused. Where Newton fails, the continuation of the tip deflection
+    from rest."""
+    n1 = LADDER[0] + 1
+    size = x1.size
+    start = np.zeros((size, 3 * n1 + 2))
+    start[:, :n1] = theta_start
+    start[:, 3 * n1] = h_start
+    start[:, 3 * n1 + 1] = omega2_start
+    out, coefs, a = _run(
+        _INVERSE, arrays, np.full(size, np.nan), LADDER, tol, start, x1, fluid=True
+    )
+    flat = (out[17].copy(), *arrays[1:])
+    return _state("pressure", 0, shape, flat, out, coefs, a)

@@ -15,6 +15,7 @@ w_j, Q_j, then h1 and, for the flow drive, Pi. The rows:
     h1 - (I [cos(theta)])_N = 0
     flow drive: 6 eps^2 Phi - q = 0,  Phi = (I [w cos(theta)])_N + w_N g + Q_N g^2/2 - Pi g^3/6,
     g = 1/eps - h1
+    inverse (``DRIVE_INVERSE``): omega2 an unknown, (I [sin(theta)])_N - x1t = 0
 
 with the drag per unit length f_x = (w/kappa)(cos^2 + gamma sin^2),
 f_z = -(w/kappa)(1 - gamma) sin cos, and F(s_i) = (I_N - I_i) f, I the spectral integration
@@ -52,17 +53,20 @@ from .spectral import (
     _operators,
 )
 
-__all__ = ["DRIVE_FLOW", "DRIVE_PRESSURE", "NCOLS", "solve_porous_array"]
+__all__ = ["DRIVE_FLOW", "DRIVE_INVERSE", "DRIVE_PRESSURE", "NCOLS", "solve_porous_array"]
 
 DRIVE_PRESSURE = 0
 DRIVE_FLOW = 1
+#: The inverse problem of the wall drive: omega2 is the unknown that puts the tip at x1t.
+DRIVE_INVERSE = 2
 _XTOL = 1e-12
 _FULL_STEP = 1e-7
 _CHORD_START = 1e-3
 _CHORD_RATE = 0.1
 #: Output columns of :func:`solve_porous_array`: status, nit, num, h1, x1, theta1, theta'(0),
 #: Q(1) (the tip plane's stress), w(1), Pi, Q(0) (the wall's stress), error estimate,
-#: residual, max |theta|, F_x(0), F_z(0) (the drag's totals), the map parameter, 0.
+#: residual, max |theta|, F_x(0), F_z(0) (the drag's totals), the map parameter, omega2
+#: (the input, or the inverse's solution).
 NCOLS = 18
 
 
@@ -89,7 +93,25 @@ def _fields(u, num, ii, kappa, gamma, cs, sn, fx, fz):
 
 @kernel
 def _residual(
-    u, num, dd, ii, theta0, kappa, gamma, omega2, eps, pi_in, code, q, hfix, cs, sn, fx, fz, res
+    u,
+    num,
+    dd,
+    ii,
+    theta0,
+    kappa,
+    gamma,
+    omega2,
+    eps,
+    pi_in,
+    code,
+    q,
+    x1t,
+    hfix,
+    cs,
+    sn,
+    fx,
+    fz,
+    res,
 ):
     """The residual of the collocation system (the module's rows) at u into res, with cos,
     sin and the drag at the nodes into cs, sn, fx, fz; returns its sum of squares."""
@@ -99,6 +121,8 @@ def _residual(
     hi = 3 * n1
     h = u[hi] if math.isnan(hfix) else hfix
     pi_l = u[hi + 1] if code == DRIVE_FLOW else pi_in
+    if code == DRIVE_INVERSE:
+        omega2 = u[hi + 1]
     tx, tz = _fields(u, num, ii, kappa, gamma, cs, sn, fx, fz)
     res[0] = u[0] - theta0
     ref = u[num]
@@ -146,6 +170,12 @@ def _residual(
             phi += ii[num, j] * u[wo + j] * cs[j]
         res[hi + 1] = 6.0 * eps * eps * phi - q
         m = hi + 2
+    elif code == DRIVE_INVERSE:
+        x1 = 0.0
+        for j in range(n1):
+            x1 += ii[num, j] * sn[j]
+        res[hi + 1] = x1 - x1t
+        m = hi + 2
     ss = 0.0
     for i in range(m):
         ss += res[i] * res[i]
@@ -160,7 +190,7 @@ def _jacobian(u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, 
     wo = n1
     qo = 2 * n1
     hi = 3 * n1
-    m = hi + 2 if code == DRIVE_FLOW else hi + 1
+    m = hi + 1 if code == DRIVE_PRESSURE else hi + 2
     free = math.isnan(hfix)
     h = u[hi] if free else hfix
     pi_l = u[hi + 1] if code == DRIVE_FLOW else pi_in
@@ -229,6 +259,10 @@ def _jacobian(u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, 
     for k in range(n1):
         jac[hi, k] = ii[num, k] * sn[k]
     jac[hi, hi] = 1.0
+    if code == DRIVE_INVERSE:
+        jac[qo + num, hi + 1] = -1.0
+        for k in range(n1):
+            jac[hi + 1, k] = ii[num, k] * cs[k]
     if code == DRIVE_FLOW:
         g = 1.0 / eps - h
         e6 = 6.0 * eps * eps
@@ -263,7 +297,24 @@ def _step_size(step, u, num, m):
 
 @kernel
 def _fluid_solve(
-    u, num, dd, ii, theta0, kappa, gamma, omega2, eps, pi_in, code, q, hfix, work, jac, sub, piv
+    u,
+    num,
+    dd,
+    ii,
+    theta0,
+    kappa,
+    gamma,
+    omega2,
+    eps,
+    pi_in,
+    code,
+    q,
+    x1t,
+    hfix,
+    work,
+    jac,
+    sub,
+    piv,
 ):
     """The fluid (w, Q and, for the flow drive, Pi) of the hair's shape in u, in place: the
     fluid's rows are linear in the fluid's unknowns at a fixed shape, so one solve of their
@@ -285,6 +336,7 @@ def _fluid_solve(
         pi_in,
         code,
         q,
+        x1t,
         hfix,
         cs,
         sn,
@@ -293,7 +345,7 @@ def _fluid_solve(
         res,
     )
     _jacobian(u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, fz, dfx, dfz, jac)
-    k = 2 * n1 + (1 if code == DRIVE_FLOW else 0)
+    k = 2 * n1 + (1 if code == DRIVE_FLOW else 0)  # the inverse's omega2 stays
     rhs = work[7]
     for a in range(k):
         ra = n1 + a if a < 2 * n1 else hi + 1
@@ -324,6 +376,7 @@ def _newton(
     pi_in,
     code,
     q,
+    x1t,
     hfix,
     work,
     jac,
@@ -337,7 +390,7 @@ def _newton(
     Returns (status, iterations, max abs(residual)). ``work`` is (12, >= m)."""
     n1 = num + 1
     hi = 3 * n1
-    m = hi + 2 if code == DRIVE_FLOW else hi + 1
+    m = hi + 1 if code == DRIVE_PRESSURE else hi + 2
     cs, sn, fx, fz, dfx, dfz = work[0], work[1], work[2], work[3], work[4], work[5]
     res, step, trial = work[6], work[7], work[8]
     f = _residual(
@@ -353,6 +406,7 @@ def _newton(
         pi_in,
         code,
         q,
+        x1t,
         hfix,
         cs,
         sn,
@@ -410,6 +464,7 @@ def _newton(
                     pi_in,
                     code,
                     q,
+                    x1t,
                     hfix,
                     cs,
                     sn,
@@ -455,16 +510,21 @@ def _continuation(
     pi_in,
     code,
     q,
+    x1t,
     hfix,
     work,
     jac,
     piv,
     nit0,
 ):
-    """Newton along the load factor lam from 0 (at rest) to 1, scaling omega2, Pi and q."""
+    """Newton along the load factor lam from 0 (at rest) to 1, scaling omega2, Pi and q;
+    for the inverse (``DRIVE_INVERSE``) lam moves the tip from its rest, sin(theta0), to x1t,
+    and omega2 (an unknown) starts at 0."""
     n1 = num + 1
     hi = 3 * n1
-    m = hi + 2 if code == DRIVE_FLOW else hi + 1
+    m = hi + 1 if code == DRIVE_PRESSURE else hi + 2
+    inverse = code == DRIVE_INVERSE
+    rest = math.sin(theta0)
     prev = keep[1]
     last = keep[2]
     for j in range(m):
@@ -497,6 +557,7 @@ def _continuation(
             target * pi_in,
             code,
             target * q,
+            rest + target * (x1t - rest) if inverse else x1t,
             hfix,
             work,
             jac,
@@ -529,6 +590,7 @@ def solve_porous_array(
     eps,
     pi_in,
     q,
+    x1t,
     hfix,
     theta0,
     a,
@@ -617,6 +679,7 @@ def solve_porous_array(
                     pi_in[e],
                     code,
                     q[e],
+                    x1t[e],
                     hfix[e],
                     work,
                     jac,
@@ -636,6 +699,7 @@ def solve_porous_array(
                 pi_in[e],
                 code,
                 q[e],
+                x1t[e],
                 hfix[e],
                 work,
                 jac,
@@ -658,6 +722,7 @@ def solve_porous_array(
                     pi_in[e],
                     code,
                     q[e],
+                    x1t[e],
                     hfix[e],
                     work,
                     jac,
@@ -728,6 +793,7 @@ def solve_porous_array(
         out[7, e] = u[2 * n1 + num]  # Q(1), the tip stress
         out[8, e] = u[n1 + num]  # w(1)
         out[9, e] = u[hi + 1] if code == DRIVE_FLOW else pi_in[e]
+        out[17, e] = u[hi + 1] if code == DRIVE_INVERSE else omega2[e]
         out[10, e] = u[2 * n1]  # Q(0), the wall stress
         out[11, e] = tail + rounding
         out[12, e] = rmax
@@ -735,7 +801,6 @@ def solve_porous_array(
         out[14, e] = tx
         out[15, e] = tz
         out[16, e] = a[e]
-        out[17, e] = 0.0
         cm = cms[lev_done]
         _coefficients(u, num, cm, coef)
         for k in range(n1):
