@@ -497,6 +497,31 @@ def test_downloads_match_the_library(browser, server, tmp_path):
     page.close()
 
 
+def test_unknown_link_parameter_and_the_png_download(browser, server, tmp_path, shots):
+    """Issue 33: a link's unknown parameter leaves its known ones applied, and says so; the
+    PNG button downloads the view on screen (its states painted, not a blank page)."""
+    page = _open(browser, server, "?omega2=1.2&eps=0.9&theta0=-1.5&colour=red")
+    _until(lambda: _shown_omega2(page) == 1.2, "the link's known inputs applied")
+    assert sorted(_cells(page, "xi")) == ["high", "low", "mid"]
+    texts = _until(lambda: _error_texts(page), "the note of the ignored parameter")
+    assert any("ignored the unknown URL parameter 'colour'" in t for t in texts), texts
+    _until(lambda: "colour" not in page.url and "omega2=1.2" in page.url, "the view's own URL")
+    with page.expect_download(timeout=TIMEOUT * 1e3) as info:
+        page.locator(".hb-download-png button").click()
+    assert info.value.suggested_filename == "hairbed-view.png"
+    path = tmp_path / "view.png"
+    info.value.save_as(path)
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    import matplotlib.image
+
+    img = np.round(matplotlib.image.imread(path)[..., :3] * 255.0).astype(np.int64)
+    code = (img[..., 0] << 16) | (img[..., 1] << 8) | img[..., 2]
+    for rgb in (0x0072B2, 0xD55E00, 0x009E73):  # the low, mid and high states' colours
+        assert int(np.count_nonzero(code == rgb)) > 100, hex(rgb)
+    page.screenshot(path=str(shots / "unknown-parameter.png"))
+    page.close()
+
+
 def test_si_mode(browser, server, shots):
     query = "?si=1&velocity=0.3&base_angle=0.2&density=1000&" + "&".join(
         f"{k}={v!r}" for k, v in BED.items()
