@@ -167,3 +167,29 @@ def test_states_errors_are_one_line(capsys, args: list[str], message: str) -> No
     status, out, err = _run_bistable(capsys, *args)
     assert status == 2 and out == ""
     assert len(err.strip().splitlines()) == 1 and message in err
+
+
+# -- issue 33: hairbed valve --plot -------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "mode", [["--pressure-drop=+-10:100:2:log"], ["--pressure-drop=10,100", "--diodicity"],
+             ["--flow-rate=0:3e-6:5"]],
+)  # fmt: skip
+def test_valve_plot_writes_the_figure(tmp_path, capsys, mode):
+    from hairbed.cli import main
+
+    path = tmp_path / "valve.png"
+    argv = ["valve", *mode, "--channel-length=0.01", "--length=1.6e-3", "--radius=50e-6",
+            "--youngs-modulus=1e6", "--channel-height=2e-3", "--viscosity=1",
+            "--spacing=400e-6", "--base-angle=-1.2", "--plot", str(path)]  # fmt: skip
+    assert main(argv) == 0
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert f"wrote {path} (PNG)" in capsys.readouterr().err
+    for bad, words in ((str(tmp_path / "v.xyz"), "unknown image format"),
+                       (str(tmp_path / "no" / "v.png"), "cannot write")):  # fmt: skip
+        assert main([*argv[:-1], bad]) == 2
+        out, err = capsys.readouterr()
+        assert out == "" and err.startswith("hairbed: error: --plot" if "xyz" in bad
+                                            else "hairbed: error: cannot write")  # fmt: skip
+        assert words in err and len(err.splitlines()) == 1

@@ -513,3 +513,41 @@ def test_pillar_snap_marks_the_folds_and_dashes_the_unstable_part():
     x = dashed[0].get_xdata()
     assert lam[0] - 0.5 <= x.min() and x.max() <= lam[1] + 0.5
     assert len([ln for ln in axs.get_lines() if len(ln.get_xdata()) > 2]) == 3  # three states
+
+
+def test_valve_result_draws_what_the_valve_command_computed():
+    """fig_valve_result (hairbed valve --plot): the empty channel is dp H^3/(12 eta l) (the
+    closed form, here), the curve passes through valve_curve's points; the states' panel
+    holds every state of valve_states once, the folds only where there are folds."""
+    from hairbed.valve import diodicity, valve_curve, valve_states
+
+    bed = hairbed.HairBed(length=1.6e-3, radius=50e-6, youngs_modulus=1e6,
+                          channel_height=2e-3, viscosity=1.0, spacing=400e-6,
+                          base_angle=-1.2)  # fmt: skip
+    drops = np.array([-100.0, -10.0, 10.0, 100.0])
+    axq, axh = plotting.fig_valve_result(valve_curve(bed, drops, 0.01)).axes
+    empty = next(ln for ln in axq.get_lines() if ln.get_linestyle() == ":")
+    np.testing.assert_allclose(empty.get_ydata(), drops * 2e-3**3 / (12 * 1.0 * 0.01) * 1e6,
+                               rtol=1e-13)  # fmt: skip
+    q = axq.get_lines()[0].get_ydata()
+    assert [v < 0 for v in q] == [True, True, False, False]
+    s = valve_states(bed, 0.01, flow_rate=np.linspace(-3e-6, 3e-6, 9))
+    axq, axh = plotting.fig_valve_result(s).axes
+    dots = [ln for ln in axh.get_lines() if ln.get_marker() == "o"]
+    assert sum(len(ln.get_xdata()) for ln in dots) == int(s.count.sum())
+    words = [t.get_text() for t in axq.get_legend().get_texts()]
+    assert ("folds" in words) == (s.fold_pressure_drop.size > 0) and "folds" in words
+    with_flow = valve_states(bed.__class__(**{**bed_kwargs(bed), "base_angle": 0.5}), 0.01,
+                             flow_rate=np.linspace(-3e-6, 3e-6, 9))  # fmt: skip
+    axq, _ = plotting.fig_valve_result(with_flow).axes
+    words = " ".join(t.get_text() for t in axq.get_legend().get_texts())
+    assert "folds" not in words and "unstable" not in words
+    (axd,) = plotting.fig_valve_result(diodicity(bed, [10.0, 100.0], 0.01)).axes
+    assert len(axd.get_lines()[0].get_xdata()) == 2
+    with pytest.raises(TypeError, match="ValveCurve, Diodicity or ValveStates"):
+        plotting.fig_valve_result(bed)
+
+
+def bed_kwargs(bed) -> dict:
+    return {k: getattr(bed, k) for k in ("length", "radius", "youngs_modulus",
+                                         "channel_height", "viscosity", "spacing")}  # fmt: skip

@@ -9,7 +9,15 @@ import hairbed
 
 from ._grids import spec
 from ._options import add_bed_options, add_command, add_json, need_bed, refuse
-from ._output import NO_COMPRESS_HELP, check_dataset_output, print_json, write_dataset_output
+from ._output import (
+    NO_COMPRESS_HELP,
+    check_dataset_output,
+    check_output,
+    figure_format,
+    print_json,
+    save_figure,
+    write_dataset_output,
+)
 from ._report import UsageError
 
 #: ``hairbed valve --help``: the summary line, the description and the examples.
@@ -31,6 +39,7 @@ examples:
       --radius 50e-6 --youngs-modulus 1e6 --channel-height 2e-3 --viscosity 1 \\
       --spacing 400e-6 --base-angle 1.0
   hairbed valve --pressure-drop 200 --diodicity --channel-length 0.01 ... --json
+  hairbed valve --pressure-drop +-10:1e3:20:log --channel-length 0.01 ... --plot valve.png
 
 every coexisting state (--states): the branch of states is followed by continuation from rest
 over the range (hairbed.valve.valve_states); each line gives the set drive, the number of
@@ -107,6 +116,12 @@ def add_parser(sub: Any) -> None:
     )
     g.add_argument("--no-compress", action="store_true", help=NO_COMPRESS_HELP)
     add_json(p)
+    p.add_argument(
+        "--plot",
+        metavar="FILE",
+        help="also draw what was computed into FILE (PNG, or the format of its extension): "
+        "the curve, the diodicity or every state (hairbed.plotting.fig_valve_result)",
+    )
     add_bed_options(p, velocity=False)
 
 
@@ -218,7 +233,7 @@ def _print_states(s: Any) -> None:
         print("  none (one state at every drive of the range)")
 
 
-def _run_states(args: argparse.Namespace, bed: Any) -> int:
+def _run_states(args: argparse.Namespace, bed: Any, fmt: str = "") -> int:
     """``--states``: every coexisting state, the folds and the jumps (table, JSON or file)."""
     import sys
 
@@ -251,20 +266,45 @@ def _run_states(args: argparse.Namespace, bed: Any) -> int:
         print_json(_states_doc(s))
     else:
         _print_states(s)
+    if args.plot:
+        _plot(s, args.plot, fmt)
     return 0
+
+
+def _check_plot(args: argparse.Namespace) -> str:
+    """The image format of --plot, its path checked before any work ("" without --plot)."""
+    if args.plot is None:
+        return ""
+    from hairbed._optional import optional_import
+
+    optional_import("matplotlib", "valve --plot")
+    fmt = figure_format(args.plot, "--plot")
+    check_output(args.plot)
+    return fmt
+
+
+def _plot(result: Any, path: str, fmt: str) -> None:
+    """Draw ``result`` (a ValveCurve, Diodicity or ValveStates) into ``path``."""
+    import sys
+
+    from hairbed.plotting import fig_valve_result
+
+    save_figure(fig_valve_result(result), path, fmt)
+    print(f"wrote {path} ({fmt.upper()})", file=sys.stderr)
 
 
 def run(args: argparse.Namespace) -> int:
     """The valve's curve (or its diodicity, or every state), as a table, JSON or a file."""
     import numpy as np
 
+    fmt = _check_plot(args)
     bed = need_bed(args, "valve")
     if args.channel_length is None or not args.channel_length > 0:
         raise UsageError(f"--channel-length must be > 0 [m], got {args.channel_length!r}")
     if (args.pressure_drop is None) == (args.flow_rate is None):
         raise UsageError("give one of --pressure-drop and --flow-rate (what the pump sets)")
     if args.states or args.flow_rate is not None:
-        return _run_states(args, bed)
+        return _run_states(args, bed, fmt)
     refuse(args, _STATES_ONLY, "applies to --states only")
     drops = np.atleast_1d(np.asarray(spec(args.pressure_drop, "--pressure-drop"), dtype=float))
     valve = hairbed.valve
@@ -283,6 +323,8 @@ def run(args: argparse.Namespace) -> int:
                     ],
                 }
             )  # fmt: skip
+            if args.plot:
+                _plot(d, args.plot, fmt)
             return 0
         print(f"diodicity over l = {args.channel_length:g} m:")
         print(f"  {'|dp| [Pa]':>12}  {'Di':>10}  {'Q+ [m^2/s]':>12}  {'Q- [m^2/s]':>12}  status")
@@ -292,16 +334,20 @@ def run(args: argparse.Namespace) -> int:
                 f"  {f['pressure_drop']:12.6g}  {x:10.6g}  {f['flow_rate']:12.6g}  "
                 f"{b['flow_rate']:12.6g}  {status}"
             )
+        if args.plot:
+            _plot(d, args.plot, fmt)
         return 0
     curve = valve.valve_curve(bed, drops, args.channel_length, root=args.root)
     rows = _rows(curve)
     if args.json:
         print_json({"channel_length": args.channel_length, "curve": rows})
-        return 0
-    print(f"valve curve over l = {args.channel_length:g} m:")
-    head = ("dp [Pa]", "Q' [m^2/s]", "R/R0", "dx1 [m]", "h1 [m]")
-    print("  " + "  ".join(f"{h:>12}" for h in head) + "  status")
-    for r in rows:
-        cells = (r[k] for k in list(r)[:5])
-        print("  " + "  ".join(f"{c:12.6g}" for c in cells) + f"  {r['status']}")
+    else:
+        print(f"valve curve over l = {args.channel_length:g} m:")
+        head = ("dp [Pa]", "Q' [m^2/s]", "R/R0", "dx1 [m]", "h1 [m]")
+        print("  " + "  ".join(f"{h:>12}" for h in head) + "  status")
+        for r in rows:
+            cells = (r[k] for k in list(r)[:5])
+            print("  " + "  ".join(f"{c:12.6g}" for c in cells) + f"  {r['status']}")
+    if args.plot:
+        _plot(curve, args.plot, fmt)
     return 0

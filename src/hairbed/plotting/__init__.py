@@ -44,6 +44,7 @@ from .extra import (
     fig_states,
     fig_twirling,
     fig_valve,
+    fig_valve_result,
 )
 from .paper import (
     fig_model,
@@ -75,6 +76,7 @@ __all__ = [
     "fig_theta0s",
     "fig_twirling",
     "fig_valve",
+    "fig_valve_result",
     "make_all",
     "parameters",
     "parse_settings",

@@ -34,6 +34,7 @@ __all__ = [
     "fig_states",
     "fig_twirling",
     "fig_valve",
+    "fig_valve_result",
 ]
 
 # Windows of omega^2 with three physical states (theory.md §5), as (theta0, eps).
@@ -745,6 +746,106 @@ def fig_valve(
     axd.set_ylabel(r"diodicity $Q'(+\Delta p)/|Q'(-\Delta p)|$ [-]")
     axd.set_title("(c) the tilted bed as a diode")
     axd.legend(loc="upper left")
+    return fig
+
+
+@styled
+def fig_valve_result(result: Any, ax: Any = None) -> Figure:
+    """What ``hairbed valve`` computed, drawn (its ``--plot``): a
+    :class:`hairbed.valve.ValveCurve` as the flow rate Q' and the tip's deflection from rest
+    against the pressure drop (the empty channel dotted); a :class:`hairbed.valve.Diodicity`
+    as Di = Q'(+dp)/abs(Q'(-dp)) against abs(dp); a :class:`hairbed.valve.ValveStates` as
+    every state at each set drive, stable filled and unstable open, over the branch (its
+    unstable part dashed) and its folds. Only what the result holds is drawn and named in the
+    legend. ``ax``: two Axes (one for a Diodicity).
+
+    Examples
+    --------
+    >>> import hairbed
+    >>> bed = hairbed.HairBed(length=1.8e-3, radius=50e-6, youngs_modulus=1e6,
+    ...                       channel_height=2e-3, viscosity=1.0, spacing=400e-6)
+    >>> fig = fig_valve_result(hairbed.valve.valve_curve(bed, [-100.0, 100.0], 0.01))
+    >>> len(fig.axes)
+    2
+    """
+    from hairbed.valve import Diodicity, ValveCurve, ValveStates
+
+    if isinstance(result, Diodicity):
+        fig, axd = figure_axes(ax, 1, 1, size=(5.0, 3.8))
+        drop = np.abs(np.atleast_1d(np.asarray(result.forward.pressure_drop, dtype=float)))
+        di = np.atleast_1d(np.asarray(result.diodicity, dtype=float))
+        axd.plot(drop, di, "o-", color="C3", ms=3, label="diodicity")
+        axd.axhline(1.0, color="0.6", lw=0.6, label="no rectification (Di = 1)")
+        if drop.size > 1 and np.all(drop > 0) and drop.max() / drop.min() > 20:
+            axd.set_xscale("log")
+        axd.set_xlabel(r"pressure drop $|\Delta p|$ [Pa]")
+        axd.set_ylabel(r"diodicity $Q'(+\Delta p)/|Q'(-\Delta p)|$ [-]")
+        axd.set_title(f"diodicity over l = {result.forward.channel_length:g} m")
+        axd.legend(fontsize=7.5)
+        return fig
+    fig, (axq, axh) = figure_axes(ax, 1, 2, size=(10.0, 3.9))
+    if isinstance(result, ValveCurve):
+        dp = np.atleast_1d(np.asarray(result.pressure_drop, dtype=float))
+        order = np.argsort(dp)
+        q = np.atleast_1d(np.asarray(result.flow_rate, dtype=float))[order] * 1e6
+        empty = np.atleast_1d(np.asarray(result.empty_flow_rate, dtype=float))[order] * 1e6
+        dx = np.atleast_1d(np.asarray(result.states.tip_displacement, dtype=float))[order]
+        dp = dp[order]
+        marker = "o-" if dp.size < 30 else "-"
+        axq.plot(dp, q, marker, color="0.2", ms=3, label="with the bed (valve_curve)")
+        axq.plot(dp, empty, ":", color="0.5", label=r"no hairs, $\Delta p\,H^3/(12\eta l)$")
+        axh.plot(dp, dx * 1e3, marker, color="C0", ms=3)
+        axh.set_xlabel(r"pressure drop $\Delta p$ [Pa]")
+        axh.set_ylabel(r"tip deflection from rest $(x_1 - \sin\theta_0) L$ [mm]")
+        axq.set_xlabel(r"pressure drop $\Delta p$ [Pa]")
+        axq.set_ylabel(r"flow rate per width $Q'$ [mm$^2$/s]")
+        axq.set_title(f"(a) valve curve over l = {result.channel_length:g} m")
+        axh.set_title("(b) the hairs' tips")
+        axq.legend(fontsize=7.5)
+        return fig
+    if not isinstance(result, ValveStates):
+        raise TypeError(
+            "result must be a ValveCurve, Diodicity or ValveStates of hairbed.valve, got "
+            f"{type(result).__name__}"
+        )
+    s = result
+    by_flow = s.drive != "pressure"
+    scale = 1e6 if by_flow else 1.0
+    unit = r"$Q'$ [mm$^2$/s]" if by_flow else r"$\Delta p$ [Pa]"
+    bp, bq = s.branch_pressure_drop, s.branch_flow_rate * 1e6
+    bh = s.branch_tip_height * 1e3
+    for flag, style, word in ((True, "-", "stable"), (False, "--", "unstable")):
+        part = s.branch_stable == flag
+        if not np.any(part):
+            continue
+        for target, x, y in ((axq, bp, bq), (axh, bq if by_flow else bp, bh)):
+            target.plot(x, np.where(part, y, np.nan), style, color="0.6", lw=1.0,
+                        label=f"branch, {word}")  # fmt: skip
+    if s.fold_pressure_drop.size:
+        axq.plot(s.fold_pressure_drop, s.fold_flow_rate * 1e6, "o", color="k", ms=5,
+                 label="folds")  # fmt: skip
+    value = np.broadcast_to(s.values[:, None], s.tip_height.shape) * scale
+    found = np.isfinite(s.tip_height)
+    for flag, face, color, word in ((True, None, "C2", "stable"), (False, "none", "C1",
+                                                                    "unstable")):  # fmt: skip
+        pick = found & (s.stable == flag)
+        if not np.any(pick):
+            continue
+        xq = s.pressure_drop[pick]
+        yq = s.flow_rate[pick] * 1e6
+        axq.plot(
+            xq, yq, "o", mfc=face, color=color, ms=4, label=f"states at the set drive, {word}"
+        )
+        axh.plot(value[pick], s.tip_height[pick] * 1e3, "o", mfc=face, color=color, ms=4,
+                 label=word)  # fmt: skip
+    axq.set_xlabel(r"pressure drop $\Delta p$ [Pa]")
+    axq.set_ylabel(r"flow rate per width $Q'$ [mm$^2$/s]")
+    axq.set_title(f"(a) every state over l = {s.channel_length:g} m")
+    axh.set_xlabel(f"set {'flow rate per width' if by_flow else 'pressure drop'} {unit}")
+    axh.set_ylabel(r"tip height $h_1 L$ [mm]")
+    axh.set_title("(b) their tip heights")
+    axq.legend(fontsize=7.5)
+    axh.legend(fontsize=7.5)
     return fig
 
 
