@@ -76,3 +76,45 @@ def test_valve_table_gives_the_tip_deflection_from_rest(capsys):
     cells = [ln.split() for ln in lines[2:]]
     assert float(cells[1][3]) == pytest.approx(rows[1]["tip_displacement"], rel=1e-5)
     assert abs(float(cells[0][3])) < 1e-12
+
+
+# -- hairbed bench: rows outside their target are 'missed', said why; 11c's size ---------------
+
+
+def _result(rows, quick=True):
+    from hairbed import _benchmark
+
+    meta = {
+        "hairbed": "x", "numba": "y", "cpu_count": 2, "n": 1e5, "repeat": 1, "quick": quick,
+        "loadavg_start": [6.5, 6.0, 5.0], "loadavg_end": [6.0, 6.0, 5.0],
+        "cpu_share_single_thread": None, "sections_s": {"rows": 1.0}, "total_s": 1.0,
+        "compiled_while_timing": [], "kernel_sources_changed": False,
+    }  # fmt: skip
+    return _benchmark.Result(tuple(rows), meta)
+
+
+def test_bench_labels_a_missed_target_as_a_measurement_not_a_failure():
+    from hairbed import _benchmark
+
+    slow = _benchmark.Row.of("8", 1.1, sequential_s=2.0, threads_s=1.8, cpu_per_wall=1.1)
+    fast = _benchmark.Row.of("6", 150.0, fd_ms=[1.0], ratios=[150.0], fd_success=[True])
+    assert (slow.passed, slow.verdict, fast.verdict) == (False, "missed", "met")
+    text = _benchmark.format_report(_result([fast, slow]))
+    assert "FAIL" not in text and "PASS" not in text
+    line = next(ln for ln in text.splitlines() if ln.startswith("8 "))
+    assert line.rstrip().endswith("missed")
+    note = next(ln for ln in text.splitlines() if ln.startswith("missed (rows 8)"))
+    assert "load average of 6.50 on 2 CPUs" in note and "not an error" in note
+    assert "--quick" in note
+    text = _benchmark.format_report(_result([fast], quick=False))
+    assert "missed" not in text  # nothing missed: no note
+
+
+def test_bench_row_11c_names_the_size_its_summary_gives():
+    from hairbed import _benchmark
+
+    row = _benchmark.Row.of("11c", 1.5, points=1_000_000, serial_s=3.0, threads_s=2.0,
+                            cpu_per_wall=1.5, chunks={})  # fmt: skip
+    assert row.label == "1.0e+06-point sweep: dask threads (2) / serial, speedup"
+    text = _benchmark.format_report(_result([row]))
+    assert "1.0e+06-point sweep: serial 3.0 s" in text and "1e7" not in text
