@@ -349,3 +349,25 @@ def test_cli_wall_law_and_fluid():
     code, _, err = _cli("solve", *si, "--profile", "wall-law", "--viscosity", "1e-3",
                         "--wall-shear-stress", "1")  # fmt: skip
     assert code == 2 and "needs the fluid's density" in err
+
+
+def test_cli_sweep_of_a_wall_law_pillar():
+    pytest.importorskip("xarray")
+    si = ["--pillar", "--length", "1e-3", "--radius", "50e-6", "--youngs-modulus", "1e5"]
+    code, out, _ = _cli(
+        "sweep", *si, "--fluid", "water", "--profile", "wall-law",
+        "--wall-shear-stress", "0.1,1.05,2",
+    )  # fmt: skip
+    assert code == 0
+    header, *rows = out.strip().splitlines()
+    names = header.split(",")
+    table = np.array([[float(v) for v in r.split(",")] for r in rows])
+    st = _pillar().deform([0.1, 1.05, 2.0])
+    for col, field in (
+        ("height_in_wall_units [1]", "height_in_wall_units"),
+        ("tip_deflection [m]", "tip_deflection"),
+        ("sensitivity [m Pa-1]", "sensitivity"),
+    ):
+        assert np.allclose(table[:, names.index(col)], getattr(st, field), rtol=1e-14, atol=0)
+    code, _, err = _cli("sweep", "--fluid", "water", "--omega2", "1:2:3")
+    assert code == 2 and "--fluid needs --pillar" in err

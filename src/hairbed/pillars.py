@@ -68,6 +68,7 @@ from ._core.validation import (
     check_int,
     check_number,
     check_positive,
+    real_values,
     show,
     status_messages,
 )
@@ -86,6 +87,7 @@ from .units import _warn_implausible
 
 __all__ = [
     "FLUIDS",
+    "MAX_L_PLUS",
     "MIN_SLENDERNESS",
     "PILLAR_PROFILES",
     "PILLAR_REYNOLDS_LIMIT",
@@ -109,8 +111,8 @@ MIN_SLENDERNESS = math.exp(1.5) / 2.0
 PILLAR_REYNOLDS_LIMIT = 0.5
 #: The profiles of a :class:`Pillar`: the core's and Spalding's law of the wall.
 PILLAR_PROFILES = (*PROFILES, "wall-law")
-#: Above this height in wall units L+ the viscous sublayer (u+ = y+ within 2 % up to
-#: y+ ~ 5) no longer holds along the pillar: the "sublayer" profile gets a
+#: Above this height in wall units L+ the viscous sublayer (u+ = y+, 2.7 % off at y+ = 5)
+#: in Spalding's law) no longer holds along the pillar: the "sublayer" profile gets a
 #: :class:`hairbed.ModelValidityWarning` that points to the "wall-law" profile.
 SUBLAYER_L_PLUS_LIMIT = 5.0
 #: Fluid presets at 20 C and 101.325 kPa: name -> (viscosity eta [Pa s], density rho
@@ -180,6 +182,12 @@ class PillarDeformation:
         :data:`SUBLAYER_L_PLUS_LIMIT` a :class:`hairbed.ModelValidityWarning` is issued.
     status : int or ndarray
         The solver's status (0 ok, 3 inaccurate, negative failed; ``STATUS_MESSAGES``).
+    n_states : int or ndarray
+        How many states coexist at this stress (:attr:`hairbed.PillarState.n_states`): 1, or
+        3 inside a snap-through window (a pillar tilted far against the flow), where this is
+        the first one a slow ramp from rest reaches; ``hairbed.solve_pillar_all(forcing,
+        theta0, gamma=..., profile=...)`` of this state's ``solution`` gives all three. 0
+        where no state was found.
     """
 
     pillar: Pillar = field(repr=False)
@@ -199,6 +207,7 @@ class PillarDeformation:
     reynolds_number: FloatOrArray
     status: Any
     height_in_wall_units: FloatOrArray = math.nan
+    n_states: Any = None
 
     @property
     def success(self) -> Any:
@@ -261,7 +270,7 @@ def _merged(
         sel = np.flatnonzero(inv == g)
         part = solve(sel, row_groups(prof[sel[:1]])[0][1])
         for f in dataclasses.fields(part):
-            if f.name == "stable":
+            if f.name == "stable" or getattr(part, f.name) is None:
                 continue
             value = np.asarray(getattr(part, f.name))
             if f.name == "_coefs":
@@ -344,7 +353,7 @@ class Pillar:
         Poiseuille flow in a channel of height ``channel_height``, Spalding's law of the wall
         u = u_tau u+(z u_tau/nu) from the sublayer through the log region ("wall-law": needs
         the ``density``; theory.md §12, valid within the inner layer of a turbulent
-        boundary layer, L+ up to :data:`hairbed.MAX_L_PLUS`), or a callable u(z) [m/s]
+        boundary layer, L+ up to 1e4, ``MAX_L_PLUS``), or a callable u(z) [m/s]
         of heights z [m] (an ndarray in [0, L]) giving the flow at a reference wall shear
         stress eta u'(0), which must not vanish; :meth:`deform` scales it to the stress asked
         for.
@@ -380,7 +389,7 @@ class Pillar:
     ...            profile="wall-law")
     >>> st = w.deform(1.0)
     >>> round(st.height_in_wall_units, 2)  # L+ [-]
-    31.56
+    31.54
     """
 
     length: float
@@ -477,7 +486,7 @@ class Pillar:
                 "precision (the slenderness L/a)"
             )
         # the core takes gamma in (0, 1]: Gray & Hancock's ratio passes 1 at L/a = e^1.5/2
-        if not (slenderness > 1.5 and gray_hancock_ratio(slenderness) <= 1.0):
+        if not slenderness >= MIN_SLENDERNESS:
             raise ValueError(
                 f"radius {self.radius!r} m: the slenderness length/radius must be at least "
                 f"e^1.5/2 = {MIN_SLENDERNESS:.4f} (Gray & Hancock's ratio zeta_par/zeta_perp "
@@ -527,13 +536,7 @@ class Pillar:
                     f"profile: the callable raised {type(exc).__name__}: {exc} (it is called "
                     "with an ndarray of heights z in [0, length] [m])"
                 ) from exc
-            try:
-                vals = np.asarray(raw, dtype=np.float64)
-            except (TypeError, ValueError):
-                raise TypeError(
-                    "profile: the callable must return real speeds [m/s], got "
-                    f"{type(raw).__name__}"
-                ) from None
+            vals = real_values(raw, "profile: the callable", "real speeds [m/s]")
             if vals.shape != zm.shape:
                 raise ValueError(
                     f"profile: the callable must return an array of the shape of z "
@@ -799,6 +802,8 @@ class Pillar:
         Returns
         -------
         PillarDeformation
+            Inside a snap-through window (``n_states`` 3) the state a slow ramp of the flow
+            from rest reaches; :func:`hairbed.solve_pillar_all` at its ``forcing`` gives all.
         """
         tau = self._stress(wall_shear_stress, velocity, pressure_gradient)
         lam = self._forcing(tau)
@@ -885,6 +890,7 @@ class Pillar:
             reynolds_number=float_or_array(reynolds),
             status=sol.status,
             height_in_wall_units=float_or_array(l_plus),
+            n_states=sol.n_states,
         )
 
     def _solved(self, wall_shear_stress: Any) -> PillarDeformation:

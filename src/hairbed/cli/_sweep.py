@@ -22,6 +22,7 @@ from ._options import (
     add_branch,
     add_command,
     add_eps,
+    add_fluid_option,
     add_pillar_options,
     bed_from,
     pillar_keywords,
@@ -136,6 +137,7 @@ def add_parser(sub: Any) -> None:
         help="with --pillar and its SI inputs: a factor c > 0 on both drag coefficients [-] "
         "(default 1, Gray & Hancock's)",
     )
+    add_fluid_option(g)
 
 
 _LEGACY_OMEGA2 = {"omega2_min": "--omega2-min", "omega2_max": "--omega2-max"}
@@ -278,6 +280,7 @@ _SI_PILLAR_VARIABLES = {
     "drag_wall_normal": ("N", "wall-normal drag on the whole pillar"),
     "sensitivity": ("m Pa-1", "d(tip deflection)/d(tau_w), exact"),
     "reynolds_number": ("1", "pillar Reynolds number rho |u(tip)| 2a / eta"),
+    "height_in_wall_units": ("1", "pillar length in wall units L+ = L sqrt(|tau_w|/rho) / nu"),
     "status": ("1", "solver status: 0 converged, 3 inaccurate, negative failed"),
 }
 
@@ -317,9 +320,12 @@ def _si_pillar_sweep(args: argparse.Namespace) -> Any:
         if name == drive:
             continue
         value = np.asarray(getattr(d, name))
-        if name in ("velocity", "pressure_gradient", "reynolds_number") and np.all(
-            np.isnan(value)
-        ):
+        if name in (
+            "velocity",
+            "pressure_gradient",
+            "reynolds_number",
+            "height_in_wall_units",
+        ) and np.all(np.isnan(value)):
             continue  # the channel has no such drive, or no density: not a column of NaN
         data[name] = (dims, value, {"units": units, "long_name": long_name})
     st = d.solution
@@ -347,6 +353,7 @@ def _si_pillar_sweep(args: argparse.Namespace) -> Any:
                 "channel_height",
                 "density",
                 "drag_scale",
+                "fluid",
             )  # fmt: skip
             if (v := getattr(pillar, k)) is not None
         },
@@ -382,10 +389,14 @@ def run(args: argparse.Namespace) -> int:
         write_dataset_output(_si_pillar_sweep(args), args.out, args.no_compress)
         return 0
     if args.pillar:
-        refuse(args, {"drag_scale": "--drag-scale"}, "needs the SI inputs of a pillar")
+        refuse(
+            args,
+            {"drag_scale": "--drag-scale", "fluid": "--fluid"},
+            "needs the SI inputs of a pillar",
+        )
         pillar = _pillar_inputs(args)
     else:
-        refuse(args, {**PILLAR_OPTIONS, "drag_scale": "--drag-scale"},
+        refuse(args, {**PILLAR_OPTIONS, "drag_scale": "--drag-scale", "fluid": "--fluid"},
                "needs --pillar (an isolated pillar)")  # fmt: skip
     bed = None if args.pillar else bed_from(args)
     if pillar:
