@@ -6,9 +6,11 @@ The page (``ExplorerPage``, no browser: the server's side of an update) in pilla
 2. a move of Lambda in the calibration view, its curve cached (the dot moves) [ms];
 3. a move of theta0 in the calibration view (a new curve: a ``solve_pillar`` batch of 141
    forcings) [ms], and its ratio to row 2: what the cache saves on every Lambda move;
-4. the same in a snap-through window (theta0 = -1.45: ``solve_pillar_all`` per new Lambda,
-   the curve from ``continue_pillar``) [ms]: a new Lambda, a Lambda seen before (cached),
-   and a new theta0.
+4. the same in a snap-through window (theta0 = -1.45: every new Lambda's states read from
+   the pillar's branch, ``continue_pillar`` once per pillar, which the curve shares; issue
+   33) [ms]: a new Lambda, a Lambda seen before (cached), and a new theta0 (a new branch).
+   ``benchmarks/bench_explorer.py --pillar`` measures the new Lambdas against
+   ``solve_pillar_all``.
 
 Each figure is the median over ``--moves`` updates (rows 1 to 3). Needs the ``app`` extra.
 

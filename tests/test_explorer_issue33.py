@@ -76,7 +76,7 @@ def test_an_unknown_parameter_of_a_pillar_link_and_of_the_history():
 
 def _counting(monkeypatch) -> dict[str, int]:
     """Count the library's branch solvers as the explorer calls them."""
-    calls = {"continue_pillar": 0, "solve_pillar_all": 0}
+    calls = {"continue_pillar": 0, "solve_pillar_all": 0, "solve_pillar_inverse": 0}
     for name in calls:
         real = getattr(hairbed, name)
 
@@ -94,7 +94,7 @@ def test_a_new_forcing_in_a_window_reads_the_pillars_cached_branch(monkeypatch):
     pillar.clear_pillar_caches()
     calls = _counting(monkeypatch)
     page = _page("?mode=pillar&forcing=20&pillar_theta0=-1.45")
-    assert calls == {"continue_pillar": 1, "solve_pillar_all": 0}
+    assert (calls["continue_pillar"], calls["solve_pillar_all"]) == (1, 0)
     counts = []
     for lam in ("15.5", "18", "21", "22", "1", "30"):
         page.text["forcing"].value = lam
@@ -102,16 +102,19 @@ def test_a_new_forcing_in_a_window_reads_the_pillars_cached_branch(monkeypatch):
         counts.append(len(page.pillar.snapshot.states))
     # the window of theta0 = -1.45 lies between its folds, Lambda = 14.83 and 22.29
     assert counts == [3, 3, 3, 3, 1, 1]
+    inverse = calls["solve_pillar_inverse"]
+    page.text["forcing"].value = "18"  # a forcing seen before: no solve at all
+    assert calls["solve_pillar_inverse"] == inverse and len(page.pillar.snapshot.states) == 3
     page.pillar.view.value = "calibration"  # the calibration curve reads the same branch
     assert page.pillar.snapshot.calibration.folds.shape == (2, 2)
-    assert calls == {"continue_pillar": 1, "solve_pillar_all": 0}
+    assert (calls["continue_pillar"], calls["solve_pillar_all"]) == (1, 0)
     page.text["forcing"].value = "-20"  # towards -x it leans downstream: no window
     assert len(page.pillar.snapshot.states) == 1
-    assert calls == {"continue_pillar": 1, "solve_pillar_all": 0}
+    assert (calls["continue_pillar"], calls["solve_pillar_all"]) == (1, 0)
     page.text["pillar_theta0"].value = "1.45"  # the mirror image: a pillar of its own
     page.text["forcing"].value = "-21"
     assert len(page.pillar.snapshot.states) == 3
-    assert calls == {"continue_pillar": 2, "solve_pillar_all": 0}
+    assert (calls["continue_pillar"], calls["solve_pillar_all"]) == (2, 0)
     pillar.clear_pillar_caches()
     assert pillar.pillar_branch.cache_info().currsize == 0
 

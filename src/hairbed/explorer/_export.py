@@ -303,7 +303,11 @@ def view_figure(page: Any, dpi: int = DPI) -> Any:
     width = max(sum(w + 110.0 for w, _, _ in row) for row in sizes)
     heights = [max(h for _, h, _ in row) + 95.0 for row in sizes]
     notes = [f"link: {page.history.search or '?'}", *_notes(page)]
-    lines = [seg for n in notes for seg in textwrap.wrap(n, int((width - 20.0) / 7.5)) or [""]]
+    lines = [
+        seg
+        for n in notes
+        for seg in textwrap.wrap(n, int((width - 20.0) / 7.5), break_on_hyphens=False) or [""]
+    ]
     head = 34.0 + 15.0 * len(lines)
     fig = mfigure.Figure(figsize=(width / 96.0, (head + sum(heights)) / 96.0), dpi=dpi)
     FigureCanvasAgg(fig)

@@ -385,21 +385,33 @@ def branch_states(p: PillarParams) -> list[Any] | None:
     As :func:`hairbed.solve_pillar_all`, the states at Lambda are the roots of
     Lambda(x1) = Lambda on a branch followed up to twice the forcing (the first of the levels
     :data:`BRANCH_FORCING` 10^k that reaches it), bracketed between its points and folds.
-    Each root starts from the linear interpolation of Lambda in its bracket and is refined
-    by Newton's method on x1 with the exact dLambda/dx1 = 1/``tip_deflection_slope`` of
-    :func:`hairbed.solve_pillar_inverse` (every root in one batch per step; a step that
-    leaves its bracket bisects it instead) until Lambda is the forcing to rounding. A
-    forcing inside the window costs a few batched inverse solves, not a new branch.
+    Each root starts from the root of the cubic through the four branch points around it
+    and is refined by Newton's method on x1 with the exact dLambda/dx1 =
+    1/``tip_deflection_slope`` of :func:`hairbed.solve_pillar_inverse` (the roots not yet
+    converged in one batch per step; a step that leaves its bracket bisects it instead)
+    until Lambda is the forcing to rounding (1e-14) or the step is below x1's rounding. A
+    forcing inside the window costs a few batched inverse solves, not a new branch; one seen
+    before costs nothing (the states are cached per input too).
     """
-    lam = p.forcing
+    found = _states_on_branch(p.forcing, p.theta0, *p.kwargs.values())
+    return None if found is None else list(found)
+
+
+@functools.lru_cache(maxsize=64)
+def _states_on_branch(
+    lam: float, theta0: float, profile: str, height_ratio: float | None, gamma: float,
+    tip_load: float,
+) -> tuple[Any, ...] | None:  # fmt: skip
+    """:func:`branch_states` of the pillar's inputs (cached: a slider moved back and forth
+    reads each forcing once)."""
+    kw = {"profile": profile, "height_ratio": height_ratio, "gamma": gamma, "tip_load": tip_load}
     if lam == 0.0 or not math.isfinite(lam):
         return None
     sign = -1.0 if lam < 0.0 else 1.0
     level = max(0, math.ceil(math.log10(2.0 * abs(lam) / BRANCH_FORCING)))
     if level > 3:
         return None
-    kw = p.kwargs
-    branch = pillar_branch(sign, p.theta0, *kw.values(), level)
+    branch = pillar_branch(sign, theta0, *kw.values(), level)
     if branch is None:
         return None
     xs = np.concatenate([branch.tip_deflection, branch.folds[:, 1]])
@@ -416,7 +428,7 @@ def branch_states(p: PillarParams) -> list[Any] | None:
     best_x, best_g = x.copy(), np.full(x.shape, np.inf)
     todo = np.arange(x.size)  # the roots not converged yet: solved together each step
     for _ in range(_NEWTON_STEPS):
-        st = hairbed.solve_pillar_inverse(x[todo], p.theta0, **kw)
+        st = hairbed.solve_pillar_inverse(x[todo], theta0, **kw)
         gx = np.asarray(st.forcing, dtype=np.float64).reshape(-1) - lam
         xt = x[todo]
         better = np.abs(gx) < np.abs(best_g[todo])
@@ -441,10 +453,10 @@ def branch_states(p: PillarParams) -> list[Any] | None:
         todo = todo[~done]
         if todo.size == 0:
             break
-    found = [hairbed.solve_pillar_inverse(float(v), p.theta0, **kw) for v in np.sort(best_x)]
+    found = [hairbed.solve_pillar_inverse(float(v), theta0, **kw) for v in np.sort(best_x)]
     if any(int(s.status) < 0 for s in found):
         return None
-    return [dataclasses.replace(s, stable=bool(s.tip_deflection_slope > 0.0)) for s in found]
+    return tuple(dataclasses.replace(s, stable=bool(s.tip_deflection_slope > 0.0)) for s in found)
 
 
 @functools.lru_cache(maxsize=32)
@@ -564,7 +576,7 @@ def _every_state(
 def clear_pillar_caches() -> None:
     """Empty the pillar mode's caches (branches, calibration curves, states): what no session
     needs once none is open."""
-    for func in (pillar_branch, calibration_curve, _every_state):
+    for func in (pillar_branch, _states_on_branch, calibration_curve, _every_state):
         func.cache_clear()
 
 
