@@ -249,6 +249,40 @@ def test_calibration_fit_measure_and_linear_range():
         assert lr.wall_shear_stress < sub.linear_range(0.05).wall_shear_stress
 
 
+def test_calibration_jacobian_against_central_differences():
+    # every free parameter, through L+ for the length (theory.md §12, the law of the wall)
+    from dataclasses import replace
+
+    from tolerances import PILLAR_JACOBIAN_FD_RTOL
+
+    from hairbed.calibration import PILLAR_FREE_PARAMETERS, _pillar_model_at
+
+    pillar = _pillar(base_angle=0.2)
+    tau = np.linspace(0.3, 5.0, 5)
+    names = tuple(PILLAR_FREE_PARAMETERS)
+    d, jac, dd_dtau = _pillar_model_at(pillar, tau, pillar._solve(pillar._forcing(tau)), names)
+    np.testing.assert_array_equal(
+        d, calibration.model_tip_deflection(pillar, wall_shear_stress=tau)
+    )
+    assert np.allclose(dd_dtau, pillar.sensitivity(tau), rtol=1e-14, atol=0)
+    for j, name in enumerate(names):
+        v = getattr(pillar, name)
+        h = 1e-5 * (1.0 if name == "base_angle" else abs(v))
+        up, down = replace(pillar, **{name: v + h}), replace(pillar, **{name: v - h})
+        fd = (
+            calibration.model_tip_deflection(up, wall_shear_stress=tau)
+            - calibration.model_tip_deflection(down, wall_shear_stress=tau)
+        ) / (2 * h)
+        big = np.max(np.abs(jac[:, j]))
+        assert np.max(np.abs(fd - jac[:, j])) <= PILLAR_JACOBIAN_FD_RTOL * big, name
+    # the length's column is not the frozen profile's: L+ carries a part of it far above the
+    # tolerance, so that the differences above would see it missing
+    sol = pillar._solve(pillar._forcing(tau))
+    part = pillar._tip_derivatives(tau, sol)["log_l_plus"]
+    big = np.max(np.abs(jac[:, names.index("length")]))
+    assert np.max(np.abs(part)) > 1e3 * PILLAR_JACOBIAN_FD_RTOL * big
+
+
 # -- presets, warnings, bad input -------------------------------------------------------------
 
 
