@@ -59,7 +59,7 @@ from ._core.pillar import (
     gray_hancock_ratio,
     profile_coefficients,
 )
-from ._core.pillar_sensitivity import _profile_derivative
+from ._core.pillar_sensitivity import _profile_derivative, pillar_gradient_rows
 from ._core.validation import (
     HALF_PI,
     STATUS_MESSAGES,
@@ -77,7 +77,6 @@ from ._core.wall_law import (
     WALL_LAW_B,
     WALL_LAW_KAPPA,
     _u_plus,
-    pillar_gradient_rows,
     row_groups,
     wall_law_coefficients,
 )
@@ -746,7 +745,7 @@ class Pillar:
             dp = _profile_derivative(self._core_profile, self.height_ratio)
             dprof = np.zeros((1, 1)) if dp is None else dp[None, :]
         with np.errstate(all="ignore"):
-            out, _ = pillar_gradient_rows(sol, prof, dprof)
+            out, _, _ = pillar_gradient_rows(sol, prof, dprof)
         x1 = out[1]
         wall = self.profile == "wall-law"
         return {
@@ -763,10 +762,10 @@ class Pillar:
 
             dx1/dtau_w = x1_Lambda Lambda/tau_w + x1_q/(2 tau_w),   q = ln L+,
 
-        both derivatives exact (:func:`hairbed._core.wall_law.pillar_gradient_rows` with
+        both derivatives exact (:func:`hairbed._core.pillar_sensitivity.pillar_gradient_rows` with
         dU/dq = z U' - U); x1_q/tau_w -> 0 as tau_w -> 0 (the sublayer)."""
         prof, dprof = self._wall_rows(tau)
-        out, _ = pillar_gradient_rows(sol, prof, dprof)
+        out, _, _ = pillar_gradient_rows(sol, prof, dprof)
         x1_lam, x1_q = out[1, 0], out[1, 3]
         with np.errstate(divide="ignore", invalid="ignore"):
             shape_part = np.where(tau != 0.0, x1_q / (2.0 * tau), 0.0)
@@ -1031,7 +1030,7 @@ class Pillar:
             st = _pillar_state((idx.size,), o[12], tm[idx], g[idx], tip[idx], o, c, a[idx])
             out[:, idx], coefs[:, idx] = o, c
             lam = o[12]
-            grad, _ = pillar_gradient_rows(st, prof, dprof)
+            grad, _, _ = pillar_gradient_rows(st, prof, dprof)
             with np.errstate(divide="ignore", invalid="ignore"):
                 beta = -grad[1, 3] / grad[1, 0] / lam  # d ln Lambda/d ln L+ at fixed x1
                 gt = np.log(lam / (fps * ta))
