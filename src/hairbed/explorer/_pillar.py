@@ -352,7 +352,7 @@ _X_ROUNDING = 2 * 2.0**-52
 def _cubic_root(xs: np.ndarray, g: np.ndarray, idx: np.ndarray) -> np.ndarray:
     """A start for each root of g in [xs[i], xs[i + 1]] (g changes sign there): the root in
     the bracket of the cubic through the four points around it, or the chord's where there
-    is none (fewer than four points, a NaN among them)."""
+    is none (fewer than four points, a NaN among them, points bunched or far apart)."""
     n = xs.size
     lo, hi = xs[idx], xs[idx + 1]
     glo, ghi = g[idx], g[idx + 1]
@@ -366,8 +366,9 @@ def _cubic_root(xs: np.ndarray, g: np.ndarray, idx: np.ndarray) -> np.ndarray:
             if not (np.all(np.isfinite(pg)) and width != 0.0):
                 continue
             t = (px - lo[k]) / width  # the bracket is [0, 1] in t
-            if np.unique(t).size < 4:
-                continue
+            gaps = np.diff(np.sort(t))
+            if gaps.size < 3 or gaps.min() < 1e-3 or np.max(np.abs(t)) > 10.0:
+                continue  # points too close or too far for a well-posed cubic: the chord
             roots = np.roots(np.polyfit(t, pg, 3))
             real = roots[np.abs(roots.imag) <= 1e-9].real
             real = real[(real >= 0.0) & (real <= 1.0)]

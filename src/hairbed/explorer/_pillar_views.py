@@ -136,7 +136,7 @@ def table_html(snap: PillarSnapshot) -> str:
         rows.append(f'<tr data-row="{key}"><th>{html.escape(label)}</th>{cells}</tr>')
 
     if snap.params.window:
-        row("stable", "stable (solve_pillar_all)", [v.stable for v in snap.states])
+        row("stable", "stable (dLambda/dx1 > 0 on the branch)", [v.stable for v in snap.states])
     for key in PILLAR_FIELDS:
         row(key, FIELD_LABELS[key], [getattr(v.state, key) for v in snap.states])
     row("message", "message", [v.state.message for v in snap.states])
