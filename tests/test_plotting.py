@@ -487,19 +487,29 @@ def test_pillar_calibration_marks_where_the_linear_error_reaches_1_and_10_percen
     a forcing 1 % (10 %) off there (to the figure's interpolation between grid points)."""
     fig = plotting.fig_pillar_calibration(theta0s=(0.0, -0.6), num=200)
     axe = fig.axes[1]
+    gamma = gray_hancock(20.0)  # the figure's pillar: L/a = 20 by default (issue 33)
+    assert f"{gamma:.3f}" in fig.axes[0].get_title() and "L/a = 20" in fig.axes[0].get_title()
     for t0, color in ((0.0, "C0"), (-0.6, "C3")):
         marks = [ln for ln in axe.get_lines() if len(ln.get_xdata()) == 1
                  and ln.get_color() == color]  # fmt: skip
         assert len(marks) == 2
         for ln, level in zip(marks, (0.01, 0.1)):
             lam = float(ln.get_xdata()[0])
-            st = hairbed.solve_pillar(lam, t0)
+            st = hairbed.solve_pillar(lam, t0, gamma=gamma)
             read = (st.tip_deflection - np.sin(t0)) / (11.0 * np.cos(t0) ** 3 / 120.0)
             assert abs(read - lam) / lam == pytest.approx(level, rel=0.02)
-    # the linear formula is the small-deflection slope of the solver (theory.md §12)
+    # the linear formula is the small-deflection slope of the solver (theory.md §12), whatever
+    # gamma (the tangential drag only compresses a straight pillar)
     for t0 in (0.0, -0.6):
-        slope = hairbed.solve_pillar(0.0, t0).tip_deflection_slope
-        assert slope == pytest.approx(11.0 * np.cos(t0) ** 3 / 120.0, rel=1e-10)
+        for g in (0.5, gamma):
+            slope = hairbed.solve_pillar(0.0, t0, gamma=g).tip_deflection_slope
+            assert slope == pytest.approx(11.0 * np.cos(t0) ** 3 / 120.0, rel=1e-10)
+
+
+def gray_hancock(slenderness: float) -> float:
+    """gamma = (ln(2L/a) + 1/2)/(2 ln(2L/a) - 1) (theory.md §12), written here."""
+    ln = np.log(2.0 * slenderness)
+    return float((ln + 0.5) / (2.0 * ln - 1.0))
 
 
 def test_pillar_snap_marks_the_folds_and_dashes_the_unstable_part():
@@ -507,7 +517,11 @@ def test_pillar_snap_marks_the_folds_and_dashes_the_unstable_part():
     ax, axs = fig.axes
     folds = next(ln for ln in ax.get_lines() if ln.get_label() == "folds")
     lam = np.sort(folds.get_xdata())
-    assert lam == pytest.approx([13.7, 16.0], abs=0.3)  # theory.md §12 (its reference)
+    gamma = gray_hancock(20.0)  # the pillar's own slenderness, L/a = 20 (issue 33)
+    assert f"{gamma:.3f}" in ax.get_title()
+    br = hairbed.continue_pillar(40.0, -1.4, gamma=gamma)
+    assert lam == pytest.approx(np.sort(np.asarray(br.folds)[:, 0]), rel=1e-9)
+    assert lam == pytest.approx([13.9, 16.45], abs=0.3)  # near gamma = 1/2's 13.7 and 16.0
     dashed = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--" and len(ln.get_xdata())]
     assert len(dashed) == 1  # the middle part of the S, between the folds
     x = dashed[0].get_xdata()
@@ -551,3 +565,55 @@ def test_valve_result_draws_what_the_valve_command_computed():
 def bed_kwargs(bed) -> dict:
     return {k: getattr(bed, k) for k in ("length", "radius", "youngs_modulus",
                                          "channel_height", "viscosity", "spacing")}  # fmt: skip
+
+
+def test_pillar_snap_says_when_forcing_max_cuts_the_branch_before_its_folds():
+    """forcing_max = 15 stops the branch from rest below its upper fold (16.45 at L/a = 20):
+    a UserWarning and a note in the panel name the folds it would reach; no fold, no
+    unstable part and no window are drawn or named in the legend."""
+    with pytest.warns(UserWarning, match=r"forcing_max = 15 stops the branch before its fold"):
+        fig = plotting.fig_pillar_snap(num=60, forcing_max=15.0)
+    ax = fig.axes[0]
+    assert any("raise forcing_max" in t.get_text() for t in ax.texts)
+    words = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert words == ["stable"]
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the whole branch: no warning
+        plotting.fig_pillar_snap(num=60, forcing_max=40.0)
+
+
+def test_pillar_figures_take_the_slenderness_and_refuse_a_bad_one():
+    fig = plotting.fig_pillar_calibration(theta0s=(0.0,), num=20, slenderness=100.0)
+    assert f"{gray_hancock(100.0):.3f}" in fig.axes[0].get_title()
+    with pytest.raises(ValueError, match="slenderness"):
+        plotting.fig_pillar_snap(num=20, slenderness=1.0)
+
+
+def test_set_theta0_is_the_one_slice_of_the_bistability_figure(tmp_path):
+    """--set theta0=X is not ignored by the figures that draw several base angles: it is
+    their one slice theta0s=(X,), unless theta0s is set; a slice without a window is refused
+    by name and index (issue 33, Ranges and sweeps)."""
+    from hairbed.branches import bistable_window, cusp
+
+    got = plotting.parse_settings(["theta0=-1.2"], only=["bistability", "hysteresis"])
+    assert got == {"bistability": {"theta0s": (-1.2,)}, "hysteresis": {"theta0": -1.2}}
+    got = plotting.parse_settings(["theta0=-1.2", "theta0s=-1,-0.5"], only=["bistability"])
+    assert got == {"bistability": {"theta0s": (-1.0, -0.5)}}
+    fig = plotting.fig_bistability(n_theta=6, n_eps=5, **got["bistability"])
+    fig = plotting.fig_bistability(n_theta=6, n_eps=5, theta0s=(-1.2,))
+    ax, axw = fig.axes
+    assert [t.get_text() for t in axw.get_legend().get_texts()] == [r"$\theta_0 = -1.2$", "cusp"]
+    slice_ = next(ln for ln in ax.get_lines() if ln.get_xdata()[0] == -1.2)
+    assert slice_.get_ydata()[0] == pytest.approx(float(cusp(-1.2)), rel=1e-12)
+    lower = [ln for ln in axw.get_lines() if len(ln.get_xdata()) == 5][0]
+    e, w = lower.get_xdata()[2], lower.get_ydata()[2]
+    assert w == pytest.approx(bistable_window(e, -1.2).lower, rel=1e-12)
+    for bad in (0.3, -0.2, -1.6):
+        with pytest.raises(ValueError, match=r"theta0s\[0\] = "):
+            plotting.fig_bistability(n_theta=3, n_eps=3, theta0s=(bad,))
+    from hairbed.cli import main
+
+    assert main(["figures", "--only", "bistability", "--set", "theta0=0.3", "--out",
+                 str(tmp_path), "--quiet"]) == 2  # fmt: skip

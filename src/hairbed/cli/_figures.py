@@ -18,7 +18,10 @@ ABOUT = """write every figure as PNG
 
 Recompute the paper's figures and the new ones and write PNG files (whole or not at all).
 --set KEY=VALUE passes a parameter to every selected figure that has it (a comma list for a
-tuple, e.g. eps_values=0.3,0.9); the figures and their parameters: model (omega2, eps,
+tuple, e.g. eps_values=0.3,0.9); theta0=X is the one slice theta0s=X of the figures that draw
+several base angles (unless theta0s is set), and a key that no selected figure takes, or a
+value a figure cannot draw, is refused; a figure whose picture a setting cuts short says so
+(a warning). The figures and their parameters: model (omega2, eps,
 theta0), pendulum (omega2), phase_portrait (xis), solution (eps_values, num), theta0s (eps,
 theta0s, num), profiles (omega2s, eps, num), twirling (omega2, eps, theta0), bistability
 (n_theta, n_eps, theta0s), hysteresis (eps, theta0, num), rheology (eps_values, theta0,
@@ -26,8 +29,9 @@ num), calibration (eps_values, theta0, num), physical_units (length, radius, you
 channel_height, viscosity, spacing [SI], base_angles, max_velocity, num), fd_convergence
 (omega2s, nums, eps), speed (n, repeat), valve (length, radius, youngs_modulus,
 channel_height, viscosity, spacing, base_angle, channel_length [SI], max_flow_rate [m^2/s],
-diode_angles, num), pillar_calibration (theta0s, forcing_min, forcing_max, num),
-pillar_snap (theta0, forcing_max, forcing, num).
+diode_angles, num), pillar_calibration (theta0s, forcing_min, forcing_max, num,
+slenderness L/a: the drag ratio gamma of Gray & Hancock, default 20), pillar_snap (theta0,
+forcing_max, forcing, num, slenderness).
 
 examples:
   hairbed figures --out figures

@@ -54,11 +54,13 @@ from .paper import (
     fig_solution,
     fig_theta0s,
 )
+from .porous import fig_collective_stiffening
 
 __all__ = [
     "FIGURES",
     "fig_bistability",
     "fig_calibration",
+    "fig_collective_stiffening",
     "fig_fd_convergence",
     "fig_hysteresis",
     "fig_model",
@@ -104,6 +106,7 @@ FIGURES: dict[str, Callable[..., Figure]] = {
     "speed": fig_speed,
     "pillar_calibration": fig_pillar_calibration,
     "pillar_snap": fig_pillar_snap,
+    "collective_stiffening": fig_collective_stiffening,
 }
 
 
@@ -148,12 +151,20 @@ def _convert(text: str, default: Any, key: str) -> Any:
     return tuple(values) if isinstance(default, tuple) else values[0]
 
 
+#: A single value of a figure's plural parameter: ``--set theta0=X`` is ``theta0s=(X,)`` for
+#: the figures that take theta0s and not theta0 (bistability, pillar_calibration), unless
+#: theta0s is set too.
+SINGULAR = {"theta0": "theta0s"}
+
+
 def parse_settings(
     settings: Iterable[str], only: Iterable[str] | None = None
 ) -> dict[str, dict[str, Any]]:
     """The keyword arguments of each figure from ``KEY=VALUE`` texts (``hairbed figures
     --set``): a value goes to every figure among ``only`` (default all) that has a parameter
-    KEY, converted to its type (a comma list for a tuple).
+    KEY, converted to its type (a comma list for a tuple); ``theta0=X`` goes as the one
+    slice ``theta0s=(X,)`` to the figures that draw several base angles
+    (:data:`SINGULAR`), so that no selected figure ignores it.
 
     Raises
     ------
@@ -169,13 +180,16 @@ def parse_settings(
     names = _selected(only)
     table = {name: parameters(name) for name in names}
     out: dict[str, dict[str, Any]] = {name: {} for name in names}
+    singles: dict[str, dict[str, Any]] = {name: {} for name in names}
     for text in settings:
         key, sep, value = text.partition("=")
         key = key.strip()
         if not sep or not key:
             raise ValueError(f"--set takes KEY=VALUE, got {text!r}")
         takers = [name for name in names if key in table[name]]
-        if not takers:
+        plural = SINGULAR.get(key, "")
+        slices = [n for n in names if plural and plural in table[n] and key not in table[n]]
+        if not takers and not slices:
             known = sorted({k for params in table.values() for k in params})
             raise ValueError(
                 f"--set {key}: no figure among {', '.join(names)} takes {key!r}; "
@@ -183,6 +197,11 @@ def parse_settings(
             )
         for name in takers:
             out[name][key] = _convert(value, table[name][key], key)
+        for name in slices:
+            singles[name][plural] = (_convert(value, 0.0, key),)
+    for name, kw in singles.items():
+        for plural, values in kw.items():
+            out[name].setdefault(plural, values)  # an explicit theta0s wins
     return {name: kw for name, kw in out.items() if kw}
 
 

@@ -8,6 +8,7 @@ public API (:func:`hairbed.solve`, the lab modules ``hairbed.branches``, ``hairb
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Iterable, Sequence
 from typing import Any
 
@@ -70,6 +71,13 @@ def fig_bistability(
 
     n_theta = check_int(n_theta, "n_theta", 2, MAX_POINTS)
     n_eps = check_int(n_eps, "n_eps", 2, MAX_POINTS)
+    for k, t0 in enumerate(theta0s):  # a slice with no window would be drawn as nothing
+        if not (-0.5 * np.pi < t0 < 0.0) or not float(cusp(t0)) < 0.985:
+            raise ValueError(
+                f"theta0s[{k}] = {t0!r}: the windows drawn need a base angle leaning into the "
+                "flow, -pi/2 < theta0 < 0, whose cusp eps_c(theta0) lies below eps = 0.985 "
+                "(theta0 below about -0.49)"
+            )
     fig, (ax, axw) = figure_axes(ax, 1, 2, size=(9.4, 3.9))
     lo = -0.5 * np.pi
     # denser towards both ends, where eps_c runs to 0 and to 1
@@ -867,11 +875,14 @@ def fig_pillar_calibration(
     forcing_min: float = 1e-3,
     forcing_max: float = 1e3,
     num: int = 240,
+    slenderness: float = 20.0,
     ax: Any = None,
 ) -> Figure:
     """A pillar sensor's calibration: the exact tip deflection against the linear formula.
 
-    An isolated pillar in the viscous sublayer (theory.md §12, gamma = 1/2), at the base
+    An isolated pillar of slenderness L/a = ``slenderness`` in the viscous sublayer
+    (theory.md §12; its drag ratio gamma is Gray & Hancock's of L/a,
+    :func:`hairbed.gray_hancock_ratio`: 0.657 at L/a = 20), at the base
     angles ``theta0s``, over ``num`` forcings Lambda = zeta_perp tau_w L^4/(eta E I)
     geometrically spaced from ``forcing_min`` to ``forcing_max``
     (:func:`hairbed.solve_pillar`). (a) The tip displacement x1 - sin theta0 (exact, solid)
@@ -894,12 +905,13 @@ def fig_pillar_calibration(
             "forcing_min and forcing_max must satisfy 0 < forcing_min < forcing_max < inf, "
             f"got {forcing_min!r} and {forcing_max!r}"
         )
+    gamma = _pillar_gamma(slenderness)
     lam = np.geomspace(forcing_min, forcing_max, num)
     fig, (ax, axe) = figure_axes(ax, 1, 2, size=(9.4, 3.9))
     marks = (("o", 0.01, "1 %"), ("s", 0.1, "10 %"))
     lines = []
     for t0, c in zip(theta0s, colors(len(theta0s)) if len(theta0s) > 2 else ["C0", "C3"]):
-        st = hairbed.solve_pillar(lam, t0)
+        st = hairbed.solve_pillar(lam, t0, gamma=gamma)
         rest = float(np.sin(t0))
         shift = np.asarray(st.tip_deflection) - rest
         slope = 11.0 * np.cos(t0) ** 3 / 120.0
@@ -926,7 +938,9 @@ def fig_pillar_calibration(
     ax.set_yscale("log")
     ax.set_xlabel(r"forcing $\Lambda = \zeta_\perp \tau_w L^4/(\eta E I)$ [-]")
     ax.set_ylabel(r"tip displacement $x_1 - \sin\theta_0$ [$L$]")
-    ax.set_title("(a) calibration curve, sublayer")
+    ax.set_title(
+        rf"(a) calibration curve, sublayer, $L/a = {slenderness:g}$ ($\gamma$ = {gamma:.3f})"
+    )
     ax.legend(loc="upper left")
     for level in (0.01, 0.1):
         axe.axhline(level, color="0.6", lw=0.7, ls=":")
@@ -938,6 +952,20 @@ def fig_pillar_calibration(
     axe.set_title("(b) error of the linear calibration")
     axe.legend(loc="center right")
     return fig
+
+
+def _pillar_gamma(slenderness: float) -> float:
+    """Gray & Hancock's drag ratio of a pillar of slenderness L/a (its checks name it)."""
+    return float(hairbed.gray_hancock_ratio(slenderness))
+
+
+def _folds_beyond(branch: Any, forcing_max: float, theta0: float, gamma: float, num: int) -> list:
+    """The forcings of the folds that the branch from rest would reach past ``forcing_max``
+    (found on the branch to 4 forcing_max, at least 100): where forcing_max cuts it short."""
+    longer = hairbed.continue_pillar(max(4.0 * abs(forcing_max), 100.0) * np.sign(forcing_max),
+                                     theta0, gamma=gamma, num=num)  # fmt: skip
+    drawn = len(np.asarray(branch.folds))
+    return [float(f[0]) for f in np.asarray(longer.folds)[drawn:]]
 
 
 def _stability_runs(stable: Any) -> list[tuple[int, int, bool]]:
@@ -958,17 +986,21 @@ def fig_pillar_snap(
     forcing_max: float = 40.0,
     forcing: float = 15.0,
     num: int = 400,
+    slenderness: float = 20.0,
     ax: Any = None,
 ) -> Figure:
     """The snap-through of a pillar tilted far upstream: its branch, folds and three states.
 
     (a) The tip deflection x1 against the forcing Lambda along the branch of states from rest
     to ``forcing_max`` (:func:`hairbed.continue_pillar`, ``num`` points in x1), for the
-    sublayer, gamma = 1/2, at ``theta0`` (theory.md §12, "Folds"): stable solid, unstable
-    dashed, the folds marked and the window between them shaded. On a slow ramp up the pillar
-    jumps at the upper fold from leaning upstream to standing over its base. (b) The
-    coexisting states at ``forcing`` (:func:`hairbed.solve_pillar_all`; inside the window:
-    three), their shapes (unstable dashed). ``ax``: two Axes.
+    sublayer, a pillar of slenderness L/a = ``slenderness`` (its drag ratio gamma that of
+    :func:`hairbed.gray_hancock_ratio`), at ``theta0`` (theory.md §12, "Folds"): stable
+    solid, unstable dashed, the folds marked and the window between them shaded. On a slow
+    ramp up the pillar jumps at the upper fold from leaning upstream to standing over its
+    base. A ``forcing_max`` that stops the branch before a fold it would reach is said: in
+    the panel and as a UserWarning (``hairbed figures`` prints it), with the fold's forcing.
+    (b) The coexisting states at ``forcing`` (:func:`hairbed.solve_pillar_all`; inside the
+    window: three), their shapes (unstable dashed). ``ax``: two Axes.
 
     Examples
     --------
@@ -977,13 +1009,18 @@ def fig_pillar_snap(
     2
     """
     num = check_int(num, "num", 16, 10**4)
-    br = hairbed.continue_pillar(forcing_max, theta0, num=num)
+    gamma = _pillar_gamma(slenderness)
+    br = hairbed.continue_pillar(forcing_max, theta0, gamma=gamma, num=num)
+    cut = _folds_beyond(br, forcing_max, theta0, gamma, num)
     fig, (ax, axs) = figure_axes(ax, 1, 2, size=(9.4, 3.9))
     lam, x1 = np.asarray(br.forcing), np.asarray(br.tip_deflection)
     for a, b, stable in _stability_runs(np.asarray(br.stable)):
         ax.plot(lam[a:b], x1[a:b], "-" if stable else "--", color="C0" if stable else "C3")
-    ax.plot([], [], "-", color="C0", label="stable")
-    ax.plot([], [], "--", color="C3", label="unstable")
+    kinds = set(np.asarray(br.stable, dtype=bool).tolist())
+    if True in kinds:
+        ax.plot([], [], "-", color="C0", label="stable")
+    if False in kinds:  # only what the branch drawn has
+        ax.plot([], [], "--", color="C3", label="unstable")
     folds = np.asarray(br.folds)
     if len(folds):
         ax.plot(folds[:, 0], folds[:, 1], "ko", ms=5, mfc="white", label="folds")
@@ -993,12 +1030,25 @@ def fig_pillar_snap(
     if len(folds) >= 2:
         lo, hi = float(folds[:, 0].min()), float(folds[:, 0].max())
         ax.axvspan(lo, hi, color="C1", alpha=0.2, lw=0, label="three states")
+    if cut:
+        where = ", ".join(f"{f:.4g}" for f in cut)
+        text = (
+            f"forcing_max = {forcing_max:g} stops the branch before its fold(s) at "
+            f"Lambda = {where}: the snap-through is not drawn; raise forcing_max"
+        )
+        warnings.warn(f"fig_pillar_snap: {text}", UserWarning, stacklevel=3)
+        ax.text(0.03, 0.97, text.replace("Lambda", "$\\Lambda$").replace(": ", ":\n"),
+                transform=ax.transAxes, ha="left", va="top", fontsize=7.5, color="C3",
+                bbox={"boxstyle": "round", "fc": "white", "ec": "C3"})  # fmt: skip
     ax.axvline(forcing, color="0.5", lw=0.7, ls=":")
     ax.set_xlabel(r"forcing $\Lambda$ [-]")
     ax.set_ylabel(r"tip deflection $x_1$ [$L$]")
-    ax.set_title(rf"(a) the branch, $\theta_0 = {theta0:g}$ (sublayer)")
+    ax.set_title(
+        rf"(a) the branch, $\theta_0 = {theta0:g}$, $L/a = {slenderness:g}$ "
+        rf"($\gamma$ = {gamma:.3f}), sublayer"
+    )
     ax.legend(loc="lower right")
-    states = hairbed.solve_pillar_all(forcing, theta0)
+    states = hairbed.solve_pillar_all(forcing, theta0, gamma=gamma)
     s = np.linspace(0.0, 1.0, 200)
     for k, st in enumerate(states):
         _, x, z, _ = st.shape(s)
