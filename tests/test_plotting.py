@@ -34,6 +34,7 @@ SMALL = {
     "fig_valve": {"num": 9, "diode_angles": (0.5,)},
     "fig_pillar_calibration": {"theta0s": (0.0, -0.6), "num": 40},
     "fig_pillar_snap": {"num": 40},
+    "fig_collective_stiffening": {"num": 5},
 }
 
 
