@@ -142,6 +142,34 @@ def test_the_states_read_from_the_branch_are_solve_pillar_alls(forcing, theta0):
     assert labels == ["low", "mid", "high"]
 
 
+def test_at_a_fold_two_states_and_beside_it_three_or_one():
+    """At each fold of the branch (the library's golden-section search) the read gives the
+    two states that meet there, one of them the fold's; 1e-6 inside the window three,
+    outside one; no warning on the way (the page would show it)."""
+    import warnings
+
+    from hairbed.explorer import _pillar as pillar
+
+    branch = pillar.pillar_branch(1.0, -1.45, "sublayer", None, 0.5, 0.0, 0)
+    (upper, x_upper), (lower, x_lower) = branch.folds  # along the branch from rest
+    assert lower < upper
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for fold, x_fold, inside in ((upper, x_upper, -1.0), (lower, x_lower, 1.0)):
+
+            def read(lam):
+                p = pillar.validate_pillar(
+                    {"mode": "pillar", "forcing": repr(float(lam)), "pillar_theta0": "-1.45"}
+                )
+                return pillar.branch_states(p)
+
+            at = read(fold)
+            assert len(at) == 2
+            assert min(abs(float(s.tip_deflection) - x_fold) for s in at) < 1e-6
+            assert len(read(fold * (1.0 + inside * 1e-6))) == 3
+            assert len(read(fold * (1.0 - inside * 1e-6))) == 1
+
+
 # -- the view as a PNG, without a browser ---------------------------------------------------
 
 #: Colours of the low, mid and high states (Okabe-Ito), as the page draws them.
