@@ -324,6 +324,20 @@ def _raw(state: Any) -> tuple[FloatArray, FloatArray, FloatArray]:
     return out, coefs, np.array(np.asarray(state._map, dtype=np.float64).reshape(-1))
 
 
+#: The wall-law profiles a Pillar keeps (by L+), so that a state and its sensitivity, or an
+#: inverse's last steps, compute each profile once.
+_ROWS_CACHED = 4096
+
+
+def _trimmed(prof: FloatArray) -> list[tuple[int, FloatArray]]:
+    """Each row of zero-padded coefficients without its trailing zeros (at least one)."""
+    out = []
+    for i, row in enumerate(prof):
+        keep = np.flatnonzero(row)
+        out.append((i, row[: (int(keep[-1]) + 1 if keep.size else 1)].copy()))
+    return out
+
+
 #: Newton steps of the wall-law inverse in the stress, and its relative step tolerance.
 _WALL_NEWTON = 40
 _WALL_XTOL = 1e-13
@@ -408,10 +422,15 @@ class Pillar:
     _per_stress: tuple[float, float] = field(init=False, repr=False, compare=False)
     #: whether the missing density has been told (once per pillar)
     _told: list[bool] = field(init=False, repr=False, compare=False)
+    #: the wall-law profile's rows (U, L+ dU/dL+) of the L+ met so far
+    _rows: dict[float, tuple[FloatArray, FloatArray]] = field(
+        init=False, repr=False, compare=False
+    )
 
     def __post_init__(self) -> None:
         set_ = object.__setattr__
         set_(self, "_told", [False])
+        set_(self, "_rows", {})
         if self.fluid is not None:
             if not isinstance(self.fluid, str) or self.fluid not in FLUIDS:
                 raise ValueError(
@@ -722,7 +741,25 @@ class Pillar:
                 f"L+ = {MAX_L_PLUS:g}, the tallest the 'wall-law' profile resolves: the "
                 f"stress must stay below {limit * limit:.4g} Pa in magnitude"
             )
-        return wall_law_coefficients(lp)
+        uniq, inv = np.unique(lp.reshape(-1), return_inverse=True)
+        cache = self._rows  # read and written whole entries: safe from several threads
+        found = {v: hit for v in uniq.tolist() if (hit := cache.get(v)) is not None}
+        new = [v for v in uniq.tolist() if v not in found]
+        if new:
+            prof, dprof = wall_law_coefficients(np.array(new))
+            for v, (_, row), (_, drow) in zip(new, _trimmed(prof), _trimmed(dprof)):
+                found[v] = (row, drow)
+            if len(cache) + len(new) > _ROWS_CACHED:
+                cache.clear()
+            cache.update({v: found[v] for v in new})
+        rows = [found[v] for v in uniq.tolist()]
+        width = max(max(r.size, d.size) for r, d in rows) if rows else 2
+        prof = np.zeros((uniq.size, width))
+        dprof = np.zeros((uniq.size, width))
+        for i, (r, d) in enumerate(rows):
+            prof[i, : r.size] = r
+            dprof[i, : d.size] = d
+        return prof[inv.reshape(-1)], dprof[inv.reshape(-1)]
 
     def _stress_slope(self, tau: FloatArray, sol: Any) -> FloatArray:
         """dx1/dtau_w [1/Pa] of the states ``sol`` at stresses ``tau`` [Pa] (their shape):

@@ -60,28 +60,36 @@ _DEGREES = (16, 32, 64, 128, 256, 512, 1024, 2048)
 #: Below this kappa u+ the bracket of Spalding's formula is summed as its Taylor series (its
 #: terms cancel to x^4/24 otherwise).
 _SERIES_BELOW = 1.0
-_SERIES_TERMS = 26
+_SERIES_TERMS = 20
+#: For each start (3, 4): the Taylor coefficients 1/n! of sum_{n >= start} x^n/n! over
+#: x^start, and of the head sum_{n < start} x^n/n!, highest power first (numpy.polyval).
+_TAIL_COEFFICIENTS = {
+    start: (
+        np.array(
+            [1.0 / math.factorial(n) for n in range(start + _SERIES_TERMS - 1, start - 1, -1)]
+        ),
+        np.array([1.0 / math.factorial(n) for n in range(start - 1, -1, -1)]),
+    )
+    for start in (3, 4)
+}
 #: Newton iterations of the inversion (monotone from the right: ~10 reach rounding).
 _NEWTON_STEPS = 100
 
 
 def _exp_tail(x: FloatArray, start: int) -> FloatArray:
-    """sum_{n >= start} x^n/n! for x >= 0, without cancellation for small x."""
-    out = np.empty_like(x)
+    """sum_{n >= start} x^n/n! for x >= 0, without cancellation for small x: below
+    ``_SERIES_BELOW`` its Taylor series (``_SERIES_TERMS`` terms, the last below 1e-17 of the
+    first), above e^x minus the head of the series."""
+    series, head = _TAIL_COEFFICIENTS[start]
     small = x < _SERIES_BELOW
+    if np.all(small):
+        return np.asarray(np.polyval(series, x) * x**start, dtype=np.float64)
+    out = np.empty_like(x)
     xs = x[small]
-    term = xs**start / math.factorial(start)
-    acc = term.copy()
-    for n in range(start + 1, start + _SERIES_TERMS):
-        term = term * xs / n
-        acc = acc + term
-    out[small] = acc
+    out[small] = np.polyval(series, xs) * xs**start
     xl = x[~small]
-    head = np.zeros_like(xl)
-    for n in range(start - 1, -1, -1):  # Horner: sum_{n < start} x^n/n!
-        head = head * xl / (n + 1) + 1.0
     with np.errstate(over="ignore"):
-        out[~small] = np.exp(xl) - head
+        out[~small] = np.exp(xl) - np.polyval(head, xl)
     return out
 
 
