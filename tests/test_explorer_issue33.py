@@ -261,6 +261,14 @@ def test_export_png_refuses_a_bad_view_and_writes_nothing(tmp_path):
     with pytest.raises(ValueError) as lib:
         hairbed.solve(2.0, 1.5)
     assert str(info.value) == str(lib.value)
+    with pytest.raises(TypeError, match="path must be a str or os.PathLike"):
+        export_png(None)
+    with pytest.raises(ValueError, match=r"path must name a \.png file"):
+        export_png(tmp_path / "view.jpg")
+    with pytest.raises(TypeError, match="query must be a str"):
+        export_png(target, {"omega2": 2})
+    with pytest.raises(FileNotFoundError, match="does not exist"):
+        export_png(tmp_path / "missing" / "view.png", "?omega2=2")
     assert target.read_bytes() == b"before"  # whole or not at all
     assert sorted(p.name for p in tmp_path.iterdir()) == ["view.png"]
 

@@ -111,7 +111,7 @@ def export_png(path: Any, query: str = "") -> Any:
     Parameters
     ----------
     path : str or os.PathLike
-        The PNG file to write.
+        The PNG file to write (its name ends in .png).
     query : str, optional
         The view's inputs as a URL query string (``"?omega2=1.2&eps=0.9&theta0=-1.5"``, or a
         whole link to the explorer); empty: the page at first sight.
@@ -125,7 +125,11 @@ def export_png(path: Any, query: str = "") -> Any:
     ------
     ValueError
         If the query names an unknown parameter or gives a bad value (the library's message
-        for each): a script's view must be the one it asks for.
+        for each): a script's view must be the one it asks for; if ``path`` is not a .png.
+    TypeError
+        If ``path`` or ``query`` is not text.
+    OSError
+        If the file cannot be written (nothing is written then).
     AppMissingError
         If Panel or Bokeh is not installed (``pip install 'hairbed[app]'``).
     ImportError
@@ -137,12 +141,18 @@ def export_png(path: Any, query: str = "") -> Any:
     >>> export_png("view.png", "?omega2=1.2&eps=0.9&theta0=-1.5")  # doctest: +SKIP
     PosixPath('view.png')
     """
+    import os
     from pathlib import Path
 
     from ..safe_files import write_bytes
 
-    text = str(query)
-    query = text.split("?", 1)[1] if "?" in text else text
+    if not isinstance(path, (str, os.PathLike)):
+        raise TypeError(f"path must be a str or os.PathLike (a .png file), got {path!r}")
+    if not str(os.fspath(path)).lower().endswith(".png"):
+        raise ValueError(f"path must name a .png file (the view is written as PNG), got {path!r}")
+    if not isinstance(query, str):
+        raise TypeError(f"query must be a str (a link's query: '?omega2=2'), got {query!r}")
+    query = query.split("?", 1)[1] if "?" in query else query
     page_module = _page_module()
     from ._export import render_png
     from ._model import INPUT_KEYS, inputs_from_query
