@@ -120,3 +120,82 @@ def test_a_range_through_zero_prints_zero(capsys):
 )
 def test_bad_two_sided_ranges_are_one_line(capsys, spec: str):
     one_error(capsys, ["valve", "--pressure-drop", spec, *VALVE_BED], "--pressure-drop", spec)
+
+
+# -- the newer options under the hostile values of tests/test_fuzz.py ---------------------------
+
+SI_PILLAR = [
+    "--length=500e-6", "--radius=25e-6", "--youngs-modulus=1e6", "--viscosity=1e-3",
+    "--base-angle=0.1",
+]  # fmt: skip
+#: command -> (a valid argv, the options to replace by each hostile value).
+NEW_OPTIONS: dict[str, tuple[list[str], tuple[str, ...]]] = {
+    "solve-pillar-si": (
+        ["solve", "--pillar", *SI_PILLAR, "--wall-shear-stress=2"],
+        ("--wall-shear-stress", "--drag-scale", "--base-angle", "--radius"),
+    ),
+    "solve-pillar-couette": (
+        ["solve", "--pillar", *SI_PILLAR, "--profile=couette", "--channel-height=1e-3",
+         "--velocity=0.5"],
+        ("--velocity", "--channel-height"),
+    ),
+    "solve-pillar-root": (
+        ["solve", "--pillar", "--forcing=15", "--theta0=-1.4", "--root=mid"],
+        ("--forcing", "--root"),
+    ),
+    "solve-pillar-all": (["solve", "--pillar", "--forcing=2", "--all"], ("--forcing",)),
+    "solve-all-branches": (
+        ["solve", "--omega2=2", "--eps=0.5", "--all-branches"],
+        ("--omega2", "--eps", "--theta0"),
+    ),
+    "sweep-pillar-si": (
+        ["sweep", "--pillar", *SI_PILLAR, "--wall-shear-stress=1,2"],
+        ("--wall-shear-stress", "--drag-scale"),
+    ),
+    "linear-range-pillar": (
+        ["linear-range", "--pillar", *SI_PILLAR, "--rtol=0.05"],
+        ("--rtol", "--drag-scale"),
+    ),
+    "valve-two-sided": (
+        ["valve", "--pressure-drop=+-10:100:2:log", "--channel-length=0.01", *BED[:-2],
+         "--spacing=400e-6"],
+        ("--pressure-drop",),
+    ),
+    "calibrate-free": (
+        ["calibrate", "--data", str(EXAMPLE), *BED, "--free=youngs_modulus"],
+        ("--free",),
+    ),
+}  # fmt: skip
+HOSTILE = [
+    "nan", "-inf", "1e400", "-1", "-1e-1", "1e308", "9" * 30, "5e-324", "0", "-0.0", "",
+    "abc", "0x10", "1,2,,3", "1:2", "1:2:x", "0:1:0", "0:1:-3:log", "+-0:1:3:log",
+    "+-1:10:2", "+-1e4:1:2:log", "1j", "None", " 0.5 ", "0.5\n1", ",",
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("command", sorted(NEW_OPTIONS))
+def test_new_options_answer_every_hostile_value_in_one_line(command, capsys, tmp_path,
+                                                            monkeypatch):  # fmt: skip
+    """Each hostile value of each new option: exit 0 with at most warning lines on stderr,
+    or exit 2 with one line ``hairbed: error: ...`` (never a traceback, never exit 1)."""
+    monkeypatch.chdir(tmp_path)
+    base, options = NEW_OPTIONS[command]
+    assert main(base) == 0, capsys.readouterr().err
+    capsys.readouterr()
+    failures = []
+    for option in options:
+        for value in HOSTILE:
+            argv = [a for a in base if not a.startswith(option + "=")] + [f"{option}={value}"]
+            try:
+                code = main(argv)
+            except SystemExit as exc:  # pragma: no cover - argparse exits are errors here
+                code = 99 if exc.code is None else int(exc.code)
+            _, err = capsys.readouterr()
+            lines = err.splitlines()
+            ok = "Traceback" not in err and (
+                (code == 0 and all(ln.startswith("hairbed: warning: ") for ln in lines))
+                or (code == 2 and len(lines) == 1 and lines[0].startswith("hairbed: error: "))
+            )
+            if not ok:
+                failures.append(f"{argv}: exit {code}, stderr {err!r}")
+    assert not failures, "\n".join(failures)
