@@ -143,3 +143,41 @@ def test_dense_model_warning_points_to_the_porous_model() -> None:
 def test_bad_models_are_refused(kw: dict, match: str) -> None:
     with pytest.raises(ValueError, match=match):
         HairBed(**{**BED, **kw})
+
+
+def test_tip_deflection_inverse_round_trip_both_directions() -> None:
+    bed = HairBed(**BED, model="porous", base_angle=0.3)
+    v = np.array([-0.2, -0.01, 0.0, 0.01, 0.2])
+    st = bed.deform(v)
+    back = bed.state_from_tip_deflection(st.tip_deflection)
+    np.testing.assert_allclose(back.velocity, v, rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(back.tip_height, st.tip_height, rtol=1e-12)
+    np.testing.assert_allclose(back.wall_shear_stress, st.wall_shear_stress, rtol=1e-8, atol=1e-12)
+    np.testing.assert_allclose(back.tip_angle, st.tip_angle, atol=1e-12)
+    np.testing.assert_allclose(bed.velocity_from_tip_deflection(st.tip_deflection), v, rtol=1e-9)
+
+
+def test_rectification_ratio_of_a_tilted_porous_bed() -> None:
+    """Against the grain the tilted bed stands up into the flow and carries more stress."""
+    bed = HairBed(**BED, model="porous", base_angle=0.5)
+    r = bed.rectification_ratio(np.array([0.01, 0.1]))
+    against = bed.deform(-np.array([0.01, 0.1])).wall_shear_stress
+    along = bed.deform(np.array([0.01, 0.1])).wall_shear_stress
+    np.testing.assert_allclose(r, np.abs(against) / np.abs(along), rtol=1e-14)
+    assert np.all(r > 1.0)
+    assert HairBed(**BED, model="porous").rectification_ratio(0.1) == pytest.approx(1.0, abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda b: b.sweep([0.1]),
+        lambda b: b.velocity_from_wall_shear_stress(1.0),
+        lambda b: b.linear_velocity_from_tip_deflection(1e-5),
+        lambda b: b.fit_profile([0.0, 1e-4], [0.0, 5e-4]),
+    ],
+)
+def test_what_a_porous_bed_does_not_support_yet_says_so(call: object) -> None:
+    bed = HairBed(**BED, model="porous")
+    with pytest.raises(NotImplementedError, match="dense bed .* only"):
+        call(bed)  # type: ignore[operator]

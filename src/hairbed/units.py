@@ -44,7 +44,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._bed_drag import DRAG_MODELS, MAX_PACKING_FRACTION, drag_coefficients
-from ._channel_drives import drive_inputs, gap_flow, porous_flow
+from ._channel_drives import drive_inputs, gap_flow, load_scale, porous_flow
 from ._core.loaded import _solve_loaded_trusted
 from ._core.outputs import float_or_array
 from ._core.porous import _solve_porous_checked
@@ -65,6 +65,7 @@ if TYPE_CHECKING:  # pragma: no cover
 
 __all__ = [
     "CLOSE_PACKING_FRACTION",
+    "POROUS_SUPPORTED",
     "DENSE_BED_LIMIT",
     "PLAUSIBLE_RANGES",
     "BedProfileFit",
@@ -147,6 +148,24 @@ def _warn_sparse(bed: HairBed, stacklevel: int = 4) -> None:
             "through the bed (theory.md §13)",
             ModelValidityWarning,
             stacklevel=stacklevel,
+        )
+
+
+#: What a porous bed (``HairBed(..., model="porous")``) supports so far; every other method
+#: and workflow says so rather than compute the dense bed's answer.
+POROUS_SUPPORTED = (
+    "deform, wall_shear_stress, rectification_ratio, state_from_tip_deflection, "
+    "velocity_from_tip_deflection and wall_shear_stress_from_tip_deflection"
+)
+
+
+def require_dense(bed: Any, what: str) -> None:
+    """NotImplementedError where ``what`` is asked of a porous bed, which it does not yet
+    support: never the dense bed's numbers under a porous bed's name."""
+    if getattr(bed, "model", "dense") != "dense":
+        raise NotImplementedError(
+            f"{what} supports the dense bed (model='dense') only, so far; a porous bed "
+            f"supports {POROUS_SUPPORTED}"
         )
 
 
@@ -729,6 +748,8 @@ class HairBed:
         # checked: the drive by _forcing or drive_inputs, the rest by the bed itself
         sol = _solve_porous_checked(drive, 0 if drive == "pressure" else 1, arrays, root)
         flow = porous_flow(self, sol, np.asarray(v, dtype=np.float64), drive, value)
+        wall = pressure_gradient is None and flow_rate is None
+        self._porous_rest_ratio(flow, drive, arrays, root, wall)
         if self.density is not None:
             _warn_reynolds(flow["reynolds_number"])
         length = self.length
@@ -750,6 +771,34 @@ class HairBed:
             pressure_gradient=float_or_array(flow["pressure_gradient"]),
             flow_rate=float_or_array(flow["flow_rate"]),
         )
+
+    def _porous_rest_ratio(
+        self,
+        flow: dict[str, Any],
+        drive: str,
+        arrays: tuple[NDArray[np.float64], ...],
+        root: str,
+        wall: bool,
+    ) -> None:
+        """The stress ratio of porous states at zero drive (0/0 there), in place: its limit,
+        the ratio at a drive of 1e-100 (Stokes flow is linear in the drive at the rest
+        geometry, which the hair keeps to rounding there), along the drive given: the wall's
+        speed when ``wall``, else the pump's G or Q' (issue 33)."""
+        rest = ((arrays[0] == 0.0) & (arrays[5] == 0.0)).reshape(-1)
+        if not np.any(rest):
+            return
+        idx = np.flatnonzero(rest)
+        probe = [np.ascontiguousarray(a.reshape(-1)[idx]) for a in arrays]
+        tiny = np.full(idx.size, 1e-100)
+        if wall:
+            probe[0], v, value = tiny, tiny * self.velocity_scale, np.zeros(idx.size)
+        else:
+            probe[5], v, value = tiny, np.zeros(idx.size), tiny / load_scale(self, drive)
+        sol = _solve_porous_checked(drive, 0 if drive == "pressure" else 1, tuple(probe), root)
+        near = porous_flow(self, sol, v, drive, value)["stress_ratio"]
+        ratio = np.array(flow["stress_ratio"], dtype=np.float64)
+        ratio.reshape(-1)[idx] = near
+        flow["stress_ratio"] = ratio
 
     def _state(
         self,
@@ -817,6 +866,7 @@ class HairBed:
         """
         from .sweeps import bed_sweep
 
+        require_dense(self, "HairBed.sweep")
         return bed_sweep(
             self,
             velocity,
@@ -836,7 +886,14 @@ class HairBed:
         from .rheology import _rectification_ratio
 
         root = check_root(root)
-        omega2 = self._forcing(speed, "speed")[1]  # checked: the bed's eps and angle are too
+        v, omega2 = self._forcing(speed, "speed")  # checked: the bed's eps and angle are too
+        if self.model == "porous":
+            # the stress on the tip plane against the grain (-x) over that with it (+x)
+            against = self._deform_porous(-np.abs(v), None, None, root).wall_shear_stress
+            along = self._deform_porous(np.abs(v), None, None, root).wall_shear_stress
+            with np.errstate(invalid="ignore", divide="ignore"):
+                ratio = np.abs(np.asarray(against)) / np.abs(np.asarray(along))
+            return float_or_array(ratio)
         return float_or_array(_rectification_ratio(omega2, self.eps, self.base_angle, root))
 
     # -- inverse: tip deflection -> velocity (the sensor's calibration) -------------------------
@@ -886,7 +943,49 @@ class HairBed:
         The tip deflection determines the state uniquely (theory.md §5), even where several
         states share one velocity.
         """
+        if self.model == "porous":
+            return self._porous_from_tip_deflection(self._deflection(deflection))
         return self._state(*self._solve_tip_deflection(deflection))
+
+    def _porous_from_tip_deflection(self, d: NDArray[np.float64]) -> HairState:
+        """:meth:`state_from_tip_deflection` of a porous bed, d [m] checked: the porous
+        inverse (:func:`hairbed.inverse.porous_state_from_tip_deflection`) in the mirror
+        image where the tip sits behind its rest position (flow towards -x)."""
+        from .inverse import porous_state_from_tip_deflection
+
+        length = self.length
+        direction = np.where(d < length * math.sin(self.base_angle), -1.0, 1.0)
+        sol = porous_state_from_tip_deflection(
+            direction * d / length,
+            self.eps,
+            direction * self.base_angle,
+            kappa=self.kappa,
+            gamma=self.drag_ratio,
+        )
+        omega2 = np.asarray(sol.omega2, dtype=np.float64)
+        v = direction * omega2 * self.velocity_scale
+        zero = np.zeros(np.shape(v))
+        flow = porous_flow(self, sol, np.abs(v), "pressure", zero)
+        x1 = np.asarray(sol.tip_deflection, dtype=np.float64)
+        return HairState(
+            bed=self,
+            velocity=float_or_array(v),
+            omega2=float_or_array(omega2),
+            solution=sol,
+            direction=float_or_array(direction),
+            tip_deflection=float_or_array(direction * length * x1),
+            tip_height=float_or_array(length * np.asarray(sol.tip_height)),
+            tip_angle=float_or_array(direction * np.asarray(sol.tip_angle)),
+            wall_shear_stress=float_or_array(direction * flow["wall_shear_stress"]),
+            force_per_hair=float_or_array(direction * flow["force_per_hair"]),
+            stress_ratio=float_or_array(flow["stress_ratio"]),
+            tip_displacement=float_or_array(
+                direction * length * (x1 - np.sin(direction * self.base_angle))
+            ),
+            reynolds_number=float_or_array(flow["reynolds_number"]),
+            pressure_gradient=float_or_array(zero),
+            flow_rate=float_or_array(direction * flow["flow_rate"]),
+        )
 
     def velocity_from_tip_deflection(self, deflection: Any) -> FloatOrArray:
         """Wall speed v [m/s] that puts the tips at ``deflection`` [m] from their bases.
@@ -900,6 +999,8 @@ class HairBed:
         ValueError
             If ``|deflection| >= length``.
         """
+        if self.model == "porous":
+            return self.state_from_tip_deflection(deflection).velocity
         return float_or_array(self._solve_tip_deflection(deflection)[0])
 
     def velocity_from_wall_shear_stress(self, wall_shear_stress: Any) -> FloatOrArray:
@@ -911,6 +1012,7 @@ class HairBed:
         forcing at the bed's eps is omega^2 = omega_eps^2 (1 - eps h1), eq. (34); then
         v = omega^2 times :attr:`velocity_scale`. A negative stress is flow towards -x.
         """
+        require_dense(self, "HairBed.velocity_from_wall_shear_stress")
         tau = as_float_array(wall_shear_stress, "wall_shear_stress", unit="Pa")
         scale = self.wall_area_per_hair * self.length**2 / self.bending_stiffness
         with np.errstate(over="ignore"):
@@ -944,6 +1046,7 @@ class HairBed:
         """
         from .inverse import _slope
 
+        require_dense(self, "HairBed.linear_velocity_from_tip_deflection")
         d = self._deflection(deflection)
         slope = _slope(self.eps, self.base_angle)
         x1 = d / self.length - math.sin(self.base_angle)
@@ -972,6 +1075,8 @@ class HairBed:
             the optimiser ended.
         """
         from .profile_fit import fit_profile
+
+        require_dense(self, "HairBed.fit_profile")
 
         kwargs.setdefault("theta0", self.base_angle)
         with np.errstate(over="ignore"):  # an overflow is infinite: refused, naming x or z
