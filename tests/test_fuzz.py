@@ -223,6 +223,7 @@ STATE = BED.deform(0.1)
 PILLAR_KW = dict(length=500e-6, radius=25e-6, youngs_modulus=1e6, viscosity=1e-3, base_angle=0.1)
 PILLAR = hairbed.Pillar(**PILLAR_KW)
 PILLAR_TAU = [1.0, 5.0, 20.0]
+WALL_PILLAR = hairbed.Pillar(**PILLAR_KW, profile="wall-law", fluid="water")
 PILLAR_D = PILLAR.tip_deflection(PILLAR_TAU)
 PILLAR_FIT = calibration.fit(PILLAR, PILLAR_D, wall_shear_stress=PILLAR_TAU, sigma=1e-7)
 X5, Z5 = SOL.profile(5)
@@ -552,6 +553,21 @@ TARGETS: list[Target] = [
     ),
     Target("Pillar.linear_range", _method(PILLAR, "linear_range"), dict(rtol=0.1)),
     Target("PillarDeformation.profile", _method(PILLAR.deform(1.0), "profile"), dict(num=10)),
+    # the law of the wall (issue 31)
+    Target("spalding_u_plus", hairbed.spalding_u_plus, dict(y_plus=30.0, kappa=0.41, b=5.0)),
+    Target("spalding_y_plus", hairbed.spalding_y_plus, dict(u_plus=12.0, kappa=0.41, b=5.0)),
+    Target(
+        "Pillar[wall-law]",
+        hairbed.Pillar,
+        dict(PILLAR_KW, profile="wall-law", fluid="water"),
+        fuzz=("profile", "fluid", "viscosity"),
+    ),
+    Target("Pillar[wall-law].deform", _method(WALL_PILLAR, "deform"), dict(wall_shear_stress=1.0)),
+    Target(
+        "Pillar[wall-law].wall_shear_stress_from_tip_deflection",
+        _method(WALL_PILLAR, "wall_shear_stress_from_tip_deflection"),
+        dict(tip_deflection=3e-5),
+    ),
     Target(
         "calibration.fit[pillar]",
         calibration.fit,

@@ -123,8 +123,12 @@ def test_profile_coefficients_against_mpmath():
 
 
 def test_spalding_bad_input():
-    with pytest.raises(ValueError, match=r"y_plus.*\[0, inf\)"):
+    with pytest.raises(ValueError, match=r"y_plus.*\[0, 1e\+100\].*index 1"):
         hairbed.spalding_u_plus([1.0, -1.0])
+    with pytest.raises(ValueError, match=r"y_plus.*\[0, 1e\+100\]"):
+        hairbed.spalding_u_plus(1e300)
+    with pytest.raises(ValueError, match=r"u_plus.*\[0, 1463.41\]"):
+        hairbed.spalding_y_plus(2000.0)
     with pytest.raises(ValueError, match="y_plus"):
         hairbed.spalding_u_plus(np.nan)
     with pytest.raises(ValueError, match="kappa"):

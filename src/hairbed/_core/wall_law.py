@@ -37,6 +37,7 @@ from .validation import _check_range, as_float_array, check_number
 
 __all__ = [
     "MAX_L_PLUS",
+    "MAX_Y_PLUS",
     "row_groups",
     "WALL_LAW_B",
     "WALL_LAW_KAPPA",
@@ -72,6 +73,10 @@ _TAIL_COEFFICIENTS = {
     )
     for start in (3, 4)
 }
+#: The largest y+ taken (far beyond any wall flow; Spalding's exponential stays finite) and
+#: the largest u+, times kappa.
+MAX_Y_PLUS = 1e100
+_MAX_KAPPA_U_PLUS = 600.0
 #: Newton iterations of the inversion (monotone from the right: ~10 reach rounding).
 _NEWTON_STEPS = 100
 
@@ -103,7 +108,7 @@ def _dy_plus(u: FloatArray, kappa: float, b: float) -> FloatArray:
 
 
 def _check_constants(kappa: Any, b: Any) -> tuple[float, float]:
-    k = check_number(kappa, "kappa", low=0.0, high=1.0, low_open=True)
+    k = check_number(kappa, "kappa", low=0.1, high=1.0)
     return k, check_number(b, "b", low=-20.0, high=20.0)
 
 
@@ -120,17 +125,24 @@ def spalding_y_plus(
     u_plus : array_like
         Speed in wall units u/u_tau [-], >= 0 and finite.
     kappa, b : float, optional
-        von Karman's constant in (0, 1] and the log law's constant in [-20, 20] [-]; default
+        von Karman's constant in [0.1, 1] and the log law's constant in [-20, 20] [-]; default
         0.41 and 5.0 (White 2006, §6-5).
 
     Returns
     -------
     float or ndarray
-        Distance from the wall in wall units y u_tau/nu [-] (inf where it overflows).
+        Distance from the wall in wall units y u_tau/nu [-].
+
+    Raises
+    ------
+    ValueError
+        Naming u_plus (and its first offending index) outside [0, 600/kappa], where the
+        exponential stays finite.
     """
     k, bb = _check_constants(kappa, b)
     u = as_float_array(u_plus, "u_plus")
-    _check_range(u, ~(u >= 0.0) | ~np.isfinite(u), "u_plus", "[0, inf)")
+    top = _MAX_KAPPA_U_PLUS / k
+    _check_range(u, ~((u >= 0.0) & (u <= top)), "u_plus", f"[0, {top:.6g}] (600/kappa)")
     return scalar_or_array(_y_plus(u.reshape(-1), k, bb).reshape(u.shape))
 
 
@@ -174,7 +186,8 @@ def spalding_u_plus(
     Parameters
     ----------
     y_plus : array_like
-        Distance from the wall in wall units y u_tau/nu [-], >= 0 and finite.
+        Distance from the wall in wall units y u_tau/nu [-], in [0, 1e100]
+        (``MAX_Y_PLUS``).
     kappa, b : float, optional
         As in :func:`spalding_y_plus`.
 
@@ -193,7 +206,7 @@ def spalding_u_plus(
     """
     k, bb = _check_constants(kappa, b)
     y = as_float_array(y_plus, "y_plus")
-    _check_range(y, ~(y >= 0.0) | ~np.isfinite(y), "y_plus", "[0, inf)")
+    _check_range(y, ~((y >= 0.0) & (y <= MAX_Y_PLUS)), "y_plus", f"[0, {MAX_Y_PLUS:g}]")
     return scalar_or_array(_u_plus(y.reshape(-1), k, bb).reshape(y.shape))
 
 
