@@ -409,3 +409,31 @@ def test_cli_sweep_of_a_wall_law_pillar():
         assert np.allclose(table[:, names.index(col)], getattr(st, field), rtol=1e-14, atol=0)
     code, _, err = _cli("sweep", "--fluid", "water", "--omega2", "1:2:3")
     assert code == 2 and "--fluid needs --pillar" in err
+
+
+def test_cli_calibration_file_round_trip(tmp_path):
+    truth = _pillar(youngs_modulus=1.3e5)
+    tau = np.linspace(0.2, 4.0, 7)
+    d = truth.tip_deflection(tau)
+    data = tmp_path / "points.csv"
+    data.write_text(
+        "wall_shear_stress [Pa],tip_deflection [m]\n"
+        + "".join(f"{float(t)!r},{float(x)!r}\n" for t, x in zip(tau, d))
+    )
+    si = ["--pillar", "--length", "1e-3", "--radius", "50e-6", "--youngs-modulus", "1e5"]
+    code, out, err = _cli(
+        "calibrate", *si, "--fluid", "water", "--profile", "wall-law", "--data", str(data),
+        "--free", "youngs_modulus", "--sigma", "1e-8", "--json",
+    )  # fmt: skip
+    assert code == 0, err
+    saved = json.loads(out)
+    assert saved["bed"]["profile"] == "wall-law" and saved["bed"]["density"] == 998.21
+    assert saved["bed"]["youngs_modulus"] == pytest.approx(1.3e5, rel=1e-9)
+    cal = tmp_path / "cal.json"
+    cal.write_text(out)
+    code, out, err = _cli(
+        "measure", "--pillar", "--calibration", str(cal), "--tip-deflection", repr(float(d[3])),
+        "--sigma", "1e-7", "--json",
+    )  # fmt: skip
+    assert code == 0, err
+    assert json.loads(out)["wall_shear_stress"] == pytest.approx(tau[3], rel=1e-8)
