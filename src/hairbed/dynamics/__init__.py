@@ -2,10 +2,13 @@
 
 - :func:`linearise_pillar`: the linear dynamics about any static pillar state, its modes and
   its transfer functions (drive -> tip deflection, tip height, base moment).
+- :func:`simulate_pillar`: the nonlinear pillar in time (compiled Radau IIA), driven by
+  :func:`step`, :func:`ramp`, :func:`sine`, :func:`pulses`, :func:`sampled` or a callable.
 """
 
 from __future__ import annotations
 
+from ._integrate import PillarTrajectory, simulate_pillar
 from ._linear import (
     DRIVES,
     LINEAR_STATUS,
@@ -15,8 +18,19 @@ from ._linear import (
     PillarModes,
     linearise_pillar,
 )
+from ._signals import CALLABLE_SAMPLES, Signal, constant, pulses, ramp, sampled, sine, step
 
 __all__ = [
+    "CALLABLE_SAMPLES",
+    "PillarTrajectory",
+    "Signal",
+    "constant",
+    "pulses",
+    "ramp",
+    "sampled",
+    "simulate_pillar",
+    "sine",
+    "step",
     "DRIVES",
     "LINEAR_STATUS",
     "OUTPUTS",

@@ -7,11 +7,32 @@ Q^H (A, E) Z = (AA, BB) upper triangular, is solved at each frequency by back su
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .._jit import kernel
+from .spectral import _jacobian_drag, _lu_apply, _lu_factor, _residual_drag
 
-__all__ = ["pencil_outputs", "pencil_solve"]
+__all__ = [
+    "SIGNAL_CONSTANT",
+    "SIGNAL_PULSES",
+    "SIGNAL_RAMP",
+    "SIGNAL_SAMPLED",
+    "SIGNAL_SINE",
+    "SIGNAL_STEP",
+    "STATUS_MAXSTEPS",
+    "STATUS_OK",
+    "STATUS_OUTSIDE",
+    "STATUS_STEP_TOO_SMALL",
+    "drive_value",
+    "integrate_pillar",
+    "pencil_outputs",
+    "pencil_solve",
+    "pillar_rates",
+    "projected_load",
+    "workspace",
+]
 
 
 @kernel
@@ -47,3 +68,634 @@ def pencil_outputs(aa, bb, g, sv, cz, out):
             for i in range(m):
                 acc += cz[r, i] * y[i]
             out[r, f] = acc
+
+
+# ---------------------------------------------------------------------------------------
+# The nonlinear pillar in time: the semi-discretisation and its Radau IIA integrator.
+# ---------------------------------------------------------------------------------------
+
+#: Drive kinds of :func:`drive_value` (a value of Lambda(t) or P(t)).
+SIGNAL_CONSTANT = 0
+SIGNAL_STEP = 1
+SIGNAL_RAMP = 2
+SIGNAL_SINE = 3
+SIGNAL_PULSES = 4
+SIGNAL_SAMPLED = 5
+
+#: Status codes of :func:`integrate_pillar`.
+STATUS_OK = 0
+#: The pillar reached |theta| = pi/2 somewhere (lying on the wall): outside the model.
+STATUS_OUTSIDE = -8
+STATUS_MAXSTEPS = -2
+STATUS_STEP_TOO_SMALL = -3
+
+_SQ6 = math.sqrt(6.0)
+#: Radau IIA of order 5 (three stages): nodes, coefficients, and the embedded order-3
+#: estimate's weights over gamma0 (Hairer & Wanner, Solving ODEs II, IV.8).
+_C1 = (4.0 - _SQ6) / 10.0
+_C2 = (4.0 + _SQ6) / 10.0
+_RA = (
+    ((88.0 - 7.0 * _SQ6) / 360.0, (296.0 - 169.0 * _SQ6) / 1800.0, (-2.0 + 3.0 * _SQ6) / 225.0),
+    ((296.0 + 169.0 * _SQ6) / 1800.0, (88.0 + 7.0 * _SQ6) / 360.0, (-2.0 - 3.0 * _SQ6) / 225.0),
+    ((16.0 - _SQ6) / 36.0, (16.0 + _SQ6) / 36.0, 1.0 / 9.0),
+)
+_DD = (-(13.0 + 7.0 * _SQ6) / 3.0, (-13.0 + 7.0 * _SQ6) / 3.0, -1.0 / 3.0)
+_U1 = 1.0 / ((6.0 + 81.0 ** (1.0 / 3.0) - 9.0 ** (1.0 / 3.0)) / 30.0)
+
+
+@kernel
+def drive_value(kind, par, tab_t, tab_v, t):
+    """The drive at time t. ``par``: CONSTANT (v); STEP (before, after, t_step); RAMP (v0, v1,
+    t0, t1: linear between); SINE (mean, amplitude, omega, phase: mean + amplitude
+    sin(omega t + phase)); PULSES (base, height, period, width, t0: height added during the
+    first ``width`` of each period from t0); SAMPLED: the piecewise cubic Hermite interpolant
+    of (tab_t, tab_v) with Catmull-Rom slopes (held at the ends)."""
+    if kind == SIGNAL_CONSTANT:
+        return par[0]
+    if kind == SIGNAL_STEP:
+        return par[1] if t >= par[2] else par[0]
+    if kind == SIGNAL_RAMP:
+        if t <= par[2]:
+            return par[0]
+        if t >= par[3]:
+            return par[1]
+        return par[0] + (par[1] - par[0]) * (t - par[2]) / (par[3] - par[2])
+    if kind == SIGNAL_SINE:
+        return par[0] + par[1] * math.sin(par[2] * t + par[3])
+    if kind == SIGNAL_PULSES:
+        if t < par[4]:
+            return par[0]
+        phase = (t - par[4]) % par[2]
+        return par[0] + (par[1] if phase < par[3] else 0.0)
+    m = tab_t.size
+    if t <= tab_t[0]:
+        return tab_v[0]
+    if t >= tab_t[m - 1]:
+        return tab_v[m - 1]
+    lo = 0
+    hi = m - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if tab_t[mid] <= t:
+            lo = mid
+        else:
+            hi = mid
+    dt = tab_t[hi] - tab_t[lo]
+    x = (t - tab_t[lo]) / dt
+    d0 = (
+        (tab_v[hi] - tab_v[lo - 1]) / (tab_t[hi] - tab_t[lo - 1])
+        if lo > 0
+        else (tab_v[hi] - tab_v[lo]) / dt
+    )
+    d1 = (
+        (tab_v[hi + 1] - tab_v[lo]) / (tab_t[hi + 1] - tab_t[lo])
+        if hi < m - 1
+        else (tab_v[hi] - tab_v[lo]) / dt
+    )
+    h00 = (1.0 + 2.0 * x) * (1.0 - x) ** 2
+    h10 = x * (1.0 - x) ** 2
+    h01 = x * x * (3.0 - 2.0 * x)
+    h11 = x * x * (x - 1.0)
+    return h00 * tab_v[lo] + h10 * dt * d0 + h01 * tab_v[hi] + h11 * dt * d1
+
+
+@kernel
+def _full_angles(y, off, num, theta0, srow, th):
+    """theta at the N + 1 nodes from the interior values y[off:off + N - 1]: theta_0 =
+    theta0 (the clamp), theta_N = srow . theta (theta'(1) = 0)."""
+    th[0] = theta0
+    acc = srow[0] * theta0
+    for j in range(1, num):
+        th[j] = y[off + j - 1]
+        acc += srow[j] * th[j]
+    th[num] = acc
+
+
+@kernel
+def projected_load(th, a, b, ratio, num, ii, need, val, opa, opb, dth, work):
+    """val_i = n_i . int_{s_i}^1 R r ds' at every node, r = I (a n + b t) (the integration
+    from the base), R = I - (1 - ratio) t t, n = (cos, -sin), t = (sin, cos) at each node.
+    With a = theta_t, b = 0 and ratio gamma it is the drag of the pillar's velocity; with
+    a = theta_tt, b = -theta_t^2 and ratio chi its inertia. Where ``need``: opa = d val/d a,
+    opb = d val/d b, dth = d val/d theta ((N + 1)^2 each; need 1: opa only, 2: all).
+    work: (12, N + 1) rows, its rows 0-9 used."""
+    n1 = num + 1
+    c, s = work[0], work[1]
+    rx, rz, gx, gz = work[2], work[3], work[4], work[5]
+    cgx, cgz = work[6], work[7]  # the integrals (I g)
+    p, q = work[8], work[9]
+    one = 1.0 - ratio
+    for j in range(n1):
+        c[j] = math.cos(th[j])
+        s[j] = math.sin(th[j])
+    for j in range(n1):
+        ax = 0.0
+        az = 0.0
+        for k in range(n1):
+            w = ii[j, k]
+            ax += w * (a[k] * c[k] + b[k] * s[k])
+            az += w * (-a[k] * s[k] + b[k] * c[k])
+        rx[j] = ax
+        rz[j] = az
+        p[j] = s[j] * ax + c[j] * az  # t . r
+        q[j] = c[j] * ax - s[j] * az  # n . r
+        gx[j] = ax - one * s[j] * p[j]
+        gz[j] = az - one * c[j] * p[j]
+    for i in range(n1):
+        ax = 0.0
+        az = 0.0
+        for j in range(n1):
+            ax += ii[i, j] * gx[j]
+            az += ii[i, j] * gz[j]
+        cgx[i] = ax
+        cgz[i] = az
+    for i in range(n1):
+        fx = cgx[num] - cgx[i]
+        fz = cgz[num] - cgz[i]
+        val[i] = c[i] * fx - s[i] * fz
+    if need == 0:
+        return
+    # W1_ij = Q_ij (c_i Rxx_j - s_i Rxz_j), W2_ij = Q_ij (c_i Rxz_j - s_i Rzz_j), Q_ij =
+    # I_Nj - I_ij: val = sum_j W1_ij rx_j + W2_ij rz_j; then (W1 I) and (W2 I)
+    for i in range(n1):
+        for k in range(n1):
+            opa[i, k] = 0.0
+            if need == 2:
+                opb[i, k] = 0.0
+                dth[i, k] = 0.0
+    for i in range(n1):
+        ci, si = c[i], s[i]
+        for j in range(n1):
+            qij = ii[num, j] - ii[i, j]
+            if qij == 0.0:
+                continue
+            rxx = 1.0 - one * s[j] * s[j]
+            rxz = -one * s[j] * c[j]
+            rzz = 1.0 - one * c[j] * c[j]
+            w1 = qij * (ci * rxx - si * rxz)
+            w2 = qij * (ci * rxz - si * rzz)
+            for k in range(n1):
+                m1 = w1 * ii[j, k]
+                m2 = w2 * ii[j, k]
+                opa[i, k] += m1 * c[k] - m2 * s[k]
+                if need == 2:
+                    opb[i, k] += m1 * s[k] + m2 * c[k]
+                    dth[i, k] += m1 * (b[k] * c[k] - a[k] * s[k]) - m2 * (
+                        b[k] * s[k] + a[k] * c[k]
+                    )
+            if need == 2:
+                # R_j's own angle: dg_j = -(1 - ratio) (n_j (t . r) + t_j (n . r))
+                dgx = -one * (c[j] * p[j] + s[j] * q[j])
+                dgz = -one * (-s[j] * p[j] + c[j] * q[j])
+                dth[i, j] += qij * (ci * dgx - si * dgz)
+    if need == 2:
+        for i in range(n1):  # the outer normal n_i
+            dth[i, i] -= s[i] * (cgx[num] - cgx[i]) + c[i] * (cgz[num] - cgz[i])
+
+
+@kernel
+def _reduce_into(full, num, srow, out, r0, c0, scale):
+    """out[r0 + i - 1, c0 + k - 1] = scale (full[i, k] + full[i, N] srow[k]) for the
+    interior i, k in 1 .. N - 1: a node operator on the interior unknowns (theta_N =
+    srow . theta, theta_0 fixed)."""
+    for i in range(1, num):
+        for k in range(1, num):
+            out[r0 + i - 1, c0 + k - 1] = scale * (full[i, k] + full[i, num] * srow[k])
+
+
+@kernel
+def pillar_rates(
+    t, y, need, num, dd, ii, srow, theta0, gamma, chi, mu, prof, drives, tabs, f, jac, ws
+):
+    """The semi-discrete pillar y' = f(t, y) (theory.md §13) and, where ``need``, its exact
+    Jacobian df/dy into jac.
+
+    y: the interior angles theta_1 .. theta_N-1 (mu = 0), then their rates (mu > 0). The
+    interior collocation rows read B(theta) theta_t + mu [M(theta) theta_tt + (the
+    centripetal part, theta_t^2)] = R(theta; Lambda(t), P(t)), R the static residual of
+    ``spectral._residual_drag`` (rows theta'' + n . F), B and M by :func:`projected_load`;
+    theta_0 = theta0 and theta'(1) = 0 (theta_N = srow . theta) close them. drives (2, 8):
+    per drive (Lambda, P) its kind then its parameters; tabs (4, K): the sampled drives'
+    times and values. ws: a workspace of :func:`_workspace`'s shapes (a tuple)."""
+    vec = ws[0]
+    th, rate, acc, zero, res = vec[0], vec[1], vec[2], vec[3], vec[4]
+    u, val1, val2, val3 = vec[5], vec[6], vec[7], vec[8]
+    mats = ws[1]
+    opa1, opb1, dth1, opa2 = mats[0], mats[1], mats[2], mats[3]
+    opb2, dth2, bmat, sjac = mats[4], mats[5], mats[6], mats[7]
+    pm = ws[2]
+    piv = ws[3]
+    gw = ws[4]
+    wrk = ws[5]
+    n = num - 1
+    n1 = num + 1
+    lam = drive_value(int(drives[0, 0]), drives[0, 1:], tabs[0], tabs[1], t)
+    tip = drive_value(int(drives[1, 0]), drives[1, 1:], tabs[2], tabs[3], t)
+    _full_angles(y, 0, num, theta0, srow, th)
+    for j in range(n1):
+        u[j] = th[j]
+        zero[j] = 0.0
+    u[n1] = 0.0
+    cs, sn, z, fx, fz = wrk[10], wrk[11], wrk[12], wrk[13], wrk[14]
+    _residual_drag(u, num, dd, ii, theta0, lam, gamma, tip, prof, cs, sn, z, res, fx, fz)
+    if mu == 0.0:
+        projected_load(th, zero, zero, gamma, num, ii, 1, val1, opa1, opb1, dth1, wrk)
+        _reduce_into(opa1, num, srow, bmat, 0, 0, 1.0)
+        if not _lu_factor(bmat, piv, n):
+            return False
+        for i in range(n):
+            f[i] = res[i + 1]
+        _lu_apply(bmat, piv, f, n)
+        if need:
+            rate[0] = 0.0
+            acc_n = 0.0
+            for j in range(1, num):
+                rate[j] = f[j - 1]
+                acc_n += srow[j] * rate[j]
+            rate[num] = acc_n
+            projected_load(th, rate, zero, gamma, num, ii, 2, val1, opa1, opb1, dth1, wrk)
+            _jacobian_drag(u, num, dd, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz, gw, pm, sjac)
+            for i in range(n1):
+                for k in range(n1):
+                    dth1[i, k] = sjac[i, k] - dth1[i, k]
+            _reduce_into(dth1, num, srow, jac, 0, 0, 1.0)
+            col = val2
+            for k in range(n):
+                for i in range(n):
+                    col[i] = jac[i, k]
+                _lu_apply(bmat, piv, col, n)
+                for i in range(n):
+                    jac[i, k] = col[i]
+        return True
+    # with inertia: y = (theta, theta_t) on the interior
+    rate[0] = 0.0
+    acc_n = 0.0
+    for j in range(1, num):
+        rate[j] = y[n + j - 1]
+        acc_n += srow[j] * rate[j]
+    rate[num] = acc_n
+    for j in range(n1):
+        acc[j] = -rate[j] * rate[j]  # b = -theta_t^2 (the centripetal part of r_tt)
+    projected_load(th, rate, zero, gamma, num, ii, 2 if need else 1, val1, opa1, opb1, dth1, wrk)
+    projected_load(th, zero, acc, chi, num, ii, 2 if need else 1, val2, opa2, opb2, dth2, wrk)
+    _reduce_into(opa2, num, srow, bmat, 0, 0, mu)
+    if not _lu_factor(bmat, piv, n):
+        return False
+    for i in range(n):
+        f[i] = y[n + i]
+        f[n + i] = res[i + 1] - val1[i + 1] - mu * val2[i + 1]
+    tail = f[n:]
+    _lu_apply(bmat, piv, tail, n)
+    if not need:
+        return True
+    # the accelerations at the nodes, then the inertia's derivative in theta at them
+    zero[0] = 0.0
+    acc_n = 0.0
+    for j in range(1, num):
+        zero[j] = f[n + j - 1]
+        acc_n += srow[j] * zero[j]
+    zero[num] = acc_n
+    projected_load(th, zero, acc, chi, num, ii, 2, val3, opa2, opb2, dth2, wrk)
+    for j in range(n1):
+        zero[j] = 0.0
+    _jacobian_drag(u, num, dd, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz, gw, pm, sjac)
+    for i in range(n1):
+        for k in range(n1):
+            dth1[i, k] = sjac[i, k] - dth1[i, k] - mu * dth2[i, k]
+            # d/d theta_t: -B and the centripetal -mu opb (-2 theta_t)
+            opa1[i, k] = -opa1[i, k] + 2.0 * mu * opb2[i, k] * rate[k]
+    m = 2 * n
+    for i in range(m):
+        for k in range(m):
+            jac[i, k] = 0.0
+    for i in range(n):
+        jac[i, n + i] = 1.0
+    _reduce_into(dth1, num, srow, jac, n, 0, 1.0)
+    _reduce_into(opa1, num, srow, jac, n, n, 1.0)
+    col = val2
+    for k in range(m):
+        for i in range(n):
+            col[i] = jac[n + i, k]
+        _lu_apply(bmat, piv, col, n)
+        for i in range(n):
+            jac[n + i, k] = col[i]
+    return True
+
+
+@kernel
+def workspace(num):
+    """The workspace tuple of :func:`pillar_rates` for degree N (allocated once a run)."""
+    n1 = num + 1
+    return (
+        np.zeros((9, n1 + 1)),
+        np.zeros((8, n1 + 1, n1 + 1)),
+        np.zeros((2, n1, n1)),
+        np.zeros(n1 + 1, dtype=np.int64),
+        np.zeros((4, n1)),
+        np.zeros((15, n1 + 1)),
+    )
+
+
+@kernel
+def _dense(y0, z, m, tau, out):
+    """The collocation polynomial of a Radau step at tau in [0, 1] (0: y0, c_i: y0 + Z_i):
+    y0 + sum_i L_i(tau) Z_i over the nodes 0, c1, c2, 1."""
+    l1 = tau * (tau - _C2) * (tau - 1.0) / (_C1 * (_C1 - _C2) * (_C1 - 1.0))
+    l2 = tau * (tau - _C1) * (tau - 1.0) / (_C2 * (_C2 - _C1) * (_C2 - 1.0))
+    l3 = tau * (tau - _C1) * (tau - _C2) / ((1.0 - _C1) * (1.0 - _C2))
+    for k in range(m):
+        out[k] = y0[k] + l1 * z[k] + l2 * z[m + k] + l3 * z[2 * m + k]
+
+
+@kernel
+def _lowest_cos(y, num, theta0, srow, th):
+    """min_j cos(theta_j): <= 0 where the pillar reaches |theta| = pi/2."""
+    _full_angles(y, 0, num, theta0, srow, th)
+    low = 2.0
+    for j in range(num + 1):
+        low = min(low, math.cos(th[j]))
+    return low
+
+
+@kernel
+def integrate_pillar(
+    y0,
+    t_start,
+    t_eval,
+    rtol,
+    atol,
+    h_start,
+    max_steps,
+    num,
+    dd,
+    ii,
+    srow,
+    theta0,
+    gamma,
+    chi,
+    mu,
+    prof,
+    drives,
+    tabs,
+    y_out,
+    counts,
+):
+    """Radau IIA (order 5, three stages, L-stable, stiffly accurate) on y' = f(t, y) of
+    :func:`pillar_rates` from (t_start, y0) to t_eval[-1], writing y at every t_eval
+    (sorted, >= t_start) into y_out by the collocation polynomial (dense output).
+
+    Simplified Newton on the stages with the exact Jacobian at each step's start (one LU of
+    the 3m system I - h A x J), at most 7 iterations (a divergent one halves the step); the
+    embedded order-3 error estimate of Hairer & Wanner, (I/(gamma0 h) - J)^-1 (f0 + sum_i
+    DD_i Z_i/h), refined once after a rejection; the step by 0.9 err^(-1/4) within
+    [0.2, 5]. Error norm: the root mean square of err/(atol + rtol max(|y0|, |y1|)).
+
+    Event: the pillar reaching |theta| = pi/2 at a node (it lies on the wall) is located by
+    bisection on the dense output; the run stops there. Returns (status, t_end): 0, -8 at the
+    event, -2 after max_steps steps, -3 for a step below 1e-14 (t + 1) or a singular matrix.
+    counts: steps, accepted, rejected, f evaluations, Jacobians, LU factorisations."""
+    m = y0.size
+    n_eval = t_eval.size
+    ws = workspace(num)
+    th_tmp = np.empty(num + 1)
+    y = y0.copy()
+    y1 = np.empty(m)
+    yt = np.empty(m)
+    f0 = np.empty(m)
+    ft = np.empty(m)
+    jac = np.zeros((m, m))
+    dummy = np.zeros((m, m))
+    big = np.empty((3 * m, 3 * m))
+    piv3 = np.empty(3 * m, dtype=np.int64)
+    e1 = np.empty((m, m))
+    piv1 = np.empty(m, dtype=np.int64)
+    z = np.zeros(3 * m)
+    z_prev = np.zeros(3 * m)
+    g = np.empty(3 * m)
+    err = np.empty(m)
+    sc = np.empty(m)
+    fst = np.empty((3, m))
+    t = t_start
+    t_end = t_eval[n_eval - 1]
+    h = min(h_start, t_end - t) if t_end > t else 0.0
+    nxt = 0
+    while nxt < n_eval and t_eval[nxt] <= t:
+        for k in range(m):
+            y_out[nxt, k] = y[k]
+        nxt += 1
+    h_prev = 0.0
+    have_prev = False
+    rejected = False
+    first = True
+    steps = 0
+    fnewt = 0.03
+    cs = (_C1, _C2, 1.0)
+    while nxt < n_eval:
+        if steps >= max_steps:
+            return STATUS_MAXSTEPS, t
+        if not pillar_rates(
+            t, y, True, num, dd, ii, srow, theta0, gamma, chi, mu, prof, drives, tabs, f0, jac, ws
+        ):
+            return STATUS_STEP_TOO_SMALL, t
+        counts[3] += 1
+        counts[4] += 1
+        while True:  # attempts of this step
+            steps += 1
+            counts[0] += 1
+            if h < 1e-14 * (abs(t) + 1.0) or steps > max_steps:
+                return (STATUS_STEP_TOO_SMALL if steps <= max_steps else STATUS_MAXSTEPS), t
+            # the Newton matrix I - h A x J and the estimate's (U1/h) I - J
+            for bi in range(3):
+                for bj in range(3):
+                    a = h * _RA[bi][bj]
+                    for i in range(m):
+                        for k in range(m):
+                            big[bi * m + i, bj * m + k] = -a * jac[i, k]
+                        if bi == bj:
+                            big[bi * m + i, bj * m + i] += 1.0
+            for i in range(m):
+                for k in range(m):
+                    e1[i, k] = -jac[i, k]
+                e1[i, i] += _U1 / h
+            counts[5] += 2
+            if not _lu_factor(big, piv3, 3 * m) or not _lu_factor(e1, piv1, m):
+                return STATUS_STEP_TOO_SMALL, t
+            # the start of the stages: the last step's polynomial, or Euler
+            if have_prev and not rejected:
+                for si in range(3):
+                    _dense(y - y, z_prev, m, 1.0 + cs[si] * h / h_prev, yt)
+                    for k in range(m):
+                        z[si * m + k] = yt[k] - z_prev[2 * m + k]
+            else:
+                for si in range(3):
+                    for k in range(m):
+                        z[si * m + k] = cs[si] * h * f0[k]
+            for k in range(m):
+                sc[k] = atol + rtol * abs(y[k])
+            ok = False
+            rate_old = 1.0
+            norm_old = 0.0
+            eta = 1.0
+            nit = 0
+            for it in range(7):
+                nit = it + 1
+                good = True
+                for si in range(3):
+                    for k in range(m):
+                        yt[k] = y[k] + z[si * m + k]
+                    if not pillar_rates(
+                        t + cs[si] * h,
+                        yt,
+                        False,
+                        num,
+                        dd,
+                        ii,
+                        srow,
+                        theta0,
+                        gamma,
+                        chi,
+                        mu,
+                        prof,
+                        drives,
+                        tabs,
+                        ft,
+                        dummy,
+                        ws,
+                    ):
+                        good = False
+                        break
+                    for k in range(m):
+                        fst[si, k] = ft[k]
+                counts[3] += 3
+                if not good:
+                    break
+                for si in range(3):
+                    for k in range(m):
+                        acc = -z[si * m + k]
+                        for sj in range(3):
+                            acc += h * _RA[si][sj] * fst[sj, k]
+                        g[si * m + k] = acc
+                _lu_apply(big, piv3, g, 3 * m)
+                norm = 0.0
+                for si in range(3):
+                    for k in range(m):
+                        z[si * m + k] += g[si * m + k]
+                        norm += (g[si * m + k] / sc[k]) ** 2
+                norm = math.sqrt(norm / (3 * m))
+                if it > 0:
+                    rate_old = norm / norm_old if norm_old > 0.0 else 0.0
+                    if rate_old >= 0.99:
+                        break
+                    eta = rate_old / (1.0 - rate_old)
+                else:
+                    eta = max(eta, 1e-16) ** 0.8 if not first else 1.0
+                norm_old = norm
+                if eta * norm <= fnewt or norm == 0.0:
+                    ok = True
+                    break
+                if not math.isfinite(norm):
+                    break
+            if not ok:
+                h *= 0.5
+                rejected = True
+                counts[2] += 1
+                continue
+            for k in range(m):
+                y1[k] = y[k] + z[2 * m + k]
+                sc[k] = atol + rtol * max(abs(y[k]), abs(y1[k]))
+            for k in range(m):
+                acc = f0[k]
+                for si in range(3):
+                    acc += _DD[si] * z[si * m + k] / h
+                err[k] = acc
+            _lu_apply(e1, piv1, err, m)
+            en = 0.0
+            for k in range(m):
+                en += (err[k] / sc[k]) ** 2
+            en = math.sqrt(en / m)
+            if en >= 1.0 and (first or rejected):
+                for k in range(m):
+                    yt[k] = y[k] + err[k]
+                pillar_rates(
+                    t,
+                    yt,
+                    False,
+                    num,
+                    dd,
+                    ii,
+                    srow,
+                    theta0,
+                    gamma,
+                    chi,
+                    mu,
+                    prof,
+                    drives,
+                    tabs,
+                    ft,
+                    dummy,
+                    ws,
+                )
+                counts[3] += 1
+                for k in range(m):
+                    acc = ft[k]
+                    for si in range(3):
+                        acc += _DD[si] * z[si * m + k] / h
+                    err[k] = acc
+                _lu_apply(e1, piv1, err, m)
+                en = 0.0
+                for k in range(m):
+                    en += (err[k] / sc[k]) ** 2
+                en = math.sqrt(en / m)
+            fac = 0.9 * (2 * 7 + 1) / (nit + 2 * 7)
+            if not math.isfinite(en):
+                en = 1e10
+            grow = fac * max(en, 1e-10) ** -0.25
+            h_new = h * min(5.0, max(0.2, grow))
+            if en < 1.0:
+                break
+            rejected = True
+            counts[2] += 1
+            h = h_new if not first else 0.1 * h
+        # accepted: dense output, the event, the next step
+        counts[1] += 1
+        t_new = t + h
+        low = _lowest_cos(y1, num, theta0, srow, th_tmp)
+        t_stop = t_new
+        status = STATUS_OK
+        if low <= 0.0:  # bisection for the first time a node reaches pi/2
+            lo = 0.0
+            hi = 1.0
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                _dense(y, z, m, mid, yt)
+                if _lowest_cos(yt, num, theta0, srow, th_tmp) <= 0.0:
+                    hi = mid
+                else:
+                    lo = mid
+            t_stop = t + hi * h
+            status = STATUS_OUTSIDE
+        while nxt < n_eval and t_eval[nxt] <= t_stop:
+            _dense(y, z, m, (t_eval[nxt] - t) / h, yt)
+            for k in range(m):
+                y_out[nxt, k] = yt[k]
+            nxt += 1
+        if status != STATUS_OK:
+            return status, t_stop
+        for k in range(3 * m):
+            z_prev[k] = z[k]
+        for k in range(m):
+            y[k] = y1[k]
+        h_prev = h
+        have_prev = True
+        t = t_new
+        if rejected:
+            h_new = min(h_new, h)
+        rejected = False
+        first = False
+        h = min(h_new, t_end - t) if t_end - t > 0.0 else h_new
+        if t_end - t <= 1e-14 * (abs(t) + 1.0):
+            while nxt < n_eval:
+                for k in range(m):
+                    y_out[nxt, k] = y[k]
+                nxt += 1
+    return STATUS_OK, t

@@ -1,0 +1,402 @@
+"""The nonlinear pillar in time: :func:`simulate_pillar` (issue 30, theory.md §13).
+
+The semi-discretisation is the static pillar's Chebyshev collocation (the same mapped
+nodes, the same residual kernel ``spectral._residual_drag``) with the drag of the pillar's
+velocity and its inertia (:func:`hairbed._core._kernels.dynamics.pillar_rates`); theta_0 =
+theta0 and theta'(1) = 0 are solved for the boundary angles, which leaves an ODE in the
+interior angles (and their rates with inertia), integrated by the compiled Radau IIA of
+``integrate_pillar`` (order 5, L-stable, the exact Jacobian, error control, dense output,
+the wall event).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._core.pillar import PillarState, profile_coefficients, solve_pillar
+from .._core.validation import (
+    STATUS_MESSAGES,
+    as_float_array,
+    check_int,
+    check_number,
+    check_positive,
+    status_messages,
+)
+from ._operators import _mapped
+from ._signals import Signal, as_signal
+
+__all__ = ["PillarTrajectory", "simulate_pillar"]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class PillarTrajectory:
+    """A pillar's motion (theory.md §13); time in T = zeta_perp L^4/(E I), lengths in L.
+
+    Attributes
+    ----------
+    t : ndarray
+        The output times [T]. Past an event or a failure (``t_end``) the values are NaN.
+    forcing, tip_load : ndarray
+        The drives Lambda(t) [-] and P(t) [E I/L^2] at t.
+    tip_deflection, tip_height : ndarray
+        x1(t), h1(t) [L].
+    tip_angle : ndarray
+        theta(1, t) [rad].
+    base_moment : ndarray
+        theta'(0, t): the base moment in E I/L.
+    s : ndarray
+        The collocation nodes [L].
+    theta, theta_t : ndarray
+        theta [rad] and its rate [rad/T] at the nodes, (time, node).
+    mu, gamma, tangential_mass, theta0 : float
+        The model's constants.
+    status : int
+        0 reached the last time; -8 the pillar reached |theta| = pi/2 (it lies on the wall:
+        the event, at ``t_end``); -2 the step limit; -3 the step size underflowed or a
+        singular matrix (``STATUS_MESSAGES``).
+    t_end : float
+        Where the integration ended [T].
+    nsteps, naccept, nreject, nfev, njev, nlu : int
+        Work: steps tried, accepted, rejected; evaluations of the rates, Jacobians, LU
+        factorisations.
+    """
+
+    t: FloatArray
+    forcing: FloatArray
+    tip_load: FloatArray
+    tip_deflection: FloatArray
+    tip_height: FloatArray
+    tip_angle: FloatArray
+    base_moment: FloatArray
+    s: FloatArray
+    theta: FloatArray
+    theta_t: FloatArray
+    mu: float
+    gamma: float
+    tangential_mass: float
+    theta0: float
+    status: int
+    t_end: float
+    nsteps: int
+    naccept: int
+    nreject: int
+    nfev: int
+    njev: int
+    nlu: int
+    _ops: Any
+
+    @property
+    def success(self) -> bool:
+        """True where the run reached its last time (status 0)."""
+        return self.status == 0
+
+    @property
+    def message(self) -> Any:
+        """``STATUS_MESSAGES`` of the status."""
+        return status_messages(self.status, STATUS_MESSAGES)
+
+    def energy(self) -> dict[str, FloatArray]:
+        """The energy budget at every output time (units E I/L, time T):
+        ``elastic`` 1/2 int theta_s^2 ds, ``kinetic`` 1/2 mu int r_t . C r_t ds (C the
+        mass's anisotropy), ``input`` the power of the flow and the tip load on the moving
+        pillar, int Lambda U(z) e_x . A r_t ds + P x1_t, and ``dissipation`` int r_t . A r_t
+        ds (A = I - (1 - gamma) t t). In the model d(elastic + kinetic)/dt = input -
+        dissipation."""
+        ops = self._ops
+        ii, d1s, prof = ops["ii"], ops["d1s"], ops["prof"]
+        th, tt = self.theta, self.theta_t
+        c, s = np.cos(th), np.sin(th)
+        theta_s = th @ d1s.T
+        elastic = 0.5 * (theta_s**2) @ ii[-1]
+        vx = (tt * c) @ ii.T
+        vz = -(tt * s) @ ii.T
+        z = c @ ii.T
+
+        def quad_form(ratio: float) -> FloatArray:
+            p = s * vx + c * vz
+            return np.asarray((vx * vx + vz * vz - (1.0 - ratio) * p * p) @ ii[-1])
+
+        kinetic = 0.5 * self.mu * quad_form(self.tangential_mass)
+        dissipation = quad_form(self.gamma)
+        u = np.polynomial.chebyshev.chebval(2.0 * z - 1.0, prof)
+        p = s * vx + c * vz
+        ax = vx - (1.0 - self.gamma) * s * p  # (A r_t)_x
+        inp = self.forcing * ((u * ax) @ ii[-1]) + self.tip_load * vx[:, -1]
+        return {
+            "elastic": elastic,
+            "kinetic": kinetic,
+            "input": inp,
+            "dissipation": dissipation,
+        }
+
+    def to_xarray(self) -> Any:
+        """The trajectory as an xarray.Dataset with the dimensions ``t`` (and ``s`` for the
+        shape), CF attributes. Needs the ``io`` extra."""
+        from .._optional import optional_import
+
+        xr = optional_import("xarray", "PillarTrajectory.to_xarray", "io")
+        data = {
+            "forcing": ("t", self.forcing, {"units": "1", "long_name": "forcing Lambda(t)"}),
+            "tip_load": ("t", self.tip_load, {"units": "E I/L^2", "long_name": "tip load"}),
+            "tip_deflection": ("t", self.tip_deflection, {"units": "L", "long_name": "x(1)"}),
+            "tip_height": ("t", self.tip_height, {"units": "L", "long_name": "z(1)"}),
+            "tip_angle": ("t", self.tip_angle, {"units": "rad", "long_name": "theta(1)"}),
+            "base_moment": (
+                "t",
+                self.base_moment,
+                {"units": "E I/L", "long_name": "base moment theta'(0)"},
+            ),
+            "theta": (("t", "s"), self.theta, {"units": "rad", "long_name": "angle"}),
+            "theta_t": (("t", "s"), self.theta_t, {"units": "rad/T", "long_name": "rate"}),
+        }
+        return xr.Dataset(
+            data,
+            coords={
+                "t": ("t", self.t, {"units": "T", "long_name": "time, T = zeta_perp L^4/(E I)"}),
+                "s": ("s", self.s, {"units": "L", "long_name": "arc length"}),
+            },
+            attrs={
+                "title": "hairbed pillar trajectory",
+                "mu": self.mu,
+                "gamma": self.gamma,
+                "tangential_mass": self.tangential_mass,
+                "theta0": self.theta0,
+                "status": self.status,
+                "message": str(self.message),
+                "t_end": self.t_end,
+                "Conventions": "CF-1.10",
+            },
+        )
+
+
+def simulate_pillar(
+    forcing: Any,
+    t_eval: ArrayLike,
+    *,
+    theta0: float = 0.0,
+    tip_load: Any = 0.0,
+    profile: Any = "sublayer",
+    height_ratio: float | None = None,
+    gamma: float = 0.5,
+    mu: float = 0.0,
+    tangential_mass: float = 1.0,
+    initial: PillarState | None = None,
+    num: int = 32,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    max_steps: int = 100_000,
+) -> PillarTrajectory:
+    """A pillar in a time-dependent flow, from the nonlinear model (theory.md §13).
+
+    E I theta_ss = -(F_x cos - F_z sin), F = P(t) e_x + int_s^L (f - m r_tt) ds',
+    f = zeta_perp [I - (1 - gamma) t t] (u(z, t) e_x - r_t), u = Lambda(t) U(z) in the
+    static problem's units; time in T = zeta_perp L^4/(E I), mu = m E I/(zeta_perp^2 L^4).
+
+    Parameters
+    ----------
+    forcing : number, Signal or callable
+        Lambda(t): a constant, a :mod:`hairbed.dynamics` signal (``step``, ``ramp``,
+        ``sine``, ``pulses``, ``sampled``) or a callable of an ndarray of times (sampled at
+        ``CALLABLE_SAMPLES`` uniform times of the run).
+    t_eval : array_like
+        Output times [T], finite and non-decreasing; the run starts at t_eval[0].
+    theta0 : float, optional
+        The base angle [rad] in (-pi/2, pi/2).
+    tip_load : number, Signal or callable, optional
+        P(t) [E I/L^2].
+    profile, height_ratio, gamma : optional
+        As in :func:`hairbed.solve_pillar`.
+    mu : float, optional
+        The inertia number >= 0 (0, the default: overdamped).
+    tangential_mass : float, optional
+        chi in (0, 1]: tangential over normal mass per unit length (added mass acts
+        normally).
+    initial : PillarState, optional
+        The state at rest at t_eval[0]; default the static state of the drives' values just
+        before it (so a step at t_eval[0] starts from its value before).
+    num : int, optional
+        The Chebyshev degree N in [8, 128] (default 32).
+    rtol, atol : float, optional
+        The integrator's tolerances on the angles (and rates).
+    max_steps : int, optional
+        The most steps (work is bounded; status -2 beyond).
+
+    Returns
+    -------
+    PillarTrajectory
+
+    Examples
+    --------
+    >>> from hairbed.dynamics import simulate_pillar, step
+    >>> run = simulate_pillar(step(10.0), [0.0, 0.05, 2.0])  # to the static 0.5393542695
+    >>> run.success, round(float(run.tip_deflection[-1]), 6)
+    (True, 0.539354)
+    """
+    te = as_float_array(t_eval, "t_eval").reshape(-1)
+    if te.size < 1:
+        raise ValueError("t_eval must hold at least one time")
+    bad = ~np.isfinite(te)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"t_eval must be finite, got {te[i]!r} at index {i}")
+    back = np.flatnonzero(np.diff(te) < 0.0)
+    if back.size:
+        i = int(back[0]) + 1
+        raise ValueError(f"t_eval must not decrease; index {i} is {te[i]!r}")
+    t0 = check_number(theta0, "theta0", low=-0.5 * np.pi, high=0.5 * np.pi, low_open=True,
+                      high_open=True)  # fmt: skip
+    g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
+    m = check_number(mu, "mu", low=0.0)
+    chi = check_number(tangential_mass, "tangential_mass", low=0.0, high=1.0, low_open=True)
+    deg = check_int(num, "num", 8, 128)
+    rt = check_positive(rtol, "rtol")
+    at = check_positive(atol, "atol")
+    steps = check_int(max_steps, "max_steps", 1)
+    span_end = float(te[-1]) if te[-1] > te[0] else float(te[0]) + 1.0
+    lam_sig: Signal = as_signal(forcing, "forcing", float(te[0]), span_end)
+    tip_sig: Signal = as_signal(tip_load, "tip_load", float(te[0]), span_end)
+    prof = profile_coefficients(profile, height_ratio)
+    # the map of the collocation: that of the static state at the drives' last values
+    last = solve_pillar(
+        lam_sig.at_start(float(te[-1])),
+        t0,
+        profile=profile,
+        height_ratio=height_ratio,
+        gamma=g,
+        tip_load=tip_sig.at_start(float(te[-1])),
+        num=deg,
+    )
+    a = float(last._map) if np.isfinite(last._map) else 0.0
+    ss, sp, dd, ii, d0 = _mapped(deg, a)
+    if initial is None:  # at rest under the drives just before the start (a step at t0: before)
+        before = float(np.nextafter(te[0], -np.inf))
+        initial = solve_pillar(
+            lam_sig.at_start(before),
+            t0,
+            profile=profile,
+            height_ratio=height_ratio,
+            gamma=g,
+            tip_load=tip_sig.at_start(before),
+            num=deg,
+        )
+        if int(initial.status) < 0:  # (3, a tail above rtol at a small fixed N, will do)
+            raise ValueError(
+                f"no static state at the drives' values at t_eval[0] to start from "
+                f"({initial.message}); pass initial="
+            )
+    elif not isinstance(initial, PillarState) or np.ndim(initial.tip_height) != 0:
+        raise TypeError("initial must be one PillarState (a scalar solve_pillar result)")
+    elif abs(float(initial.theta0) - t0) > 1e-12 or int(initial.status) < 0:
+        raise ValueError(
+            f"initial must be a converged state at theta0 = {t0!r}, got theta0 = "
+            f"{float(initial.theta0)!r}, status {int(initial.status)}"
+        )
+    theta_start = np.asarray(initial.shape(ss)[3], dtype=np.float64)
+    n = deg - 1
+    size = n if m == 0.0 else 2 * n
+    y0 = np.zeros(size)
+    y0[:n] = theta_start[1:deg]
+    srow = -dd[deg, :] / dd[deg, deg]
+    srow[deg] = 0.0
+    drives = np.stack([lam_sig.row(), tip_sig.row()])
+    tk = max(lam_sig.times.size, tip_sig.times.size, 1)
+    tabs = np.zeros((4, tk))
+    for r, sig in ((0, lam_sig), (2, tip_sig)):
+        if sig.times.size:
+            tabs[r, : sig.times.size] = sig.times
+            tabs[r + 1, : sig.times.size] = sig.values
+            tabs[r, sig.times.size :] = sig.times[-1] + np.arange(1, tk - sig.times.size + 1)
+            tabs[r + 1, sig.times.size :] = sig.values[-1]
+        else:
+            tabs[r] = np.arange(tk, dtype=np.float64)
+    from .._core._kernels import dynamics as kern
+
+    y_out = np.full((te.size, size), np.nan)
+    counts = np.zeros(6, dtype=np.int64)
+    pr = np.ascontiguousarray(prof)
+    status, t_end = kern.integrate_pillar(
+        y0,
+        float(te[0]),
+        te,
+        rt,
+        at,
+        1e-6,
+        steps,
+        deg,
+        dd,
+        ii,
+        srow,
+        t0,
+        g,
+        chi,
+        m,
+        pr,
+        drives,
+        tabs,
+        y_out,
+        counts,
+    )
+    # the angles and rates at the nodes
+    theta = np.full((te.size, deg + 1), np.nan)
+    rates = np.full((te.size, deg + 1), np.nan)
+    theta[:, 0] = t0
+    theta[:, 1:deg] = y_out[:, :n]
+    theta[:, deg] = theta[:, :deg] @ srow[:deg]
+    ws = kern.workspace(deg)
+    f = np.empty(size)
+    jdummy = np.zeros((size, size))
+    for i in range(te.size):
+        if not np.all(np.isfinite(y_out[i])):
+            theta[i] = np.nan
+            continue
+        if m == 0.0:
+            kern.pillar_rates(
+                float(te[i]), y_out[i], False, deg, dd, ii, srow, t0, g, chi, m, pr, drives,
+                tabs, f, jdummy, ws,
+            )  # fmt: skip
+            rates[i, 1:deg] = f
+        else:
+            rates[i, 1:deg] = y_out[i, n:]
+        rates[i, 0] = 0.0
+        rates[i, deg] = rates[i, 1:deg] @ srow[1:deg]
+    c, s = np.cos(theta), np.sin(theta)
+    d1s = _mapped_first(deg, a)
+    return PillarTrajectory(
+        t=te,
+        forcing=np.asarray(lam_sig(te), dtype=np.float64).reshape(te.shape),
+        tip_load=np.asarray(tip_sig(te), dtype=np.float64).reshape(te.shape),
+        tip_deflection=s @ ii[deg],
+        tip_height=c @ ii[deg],
+        tip_angle=theta[:, deg].copy(),
+        base_moment=theta @ d0,
+        s=ss,
+        theta=theta,
+        theta_t=rates,
+        mu=m,
+        gamma=g,
+        tangential_mass=chi,
+        theta0=t0,
+        status=int(status),
+        t_end=float(t_end),
+        nsteps=int(counts[0]),
+        naccept=int(counts[1]),
+        nreject=int(counts[2]),
+        nfev=int(counts[3]),
+        njev=int(counts[4]),
+        nlu=int(counts[5]),
+        _ops={"ii": ii, "d1s": d1s, "prof": prof},
+    )
+
+
+def _mapped_first(num: int, a: float) -> FloatArray:
+    """The first derivative in s at every node of the map a (D/s')."""
+    from .._core.loaded import _matrices
+
+    _, sp, _, _, _ = _mapped(num, a)
+    return np.asarray(_matrices(num)[1] / sp[:, None])

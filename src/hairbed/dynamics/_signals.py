@@ -1,0 +1,195 @@
+"""Drives as functions of time: Lambda(t) and the tip load P(t) (issue 30, theory.md §13).
+
+A :class:`Signal` is evaluated inside the compiled integrator (``_kernels.dynamics``); the
+named ones are exact, a sampled series is its piecewise cubic Hermite interpolant
+(Catmull-Rom slopes), and a Python callable is sampled at ``CALLABLE_SAMPLES`` uniform times
+of the run and interpolated the same way.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._core.validation import as_float_array, check_number, show
+
+__all__ = [
+    "CALLABLE_SAMPLES",
+    "Signal",
+    "as_signal",
+    "constant",
+    "pulses",
+    "ramp",
+    "sampled",
+    "sine",
+    "step",
+]
+
+FloatArray = NDArray[np.float64]
+#: The uniform samples over the run of a callable drive (its cubic interpolant's error is
+#: ~ (dt)^4 f'''' / 384 per sample interval).
+CALLABLE_SAMPLES = 4097
+_KINDS = {"constant": 0, "step": 1, "ramp": 2, "sine": 3, "pulses": 4, "sampled": 5}
+
+
+@dataclass(frozen=True)
+class Signal:
+    """A drive d(t) (t in T = zeta_perp L^4/(E I)).
+
+    Attributes
+    ----------
+    kind : str
+        "constant", "step", "ramp", "sine", "pulses" or "sampled".
+    params : tuple of float
+        The kind's parameters (see the constructors :func:`step`, :func:`ramp`, ...).
+    times, values : ndarray
+        The samples of a "sampled" signal (empty otherwise).
+    """
+
+    kind: str
+    params: tuple[float, ...]
+    times: FloatArray
+    values: FloatArray
+
+    def row(self) -> FloatArray:
+        """The kernel's row: the kind's code, then up to 7 parameters."""
+        out = np.zeros(8)
+        out[0] = _KINDS[self.kind]
+        out[1 : 1 + len(self.params)] = self.params
+        return out
+
+    def __call__(self, t: ArrayLike) -> Any:
+        """d(t) [-] at the times t (the compiled evaluation the integrator uses)."""
+        from .._core._kernels import dynamics as kern
+
+        tv = np.asarray(t, dtype=np.float64)
+        row = self.row()
+        tt, vv = (self.times, self.values) if self.times.size else (np.zeros(1), np.zeros(1))
+        out = np.array(
+            [kern.drive_value(int(row[0]), row[1:], tt, vv, float(x)) for x in tv.reshape(-1)]
+        )
+        return out.reshape(tv.shape) if tv.ndim else float(out[0])
+
+    def at_start(self, t0: float) -> float:
+        """d(t0)."""
+        return float(self(t0))
+
+
+_EMPTY = np.zeros(0)
+
+
+def _finite(value: Any, name: str) -> float:
+    return check_number(value, name)
+
+
+def constant(value: float) -> Signal:
+    """d(t) = value."""
+    return Signal("constant", (_finite(value, "value"),), _EMPTY, _EMPTY)
+
+
+def step(after: float, before: float = 0.0, at: float = 0.0) -> Signal:
+    """d = before for t < at, after from t = at on."""
+    return Signal(
+        "step",
+        (_finite(before, "before"), _finite(after, "after"), _finite(at, "at")),
+        _EMPTY,
+        _EMPTY,
+    )
+
+
+def ramp(start: float, end: float, t_start: float, t_end: float) -> Signal:
+    """d = start until t_start, linear to end at t_end, then end (t_end > t_start)."""
+    a = _finite(t_start, "t_start")
+    b = _finite(t_end, "t_end")
+    if not b > a:
+        raise ValueError(f"t_end must be greater than t_start = {show(a)}, got {show(b)}")
+    return Signal("ramp", (_finite(start, "start"), _finite(end, "end"), a, b), _EMPTY, _EMPTY)
+
+
+def sine(mean: float, amplitude: float, omega: float, phase: float = 0.0) -> Signal:
+    """d = mean + amplitude sin(omega t + phase) (omega [1/T] > 0)."""
+    om = check_number(omega, "omega", low=0.0, low_open=True)
+    return Signal(
+        "sine",
+        (_finite(mean, "mean"), _finite(amplitude, "amplitude"), om, _finite(phase, "phase")),
+        _EMPTY,
+        _EMPTY,
+    )
+
+
+def pulses(base: float, height: float, period: float, width: float, start: float = 0.0) -> Signal:
+    """d = base, plus height during the first ``width`` of every ``period`` from ``start``
+    (0 < width < period)."""
+    p = check_number(period, "period", low=0.0, low_open=True)
+    w = check_number(width, "width", low=0.0, high=p, low_open=True, high_open=True)
+    return Signal(
+        "pulses",
+        (_finite(base, "base"), _finite(height, "height"), p, w, _finite(start, "start")),
+        _EMPTY,
+        _EMPTY,
+    )
+
+
+def sampled(times: ArrayLike, values: ArrayLike) -> Signal:
+    """The piecewise cubic Hermite interpolant of (times, values) (Catmull-Rom slopes; held
+    at the end values outside); times strictly increasing, at least 2 samples."""
+    tt = as_float_array(times, "times").reshape(-1)
+    vv = as_float_array(values, "values").reshape(-1)
+    if tt.size < 2 or vv.size != tt.size:
+        raise ValueError(
+            f"times and values must be 1-d of the same size >= 2, got {tt.size} and {vv.size}"
+        )
+    for name, arr in (("times", tt), ("values", vv)):
+        bad = ~np.isfinite(arr)
+        if np.any(bad):
+            i = int(np.flatnonzero(bad)[0])
+            raise ValueError(f"{name} must be finite, got {show(float(arr[i]))} at index {i}")
+    back = np.flatnonzero(np.diff(tt) <= 0.0)
+    if back.size:
+        i = int(back[0]) + 1
+        raise ValueError(f"times must increase strictly; index {i} is {show(float(tt[i]))}")
+    return Signal("sampled", (), np.ascontiguousarray(tt), np.ascontiguousarray(vv))
+
+
+def as_signal(value: Any, name: str, t0: float, t1: float) -> Signal:
+    """A Signal from a number, a Signal or a callable d(t) (sampled over [t0, t1])."""
+    if isinstance(value, Signal):
+        return value
+    if callable(value):
+        return _from_callable(value, name, t0, t1)
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+        return constant(check_number(value, name))
+    raise TypeError(
+        f"{name} must be a number, a hairbed.dynamics Signal (step, ramp, sine, pulses, "
+        f"sampled) or a callable d(t), got {type(value).__name__}"
+    )
+
+
+def _from_callable(func: Callable[..., Any], name: str, t0: float, t1: float) -> Signal:
+    tt = np.linspace(t0, t1, CALLABLE_SAMPLES)
+    try:
+        raw = func(tt)
+    except Exception as exc:  # the user's function: say whose error it is
+        raise ValueError(
+            f"{name}: the callable raised {type(exc).__name__}: {exc} (it is called with an "
+            "ndarray of times [T])"
+        ) from exc
+    vals = np.asarray(raw, dtype=np.float64)
+    if vals.shape != tt.shape:
+        vals = np.broadcast_to(vals, tt.shape).copy() if vals.ndim == 0 else vals
+    if vals.shape != tt.shape:
+        raise ValueError(
+            f"{name}: the callable must return an array of the shape of t {tt.shape}, got "
+            f"{vals.shape}"
+        )
+    bad = ~np.isfinite(vals)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(
+            f"{name}: the callable returned {show(float(vals[i]))} at t = {show(float(tt[i]))}"
+        )
+    return sampled(tt, vals)
