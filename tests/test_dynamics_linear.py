@@ -19,7 +19,7 @@ import pytest
 from tolerances import DYNAMICS_LINEAR_RTOL, PILLAR_DERIVATIVE_FD_RTOL
 
 import hairbed
-from hairbed.dynamics import linearise_pillar
+from hairbed.dynamics import hydrodynamic_function, linearise_pillar, sader_drag_ratio
 
 OMEGA = np.logspace(-3.0, 4.0, 15)
 MUS = (0.0, 1.0, 13.0)
@@ -29,12 +29,15 @@ def _uniform(z: np.ndarray) -> np.ndarray:
     return np.ones_like(z)
 
 
-def _cantilever(omega: float, mu: float, load: str) -> tuple[complex, complex]:
-    """(tip deflection W(1), base curvature W''(0)) per unit load, in mpmath."""
-    k4 = mp.mpf(mu) * mp.mpf(omega) ** 2 - 1j * mp.mpf(omega)
+def _cantilever(
+    omega: float, mu: float, load: str, drag: complex = 1.0
+) -> tuple[complex, complex]:
+    """(tip deflection W(1), base curvature W''(0)) per unit load, in mpmath; ``drag`` a
+    complex multiple of the normal drag (k^4 = mu omega^2 - i omega drag)."""
+    k4 = mp.mpf(mu) * mp.mpf(omega) ** 2 - 1j * mp.mpf(omega) * mp.mpc(drag)
     k = mp.sqrt(mp.sqrt(k4))
     with mp.workdps(30 + int(abs(k))):  # cosh(k) ~ e^|k| cancels in the 2 x 2 solve
-        k4 = mp.mpf(mu) * mp.mpf(omega) ** 2 - 1j * mp.mpf(omega)
+        k4 = mp.mpf(mu) * mp.mpf(omega) ** 2 - 1j * mp.mpf(omega) * mp.mpc(drag)
         k = mp.sqrt(mp.sqrt(k4))
 
         def kry(x: mp.mpf) -> tuple[mp.mpc, ...]:
@@ -219,3 +222,43 @@ def test_a_band_through_the_schur_form(mu: float, low: float, high: float) -> No
     assert np.all(r.num == 64)
     want = np.array([_cantilever(float(x), mu, "tip")[0] for x in om])
     assert np.all(np.abs(r.tip_deflection - want) <= DYNAMICS_LINEAR_RTOL * np.abs(want))
+
+
+def _gamma_mpmath(re: float) -> complex:
+    """Sader's Gamma_circ in mpmath (J. Appl. Phys. 84, 64 (1998), eq. (20))."""
+    with mp.workdps(40):
+        root = mp.sqrt(1j * mp.mpf(re))
+        arg = -1j * root
+        return complex(1 + 4j * mp.besselk(1, arg) / (root * mp.besselk(0, arg)))
+
+
+def test_hydrodynamic_function_against_mpmath() -> None:
+    re = np.logspace(-4, 4, 17)
+    got = hydrodynamic_function(re)
+    want = np.array([_gamma_mpmath(float(x)) for x in re])
+    assert np.all(np.abs(got - want) <= 1e-12 * np.abs(want))
+    assert np.all(got.imag > 0.0) and abs(got[-1].real - 1.0) < 0.05  # -> potential flow
+    with pytest.raises(ValueError, match="reynolds"):
+        hydrodynamic_function([1.0, 0.0])
+
+
+def test_unsteady_drag_response_is_the_cantilever_with_sader_drag() -> None:
+    """With Sader's drag the straight cantilever is W'''' - k^4 W = p, k^4 = mu omega^2 -
+    i omega D(omega), D from mpmath's Gamma; below the crossover D = 1 (quasi-steady)."""
+    scale, slender, mu = 0.05, 20.0, 2.0
+    lin = linearise_pillar(hairbed.solve_pillar(0.0), mu=mu)
+    om = np.array([1e-4, 0.5, 3.0, 40.0, 500.0])
+    r = lin.frequency_response(om, "tip_load", unsteady_drag=(scale, slender))
+    log = np.log(2 * slender) + 0.5
+    for i, w in enumerate(om):
+        re = scale * w
+        d = 1.0 if re < 2.0 / slender**2 else 1j * log * re * np.conj(_gamma_mpmath(re)) / 4
+        want = _cantilever(float(w), mu, "tip", d)[0]
+        assert abs(r.tip_deflection[i] - want) <= DYNAMICS_LINEAR_RTOL * abs(want), (w, d)
+    assert sader_drag_ratio(1e-4, scale, slender) == 1.0
+    quasi = lin.frequency_response(om[:1], "tip_load").tip_deflection[0]
+    assert abs(r.tip_deflection[0] - quasi) <= DYNAMICS_LINEAR_RTOL * abs(quasi)
+    with pytest.raises(ValueError, match="tangential_mass"):
+        linearise_pillar(hairbed.solve_pillar(0.0), tangential_mass=0.5).frequency_response(
+            1.0, unsteady_drag=(scale, slender)
+        )

@@ -2,12 +2,15 @@
 
 - :func:`linearise_pillar`: the linear dynamics about any static pillar state, its modes and
   its transfer functions (drive -> tip deflection, tip height, base moment).
+- :func:`hydrodynamic_function` (Sader's Gamma of an oscillating cylinder) and
+  :func:`sader_drag_ratio`: the optional frequency-dependent drag of the linear response.
 - :func:`simulate_pillar`: the nonlinear pillar in time (compiled Radau IIA), driven by
   :func:`step`, :func:`ramp`, :func:`sine`, :func:`pulses`, :func:`sampled` or a callable.
 """
 
 from __future__ import annotations
 
+from ._hydrodynamic import crossover_reynolds, hydrodynamic_function, sader_drag_ratio
 from ._integrate import PillarTrajectory, simulate_pillar
 from ._linear import (
     DRIVES,
@@ -25,6 +28,9 @@ __all__ = [
     "PillarTrajectory",
     "Signal",
     "constant",
+    "crossover_reynolds",
+    "hydrodynamic_function",
+    "sader_drag_ratio",
     "pulses",
     "ramp",
     "sampled",

@@ -37,7 +37,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._core.pillar import PillarState, profile_coefficients
 from .._core.validation import as_float_array, check_number, show, status_messages
-from ._operators import StateOperators, state_operators
+from ._hydrodynamic import sader_drag_ratio
+from ._operators import StateOperators, state_operators, velocity_operators
 
 __all__ = [
     "DRIVES",
@@ -361,11 +362,24 @@ class LinearPillar:
         return max(32, int(self.state.num))
 
     def frequency_response(
-        self, omega: ArrayLike, drive: str = "forcing", *, num: int | None = None
+        self,
+        omega: ArrayLike,
+        drive: str = "forcing",
+        *,
+        num: int | None = None,
+        unsteady_drag: tuple[float, float] | None = None,
     ) -> FrequencyResponse:
         """Transfer functions from ``drive`` to x1, h1 and theta'(0) at the frequencies
         ``omega`` [1/T] (finite, >= 0; any shape is flattened), each band by its own degree
-        N (or all at ``num``)."""
+        N (or all at ``num``).
+
+        ``unsteady_drag=(reynolds_scale, slenderness)`` replaces the quasi-steady normal
+        drag by the oscillating cylinder's (:func:`sader_drag_ratio`: Sader's hydrodynamic
+        function above the crossover Re = 2 (a/L)^2, resistive force below), with
+        reynolds_scale = rho_f b^2/(4 eta T) and slenderness L/a; the fluid's added mass is
+        then in the drag, so ``mu`` must be the solid's own (rho_s pi a^2) and the mass
+        isotropic (tangential_mass 1). The tangential drag stays gamma zeta_perp. Each
+        frequency is one LU (no Schur form: the pencil is no longer polynomial)."""
         om = as_float_array(omega, "omega").reshape(-1)
         bad = ~np.isfinite(om) | (om < 0.0)
         if np.any(bad):
@@ -388,9 +402,26 @@ class LinearPillar:
             degs = np.full(om.size, _check_degree(num), dtype=np.int64)
         status = np.where(wave + _MARGIN > degs, 3, 0).astype(np.int64)
         out = np.empty((3, om.size), dtype=np.complex128)
+        drag = None
+        if unsteady_drag is not None:
+            if self.tangential_mass != 1.0:
+                raise ValueError(
+                    "unsteady_drag carries the fluid's added mass: linearise with "
+                    "tangential_mass = 1 and mu of the solid alone"
+                )
+            if not isinstance(unsteady_drag, tuple) or len(unsteady_drag) != 2:
+                raise ValueError(
+                    "unsteady_drag must be a pair (reynolds_scale, slenderness), got "
+                    f"{show(unsteady_drag)}"
+                )
+            drag = np.asarray(sader_drag_ratio(om, *unsteady_drag), dtype=np.complex128)
+            drag = drag.reshape(-1)
         for deg in np.unique(degs):
             sel = np.flatnonzero(degs == deg)
-            out[:, sel] = self._response(int(deg), om[sel], col)
+            if drag is None:
+                out[:, sel] = self._response(int(deg), om[sel], col)
+            else:
+                out[:, sel] = self._unsteady_response(int(deg), om[sel], col, drag[sel])
         return FrequencyResponse(
             omega=om,
             drive=drive,
@@ -403,6 +434,38 @@ class LinearPillar:
             tangential_mass=self.tangential_mass,
             status=status,
         )
+
+    def _unsteady_response(
+        self, deg: int, om: FloatArray, col: int, drag: ComplexArray
+    ) -> ComplexArray:
+        """The outputs with the normal drag zeta_perp D(omega) (Sader's, theory.md §13) and
+        the solid's mass mu (isotropic): one LU a frequency."""
+        p = self._pencil(deg, schur=False)
+        ops = p.ops
+        num = ops.num
+        dif = np.arange(1, num)
+        n1 = num + 1
+
+        def red(x: FloatArray) -> FloatArray:
+            full = np.zeros((n1 + 1, n1 + 1))
+            full[1:num, :n1] = x[1:num]
+            return np.asarray(full[dif] @ p.expand)
+
+        b0 = red(velocity_operators(ops.theta, ops.ii, 0.0)[0])  # the normal part
+        b1 = red(velocity_operators(ops.theta, ops.ii, 1.0)[0])
+        m1 = b1  # the isotropic mass has the operator of the isotropic drag
+        gamma = float(self.state.gamma)
+        sv = 1j * om
+        mats = (
+            (self.mu * sv * sv)[:, None, None] * m1
+            + (sv * drag)[:, None, None] * b0
+            + (gamma * sv)[:, None, None] * (b1 - b0)
+            - p.jr[None, :, :]
+        )
+        n = deg - 1
+        rhs = np.broadcast_to(p.drives[col].astype(np.complex128), (om.size, n))
+        v = np.linalg.solve(mats, rhs[:, :, None])[:, :, 0]
+        return np.asarray((v @ p.outputs.T).T)
 
     def _response(self, deg: int, om: FloatArray, col: int) -> ComplexArray:
         """The outputs at the frequencies ``om``, all at degree ``deg``: (3, size)."""
