@@ -171,7 +171,6 @@ def test_rectification_ratio_of_a_tilted_porous_bed() -> None:
 @pytest.mark.parametrize(
     "call",
     [
-        lambda b: b.sweep([0.1]),
         lambda b: b.velocity_from_wall_shear_stress(1.0),
         lambda b: b.linear_velocity_from_tip_deflection(1e-5),
         lambda b: b.fit_profile([0.0, 1e-4], [0.0, 5e-4]),
@@ -181,3 +180,34 @@ def test_what_a_porous_bed_does_not_support_yet_says_so(call: object) -> None:
     bed = HairBed(**BED, model="porous")
     with pytest.raises(NotImplementedError, match="dense bed .* only"):
         call(bed)  # type: ignore[operator]
+
+
+def test_porous_variables_table_is_the_state() -> None:
+    import dataclasses
+
+    from hairbed._variables import POROUS
+
+    fields = [
+        f.name
+        for f in dataclasses.fields(hairbed.PorousState)
+        if not f.name.startswith("_") and f.name != "drive"
+    ]
+    assert list(POROUS) == fields
+
+
+def test_sweep_of_a_porous_bed_is_its_deform() -> None:
+    pytest.importorskip("xarray")
+    bed = HairBed(**BED, model="porous", base_angle=0.2)
+    v = np.array([-0.05, 0.0, 0.02, 0.1])
+    ds = bed.sweep(v)
+    st = bed.deform(v)
+    np.testing.assert_array_equal(ds.tip_deflection.values, st.tip_deflection)
+    np.testing.assert_array_equal(ds.wall_shear_stress.values, st.wall_shear_stress)
+    np.testing.assert_array_equal(ds.scaled_tip_height.values, st.solution.tip_height)
+    assert ds.tip_deflection.attrs["units"] == "m" and ds.attrs["model"] == "porous"
+    assert ds.attrs["kappa"] == bed.kappa
+    grid = bed.sweep([0.0, 0.01], pressure_gradient=[100.0, 300.0], chunks=3)
+    assert grid.tip_deflection.dims == ("velocity", "pressure_gradient")
+    one = bed.deform(0.01, pressure_gradient=300.0)
+    assert grid.tip_deflection.values[1, 1] == one.tip_deflection
+    assert grid.status.dtype == np.int64 and np.all(grid.status.values == 0)

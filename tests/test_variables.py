@@ -24,6 +24,7 @@ from hairbed._variables import (
     GROUPS,
     LOADED,
     PILLAR,
+    POROUS,
     SI,
     SOLUTION,
     WINDOW,
@@ -64,7 +65,11 @@ def test_the_table_names_exactly_the_kernel_fields():
 
 
 def test_the_bed_group_is_the_hairbed_fields_in_order():
-    assert names(BED, "bed") == tuple(f.name for f in dataclasses.fields(HairBed))
+    # every field is named: the numbers (group bed), then the model's choices (bed_model)
+    fields = tuple(f.name for f in dataclasses.fields(HairBed))
+    assert names(BED, "bed", "bed_model") == fields
+    assert names(BED, "bed_model") == ("model", "drag")
+    assert all(BED[k].dtype == "float64" for k in names(BED, "bed"))
 
 
 def test_the_required_bed_parameters_are_the_fields_without_a_default():
@@ -103,12 +108,15 @@ def test_the_si_values_are_floats():
 
 
 def test_entries_are_complete():
-    for table in (SOLUTION, BED, SI, WINDOW, LOADED, PILLAR):
+    for table in (SOLUTION, BED, SI, WINDOW, LOADED, PILLAR, POROUS):
         for key, v in table.items():
             assert isinstance(v, Variable) and v.name == key
             assert v.group in GROUPS
             assert v.units and v.long_name and v.label and v.description, key
-            assert v.dtype in ("float64", "int64", "bool"), key
+            # strings only for a bed's choice of model
+            assert v.dtype in ("float64", "int64", "bool") or (
+                v.dtype == "str" and v.group == "bed_model"
+            ), key
             assert "[" not in v.label, key  # the unit goes in ``unit``, shown by ``heading``
             # dimensionless in CF exactly when people read no physical unit (a pillar's
             # forces are in E I/L^2)

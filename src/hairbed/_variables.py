@@ -15,6 +15,8 @@ adding one entry (and, for a state field, the kernel's column in
   not name;
 - :data:`PILLAR`: an isolated pillar in a wall shear layer (theory.md §12), the inputs of
   :func:`hairbed.solve_pillar` and every field of :class:`hairbed.PillarState` in its order;
+- :data:`POROUS`: a hair in a porous (Brinkman) bed (theory.md §13), every field of a
+  :class:`hairbed.PorousState` in its order;
 - :data:`WINDOW`: the bistable window of a pair (eps, theta0), the variables of the exact
   map :func:`hairbed.sweeps.bistability_map` (``hairbed bistability --map``).
 
@@ -46,6 +48,7 @@ __all__ = [
     "SI",
     "LOADED",
     "PILLAR",
+    "POROUS",
     "SOLUTION",
     "WINDOW",
     "Variable",
@@ -62,12 +65,15 @@ GROUPS: Mapping[str, str] = MappingProxyType(
         "solve": "how the state was found: root count, physicality, status, branch parameter",
         "derived": "a quantity computed from a state, not a field of Solution",
         "bed": "a parameter of a hair bed in SI units (a field of HairBed)",
+        "bed_model": "a choice of a hair bed's model (a field of HairBed, a string)",
         "bed_derived": "a property of a hair bed computed from its parameters",
         "si": "a state of a bed in SI units (a field of HairState)",
         "window": "the bistable window of a pair (eps, theta0): its folds, width, count",
         "loaded": "a field of a LoadedState (a distributed load) that Solution does not have",
         "pillar_input": "an input of an isolated pillar's problem (solve_pillar)",
         "pillar": "a field of a PillarState (an isolated pillar in a shear layer)",
+        "porous_input": "an input of the porous bed's problem (solve_porous)",
+        "porous": "a field of a PorousState (a hair in a porous, Brinkman, bed)",
     }
 )
 
@@ -93,7 +99,7 @@ class Variable:
     description : str
         One line on what it means.
     dtype : str
-        "float64", "int64" or "bool".
+        "float64", "int64", "bool" or "str".
     """
 
     name: str
@@ -277,6 +283,17 @@ BED: Mapping[str, Variable] = _table(
     _V(
         "density", "bed", "kg m-3", "density rho of the fluid", "fluid density rho",
         "kg/m^3", "optional: only used for the gap's Reynolds number (Stokes flow if < 1)",
+    ),
+    _V(
+        "model", "bed_model", "1", "the bed's model: 'dense' (the paper's) or 'porous'",
+        "bed model", "", "the porous model solves the flow through the bed (theory.md §13)",
+        "str",
+    ),
+    _V(
+        "drag", "bed_model", "1",
+        "the porous bed's drag coefficients: 'crossover', 'sparse' or 'array'",
+        "drag model", "", "Gray & Hancock's, the array's own, or the crossover between them",
+        "str",
     ),
     _V(
         "eps", "bed_derived", "1", "confinement eps = L/H", "confinement eps = L/H", "-",
@@ -596,4 +613,72 @@ PILLAR: Mapping[str, Variable] = _table(
         "stable under a slow change of the forcing (on a rising part of Lambda(x1))",
         "stable", "", "from solve_pillar_all only (None elsewhere)", "bool",
     ),
+)  # fmt: skip
+
+
+#: A hair in a porous (Brinkman) bed (theory.md §13): every field of a
+#: :class:`hairbed.PorousState` in its order (``drive`` aside), inputs first. Loads and the
+#: fluid's stresses are in E I/(A L^2), its velocity in E I/(eta A L) (the load units of
+#: the paper's omega^2).
+POROUS: Mapping[str, Variable] = _table(
+    _V(
+        "omega2", "porous_input", "1", SOLUTION["omega2"].long_name,
+        "forcing omega^2", "-", "the top wall's drive (the inverse's solved forcing)",
+    ),
+    _V("eps", "porous_input", "1", SOLUTION["eps"].long_name, "confinement eps", "-",
+       SOLUTION["eps"].description),
+    _V("theta0", "porous_input", "rad", SOLUTION["theta0"].long_name, "base angle theta0",
+       "rad", SOLUTION["theta0"].description),
+    _V(
+        "kappa", "porous_input", "1",
+        "bed permeability over L^2, kappa = eta A / (zeta_perp L^2)",
+        "permeability kappa", "-", "the square of the Brinkman length in hair lengths",
+    ),
+    _V(
+        "gamma", "porous_input", "1", "drag ratio gamma = zeta_par / zeta_perp",
+        "drag ratio gamma", "-", "tangential over normal drag of a hair, in (0, 1]",
+    ),
+    _V(
+        "pi", "porous_input", "1", LOADED["pi"].long_name, "pressure gradient pi", "-",
+        "set by the pressure drive, solved by the flow drive",
+    ),
+    _V("q", "porous_input", "1", LOADED["q"].long_name, "flow rate q", "-",
+       "set by the flow drive (NaN for the pressure drive)"),
+    _V("tip_height", "porous", "1", "tip height h1 = z(1), in units of L", "tip height h1",
+       "L", "sets the gap above the bed"),
+    _V("tip_deflection", "porous", "1", "tip deflection x1 = x(1), in units of L",
+       "tip deflection x1", "L", "along +x from the base"),
+    _V("tip_angle", "porous", "rad", "tip angle theta(1) from the wall normal", "tip angle",
+       "rad", "angle of the free end"),
+    _V(
+        "base_curvature", "porous", "1",
+        "base curvature theta'(0) = int_0^1 (F_x cos theta - F_z sin theta) ds, in 1/L",
+        "base curvature", "1/L", "the base moment over E I",
+    ),
+    _V("tip_stress", "porous", "1", "fluid shear stress on the tip plane Q(1), load units",
+       "tip-plane stress Q(1)", "-", "the dense bed's tip load W in its limit"),
+    _V("wall_stress", "porous", "1", "fluid shear stress on the bottom wall Q(0), load units",
+       "bottom-wall stress Q(0)", "-", "0 in the dense limit"),
+    _V("tip_velocity", "porous", "1", "fluid velocity at the tip plane w(1), load units",
+       "tip-plane velocity w(1)", "-", "the bed's slip velocity"),
+    _V("drag_x", "porous", "1", "total horizontal drag F_x(0) on one hair, in E I/L^2",
+       "drag F_x(0)", "EI/L^2", "the base's shear force"),
+    _V("drag_z", "porous", "1", "total vertical drag F_z(0) on one hair, in E I/L^2",
+       "drag F_z(0)", "EI/L^2", "the base's axial force (0 for isotropic drag)"),
+    _V("max_angle", "porous", "rad", "largest |theta| along the hair", "largest angle",
+       "rad", "the model needs it below pi/2"),
+    _V("status", "porous", "1", "solver status (0 converged; negative: no state)", "status",
+       "", "see STATUS_MESSAGES", "int64"),
+    _V("error_estimate", "porous", "1",
+       "largest Chebyshev tail of theta, w and Q (relative) plus the rounding part",
+       "error estimate", "-", "estimates the error of the state"),
+    _V("residual", "porous", "1", "largest residual of the collocation equations",
+       "residual", "-", "of the returned state"),
+    _V("nit", "porous", "1", "Newton iterations over every level of the Chebyshev ladder",
+       "Newton iterations", "", "work done", "int64"),
+    _V("num", "porous", "1", "Chebyshev degree N of the returned state",
+       "Chebyshev degree N", "", "the resolution that met the tolerance", "int64"),
+    _V("stable", "porous", "1",
+       "stable under a slow change of the gap (dG/dh1 < 0 of the frozen-gap map)", "stable",
+       "", "from solve_porous_all only (None elsewhere)", "bool"),
 )  # fmt: skip

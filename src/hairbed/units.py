@@ -154,7 +154,7 @@ def _warn_sparse(bed: HairBed, stacklevel: int = 4) -> None:
 #: What a porous bed (``HairBed(..., model="porous")``) supports so far; every other method
 #: and workflow says so rather than compute the dense bed's answer.
 POROUS_SUPPORTED = (
-    "deform, wall_shear_stress, rectification_ratio, state_from_tip_deflection, "
+    "deform, sweep, wall_shear_stress, rectification_ratio, state_from_tip_deflection, "
     "velocity_from_tip_deflection and wall_shear_stress_from_tip_deflection"
 )
 
@@ -866,7 +866,6 @@ class HairBed:
         """
         from .sweeps import bed_sweep
 
-        require_dense(self, "HairBed.sweep")
         return bed_sweep(
             self,
             velocity,

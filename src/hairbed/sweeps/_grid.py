@@ -418,6 +418,12 @@ def bed_sweep(
     xr = optional_import("xarray", "HairBed.sweep", "sweep")
     if not all(hasattr(bed, a) for a in ("deform", "velocity_scale", "eps", "length")):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
+    if getattr(bed, "model", "dense") == "porous":
+        from ._porous import porous_sweep
+
+        return porous_sweep(
+            bed, velocity, pressure_gradient, flow_rate, root, chunks, progress, _si_axis
+        )
     if pressure_gradient is not None or flow_rate is not None:
         return _pumped_sweep(bed, velocity, pressure_gradient, flow_rate, root, chunks, progress)
     if velocity is None:
