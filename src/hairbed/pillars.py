@@ -628,7 +628,9 @@ class Pillar:
         """c1 of the linear formula x1 = sin(theta0) + c1 Lambda [-] (theory.md §12).
 
         c1 = cos^2(theta0) int_0^1 U(s cos theta0) s^2 (3 - s)/6 ds: 11 cos^3(theta0)/120 for
-        the sublayer and Couette, (33 - 26 L/H)/360 for Poiseuille at theta0 = 0.
+        the sublayer and Couette, (33 - 26 L/H)/360 for Poiseuille at theta0 = 0, and for the
+        "wall-law" profile the sublayer's, its limit as L+ -> 0 (the shape of its profile
+        changes with the stress; :meth:`linear_range` says how far the formula holds).
         """
         c = math.cos(self.base_angle)
         xg, wg = _GAUSS
