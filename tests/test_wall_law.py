@@ -175,6 +175,28 @@ def test_pillar_against_mpmath_shooting(case):
     assert back == pytest.approx(tau, rel=1e-9)
 
 
+def test_reference_data_is_what_its_inputs_say():
+    # the generator's dimensionless inputs from its SI ones, written here (theory.md §12),
+    # and its resolution check, without hairbed
+    assert DATA["kappa"] == "0.41" and DATA["B"] == "5.0"
+    for case in DATA["cases"]:
+        i = {k: float(v) for k, v in case["inputs"].items()}
+        lg = math.log(2 * i["length"] / i["radius"])
+        inertia = math.pi * i["radius"] ** 4 / 4
+        zeta = 4 * math.pi * i["viscosity"] / (lg + 0.5)
+        lam = (
+            zeta
+            * i["wall_shear_stress"]
+            * i["length"] ** 4
+            / (i["viscosity"] * i["youngs_modulus"] * inertia)
+        )
+        lp = i["length"] * math.sqrt(abs(i["wall_shear_stress"]) * i["density"]) / i["viscosity"]
+        assert float(case["forcing"]) == pytest.approx(lam, rel=1e-14)
+        assert float(case["gamma"]) == pytest.approx((lg + 0.5) / (2 * lg - 1), rel=1e-14)
+        assert float(case["l_plus"]) == pytest.approx(lp, rel=1e-14)
+        assert float(case["richardson_difference"]) < 1e-13
+
+
 # -- the sublayer limit, the slope, the inverse -----------------------------------------------
 
 
