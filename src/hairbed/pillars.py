@@ -130,6 +130,8 @@ _GAUSS = np.polynomial.legendre.leggauss(200)
 #: The search grid of :meth:`Pillar.linear_range`: the fraction u of the way from the tip at
 #: rest to the wall (x1 = sin theta0 + u (1 - sin theta0)).
 _RANGE_GRID = np.concatenate([np.geomspace(1e-6, 0.05, 60), np.linspace(0.05, 0.999, 96)[1:]])
+#: The chunks in which :meth:`Pillar.linear_range` evaluates the grid, from rest.
+_RANGE_CHUNKS = 6
 
 
 @dataclass(frozen=True)
@@ -1159,11 +1161,19 @@ class Pillar:
         """
         tol = check_number(rtol, "rtol", low=0.0, high=1.0, low_open=True, high_open=True)
         rest = math.sin(self.base_angle)
-        err = self._linear_error(_RANGE_GRID)
+        # the grid from rest in chunks, up to the first that leaves the tolerance (or finds no
+        # state): the larger deflections beyond are not needed (the wall law's cost most)
+        parts = []
+        for chunk in np.array_split(_RANGE_GRID, _RANGE_CHUNKS):
+            parts.append(self._linear_error(chunk))
+            if np.any(~(np.abs(parts[-1]) <= tol)):
+                break
+        err = np.concatenate(parts)
+        searched = _RANGE_GRID[: err.size]
         # the search ends where the inverse first finds no state (a pillar almost flat on
         # the wall, Lambda beyond the solver's reach)
         reached = np.flatnonzero(~np.isfinite(err))
-        grid = _RANGE_GRID[: reached[0]] if reached.size else _RANGE_GRID
+        grid = searched[: reached[0]] if reached.size else searched
         err = err[: grid.size]
         over = np.flatnonzero(~(np.abs(err) <= tol))
         if grid.size == 0:
