@@ -52,3 +52,23 @@ def test_a_single_state_bed_has_no_fold() -> None:
     b = porous_branch(0.5, 0.3, kappa=1e-2, num=20)
     assert b.window is None and b.fold_kind == ()
     assert np.all(b.stable) and np.all(np.diff(b.omega2) > 0)
+
+
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [
+        ({"eps": 1.0}, "eps"),
+        ({"theta0": 2.0}, "theta0"),
+        ({"kappa": 0.0}, "kappa"),
+        ({"kappa": float("nan")}, "kappa"),
+        ({"gamma": 1.5}, "gamma"),
+        ({"x1_max": 1.0}, "x1_max"),
+        ({"x1_max": -0.9}, "x1_max"),
+        ({"num": 3}, "num"),
+        ({"eps": [0.5, 0.6]}, "eps"),
+    ],
+)
+def test_bad_inputs_name_the_parameter(kw: dict, match: str) -> None:
+    args = {"eps": 0.5, "theta0": 0.3, "kappa": 1e-2, **kw}
+    with pytest.raises(ValueError, match=match):
+        porous_branch(**args)

@@ -216,8 +216,8 @@ def porous_state_from_tip_deflection(
     out6 = np.empty((6, xf.size, num + 1))
     closed.shape_array(tpar, np.zeros(xf.size), tf, 1, 0, np.ascontiguousarray(sig), out6)
     # omega2 of the same load through the bed: the linear theory's ratio, the gap at h
-    unit = porous._linear_deflection(np.ones(xf.size), flat[1], flat[3], np.zeros(xf.size))
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        unit = porous._linear_deflection(np.ones(xf.size), flat[1], flat[3], np.zeros(xf.size))
         omega2 = big_w * (1.0 - flat[1] * h) / (3.0 * unit * (1.0 - flat[1]))
     omega2 = np.where(np.isfinite(omega2), omega2, 0.0)
     with np.errstate(over="ignore", invalid="ignore", divide="ignore"):

@@ -521,7 +521,8 @@ def _rescue(
     for i in todo:
         w, e, t0, k, g, ld = (float(v[i]) for v in flat)
         kw = {"pi": ld} if drive == "pressure" else {"q": ld}
-        found = solve_porous_all(w, e, t0, kappa=k, gamma=g, rtol=tol, **kw)
+        found = [s for s in solve_porous_all(w, e, t0, kappa=k, gamma=g, rtol=tol, **kw)
+                 if s.status >= 0]  # fmt: skip
         if not found or (root == "mid" and len(found) < 3):
             out[0, i] = -1 if found else out[0, i]
             out[3:, i] = np.nan
@@ -630,6 +631,8 @@ def solve_porous_all(
     -------
     list of PorousState
         Sorted by tip height, each with ``stable`` (dG/dh < 0 at the root: True stable).
+        Never empty: where the scan finds no state, one state of NaN values whose
+        ``status`` (-7) and ``message`` say so.
     """
     named: tuple[tuple[str, Any], ...] = (
         ("omega2", omega2),
@@ -641,21 +644,29 @@ def solve_porous_all(
         ("q", q),
     )
     for name, value in named:
-        if value is not None and np.shape(value) != ():
-            raise ValueError(f"{name} must be a single number (a scalar) for solve_porous_all")
+        if value is None:
+            continue
+        try:
+            shape: Any = np.shape(value)
+        except ValueError:  # a ragged nested list
+            shape = "ragged"
+        if shape != ():
+            raise ValueError(
+                f"{name} must be a single number (a scalar) for solve_porous_all, got shape "
+                f"{shape}"
+            )
     drive, code, arrays = _check(omega2, eps, theta0, kappa, gamma, pi, q)
     tol = check_positive(rtol, "rtol")
     count = check_int(num_scan, "num_scan", 8, 10**4)
-    if float(arrays[1]) == 0.0:
-        one = solve_porous(omega2, eps, theta0, kappa=kappa, gamma=gamma, pi=pi, q=q, rtol=tol)
-        return [one] if one.status >= 0 else []
+    if float(arrays[1]) == 0.0:  # no gap feedback: one state, or its failure status
+        return [solve_porous(omega2, eps, theta0, kappa=kappa, gamma=gamma, pi=pi, q=q, rtol=tol)]
     h = np.unique(np.concatenate([np.geomspace(*_SCAN_LOW), np.linspace(0.02, 1.0, count)]))
     out = _frozen(code, arrays, h, tol)[0]
     g = np.where(out[0] >= 0, out[3] - h, np.nan)
     lo_i = np.flatnonzero(np.isfinite(g[:-1]) & np.isfinite(g[1:]) & (g[:-1] * g[1:] <= 0.0))
     lo_i = lo_i[~np.isin(lo_i - 1, lo_i) | (g[lo_i] != 0.0)]
     if lo_i.size == 0:
-        return []
+        return [_no_state(drive, code, arrays)]
     lo, hi = h[lo_i], h[lo_i + 1]
     glo = g[lo_i]
     stable = glo > g[lo_i + 1]
@@ -708,7 +719,19 @@ def solve_porous_all(
                 bool(stable[i]),
             )
         )
-    return states
+    return states or [_no_state(drive, code, arrays)]
+
+
+def _no_state(drive: str, code: int, arrays: tuple[FloatArray, ...]) -> PorousState:
+    """The one state of :func:`solve_porous_all` where the scan finds none: NaN values,
+    status -7 (no state reached), never an empty list."""
+    k = _kernels()
+    out = np.full((k.NCOLS, 1), np.nan)
+    out[0] = -7
+    out[1:3] = 0
+    one = tuple(np.array(float(v.reshape(-1)[0])) for v in arrays)
+    coefs = np.full((5, 1, LADDER[-1] + 1), np.nan)
+    return _state(drive, code, (), one, out, coefs, np.zeros(1))
 
 
 def _solve_inverse_checked(
