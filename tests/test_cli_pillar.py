@@ -166,7 +166,10 @@ def test_no_fold_upright(capsys):
         (["--pillar", "--tip-deflection=0.2", "--all"], "--all needs --forcing"),
         (["--pillar", "--forcing=1", "--gamma=0.5", "--slenderness=9"], "not both"),
         (["--pillar", "--forcing=1", "--gamma=0"], "gamma must lie in (0, 1]"),
-        (["--pillar", "--forcing=1", "--slenderness=1"], "slenderness must lie in (1.5, inf)"),
+        (
+            ["--pillar", "--forcing=1", "--slenderness=1"],
+            "slenderness must lie in [e^1.5/2 = 2.2408, inf)",
+        ),
         (["--pillar", "--forcing=nan"], "forcing"),
         (["--pillar", "--forcing=1", "--theta0=2"], "theta0 must lie in (-pi/2, pi/2)"),
         (["--pillar", "--forcing=1", "--profile=poiseuille"], "needs height_ratio"),

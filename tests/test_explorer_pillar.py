@@ -92,12 +92,12 @@ def test_every_bad_input_is_named_and_bad_choices_too():
         _message(hairbed.solve_pillar, math.nan),
         _message(hairbed.solve_pillar, 0.0, 2.0),
     )
-    gamma = hairbed.gray_hancock_ratio(2.0)  # above 1 for L/a below ~2.24: named by L/a
+    # gamma would be above 1 for L/a below e^1.5/2 = 2.24: refused by L/a itself (issue 33)
     with pytest.raises(model.InputError) as info:
         pillar.validate_pillar(_raw(slenderness="2"))
     (text,) = info.value.messages
-    assert text.startswith(f"slenderness 2.0 gives gamma = {gamma!r}")
-    assert text.endswith(_message(hairbed.solve_pillar, 0.0, gamma=gamma))
+    assert text == _message(hairbed.gray_hancock_ratio, 2.0)
+    assert "slenderness must lie in [e^1.5/2" in text
     with pytest.raises(model.InputError, match="mode must be one of 'bed', 'pillar'"):
         pillar.mode_of({"mode": "bead"})
 

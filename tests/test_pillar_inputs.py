@@ -33,7 +33,10 @@ import hairbed
         (lambda: hairbed.solve_pillar_inverse(1.0), r"tip_deflection must lie in \(-1, 1\)"),
         (lambda: hairbed.solve_pillar_inverse([0.1, -1.2]), r"tip_deflection .*index 1"),
         (lambda: hairbed.continue_pillar(0.0), r"forcing_max must be non-zero"),
-        (lambda: hairbed.gray_hancock_ratio(1.0), r"slenderness must lie in \(1.5, inf\)"),
+        (
+            lambda: hairbed.gray_hancock_ratio(2.2),
+            r"slenderness must lie in \[e\^1.5/2 = 2.2408, inf\), got 2.2",
+        ),
     ],
 )
 def test_clear_errors(call, match):

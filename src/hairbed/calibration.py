@@ -46,6 +46,7 @@ from __future__ import annotations
 import hashlib
 import math
 import os
+import re
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
@@ -129,7 +130,7 @@ _UNITS = {"velocity": "m/s", "wall_shear_stress": "Pa", **{k: v[0] for k, v in _
 # -- the model and its exact Jacobian ---------------------------------------------------------
 
 
-def _rebuild(bed: HairBed, geometry: str, **changes: float) -> HairBed:
+def _rebuild(bed: HairBed, geometry: str, **changes: Any) -> HairBed:
     """A copy of ``bed`` with ``changes``; ``geometry`` ("spacing" or "packing_fraction") is
     the one of the two that stays fixed when the radius changes."""
     if geometry == "spacing":
@@ -526,7 +527,10 @@ class CalibrationFit:
         parameters: the curve passes through every point, chi2 says nothing of the model,
         and without ``sigma`` the standard errors are infinite); -2 the evaluation limit;
         -4 the data do not determine every free parameter (a singular Jacobian; the message
-        names the parameters that enter the model only together)
+        names the parameters that enter the model only together): the undetermined ones
+        have NaN values, standard errors and covariances, and ``bed`` keeps their given
+        values (a fit fails in this one way: it neither raises nor returns the optimiser's
+        wandering values)
         (:data:`~hairbed._core.validation.STATUS_MESSAGES`).
     message : str
         What happened.
@@ -576,6 +580,22 @@ class CalibrationFit:
     def reduced_chi2(self) -> float:
         """chi2 / dof (about 1 for a good model with correct sigma); NaN when dof = 0."""
         return self.chi2 / self.dof if self.dof > 0 else float("nan")
+
+
+def _undetermined(
+    names: Sequence[str], sv: FloatArray, vt: FloatArray, why: Sequence[str]
+) -> NDArray[np.bool_]:
+    """Which free parameters a rank-deficient fit leaves undetermined: those with a part in
+    the null space of its Jacobian (in the fit's coordinates), and those a degeneracy names."""
+    out = np.zeros(len(names), dtype=np.bool_)
+    if sv.size:
+        null = vt[sv <= sv[0] * 1e-10]
+        out |= np.any(np.abs(null) > 1e-6, axis=0)
+    for j, nm in enumerate(names):
+        out[j] |= any(re.search(rf"\b{nm}\b", text) is not None for text in why)
+    if not np.any(out):  # singular, but no parameter stands out: none is determined
+        out[:] = True
+    return out
 
 
 def _check_free(
@@ -812,12 +832,17 @@ def fit(
     if isinstance(bed, Pillar):
         _no_pump(pressure_gradient, flow_rate)
         names = _check_free(free, PILLAR_FREE_PARAMETERS, "pillar")
+        if "youngs_modulus" in names and "drag_scale" in names:  # one parameter, c/E
+            raise ValueError(f"free: {_pillar_degeneracies(bed, names)[0]}")
         kind, x, given = _pillar_known(bed, velocity, wall_shear_stress)
     else:
         names = _check_free(free)
         kind, x = _known(bed, velocity, wall_shear_stress, pressure_gradient, flow_rate)
         given = x
-    d = as_float_array(tip_deflection, "tip_deflection", unit="m").reshape(-1)
+    if "length" in names:  # the fitted length must hold them; checked after the fit
+        d = as_float_array(tip_deflection, "tip_deflection", unit="m").reshape(-1)
+    else:  # as measure() checks them: a tip deflection lies in (-length, length)
+        d = bed._deflection(tip_deflection, "tip_deflection").reshape(-1)
     x = x.reshape(-1)
     if x.size != d.size:
         raise ValueError(
@@ -910,11 +935,22 @@ def fit(
         bool(res.success),
         str(res.message),
     )
+    undetermined = np.zeros(len(names), dtype=np.bool_)
     if rank_ok:
         cov = (vt.T / sv**2) @ vt
         cov = to_units[:, None] * cov * to_units[None, :]
     else:
-        cov = np.full((len(names), len(names)), np.inf)
+        # one way to fail (issue 33): a status, and NaN for what the data do not determine
+        # (the parameters in the Jacobian's null space, or named by a degeneracy), never
+        # the optimiser's wandering values or an infinite error
+        undetermined = _undetermined(names, sv, vt, why)
+        keep = sv > (sv[0] if sv.size else 0.0) * 1e-10
+        pinv = np.zeros((len(names), len(names)))
+        if np.any(keep):  # the determined combinations' part (pseudo-inverse)
+            pinv = (vt[keep].T / sv[keep] ** 2) @ vt[keep]
+        cov = to_units[:, None] * pinv * to_units[None, :]
+        cov[undetermined, :] = np.nan
+        cov[:, undetermined] = np.nan
         status, success = -4, False
         message = "the data do not determine every free parameter (singular Jacobian): " + (
             "; ".join(why) if why else "fix some of " + ", ".join(names)
@@ -940,7 +976,19 @@ def fit(
             _warn_sparse(fitted, stacklevel=3)
         _warn_validity(fitted, kind, x, _curve_state(fitted, kind, x), x.shape)
     stderr = np.sqrt(np.diag(cov))
-    values = {nm: float(getattr(fitted, nm)) for nm in names}
+    values = {
+        nm: math.nan if undetermined[j] else float(getattr(fitted, nm))
+        for j, nm in enumerate(names)
+    }
+    if np.any(undetermined):  # the bed keeps its given values of the undetermined ones
+        back = {nm: float(getattr(bed, nm)) for j, nm in enumerate(names) if undetermined[j]}
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UnitsWarning)
+            warnings.simplefilter("ignore", ModelValidityWarning)
+            if isinstance(bed, Pillar):
+                fitted = replace(fitted, **back)
+            else:
+                fitted = _rebuild(fitted, geometry, **back)
     return CalibrationFit(
         bed=fitted,
         parameters=names,

@@ -21,8 +21,10 @@ The format is JSON (strict: non-finite numbers are the strings "inf", "-inf", "n
 
 A calibration of an isolated pillar (:class:`hairbed.Pillar`) has ``"sensor": "pillar"`` and
 its "bed" holds the Pillar's fields (length, radius, youngs_modulus, viscosity, base_angle,
-profile, channel_height, density, drag_scale; a callable profile is not data and is refused);
-without "sensor" the file is a bed's.
+profile, channel_height, density, drag_scale; a callable profile is not data and is refused)
+and no "geometry" (a bed's choice of spacing or packing fraction); without "sensor" the file
+is a bed's. A variance (the covariance's diagonal) or standard error below 0 is refused; a
+parameter a failed fit did not determine (status -4) has the value "nan".
 """
 
 from __future__ import annotations
@@ -87,6 +89,13 @@ def _float(x: Any, where: str) -> float:
         raise ValueError(f"{where} must be a number, got {x!r}") from None
 
 
+def _int(x: Any, where: str) -> int:
+    """A whole number of a document (a count, a status), or a ValueError naming ``where``."""
+    if isinstance(x, bool) or not isinstance(x, int | float) or not float(x).is_integer():
+        raise ValueError(f"{where} must be a whole number, got {x!r}")
+    return int(x)
+
+
 def calibration_to_dict(fit: CalibrationFit) -> dict[str, Any]:
     """The calibration file's document of ``fit`` (module docstring), JSON-ready."""
     if not isinstance(fit, CalibrationFit):
@@ -110,7 +119,8 @@ def calibration_to_dict(fit: CalibrationFit) -> dict[str, Any]:
         "hairbed_version": __version__,
         **({"sensor": "pillar"} if pillar else {}),
         "bed": {k: value(k) for k in (_PILLAR_FIELDS if pillar else _BED_FIELDS)},
-        "geometry": fit.geometry,
+        # a bed's choice of spacing or packing fraction; a pillar has neither (issue 33)
+        **({} if pillar else {"geometry": fit.geometry}),
         "kind": fit.kind,
         "points": int(np.size(fit.residuals)),
         "data": {
@@ -178,9 +188,13 @@ def calibration_from_dict(data: Mapping[str, Any], *, source: str = "data") -> C
             f"{source}: format_version {version!r} is not one this hairbed reads "
             f"(1 to {FORMAT_VERSION})"
         )
+    sensor = data.get("sensor", "bed")
+    if sensor not in ("bed", "pillar"):
+        raise ValueError(f"{source}: sensor must be 'bed' or 'pillar', got {sensor!r}")
     try:
         bed_fields = dict(data["bed"])
-        geometry = str(data["geometry"])
+        # a pillar's file has no geometry (those of hairbed before issue 33 said "spacing")
+        geometry = str(data.get("geometry", "spacing") if sensor == "pillar" else data["geometry"])
         info = dict(data["data"])
         params = dict(data["parameters"])
         cov = np.array(
@@ -194,9 +208,14 @@ def calibration_from_dict(data: Mapping[str, Any], *, source: str = "data") -> C
         raise ValueError(f"{source}: incomplete calibration file ({exc})") from None
     if geometry not in ("spacing", "packing_fraction"):
         raise ValueError(f"{source}: geometry must be spacing or packing_fraction")
-    sensor = data.get("sensor", "bed")
-    if sensor not in ("bed", "pillar"):
-        raise ValueError(f"{source}: sensor must be 'bed' or 'pillar', got {sensor!r}")
+    variance = np.diag(cov)
+    negative = variance < 0.0
+    if np.any(negative):
+        k = int(np.flatnonzero(negative)[0])
+        raise ValueError(
+            f"{source}: covariance: the variance of {list(params)[k]} is negative "
+            f"({float(variance[k])!r}); a variance is >= 0 (or NaN: not determined)"
+        )
     fields = _PILLAR_FIELDS if sensor == "pillar" else _BED_FIELDS
     allowed = PILLAR_FREE_PARAMETERS if sensor == "pillar" else FREE_PARAMETERS
     unknown = set(bed_fields) - set(fields)
@@ -213,6 +232,11 @@ def calibration_from_dict(data: Mapping[str, Any], *, source: str = "data") -> C
         if p not in allowed:
             raise ValueError(f"{source}: unknown fitted parameter {p!r}")
         value = _float(entry.get("value"), f"{source}: {p} value")
+        stderr = _float(entry.get("stderr"), f"{source}: {p} stderr")
+        if stderr < 0.0:
+            raise ValueError(f"{source}: the {p} stderr {stderr!r} is negative")
+        if math.isnan(value):  # not determined by a failed fit (status -4): the bed's start
+            continue
         if not math.isclose(value, float(getattr(bed, p)), rel_tol=1e-12):
             raise ValueError(
                 f"{source}: the fitted {p} = {value!r} is not the bed's {getattr(bed, p)!r}"
@@ -221,21 +245,28 @@ def calibration_from_dict(data: Mapping[str, Any], *, source: str = "data") -> C
     return CalibrationFit(
         bed=bed,
         parameters=names_,
-        values=MappingProxyType({p: float(getattr(bed, p)) for p in names_}),
+        values=MappingProxyType(
+            {
+                p: math.nan
+                if math.isnan(_float(params[p].get("value"), p))
+                else float(getattr(bed, p))
+                for p in names_
+            }
+        ),
         stderr=MappingProxyType(
             {p: _float(params[p].get("stderr"), f"{source}: {p} stderr") for p in names_}
         ),
         covariance=cov,
         residuals=residuals,
         chi2=_float(data.get("chi2", "nan"), f"{source}: chi2"),
-        dof=int(data.get("dof", len(residuals) - len(names_))),
+        dof=_int(data.get("dof", len(residuals) - len(names_)), f"{source}: dof"),
         kind=str(info.get("kind", "velocity")),
         success=bool(data.get("success", False)),
-        status=int(data.get("status", 0)),
+        status=_int(data.get("status", 0), f"{source}: status"),
         message=str(data.get("message", "")),
-        nfev=int(data.get("nfev", 0)),
-        nit=int(data.get("nit", 0)),
-        solver_status=int(data.get("solver_status", 0)),
+        nfev=_int(data.get("nfev", 0), f"{source}: nfev"),
+        nit=_int(data.get("nit", 0), f"{source}: nit"),
+        solver_status=_int(data.get("solver_status", 0), f"{source}: solver_status"),
         geometry=geometry,
         weighted=bool(info.get("weighted", True)),
         fingerprint=str(info.get("sha256", "")),

@@ -503,6 +503,20 @@ def derivatives_at(
         )
     if np.any(rest):
         _rest_values(values, dt, rest, eps, theta0)
+    # below 1e-300 (subnormal omega2: 1/omega2 overflows on the way, issue 33) the linear
+    # theory of rest is exact to rounding; only dt/d omega2 = 1/omega2 and d omega_eps/d
+    # omega2 = 1/(2 omega_eps (1 - eps cos theta0)) stay finite there
+    weakest = live & physical & ~fold & (omega2 < _WEAKEST)
+    if np.any(weakest):
+        _rest_values(values, dt, weakest, eps, theta0)
+        oe = np.broadcast_to(np.asarray(sol.omega_eps, dtype=np.float64), shape)
+        with np.errstate(divide="ignore", over="ignore"):
+            dt["omega2"] = np.where(weakest, 1.0 / omega2, dt["omega2"])
+            d_oe = 0.5 / (oe * (1.0 - eps * np.cos(theta0)))
+        oe_row = values["omega_eps"]
+        assert isinstance(oe_row, dict)
+        oe_row["omega2"] = np.where(weakest, d_oe, oe_row["omega2"])
+    _energy_near_overflow(values, live & ~fold, omega2, eps, sol)
     frozen = {
         o: MappingProxyType({name: _out(v) for name, v in row.items()})
         for o, row in values.items()
@@ -592,6 +606,43 @@ def _masked(sol: Solution, live: NDArray[np.bool_]) -> Solution:
         v = np.broadcast_to(np.asarray(getattr(sol, name), dtype=np.float64), live.shape)
         fill[name] = np.where(live, v, 1.0)
     return replace(sol, **fill)
+
+
+#: Below this omega2 the derivatives are those of the linear theory at rest (exact to rounding).
+_WEAKEST = 1e-300
+
+
+def _energy_near_overflow(
+    values: dict[str, Mapping[str, Any]],
+    where: NDArray[np.bool_],
+    omega2: FloatArray,
+    eps: FloatArray,
+    sol: Solution,
+) -> None:
+    """The energy's derivatives where their chain through t overflowed (omega2 near the
+    float range's end, ~1e307: omega_eps^2 times a derivative in t passes 1.8e308 while
+    the derivative itself is of order 1; issue 33), in place, from the total derivatives of
+    xi and h1: E = xi omega2/u, u = 1 - eps h1, so
+
+        dE/dp = (omega2/u) dxi/dp + xi [d omega2/dp + (omega2/u) (eps dh1/dp + h1 deps/dp)]/u.
+    """
+    bad = where & ~np.all([np.isfinite(np.asarray(values["energy"][n])) for n in INPUTS], axis=0)
+    if not np.any(bad):
+        return
+    h1 = np.broadcast_to(np.asarray(sol.tip_height, dtype=np.float64), bad.shape)
+    xi = np.broadcast_to(np.asarray(sol.xi, dtype=np.float64), bad.shape)
+    u = 1.0 - eps * h1
+    oe2 = omega2 / u
+    row = values["energy"]
+    assert isinstance(row, dict)
+    for name in INPUTS:
+        dxi = np.asarray(values["xi"][name], dtype=np.float64)
+        dh1 = np.asarray(values["tip_height"][name], dtype=np.float64)
+        d_w = 1.0 if name == "omega2" else 0.0
+        d_e = h1 if name == "eps" else 0.0
+        with np.errstate(over="ignore", invalid="ignore"):
+            alt = oe2 * dxi + xi * (d_w + oe2 * (eps * dh1 + d_e)) / u
+        row[name] = np.where(bad, alt, row[name])
 
 
 def _rest_values(

@@ -140,7 +140,7 @@ def equilibrium(
     omega2: float,
     eps: float,
     theta0: float,
-    guess: FloatArray | Callable[[FloatArray], Any],
+    guess: float | FloatArray | Callable[[FloatArray], Any],
     num: int = 100,
     *,
     xtol: float = _XTOL,
@@ -152,9 +152,9 @@ def equilibrium(
     ----------
     omega2, eps, theta0 : float
         Forcing [-], confinement [-], base angle [rad].
-    guess : array or callable
-        theta at the num + 1 nodes sigma_i = i / num (the first is replaced by theta0), or a
-        function of sigma such as ``Solution.theta``.
+    guess : float, array or callable
+        theta at the num + 1 nodes sigma_i = i / num (the first is replaced by theta0), one
+        angle for every node [rad], or a function of sigma such as ``Solution.theta``.
     num : int
         Number of segments, in [2, ``MAX_SEGMENTS`` = 10^6].
     xtol : float
@@ -238,9 +238,12 @@ def _initial(guess: Any, n_seg: int, name: str) -> FloatArray:
         values = as_float_array(guess(_grid(n_seg)), f"{name}(sigma)")
     else:
         values = as_float_array(guess, name)
+    if values.ndim == 0:  # one angle for every node (a straight hair), as node_values takes
+        return np.full(n_seg + 1, float(values))
     if values.shape != (n_seg + 1,):
         raise ValueError(
-            f"{name} must give theta at the num + 1 = {n_seg + 1} nodes, got shape {values.shape}"
+            f"{name} must give theta at the num + 1 = {n_seg + 1} nodes, got shape "
+            f"{values.shape} (or one number [rad] for every node)"
         )
     return values.copy()
 
@@ -414,7 +417,7 @@ def relax(
     omega2: float,
     eps: float,
     theta0: float,
-    theta_initial: FloatArray | Callable[[FloatArray], Any],
+    theta_initial: float | FloatArray | Callable[[FloatArray], Any],
     t_end: float,
     *,
     num: int = 100,
@@ -429,9 +432,10 @@ def relax(
     ----------
     omega2, eps, theta0 : float
         Forcing [-], confinement [-], base angle [rad].
-    theta_initial : array or callable
-        theta at the num + 1 nodes sigma_i = i / num (the first is replaced by theta0), or a
-        function of sigma such as ``Solution.theta``.
+    theta_initial : float, array or callable
+        theta at the num + 1 nodes sigma_i = i / num (the first is replaced by theta0), one
+        angle for every node [rad] (a straight hair), or a function of sigma such as
+        ``Solution.theta``.
     t_end : float
         Final time [bending relaxation times].
     num : int

@@ -50,7 +50,7 @@ from ._core.validation import (
     check_root,
 )
 from ._optional import optional_import
-from .units import HairBed, HairState
+from .units import HairBed, HairState, _warn_reynolds
 
 __all__ = [
     "Diodicity",
@@ -121,6 +121,9 @@ class Diodicity:
         Di = Q'(+abs(dp)) / abs(Q'(-abs(dp))) [-]: above 1 when the hairs lean towards +x.
     success : bool
         True where both directions converged.
+    status, message
+        Of the two curves (issue 33): 0 and "ok", else the first failed status of the
+        forward curve, then of the backward one (``STATUS_MESSAGES``), where Di is NaN.
     """
 
     pressure_drop: FloatOrArray
@@ -128,6 +131,18 @@ class Diodicity:
     backward: ValveCurve
     diodicity: FloatOrArray
     success: bool
+
+    @property
+    def status(self) -> Any:
+        """Elementwise: the forward curve's status where it failed, else the backward's."""
+        ahead, behind = np.asarray(self.forward.status), np.asarray(self.backward.status)
+        worst = np.where(ahead != 0, ahead, behind).astype(np.int64)
+        return int(worst) if worst.ndim == 0 else worst
+
+    @property
+    def message(self) -> str:
+        """ "ok", or the first failed curve's message."""
+        return self.forward.message if not self.forward.success else self.backward.message
 
 
 def valve_curve(
@@ -200,8 +215,12 @@ def diodicity(
     (it must not be 0, where the ratio is 0/0).
     """
     dp = np.abs(as_float_array(pressure_drop, "pressure_drop", unit="Pa"))
-    if np.any(dp == 0.0):
-        raise ValueError("pressure_drop must be non-zero for a diodicity (0/0 at no flow)")
+    zero = dp == 0.0
+    if np.any(zero):
+        raise ValueError(
+            "pressure_drop must be non-zero for a diodicity (0/0 at no flow), got 0.0"
+            f"{_first_index(zero)}"
+        )
     forward = valve_curve(bed, dp, channel_length, root=root)
     backward = valve_curve(bed, -dp, channel_length, root=root)
     ahead = np.asarray(forward.flow_rate, dtype=np.float64)
@@ -592,6 +611,8 @@ def valve_states(
         )
     p, h, stab, folds, status, nfev = _branch(bed, bed_drive, loads, steps)
     out = _assemble(bed_drive, values, loads, p, h, stab, folds, status, nfev)
+    if bed.density is not None:  # as valve_curve (HairBed.deform) checks it (issue 33)
+        _warn_reynolds(_branch_reynolds(bed_drive, loads, p, h))
     over = np.isfinite(out.branch_tip_height) & ~np.isfinite(out.branch_pressure_drop)
     if np.any(over):
         raise ValueError(
@@ -599,6 +620,16 @@ def valve_states(
             f"of its states overflows"
         )
     return out
+
+
+def _branch_reynolds(
+    d: _Drive, loads: NDArray[np.float64], p: NDArray[np.float64], h: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """The gap's Reynolds number at the branch's states within the range of the loads."""
+    inside = np.isfinite(h) & (p >= np.min(loads)) & (p <= np.max(loads))
+    value = p[inside] / d.scale  # dp [Pa] or Q' [m^2/s]
+    given = value / d.length if d.drive == "pressure" else value
+    return gap_flow(d.bed, d.drive, d.v, given, h[inside])["reynolds_number"]
 
 
 def _branch(

@@ -548,7 +548,7 @@ def _rescue(
     failed = np.flatnonzero(np.isin(out[0], (-2, -3, -7)) & ~scan)[:MAX_RESCUE]
     for i in np.union1d(failed, np.flatnonzero(scan)):
         kw = {"pi": lf[i]} if drive == "pressure" else {"q": lf[i]}
-        found = solve_loaded_all(wf[i], ef[i], tf[i], rtol=tol, **kw)
+        found = [s for s in solve_loaded_all(wf[i], ef[i], tf[i], rtol=tol, **kw) if s.status >= 0]
         if not found or (root == "mid" and len(found) < 3):
             out[0, i] = -1 if found else out[0, i]
             continue
@@ -799,6 +799,8 @@ def solve_loaded_all(
     -------
     list of LoadedState
         Sorted by tip height, each with ``stable`` (dG/dh < 0 at the root: True stable).
+        Never empty: where the scan finds no state (loads near the float range's end) one
+        state of NaN values whose ``status`` (-7) and ``message`` say so.
 
     Examples
     --------
@@ -815,7 +817,7 @@ def solve_loaded_all(
     lo_i = np.flatnonzero(np.isfinite(g[:-1]) & np.isfinite(g[1:]) & (g[:-1] * g[1:] <= 0.0))
     lo_i = lo_i[~np.isin(lo_i - 1, lo_i) | (g[lo_i] != 0.0)]  # a zero on a node counts once
     if lo_i.size == 0:
-        return []
+        return [_no_state(drive, code, w, e, t0, ld)]
     lo, hi = h[lo_i], h[lo_i + 1]
     glo, ghi = g[lo_i], g[lo_i + 1]
     stable = glo > ghi
@@ -868,6 +870,8 @@ def solve_loaded_all(
     theta_start[~ok] = tf
     out, coefs = _run(code, wa, ea, la, ta, a, theta_start, root, LADDER, tol, ok)
     order = np.argsort(np.where(np.isfinite(out[4]), out[4], np.inf), kind="stable")
+    if np.all(out[0] < 0):
+        return [_no_state(drive, code, w, e, t0, ld, int(out[0, 0]))]
     states: list[LoadedState] = []
     last = -np.inf
     for i in order:
@@ -890,3 +894,21 @@ def solve_loaded_all(
             )
         )
     return states
+
+
+def _no_state(
+    drive: str,
+    code: int,
+    w: FloatArray,
+    e: FloatArray,
+    t0: FloatArray,
+    ld: FloatArray,
+    status: int = -7,
+) -> LoadedState:
+    """The one state of :func:`solve_loaded_all` where its scan found none (loads near the
+    float range's end): NaN values and a negative ``status`` (-7 where no root was found)."""
+    out = np.full((_kernels().NCOLS, 1), np.nan)
+    out[0] = status
+    out[1:3] = 0
+    coefs = np.full((3, 1, max(LADDER) + 1), np.nan)
+    return _state(drive, code, (), w, e, t0, ld, out, coefs, np.zeros(1))

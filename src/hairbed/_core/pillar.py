@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -44,10 +44,12 @@ from .validation import (
     check_number,
     check_positive,
     check_root,
+    real_values,
     show,
 )
 
 __all__ = [
+    "MIN_SLENDERNESS",
     "PROFILES",
     "WINDOW_THETA0",
     "PillarState",
@@ -72,16 +74,24 @@ _PROFILE_TAIL = 1e-15
 _GAUSS = np.polynomial.legendre.leggauss(24)
 
 
+#: The least slenderness L/a of a pillar, e^1.5/2 = 2.2408...: there Gray & Hancock's ratio
+#: gamma reaches 1 (ln(2L/a) = 3/2), and below it gamma > 1 leaves the model's range.
+MIN_SLENDERNESS = math.exp(1.5) / 2.0
+
+
 def gray_hancock_ratio(slenderness: ArrayLike) -> Any:
     """gamma = zeta_par/zeta_perp of Gray & Hancock's coefficients (theory.md §12).
 
-    gamma = (ln(2L/a) + 1/2)/(2 ln(2L/a) - 1) [-], for the slenderness L/a > 1.5 (where
-    ln(2L/a) > 1/2 keeps zeta_par positive).
+    gamma = (ln(2L/a) + 1/2)/(2 ln(2L/a) - 1) [-], for the slenderness L/a >=
+    ``MIN_SLENDERNESS`` = e^1.5/2 = 2.2408 (where gamma = 1; below it gamma > 1, outside the
+    range (0, 1] of :func:`solve_pillar`'s gamma, issue 33).
     """
     sl = as_float_array(slenderness, "slenderness")
-    _check_range(sl, ~(sl > 1.5) | ~np.isfinite(sl), "slenderness", "(1.5, inf)")
+    bad = ~(sl >= MIN_SLENDERNESS) | ~np.isfinite(sl)
+    _check_range(sl, bad, "slenderness", f"[e^1.5/2 = {MIN_SLENDERNESS:.4f}, inf)")
     lg = math.log(2.0) + np.log(sl)  # not log(2 sl): no overflow at the float range's end
-    return scalar_or_array((lg + 0.5) / (2.0 * lg - 1.0))
+    # at most 1: ln(2 L/a) may round below 3/2 at the bound itself, where gamma = 1 exactly
+    return scalar_or_array(np.minimum((lg + 0.5) / (2.0 * lg - 1.0), 1.0))
 
 
 def _chebyshev_fit(values: FloatArray) -> FloatArray:
@@ -108,6 +118,8 @@ def profile_coefficients(
         L/H in (0, 1] of the channel profiles (required for "poiseuille"; checked for
         "couette", where the pillar must fit in the channel).
     """
+    if height_ratio is not None:  # checked wherever given, a callable's too (issue 33)
+        check_number(height_ratio, "height_ratio", low=0.0, high=1.0, low_open=True)
     if callable(profile):
         return _callable_coefficients(profile)
     if not isinstance(profile, str) or profile not in PROFILES:
@@ -115,7 +127,7 @@ def profile_coefficients(
             f"profile must be one of {PROFILES} or a callable U(z), got {show(profile)}"
         )
     if height_ratio is not None:
-        r = check_number(height_ratio, "height_ratio", low=0.0, high=1.0, low_open=True)
+        r = float(height_ratio)
     elif profile == "poiseuille":
         raise ValueError("profile 'poiseuille' needs height_ratio = L/H in (0, 1]")
     if profile == "poiseuille":
@@ -131,17 +143,19 @@ def _callable_coefficients(func: Callable[..., Any]) -> FloatArray:
         z = 0.5 * (t + 1.0)
         try:
             raw = func(z)
+        except (ValueError, TypeError) as exc:
+            if str(exc).startswith("profile: "):  # a checked wrapper's own message (SI units)
+                raise
+            raise ValueError(
+                f"profile: the callable raised {type(exc).__name__}: {exc} (it is called with "
+                f"an ndarray of heights z in [0, 1] [L])"
+            ) from exc
         except Exception as exc:  # the user's function: say whose error it is
             raise ValueError(
                 f"profile: the callable raised {type(exc).__name__}: {exc} (it is called with "
                 f"an ndarray of heights z in [0, 1] [L])"
             ) from exc
-        try:
-            vals = np.asarray(raw, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise TypeError(
-                f"profile: the callable must return real numbers, got {type(raw).__name__}"
-            ) from None
+        vals = real_values(raw, "profile: the callable", "real numbers")
         if vals.shape != z.shape:
             raise ValueError(
                 f"profile: the callable must return an array of the shape of z {z.shape}, "
@@ -151,8 +165,8 @@ def _callable_coefficients(func: Callable[..., Any]) -> FloatArray:
         if np.any(bad):
             i = int(np.flatnonzero(bad)[0])
             raise ValueError(
-                f"profile: the callable returned {vals[i]!r} at z = {z[i]!r} (index {i}); it "
-                f"must be finite on [0, 1]"
+                f"profile: the callable returned {float(vals[i])!r} at z = {float(z[i])!r} "
+                f"(index {i}); it must be finite on [0, 1]"
             )
         coef = _chebyshev_fit(vals)
         big = float(np.max(np.abs(coef)))
@@ -212,6 +226,12 @@ class PillarState(CollocatedState):
     stable : bool or None
         From :func:`hairbed.solve_pillar_all`: True where the state is stable under a slow
         change of the forcing (on a rising part of the branch Lambda(x1)); None otherwise.
+    n_states : int or ndarray or None
+        How many states coexist at this forcing (as :attr:`hairbed.Solution.n_roots` for a
+        bed), from :func:`hairbed.solve_pillar` and :func:`hairbed.solve_pillar_all`: 1, or 3
+        inside a snap-through window, where ``root`` picks one and
+        :func:`hairbed.solve_pillar_all` gives all of them; 0 where no state was found. None
+        for the inverse (:func:`hairbed.solve_pillar_inverse`: one state per deflection).
     """
 
     forcing: Value
@@ -233,6 +253,7 @@ class PillarState(CollocatedState):
     _map: FloatArray
     _coefs: FloatArray
     stable: Any = None
+    n_states: Any = None
 
     def shape(self, s: ArrayLike) -> tuple[Any, Any, Any, Any]:
         """The pillar at arc lengths ``s`` in [0, 1] [L]: (s, x, z, theta), as
@@ -379,9 +400,13 @@ def _solve_pillar_checked(
     if fwd.size:
         o, c, aa = _forward_run(lf[fwd], tf[fwd], gf[fwd], pf[fwd], prof, tol, nums)
         out[:, fwd], coefs[:, fwd], a[fwd] = o, c, aa
-    _on_branch(lf, tf, gf, pf, prof, tol, nums, out, coefs, a, (out[0] < 0) | window, root)
+    count = np.ones(lf.size, dtype=np.int64)  # one state outside the windows
+    todo = (out[0] < 0) | window
+    _on_branch(lf, tf, gf, pf, prof, tol, nums, out, coefs, a, todo, root, count)
+    count[(out[0] < 0) & (count == 1)] = 0
     _mirror(out, coefs, mirror)
-    return _pillar_state(shape, lam, t0, g, tip, out, coefs, a)
+    st = _pillar_state(shape, lam, t0, g, tip, out, coefs, a)
+    return replace(st, n_states=scalar_or_array(count.reshape(shape)))
 
 
 #: The kernel's columns (and Chebyshev series: theta, x) that change sign with x -> -x.
@@ -606,14 +631,21 @@ def _inverse_checked(
     mirror = np.where(xf < np.sin(tf), -1.0, 1.0)  # a flow towards -x, solved as its mirror
     xm, tm, pm = mirror * xf, mirror * tf, mirror * pf
     start = _grid_start(xm, tm, gf, pm, prof, tol, nums)
-    out, coefs, a = _inverse_run(xm, tm, gf, pm, prof, tol, nums, start)
+    out, coefs, a = _inverse_run(xm, tm, gf, pm, prof, tol, nums, start, retry=True)
     _mirror(out, coefs, mirror)
     return _pillar_state(shape, out[12], t0, g, tip, out, coefs, a)
 
 
-#: Steps in x1 from the straight pillar by which :func:`_walk_failed` reaches an inverse
-#: problem that the kernel's own start and continuation did not.
-_WALK_STEPS = 16
+#: Steps of :func:`_walk_failed`'s march (each one batched inverse of the elements still
+#: on their way), its first step as a fraction of the way, and its growth and cut factors.
+_WALK_STEPS = 40
+_WALK_FIRST = 0.25
+_WALK_GROW = 2.0
+_WALK_CUT = 0.25
+#: The march gives up on an element after this many failed steps in a row (each failed
+#: inverse costs the kernel's whole continuation from rest: the bound keeps a branch whose
+#: states do not exist at this N, a fixed ``num=``, from taking minutes).
+_WALK_TRIES = 3
 
 
 def _state_start(
@@ -623,6 +655,33 @@ def _state_start(
     nodes = _ladder(tuple(nums))[1][0, : nums[0] + 1]
     theta = _clenshaw(coefs[0], np.broadcast_to(nodes, (coefs.shape[1], nodes.size)))
     return np.ascontiguousarray(theta), np.stack([out[4], out[12]], axis=1)
+
+
+def _anchors(
+    xf: FloatArray,
+    tf: FloatArray,
+    gf: FloatArray,
+    pf: FloatArray,
+    solved: NDArray[np.bool_],
+    bad: NDArray[np.intp],
+) -> NDArray[np.intp]:
+    """For each failed element of ``bad``, the solved element with the same theta0, gamma and
+    tip load whose x1 lies closest below its own and above rest (-1: none; the march then
+    starts at rest)."""
+    anchor = np.full(bad.size, -1)
+    ok = np.flatnonzero(solved & (xf >= np.sin(tf)))
+    if ok.size == 0:
+        return anchor
+    keys = np.stack([tf, gf, pf], axis=1)
+    for t, g, p in np.unique(keys[bad], axis=0):
+        mine = (tf[bad] == t) & (gf[bad] == g) & (pf[bad] == p)
+        cand = ok[(tf[ok] == t) & (gf[ok] == g) & (pf[ok] == p)]
+        if cand.size == 0:
+            continue
+        cand = cand[np.argsort(xf[cand], kind="stable")]
+        pos = np.searchsorted(xf[cand], xf[bad[mine]], side="left") - 1
+        anchor[mine] = np.where(pos >= 0, cand[np.maximum(pos, 0)], -1)
+    return anchor
 
 
 def _walk_failed(
@@ -637,30 +696,55 @@ def _walk_failed(
     coefs: FloatArray,
     a: FloatArray,
 ) -> None:
-    """Inverse problems (x1 >= sin(theta0)) whose run failed, solved again by a walk in
-    x1 from the straight pillar, each step started from the state of the step before (x1 is
-    monotone along the branch: no fold on the way); in place where the walk arrives.
+    """Inverse problems (x1 >= sin(theta0)) whose run failed, solved again by a march in
+    x1, in place where the march arrives. x1 is monotone along the branch (no fold on the
+    way), so each element marches from the nearest solved state below it in the same call
+    (same theta0, gamma, tip load), or from the straight pillar, each step started from the
+    state of the step before; a step that fails is cut, one that succeeds grown.
 
     Near the wall (theta0 -> -pi/2) the kernel's continuation from rest stops at isolated
-    x1 between solved ones (theory.md §12), which left NaN points on a branch and folds
-    missed or misplaced."""
+    x1 between solved ones and in bands of x1 (theory.md §12; issue 33: up to all 400 of
+    a scan of the forcing at theta0 = -1.57 had status -7)."""
     bad = np.flatnonzero(out[0] < 0)
     if bad.size == 0:
         return
-    start = None
-    for k in range(1, _WALK_STEPS + 1):
-        xb, tb, gb, pb = (np.ascontiguousarray(v[bad]) for v in (xf, tf, gf, pf))
-        rest = np.sin(tb)
-        xk = np.ascontiguousarray(rest + (xb - rest) * (k / _WALK_STEPS))
-        o, c, am = _inverse_run(xk, tb, gb, pb, prof, tol, nums, start, walk=False)
-        on = o[0] >= 0  # where a step fails the walk stops: the kernel's status stands
-        bad, o, c, am = bad[on], o[:, on], c[:, on], am[on]
-        if bad.size == 0:
+    anchor = _anchors(xf, tf, gf, pf, out[0] >= 0, bad)
+    xt = xf[bad]
+    has = anchor >= 0
+    xc = np.where(has, xf[np.maximum(anchor, 0)], np.sin(tf[bad]))
+    theta = np.repeat(tf[bad][:, None], nums[0] + 1, axis=1)
+    extra = np.stack([np.cos(tf[bad]), np.zeros(bad.size)], axis=1)
+    if np.any(has):
+        theta[has], extra[has] = _state_start(out[:, anchor[has]], coefs[:, anchor[has]], nums)
+    step = _WALK_FIRST * (xt - xc)
+    fails = np.zeros(bad.size, dtype=np.int64)
+    live = np.ones(bad.size, dtype=np.bool_)
+    for _ in range(_WALK_STEPS):
+        act = np.flatnonzero(live)
+        if act.size == 0:
             return
-        start = _state_start(o, c, nums)
-    out[:, bad] = o
-    coefs[:, bad] = c
-    a[bad] = am
+        last = xc[act] + step[act] >= xt[act]
+        xn = np.where(last, xt[act], xc[act] + step[act])
+        tb, gb, pb = (np.ascontiguousarray(v[bad[act]]) for v in (tf, gf, pf))
+        start = (np.ascontiguousarray(theta[act]), np.ascontiguousarray(extra[act]))
+        o, c, am = _inverse_run(
+            np.ascontiguousarray(xn), tb, gb, pb, prof, tol, nums, start, walk=False, retry=False
+        )
+        on = o[0] >= 0
+        got = act[on]
+        xc[got] = xn[on]
+        if got.size:
+            theta[got], extra[got] = _state_start(o[:, on], c[:, on], nums)
+        step[act] = np.where(on, _WALK_GROW * step[act], _WALK_CUT * step[act])
+        arrived = on & last
+        if np.any(arrived):
+            e = bad[act[arrived]]
+            out[:, e] = o[:, arrived]
+            coefs[:, e] = c[:, arrived]
+            a[e] = am[arrived]
+            live[act[arrived]] = False
+        fails[act] = np.where(on, 0, fails[act] + 1)
+        live[act[fails[act] >= _WALK_TRIES]] = False
 
 
 #: A batch of at least this many inverse problems per distinct (theta0, gamma, tip load)
@@ -724,11 +808,15 @@ def _inverse_run(
     nums: tuple[int, ...],
     start: tuple[FloatArray, FloatArray] | None = None,
     walk: bool = True,
+    retry: bool = False,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """The kernel's inverse problem on flat checked arrays: (out, coefs, a); out[12] is
     Lambda. Started from ``start`` (theta at the first level's nodes; h1 and Lambda), or from
     the straight pillar (Lambda = 0; the kernel continues in x1 where Newton fails); what
-    fails then is walked to from rest (:func:`_walk_failed`, unless ``walk`` is False). Not as
+    fails then is tried again on the ladder's finer levels where ``retry`` (:func:`_retry_finer`:
+    for a branch grid and a user's inverse, not for every step of a search, where each failed
+    run of the kernel costs its whole continuation) and marched to from the nearest solved
+    state (:func:`_walk_failed`, unless ``walk`` is False). Not as
     curves (:func:`_forward_run`): chord steps end with an absolute error of Lambda of their
     rate times the step tolerance, too much for a relative accuracy of a small Lambda (and a
     branch grid of a tiny forcing then had turns of rounding)."""
@@ -739,9 +827,46 @@ def _inverse_run(
         theta_start, extra = start
     a = np.zeros(xf.size)
     out, coefs = _kernel_run(_DRAG_INVERSE, xf, tf, gf, pf, a, theta_start, extra, prof, tol, nums)
+    if retry:
+        _retry_finer(xf, tf, gf, pf, prof, tol, nums, out, coefs)
     if walk:
         _walk_failed(xf, tf, gf, pf, prof, tol, nums, out, coefs, a)
     return out, coefs, a
+
+
+def _retry_finer(
+    xf: FloatArray,
+    tf: FloatArray,
+    gf: FloatArray,
+    pf: FloatArray,
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+    out: FloatArray,
+    coefs: FloatArray,
+) -> None:
+    """Inverse problems whose run failed, solved again from the straight pillar on the
+    ladder's finer levels alone (for the default ladder: from N = 64, then from N = 128),
+    in place where that converges.
+
+    A pillar leaning onto the wall (theta0 <= -1.5) bends in a boundary layer at its base that
+    the coarsest level resolves too poorly for its Newton and continuation to reach some
+    states (isolated x1 along the branch and bands of the forcing gave status -7, issue 33);
+    the finer levels reach them."""
+    for start in range(1, len(nums)):
+        bad = np.flatnonzero(out[0] < 0)
+        if bad.size == 0:
+            return
+        sub = tuple(nums[start:])
+        xb, tb, gb, pb = (np.ascontiguousarray(v[bad]) for v in (xf, tf, gf, pf))
+        theta_start = np.repeat(tb[:, None], sub[0] + 1, axis=1)
+        extra = np.stack([np.cos(tb), np.zeros(bad.size)], axis=1)
+        o, c = _kernel_run(
+            _DRAG_INVERSE, xb, tb, gb, pb, np.zeros(bad.size), theta_start, extra, prof, tol, sub
+        )
+        on = o[0] >= 0
+        out[:, bad[on]] = o[:, on]
+        coefs[:, bad[on]] = c[:, on]
 
 
 #: The branch grid of :func:`_on_branch` in the fraction u of the way from the straight
@@ -775,9 +900,10 @@ def _on_branch(
     a: FloatArray,
     todo: NDArray[np.bool_],
     root: str,
+    n_found: NDArray[np.int64] | None = None,
 ) -> None:
     """The state of ``root`` on the branch from rest, for the elements ``todo``, written into
-    out, coefs and a in place.
+    out, coefs and a in place (and how many states each has, into ``n_found``).
 
     The branch Lambda(x1) of each distinct (theta0, gamma, tip load) is the inverse problem on
     a grid in x1 (one batched call, shared by the elements that have those parameters); the
@@ -800,7 +926,7 @@ def _on_branch(
     rest = np.sin(uniq[:, 0])
     x = (rest[:, None] + (uniq[:, 3] - rest)[:, None] * grid[None, :]).reshape(-1)
     rep = [np.ascontiguousarray(np.repeat(uniq[:, c], reps)) for c in range(3)]
-    o, c, _ = _inverse_run(x, rep[0], rep[1], rep[2], prof, tol, nums)
+    o, c, _ = _inverse_run(x, rep[0], rep[1], rep[2], prof, tol, nums, retry=True)
     lam_grid = o[12].reshape(-1, reps)
     coef_grid = c[0].reshape(uniq.shape[0], reps, -1)  # theta of the grid states (a = 0)
     h_grid = o[4].reshape(-1, reps)
@@ -814,6 +940,8 @@ def _on_branch(
     finite = np.isfinite(gexc[:, :-1]) & np.isfinite(gexc[:, 1:])
     cross = finite & (np.sign(gexc[:, :-1]) != np.sign(gexc[:, 1:])) & (gexc[:, 1:] != 0.0)
     count = cross.sum(axis=1)
+    if n_found is not None:
+        n_found[idx] = count
     pick = np.full(idx.size, -1)
     for k in np.flatnonzero(count > 0):
         where = np.flatnonzero(cross[k])

@@ -208,13 +208,27 @@ def solve_pillar_all(
     -------
     list of PillarState
         Each with ``stable`` in the branch's sense (:class:`PillarBranch`): in a window the
-        first and last are stable, the middle one is not.
+        first and last are stable, the middle one is not. Never empty: where the branch
+        reaches no state (a forcing near the float range's end) the one state of
+        :func:`hairbed.solve_pillar`, whose ``status`` (-7) and ``message`` say so.
+
+    Raises
+    ------
+    ValueError
+        For a forcing of 0 (the straight pillar: :func:`hairbed.solve_pillar`) and inputs
+        outside their ranges.
     """
     lam_t = check_number(forcing, "forcing")
+    if lam_t == 0.0:
+        raise ValueError(
+            "forcing must be non-zero for solve_pillar_all (at Lambda = 0 the one state is "
+            "the straight pillar: hairbed.solve_pillar(0.0, theta0))"
+        )
     branch = _branch(theta0, profile, height_ratio, gamma, tip_load)
     count = check_int(num, "num", 16, 10**4)
-    if lam_t == 0.0:
-        return [branch.states(math.sin(branch.theta0))]
+    if not np.any(branch.prof != 0.0):
+        # no drag at all (U = 0): the one state of the tip load alone, at any forcing
+        return [replace(_one_state(lam_t, branch), stable=True, n_states=1)]
     # to the last state at twice the forcing: past a window there, whose far states (and
     # its lower fold) lie beyond the state a ramp from rest reaches
     br = _continue(2.0 * lam_t if abs(lam_t) < 1e300 else lam_t, branch, count, "high")
@@ -248,5 +262,16 @@ def solve_pillar_all(
             else:
                 hi = mid
         roots.append(0.5 * (lo + hi))
+    if not roots:
+        # no crossing on the branch (a forcing beyond its reach, ~1e300): the single-state
+        # solver's answer, whose status says what came of it (-7), not an empty list
+        return [_one_state(lam_t, branch)]
     order = np.argsort(roots)
-    return [replace(branch.states(roots[k]), stable=rising[k]) for k in order]
+    n = len(roots)
+    return [replace(branch.states(roots[k]), stable=rising[k], n_states=n) for k in order]
+
+
+def _one_state(lam: float, branch: _Branch) -> PillarState:
+    """:func:`hairbed.solve_pillar` of a checked forcing and branch (root "low")."""
+    lf, t0, g, tip = _check(lam, branch.theta0, branch.gamma, branch.tip_load)
+    return _solve_pillar_checked(lf, t0, g, tip, branch.prof, 1e-12, LADDER, "low")

@@ -34,6 +34,7 @@ __all__ = [
     "float_or_array",
     "scalar_or_array",
     "least_squares_status",
+    "real_values",
     "status_messages",
     "node_values",
     "show",
@@ -290,12 +291,14 @@ def check_number(
     low_open: bool = False,
     high_open: bool = False,
     unit: str | None = None,
+    shown: str | None = None,
 ) -> float:
     """A single finite real number in the range given, as a float (a tolerance, a time, ...).
 
     ``low``/``high`` bound the range (None: unbounded), closed unless ``low_open`` /
     ``high_open``; ``unit`` is the SI unit of the number ("" or None: dimensionless), used to
-    convert a pint quantity and shown in the message.
+    convert a pint quantity and shown in the message; ``shown`` the range the messages state
+    instead (a caller's narrower range that it checks itself, as :func:`check_positive`).
 
     Raises
     ------
@@ -303,10 +306,11 @@ def check_number(
         Naming ``name`` and its range, for non-numbers, booleans, arrays, NaN, infinity and
         values outside the range.
     """
-    rng = _range_text(low, high, low_open, high_open) + (f" [{unit}]" if unit else "")
+    rng = (shown or _range_text(low, high, low_open, high_open)) + (f" [{unit}]" if unit else "")
     arr = check_real_array(value, name, unit)
     if arr.ndim != 0:
-        where = (f" [{unit}]" if unit else "") if low is None and high is None else f" in {rng}"
+        bounded = low is not None or high is not None or shown is not None
+        where = f" in {rng}" if bounded else (f" [{unit}]" if unit else "")
         raise ValueError(
             f"{name} must be a single number{where}, got an array of shape {arr.shape}"
         )
@@ -324,7 +328,7 @@ def check_number(
 def check_positive(value: Any, name: str, unit: str | None = None) -> float:
     """A single finite real number > 0 (a size, a tolerance), as a float; see
     :func:`check_number`."""
-    x = check_number(value, name, unit=unit)
+    x = check_number(value, name, unit=unit, shown="(0, inf)")
     if not x > 0.0:
         raise ValueError(f"{name} must be positive, got {x!r}" + (f" [{unit}]" if unit else ""))
     return x
@@ -617,3 +621,17 @@ ROOTS = ("low", "mid", "high")
 def check_root(root: Any) -> str:
     """Validate the root selector of a multi-valued branch."""
     return check_choice(root, "root", ROOTS)
+
+
+def real_values(raw: Any, who: str, what: str) -> NDArray[np.float64]:
+    """``raw`` (what a user's callable returned) as float64, or a TypeError saying ``who``
+    "must return" ``what``: for values that are not numbers, and for complex ones (numpy
+    would drop their imaginary part with only a ComplexWarning, issue 33)."""
+    try:
+        arr = np.asarray(raw)
+        if np.iscomplexobj(arr):
+            raise TypeError
+        return np.asarray(arr, dtype=np.float64)
+    except (TypeError, ValueError):
+        kind = "complex values" if np.iscomplexobj(raw) else type(raw).__name__
+        raise TypeError(f"{who} must return {what}, got {kind}") from None

@@ -1144,7 +1144,8 @@ def _pump_states_uncached(
     key = LOAD_KEYS[drive]
     message = ""
     with _recording() as caught:
-        found = hairbed.solve_loaded_all(omega2, eps, theta0, **{key: load})
+        every = hairbed.solve_loaded_all(omega2, eps, theta0, **{key: load})
+        found = [s for s in every if int(s.status) >= 0]  # none found: one failed state
         if len(found) > 3:  # more than a window's three: the lowest, the middle, the highest
             found = [found[0], found[len(found) // 2], found[-1]]
         one_warnings: tuple[str, ...] = ()
