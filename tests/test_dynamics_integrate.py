@@ -1,4 +1,4 @@
-"""The nonlinear pillar in time (issue 30, theory.md §13): hairbed.dynamics.simulate_pillar.
+"""The nonlinear pillar in time (issue 30, theory.md §14): hairbed.dynamics.simulate_pillar.
 
 References independent of the integrator: the static solver (constant drives relax to its
 state), the linear transfer function about a large deflection (tested itself against the

@@ -1,4 +1,4 @@
-"""Linear pillar dynamics (issue 30, theory.md §13): hairbed.dynamics.linearise_pillar.
+"""Linear pillar dynamics (issue 30, theory.md §14): hairbed.dynamics.linearise_pillar.
 
 References, written here from the equations and sharing no code with the solver:
 

@@ -1,4 +1,4 @@
-"""Pillar dynamics in time-dependent flow (issue 30, theory.md §13).
+"""Pillar dynamics in time-dependent flow (issue 30, theory.md §14).
 
 - :func:`linearise_pillar`: the linear dynamics about any static pillar state, its modes and
   its transfer functions (drive -> tip deflection, tip height, base moment).

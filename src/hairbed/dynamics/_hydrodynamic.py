@@ -22,7 +22,7 @@ zeta_perp = 4 pi eta/(ln(2L/a) + 1/2) (cut off by L, theory.md §12) takes over.
 The crossover used here: the layer equal to the pillar length, sqrt(2 eta/(rho w)) = L, i.e.
 Re_c = 2 (a/L)^2 (b = 2a); below it the quasi-steady resistive force (and no added mass), at
 and above it Sader's function. :func:`sader_drag_ratio` gives the resulting normal drag as a
-complex multiple of the quasi-steady zeta_perp in the pillar's units (theory.md §13).
+complex multiple of the quasi-steady zeta_perp in the pillar's units (theory.md §14).
 """
 
 from __future__ import annotations
@@ -61,7 +61,7 @@ def crossover_reynolds(slenderness: float) -> float:
 
 def sader_drag_ratio(omega: ArrayLike, reynolds_scale: float, slenderness: float) -> Any:
     """The normal hydrodynamic load of an oscillating pillar over the quasi-steady drag
-    zeta_perp i omega W (the convention e^{i omega t} of theory.md §13), complex.
+    zeta_perp i omega W (the convention e^{i omega t} of theory.md §14), complex.
 
     Parameters
     ----------

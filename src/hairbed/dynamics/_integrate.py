@@ -1,4 +1,4 @@
-"""The nonlinear pillar in time: :func:`simulate_pillar` (issue 30, theory.md §13).
+"""The nonlinear pillar in time: :func:`simulate_pillar` (issue 30, theory.md §14).
 
 The semi-discretisation is the static pillar's Chebyshev collocation (the same mapped
 nodes, the same residual kernel ``spectral._residual_drag``) with the drag of the pillar's
@@ -36,7 +36,7 @@ FloatArray = NDArray[np.float64]
 
 @dataclass(frozen=True)
 class PillarTrajectory:
-    """A pillar's motion (theory.md §13); time in T = zeta_perp L^4/(E I), lengths in L.
+    """A pillar's motion (theory.md §14); time in T = zeta_perp L^4/(E I), lengths in L.
 
     Attributes
     ----------
@@ -57,7 +57,7 @@ class PillarTrajectory:
     mu, gamma, tangential_mass, theta0 : float
         The model's constants.
     status : int
-        0 reached the last time; -8 the pillar reached |theta| = pi/2 (it lies on the wall:
+        0 reached the last time; -8 the pillar reached abs(theta) = pi/2 (it lies on the wall:
         the event, at ``t_end``); -2 the step limit; -3 the step size underflowed or a
         singular matrix (``STATUS_MESSAGES``).
     t_end : float
@@ -192,7 +192,7 @@ def simulate_pillar(
     atol: float = 1e-12,
     max_steps: int = 100_000,
 ) -> PillarTrajectory:
-    """A pillar in a time-dependent flow, from the nonlinear model (theory.md §13).
+    """A pillar in a time-dependent flow, from the nonlinear model (theory.md §14).
 
     E I theta_ss = -(F_x cos - F_z sin), F = P(t) e_x + int_s^L (f - m r_tt) ds',
     f = zeta_perp [I - (1 - gamma) t t] (u(z, t) e_x - r_t), u = Lambda(t) U(z) in the

@@ -1,4 +1,4 @@
-"""Linear dynamics of an isolated pillar about any static state (issue 30, theory.md §13).
+"""Linear dynamics of an isolated pillar about any static state (issue 30, theory.md §14).
 
 About a converged state u* of the static collocation (theory.md §12) a small motion
 u = u* + v e^{s t} (time in T = zeta_perp L^4/(E I), the convention e^{i omega t}: s = i omega)
@@ -145,7 +145,7 @@ def _first_order(
 
 @dataclass(frozen=True)
 class PillarModes:
-    """The linear modes of a pillar about a static state (theory.md §13).
+    """The linear modes of a pillar about a static state (theory.md §14).
 
     A mode is v(s) e^{lambda t} (t in T = zeta_perp L^4/(E I)).
 
@@ -185,18 +185,18 @@ class PillarModes:
 
     @property
     def frequency(self) -> FloatArray:
-        """|Im lambda| [1/T]: the angular frequency of each mode (0 when overdamped)."""
+        """abs(Im lambda) [1/T]: the angular frequency of each mode (0 when overdamped)."""
         return np.abs(self.eigenvalues.imag)
 
     @property
     def damping_ratio(self) -> FloatArray:
-        """-Re lambda/|lambda| [-] of each mode (1 when overdamped)."""
+        """-Re lambda/abs(lambda) [-] of each mode (1 when overdamped)."""
         return -self.eigenvalues.real / np.abs(self.eigenvalues)
 
 
 @dataclass(frozen=True)
 class FrequencyResponse:
-    """Transfer functions of a pillar about a static state (theory.md §13).
+    """Transfer functions of a pillar about a static state (theory.md §14).
 
     For a drive delta(t) = Re(delta_hat e^{i omega t}) (t in T) each output is
     Re(H(omega) delta_hat e^{i omega t}): H is the complex amplitude per unit drive.
@@ -333,7 +333,7 @@ class LinearPillar:
         return self._pencils[num]
 
     def modes(self, num_modes: int = 6, *, num: int | None = None) -> PillarModes:
-        """The ``num_modes`` slowest modes (smallest |lambda|), by the QZ algorithm on the
+        """The ``num_modes`` slowest modes (smallest abs(lambda)), by the QZ algorithm on the
         pencil at degree ``num`` (default: the state's, at least 32)."""
         k = _check_count(num_modes, "num_modes")
         deg = self._degree() if num is None else _check_degree(num)
@@ -438,7 +438,7 @@ class LinearPillar:
     def _unsteady_response(
         self, deg: int, om: FloatArray, col: int, drag: ComplexArray
     ) -> ComplexArray:
-        """The outputs with the normal drag zeta_perp D(omega) (Sader's, theory.md §13) and
+        """The outputs with the normal drag zeta_perp D(omega) (Sader's, theory.md §14) and
         the solid's mass mu (isotropic): one LU a frequency."""
         p = self._pencil(deg, schur=False)
         ops = p.ops
@@ -555,7 +555,7 @@ def linearise_pillar(
     mu: float = 0.0,
     tangential_mass: float = 1.0,
 ) -> LinearPillar:
-    """The linear dynamics of a pillar about its static state ``state`` (theory.md §13).
+    """The linear dynamics of a pillar about its static state ``state`` (theory.md §14).
 
     Any converged state of :func:`hairbed.solve_pillar` (any tilt, forcing, branch, large
     deflection): the small motion about it, with the drag of the pillar's velocity relative

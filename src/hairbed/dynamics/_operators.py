@@ -1,4 +1,4 @@
-"""The pillar's collocation operators at a static state, for its dynamics (theory.md §13).
+"""The pillar's collocation operators at a static state, for its dynamics (theory.md §14).
 
 The static pillar (theory.md §12) is the collocation system R(u; Lambda, P) = 0 of
 ``_kernels.spectral`` (drive ``DRIVE_DRAG``): u = (theta at the N + 1 mapped Chebyshev nodes,

@@ -1,4 +1,4 @@
-"""Drives as functions of time: Lambda(t) and the tip load P(t) (issue 30, theory.md §13).
+"""Drives as functions of time: Lambda(t) and the tip load P(t) (issue 30, theory.md §14).
 
 A :class:`Signal` is evaluated inside the compiled integrator (``_kernels.dynamics``); the
 named ones are exact, a sampled series is its piecewise cubic Hermite interpolant

@@ -1,4 +1,4 @@
-"""Compiled parts of the pillar's dynamics (issue 30, theory.md §13).
+"""Compiled parts of the pillar's dynamics (issue 30, theory.md §14).
 
 The linear response about a static state: the pencil (s E - A) in generalised Schur form,
 Q^H (A, E) Z = (AA, BB) upper triangular, is solved at each frequency by back substitution
@@ -267,7 +267,7 @@ def _reduce_into(full, num, srow, out, r0, c0, scale):
 def pillar_rates(
     t, y, need, num, dd, ii, srow, theta0, gamma, chi, mu, prof, drives, tabs, f, jac, ws
 ):
-    """The semi-discrete pillar y' = f(t, y) (theory.md §13) and, where ``need``, its exact
+    """The semi-discrete pillar y' = f(t, y) (theory.md §14) and, where ``need``, its exact
     Jacobian df/dy into jac.
 
     y: the interior angles theta_1 .. theta_N-1 (mu = 0), then their rates (mu > 0). The
