@@ -419,3 +419,18 @@ def test_diodicity_says_where_it_has_no_answer() -> None:
     assert list(d.status) == [0, -7] and not d.success
     assert math.isnan(d.diodicity[1]) and "no state" in d.message
     assert hairbed.valve.diodicity(bed, 200.0, 0.01).status == 0
+
+
+def test_hair_state_defines_its_stresses_for_every_drive() -> None:
+    doc = hairbed.HairState.__doc__
+    assert "G g / 2" in doc and "G H / 2" in doc and "(H / g)^2" in doc
+    bed = hairbed.HairBed(**BED, base_angle=0.2)
+    v, grad = 0.01, 500.0
+    st = bed.deform(v, pressure_gradient=grad)
+    eta, height = BED["viscosity"], BED["channel_height"]
+    gap = height - st.tip_height  # what the docstring says, from the state's tip height
+    tau = eta * v / gap + grad * gap / 2.0
+    assert st.wall_shear_stress == pytest.approx(tau, rel=1e-13)
+    assert st.stress_ratio == pytest.approx(
+        tau / (eta * v / height + grad * height / 2), rel=1e-13
+    )

@@ -315,11 +315,21 @@ class HairState:
     tip_angle : float or ndarray
         Angle of the tip from the wall normal towards +x [rad].
     wall_shear_stress : float or ndarray
-        Shear stress on the top wall, eta v / (H - h1 L) [Pa] (signed like v).
+        The shear stress tau on the tip plane [Pa] (signed: positive towards +x). Wall drive:
+        eta v / g, g = H - h1 L the gap (the same as on the top wall). Pump drive (a set
+        pressure gradient G or flow rate Q', theory.md §11): eta v / g + G g / 2, the gap's
+        Couette-Poiseuille stress at the tips. Porous bed: the stress of its Brinkman flow
+        at the tips (theory.md §13).
     force_per_hair : float or ndarray
-        Horizontal force of the flow on one hair, tau pi a^2 / phi [N] (signed like v).
+        Horizontal force of the flow on one hair [N] (signed like the flow): tau pi a^2 / phi
+        for the wall drive; with a pump, that plus G h1 L pi a^2 / phi, the gradient's push
+        on the fluid within the bed.
     stress_ratio : float or ndarray
-        tau / (eta v / H) = 1 / (1 - eps h1) [-]: the stress relative to a bare channel.
+        tau over the stress the same drive puts on the bottom wall of the bare channel of
+        height H [-]: 1 / (1 - eps h1) for the wall drive (over eta v / H); with a pump,
+        over eta v / H + G H / 2 (a set G) or the same with the bare channel's G of the set
+        Q'. With both walls at rest it is the limit at any drive, also at zero: g / H (set
+        G) or (H / g)^2 (set Q'); never 0/0.
     tip_displacement : float or ndarray
         Horizontal displacement of the tip from its position at rest, (x1 - sin theta0) L [m]
         (along +x), accurate relative to itself at weak forcing.
