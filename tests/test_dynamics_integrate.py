@@ -180,3 +180,21 @@ def test_xarray_export() -> None:
     assert ds["tip_deflection"].dims == ("t",) and ds["theta"].dims == ("t", "s")
     assert ds["t"].attrs["units"] == "T" and ds.attrs["status"] == 0
     assert np.array_equal(ds["tip_deflection"].values, run.tip_deflection)
+
+
+def test_late_relaxation_decays_at_the_slowest_mode() -> None:
+    """Released from the state at Lambda = 20.0005 to Lambda = 20 (theta0 = 0.3, x1 = 0.62),
+    the tip's distance to the new state decays like e^{lambda_1 t}, lambda_1 the slowest
+    mode of the linearisation there (-36.736; the next, -504, is gone by t = 0.1)."""
+    st = hairbed.solve_pillar(20.0, 0.3, num=32)
+    lam1 = linearise_pillar(st).modes(1).eigenvalues[0]
+    assert lam1.imag == 0.0 and lam1.real < -30.0
+    t = np.array([0.0, 0.1, 0.15, 0.2])
+    run = simulate_pillar(
+        20.0, t, theta0=0.3, initial=hairbed.solve_pillar(20.0005, 0.3, num=32),
+        rtol=1e-12, atol=1e-14,
+    )  # fmt: skip
+    d = run.tip_deflection - st.tip_deflection
+    rates = np.log(d[2:] / d[1:-1]) / 0.05
+    # measured within 3e-6 (the amplitude's nonlinearity and the integration's error)
+    assert np.all(np.abs(rates - lam1.real) <= 2e-5 * abs(lam1.real)), (rates, lam1)
