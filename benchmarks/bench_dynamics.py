@@ -3,7 +3,9 @@
 Rows (targets of the issue in brackets):
 
 1. the overdamped pillar, a step from rest to Lambda = 10 until within 1e-8 of the static
-   state (``simulate_pillar``, N = 32, rtol 1e-6) [<= 20 ms]; the error reached;
+   state (``simulate_pillar``, N = 32, t = 1.5 T, rtol 1e-4, atol 1e-6: the start's error
+   decays with the slowest mode, -25.1/T) [<= 20 ms]; the error reached; and the same at
+   rtol 1e-6 to t = 2.5 T;
 2. the ringing pillar (mu = 13), a step to Lambda = 10 until within 1e-6 of steady (N = 16,
    rtol 1e-6, t = 400 T) [<= 200 ms] (skipped with ``--quick``: it takes minutes);
 3. a linear transfer function at 1,000 frequencies about a large-deflection state (Lambda =
@@ -56,10 +58,14 @@ def run(repeat: int = 5, quick: bool = False) -> dict[str, Any]:
     out: dict[str, Any] = {"hairbed": hairbed.__version__}
     steady = hairbed.solve_pillar(10.0, num=32).tip_deflection
     simulate_pillar(step(10.0), [0.0, 1.0])  # compile
-    t, r = _best(lambda: simulate_pillar(step(10.0), [0.0, 2.5], rtol=1e-6, atol=1e-8), repeat)
+    t, r = _best(lambda: simulate_pillar(step(10.0), [0.0, 1.5], rtol=1e-4, atol=1e-6), repeat)
     out["overdamped_step_ms"] = 1e3 * t
     out["overdamped_step_error"] = float(abs(r.tip_deflection[-1] - steady))
     out["overdamped_step_steps"] = r.nsteps
+    t, r = _best(lambda: simulate_pillar(step(10.0), [0.0, 2.5], rtol=1e-6, atol=1e-8), repeat)
+    out["overdamped_step_rtol1e-6_ms"] = 1e3 * t
+    out["overdamped_step_rtol1e-6_error"] = float(abs(r.tip_deflection[-1] - steady))
+    out["overdamped_step_rtol1e-6_steps"] = r.nsteps
     if not quick:
         st16 = hairbed.solve_pillar(10.0, num=16).tip_deflection
         t, r = _best(
