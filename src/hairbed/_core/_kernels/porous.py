@@ -53,7 +53,14 @@ from .spectral import (
     _operators,
 )
 
-__all__ = ["DRIVE_FLOW", "DRIVE_INVERSE", "DRIVE_PRESSURE", "NCOLS", "solve_porous_array"]
+__all__ = [
+    "DRIVE_FLOW",
+    "DRIVE_INVERSE",
+    "DRIVE_PRESSURE",
+    "NCOLS",
+    "porous_jacobians",
+    "solve_porous_array",
+]
 
 DRIVE_PRESSURE = 0
 DRIVE_FLOW = 1
@@ -821,3 +828,63 @@ def solve_porous_array(
             _coefficients(sp, num, cm, coef)
             for k in range(n1):
                 coefs[3 + c, e, k] = coef[k]
+
+
+@kernel
+def porous_jacobians(
+    code, u, num, a, nodes, d1, d2, im, theta0, kappa, gamma, omega2, eps, pi_in, q, jac, ii
+):
+    """The collocation system's exact Jacobian at each element's state u[e] (theta, w, Q at
+    the N + 1 nodes of its map a[e], h1, then Pi for the flow drive; one N for all) into
+    jac[e], and its integration matrix into ii[e]: the implicit differentiation of converged
+    states (``hairbed._core.porous_sensitivity``)."""
+    n1 = num + 1
+    m = u.shape[1]
+    sp = np.empty(n1)
+    ss = np.empty(n1)
+    dd = np.empty((n1, n1))
+    work = np.empty((6, n1))
+    res = np.empty(m)
+    for e in range(u.shape[0]):
+        _map(a[e], num, nodes, sp, ss)
+        _operators(num, d1, d2, im, sp, a[e], dd, ii[e])
+        _residual(
+            u[e],
+            num,
+            dd,
+            ii[e],
+            theta0[e],
+            kappa[e],
+            gamma[e],
+            omega2[e],
+            eps[e],
+            pi_in[e],
+            code,
+            q[e],
+            0.0,
+            math.nan,
+            work[0],
+            work[1],
+            work[2],
+            work[3],
+            res,
+        )
+        _jacobian(
+            u[e],
+            num,
+            dd,
+            ii[e],
+            kappa[e],
+            gamma[e],
+            eps[e],
+            pi_in[e],
+            code,
+            math.nan,
+            work[0],
+            work[1],
+            work[2],
+            work[3],
+            work[4],
+            work[5],
+            jac[e],
+        )
