@@ -68,6 +68,7 @@ reference: $(STAMP)
 	$(BIN)/python tests/reference/generate_folds.py
 	$(BIN)/python tests/reference/generate_loaded.py
 	$(BIN)/python tests/reference/generate_pillar.py
+	$(BIN)/python tests/reference/generate_porous.py
 	$(BIN)/python tests/reference/generate_wall_law.py
 
 # The documentation site (docs/_build/html), warnings as errors. The figure gallery is drawn
