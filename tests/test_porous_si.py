@@ -211,3 +211,26 @@ def test_sweep_of_a_porous_bed_is_its_deform() -> None:
     one = bed.deform(0.01, pressure_gradient=300.0)
     assert grid.tip_deflection.values[1, 1] == one.tip_deflection
     assert grid.status.dtype == np.int64 and np.all(grid.status.values == 0)
+
+
+def test_valve_of_a_porous_bed_counts_the_flow_through_the_bed() -> None:
+    """valve_curve and diodicity take a porous bed: its flow through bed and gap, and the
+    resistance as the ratio of the flows; valve_states and calibration say they do not."""
+    from hairbed import calibration, valve
+
+    bed = HairBed(**BED, model="porous", base_angle=0.6)
+    curve = valve.valve_curve(bed, [200.0, -200.0], 0.01)
+    st = bed.deform(pressure_gradient=np.array([200.0, -200.0]) / 0.01)
+    np.testing.assert_allclose(curve.flow_rate, st.flow_rate, rtol=1e-14)
+    np.testing.assert_allclose(curve.resistance_ratio, curve.empty_flow_rate / curve.flow_rate)
+    dense = HairBed(**BED, base_angle=0.6)
+    # the porous bed lets more through than the dense one, whose bed is closed to the flow
+    assert np.all(
+        curve.resistance_ratio < valve.valve_curve(dense, [200.0, -200.0], 0.01).resistance_ratio
+    )
+    di = valve.diodicity(bed, 200.0, 0.01)
+    assert di.success and di.diodicity > 1.0
+    with pytest.raises(NotImplementedError, match="valve.valve_states"):
+        valve.valve_states(bed, 0.01, pressure_drop=200.0)
+    with pytest.raises(NotImplementedError, match="calibration.fit"):
+        calibration.fit(bed, [1e-5, 2e-5], velocity=[0.01, 0.02], sigma=1e-6)

@@ -86,6 +86,7 @@ from .units import (
     _reynolds_of_stress,
     _warn_reynolds,
     _warn_sparse,
+    require_dense,
 )
 
 __all__ = [
@@ -308,6 +309,7 @@ def model_tip_deflection(
     pump-driven state is not found the deflection is NaN.
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
+    require_dense(bed, "calibration.model_tip_deflection")
     if isinstance(bed, Pillar):
         _no_pump(pressure_gradient, flow_rate)
         return bed.deform(_pillar_known(bed, velocity, wall_shear_stress)[1]).tip_deflection
@@ -828,6 +830,7 @@ def fit(
     (1.3, True)
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
+    require_dense(bed, "calibration.fit")
     pillar = isinstance(bed, Pillar)
     if isinstance(bed, Pillar):
         _no_pump(pressure_gradient, flow_rate)
@@ -1203,6 +1206,7 @@ def measure(
     Measurement
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
+    require_dense(bed, "calibration.measure")
     if fit is not None:
         check_type(fit, "fit", CalibrationFit, "a CalibrationFit (from calibration.fit) or None")
         if type(fit.bed) is not type(bed):
@@ -1366,6 +1370,7 @@ def linear_range(
     LinearRange
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
+    require_dense(bed, "calibration.linear_range")
     tol = check_number(rtol, "rtol", low=0.0, high=1.0, low_open=True, high_open=True)
     if not isinstance(quantity, str) or quantity not in _QUANTITIES:
         raise ValueError(

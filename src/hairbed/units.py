@@ -155,7 +155,8 @@ def _warn_sparse(bed: HairBed, stacklevel: int = 4) -> None:
 #: and workflow says so rather than compute the dense bed's answer.
 POROUS_SUPPORTED = (
     "deform, sweep, wall_shear_stress, rectification_ratio, state_from_tip_deflection, "
-    "velocity_from_tip_deflection and wall_shear_stress_from_tip_deflection"
+    "velocity_from_tip_deflection, wall_shear_stress_from_tip_deflection, "
+    "valve.valve_curve and valve.diodicity"
 )
 
 

@@ -50,7 +50,7 @@ from ._core.validation import (
     check_root,
 )
 from ._optional import optional_import
-from .units import HairBed, HairState, _warn_reynolds
+from .units import HairBed, HairState, _warn_reynolds, require_dense
 
 __all__ = [
     "Diodicity",
@@ -81,7 +81,9 @@ class ValveCurve:
     empty_flow_rate : float or ndarray
         dp H^3 / (12 eta l) [m^2/s]: the channel without hairs at the same drop.
     resistance_ratio : float or ndarray
-        R / R0 = (H / g)^3 [-], the resistance relative to the empty channel.
+        R / R0 [-], the resistance relative to the empty channel: (H / g)^3 for the dense
+        bed, the empty channel's flow over the flow through bed and gap for a porous one
+        (its limit (H / g)^3 at no flow).
     tip_deflection, tip_height : float or ndarray
         The hair's tip [m] (along +x, above the wall).
     states : HairState
@@ -188,6 +190,9 @@ def valve_curve(
     flow = np.asarray(states.flow_rate, dtype=np.float64)
     gap = bed.channel_height - np.asarray(states.tip_height, dtype=np.float64)
     ratio = (bed.channel_height / gap) ** 3
+    if bed.model == "porous":  # the flow through the bed too: the ratio of the flows
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ratio = np.where(flow != 0.0, empty / np.where(flow != 0.0, flow, 1.0), ratio)
     status = np.asarray(states.solution.status)
     failed = np.flatnonzero(status.reshape(-1) != 0)
     message = "ok" if failed.size == 0 else STATUS_MESSAGES[int(status.reshape(-1)[failed[0]])]
@@ -588,6 +593,7 @@ def valve_states(
     """
     if not isinstance(bed, HairBed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
+    require_dense(bed, "valve.valve_states")
     length = check_positive(channel_length, "channel_length", unit="m")
     if (pressure_drop is None) == (flow_rate is None):
         raise ValueError(

@@ -103,10 +103,10 @@ class PorousState(CollocatedState):
     drag_x, drag_z : float or ndarray
         F_x(0), F_z(0) [-]: the total drag on one hair (the base's shear and axial force).
     max_angle : float or ndarray
-        max |theta| along the hair [rad]; the model needs it below pi/2 (z monotone).
+        the largest abs(theta) along the hair [rad]; the model needs it below pi/2 (z monotone).
     status : int or ndarray
         0 converged within the tolerance; 3 converged but inaccurate; -2, -3, -7 as
-        :func:`hairbed.solve_loaded`; -8 the hair reaches |theta| = pi/2, outside the model
+        :func:`hairbed.solve_loaded`; -8 the hair reaches abs(theta) = pi/2, outside the model
         (``STATUS_MESSAGES``).
     error_estimate : float or ndarray
         The largest Chebyshev tail of theta, w and Q (relative) plus the rounding part.
