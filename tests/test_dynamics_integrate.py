@@ -198,3 +198,42 @@ def test_late_relaxation_decays_at_the_slowest_mode() -> None:
     rates = np.log(d[2:] / d[1:-1]) / 0.05
     # measured within 3e-6 (the amplitude's nonlinearity and the integration's error)
     assert np.all(np.abs(rates - lam1.real) <= 2e-5 * abs(lam1.real)), (rates, lam1)
+
+
+@pytest.mark.parametrize("mu", [0.0, 2.0])
+def test_the_rates_jacobian_is_exact(mu: float) -> None:
+    """The integrator's Jacobian of the semi-discrete rates (static Jacobian, the drag and
+    inertia operators' derivatives, the centripetal term) against central differences of
+    the rates, at a random bent state (tilted, a Poiseuille-like profile, gamma and chi
+    apart from 1)."""
+    from hairbed._core._kernels import dynamics as kern
+    from hairbed.dynamics._operators import _mapped
+
+    num = 16
+    _, _, dd, ii, _ = _mapped(num, 0.0)
+    srow = -dd[num, :] / dd[num, num]
+    srow[num] = 0.0
+    prof = np.array([0.45, 0.45, -0.05])
+    drives = np.stack([step(10.0).row(), step(0.3).row()])
+    tabs = np.zeros((4, 1))
+    ws = kern.workspace(num)
+    n = num - 1
+    m = n if mu == 0.0 else 2 * n
+    y = 0.15 * np.random.default_rng(1).standard_normal(m)
+    args = (num, dd, ii, srow, 0.2, 0.6, 0.7, mu, prof, drives, tabs)
+    f = np.zeros(m)
+    jac = np.zeros((m, m))
+    assert kern.pillar_rates(0.1, y, True, *args, f, jac, ws)
+    fd = np.zeros((m, m))
+    h = 1e-6
+    for k in range(m):
+        cols = []
+        for sgn in (1.0, -1.0):
+            yk = y.copy()
+            yk[k] += sgn * h
+            fk = np.zeros(m)
+            kern.pillar_rates(0.1, yk, False, *args, fk, np.zeros((m, m)), ws)
+            cols.append(fk)
+        fd[:, k] = (cols[0] - cols[1]) / (2 * h)
+    # central differences: truncation ~h^2, rounding ~1e-16 |f|/h (|f| ~ 1e3 here)
+    assert np.max(np.abs(jac - fd)) <= 1e-7 * np.max(np.abs(jac))

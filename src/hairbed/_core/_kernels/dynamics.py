@@ -216,39 +216,40 @@ def projected_load(th, a, b, ratio, num, ii, need, val, opa, opb, dth, work):
     if need == 0:
         return
     # W1_ij = Q_ij (c_i Rxx_j - s_i Rxz_j), W2_ij = Q_ij (c_i Rxz_j - s_i Rzz_j), Q_ij =
-    # I_Nj - I_ij: val = sum_j W1_ij rx_j + W2_ij rz_j; then (W1 I) and (W2 I)
+    # I_Nj - I_ij: val = sum_j W1_ij rx_j + W2_ij rz_j. (W1 I)_ik = c_i A1_ik - s_i A2_ik and
+    # (W2 I)_ik = c_i A2_ik - s_i A3_ik with A1 = Q diag(Rxx) I, A2 = Q diag(Rxz) I, A3 =
+    # Q diag(Rzz) I: three matrix products (BLAS), not a triple loop per entry
+    q1 = np.empty((n1, n1))
+    q2 = np.empty((n1, n1))
+    q3 = np.empty((n1, n1))
     for i in range(n1):
-        for k in range(n1):
-            opa[i, k] = 0.0
-            if need == 2:
-                opb[i, k] = 0.0
-                dth[i, k] = 0.0
-    for i in range(n1):
-        ci, si = c[i], s[i]
         for j in range(n1):
             qij = ii[num, j] - ii[i, j]
-            if qij == 0.0:
-                continue
-            rxx = 1.0 - one * s[j] * s[j]
-            rxz = -one * s[j] * c[j]
-            rzz = 1.0 - one * c[j] * c[j]
-            w1 = qij * (ci * rxx - si * rxz)
-            w2 = qij * (ci * rxz - si * rzz)
-            for k in range(n1):
-                m1 = w1 * ii[j, k]
-                m2 = w2 * ii[j, k]
-                opa[i, k] += m1 * c[k] - m2 * s[k]
-                if need == 2:
-                    opb[i, k] += m1 * s[k] + m2 * c[k]
-                    dth[i, k] += m1 * (b[k] * c[k] - a[k] * s[k]) - m2 * (
-                        b[k] * s[k] + a[k] * c[k]
-                    )
+            q1[i, j] = qij * (1.0 - one * s[j] * s[j])
+            q2[i, j] = -qij * one * s[j] * c[j]
+            q3[i, j] = qij * (1.0 - one * c[j] * c[j])
+    im = np.ascontiguousarray(ii[:n1, :n1])
+    a1 = np.dot(q1, im)
+    a2 = np.dot(q2, im)
+    a3 = np.dot(q3, im)
+    for i in range(n1):
+        ci, si = c[i], s[i]
+        for k in range(n1):
+            w1 = ci * a1[i, k] - si * a2[i, k]
+            w2 = ci * a2[i, k] - si * a3[i, k]
+            opa[i, k] = w1 * c[k] - w2 * s[k]
             if need == 2:
+                opb[i, k] = w1 * s[k] + w2 * c[k]
+                dth[i, k] = w1 * (b[k] * c[k] - a[k] * s[k]) - w2 * (b[k] * s[k] + a[k] * c[k])
+    if need == 2:
+        for i in range(n1):
+            ci, si = c[i], s[i]
+            for j in range(n1):
                 # R_j's own angle: dg_j = -(1 - ratio) (n_j (t . r) + t_j (n . r))
+                qij = ii[num, j] - ii[i, j]
                 dgx = -one * (c[j] * p[j] + s[j] * q[j])
                 dgz = -one * (-s[j] * p[j] + c[j] * q[j])
                 dth[i, j] += qij * (ci * dgx - si * dgz)
-    if need == 2:
         for i in range(n1):  # the outer normal n_i
             dth[i, i] -= s[i] * (cgx[num] - cgx[i]) + c[i] * (cgz[num] - cgz[i])
 
