@@ -34,7 +34,7 @@ test: $(STAMP) chromium
 	# the kernels once more as plain Python (coverage of the compiled code's source)
 	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q -p no:cacheprovider \
 		tests/test_kernels_elliptic.py tests/test_kernels_weak.py tests/test_jit.py \
-		tests/test_kernels_python.py tests/test_kernels_spectral.py
+		tests/test_kernels_python.py tests/test_kernels_spectral.py tests/test_kernels_dynamics.py
 
 # Debian's Chromium for the browser tests of the explorer (tests/test_explorer_browser.py),
 # installed when missing and possible (root with apt-get); otherwise those tests skip, saying so.
