@@ -262,3 +262,19 @@ def test_unsteady_drag_response_is_the_cantilever_with_sader_drag() -> None:
         linearise_pillar(hairbed.solve_pillar(0.0), tangential_mass=0.5).frequency_response(
             1.0, unsteady_drag=(scale, slender)
         )
+
+
+@pytest.mark.parametrize("mu", [0.0, 13.0])
+def test_stability_of_the_snap_through_window(mu: float) -> None:
+    """theta0 = -1.4, Lambda = 15: three states; the physical linearisation finds the middle
+    one unstable (one real growing mode) and the others stable, as the branch's slope says
+    (solve_pillar_all's ``stable``, a different method)."""
+    states = hairbed.solve_pillar_all(15.0, -1.4)
+    assert len(states) == 3
+    for st in states:
+        lin = linearise_pillar(st, mu=mu)
+        assert lin.stable == bool(st.stable), (st.tip_deflection, lin.growth_rate())
+        if not st.stable:
+            grow = lin.modes(2).eigenvalues[0]
+            # measured 2.37 overdamped, 0.389 at mu = 13 (near the root of 13 l^2 + l = 2.37)
+            assert grow.real > (1.0 if mu == 0.0 else 0.1) and grow.imag == 0.0

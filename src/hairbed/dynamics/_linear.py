@@ -358,6 +358,16 @@ class LinearPillar:
             num=deg,
         )
 
+    def growth_rate(self) -> float:
+        """max Re lambda over the modes [1/T]: negative where the state is linearly stable
+        (the physical model's linearisation, not a relaxation device; at a fold it is 0)."""
+        return float(np.max(self.modes(4).eigenvalues.real))
+
+    @property
+    def stable(self) -> bool:
+        """True where every mode decays (:meth:`growth_rate` < 0)."""
+        return self.growth_rate() < 0.0
+
     def _degree(self) -> int:
         return max(32, int(self.state.num))
 
