@@ -434,3 +434,15 @@ def test_hair_state_defines_its_stresses_for_every_drive() -> None:
     assert st.stress_ratio == pytest.approx(
         tau / (eta * v / height + grad * height / 2), rel=1e-13
     )
+
+
+@pytest.mark.parametrize("key", ["dof", "status", "nfev", "nit", "solver_status"])
+@pytest.mark.parametrize("bad", [math.nan, "abc", None, [], 1.5, True])
+def test_a_calibration_file_count_must_be_a_whole_number(key: str, bad) -> None:
+    from hairbed.calibration import fit, model_tip_deflection
+    from hairbed.calibration_files import calibration_from_dict, calibration_to_dict
+
+    d = model_tip_deflection(TRUE_BED, velocity=SPEEDS)
+    doc = calibration_to_dict(fit(TRUE_BED, d, velocity=SPEEDS, sigma=2e-6))
+    with pytest.raises(ValueError, match=rf"^cal\.json: {key} must be a whole number"):
+        calibration_from_dict({**doc, key: bad}, source="cal.json")

@@ -55,7 +55,9 @@ from scipy.integrate import solve_ivp
 
 from ._core.solution import Solution
 from ._core.validation import (
+    MAX_GUESS_ANGLE,
     STATUS_MESSAGES,
+    _check_range,
     as_float_array,
     check_choice,
     check_int,
@@ -239,6 +241,12 @@ def _initial(guess: Any, n_seg: int, name: str) -> FloatArray:
     else:
         values = as_float_array(guess, name)
     if values.ndim == 0:  # one angle for every node (a straight hair), as node_values takes
+        _check_range(
+            values,
+            np.abs(values) > MAX_GUESS_ANGLE,
+            name,
+            f"[-{MAX_GUESS_ANGLE:g}, {MAX_GUESS_ANGLE:g}] [rad]",
+        )
         return np.full(n_seg + 1, float(values))
     if values.shape != (n_seg + 1,):
         raise ValueError(

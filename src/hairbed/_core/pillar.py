@@ -853,8 +853,17 @@ def _retry_finer(
     the coarsest level resolves too poorly for its Newton and continuation to reach some
     states (isolated x1 along the branch and bands of the forcing gave status -7, issue 33);
     the finer levels reach them."""
+    # only where the branch has solved states in this call (a grid): a branch that fails
+    # everywhere (an absurd tip load) is not one of this, and each failed run is dear
+    keys = np.stack([tf, gf, pf], axis=1)
+    solved = np.unique(keys[out[0] >= 0], axis=0)
     for start in range(1, len(nums)):
         bad = np.flatnonzero(out[0] < 0)
+        if bad.size and solved.size:
+            near = (keys[bad][:, None, :] == solved[None, :, :]).all(axis=2).any(axis=1)
+            bad = bad[near]
+        else:
+            bad = bad[:0]
         if bad.size == 0:
             return
         sub = tuple(nums[start:])
