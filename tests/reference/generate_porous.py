@@ -40,6 +40,15 @@ Two methods, each at >= 50 digits, must agree on every written state (``AGREE_TO
    the right-hand side pointwise (no series). Backwards the fluid's physical mode decays;
    Newton's correction of w(1) absorbs the growing one, so no extra digits are needed.
 
+Below kappa = 1e-2 (``SCAN_MIN_KAPPA``) the double-precision scan fails (the growing mode
+amplifies by more than 1e13), and single shooting has a basin of width exp(-1/sqrt(kappa)) in
+Q(0) or w(1). There the states are continued in kappa along their series (the wall drive
+only, where Q(0) > 0 and the fluid's equations are homogeneous): ``nested_forward`` solves
+for log Q(0) alone (the gap condition, bracketing) inside a Newton iteration on theta'(0),
+F_x(0), F_z(0), from a guess extrapolated in sqrt(kappa); then method 1's Newton polishes all
+four, and the second method is the same forward shooting integrated by Gragg-Bulirsch-Stoer
+(a different discretisation; the record's ``method2`` says which).
+
 Finding the states (every state of a window). A state is one of the family parametrised by
 the tip angle theta1: at fixed theta1 the load scale L (the wall's omega2, the pressure's Pi,
 or the flow's q, the other loads scaled with it) is an unknown of the backward shooting. The
@@ -119,7 +128,7 @@ SCAN_TOL = 1e-11
 #: continued in kappa along their series by ``nested_forward`` and checked by forward GBS.
 SCAN_MIN_KAPPA = 1e-2
 #: Digits of log Q(0) in the inner solve of ``nested_forward`` (method 1 polishes after).
-NESTED_DIGITS = 22
+NESTED_DIGITS = 14
 #: The slenderness L/a of the Gray & Hancock ratio used as the second gamma.
 SLENDERNESS = 20
 
@@ -765,7 +774,7 @@ def nested_forward(case: dict[str, Any], guess: dict[str, Any]) -> dict[str, Any
 
     v0 = [mpf(guess[k]) for k in ("m0", "Fx0", "Fz0")]
     Ls = info["Ls"]
-    v, _r, _n = newton(outer, v0, mpf(10) ** (-10), [mpf(1), Ls, Ls], mpf(10) ** (-14))
+    v, _r, _n = newton(outer, v0, mpf(10) ** (-7), [mpf(1), Ls, Ls], mpf(10) ** (-9))
     x = inner(v)
     start = {"m0": v[0], "Q0": mp.exp(x), "Fx0": v[1], "Fz0": v[2], "Q1": guess["Q1"]}
     return method1(case, start)
@@ -1173,24 +1182,73 @@ def _report(job: dict[str, Any]) -> dict[str, Any]:
     return res
 
 
+def merge(paths: list[Path], out: Path) -> None:
+    """One data file from several runs of separate jobs (the header's lists joined)."""
+    docs = [json.loads(p.read_text()) for p in paths]
+    doc = dict(docs[0])
+    keys = ("states", "limits", "windows", "per_state")
+    lists: dict[str, list[dict[str, Any]]] = {k: [] for k in keys}
+    jobs: dict[str, float] = {}
+
+    def owner(x: dict[str, Any]) -> str:
+        return x.get("job") or x.get("series") or x["name"]
+
+    for d in docs:
+        if d["quick"] or d.get("failed_jobs"):
+            raise SystemExit("only complete, non-quick runs can be merged")
+        names = set(d["seconds_per_job"])
+        for k in keys:
+            lists[k] = [x for x in lists[k] if owner(x) not in names] + d[k]
+        jobs.update(d["seconds_per_job"])
+    doc.update(lists)
+    order = {j["name"]: i for i, j in enumerate(build_cases(False, True))}
+
+    def rank(x: dict[str, Any]) -> tuple[int, float, int]:
+        return (order.get(owner(x), len(order)), -x.get("kappa", 0.0), x.get("state_index", 0))
+
+    for key in ("states", "limits", "windows", "per_state"):
+        doc[key] = sorted(doc[key], key=rank)
+    doc["seconds_per_job"] = jobs
+    doc["seconds_total"] = round(sum(jobs.values()), 1)
+    doc["failed_jobs"] = {}
+    doc["merged_from_runs"] = len(docs)
+    out.write_text(json.dumps(doc, indent=1) + "\n")
+    print(f"merged {len(doc['states'])} states, {len(doc['limits'])} limits into {out}")
+
+
 def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", type=Path, default=OUT_PATH)
     parser.add_argument("--quick", action="store_true", help="a few cases (smoke test)")
     parser.add_argument("--only", default=None, help="jobs whose name contains this text")
+    parser.add_argument("--skip", default=None, help="not the jobs whose name contains this")
     parser.add_argument("--no-small-kappa", action="store_true", help="only kappa >= 1e-2")
     parser.add_argument(
         "--keep-going", action="store_true", help="write the jobs that succeeded, list the rest"
     )
+    parser.add_argument(
+        "--merge",
+        nargs="+",
+        type=Path,
+        default=None,
+        help="combine files written by runs of separate jobs (--only) into --out; later "
+        "files replace the jobs of earlier ones",
+    )
     args = parser.parse_args(argv)
+    if args.merge:
+        merge(args.merge, args.out)
+        return
     jobs = build_cases(args.quick, not args.no_small_kappa)
     if args.only:
         jobs = [j for j in jobs if args.only in j["name"]]
+    if args.skip:
+        jobs = [j for j in jobs if args.skip not in j["name"]]
     t0 = time.time()
     results: list[dict[str, Any]] = []
-    # longest first (the series), so that the workers finish together
-    jobs.sort(key=lambda j: -len(j["cases"]))
+    # longest first (the series continued below SCAN_MIN_KAPPA), so that the workers
+    # finish together
+    jobs.sort(key=lambda j: -sum(1 + 10 * (c["kappa"] < SCAN_MIN_KAPPA) for c in j["cases"]))
     if args.workers > 1:
         with multiprocessing.Pool(args.workers) as pool:
             results = list(pool.imap_unordered(_report, jobs))
@@ -1225,6 +1283,20 @@ def main(argv: list[str] | None = None) -> None:
         "failed_jobs": {r["name"]: r["error"] for r in failed},
         "seconds_total": round(time.time() - t0, 1),
         "seconds_per_job": {r["name"]: r["seconds"] for r in results},
+        "per_state": [
+            {
+                "job": st["job"],
+                "state_index": st["state_index"],
+                "kappa": st["kappa"],
+                "digits_method1": st["digits"],
+                "digits_method2": st["method2_digits"],
+                "method2": st["method2"],
+                "method_difference": st["method_difference"],
+                "seconds_method1": st["seconds_method1"],
+                "seconds_method2": st["seconds_method2"],
+            }
+            for st in states
+        ],
         "windows": windows,
         "states": states,
         "limits": limits,
