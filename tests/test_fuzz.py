@@ -684,6 +684,166 @@ TARGETS: list[Target] = [
     ),
 ]
 
+# -- issue 33: the newer API, judged by what it returns as well -----------------------------------
+
+LOADED = hairbed.solve_loaded([0.5, 1.0], 0.5, 0.1, pi=2.0)
+PILLAR_STATES = hairbed.solve_pillar([2.0, 20.0], 0.2)
+TARGETS += [
+    Target(
+        "derivatives[pi]",
+        hairbed.derivatives,
+        dict(omega2=0.5, eps=0.5, theta0=0.1, pi=2.0),
+        fuzz=("omega2", "eps", "theta0", "pi"),
+    ),
+    Target(
+        "derivatives[q]",
+        hairbed.derivatives,
+        dict(omega2=0.5, eps=0.5, theta0=0.1, q=1.0),
+        fuzz=("omega2", "q"),
+    ),
+    Target(
+        "sensitivity.derivatives_at[loaded]",
+        sensitivity.derivatives_at,
+        dict(sol=LOADED),
+    ),
+    Target(
+        "solve_pillar[callable]",
+        hairbed.solve_pillar,
+        dict(forcing=2.0, profile=lambda z: z * (1.0 - 0.3 * z), height_ratio=None),
+        fuzz=("forcing", "profile", "height_ratio"),
+    ),
+    Target(
+        "calibration_files.calibration_from_dict[pillar]",
+        calibration_files.calibration_from_dict,
+        dict(data=calibration_files.calibration_to_dict(PILLAR_FIT)),
+        fuzz=("data",),
+    ),
+]
+#: The newer API (issue 33): a returned result is judged too (:func:`_silent`), and NaN, an
+#: infinity, a complex number or an object given for a number must be refused.
+STRICT = {
+    "solve_loaded",
+    "solve_loaded[q]",
+    "solve_loaded_all",
+    "continue_loaded",
+    "solve_pillar",
+    "solve_pillar[callable]",
+    "solve_pillar_inverse",
+    "solve_pillar_all",
+    "continue_pillar",
+    "gray_hancock_ratio",
+    "derivatives[pi]",
+    "derivatives[q]",
+    "sensitivity.derivatives_at[loaded]",
+    "sensitivity.derivatives_at[pillar]",
+    "HairBed.deform[pressure_gradient]",
+    "HairBed.deform[flow_rate]",
+    "valve.valve_curve",
+    "valve.diodicity",
+    "valve.valve_states",
+    "valve.valve_states[pressure_drop]",
+    "Pillar.deform",
+    "calibration.fit[pillar]",
+    "calibration.measure[pillar]",
+    "calibration_files.calibration_from_dict[pillar]",
+}
+#: Catalogue classes that a number must refuse (None, strings and odd dtypes may stand for
+#: a default or convert to a number; these never do).
+MUST_REFUSE = ("nan", "inf")
+#: Value fields that must hold a number wherever a state's status is not negative.
+STATE_FIELDS = {
+    "LoadedState": ("tip_height", "tip_deflection", "tip_angle", "base_curvature"),
+    "PillarState": ("tip_height", "tip_deflection", "tip_angle", "base_curvature", "drag_x"),
+    "HairState": ("tip_deflection", "tip_height", "wall_shear_stress", "stress_ratio"),
+    "PillarDeformation": ("tip_deflection", "tip_height", "drag", "base_moment"),
+    "ValveCurve": ("flow_rate", "resistance_ratio", "tip_height"),
+    "Diodicity": ("diodicity",),
+    "Measurement": ("wall_shear_stress",),
+}
+
+
+def _silent(result: Any) -> str | None:
+    """A silent failure of a returned result: an empty list of states, or NaN where the
+    result's status says it is fine."""
+    if isinstance(result, list):
+        if not result:
+            return "silent empty list"
+        return next((f for f in map(_silent, result) if f), None)
+    name = type(result).__name__
+    if name == "Derivatives":
+        ok = np.asarray(result.status) == 0
+        rows = [*((f"d{o}/d{i}", v) for o, r in result.table.items() for i, v in r.items())]
+        rows += [(f"dt/d{i}", v) for i, v in result.dt.items()]
+        for label, v in rows:
+            a = np.asarray(v, dtype=np.float64)
+            if np.any(np.isnan(a) & np.broadcast_to(ok, a.shape)):
+                return f"silent NaN: {label} with status 0"
+        return None
+    if name == "CalibrationFit":
+        bad = [k for k, v in result.values.items() if math.isnan(v)]
+        return (
+            f"silent NaN: {bad} with status {result.status}"
+            if bad and result.status >= 0
+            else None
+        )
+    if name in ("PillarBranch", "LoadedBranch"):
+        arr = np.asarray(result.tip_height if name == "LoadedBranch" else result.forcing)
+        if result.status == 0 and (arr.size == 0 or np.all(np.isnan(arr))):
+            return f"silent empty {name} with status 0"
+        return None
+    for f in STATE_FIELDS.get(name, ()):
+        a = np.asarray(getattr(result, f), dtype=np.float64)
+        status = getattr(result, "status", None)
+        if status is None:
+            status = result.solution.status
+        mask = np.asarray(status) >= 0
+        if a.size and np.any(np.isnan(a) & np.broadcast_to(mask, a.shape)):
+            return f"silent NaN: {name}.{f} where the status is not negative"
+    if name == "ValveCurve":
+        return _silent(result.states)
+    if name == "Diodicity":
+        return _silent(result.forward) or _silent(result.backward)
+    return None
+
+
+#: Valid values at the edges of their ranges that the newer API must take (and answer
+#: without a silent NaN or an empty list): (target, argument, value).
+VALID_EDGES: list[tuple[str, str, Any]] = [
+    ("solve_loaded", "omega2", [0.0, 1e-12, -5.0]),
+    ("solve_loaded", "pi", 0.0),
+    ("solve_loaded", "pi", [-3.0, 1e-300]),
+    ("solve_loaded", "root", "high"),
+    ("solve_loaded[q]", "q", [0.0, -2.0]),
+    ("solve_loaded_all", "omega2", 0.0),
+    ("solve_loaded_all", "pi", -1.0),
+    ("solve_loaded_all", "omega2", 1e300),
+    ("continue_loaded", "stop", -0.05),
+    ("derivatives", "omega2", [0.0, 1.7e308]),
+    ("derivatives", "theta0", -1.2),
+    ("derivatives[pi]", "omega2", np.array([])),
+    ("derivatives[pi]", "pi", 0.0),
+    ("sensitivity.derivatives_at[loaded]", "sol", hairbed.solve_loaded(np.array([]), 0.5, pi=1.0)),
+    ("sensitivity.derivatives_at[pillar]", "sol", hairbed.solve_pillar(np.array([]))),
+    ("solve_pillar", "forcing", [0.0, -5.0, 1e-8, 1e5]),
+    ("solve_pillar", "theta0", -1.5),
+    ("solve_pillar", "height_ratio", 1.0),
+    ("solve_pillar[callable]", "profile", lambda z: 0.0 * z),
+    ("solve_pillar_all", "forcing", 1e300),
+    ("solve_pillar_all", "forcing", -15.0),
+    ("solve_pillar_inverse", "tip_deflection", [0.2, -0.5]),
+    ("gray_hancock_ratio", "slenderness", math.exp(1.5) / 2.0),
+    ("HairBed.deform[pressure_gradient]", "pressure_gradient", [0.0, -500.0]),
+    ("HairBed.deform[flow_rate]", "flow_rate", 0.0),
+    ("valve.valve_curve", "pressure_drop", [-200.0, 0.0, 200.0]),
+    ("Pillar.deform", "wall_shear_stress", [0.0, -3.0]),
+    (
+        "calibration_files.calibration_from_dict[pillar]",
+        "data",
+        {**calibration_files.calibration_to_dict(PILLAR_FIT), "geometry": "spacing"},
+    ),  # fmt: skip
+]
+
+
 #: Public callables not fuzzed here, and why.
 NOT_FUZZED = {
     "explore": "starts a web server (the explorer's own tests feed it bad input)",
@@ -808,6 +968,10 @@ def _outcome(target: Target, param: str, kwargs: dict[str, Any]) -> tuple[str, s
             a = np.asarray(v)
             if not np.all(np.isfinite(a)):
                 return kind, f"non-finite bare result {a!r}"
+    if target.name in STRICT:
+        silent = _silent(result)
+        if silent:
+            return kind, silent
     return kind, None
 
 
@@ -815,6 +979,8 @@ def _run(target: Target, param: str, cls: str, value: Any) -> str | None:
     kwargs = dict(target.args)
     kwargs[param] = value
     kind, failure = _outcome(target, param, kwargs)
+    if failure is None and kind == "returned" and target.name in STRICT and cls in MUST_REFUSE:
+        failure = "bad input accepted"
     target.tally[cls][kind if failure is None else "FAILED"] += 1
     if failure is None:
         return None
@@ -832,6 +998,21 @@ def test_catalogue(target: Target, param: str):
     """Every class of the catalogue on this argument."""
     failures = [f for cls, v in CATALOGUE if (f := _run(target, param, cls, v)) is not None]
     assert not failures, "\n".join(failures)
+
+
+_BY_NAME = {t.name: t for t in TARGETS}
+
+
+@pytest.mark.parametrize(
+    ("name", "param", "value"), VALID_EDGES, ids=[f"{n}-{p}-{i}" for i, (n, p, _) in
+                                                  enumerate(VALID_EDGES)]
+)  # fmt: skip
+def test_valid_edges_are_taken(name: str, param: str, value: Any):
+    """Valid values at the edges of their ranges: answered, with no silent failure."""
+    target = _BY_NAME[name]
+    kind, failure = _outcome(target, param, {**target.args, param: value})
+    assert kind == "returned", f"valid input rejected: {name}({param}={value!r}): {failure}"
+    assert failure is None, f"{name}({param}={value!r}): {failure}"
 
 
 @pytest.mark.parametrize(("target", "param"), PAIRS, ids=IDS)

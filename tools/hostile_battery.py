@@ -1,0 +1,634 @@
+"""A hostile battery against the newer API (issue 33): the pump-driven bed, the valve, the
+isolated pillar, their derivatives and calibration files.
+
+Each call gets a valid set of arguments with one of them replaced by a hostile value (from a
+catalogue of NaN, infinities, huge and tiny numbers, zeros, empty and 0-d arrays, wrong
+dtypes and shapes, strings, None and objects) or by a value that is valid but at an edge
+(a zero or negative drive, an empty array, a base angle next to the wall, ...). Each outcome
+falls in one class:
+
+* ``ok``: a result that says what it is, or a ValueError/TypeError naming the parameter;
+* ``internal traceback``: any other exception, a ValueError/TypeError raised inside numpy or
+  scipy or not naming the parameter, or a numpy/Python warning leaking out;
+* ``bad input accepted``: NaN, an infinity, a complex number, a string or an object that
+  is not a number given for a number, and a result came back;
+* ``silent NaN``: a result with NaN where its status (or the lack of one) says it is fine;
+* ``silent empty``: an empty list of states, or an empty result for a non-empty input,
+  with no status that says why;
+* ``valid input rejected``: an edge value that the documentation allows raised.
+
+Run ``python tools/hostile_battery.py [--json out.json] [--quick]``: it prints the count per
+class and each finding, and exits 1 when any class but ``ok`` has a count.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import time
+import traceback
+import warnings
+from collections import Counter
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+import hairbed
+from hairbed import calibration, calibration_files, sensitivity, valve
+
+CLASSES = (
+    "ok",
+    "internal traceback",
+    "bad input accepted",
+    "silent NaN",
+    "silent empty",
+    "valid input rejected",
+)
+OWN_WARNINGS = (hairbed.ModelValidityWarning, hairbed.UnitsWarning, hairbed.CalibrationWarning)
+
+
+class _Opaque:
+    def __repr__(self) -> str:
+        return "<opaque>"
+
+
+#: (class, value, must be refused): the hostile catalogue, tried on every argument.
+HOSTILE: list[tuple[str, Any, bool]] = [
+    ("nan", math.nan, True),
+    ("nan", np.float64("nan"), True),
+    ("nan", [0.5, math.nan], True),
+    ("inf", math.inf, True),
+    ("inf", -math.inf, True),
+    ("inf", np.array([0.1, np.inf]), True),
+    ("negative", -1.0, False),
+    ("negative", -1e-300, False),
+    ("negative", np.array([0.2, -0.5]), False),
+    ("huge", 1e300, False),
+    ("huge", 1.7e308, False),
+    ("huge", 10**400, False),
+    ("tiny", 5e-324, False),
+    ("tiny", 1e-310, False),
+    ("zero", 0, False),
+    ("zero", -0.0, False),
+    ("empty", np.array([]), False),
+    ("empty", [], False),
+    ("empty", np.empty((0, 3)), False),
+    ("0-d", np.array(0.3), False),
+    ("dtype", True, False),
+    ("dtype", 0.5 + 1j, True),
+    ("dtype", np.array([0.5 + 9j]), True),
+    ("dtype", np.float16(0.5), False),
+    ("dtype", np.array([0.5], dtype=object), False),
+    ("dtype", np.array(["0.5"]), False),
+    ("dtype", np.timedelta64(1, "s"), True),
+    ("shape", [[0.1, 0.2], [0.3]], False),
+    ("shape", np.full((2, 3), 0.4), False),
+    ("shape", [[[0.5]]], False),
+    ("string", "abc", True),
+    ("string", "", True),
+    ("string", "0.5", False),
+    ("none", None, False),
+    ("object", _Opaque(), True),
+    ("object", {}, True),
+    ("object", [0.5, "a"], True),
+]
+
+
+@dataclass
+class Target:
+    """One callable with valid arguments; ``edges`` holds valid values per argument that must
+    be accepted; ``text`` names the arguments that are not numbers (strings, objects)."""
+
+    name: str
+    call: Callable[..., Any]
+    args: dict[str, Any]
+    fuzz: tuple[str, ...] = ()
+    edges: dict[str, list[Any]] | None = None
+    text: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        if not self.fuzz:
+            self.fuzz = tuple(self.args)
+
+
+BED_KW = dict(
+    length=1e-3,
+    radius=50e-6,
+    youngs_modulus=1e6,
+    channel_height=2e-3,
+    viscosity=1.0,
+    spacing=400e-6,
+    base_angle=0.1,
+)
+PILLAR_KW = dict(length=500e-6, radius=25e-6, youngs_modulus=1e6, viscosity=1e-3, base_angle=0.1)
+
+
+def _targets() -> list[Target]:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        bed = hairbed.HairBed(**BED_KW)
+        pillar = hairbed.Pillar(**PILLAR_KW)
+        tau = [1.0, 5.0, 20.0]
+        pillar_d = pillar.tip_deflection(tau)
+        pillar_fit = calibration.fit(pillar, pillar_d, wall_shear_stress=tau, sigma=1e-7)
+        grads = [200.0, 1e3, 3e3]
+        bed_d = [float(bed.deform(pressure_gradient=g).tip_deflection) for g in grads]
+        bed_fit = calibration.fit(bed, bed_d, pressure_gradient=grads, sigma=1e-7)
+        loaded = hairbed.solve_loaded([0.5, 1.0], 0.5, 0.1, pi=2.0)
+        pil_state = hairbed.solve_pillar([2.0, 20.0], 0.2)
+    return [
+        Target(
+            "solve_loaded",
+            hairbed.solve_loaded,
+            dict(omega2=0.5, eps=0.5, theta0=0.1, pi=2.0, root="low", num=None, rtol=1e-12),
+            edges={
+                "omega2": [0.0, -2.0, [0.0, 1e-12, 5.0], np.array([])],
+                "eps": [0.0 + 1e-9, 0.99, [0.1, 0.9]],
+                "theta0": [-1.5, 1.5, 0.0],
+                "pi": [0.0, -3.0, 1e-300, [1.0, -1.0]],
+                "root": ["mid", "high"],
+                "num": [8, 512],
+                "rtol": [1e-6, 1e-14],
+            },
+            text=("root",),
+        ),
+        Target(
+            "solve_loaded[q]",
+            hairbed.solve_loaded,
+            dict(omega2=0.5, eps=0.5, theta0=0.1, q=2.0),
+            edges={"q": [0.0, -2.0, [0.0, 1.0]], "omega2": [0.0, -1.0]},
+        ),
+        Target(
+            "solve_loaded_all",
+            hairbed.solve_loaded_all,
+            dict(omega2=0.51, eps=0.95, theta0=-1.2, pi=0.0, num_scan=16, rtol=1e-12),
+            edges={
+                "omega2": [0.0, 1e-9, -0.5],
+                "pi": [0.0, 1.0, -1.0, None],
+                "theta0": [0.0, 1.2, -1.55],
+                "num_scan": [8, 100],
+            },
+        ),
+        Target(
+            "continue_loaded",
+            hairbed.continue_loaded,
+            dict(omega2=0.0, eps=0.9, theta0=-1.2, q=0.005, stop=0.05, ds=0.05, max_steps=40),
+            edges={"stop": [-0.05, 0.01], "omega2": [0.5]},
+        ),
+        Target(
+            "derivatives[pi]",
+            hairbed.derivatives,
+            dict(omega2=0.5, eps=0.5, theta0=0.1, pi=2.0),
+            edges={"omega2": [0.0, [0.0, 1.0], np.array([])], "pi": [0.0, -1.0]},
+            fuzz=("omega2", "eps", "theta0", "pi"),
+        ),
+        Target(
+            "derivatives[q]",
+            hairbed.derivatives,
+            dict(omega2=0.5, eps=0.5, theta0=0.1, q=1.0),
+            edges={"q": [0.0, -1.0]},
+            fuzz=("omega2", "eps", "q"),
+        ),
+        Target(
+            "derivatives",
+            hairbed.derivatives,
+            dict(omega2=2.0, eps=0.5, theta0=0.1),
+            edges={"omega2": [0.0, 1e-300, [0.0, 2.0]], "theta0": [-1.2, 1.5]},
+            fuzz=("omega2", "eps", "theta0"),
+        ),
+        Target(
+            "derivatives_at[loaded]",
+            lambda sol: sensitivity.derivatives_at(sol),
+            dict(sol=loaded),
+            edges={"sol": [hairbed.solve_loaded(np.array([]), 0.5, pi=1.0)]},
+        ),
+        Target(
+            "derivatives_at[pillar]",
+            lambda sol: sensitivity.derivatives_at(sol),
+            dict(sol=pil_state),
+            edges={"sol": [hairbed.solve_pillar(np.array([])), hairbed.solve_pillar(0.0)]},
+        ),
+        Target(
+            "solve_pillar",
+            hairbed.solve_pillar,
+            dict(
+                forcing=5.0,
+                theta0=0.1,
+                profile="poiseuille",
+                height_ratio=0.5,
+                gamma=0.6,
+                tip_load=0.0,
+                root="low",
+                num=None,
+                rtol=1e-12,
+            ),
+            edges={
+                "forcing": [0.0, -5.0, 1e-8, 1e5, [0.0, 1.0, -1.0], np.array([])],
+                "theta0": [-1.4, 1.4, -1.5, -1.52, 0.0],
+                "gamma": [1.0, 1e-3],
+                "tip_load": [-1.0, 2.0],
+                "height_ratio": [1.0, 1e-3],
+                "root": ["mid", "high"],
+                "num": [8, 512],
+            },
+            text=("profile", "root"),
+        ),
+        Target(
+            "solve_pillar[callable]",
+            hairbed.solve_pillar,
+            dict(forcing=2.0, profile=lambda z: z * (1.0 - 0.3 * z)),
+            edges={
+                "profile": [lambda z: 0.0 * z, lambda z: np.sin(z), lambda z: 1.0 + 0.0 * z],
+            },
+            fuzz=("forcing", "profile"),
+            text=("profile",),
+        ),
+        Target(
+            "solve_pillar_inverse",
+            hairbed.solve_pillar_inverse,
+            dict(tip_deflection=0.3, theta0=0.1, profile="sublayer", gamma=0.6, tip_load=0.0),
+            edges={
+                "tip_deflection": [0.0999, -0.5, 0.99, [0.2, -0.2]],
+                "theta0": [-1.3, 1.3],
+            },
+            text=("profile",),
+        ),
+        Target(
+            "solve_pillar_all",
+            hairbed.solve_pillar_all,
+            dict(forcing=15.0, theta0=-1.4, gamma=0.5, num=16),
+            edges={
+                "forcing": [1e-6, -15.0, 1e4, 1e300],
+                "theta0": [0.0, 1.4, -1.5],
+                "num": [16, 400],
+            },
+        ),
+        Target(
+            "continue_pillar",
+            hairbed.continue_pillar,
+            dict(forcing_max=20.0, theta0=-1.4, gamma=0.5, num=16),
+            edges={"forcing_max": [-20.0, 1e-6, 1e4], "theta0": [0.0, -1.5]},
+        ),
+        Target(
+            "gray_hancock_ratio",
+            hairbed.gray_hancock_ratio,
+            dict(slenderness=20.0),
+            edges={"slenderness": [math.exp(1.5) / 2.0, 1e300, [3.0, 30.0]]},
+        ),
+        Target(
+            "Pillar",
+            lambda **kw: hairbed.Pillar(**kw),
+            dict(PILLAR_KW),
+            edges={"base_angle": [-1.5, 0.0], "radius": [200e-6]},
+        ),
+        Target(
+            "Pillar.deform",
+            lambda wall_shear_stress: pillar.deform(wall_shear_stress),
+            dict(wall_shear_stress=[1.0, 5.0]),
+            edges={"wall_shear_stress": [0.0, -3.0, np.array([]), 1e-9]},
+        ),
+        Target(
+            "Pillar.tip_deflection",
+            lambda wall_shear_stress: pillar.tip_deflection(wall_shear_stress),
+            dict(wall_shear_stress=2.0),
+            edges={"wall_shear_stress": [0.0, -2.0]},
+        ),
+        Target(
+            "Pillar.wall_shear_stress_from_tip_deflection",
+            lambda tip_deflection: pillar.wall_shear_stress_from_tip_deflection(tip_deflection),
+            dict(tip_deflection=float(pillar_d[1])),
+            edges={"tip_deflection": [float(np.sin(0.1)) * 500e-6]},
+        ),
+        Target(
+            "HairBed.deform[pressure_gradient]",
+            lambda pressure_gradient, velocity: bed.deform(
+                velocity, pressure_gradient=pressure_gradient
+            ),
+            dict(pressure_gradient=[200.0, 2e3], velocity=None),
+            edges={
+                "pressure_gradient": [0.0, -500.0, [0.0, 1e3], 1e-300],
+                "velocity": [0.0, -0.01, 0.01],
+            },
+        ),
+        Target(
+            "HairBed.deform[flow_rate]",
+            lambda flow_rate: bed.deform(flow_rate=flow_rate),
+            dict(flow_rate=1e-6),
+            edges={"flow_rate": [0.0, -1e-6, [0.0, 1e-7]]},
+        ),
+        Target(
+            "HairBed.sweep[pressure_gradient]",
+            lambda pressure_gradient: bed.sweep(pressure_gradient=pressure_gradient),
+            dict(pressure_gradient=[100.0, 1e3]),
+            edges={"pressure_gradient": [[0.0, 1e3], [-1e3, 0.0]]},
+        ),
+        Target(
+            "valve.valve_curve",
+            lambda pressure_drop, channel_length: valve.valve_curve(
+                bed, pressure_drop, channel_length
+            ),
+            dict(pressure_drop=[20.0, 200.0], channel_length=0.01),
+            edges={"pressure_drop": [0.0, [-200.0, 0.0, 200.0]], "channel_length": [1e-6, 10.0]},
+        ),
+        Target(
+            "valve.diodicity",
+            lambda pressure_drop, channel_length: valve.diodicity(
+                bed, pressure_drop, channel_length
+            ),
+            dict(pressure_drop=200.0, channel_length=0.01),
+            edges={"pressure_drop": [-200.0, [1.0, 200.0]]},
+        ),
+        Target(
+            "valve.valve_states",
+            lambda flow_rate, velocity, max_steps: valve.valve_states(
+                bed, 0.01, flow_rate=flow_rate, velocity=velocity, max_steps=max_steps
+            ),
+            dict(flow_rate=[0.0, 2e-7], velocity=0.0, max_steps=40),
+            edges={"flow_rate": [[-2e-7, 2e-7], [1e-7]], "velocity": [0.001, -0.001]},
+        ),
+        Target(
+            "valve.valve_states[pressure_drop]",
+            lambda pressure_drop: valve.valve_states(bed, 0.01, pressure_drop=pressure_drop),
+            dict(pressure_drop=[0.0, 200.0]),
+            edges={"pressure_drop": [[-200.0, 200.0], [50.0]]},
+        ),
+        Target(
+            "calibration.fit[pillar]",
+            lambda tip_deflection, wall_shear_stress, sigma, free: calibration.fit(
+                pillar, tip_deflection, wall_shear_stress=wall_shear_stress, sigma=sigma, free=free
+            ),
+            dict(
+                tip_deflection=pillar_d,
+                wall_shear_stress=tau,
+                sigma=1e-7,
+                free=("youngs_modulus",),
+            ),
+            edges={
+                "free": ["base_angle", ("youngs_modulus", "base_angle"), "drag_scale"],
+                "sigma": [None, [1e-7, 2e-7, 3e-7]],
+            },
+            text=("free",),
+        ),
+        Target(
+            "calibration.fit[pressure_gradient]",
+            lambda tip_deflection, pressure_gradient, sigma: calibration.fit(
+                bed, tip_deflection, pressure_gradient=pressure_gradient, sigma=sigma
+            ),
+            dict(tip_deflection=bed_d, pressure_gradient=grads, sigma=1e-7),
+            edges={"sigma": [None]},
+        ),
+        Target(
+            "calibration.measure[pillar]",
+            lambda tip_deflection, sigma: calibration.measure(
+                pillar, tip_deflection, sigma=sigma, fit=pillar_fit
+            ),
+            dict(tip_deflection=3e-5, sigma=1e-7),
+            edges={"tip_deflection": [[1e-5, 3e-5], float(np.sin(0.1)) * 500e-6], "sigma": [0.0]},
+        ),
+        Target(
+            "calibration.measure[pressure_gradient]",
+            lambda tip_deflection: calibration.measure(bed, tip_deflection, fit=bed_fit),
+            dict(tip_deflection=bed_d[1]),
+        ),
+        Target(
+            "calibration_from_dict[pillar]",
+            lambda data: calibration_files.calibration_from_dict(data),
+            dict(data=calibration_files.calibration_to_dict(pillar_fit)),
+            edges={
+                "data": [
+                    {**calibration_files.calibration_to_dict(pillar_fit), "geometry": "spacing"}
+                ]
+            },
+            text=("data",),
+        ),
+        Target(
+            "calibration_from_dict[bed]",
+            lambda data: calibration_files.calibration_from_dict(data),
+            dict(data=calibration_files.calibration_to_dict(bed_fit)),
+            text=("data",),
+        ),
+    ]
+
+
+def _hostile_documents(target: Target) -> list[tuple[str, Any, bool]]:
+    """Hostile calibration documents: the valid one with one entry broken."""
+    base = target.args["data"]
+    out: list[tuple[str, Any, bool]] = []
+    for key in list(base):
+        for cls, bad in (("nan", math.nan), ("string", "abc"), ("none", None), ("object", [])):
+            out.append((f"document {cls}", {**base, key: bad}, False))
+        out.append(("document missing", {k: v for k, v in base.items() if k != key}, False))
+    cov = np.asarray(base["covariance"], dtype=np.float64)
+    out.append(
+        ("document negative variance", {**base, "covariance": (-np.abs(cov)).tolist()}, True)
+    )
+    params = dict(base["parameters"])
+    first = next(iter(params))
+    broken = {**params, first: {**params[first], "stderr": -1.0}}
+    out.append(("document negative stderr", {**base, "parameters": broken}, True))
+    return out
+
+
+# -- judging one outcome ------------------------------------------------------------------------
+
+#: Value fields that must hold a number wherever a state's status is not negative.
+STATE_FIELDS = {
+    "LoadedState": ("tip_height", "tip_deflection", "tip_angle", "base_curvature"),
+    "PillarState": ("tip_height", "tip_deflection", "tip_angle", "base_curvature", "drag_x"),
+    "HairState": ("tip_deflection", "tip_height", "wall_shear_stress", "stress_ratio"),
+    "PillarDeformation": ("tip_deflection", "tip_height", "drag", "base_moment"),
+    "ValveCurve": ("flow_rate", "resistance_ratio", "tip_height"),
+    "Diodicity": ("diodicity",),
+    "Measurement": ("wall_shear_stress",),
+    "PillarBranch": ("forcing", "tip_deflection"),
+    "LoadedBranch": ("values", "tip_height"),
+    "ValveStates": ("branch_tip_height",),
+}
+
+
+def _status_mask(obj: Any, shape: tuple[int, ...]) -> np.ndarray:
+    status = getattr(obj, "status", None)
+    if status is None and hasattr(obj, "solution"):
+        status = getattr(obj.solution, "status", None)
+    if status is None:
+        return np.ones(shape, dtype=bool)
+    try:
+        return np.broadcast_to(np.asarray(status) >= 0, shape)
+    except ValueError:
+        return (
+            np.ones(shape, dtype=bool)
+            if np.all(np.asarray(status) >= 0)
+            else np.zeros(shape, bool)
+        )
+
+
+def _judge_result(result: Any, empty_input: bool) -> tuple[str, str] | None:
+    """("silent NaN" | "silent empty", why) of a returned result, or None."""
+    if isinstance(result, list):
+        if not result:
+            return "silent empty", "an empty list"
+        for item in result:
+            found = _judge_result(item, empty_input)
+            if found:
+                return found
+        return None
+    name = type(result).__name__
+    if name == "Derivatives":
+        ok = np.asarray(result.status) == 0
+        for out, row in result.table.items():
+            for inp, v in row.items():
+                a = np.asarray(v, dtype=np.float64)
+                if np.any(np.isnan(a) & np.broadcast_to(ok, a.shape)):
+                    return "silent NaN", f"d{out}/d{inp} NaN with status 0"
+        for inp, v in result.dt.items():
+            a = np.asarray(v, dtype=np.float64)
+            if np.any(np.isnan(a) & np.broadcast_to(ok, a.shape)):
+                return "silent NaN", f"dt/d{inp} NaN with status 0"
+        return None
+    if name == "CalibrationFit":
+        if result.status >= 0:
+            for k, v in result.values.items():
+                if math.isnan(v) or math.isnan(result.stderr[k]):
+                    return "silent NaN", f"{k} NaN with status {result.status}"
+        return None
+    if name in STATE_FIELDS:
+        for f in STATE_FIELDS[name]:
+            a = np.asarray(getattr(result, f), dtype=np.float64)
+            if a.size == 0:
+                if not empty_input and name in ("PillarBranch", "LoadedBranch", "ValveStates"):
+                    if getattr(result, "status", 0) >= 0:
+                        return "silent empty", f"{name}.{f} empty with status 0"
+                continue
+            if name in ("PillarBranch", "LoadedBranch", "ValveStates"):
+                if getattr(result, "status", 0) == 0 and np.all(np.isnan(a)):
+                    return "silent NaN", f"{name}.{f} all NaN with status 0"
+                continue
+            if name == "ValveStates":
+                continue
+            mask = _status_mask(result, a.shape)
+            if np.any(np.isnan(a) & mask):
+                return "silent NaN", f"{name}.{f} NaN where the status is not negative"
+        if name == "ValveCurve":
+            return _judge_result(result.states, empty_input)
+        if name == "Diodicity":
+            return _judge_result(result.forward, empty_input) or _judge_result(
+                result.backward, empty_input
+            )
+        return None
+    if isinstance(result, (float, np.floating, np.ndarray)):
+        a = np.asarray(result, dtype=np.float64)
+        if np.any(np.isnan(a)):
+            return "silent NaN", "a bare NaN"
+    return None
+
+
+def _inside_numpy(exc: BaseException) -> bool:
+    """Whether the exception was raised in numpy's or scipy's own code."""
+    frames = traceback.extract_tb(exc.__traceback__)
+    if not frames:
+        return False
+    last = frames[-1].filename.replace(os.sep, "/")
+    return "/numpy/" in last or "/scipy/" in last
+
+
+def _is_empty(value: Any) -> bool:
+    try:
+        return np.size(np.asarray(value, dtype=object)) == 0
+    except Exception:  # noqa: BLE001 - ragged: not empty
+        return False
+
+
+def run_one(target: Target, param: str, value: Any, refuse: bool, edge: bool) -> tuple[str, str]:
+    kwargs = dict(target.args)
+    kwargs[param] = value
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with np.errstate(over="warn", invalid="warn", divide="warn", under="ignore"):
+            try:
+                result = target.call(**kwargs)
+            except (ValueError, TypeError) as exc:
+                message = str(exc)
+                leaked = [w for w in caught if not issubclass(w.category, OWN_WARNINGS)]
+                if _inside_numpy(exc):
+                    return "internal traceback", f"{type(exc).__name__} inside numpy: {message}"
+                if leaked:
+                    return "internal traceback", f"leaked {leaked[0].category.__name__}"
+                if param not in message and not (param == "sol" and "sol" in message):
+                    return "internal traceback", f"does not name {param!r}: {message}"
+                if edge:
+                    return "valid input rejected", message
+                return "ok", ""
+            except Exception as exc:  # noqa: BLE001 - the finding
+                return "internal traceback", f"{type(exc).__name__}: {exc}"
+    leaked = [w for w in caught if not issubclass(w.category, OWN_WARNINGS)]
+    if leaked:
+        return "internal traceback", f"leaked {leaked[0].category.__name__}: {leaked[0].message}"
+    if refuse:
+        return "bad input accepted", f"returned {type(result).__name__}"
+    judged = _judge_result(result, _is_empty(value))
+    if judged:
+        return judged
+    return "ok", ""
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--json", help="write the counts and findings to this file")
+    parser.add_argument("--quick", action="store_true", help="the first 8 hostile values only")
+    parser.add_argument("--only", help="targets whose name contains this")
+    args = parser.parse_args(argv)
+    counts: Counter[str] = Counter()
+    per_target: dict[str, Counter[str]] = {}
+    findings: list[str] = []
+    start = time.perf_counter()
+    hostile = HOSTILE[:8] if args.quick else HOSTILE
+    for target in _targets():
+        if args.only and args.only not in target.name:
+            continue
+        tally: Counter[str] = Counter()
+        for param in target.fuzz:
+            cases = [(c, v, r, False) for c, v, r in hostile]
+            if param == "data":
+                cases += [(c, v, r, False) for c, v, r in _hostile_documents(target)]
+            if param in target.text:  # not a number: refused, whatever it is
+                cases = [(c, v, c in ("nan", "inf", "object") or r, e) for c, v, r, e in cases]
+            cases += [("edge", v, False, True) for v in (target.edges or {}).get(param, [])]
+            for cls, value, refuse, edge in cases:
+                kind, why = run_one(target, param, value, refuse, edge)
+                counts[kind] += 1
+                tally[kind] += 1
+                if kind != "ok":
+                    shown = repr(value)
+                    shown = shown if len(shown) < 70 else shown[:67] + "..."
+                    findings.append(f"{kind}: {target.name}({param}={shown}) [{cls}]: {why}")
+        per_target[target.name] = tally
+        print(f"{target.name}: {sum(tally.values())} calls {dict(tally)}", flush=True)
+    total = sum(counts.values())
+    print(f"\n{total} calls in {time.perf_counter() - start:.0f} s")
+    for cls in CLASSES:
+        print(f"  {cls}: {counts[cls]}")
+    for line in findings:
+        print(line)
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(
+                {
+                    "hairbed_version": hairbed.__version__,
+                    "calls": total,
+                    "counts": {c: counts[c] for c in CLASSES},
+                    "per_target": {k: dict(v) for k, v in per_target.items()},
+                    "findings": findings,
+                },
+                fh,
+                indent=1,
+            )
+    return 1 if any(counts[c] for c in CLASSES[1:]) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
