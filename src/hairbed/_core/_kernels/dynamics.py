@@ -8,6 +8,7 @@ Q^H (A, E) Z = (AA, BB) upper triangular, is solved at each frequency by back su
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
@@ -101,6 +102,27 @@ _RA = (
 )
 _DD = (-(13.0 + 7.0 * _SQ6) / 3.0, (-13.0 + 7.0 * _SQ6) / 3.0, -1.0 / 3.0)
 _U1 = 1.0 / ((6.0 + 81.0 ** (1.0 / 3.0) - 9.0 ** (1.0 / 3.0)) / 30.0)
+
+
+def _transformation() -> tuple[Any, Any, float, float]:
+    """(T, T^-1, alpha, beta) with T^-1 A^-1 T = [[U1, 0, 0], [0, alpha, beta], [0, -beta,
+    alpha]] (A the Radau IIA matrix): the stages decouple into one real system (U1/h - J)
+    and one complex ((alpha - i beta)/h - J) (Hairer & Wanner, IV.8)."""
+    a = np.array(_RA)
+    val, vec = np.linalg.eig(np.linalg.inv(a))
+    r = int(np.argmin(np.abs(val.imag)))
+    c = int(np.argmax(val.imag))
+    tm = np.column_stack([vec[:, r].real, vec[:, c].real, vec[:, c].imag])
+    ti = np.linalg.inv(tm)
+    return (
+        tuple(tuple(float(x) for x in row) for row in tm),
+        tuple(tuple(float(x) for x in row) for row in ti),
+        float(val[c].real),
+        float(val[c].imag),
+    )
+
+
+_TM, _TI, _ALPHA, _BETA = _transformation()
 
 
 @kernel
@@ -445,8 +467,9 @@ def integrate_pillar(
     :func:`pillar_rates` from (t_start, y0) to t_eval[-1], writing y at every t_eval
     (sorted, >= t_start) into y_out by the collocation polynomial (dense output).
 
-    Simplified Newton on the stages with the exact Jacobian at each step's start (one LU of
-    the 3m system I - h A x J), at most 7 iterations (a divergent one halves the step); the
+    Simplified Newton on the stages with the exact Jacobian at each step's start, the 3m
+    system I - h A x J decoupled by the eigenvectors of A into one real and one complex
+    system of size m (two LUs), at most 7 iterations (a divergent one halves the step); the
     embedded order-3 error estimate of Hairer & Wanner, (I/(gamma0 h) - J)^-1 (f0 + sum_i
     DD_i Z_i/h), refined once after a rejection; the step by 0.9 err^(-1/4) within
     [0.2, 5]. Error norm: the root mean square of err/(atol + rtol max(|y0|, |y1|)).
@@ -466,8 +489,10 @@ def integrate_pillar(
     ft = np.empty(m)
     jac = np.zeros((m, m))
     dummy = np.zeros((m, m))
-    big = np.empty((3 * m, 3 * m))
-    piv3 = np.empty(3 * m, dtype=np.int64)
+    e2 = np.empty((m, m), dtype=np.complex128)
+    piv2 = np.empty(m, dtype=np.int64)
+    rc = np.empty(m, dtype=np.complex128)
+    w = np.zeros(3 * m)
     e1 = np.empty((m, m))
     piv1 = np.empty(m, dtype=np.int64)
     z = np.zeros(3 * m)
@@ -505,21 +530,17 @@ def integrate_pillar(
             counts[0] += 1
             if h < 1e-14 * (abs(t) + 1.0) or steps > max_steps:
                 return (STATUS_STEP_TOO_SMALL if steps <= max_steps else STATUS_MAXSTEPS), t
-            # the Newton matrix I - h A x J and the estimate's (U1/h) I - J
-            for bi in range(3):
-                for bj in range(3):
-                    a = h * _RA[bi][bj]
-                    for i in range(m):
-                        for k in range(m):
-                            big[bi * m + i, bj * m + k] = -a * jac[i, k]
-                        if bi == bj:
-                            big[bi * m + i, bj * m + i] += 1.0
+            # the stages' Newton matrix, decoupled by T: the real (U1/h) I - J (also the
+            # error estimate's) and the complex ((alpha - i beta)/h) I - J
+            shift = complex(_ALPHA / h, -_BETA / h)
             for i in range(m):
                 for k in range(m):
                     e1[i, k] = -jac[i, k]
+                    e2[i, k] = -jac[i, k]
                 e1[i, i] += _U1 / h
+                e2[i, i] += shift
             counts[5] += 2
-            if not _lu_factor(big, piv3, 3 * m) or not _lu_factor(e1, piv1, m):
+            if not _lu_factor(e1, piv1, m) or not _lu_factor(e2, piv2, m):
                 return STATUS_STEP_TOO_SMALL, t
             # the start of the stages: the last step's polynomial, or Euler
             if have_prev and not rejected:
@@ -533,6 +554,10 @@ def integrate_pillar(
                         z[si * m + k] = cs[si] * h * f0[k]
             for k in range(m):
                 sc[k] = atol + rtol * abs(y[k])
+                for si in range(3):  # W = T^-1 Z
+                    w[si * m + k] = (
+                        _TI[si][0] * z[k] + _TI[si][1] * z[m + k] + _TI[si][2] * z[2 * m + k]
+                    )
             ok = False
             rate_old = 1.0
             norm_old = 0.0
@@ -570,18 +595,31 @@ def integrate_pillar(
                 counts[3] += 3
                 if not good:
                     break
-                for si in range(3):
-                    for k in range(m):
-                        acc = -z[si * m + k]
-                        for sj in range(3):
-                            acc += h * _RA[si][sj] * fst[sj, k]
-                        g[si * m + k] = acc
-                _lu_apply(big, piv3, g, 3 * m)
+                # the right-hand sides in W: -(Lambda/h) W + T^-1 F
+                for k in range(m):
+                    tf0 = _TI[0][0] * fst[0, k] + _TI[0][1] * fst[1, k] + _TI[0][2] * fst[2, k]
+                    tf1 = _TI[1][0] * fst[0, k] + _TI[1][1] * fst[1, k] + _TI[1][2] * fst[2, k]
+                    tf2 = _TI[2][0] * fst[0, k] + _TI[2][1] * fst[1, k] + _TI[2][2] * fst[2, k]
+                    w0, w1, w2 = w[k], w[m + k], w[2 * m + k]
+                    g[k] = tf0 - _U1 / h * w0
+                    r2 = tf1 - (_ALPHA * w1 + _BETA * w2) / h
+                    r3 = tf2 - (-_BETA * w1 + _ALPHA * w2) / h
+                    rc[k] = complex(r2, r3)
+                _lu_apply(e1, piv1, g, m)
+                _lu_apply(e2, piv2, rc, m)
+                for k in range(m):
+                    g[m + k] = rc[k].real
+                    g[2 * m + k] = rc[k].imag
                 norm = 0.0
-                for si in range(3):
-                    for k in range(m):
-                        z[si * m + k] += g[si * m + k]
-                        norm += (g[si * m + k] / sc[k]) ** 2
+                for k in range(m):
+                    d0, d1, d2 = g[k], g[m + k], g[2 * m + k]
+                    w[k] += d0
+                    w[m + k] += d1
+                    w[2 * m + k] += d2
+                    for si in range(3):  # dZ = T dW
+                        dz = _TM[si][0] * d0 + _TM[si][1] * d1 + _TM[si][2] * d2
+                        z[si * m + k] += dz
+                        norm += (dz / sc[k]) ** 2
                 norm = math.sqrt(norm / (3 * m))
                 if it > 0:
                     rate_old = norm / norm_old if norm_old > 0.0 else 0.0
