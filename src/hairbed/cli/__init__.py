@@ -3,7 +3,8 @@
 Subcommands: ``solve``, ``sweep``, ``invert``, ``bistability``, ``calibrate``, ``measure``,
 ``linear-range``, ``figures``, ``bench``, ``demo``, ``explore``. Run ``hairbed <command>
 --help`` for the options and examples of each. Bad input ends with one line ``hairbed: error:
-<message>`` on stderr and exit status 2, an output path that cannot be written (refused before
+<message>`` on stderr and exit status 2 (so is what the library does not support yet, its
+``NotImplementedError``), an output path that cannot be written (refused before
 any work) included, as ``hairbed: error: cannot write PATH: <reason>``; a file whose writing
 fails after the work (a full disk) with ``hairbed: cannot write PATH: <reason>`` and a missing
 optional dependency with ``hairbed: <command> needs <module>: pip install
@@ -126,7 +127,8 @@ def _run(argv: Sequence[str] | None) -> int:
             return 0
         command = args.command
         return int(args.func(args))
-    except (UsageError, ValueError) as exc:
+    except (UsageError, ValueError, NotImplementedError) as exc:
+        # NotImplementedError: what the library does not do yet (a porous bed's valve states)
         print(f"{PROG}: error: {one_line(exc)}", file=sys.stderr)
         return 2
     except ArithmeticError as exc:  # an overflow the library did not catch (a huge input)

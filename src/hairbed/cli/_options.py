@@ -34,6 +34,7 @@ __all__ = [
     "add_command",
     "add_eps",
     "add_json",
+    "add_model_options",
     "add_pillar_options",
     "add_theta0",
     "bed_from",
@@ -41,6 +42,7 @@ __all__ = [
     "need_bed",
     "pillar_keywords",
     "refuse",
+    "refuse_model",
     "refuse_without_sensor_pillar",
     "sensor_pillar_from",
     "add_fluid_option",
@@ -149,25 +151,72 @@ def add_json(p: argparse.ArgumentParser, help: str = "print JSON") -> None:
     p.add_argument("--json", action="store_true", help=help)
 
 
-def add_bed_options(p: argparse.ArgumentParser, velocity: bool = True) -> None:
-    """The physical inputs of a bed (SI units), and ``--velocity`` unless told not to."""
+def add_bed_options(
+    p: argparse.ArgumentParser, velocity: bool = True, model: bool = False
+) -> None:
+    """The physical inputs of a bed (SI units), and ``--velocity`` unless told not to; with
+    ``model`` also ``--model`` and ``--drag`` (:func:`add_model_options`)."""
     g = p.add_argument_group("physical inputs (SI units, instead of the dimensionless ones)")
     for opt, (_, text) in BED_OPTIONS.items():
         g.add_argument(opt, type=float, metavar="X", help=text)
     if velocity:
         g.add_argument("--velocity", type=float, metavar="V", help="top wall speed v [m/s]")
+    if model:
+        add_model_options(g)
+
+
+#: The bed models (``HairBed(model=...)``) and the porous bed's drag laws (``drag=...``).
+MODEL_CHOICES = ("dense", "porous")
+DRAG_CHOICES = ("crossover", "sparse", "array")
+
+
+def add_model_options(g: Any) -> None:
+    """``--model dense|porous`` and ``--drag crossover|sparse|array``: the ``model`` and
+    ``drag`` of the :class:`hairbed.HairBed` that :func:`bed_from` builds."""
+    g.add_argument(
+        "--model",
+        choices=MODEL_CHOICES,
+        default="dense",
+        help="the bed's model (default dense): dense, the paper's bed that stops the flow at "
+        "the tips; porous, the flow through the bed too (a Brinkman medium, theory.md §13), "
+        "packing fraction <= 0.6",
+    )
+    g.add_argument(
+        "--drag",
+        choices=DRAG_CHOICES,
+        default="crossover",
+        help="with --model porous: the hairs' drag law in the bed (default crossover), "
+        "hairbed.HairBed's drag",
+    )
+
+
+def refuse_model(args: argparse.Namespace, why: str) -> None:
+    """``--model porous`` or ``--drag`` other than crossover: a usage error ``why``, where
+    the command builds no bed of hairs (the parser's defaults are let through)."""
+    if getattr(args, "model", "dense") != "dense":
+        raise UsageError(f"--model {args.model} {why}")
+    if getattr(args, "drag", "crossover") != "crossover":
+        raise UsageError(f"--drag {args.drag} {why}")
 
 
 def bed_from(args: argparse.Namespace) -> Any | None:
-    """The HairBed of the physical options, or None when none is given."""
+    """The HairBed of the physical options (with ``--model`` and ``--drag`` where the command
+    has them), or None when none is given (``--model porous`` or ``--drag`` then refused)."""
     given = {kw: getattr(args, kw) for kw, _ in BED_OPTIONS.values()}
     given = {k: v for k, v in given.items() if v is not None}
     if not given:
+        refuse_model(args, "needs the physical inputs of a bed (--length, --radius, ...)")
         return None
     missing = [k for k in BED_REQUIRED if k not in given]
     if missing:
         names = ", ".join("--" + k.replace("_", "-") for k in missing)
         raise UsageError(f"physical inputs need also {names}")
+    for kw in ("model", "drag"):
+        value = getattr(args, kw, None)
+        if value is not None:
+            given[kw] = value
+    if given.get("model") == "dense" and given.get("drag", "crossover") != "crossover":
+        raise UsageError(f"--drag {given['drag']} applies to --model porous only")
     return hairbed.HairBed(**given)
 
 

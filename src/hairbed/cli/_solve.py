@@ -8,7 +8,7 @@ from typing import Any
 
 import hairbed
 from hairbed._optional import optional_import
-from hairbed._variables import SI
+from hairbed._variables import POROUS, SI
 
 from . import _pillar_states
 from ._options import (
@@ -20,6 +20,8 @@ from ._options import (
     add_pillar_options,
     add_theta0,
     bed_from,
+    refuse,
+    refuse_model,
 )
 from ._output import (
     check_output,
@@ -46,6 +48,11 @@ examples:
       --channel-height 2e-3 --viscosity 1 --spacing 400e-6 --velocity 0.1
   hairbed solve --omega2 0.5 --eps 0.5 --pi 2        # a pump's pressure gradient too
   hairbed solve --length 1e-3 ... --spacing 400e-6 --pressure-gradient 2e4
+  hairbed solve --omega2 2 --eps 0.5 --kappa 0.01   # a porous bed (theory.md §13)
+  hairbed solve --omega2 1.2 --eps 0.9 --theta0=-1.5 --kappa 1e-3 --all   # 3 states
+  hairbed solve --pi 5 --eps 0.5 --kappa 0.01 --json  # a porous bed under a pump
+  hairbed solve --length 1e-3 ... --spacing 400e-6 --velocity 0.1 --model porous \\
+      --drag array                                   # an SI porous bed
   hairbed solve --pillar --forcing 2                 # an isolated pillar (theory.md §12)
   hairbed solve --pillar --forcing 15 --theta0=-1.4 --all --json
   hairbed solve --pillar --tip-deflection 0.3 --profile poiseuille --height-ratio 0.5
@@ -103,8 +110,28 @@ def add_parser(sub: Any) -> None:
         metavar="Q",
         help="with a bed: the pump's flow rate per unit width Q' [m^2/s]",
     )
-    add_bed_options(p)
-    _pillar_states.add_modes(add_pillar_options(p))
+    porous = p.add_argument_group(
+        "a porous bed, dimensionless (hairbed.solve_porous, theory.md §13; with --omega2, "
+        "--eps, --theta0, --pi or --q)"
+    )
+    porous.add_argument(
+        "--kappa",
+        type=float,
+        metavar="K",
+        help="the bed's permeability over L^2, kappa = k/L^2 [-], > 0: solve the porous "
+        "bed (its drag ratio is --gamma; --all lists every state, --root picks one)",
+    )
+    add_bed_options(p, model=True)
+    pillar = add_pillar_options(p)
+    _pillar_states.add_modes(pillar)
+    for action in pillar._group_actions:
+        if action.dest == "gamma":  # shared with the porous bed, whose default is 1
+            action.help = (
+                "drag ratio gamma = zeta_par/zeta_perp [-], in (0, 1] (default 0.5 with "
+                "--pillar, 1 with --kappa)"
+            )
+        elif action.dest == "all":
+            action.help = f"{action.help}; with --kappa every state of the porous bed"
 
 
 #: The SI table's rows (named with their unit suffix) -> their label and unit.
@@ -113,6 +140,8 @@ _SI_NOTES = {
     for name, v in SI.items()
 }
 _SI_NOTES["eps"] = "confinement eps = L/H [-]"
+_SI_NOTES["kappa"] = "permeability kappa = k/L^2 [-] (--model porous)"
+_SI_NOTES["drag_ratio"] = "drag ratio gamma = zeta_par/zeta_perp [-] (--model porous)"
 
 
 def _pump_options(args: argparse.Namespace) -> list[str]:
@@ -128,6 +157,112 @@ def _loaded_table(state: Any) -> dict[str, Any]:
     out = {k: getattr(state, k) for k in (*keys, *rest, *extra)}
     out["message"] = state.message
     return {k: v for k, v in out.items() if not (isinstance(v, float) and v != v)}
+
+
+#: The porous table's rows -> their label and unit.
+_POROUS_NOTES = {name: v.heading for name, v in POROUS.items()}
+#: The fields of a PorousState, in the order of the dataclass (its arrays left out).
+_POROUS_FIELDS = tuple(POROUS)
+
+
+def porous_table(state: Any) -> dict[str, Any]:
+    """Every field of a PorousState by API names (``stable`` where classified), its success
+    and message; NaN kept (null in JSON), so that every state has the same keys."""
+    out = {k: getattr(state, k) for k in ("drive", *_POROUS_FIELDS) if k != "stable"}
+    if state.stable is not None:
+        out["stable"] = state.stable
+    out["success"] = state.success
+    out["message"] = state.message
+    return out
+
+
+#: The options that a dimensionless porous bed (--kappa) does not take: dest -> flag.
+_NOT_POROUS = {
+    "pressure_gradient": "--pressure-gradient",
+    "flow_rate": "--flow-rate",
+    "all_branches": "--all-branches",
+    "plot": "--plot",
+    "velocity": "--velocity",
+}
+#: The pillar options that it does not take either (--gamma and --all it shares).
+_PILLAR_ONLY = {
+    "forcing": "--forcing",
+    "profile": "--profile",
+    "height_ratio": "--height-ratio",
+    "slenderness": "--slenderness",
+    "tip_load": "--tip-load",
+    "tip_deflection": "--tip-deflection",
+    "branch": "--branch",
+    "wall_shear_stress": "--wall-shear-stress",
+    "drag_scale": "--drag-scale",
+    "fluid": "--fluid",
+}
+
+
+def _porous_labels(states: list[Any]) -> list[str]:
+    """low/mid/high of the states of solve_porous_all (sorted by tip height); "only" for one."""
+    if len(states) == 1:
+        return ["only"]
+    if len(states) == 3:
+        return ["low", "mid", "high"]
+    if len(states) == 2:
+        return ["low", "high"]
+    return [f"state {i + 1}" for i in range(len(states))]
+
+
+def _solve_porous(args: argparse.Namespace) -> None:
+    """--kappa: the porous bed on the dimensionless inputs (hairbed.solve_porous, or every
+    state by hairbed.solve_porous_all with --all)."""
+    kappa = args.kappa
+    if args.pillar:
+        raise UsageError("--kappa does not apply to --pillar (a porous bed of hairs)")
+    refuse(args, _PILLAR_ONLY, "does not apply to a porous bed (--kappa); it needs --pillar")
+    if bed_from(args) is not None:
+        raise UsageError(
+            "--kappa is the dimensionless porous bed; for a bed in SI units give --model "
+            "porous instead"
+        )
+    refuse(args, _NOT_POROUS, "does not apply to the dimensionless porous bed (--kappa)")
+    if args.sign != 1 or args.n != 0:
+        raise UsageError("--sign and --n do not apply to a porous bed (one branch from rest)")
+    if args.pi is not None and args.q is not None:
+        raise UsageError("give at most one pump drive, got --pi and --q")
+    if args.eps is None:
+        raise UsageError("give --eps with --kappa")
+    if args.omega2 is None and args.pi is None and args.q is None:
+        raise UsageError("give --omega2 (or a pump's --pi or --q) with --kappa")
+    if args.all and args.root is not None:
+        raise UsageError("--root does not apply with --all (which gives every state)")
+    w = 0.0 if args.omega2 is None else args.omega2
+    theta0 = 0.0 if args.theta0 is None else args.theta0
+    inputs: dict[str, Any] = {"kappa": kappa, "pi": args.pi, "q": args.q}
+    if args.gamma is not None:
+        inputs["gamma"] = args.gamma
+    if not args.all:
+        st = hairbed.solve_porous(w, args.eps, theta0, root=args.root or "low", **inputs)
+        rows = porous_table(st)
+        if args.json:
+            print_json(rows)
+        else:
+            print(table(rows, _POROUS_NOTES))
+        return
+    states = hairbed.solve_porous_all(w, args.eps, theta0, **inputs)
+    labels = _porous_labels(states)
+    if args.json:
+        print_json([{**porous_table(st), "root": lab} for st, lab in zip(states, labels)])
+        return
+    gamma = states[0].gamma
+    at = f"omega2={w:g}, eps={args.eps:g}, theta0={theta0:g}, kappa={kappa:g}, gamma={gamma:g}"
+    if args.pi is not None:
+        at += f", pi={args.pi:g}"
+    if args.q is not None:
+        at += f", q={args.q:g}"
+    found = [st for st in states if st.status >= 0]
+    print(f"{len(found)} state(s) of the porous bed at {at}:")
+    for st, lab in zip(states, labels):
+        word = {True: "stable", False: "unstable", None: "not classified"}[st.stable]
+        print(f"{lab} state ({word}):")
+        print(table(porous_table(st), _POROUS_NOTES))
 
 
 def _solve_loaded(args: argparse.Namespace) -> list[Any]:
@@ -160,6 +295,9 @@ def _solve_bed(args: argparse.Namespace, bed: Any) -> list[Any]:
         raise UsageError("physical inputs need --velocity [m/s] (or a pump's drive)")
     if pumped and args.all_branches:
         raise UsageError("--all-branches applies to the wall-driven channel only")
+    porous = bed.model == "porous"
+    if porous and args.all_branches:
+        raise UsageError("--all-branches applies to the dense bed (--model dense) only")
     state = bed.deform(
         args.velocity,
         pressure_gradient=args.pressure_gradient,
@@ -183,6 +321,11 @@ def _solve_bed(args: argparse.Namespace, bed: Any) -> list[Any]:
     if pumped:
         si["pressure_gradient_Pa/m"] = state.pressure_gradient
         si["flow_rate_m^2/s"] = state.flow_rate
+    if porous:
+        si["kappa"] = bed.kappa
+        si["drag_ratio"] = bed.drag_ratio
+        dimensionless = porous_table(state.solution)
+    elif pumped:
         dimensionless = _loaded_table(state.solution)
     else:
         dimensionless = state.solution.as_dict()
@@ -192,8 +335,11 @@ def _solve_bed(args: argparse.Namespace, bed: Any) -> list[Any]:
         print(f"Hair bed {bed!r}")
         print(table(si, _SI_NOTES))
         print("dimensionless state:")
-        print(table(dimensionless) if pumped else solution_table(state.solution))
-    return [state.solution]
+        if porous:
+            print(table(dimensionless, _POROUS_NOTES))
+        else:
+            print(table(dimensionless) if pumped else solution_table(state.solution))
+    return [] if porous else [state.solution]
 
 
 def twirling_onset(eps: float, theta0: float) -> float:
@@ -258,7 +404,11 @@ def _solve_dimensionless(args: argparse.Namespace) -> list[Any]:
 
 def run(args: argparse.Namespace) -> int:
     """Solve, print, and draw the profiles with --plot."""
+    if args.kappa is not None:
+        _solve_porous(args)
+        return 0
     if args.pillar:
+        refuse_model(args, "applies to a bed of hairs, not --pillar")
         _pillar_states.run(args)
         return 0
     _pillar_states.refuse_without_pillar(args)
@@ -273,6 +423,8 @@ def run(args: argparse.Namespace) -> int:
         raise UsageError(f"give at most one pump drive, got {' and '.join(pumps)}")
     if pumps and args.plot:
         raise UsageError("--plot draws closed-form states; not with a pump drive")
+    if bed is not None and bed.model == "porous" and args.plot:
+        raise UsageError("--plot draws closed-form states; not with --model porous")
     if bed is not None:
         sols = _solve_bed(args, bed)
     elif args.pi is not None or args.q is not None:

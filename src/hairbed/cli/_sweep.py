@@ -27,6 +27,7 @@ from ._options import (
     bed_from,
     pillar_keywords,
     refuse,
+    refuse_model,
 )
 from ._output import NO_COMPRESS_HELP, check_dataset_output, write_dataset_output
 from ._report import UsageError
@@ -63,6 +64,8 @@ examples:
       --viscosity 1 --spacing 400e-6 --wall-shear-stress 0:50:101 --out curve.csv
   hairbed sweep --length 1e-3 ... --spacing 400e-6 --pressure-gradient 10:1e5:50:log \\
       --velocity 0,0.01 --out pumped.nc
+  hairbed sweep --length 1e-3 ... --spacing 400e-6 --velocity 0:0.5:51 --model porous \\
+      --drag sparse --out porous.nc                # a porous bed (theory.md §13)
   hairbed sweep --pillar --forcing 1e-3:1e3:200:log --theta0=-0.5,0,0.5 --out pillar.nc
   hairbed sweep --pillar --forcing 0:20:101 --profile poiseuille --height-ratio 0.25,0.5,1
   hairbed sweep --pillar --length 500e-6 --radius 25e-6 --youngs-modulus 1e6 \\
@@ -128,7 +131,7 @@ def add_parser(sub: Any) -> None:
     old.add_argument("--velocity-max", type=float, metavar="V", help="last wall speed [m/s]")
     old.add_argument("--num", type=int, help="number of points (default 101)")
     old.add_argument("--log", action="store_true", help="geometric spacing")
-    add_bed_options(p, velocity=False)
+    add_bed_options(p, velocity=False, model=True)
     g = add_pillar_options(p, spec=True)
     g.add_argument(
         "--drag-scale",
@@ -385,6 +388,8 @@ def run(args: argparse.Namespace) -> int:
     if args.scheduler is not None and args.chunks is None:
         raise UsageError("--scheduler needs --chunks N (the blocks that the workers solve)")
     pillar: dict[str, Any] = {}
+    if args.pillar:
+        refuse_model(args, "applies to a bed of hairs, not --pillar")
     if args.pillar and any(getattr(args, kw) is not None for kw, _ in BED_OPTIONS.values()):
         write_dataset_output(_si_pillar_sweep(args), args.out, args.no_compress)
         return 0

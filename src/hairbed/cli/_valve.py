@@ -40,6 +40,8 @@ examples:
       --spacing 400e-6 --base-angle 1.0
   hairbed valve --pressure-drop 200 --diodicity --channel-length 0.01 ... --json
   hairbed valve --pressure-drop +-10:1e3:20:log --channel-length 0.01 ... --plot valve.png
+  hairbed valve --pressure-drop 200 --diodicity --channel-length 0.01 ... --model porous
+      (a porous bed: the flow through bed and gap; --states takes the dense bed only)
 
 every coexisting state (--states): the branch of states is followed by continuation from rest
 over the range (hairbed.valve.valve_states); each line gives the set drive, the number of
@@ -122,7 +124,7 @@ def add_parser(sub: Any) -> None:
         help="also draw what was computed into FILE (PNG, or the format of its extension): "
         "the curve, the diodicity or every state (hairbed.plotting.fig_valve_result)",
     )
-    add_bed_options(p, velocity=False)
+    add_bed_options(p, velocity=False, model=True)
 
 
 def _rows(curve: Any) -> list[dict[str, Any]]:
