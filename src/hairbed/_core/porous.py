@@ -358,32 +358,32 @@ def _run(
     if start is None:
         start = _start(code, arrays, a, nums[0], hfix)
         fluid = True
-    pi_in = ld if code == 0 else np.zeros(size)
-    q = ld if code == 1 else np.zeros(size)
-    x1t = np.zeros(size) if x1t is None else x1t
-    k.solve_porous_array(
-        code,
-        kap,
-        g,
-        w,
-        e,
-        pi_in,
-        q,
-        x1t,
-        hfix,
-        t0,
-        a,
-        start,
-        *_ladder(tuple(nums)),
-        tol,
-        out,
-        coefs,
-        fluid,
-    )
+    desc = _description(code, arrays, hfix, x1t)
+    k.solve_porous_array(code, desc, a, start, *_ladder(tuple(nums)), tol, out, coefs, fluid)
     # the model needs z(s) monotone: a state that reaches |theta| = pi/2 is outside it
     outside = (out[0] >= 0) & (out[13] >= HALF_PI)
     out[0, outside] = -8
     return out, coefs, a
+
+
+def _description(
+    code: int, arrays: tuple[FloatArray, ...], hfix: FloatArray, x1t: FloatArray | None = None
+) -> FloatArray:
+    """The kernel's load description of every element, (size, NDESC): each model and drive
+    fills its own slots (``_kernels.porous.D_*``): the bed, the wall, the pump's pi or q, the
+    inverse's tip deflection, the frozen gap of the scan."""
+    k = _kernels()
+    w, e, t0, kap, g, ld = arrays
+    desc = np.zeros((w.size, k.NDESC))
+    desc[:, k.D_THETA0] = t0
+    desc[:, k.D_KAPPA] = kap
+    desc[:, k.D_GAMMA] = g
+    desc[:, k.D_OMEGA2] = w
+    desc[:, k.D_EPS] = e
+    desc[:, k.D_PI if code == 0 else k.D_Q] = ld if code != 2 else 0.0
+    desc[:, k.D_X1] = 0.0 if x1t is None else x1t
+    desc[:, k.D_HFIX] = hfix
+    return desc
 
 
 def _quiet(func: Any) -> Any:

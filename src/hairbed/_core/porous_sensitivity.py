@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 
 from .loaded import _clenshaw, _ladder, _matrices
 from .outputs import scalar_or_array
-from .porous import LADDER, PorousState, _kernels
+from .porous import LADDER, PorousState, _description, _kernels
 
 __all__ = ["PorousDerivatives", "porous_derivatives"]
 
@@ -156,11 +156,11 @@ def _group(
     count = u.shape[0]
     jac = np.zeros((count, m, m))
     ii = np.empty((count, n1, n1))
-    k = _kernels()
     pick = {key: np.ascontiguousarray(v[sel]) for key, v in flat.items()}
     pi_in = pick["pi"] if code == 0 else np.zeros(count)
-    q = pick["q"] if code else np.zeros(count)
-    k.porous_jacobians(
+    arrays = tuple(pick[key] for key in ("omega2", "eps", "theta0", "kappa", "gamma"))
+    desc = _description(code, (*arrays, pick["q"] if code else pi_in), np.full(count, np.nan))
+    _kernels().porous_jacobians(
         code,
         u,
         num,
@@ -169,13 +169,7 @@ def _group(
         np.ascontiguousarray(d1),
         np.ascontiguousarray(d2),
         np.ascontiguousarray(im),
-        pick["theta0"],
-        pick["kappa"],
-        pick["gamma"],
-        pick["omega2"],
-        pick["eps"],
-        pi_in,
-        q,
+        desc,
         jac,
         ii,
     )

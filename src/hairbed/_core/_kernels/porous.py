@@ -54,6 +54,16 @@ from .spectral import (
 )
 
 __all__ = [
+    "D_EPS",
+    "D_GAMMA",
+    "D_HFIX",
+    "D_KAPPA",
+    "D_OMEGA2",
+    "D_PI",
+    "D_Q",
+    "D_THETA0",
+    "D_X1",
+    "NDESC",
     "DRIVE_FLOW",
     "DRIVE_INVERSE",
     "DRIVE_PRESSURE",
@@ -70,6 +80,18 @@ _XTOL = 1e-12
 _FULL_STEP = 1e-7
 _CHORD_START = 1e-3
 _CHORD_RATE = 0.1
+#: The load description of one element: the slots of its row of ``desc``. Each drive fills
+#: its own (the inverse's tip deflection, the flow drive's q); none is reused for another.
+D_THETA0 = 0
+D_KAPPA = 1
+D_GAMMA = 2
+D_OMEGA2 = 3
+D_EPS = 4
+D_PI = 5
+D_Q = 6
+D_X1 = 7
+D_HFIX = 8
+NDESC = 9
 #: Output columns of :func:`solve_porous_array`: status, nit, num, h1, x1, theta1, theta'(0),
 #: Q(1) (the tip plane's stress), w(1), Pi, Q(0) (the wall's stress), error estimate,
 #: residual, max |theta|, F_x(0), F_z(0) (the drag's totals), the map parameter, omega2
@@ -99,29 +121,12 @@ def _fields(u, num, ii, kappa, gamma, cs, sn, fx, fz):
 
 
 @kernel
-def _residual(
-    u,
-    num,
-    dd,
-    ii,
-    theta0,
-    kappa,
-    gamma,
-    omega2,
-    eps,
-    pi_in,
-    code,
-    q,
-    x1t,
-    hfix,
-    cs,
-    sn,
-    fx,
-    fz,
-    res,
-):
+def _residual(u, num, dd, ii, code, d, cs, sn, fx, fz, res):
     """The residual of the collocation system (the module's rows) at u into res, with cos,
-    sin and the drag at the nodes into cs, sn, fx, fz; returns its sum of squares."""
+    sin and the drag at the nodes into cs, sn, fx, fz; returns its sum of squares. ``d`` the
+    element's load description (the ``D_*`` slots)."""
+    theta0, kappa, gamma, omega2 = d[D_THETA0], d[D_KAPPA], d[D_GAMMA], d[D_OMEGA2]
+    eps, pi_in, q, x1t, hfix = d[D_EPS], d[D_PI], d[D_Q], d[D_X1], d[D_HFIX]
     n1 = num + 1
     wo = n1
     qo = 2 * n1
@@ -190,9 +195,10 @@ def _residual(
 
 
 @kernel
-def _jacobian(u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, fz, dfx, dfz, jac):
+def _jacobian(u, num, dd, ii, code, d, cs, sn, fx, fz, dfx, dfz, jac):
     """The exact Jacobian of :func:`_residual` at u into jac (cs, sn, fx, fz from that call;
     dfx, dfz workspace for the drag's derivatives in theta)."""
+    kappa, gamma, eps, pi_in, hfix = d[D_KAPPA], d[D_GAMMA], d[D_EPS], d[D_PI], d[D_HFIX]
     n1 = num + 1
     wo = n1
     qo = 2 * n1
@@ -303,26 +309,7 @@ def _step_size(step, u, num, m):
 
 
 @kernel
-def _fluid_solve(
-    u,
-    num,
-    dd,
-    ii,
-    theta0,
-    kappa,
-    gamma,
-    omega2,
-    eps,
-    pi_in,
-    code,
-    q,
-    x1t,
-    hfix,
-    work,
-    jac,
-    sub,
-    piv,
-):
+def _fluid_solve(u, num, dd, ii, code, d, work, jac, sub, piv):
     """The fluid (w, Q and, for the flow drive, Pi) of the hair's shape in u, in place: the
     fluid's rows are linear in the fluid's unknowns at a fixed shape, so one solve of their
     block. Returns False where that block is singular."""
@@ -330,28 +317,8 @@ def _fluid_solve(
     hi = 3 * n1
     cs, sn, fx, fz, dfx, dfz = work[0], work[1], work[2], work[3], work[4], work[5]
     res = work[6]
-    _residual(
-        u,
-        num,
-        dd,
-        ii,
-        theta0,
-        kappa,
-        gamma,
-        omega2,
-        eps,
-        pi_in,
-        code,
-        q,
-        x1t,
-        hfix,
-        cs,
-        sn,
-        fx,
-        fz,
-        res,
-    )
-    _jacobian(u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, fz, dfx, dfz, jac)
+    _residual(u, num, dd, ii, code, d, cs, sn, fx, fz, res)
+    _jacobian(u, num, dd, ii, code, d, cs, sn, fx, fz, dfx, dfz, jac)
     k = 2 * n1 + (1 if code == DRIVE_FLOW else 0)  # the inverse's omega2 stays
     rhs = work[7]
     for a in range(k):
@@ -370,66 +337,25 @@ def _fluid_solve(
 
 
 @kernel
-def _newton(
-    u,
-    num,
-    dd,
-    ii,
-    theta0,
-    kappa,
-    gamma,
-    omega2,
-    eps,
-    pi_in,
-    code,
-    q,
-    x1t,
-    hfix,
-    work,
-    jac,
-    piv,
-    nit0,
-    maxiter,
-):
+def _newton(u, num, dd, ii, code, d, work, jac, piv, nit0, maxiter):
     """Damped Newton on the collocation system from u (in place), as ``spectral``'s: the
     exact Jacobian, a backtracking line search on the squared residual (a step limited to
     one radian and a tenth of the height first), chord steps once it contracts fast.
     Returns (status, iterations, max abs(residual)). ``work`` is (12, >= m)."""
+    eps, hfix = d[D_EPS], d[D_HFIX]
     n1 = num + 1
     hi = 3 * n1
     m = hi + 1 if code == DRIVE_PRESSURE else hi + 2
     cs, sn, fx, fz, dfx, dfz = work[0], work[1], work[2], work[3], work[4], work[5]
     res, step, trial = work[6], work[7], work[8]
-    f = _residual(
-        u,
-        num,
-        dd,
-        ii,
-        theta0,
-        kappa,
-        gamma,
-        omega2,
-        eps,
-        pi_in,
-        code,
-        q,
-        x1t,
-        hfix,
-        cs,
-        sn,
-        fx,
-        fz,
-        res,
-    )
+    f = _residual(u, num, dd, ii, code, d, cs, sn, fx, fz, res)
     chord = False
     last = math.inf
     for it in range(maxiter):
         if not math.isfinite(f):
             return STATUS_BREAKDOWN, nit0 + it, math.nan
         if not chord:
-            _jacobian(
-                u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, fz, dfx, dfz, jac
-            )
+            _jacobian(u, num, dd, ii, code, d, cs, sn, fx, fz, dfx, dfz, jac)
             if not _lu_factor(jac, piv, m):
                 return STATUS_BREAKDOWN, nit0 + it, math.nan
         for i in range(m):
@@ -440,9 +366,7 @@ def _newton(
             return STATUS_BREAKDOWN, nit0 + it, math.nan
         if chord and big > _CHORD_RATE * last:  # the chord contracts too slowly: refresh
             chord = False
-            _jacobian(
-                u, num, dd, ii, kappa, gamma, eps, pi_in, code, hfix, cs, sn, fx, fz, dfx, dfz, jac
-            )
+            _jacobian(u, num, dd, ii, code, d, cs, sn, fx, fz, dfx, dfz, jac)
             if not _lu_factor(jac, piv, m):
                 return STATUS_BREAKDOWN, nit0 + it, math.nan
             for i in range(m):
@@ -458,27 +382,7 @@ def _newton(
             if math.isnan(hfix) and 1.0 - eps * trial[hi] <= 0.0:
                 ft = math.inf
             else:
-                ft = _residual(
-                    trial,
-                    num,
-                    dd,
-                    ii,
-                    theta0,
-                    kappa,
-                    gamma,
-                    omega2,
-                    eps,
-                    pi_in,
-                    code,
-                    q,
-                    x1t,
-                    hfix,
-                    cs,
-                    sn,
-                    fx,
-                    fz,
-                    res,
-                )
+                ft = _residual(trial, num, dd, ii, code, d, cs, sn, fx, fz, res)
             if big <= _FULL_STEP or ft <= (1.0 - 1e-4 * lam) * f:
                 break
             lam *= 0.5
@@ -503,27 +407,7 @@ def _newton(
 
 
 @kernel
-def _continuation(
-    u,
-    keep,
-    num,
-    dd,
-    ii,
-    theta0,
-    kappa,
-    gamma,
-    omega2,
-    eps,
-    pi_in,
-    code,
-    q,
-    x1t,
-    hfix,
-    work,
-    jac,
-    piv,
-    nit0,
-):
+def _continuation(u, keep, num, dd, ii, code, d, work, jac, piv, nit0):
     """Newton along the load factor lam from 0 (at rest) to 1, scaling omega2, Pi and q;
     for the inverse (``DRIVE_INVERSE``) lam moves the tip from its rest, sin(theta0), to x1t,
     and omega2 (an unknown) starts at 0."""
@@ -531,7 +415,9 @@ def _continuation(
     hi = 3 * n1
     m = hi + 1 if code == DRIVE_PRESSURE else hi + 2
     inverse = code == DRIVE_INVERSE
+    theta0 = d[D_THETA0]
     rest = math.sin(theta0)
+    dl = d.copy()  # the description along the continuation: its loads scaled
     prev = keep[1]
     last = keep[2]
     for j in range(m):
@@ -551,27 +437,11 @@ def _continuation(
         slope = (target - lam) / (lam - lam_prev) if lam > lam_prev else 0.0
         for j in range(m):
             u[j] = last[j] + slope * (last[j] - prev[j])
-        status, nit, rmax = _newton(
-            u,
-            num,
-            dd,
-            ii,
-            theta0,
-            kappa,
-            gamma,
-            target * omega2,
-            eps,
-            target * pi_in,
-            code,
-            target * q,
-            rest + target * (x1t - rest) if inverse else x1t,
-            hfix,
-            work,
-            jac,
-            piv,
-            nit,
-            12,
-        )
+        dl[D_OMEGA2] = target * d[D_OMEGA2]
+        dl[D_PI] = target * d[D_PI]
+        dl[D_Q] = target * d[D_Q]
+        dl[D_X1] = rest + target * (d[D_X1] - rest) if inverse else d[D_X1]
+        status, nit, rmax = _newton(u, num, dd, ii, code, dl, work, jac, piv, nit, 12)
         if status == 0:
             for j in range(m):
                 prev[j] = last[j]
@@ -591,15 +461,7 @@ def _continuation(
 @kernel
 def solve_porous_array(
     code,
-    kappa,
-    gamma,
-    omega2,
-    eps,
-    pi_in,
-    q,
-    x1t,
-    hfix,
-    theta0,
+    desc,
     a,
     start,
     nums,
@@ -613,7 +475,8 @@ def solve_porous_array(
     coefs,
     fluid_start,
 ):
-    """Every element on the ladder of N. ``start`` (size, 3 (nums[0] + 1) + 2): theta, w, Q
+    """Every element on the ladder of N, its load description the row ``desc[e]`` (the
+    ``D_*`` slots). ``start`` (size, 3 (nums[0] + 1) + 2): theta, w, Q
     at the first level's nodes, h1, Pi (flow drive); with ``fluid_start`` its fluid is
     replaced by the fluid of its shape (:func:`_fluid_solve`) before Newton. ``a`` the map
     parameter of each element (negative: nodes clustered at the tips, for a thin bed's
@@ -636,7 +499,8 @@ def solve_porous_array(
     ss = np.empty(nmax + 1)
     coef = np.empty(nmax + 1)
     vals = np.empty((3, nmax + 1))
-    for e in range(kappa.size):
+    for e in range(desc.shape[0]):
+        d = desc[e]
         num = nums[0]
         n1 = num + 1
         nst = 3 * n1 + 2
@@ -673,68 +537,11 @@ def solve_porous_array(
             for j in range(m):
                 keep[0, j] = u[j]
             if lev == 0 and fluid_start:
-                _fluid_solve(
-                    u,
-                    num,
-                    dd,
-                    ii,
-                    theta0[e],
-                    kappa[e],
-                    gamma[e],
-                    omega2[e],
-                    eps[e],
-                    pi_in[e],
-                    code,
-                    q[e],
-                    x1t[e],
-                    hfix[e],
-                    work,
-                    jac,
-                    sub,
-                    piv,
-                )
-            status, nit, rmax = _newton(
-                u,
-                num,
-                dd,
-                ii,
-                theta0[e],
-                kappa[e],
-                gamma[e],
-                omega2[e],
-                eps[e],
-                pi_in[e],
-                code,
-                q[e],
-                x1t[e],
-                hfix[e],
-                work,
-                jac,
-                piv,
-                nit,
-                MAXITER,
-            )
+                _fluid_solve(u, num, dd, ii, code, d, work, jac, sub, piv)
+            status, nit, rmax = _newton(u, num, dd, ii, code, d, work, jac, piv, nit, MAXITER)
             if status != 0 and lev == 0:
                 status, nit, rmax = _continuation(
-                    u,
-                    keep,
-                    num,
-                    dd,
-                    ii,
-                    theta0[e],
-                    kappa[e],
-                    gamma[e],
-                    omega2[e],
-                    eps[e],
-                    pi_in[e],
-                    code,
-                    q[e],
-                    x1t[e],
-                    hfix[e],
-                    work,
-                    jac,
-                    piv,
-                    nit,
+                    u, keep, num, dd, ii, code, d, work, jac, piv, nit
                 )
             lev_done = lev
             if status != 0:
@@ -775,7 +582,7 @@ def solve_porous_array(
         _map(a[e], num, nodes[lev_done], sp, ss)
         _operators(num, d1s[lev_done], d2s[lev_done], ims[lev_done], sp, a[e], dd, ii)
         cs, sn, fx, fz = work[0], work[1], work[2], work[3]
-        tx, tz = _fields(u, num, ii, kappa[e], gamma[e], cs, sn, fx, fz)
+        tx, tz = _fields(u, num, ii, d[D_KAPPA], d[D_GAMMA], cs, sn, fx, fz)
         hi = 3 * n1
         h = u[hi]
         x1 = 0.0
@@ -799,8 +606,8 @@ def solve_porous_array(
         out[6, e] = quad
         out[7, e] = u[2 * n1 + num]  # Q(1), the tip stress
         out[8, e] = u[n1 + num]  # w(1)
-        out[9, e] = u[hi + 1] if code == DRIVE_FLOW else pi_in[e]
-        out[17, e] = u[hi + 1] if code == DRIVE_INVERSE else omega2[e]
+        out[9, e] = u[hi + 1] if code == DRIVE_FLOW else d[D_PI]
+        out[17, e] = u[hi + 1] if code == DRIVE_INVERSE else d[D_OMEGA2]
         out[10, e] = u[2 * n1]  # Q(0), the wall stress
         out[11, e] = tail + rounding
         out[12, e] = rmax
@@ -831,13 +638,11 @@ def solve_porous_array(
 
 
 @kernel
-def porous_jacobians(
-    code, u, num, a, nodes, d1, d2, im, theta0, kappa, gamma, omega2, eps, pi_in, q, jac, ii
-):
+def porous_jacobians(code, u, num, a, nodes, d1, d2, im, desc, jac, ii):
     """The collocation system's exact Jacobian at each element's state u[e] (theta, w, Q at
     the N + 1 nodes of its map a[e], h1, then Pi for the flow drive; one N for all) into
     jac[e], and its integration matrix into ii[e]: the implicit differentiation of converged
-    states (``hairbed._core.porous_sensitivity``)."""
+    states (``hairbed._core.porous_sensitivity``). ``desc`` their load descriptions."""
     n1 = num + 1
     m = u.shape[1]
     sp = np.empty(n1)
@@ -846,40 +651,17 @@ def porous_jacobians(
     work = np.empty((6, n1))
     res = np.empty(m)
     for e in range(u.shape[0]):
+        d = desc[e]
         _map(a[e], num, nodes, sp, ss)
         _operators(num, d1, d2, im, sp, a[e], dd, ii[e])
-        _residual(
-            u[e],
-            num,
-            dd,
-            ii[e],
-            theta0[e],
-            kappa[e],
-            gamma[e],
-            omega2[e],
-            eps[e],
-            pi_in[e],
-            code,
-            q[e],
-            0.0,
-            math.nan,
-            work[0],
-            work[1],
-            work[2],
-            work[3],
-            res,
-        )
+        _residual(u[e], num, dd, ii[e], code, d, work[0], work[1], work[2], work[3], res)
         _jacobian(
             u[e],
             num,
             dd,
             ii[e],
-            kappa[e],
-            gamma[e],
-            eps[e],
-            pi_in[e],
             code,
-            math.nan,
+            d,
             work[0],
             work[1],
             work[2],
