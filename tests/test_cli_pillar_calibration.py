@@ -142,7 +142,8 @@ def test_pillar_options_need_pillar_and_geometry(points: Path) -> None:
 
 
 def test_subprocess_exit_status_and_stderr(points: Path) -> None:
-    """The real thing once: a degenerate fit exits 1 with a one-line warning naming why."""
+    """The real thing once: freeing E with the drag scale (one parameter, c/E) is refused as
+    bad input (issue 33): exit 2 with a one-line error naming why."""
     proc = subprocess.run(
         [
             sys.executable,
@@ -160,6 +161,6 @@ def test_subprocess_exit_status_and_stderr(points: Path) -> None:
         text=True,
         timeout=300,
     )
-    assert proc.returncode == 1
+    assert proc.returncode == 2
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and "drag_scale/E" in lines[0], proc.stderr
