@@ -16,7 +16,10 @@ shape as CSV.
 A drive selector switches to a pump-driven channel (theory.md §11): a set pressure gradient or
 flow rate, its load pi or q beside omega^2, every state by :func:`hairbed.solve_loaded_all`
 (and :meth:`hairbed.HairBed.deform` in SI units); the valve view shows the bed as a valve
-(:mod:`hairbed.valve`: flow against pressure drop, resistance, diodicity).
+(:mod:`hairbed.valve`: flow against pressure drop, resistance, diodicity). In SI units a
+bed-model selector (URL ``model=porous`` and ``drag=crossover|sparse|array``, named only for a
+porous bed) takes every state from ``HairBed(..., model="porous")`` (theory.md §13), shows its
+kappa and Brinkman length, and says in the page's alert what a porous bed does not support.
 
 A mode selector switches to one isolated pillar in a wall shear layer (theory.md §12,
 :mod:`._pillar`): its state by :func:`hairbed.solve_pillar` (every coexisting state, where a

@@ -488,7 +488,11 @@ class Views:
         )
         self._update_phase(phys, twirl)
         self.bistability.title.text = "where three states coexist" + (
-            "" if p.drive == "wall" else " (of the wall drive)"
+            " (of the dense bed, for reference)"
+            if p.porous
+            else ""
+            if p.drive == "wall"
+            else " (of the wall drive)"
         )
         if snap.valve is not None:
             self._update_valve(snap.valve)
@@ -527,8 +531,11 @@ class Views:
         self, p: Any, phys: list[Any], twirl: list[Any], scale: float, unit: str
     ) -> None:
         # the solution's frame is the bed's mirror image for a negative wall speed
-        # (a pump drive's states keep their signs: no mirror)
-        backwards = p.si and p.drive == "wall" and p.velocity is not None and p.velocity < 0.0
+        # (a pump drive's and a porous bed's states keep their signs: no mirror)
+        backwards = (
+            p.si and p.drive == "wall" and not p.porous and p.velocity is not None
+            and p.velocity < 0.0
+        )  # fmt: skip
         mirror = -1.0 if backwards else 1.0
         lines = {True: _empty_lines(), False: _empty_lines()}
         tips: dict[str, list[Any]] = {"x": [], "y": [], "color": [], "label": []}

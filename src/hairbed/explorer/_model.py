@@ -32,17 +32,22 @@ from urllib.parse import parse_qsl, urlencode
 import numpy as np
 
 import hairbed
+from hairbed._bed_drag import DRAG_MODELS
 from hairbed._channel_drives import drive_inputs
 from hairbed._core.loaded import _check as _check_loaded
 from hairbed._core.validation import check_inputs, check_positive
 from hairbed._jsonsafe import to_plain
-from hairbed._variables import BED, BED_REQUIRED, LOADED, SI, SOLUTION, cf_attrs, names
+from hairbed._variables import BED, BED_REQUIRED, LOADED, POROUS, SI, SOLUTION, cf_attrs, names
+from hairbed.units import MODELS, require_dense
 
 __all__ = [
     "BED_KEYS",
     "DEFAULTS",
     "DRIVES",
     "LOADED_FIELDS",
+    "MODELS",
+    "DRAG_MODELS",
+    "POROUS_FIELDS",
     "PUMP_KEYS",
     "VIEWS",
     "FLAG_KEYS",
@@ -73,6 +78,15 @@ SOLUTION_FIELDS: tuple[str, ...] = names(SOLUTION, "input", "branch", "state", "
 LOADED_FIELDS: tuple[str, ...] = (
     "omega2", "eps", "theta0", "tip_height", "tip_deflection", "tip_angle", "base_curvature",
     "status", *(k for k in LOADED if k != "stable"),
+)  # fmt: skip
+
+#: The fields of a :class:`hairbed.PorousState` shown and exported (a porous bed's states,
+#: theory.md §13): the inputs, the tip, the base curvature, the fluid at the tip and the wall,
+#: the hair's drag, then the solve's.
+POROUS_FIELDS: tuple[str, ...] = (
+    "omega2", "eps", "theta0", "kappa", "gamma", "pi", "q", "tip_height", "tip_deflection",
+    "tip_angle", "base_curvature", "tip_stress", "wall_stress", "tip_velocity", "drag_x",
+    "drag_z", "max_angle", "status", "error_estimate", "residual", "nit", "num",
 )  # fmt: skip
 
 #: Segments of the discretisation of :func:`hairbed.stability.linear_stability` used live. Its
@@ -160,6 +174,12 @@ PILLAR_DEFAULTS: dict[str, str] = {
 }
 INPUT_KEYS += tuple(PILLAR_DEFAULTS)
 DEFAULTS.update(PILLAR_DEFAULTS)
+#: SI mode's bed model (:class:`hairbed.HairBed`'s ``model`` and, porous, its ``drag``):
+#: "dense" (the paper's bed, the default) or "porous" (the flow through the bed, theory.md
+#: §13). Carried by the URL only for a porous bed: a dense bed's link is the one it always was.
+BED_MODEL_DEFAULTS: dict[str, str] = {"model": "dense", "drag": "crossover"}
+INPUT_KEYS += tuple(BED_MODEL_DEFAULTS)
+DEFAULTS.update(BED_MODEL_DEFAULTS)
 #: Starting points, each a set of inputs (the others take :data:`DEFAULTS`): name -> inputs.
 PRESETS: dict[str, dict[str, str]] = {
     "worked example": {"omega2": "2", "eps": "0.5", "theta0": "0"},
@@ -286,6 +306,11 @@ class Params:
     channel_length: float | None = None
 
     @property
+    def porous(self) -> bool:
+        """SI mode with a porous bed (``HairBed(..., model="porous")``, theory.md §13)."""
+        return bool(self.si and self.bed is not None and self.bed.model == "porous")
+
+    @property
     def load_key(self) -> str | None:
         """ "pi" or "q" (the keyword of :func:`hairbed.solve_loaded`), None for the wall."""
         return LOAD_KEYS.get(self.drive)
@@ -378,6 +403,8 @@ def _bed_args(full: Mapping[str, str]) -> dict[str, Any]:
     args: dict[str, Any] = {k: _number(full[k]) for k in (*BED_REQUIRED, "base_angle")}
     for k in ("spacing", "packing_fraction", "density"):  # optional
         args[k] = _number(full[k]) if full[k].strip() else None
+    if full["model"].strip() == "porous":  # a dense bed's arguments are the ones they were
+        args.update(model="porous", drag=full["drag"].strip())
     return args
 
 
@@ -463,6 +490,13 @@ def validate(raw: Mapping[str, str]) -> Params:
     if view not in VIEWS:
         problems.append(f"view must be one of 'branch', 'valve', got {view!r}")
         view = "branch"
+    model, drag = full["model"].strip(), full["drag"].strip()
+    if model not in MODELS:
+        problems.append(f"model must be one of 'dense', 'porous', got {model!r}")
+        full["model"] = "dense"
+    if drag not in DRAG_MODELS:
+        problems.append(f"drag must be one of {', '.join(map(repr, DRAG_MODELS))}, got {drag!r}")
+        full["drag"] = "crossover"
     flags = {}
     for k in FLAG_KEYS:
         try:
@@ -471,6 +505,11 @@ def validate(raw: Mapping[str, str]) -> Params:
             problems.append(str(exc))
             flags[k] = False
     si, twirl = flags["si"], flags["twirl"]
+    if model == "porous" and not si:
+        problems.append(
+            "model='porous' is a bed in SI units (its permeability follows from its hairs): "
+            "switch SI mode on (si=1)"
+        )
     if drive != "wall":
         return _validate_pumped(full, problems, y, x_kind, si, twirl, drive, view)
     if not si:
@@ -633,6 +672,8 @@ def query_from_inputs(params: Params) -> str:
     wall drive, the branch diagram): a link of the wall drive is the one it always was.
     """
     keys = ["omega2", "eps", "theta0", "y", *FLAG_KEYS]
+    if params.porous:  # named only for a porous bed: a dense bed's link is the one it was
+        keys += ["model", "drag"]
     if params.drive != "wall":
         keys += ["drive", LOAD_KEYS[params.drive]]
     if params.view != "branch":
@@ -800,6 +841,10 @@ class Snapshot:
     message : str
         Why no state is shown ("" when there are states): the library's message of a solve
         whose status is negative (:data:`hairbed._core.validation.STATUS_MESSAGES`).
+    unsupported : tuple of str
+        What this view asked that its bed does not support (a porous bed: the library's
+        :class:`NotImplementedError` message of each), shown in the page's alert instead of
+        a traceback or the dense bed's numbers.
     """
 
     params: Params
@@ -815,6 +860,7 @@ class Snapshot:
     timings: dict[str, float]
     valve: ValveView | None = None
     message: str = ""
+    unsupported: tuple[str, ...] = ()
 
 
 def _roots(n_roots: int) -> tuple[str, ...]:
@@ -1021,6 +1067,8 @@ def _valve(p: Params, states: list[StateView]) -> ValveView:
     # the current drop: the pump's, the state's pressure gradient, or a reference (pi = 1)
     if p.drive == "pressure":
         now = abs(float(p.load or 0.0))
+    elif p.drive == "flow" and states and p.porous:
+        now = abs(float(states[0].solution.pi))  # a PorousState's solved pi
     elif p.drive == "flow" and states:
         now = abs(float(states[0].solution.distributed_load))
     else:
@@ -1213,13 +1261,192 @@ def _compute_pumped(p: Params) -> Snapshot:
     )  # fmt: skip
 
 
+# -- a porous bed (theory.md §13) ------------------------------------------------------------
+
+
+def _porous_all_uncached(
+    bed: Any, drive: str, omega2: float, load: float
+) -> tuple[tuple[Any, ...], tuple[str, ...]]:
+    """Every coexisting state of a porous bed (:func:`hairbed.solve_porous_all`, each with
+    its stability under a slow change of the gap), and the warnings: ``drive`` "wall" (pi =
+    0, omega2 signed like the wall's speed), "pressure" (pi = load) or "flow" (q = load)."""
+    key = "pi" if drive in ("wall", "pressure") else "q"
+    with _recording() as caught:
+        every = hairbed.solve_porous_all(
+            omega2, bed.eps, bed.base_angle, kappa=bed.kappa, gamma=bed.drag_ratio,
+            **{key: 0.0 if drive == "wall" else load},
+        )  # fmt: skip
+    return tuple(every), tuple(caught)
+
+
+_POROUS_ALL = _Cache(PUMP_CACHE_SIZE)
+_POROUS_DEFORMED = _Cache(PUMP_CACHE_SIZE)
+
+
+def _porous_deformed_uncached(
+    bed: Any, velocity: float, drive: str, pump: Any, root: str
+) -> tuple[Any, tuple[str, ...]]:
+    """:meth:`hairbed.HairBed.deform` of a porous bed's state ``root`` (any drive), and its
+    warnings."""
+    kw = {} if drive == "wall" else {PUMP_INPUT[drive]: pump}
+    with _recording() as caught:
+        si = bed.deform(velocity, **kw, root=root)
+    return si, tuple(caught)
+
+
+#: Points of a porous bed's branch diagram (its low branch, one vectorised deform).
+POROUS_BRANCH_POINTS = 61
+
+
+@functools.lru_cache(maxsize=32)
+def _porous_branch(
+    bed: Any, drive: str, velocity: float, sign: float
+) -> tuple[np.ndarray, Any, tuple[str, ...]]:
+    """The low branch of a porous bed: (abscissae, HairState of the whole grid, warnings):
+    against the wall speed (omega^2 in the window, the sign of ``velocity``) or against the
+    pump's abs(G) or abs(Q') (its load in the window, signed like ``sign``, the wall at
+    ``velocity``)."""
+    lo, hi = _FORCING_WINDOW
+    with _recording() as caught, np.errstate(all="ignore"):
+        if drive == "wall":
+            grid = np.geomspace(lo, hi, POROUS_BRANCH_POINTS) * bed.velocity_scale
+            st = _without_density(bed).deform(math.copysign(1.0, velocity) * grid)
+        else:
+            _, per_unit = _drive(bed, drive, 0.0, 1.0)
+            grid = np.geomspace(lo, hi, POROUS_BRANCH_POINTS) / per_unit
+            st = _without_density(bed).deform(velocity, **{PUMP_INPUT[drive]: sign * grid})
+    return grid, st, tuple(caught)
+
+
+def _porous_y(p: Params, si: Any) -> np.ndarray:
+    """The ordinate of porous states: x1 L [m] or xi = sin(theta1), in the bed's frame."""
+    value = si.tip_deflection if p.y == "x1" else np.sin(np.asarray(si.tip_angle))
+    return np.asarray(value, dtype=np.float64).reshape(-1)
+
+
+def _porous_diagram(p: Params, states: list[StateView]) -> tuple[BranchDiagram, list[str]]:
+    """The branch diagram of a porous bed: its low branch (:meth:`hairbed.HairBed.deform`)
+    against the wall speed or stress, or against the pump's abs(G) or abs(Q')."""
+    bed = p.bed
+    velocity = float(p.velocity or 0.0)
+    sign = -1.0 if (p.pump or 0.0) < 0.0 else 1.0
+    # the wall drive's branch depends on the wall's direction only: a new speed keeps it
+    at = velocity if p.drive != "wall" else -1.0 if velocity < 0.0 else 1.0
+    grid, st, caught = _porous_branch(bed, p.drive, at, sign)
+    y = _porous_y(p, st)
+    status = np.asarray(st.solution.status).reshape(-1)
+    y_label = f"tip deflection x1 L [{SI['tip_deflection'].unit}]" if p.y == "x1" else "xi [-]"
+    if p.drive == "wall":
+        x_label = _labels(p)[0]
+        if p.x == "stress":
+            x = np.abs(np.asarray(st.wall_shear_stress, dtype=np.float64)).reshape(-1)
+            sx = [abs(float(s.si.wall_shear_stress)) for s in states]
+        else:
+            x = grid
+            sx = [abs(velocity)] * len(states)
+        now: float | None = sx[0] if states and p.x == "speed" else None
+    else:
+        name = PUMP_INPUT[p.drive]
+        x_label = f"{SI[name].label} abs [{SI[name].unit}]"
+        x = grid
+        sx = [abs(float(p.pump or 0.0))] * len(states)
+        now = abs(float(p.pump)) if p.pump else None
+    keep = np.isfinite(x) & np.isfinite(y) & (x > 0.0) & (status >= 0)
+    shown = x[keep]
+    x_range = (float(shown.min()), float(shown.max())) if shown.size else _FORCING_WINDOW
+    sy = [float(_porous_y(p, s.si)[0]) for s in states]
+    e = np.empty(0)
+    diagram = BranchDiagram(
+        f"{x_label} (porous bed, low branch)", y_label, x_range, x[keep], y[keep], e, e, [],
+        sx, sy, [], [], now,
+    )  # fmt: skip
+    return diagram, list(caught)
+
+
+def _unsupported(bed: Any, what: str) -> str | None:
+    """The library's NotImplementedError message where ``what`` is asked of this bed."""
+    try:
+        require_dense(bed, what)
+    except NotImplementedError as exc:
+        return str(exc)
+    return None
+
+
+def _compute_porous(p: Params) -> Snapshot:
+    """:func:`compute` of a porous bed (SI mode, ``HairBed(..., model="porous")``, theory.md
+    §13), any drive: every coexisting state by :func:`hairbed.solve_porous_all` (with its
+    stability under a slow change of the gap), each state as :meth:`hairbed.HairBed.deform`
+    gives it (the tip, the wall shear stress, the hair's shape, the pump's G and Q'), the low
+    branch in the branch diagram, the valve by :func:`hairbed.valve.diodicity`.
+
+    What rests on the dense bed's closed form (the twirling states of :func:`hairbed.solve_all`,
+    the bistability map of :func:`hairbed.branches.cusp`) is not computed for it:
+    :attr:`Snapshot.unsupported` holds the library's message for each (the twirling states
+    only where asked for)."""
+    bed = p.bed
+    t0 = time.perf_counter()
+    velocity = float(p.velocity or 0.0)
+    if p.drive == "wall":
+        omega2, load = math.copysign(p.omega2, velocity), 0.0
+    else:
+        omega2, load = p.omega2, float(p.load or 0.0)
+    every, all_warnings = _POROUS_ALL.get(_porous_all_uncached, bed, p.drive, omega2, load)
+    found = [s for s in every if int(s.status) >= 0]
+    if len(found) > 3:  # more than a window's three: the lowest, the middle, the highest
+        found = [found[0], found[len(found) // 2], found[-1]]
+    message = ""
+    states: list[StateView] = []
+    deform_warnings: list[str] = []
+    t1 = time.perf_counter()
+    if not found:
+        one, w = _POROUS_DEFORMED.get(
+            _porous_deformed_uncached, bed, velocity, p.drive, p.pump, "low"
+        )
+        deform_warnings += w
+        if int(one.solution.status) >= 0:
+            states.append(StateView("low", one.solution, None, float("nan"), one))
+        else:
+            message = f"no state: {one.solution.message} (status {int(one.solution.status)})"
+    for label, sol in zip(_loaded_labels(len(found)), found):
+        si, w = _POROUS_DEFORMED.get(
+            _porous_deformed_uncached, bed, velocity, p.drive, p.pump, label
+        )
+        deform_warnings += w
+        stable = None if sol.stable is None else bool(sol.stable)
+        states.append(StateView(label, si.solution, stable, float("nan"), si))
+    t2 = time.perf_counter()
+    unsupported = []
+    if p.twirl:
+        unsupported.append(_unsupported(bed, "the twirling states (hairbed.solve_all)"))
+    unsupported.append(
+        _unsupported(bed, "the bistability map (hairbed.branches.cusp: the dense bed's window, "
+                     "drawn for reference)")
+    )  # fmt: skip
+    with _recording() as caught:
+        diagram, branch_warnings = _porous_diagram(p, states)
+        valve = None
+        if p.view == "valve":
+            try:
+                valve = _valve(p, states)
+            except NotImplementedError as exc:
+                unsupported.append(str(exc))
+    e = np.empty(0)
+    t3 = time.perf_counter()
+    return Snapshot(
+        p, states, [], diagram.curve_x, diagram.curve_y, [], e, e, diagram,
+        _merge(p.warnings, all_warnings, deform_warnings, branch_warnings, caught),
+        {"solve": 1e3 * (t1 - t0), "stability": 1e3 * (t2 - t1), "total": 1e3 * (t3 - t0)},
+        valve, message, tuple(m for m in unsupported if m),
+    )  # fmt: skip
+
+
 def clear_caches() -> None:
     """Empty every cache of this module (the pump drives' states, the branch curves, folds,
     valve curves): what no session needs once none is open."""
-    for cache in (_LOADED_ONE, _PUMP_STATES, _DEFORMED):
+    for cache in (_LOADED_ONE, _PUMP_STATES, _DEFORMED, _POROUS_ALL, _POROUS_DEFORMED):
         cache.clear()
     for func in (_branch_curve, _folds, _without_density, _si_branch, _valve_plain, _valve_si,
-                 _loaded_branch):  # fmt: skip
+                 _loaded_branch, _porous_branch):  # fmt: skip
         func.cache_clear()
 
 
@@ -1236,6 +1463,8 @@ def compute(p: Params) -> Snapshot:
     >>> [(s.label, s.stable) for s in snap.states]
     [('low', True), ('mid', False), ('high', True)]
     """
+    if p.porous:
+        return _compute_porous(p)
     if p.drive != "wall":
         return _compute_pumped(p)
     t0 = time.perf_counter()
@@ -1356,6 +1585,8 @@ def _attrs(column: str) -> dict[str, str]:
         return cf_attrs(SI[column[3:]])
     if column in LOADED and column not in SOLUTION:
         return cf_attrs(LOADED[column])
+    if column in POROUS and column not in SOLUTION:
+        return cf_attrs(POROUS[column])
     return cf_attrs(SOLUTION[column])
 
 
@@ -1371,9 +1602,41 @@ def _is_loaded(sol: Any) -> bool:
     return not hasattr(sol, "as_dict")
 
 
+def _is_porous(sol: Any) -> bool:
+    """A porous bed's state (:class:`hairbed.PorousState`)."""
+    return hasattr(sol, "kappa") and hasattr(sol, "tip_stress")
+
+
+def porous_bed_info(bed: Any) -> dict[str, Any]:
+    """A porous bed's model as the page shows it: model, drag, kappa = k/L^2 [-] and its
+    Brinkman length sqrt(kappa) L [m] (theory.md §13), and gamma = zeta_par/zeta_perp [-]."""
+    return {
+        "model": bed.model,
+        "drag": bed.drag,
+        "kappa": bed.kappa,
+        "brinkman_length": math.sqrt(bed.kappa) * bed.length,
+        "drag_ratio": bed.drag_ratio,
+    }
+
+
+_POROUS_BED_VARIABLES: dict[str, dict[str, str]] = {
+    "model": {"units": "1", "long_name": "the bed's model: 'dense' (the paper's) or 'porous'"},
+    "drag": {"units": "1", "long_name": "the porous bed's drag model"},
+    "kappa": {"units": "1", "long_name": "the porous bed's permeability over L^2, k/L^2"},
+    "brinkman_length": {
+        "units": "m",
+        "long_name": "the porous bed's Brinkman length sqrt(kappa) L",
+    },
+    "drag_ratio": {"units": "1", "long_name": "drag ratio gamma = zeta_par/zeta_perp"},
+}
+
+
 def _state_record(s: StateView) -> dict[str, Any]:
     rec: dict[str, Any] = {"state": s.label, "stable": s.stable, "growth_rate": s.growth_rate}
-    if _is_loaded(s.solution):
+    if _is_porous(s.solution):
+        rec["drive"] = s.solution.drive
+        rec.update({k: getattr(s.solution, k) for k in POROUS_FIELDS})
+    elif _is_loaded(s.solution):
         rec["drive"] = s.solution.drive
         rec.update({k: getattr(s.solution, k) for k in LOADED_FIELDS})
     else:
@@ -1439,6 +1702,11 @@ def snapshot_json(snap: Snapshot) -> str:
         doc["bed"]["velocity"] = p.velocity
         doc["bed_variables"] = {k: cf_attrs(BED[k]) for k in names(BED, "bed")}
         doc["bed_variables"]["velocity"] = cf_attrs(SI["velocity"])
+        if p.porous:
+            doc["bed"].update(porous_bed_info(bed))
+            doc["bed_variables"].update(_POROUS_BED_VARIABLES)
+            doc["stability"] = "hairbed.solve_porous_all: stable under a slow change of the gap"
+            doc["unsupported"] = list(snap.unsupported)
     return json.dumps(to_plain(doc), indent=2, allow_nan=False)
 
 

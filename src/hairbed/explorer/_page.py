@@ -23,17 +23,20 @@ from typing import Any
 import panel as pn
 from bokeh.models import CustomJSTickFormatter
 
-from hairbed._variables import LOADED, SI, SOLUTION
+from hairbed._variables import LOADED, POROUS, SI, SOLUTION
 
 from ._figures import STATE_COLORS, Views
 from ._history import BrowserHistory
 from ._model import (
     BED_KEYS,
     DEFAULTS,
+    DRAG_MODELS,
     DRIVES,
     INPUT_KEYS,
     LOAD_KEYS,
     LOADED_FIELDS,
+    MODELS,
+    POROUS_FIELDS,
     PRESETS,
     PUMP_INPUT,
     PUMP_KEYS,
@@ -47,6 +50,7 @@ from ._model import (
     compute,
     inputs_from_query,
     load_per_unit,
+    porous_bed_info,
     query_from_inputs,
     snapshot_csv,
     snapshot_json,
@@ -128,6 +132,41 @@ def _widget(cls: Any, label: str, **kw: Any) -> Any:
     return cls(**kw)
 
 
+#: Rows of a porous bed's table: PorousState field -> description [unit].
+POROUS_LABELS: dict[str, str] = {k: POROUS[k].heading for k in POROUS_FIELDS}
+
+
+def porous_html(snap: Snapshot) -> str:
+    """A porous bed's model above its table: the drag model, kappa = k/L^2 and the Brinkman
+    length sqrt(kappa) L (theory.md §13); empty for a dense bed."""
+    p = snap.params
+    if not p.porous:
+        return ""
+    info = porous_bed_info(p.bed)
+    return (
+        f'<p class="hb-porous" data-kappa="{info["kappa"]!r}" '
+        f'data-brinkman-length="{info["brinkman_length"]!r}">porous bed '
+        f"(<code>HairBed(..., model=&quot;porous&quot;, drag=&quot;{html.escape(info['drag'])}"
+        f"&quot;)</code>, theory.md §13): permeability kappa = k/L<sup>2</sup> = "
+        f"{_fmt(info['kappa'])}, Brinkman length sqrt(kappa) L = "
+        f"{_fmt(info['brinkman_length'])} m, drag ratio gamma = {_fmt(info['drag_ratio'])}; "
+        "stability under a slow change of the gap (<code>solve_porous_all</code>)</p>"
+    )
+
+
+def unsupported_message(snap: Snapshot) -> str:
+    """What the alert says of the views this bed does not support (the library's
+    NotImplementedError messages; empty: none)."""
+    return "; ".join(snap.unsupported)
+
+
+def _unsupported_html(snap: Snapshot) -> str:
+    if not snap.unsupported:
+        return ""
+    items = "".join(f"<p>{html.escape(m)}</p>" for m in snap.unsupported)
+    return f'<div class="hb-notes hb-warnings hb-unsupported">{items}</div>'
+
+
 def _table_html(snap: Snapshot) -> str:
     """Every Solution field of every physical state (one column each), and the SI values;
     a pump drive's states by the fields of :class:`hairbed.LoadedState`; no state: the
@@ -140,6 +179,7 @@ def _table_html(snap: Snapshot) -> str:
             f'<p class="hb-nostate">{html.escape(snap.message or "no state")}</p>'
         )
     loaded = snap.params.drive != "wall"
+    porous = snap.params.porous
     head = "".join(
         f'<th style="color:{STATE_COLORS[s.label]}">{html.escape(s.label)}</th>' for s in states
     )
@@ -152,7 +192,12 @@ def _table_html(snap: Snapshot) -> str:
         )
         rows.append(f'<tr data-row="{key}"><th>{html.escape(label)}</th>{cells}</tr>')
 
-    if loaded:
+    if porous:
+        row("stable", "stable (solve_porous_all: dG/dh1 < 0)", [s.stable for s in states])
+        for key in POROUS_FIELDS:
+            row(key, POROUS_LABELS[key], [getattr(s.solution, key) for s in states])
+        row("message", "message", [s.solution.message for s in states])
+    elif loaded:
         row("stable", "stable (solve_loaded_all: dG/dh1 < 0)", [s.stable for s in states])
         for key in LOADED_FIELDS:
             row(key, LOADED_LABELS[key], [getattr(s.solution, key) for s in states])
@@ -421,6 +466,18 @@ class ExplorerPage:
             value=DEFAULTS["x"],
             css_classes=["hb-x"],
         )
+        #: SI mode's bed model (theory.md §13) and, for a porous bed, its drag model.
+        self.model = pn.widgets.RadioButtonGroup(
+            options={m: m for m in MODELS}, value=DEFAULTS["model"], css_classes=["hb-model"]
+        )
+        self.drag = pn.widgets.RadioButtonGroup(
+            options={d: d for d in DRAG_MODELS},
+            value=DEFAULTS["drag"],
+            css_classes=["hb-drag"],
+            visible=DEFAULTS["model"] == "porous",
+        )
+        #: A porous bed's kappa and Brinkman length (empty for a dense bed).
+        self.porous_info = pn.pane.HTML("", css_classes=["hb-porous-info"])
         #: Every bad input's message (the library's), above the views.
         self.alert = pn.pane.HTML(
             "",
@@ -483,13 +540,19 @@ class ExplorerPage:
         self.load_slider.param.watch(self._from_load_slider, "value")
         for w in self.text.values():
             w.param.watch(self._on_input, "value")
-        for w in (self.twirl, self.y_choice, self.x_choice, self.si, self.drive, self.view_choice):
+        for w in (
+            self.twirl, self.y_choice, self.x_choice, self.si, self.drive, self.view_choice,
+            self.model, self.drag,
+        ):  # fmt: skip
             w.param.watch(self._on_input, "value")
         #: The pillar mode (:mod:`._pillar_views`), registered in :meth:`_build_layout`.
         self.pillar = PillarPanel()
 
     def _build_layout(self) -> None:
         bed = pn.Column(
+            pn.pane.HTML("bed model (theory.md §13):", margin=(5, 10, 0, 10)),
+            self.model,
+            self.drag,
             *(self.text[k] for k in BED_KEYS),
             *(self.text[k] for k in PUMP_KEYS),
             pn.pane.HTML(
@@ -572,6 +635,7 @@ class ExplorerPage:
                         self._valve_ratio_pane,
                     ),
                     self.valve_table,
+                    self.porous_info,
                     self.table,
                     self.twirl_table,
                 ),
@@ -641,6 +705,8 @@ class ExplorerPage:
         raw["twirl"] = "1" if self.twirl.value else "0"
         raw["y"] = str(self.y_choice.value)
         raw["x"] = str(self.x_choice.value)
+        raw["model"] = str(self.model.value)
+        raw["drag"] = str(self.drag.value)
         raw.update(self.pillar.choices())
         return raw
 
@@ -681,12 +747,16 @@ class ExplorerPage:
                 self.drive.value = args["drive"]
             if "view" in args and args["view"] in VIEWS:
                 self.view_choice.value = args["view"]
+            if "model" in args and args["model"] in MODELS:
+                self.model.value = args["model"]
+            if "drag" in args and args["drag"] in DRAG_MODELS:
+                self.drag.value = args["drag"]
             self.pillar.apply_choices(args)
         finally:
             self._syncing = False
         # the flags as given (not as the widgets could hold them): validate says what is wrong
         raw = self._raw()
-        given = ("si", "twirl", "y", "x", "drive", "view")
+        given = ("si", "twirl", "y", "x", "drive", "view", "model", "drag")
         raw.update({k: v for k, v in args.items() if k in given})
         raw.update({k: v for k, v in args.items() if k in PILLAR_CHOICES})
         try:
@@ -718,6 +788,7 @@ class ExplorerPage:
             self.table.object = _table_html(snap)
             self.valve_table.object = _valve_html(snap)
             self.twirl_table.object = _twirl_html(snap)
+            self.porous_info.object = porous_html(snap)
             self._sync_widgets(params)
             self.pillar.show_mode(self, "bed")
             self._published(
@@ -727,6 +798,9 @@ class ExplorerPage:
                 ("stability", "stability"),
                 (start, solved),
             )
+            if snap.unsupported:  # what this bed does not support: said, not computed
+                self.alert.object = _unsupported_html(snap) + _ignored_html(self.ignored)
+                self.alert.visible = True
             self.snapshot = snap
         return True
 
@@ -810,6 +884,8 @@ class ExplorerPage:
             self.x_choice.value = p.x
             self.drive.value = p.drive
             self.view_choice.value = p.view
+            self.model.value = p.raw["model"]
+            self.drag.value = p.raw["drag"]
         finally:
             self._syncing = False
         self._sync_widgets(p)
@@ -840,6 +916,7 @@ class ExplorerPage:
             self._valve_flow_pane.visible = self._valve_ratio_pane.visible = valve
             self.valve_table.visible = valve
             self.eps_slider.disabled = p.si
+            self.drag.visible = p.raw.get("model") == "porous"
             if p.si:
                 self.text["omega2"].value = _short(p.omega2)
                 self.text["eps"].value = p.raw["eps"]
