@@ -194,6 +194,21 @@ def test_page_selector_alert_and_png_link():
     alert = html.unescape(page.alert.object)
     assert page.alert.visible and str(info.value) in alert
     assert page.error == "" and page.snapshot.twirling == []  # no dense numbers, no traceback
+    # the pump drives on the page: the states of HairBed(model="porous").deform
+    page.twirl.value = []
+    page.drive.value = "pressure"
+    page.text["pressure_gradient"].value = "30000"
+    want = _porous().deform(0.1, pressure_gradient=3e4)
+    assert page.error == "" and page.snapshot.params.drive == "pressure"
+    assert _close(_state(page.snapshot).si.tip_deflection, want.tip_deflection)
+    assert page.views.ch_flow.data["x1"]  # the gap's Couette-Poiseuille profile drawn
+    page.drive.value = "flow"
+    assert page.error == "" and _close(
+        _state(page.snapshot).si.tip_deflection,
+        _porous().deform(0.1, flow_rate=1e-6).tip_deflection,
+    )
+    page.drive.value = "wall"
+    page.twirl.value = [page.twirl.options[0]]
     page.drag.value = "array"
     assert page.snapshot.params.bed.drag == "array" and "drag=array" in page.history.search
     # the PNG export's link is the view's

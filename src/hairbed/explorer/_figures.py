@@ -596,14 +596,18 @@ class Views:
             # and for a pump Couette-Poiseuille, u ~ a y/g + b (y/g)(1 - y/g) with
             # a = eta v/g and b = G g/2 from the low state's loads W and Pi (theory.md §11)
             fracs = (0.25, 0.5, 0.75, 1.0)
-            profile = [f * mirror for f in fracs]
+            # (a porous bed's state, in the bed's frame: Pi = pi, W = its tip stress Q(1))
+            porous = p.porous
+            backwards_wall = porous and p.velocity is not None and p.velocity < 0.0
+            profile = [f * (-1.0 if backwards_wall else mirror) for f in fracs]
             if p.drive != "wall" and not phys:  # no state: no gap flow to show
                 profile = []
             elif p.drive != "wall":
                 sol = phys[0][1]
                 gap = 1.0 / p.eps - float(sol.tip_height)  # [L]
-                pressure = 0.5 * float(sol.distributed_load) * gap
-                wall = float(sol.tip_load) - pressure
+                load = sol.pi if porous else sol.distributed_load
+                pressure = 0.5 * float(load) * gap
+                wall = float(sol.tip_stress if porous else sol.tip_load) - pressure
                 profile = [wall * f + pressure * f * (1.0 - f) for f in fracs]
             peak = max((abs(u) for u in profile), default=0.0)
             for frac, u in zip(fracs, profile):
