@@ -721,6 +721,46 @@ TARGETS += [
 ]
 #: The newer API (issue 33): a returned result is judged too (:func:`_silent`), and NaN, an
 #: infinity, a complex number or an object given for a number must be refused.
+# -- issue 29: the porous bed ---------------------------------------------------------------------
+
+TARGETS += [
+    Target(
+        "solve_porous",
+        hairbed.solve_porous,
+        dict(omega2=2.0, eps=0.5, theta0=0.1, kappa=0.1, gamma=0.7, pi=None, q=None, root="low"),
+        fuzz=("omega2", "eps", "theta0", "kappa", "gamma", "pi", "root"),
+    ),
+    Target(
+        "solve_porous[q]",
+        hairbed.solve_porous,
+        dict(omega2=0.5, eps=0.5, theta0=0.1, kappa=0.1, q=1.0),
+        fuzz=("q",),
+    ),
+    Target(
+        "solve_porous_all",
+        hairbed.solve_porous_all,
+        dict(omega2=0.51, eps=0.95, theta0=-1.2, kappa=1e-3, num_scan=16),
+        fuzz=("omega2", "eps", "theta0", "kappa", "num_scan"),
+    ),
+    Target(
+        "inverse.porous_state_from_tip_deflection",
+        inverse.porous_state_from_tip_deflection,
+        dict(x1=0.5, eps=0.5, theta0=0.1, kappa=0.1, gamma=0.7),
+    ),
+    Target(
+        "HairBed.deform[porous]",
+        _method(hairbed.HairBed(**BED_KW, model="porous"), "deform"),
+        dict(velocity=0.1),
+    ),
+    # issue 30's finite-difference baseline (a coarse grid: each call integrates in time)
+    Target(
+        "numerics.pillar_method_of_lines",
+        numerics.pillar_method_of_lines,
+        dict(forcing=2.0, t_eval=[0.0, 0.05], theta0=0.1, gamma=0.5, num=8),
+        fuzz=("forcing", "t_eval", "theta0", "gamma", "num"),
+    ),
+]
+
 STRICT = {
     "solve_loaded",
     "solve_loaded[q]",
@@ -746,6 +786,11 @@ STRICT = {
     "calibration.fit[pillar]",
     "calibration.measure[pillar]",
     "calibration_files.calibration_from_dict[pillar]",
+    "solve_porous",
+    "solve_porous[q]",
+    "solve_porous_all",
+    "inverse.porous_state_from_tip_deflection",
+    "HairBed.deform[porous]",
 }
 #: Catalogue classes that a number must refuse (None, strings and odd dtypes may stand for
 #: a default or convert to a number; these never do).
@@ -753,6 +798,7 @@ MUST_REFUSE = ("nan", "inf")
 #: Value fields that must hold a number wherever a state's status is not negative.
 STATE_FIELDS = {
     "LoadedState": ("tip_height", "tip_deflection", "tip_angle", "base_curvature"),
+    "PorousState": ("tip_height", "tip_deflection", "tip_angle", "tip_stress", "drag_x"),
     "PillarState": ("tip_height", "tip_deflection", "tip_angle", "base_curvature", "drag_x"),
     "HairState": ("tip_deflection", "tip_height", "wall_shear_stress", "stress_ratio"),
     "PillarDeformation": ("tip_deflection", "tip_height", "drag", "base_moment"),

@@ -27,6 +27,12 @@ from .._core.validation import as_float_array, check_int, check_number, check_po
 
 __all__ = ["PillarLinesResult", "pillar_method_of_lines"]
 
+#: The longest time span [T] a baseline run may cover: its work grows with the span, and the
+#: pillar settles within a few T (the slowest mode decays like exp(-12.36 t)).
+MAX_SPAN = 1e6
+#: The largest |Lambda|: beyond it the finite differences' rates overflow.
+MAX_FORCING = 1e8
+
 FloatArray = NDArray[np.float64]
 
 
@@ -87,9 +93,10 @@ def pillar_method_of_lines(
     Parameters
     ----------
     forcing : float or callable
-        Lambda, or Lambda(t) of a float t.
+        Lambda in [-1e8, 1e8], or Lambda(t) of a float t.
     t_eval : array_like
-        Output times [T], increasing from the start t_eval[0].
+        Output times [T], at least two, increasing strictly from the start t_eval[0], over
+        at most 1e6 T.
     theta0, gamma, profile, height_ratio
         As in :func:`hairbed.solve_pillar`.
     num : int
@@ -98,6 +105,20 @@ def pillar_method_of_lines(
         solve_ivp's tolerances.
     """
     te = as_float_array(t_eval, "t_eval").reshape(-1)
+    if te.size < 2:
+        raise ValueError(f"t_eval must hold at least two times [T], got {te.size}")
+    back = np.diff(te) <= 0.0
+    if np.any(back):
+        i = int(np.flatnonzero(back)[0]) + 1
+        raise ValueError(
+            f"t_eval must increase strictly, got {float(te[i])!r} after "
+            f"{float(te[i - 1])!r} (at index {i})"
+        )
+    if te[-1] - te[0] > MAX_SPAN:
+        raise ValueError(
+            f"t_eval must span at most {MAX_SPAN:g} T (the pillar settles within a few T), "
+            f"got {float(te[-1] - te[0])!r}"
+        )
     t0 = check_number(theta0, "theta0", low=-0.5 * np.pi, high=0.5 * np.pi, low_open=True,
                       high_open=True)  # fmt: skip
     g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
@@ -107,7 +128,7 @@ def pillar_method_of_lines(
     if callable(forcing):
         lam: Callable[[float], float] = forcing
     else:
-        value = check_number(forcing, "forcing")
+        value = check_number(forcing, "forcing", low=-MAX_FORCING, high=MAX_FORCING)
 
         def lam(_t: float) -> float:
             return value
