@@ -1147,6 +1147,7 @@ def build_cases(quick: bool = False, small_kappa: bool = True) -> list[dict[str,
     series = [
         ("dense wall g=1", lambda k: _c(k, "wall", 0.5, 0.3, 1.0, omega2=2.0), small),
         ("dense wall g=0.5", lambda k: _c(k, "wall", 0.5, 0.3, 0.5, omega2=2.0), small),
+        ("dense wall half g=0.5", lambda k: _c(k, "wall", 0.5, 0.3, 0.5, omega2=2.0), half),
         ("dense pressure g=1", lambda k: _c(k, "pressure", 0.5, -0.3, 1.0, pi=2.0), half),
         ("dense pressure g=gh",
          lambda k: _c(k, "pressure", 0.6, 0.0, GH, pi=1.5, omega2=0.5), half),
