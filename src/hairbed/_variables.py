@@ -613,6 +613,11 @@ PILLAR: Mapping[str, Variable] = _table(
         "stable under a slow change of the forcing (on a rising part of Lambda(x1))",
         "stable", "", "from solve_pillar_all only (None elsewhere)", "bool",
     ),
+    _V(
+        "n_states", "pillar", "1",
+        "number of states that coexist at this forcing (1, or 3 in a snap-through window)",
+        "coexisting states", "", "0 where none was found; None for the inverse", "int64",
+    ),
 )  # fmt: skip
 
 
