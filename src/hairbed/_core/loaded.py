@@ -606,13 +606,14 @@ def _check(
 
 
 def _mapped_nodes(a: FloatArray, num: int) -> FloatArray:
-    """s at the N + 1 mapped Chebyshev nodes of each element's map parameter: (size, N + 1)."""
+    """s at the N + 1 mapped Chebyshev nodes of each element's map parameter: (size, N + 1)
+    (a > 0 clusters them at the base, a < 0 at the tip, as the porous bed's thin layer wants)."""
     xi = _matrices(num)[0]
     y = (xi + 1.0) / 2.0
     with np.errstate(invalid="ignore", divide="ignore"):
         sig = np.where(
-            a[:, None] > 0.0,
-            np.expm1(a[:, None] * y[None, :]) / np.expm1(np.where(a > 0, a, 1.0))[:, None],
+            a[:, None] != 0.0,
+            np.expm1(a[:, None] * y[None, :]) / np.expm1(np.where(a != 0, a, 1.0))[:, None],
             y[None, :],
         )
     sig = np.clip(sig, 0.0, 1.0)

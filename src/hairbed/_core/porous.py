@@ -28,7 +28,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .collocated import CollocatedState
-from .loaded import _clenshaw, _ladder, _matrices
+from .loaded import _clenshaw, _ladder, _mapped_nodes
 from .outputs import scalar_or_array
 from .solver import _solve_checked
 from .validation import (
@@ -258,20 +258,6 @@ def _tip_map(code: int, kappa: FloatArray, pi: FloatArray) -> FloatArray:
     w = kappa Pi deep in the bed falls to 0 there): the plain map, dense at both ends."""
     a = -np.clip(np.log(_TIP_MAP / np.sqrt(kappa)), 0.0, 30.0)
     return np.where((code == 0) & (pi == 0.0), a, 0.0)
-
-
-def _mapped_nodes(a: FloatArray, num: int) -> FloatArray:
-    """s at the N + 1 Chebyshev nodes under each element's map s = expm1(a y)/expm1(a)."""
-    y = 0.5 * (_matrices(num)[0] + 1.0)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        sig = np.where(
-            a[:, None] != 0.0,
-            np.expm1(a[:, None] * y[None, :]) / np.expm1(np.where(a != 0.0, a, 1.0))[:, None],
-            y[None, :],
-        )
-    sig[:, 0] = 0.0
-    sig[:, -1] = 1.0
-    return np.ascontiguousarray(np.clip(sig, 0.0, 1.0))
 
 
 def _start(
