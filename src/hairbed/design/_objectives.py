@@ -1,0 +1,707 @@
+"""Objectives and constraints of a design, in one vocabulary: named quantities of a model.
+
+A :class:`Quantity` is a function of a model (a :class:`~hairbed.HairBed` or a
+:class:`~hairbed.Pillar`) that returns its value and its gradient in the model's SI
+parameters. The gradients are exact where the library has the derivatives: the implicit
+differentiation of the converged collocation (loaded states of the valve, pillar states),
+the closed-form partials of the branch (the folds of the bistable window) and the chain rule
+through the dimensionless groups, explicit in the SI parameters (theory.md §7, §11, §12)::
+
+    eps    = L/H                                   bed confinement [-]
+    pi     = 4 G L^3/(phi E a^2)                   bed's pressure load, G = dp/l [-]
+    v*     = E a^2 H phi/(4 L^2 eta)               bed's velocity scale, omega^2 = v/v* [m/s]
+    phi    = (2 pi/sqrt 3) a^2/delta^2             packing fraction (spacing held) [-]
+    Lambda = 16 c tau_w L^4/(E a^4 s),  s = ln(2L/a) + 1/2       pillar's forcing [-]
+    gamma  = s/(2 s - 2)                           pillar's drag ratio [-]
+
+A quantity without an exact gradient (the pillar's sensitivity, a user callable without
+its gradient) says so: ``exact`` is False, and its gradient is a central difference, named
+as such in every result.
+
+Constraints are written with comparisons: ``resistance_ratio(500.0, 0.01) <= 4.0``.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .._core.loaded_sensitivity import loaded_gradient_table
+from .._core.pillar import _solve_pillar_checked
+from .._core.pillar_sensitivity import _profile_derivative, pillar_gradient_rows
+from .._core.solver import _from_parameter
+from ..branches import folds
+from ..pillars import PILLAR_REYNOLDS_LIMIT, SLENDERNESS_LIMIT, SUBLAYER_L_PLUS_LIMIT, Pillar
+from ..sensitivity import _physical_partials
+from ..units import DENSE_BED_LIMIT, HairBed
+from ..valve import valve_curve
+
+__all__ = [
+    "Constraint",
+    "Quantity",
+    "bistable_width",
+    "brinkman_ratio",
+    "custom",
+    "diodicity",
+    "gap_reynolds",
+    "l_plus",
+    "linear_range",
+    "pillar_reynolds",
+    "resistance_ratio",
+    "sensitivity",
+    "slenderness",
+    "tip_deflection",
+    "validity_constraints",
+]
+
+Grad = dict[str, float]
+#: The gap Reynolds number above which the bed's Stokes flow is out of its range.
+GAP_REYNOLDS_LIMIT = 1.0
+#: The profiles whose pillar the design supports (U(z) = z: no parameter of the profile).
+_PILLAR_PROFILES = ("sublayer", "couette")
+#: Relative step of the central differences of a quantity without an exact gradient.
+FD_STEP = 1e-5
+
+
+def _comb(*terms: tuple[float, Grad]) -> Grad:
+    """sum of coef * grad over dicts of partial derivatives."""
+    out: Grad = {}
+    for coef, g in terms:
+        for k, v in g.items():
+            out[k] = out.get(k, 0.0) + coef * v
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class Quantity:
+    """A named scalar function of a model, with its gradient in the SI parameters.
+
+    Attributes
+    ----------
+    name : str
+        What it is, with its arguments (e.g. ``"diodicity(dp=1000 Pa, l=0.01 m)"``).
+    kind : {"bed", "pillar", "any"}
+        The model it applies to.
+    unit : str
+        Its SI unit.
+    exact : bool
+        True when the gradient is exact (the library's derivatives and the chain rule);
+        False when it is a central difference (:data:`FD_STEP`).
+    validity : tuple of Quantity-producing callables
+        The model-validity constraints this quantity's operating point needs.
+    """
+
+    name: str
+    kind: str
+    unit: str
+    exact: bool
+    _evaluate: Callable[[Any, str], tuple[float, Grad]] = field(repr=False)
+    operating: tuple[Any, ...] = field(default=(), repr=False)
+
+    def evaluate(self, model: Any, hold: str = "spacing") -> tuple[float, Grad]:
+        """(value, {parameter: d value/d parameter}) of ``model``; ``hold`` is the one of
+        spacing and packing fraction a bed is built from (:class:`~hairbed.design.Space`)."""
+        self._check_model(model)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return self._evaluate(model, hold)
+
+    def __call__(self, model: Any) -> float:
+        """The value of the quantity for ``model``."""
+        return self.evaluate(model)[0]
+
+    def _check_model(self, model: Any) -> None:
+        want = {"bed": HairBed, "pillar": Pillar}.get(self.kind)
+        if want is not None and not isinstance(model, want):
+            raise TypeError(
+                f"{self.name} is a quantity of a {want.__name__}, got {type(model).__name__}"
+            )
+        if isinstance(model, HairBed) and model.model != "dense":
+            raise NotImplementedError(
+                f"{self.name}: hairbed.design supports the dense bed only, so far"
+            )
+        if isinstance(model, Pillar) and model.profile not in _PILLAR_PROFILES:
+            raise NotImplementedError(
+                f"{self.name}: hairbed.design supports pillars of the profiles "
+                f"{', '.join(map(repr, _PILLAR_PROFILES))} only, so far; got "
+                f"{model.profile!r}"
+            )
+
+    def __le__(self, bound: float) -> Constraint:
+        return Constraint(self, upper=bound)
+
+    def __ge__(self, bound: float) -> Constraint:
+        return Constraint(self, lower=bound)
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """``lower <= quantity`` or ``quantity <= upper`` (exactly one bound).
+
+    Parameters
+    ----------
+    quantity : Quantity
+    lower, upper : float, optional
+        The bound, finite, in the quantity's unit.
+    validity : bool
+        True for a constraint of the model's validity (added by the optimiser).
+    """
+
+    quantity: Quantity
+    lower: float | None = None
+    upper: float | None = None
+    validity: bool = False
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.quantity, Quantity):
+            raise TypeError(f"a constraint needs a hairbed.design Quantity, got {self.quantity!r}")
+        if (self.lower is None) == (self.upper is None):
+            raise ValueError(
+                f"constraint on {self.quantity.name}: give exactly one of lower and upper"
+            )
+        bound = self.lower if self.lower is not None else self.upper
+        if isinstance(bound, bool) or not isinstance(bound, (int, float, np.floating)):
+            raise ValueError(f"constraint on {self.quantity.name}: the bound must be a number")
+        if not math.isfinite(float(bound)):
+            raise ValueError(
+                f"constraint on {self.quantity.name}: the bound must be finite, got {bound!r}"
+            )
+
+    @property
+    def bound(self) -> float:
+        """The bound [the quantity's unit]."""
+        return float(self.lower if self.lower is not None else self.upper)  # type: ignore[arg-type]
+
+    @property
+    def sense(self) -> str:
+        """ ">=" or "<="."""
+        return ">=" if self.lower is not None else "<="
+
+    @property
+    def label(self) -> str:
+        """``"name <= bound"``."""
+        return f"{self.quantity.name} {self.sense} {self.bound:g}"
+
+    def slack(self, value: float) -> float:
+        """bound - value for "<=", value - bound for ">=" (negative: violated)."""
+        return value - self.bound if self.lower is not None else self.bound - value
+
+
+def _number(value: Any, name: str, positive: bool = True) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)):
+        raise ValueError(f"{name} must be a real number, got {value!r}")
+    x = float(value)
+    if not math.isfinite(x) or (positive and not x > 0.0):
+        raise ValueError(f"{name} must be a finite number{' > 0' if positive else ''}, got {x!r}")
+    return x
+
+
+# -- the bed ---------------------------------------------------------------------------------
+
+
+def _ln_phi(bed: HairBed, hold: str) -> Grad:
+    """d ln(phi)/d parameter."""
+    if hold == "packing_fraction":
+        return {"packing_fraction": 1.0 / float(bed.packing_fraction)}  # type: ignore[arg-type]
+    return {"radius": 2.0 / bed.radius, "spacing": -2.0 / float(bed.spacing)}  # type: ignore[arg-type]
+
+
+def _ln(name: str, value: float) -> Grad:
+    return {name: 1.0 / value}
+
+
+def _valve_gaps(bed: HairBed, dp: float, length: float, hold: str) -> list[tuple[float, Grad]]:
+    """[(gap g [m], dg/dparameter)] of the valve's states at +dp and -dp (theory.md §11)."""
+    curve = valve_curve(bed, np.array([dp, -dp]), length)
+    if not curve.success:
+        raise ArithmeticError(f"the valve's states at +-{dp:g} Pa: {curve.message}")
+    table, status = loaded_gradient_table(curve.states.solution)
+    h1 = np.asarray(curve.states.solution.tip_height, dtype=np.float64)
+    big_l, big_h, a, e = bed.length, bed.channel_height, bed.radius, bed.youngs_modulus
+    d_ln_eps = _comb((1.0, _ln("length", big_l)), (-1.0, _ln("channel_height", big_h)))
+    d_ln_pi = _comb(
+        (3.0, _ln("length", big_l)),
+        (-1.0, _ln_phi(bed, hold)),
+        (-1.0, _ln("youngs_modulus", e)),
+        (-2.0, _ln("radius", a)),
+    )
+    eps = bed.eps
+    out = []
+    for i, sign in enumerate((1.0, -1.0)):
+        if int(np.asarray(status).reshape(-1)[i]) != 0:
+            raise ArithmeticError(f"the valve's state at {sign * dp:g} Pa is at a fold")
+        pi = sign * 4.0 * (dp / length) * big_l**3 / (float(bed.packing_fraction) * e * a * a)  # type: ignore[arg-type]
+        h_eps = float(np.asarray(table["tip_height"]["eps"]).reshape(-1)[i])
+        h_pi = float(np.asarray(table["tip_height"]["pi"]).reshape(-1)[i])
+        h_th = float(np.asarray(table["tip_height"]["theta0"]).reshape(-1)[i])
+        dh1 = _comb((h_eps * eps, d_ln_eps), (h_pi * pi, d_ln_pi), (h_th, {"base_angle": 1.0}))
+        gap = big_h - h1[i] * big_l
+        dgap = _comb((1.0, {"channel_height": 1.0}), (-big_l, dh1), (-h1[i], {"length": 1.0}))
+        out.append((float(gap), dgap))
+    return out
+
+
+def _drop(pressure_drop: Any, channel_length: Any) -> tuple[float, float]:
+    dp = _number(pressure_drop, "pressure_drop [Pa]")
+    return dp, _number(channel_length, "channel_length [m]")
+
+
+def diodicity(pressure_drop: float, channel_length: float) -> Quantity:
+    """The valve's diodicity Di = Q'(+dp)/abs(Q'(-dp)) = (g+/g-)^3 [-] at a drop dp [Pa]
+    over a channel of length l [m] (:func:`hairbed.valve.diodicity`; g the gap above the
+    tips, theory.md §11). Gradient exact: the loaded states' implicit derivatives in
+    (eps, pi, theta0) and the chain rule. Validity: the gap's Reynolds number at both
+    drops (with a density) and the dense-bed condition."""
+    dp, length = _drop(pressure_drop, channel_length)
+
+    def evaluate(bed: HairBed, hold: str) -> tuple[float, Grad]:
+        (gp, dgp), (gm, dgm) = _valve_gaps(bed, dp, length, hold)
+        di = (gp / gm) ** 3
+        return di, _comb((3.0 * di / gp, dgp), (-3.0 * di / gm, dgm))
+
+    return Quantity(
+        f"diodicity(dp={dp:g} Pa, l={length:g} m)",
+        "bed",
+        "-",
+        True,
+        evaluate,
+        (("valve", dp, length),),
+    )
+
+
+def resistance_ratio(pressure_drop: float, channel_length: float) -> Quantity:
+    """R/R0 = (H/g)^3 [-] of the valve at the signed drop dp [Pa] over l [m]: its hydraulic
+    resistance against the empty channel's (:func:`hairbed.valve.valve_curve`), exact
+    gradient as :func:`diodicity`."""
+    if isinstance(pressure_drop, (int, float)) and pressure_drop < 0:
+        dp, length = _drop(-pressure_drop, channel_length)
+        index, sign = 1, -1.0
+    else:
+        dp, length = _drop(pressure_drop, channel_length)
+        index, sign = 0, 1.0
+
+    def evaluate(bed: HairBed, hold: str) -> tuple[float, Grad]:
+        gap, dgap = _valve_gaps(bed, dp, length, hold)[index]
+        h = bed.channel_height
+        r = (h / gap) ** 3
+        return r, _comb((3.0 * r / h, {"channel_height": 1.0}), (-3.0 * r / gap, dgap))
+
+    return Quantity(
+        f"resistance_ratio(dp={sign * dp:g} Pa, l={length:g} m)",
+        "bed",
+        "-",
+        True,
+        evaluate,
+        (("valve", dp, length),),
+    )
+
+
+def gap_reynolds(pressure_drop: float, channel_length: float) -> Quantity:
+    """The gap flow's Reynolds number rho u_max g/eta = rho abs(G) g^3/(8 eta^2) [-] of the
+    valve at the signed drop dp [Pa] over l [m] (the walls at rest: u_max = G g^2/(8 eta)),
+    needs the bed's density; exact gradient."""
+    neg = isinstance(pressure_drop, (int, float)) and pressure_drop < 0
+    dp, length = _drop(abs(pressure_drop) if neg else pressure_drop, channel_length)
+    index = 1 if neg else 0
+
+    def evaluate(bed: HairBed, hold: str) -> tuple[float, Grad]:
+        if bed.density is None:
+            raise ValueError(f"{'gap_reynolds'}: the bed has no density [kg/m^3]")
+        gap, dgap = _valve_gaps(bed, dp, length, hold)[index]
+        rho, eta = bed.density, bed.viscosity
+        re = rho * (dp / length) * gap**3 / (8.0 * eta * eta)
+        return re, _comb(
+            (re / rho, {"density": 1.0}),
+            (-2.0 * re / eta, {"viscosity": 1.0}),
+            (3 * re / gap, dgap),
+        )
+
+    return Quantity(
+        f"gap_reynolds(dp={-dp if neg else dp:g} Pa, l={length:g} m)", "bed", "-", True, evaluate
+    )
+
+
+def brinkman_ratio() -> Quantity:
+    """sqrt(k)/L [-]: the depth the flow penetrates the bed over the hair length
+    (:attr:`hairbed.HairBed.brinkman_length`, Drummond & Tahir's k); the dense-bed model
+    needs it below :data:`hairbed.units.DENSE_BED_LIMIT` = 0.1. Exact gradient (the
+    permeability's series differentiated by hand)."""
+
+    def evaluate(bed: HairBed, hold: str) -> tuple[float, Grad]:
+        phi = float(bed.packing_fraction)  # type: ignore[arg-type]
+        series = (
+            -math.log(phi) - 1.497 + 2.0 * phi - 0.5 * phi**2 - 0.739 * phi**4
+            + 2.534 * phi**5 / (1.0 + 1.2758 * phi)
+        )  # fmt: skip
+        d_series = (
+            -1.0 / phi + 2.0 - phi - 4.0 * 0.739 * phi**3
+            + 2.534 * (5.0 * phi**4 * (1.0 + 1.2758 * phi) - 1.2758 * phi**5)
+            / (1.0 + 1.2758 * phi) ** 2
+        )  # fmt: skip
+        d_ln_k_phi = d_series / series - 1.0 / phi  # d ln(k/a^2)/d phi
+        value = bed.brinkman_length / bed.length
+        grad = _comb(
+            (value, _ln("radius", bed.radius)),
+            (0.5 * value * d_ln_k_phi * phi, _ln_phi(bed, hold)),
+            (-value, _ln("length", bed.length)),
+        )
+        return value, grad
+
+    return Quantity("brinkman_ratio", "bed", "-", True, evaluate)
+
+
+def bistable_width() -> Quantity:
+    """The width [m/s] of the wall speed window in which three states coexist, for flow
+    towards +x (a window exists for base_angle < 0 and eps above the cusp,
+    :func:`hairbed.branches.bistable_window`): (omega2_upper - omega2_lower) v*. 0 where
+    the branch is monotone (no window: a plateau on which every point is stationary).
+
+    Gradient exact: at a fold d omega^2/dt = 0, so d omega^2_fold/dp is the partial at
+    fixed t of omega^2 = omega_eps^2 (1 - eps h1), from the branch's closed-form partials
+    (:mod:`hairbed.sensitivity`), plus the chain rule through v*."""
+
+    def evaluate(bed: HairBed, hold: str) -> tuple[float, Grad]:
+        eps, th = bed.eps, bed.base_angle
+        f = folds(eps, th)
+        if f.lower is None:
+            return 0.0, {}
+        ts = np.asarray([f.upper.t, f.lower.t], dtype=np.float64)  # type: ignore[union-attr]
+        sol = _from_parameter(ts, eps, th)
+        _, _, d_th = _physical_partials(ts, np.full(2, th), sol)
+        oe = np.asarray(sol.omega_eps, dtype=np.float64)
+        h1 = np.asarray(sol.tip_height, dtype=np.float64)
+        w = oe * oe * (1.0 - eps * h1)
+        dw_eps = -oe * oe * h1
+        dw_th = 2.0 * oe * d_th["omega_eps"] * (1.0 - eps * h1) - oe * oe * eps * d_th["h1"]
+        scale = bed.velocity_scale
+        width = float(w[0] - w[1])
+        d_ln_eps = _comb(
+            (1.0, _ln("length", bed.length)), (-1.0, _ln("channel_height", bed.channel_height))
+        )
+        d_ln_scale = _comb(
+            (1.0, _ln("youngs_modulus", bed.youngs_modulus)),
+            (2.0, _ln("radius", bed.radius)),
+            (1.0, _ln("channel_height", bed.channel_height)),
+            (1.0, _ln_phi(bed, hold)),
+            (-2.0, _ln("length", bed.length)),
+            (-1.0, _ln("viscosity", bed.viscosity)),
+        )
+        grad = _comb(
+            (scale * float(dw_eps[0] - dw_eps[1]) * eps, d_ln_eps),
+            (scale * float(dw_th[0] - dw_th[1]), {"base_angle": 1.0}),
+            (scale * width, d_ln_scale),
+        )
+        return scale * width, grad
+
+    return Quantity("bistable_width", "bed", "m/s", True, evaluate)
+
+
+# -- the pillar ------------------------------------------------------------------------------
+
+
+def _pillar_groups(p: Pillar) -> tuple[float, Grad, float, Grad]:
+    """(K = Lambda/tau_w [1/Pa], d ln K/dp, gamma, d gamma/dp)."""
+    big_l, a = p.length, p.radius
+    s = math.log(2.0 * big_l / a) + 0.5
+    ds = _comb((1.0, _ln("length", big_l)), (-1.0, _ln("radius", a)))
+    d_ln_k = _comb(
+        (1.0, _ln("drag_scale", p.drag_scale)),
+        (4.0, _ln("length", big_l)),
+        (-1.0, _ln("youngs_modulus", p.youngs_modulus)),
+        (-4.0, _ln("radius", a)),
+        (-1.0 / s, ds),
+    )
+    gamma = s / (2.0 * s - 2.0)
+    d_gamma = _comb((-2.0 / (2.0 * s - 2.0) ** 2, ds))
+    return p.forcing_per_stress, d_ln_k, gamma, d_gamma
+
+
+def _pillar_rows(p: Pillar, tau: float) -> tuple[float, float, Any]:
+    """(x1, h1, out) of the pillar's state at tau_w [Pa]; out[o, i] = d output/d input in
+    the kernel's order (outputs tip_height, tip_deflection, ...; inputs forcing, theta0,
+    gamma, ...), exact."""
+    st = p.deform(tau)
+    if int(np.asarray(st.status)) < 0:
+        raise ArithmeticError(f"no state of the pillar at tau_w = {tau:g} Pa")
+    sol = st.solution
+    prof = np.asarray(p._core_options[0])
+    dp = _profile_derivative(p._core_profile, p.height_ratio)
+    dprof = np.zeros((1, 1)) if dp is None else dp[None, :]
+    with np.errstate(all="ignore"):
+        out, status, _ = pillar_gradient_rows(sol, prof, dprof)
+    if int(status[0]) != 0:
+        raise ArithmeticError(f"the pillar's state at tau_w = {tau:g} Pa is at a fold")
+    x1 = float(np.asarray(sol.tip_deflection))
+    h1 = float(np.asarray(sol.tip_height))
+    return x1, h1, out[:, :, 0]
+
+
+def _d_state(p: Pillar, row: Any, lam: float, d_ln_lam: Grad, d_gamma: Grad) -> Grad:
+    """d(output)/dp of one output's row (d/dLambda, d/dtheta0, d/dgamma, ...)."""
+    return _comb(
+        (float(row[0]) * lam, d_ln_lam),
+        (float(row[1]), {"base_angle": 1.0}),
+        (float(row[2]), d_gamma),
+    )
+
+
+def _stress(spec: Any) -> Any:
+    """A stress tau_w [Pa] (a number) or the end of a linear range (a :class:`Quantity`
+    of :func:`linear_range`)."""
+    if isinstance(spec, Quantity):
+        if not spec.name.startswith("linear_range"):
+            raise ValueError(
+                f"a stress must be a number [Pa] or a linear_range(...) quantity, got {spec.name}"
+            )
+        return spec
+    return _number(spec, "wall_shear_stress [Pa]")
+
+
+def _stress_value(p: Pillar, spec: Any, hold: str) -> tuple[float, Grad]:
+    if isinstance(spec, Quantity):
+        return spec._evaluate(p, hold)
+    return spec, {}
+
+
+def _stress_name(spec: Any) -> str:
+    return spec.name if isinstance(spec, Quantity) else f"{spec:g} Pa"
+
+
+def tip_deflection(wall_shear_stress: Any) -> Quantity:
+    """The pillar's tip deflection x1 L [m] at tau_w [Pa] (or at the end of a
+    :func:`linear_range`), exact gradient (the collocation's implicit derivatives)."""
+    spec = _stress(wall_shear_stress)
+
+    def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
+        tau, d_tau = _stress_value(p, spec, hold)
+        k, d_ln_k, _, d_gamma = _pillar_groups(p)
+        x1, _, out = _pillar_rows(p, tau)
+        d_ln_lam = _comb((1.0, d_ln_k), (1.0 / tau, d_tau))
+        dx1 = _d_state(p, out[1], k * tau, d_ln_lam, d_gamma)
+        return p.length * x1, _comb((x1, {"length": 1.0}), (p.length, dx1))
+
+    return Quantity(
+        f"tip_deflection({_stress_name(spec)})", "pillar", "m", True, evaluate, (("stress", spec),)
+    )
+
+
+def sensitivity(wall_shear_stress: float) -> Quantity:
+    """The pillar's sensitivity d(tip deflection)/d(tau_w) = L (dx1/dLambda) Lambda/tau_w
+    [m/Pa] at tau_w [Pa] (:meth:`hairbed.Pillar.sensitivity`, its value exact).
+
+    Its gradient needs second derivatives of the state, which the library does not have:
+    it is the central difference (relative step :data:`FD_STEP`) of the exact dx1/dLambda
+    in (Lambda, theta0, gamma), chained exactly to the SI parameters; ``exact`` is False."""
+    tau = _number(wall_shear_stress, "wall_shear_stress [Pa]")
+
+    def slope(p: Pillar, lam: float, th: float, gamma: float) -> float:
+        args = (np.array([lam]), np.array([th]), np.array([gamma]), np.zeros(1))
+        sol = _solve_pillar_checked(*args, *p._core_options)
+        return float(np.asarray(sol.tip_deflection_slope).reshape(-1)[0])
+
+    def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
+        k, d_ln_k, gamma, d_gamma = _pillar_groups(p)
+        lam, th = k * tau, p.base_angle
+        s0 = slope(p, lam, th, gamma)
+        value = p.length * s0 * k
+        parts = []
+        for i, x in enumerate((lam, th, gamma)):
+            h = FD_STEP * max(abs(x), 1e-3)
+            up = [lam, th, gamma]
+            down = [lam, th, gamma]
+            up[i] += h
+            down[i] -= h
+            parts.append((slope(p, *up) - slope(p, *down)) / (2.0 * h))
+        ds = _d_state(p, parts, lam, d_ln_k, d_gamma)
+        grad = _comb((s0 * k, {"length": 1.0}), (p.length * k, ds), (value, d_ln_k))
+        return value, grad
+
+    return Quantity(
+        f"sensitivity({tau:g} Pa)", "pillar", "m/Pa", False, evaluate, (("stress", tau),)
+    )
+
+
+def linear_range(rtol: float = 0.1) -> Quantity:
+    """The end tau* [Pa] of the pillar's linear range (:meth:`hairbed.Pillar.linear_range`):
+    where the linear calibration's relative error first reaches ``rtol`` in (0, 1).
+
+    Gradient exact: tau* = Lambda*/K with Lambda* the root of
+    G = (x1(Lambda, theta0, gamma) - sin theta0)/(c1(theta0) Lambda) - 1 -+ rtol, so
+    d Lambda* = -(G_theta0 d theta0 + G_gamma d gamma)/G_Lambda (implicit function theorem,
+    the state's exact first derivatives), c1 = 11 cos^3(theta0)/120."""
+    tol = _number(rtol, "rtol")
+    if not tol < 1.0:
+        raise ValueError(f"rtol must lie in (0, 1), got {tol!r}")
+
+    def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
+        rng = p.linear_range(tol)
+        if not rng.success:
+            raise ArithmeticError(f"linear_range(rtol={tol:g}): {rng.message}")
+        tau = float(rng.wall_shear_stress)
+        k, d_ln_k, _, d_gamma = _pillar_groups(p)
+        lam = k * tau
+        x1, _, out = _pillar_rows(p, tau)
+        th = p.base_angle
+        c1 = 11.0 * math.cos(th) ** 3 / 120.0
+        dc1 = -33.0 * math.cos(th) ** 2 * math.sin(th) / 120.0
+        rel = x1 - math.sin(th)
+        row = out[1]
+        g_lam = row[0] / (c1 * lam) - rel / (c1 * lam * lam)
+        g_th = (row[1] - math.cos(th)) / (c1 * lam) - rel * dc1 / (c1 * c1 * lam)
+        g_gam = row[2] / (c1 * lam)
+        d_lam = _comb((-g_th / g_lam, {"base_angle": 1.0}), (-g_gam / g_lam, d_gamma))
+        return tau, _comb((1.0 / k, d_lam), (-tau, d_ln_k))
+
+    return Quantity(f"linear_range(rtol={tol:g})", "pillar", "Pa", True, evaluate)
+
+
+def l_plus(wall_shear_stress: Any) -> Quantity:
+    """The pillar's height in wall units L+ = L sqrt(abs(tau_w) rho)/eta [-] at tau_w [Pa]
+    (or the end of a :func:`linear_range`); needs the density. Exact gradient."""
+    spec = _stress(wall_shear_stress)
+
+    def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
+        if p.density is None:
+            raise ValueError("l_plus: the pillar has no density [kg/m^3]")
+        tau, d_tau = _stress_value(p, spec, hold)
+        rho, eta = p.density, p.viscosity
+        value = p.length * math.sqrt(abs(tau) * rho) / eta
+        return value, _comb(
+            (value / p.length, {"length": 1.0}),
+            (0.5 * value / rho, {"density": 1.0}),
+            (-value / eta, {"viscosity": 1.0}),
+            (0.5 * value / tau, d_tau),
+        )
+
+    return Quantity(f"l_plus({_stress_name(spec)})", "pillar", "-", True, evaluate)
+
+
+def pillar_reynolds(wall_shear_stress: Any) -> Quantity:
+    """The pillar Reynolds number rho abs(u(tip)) 2a/eta = 2 rho abs(tau_w) L a h1/eta^2 [-]
+    at tau_w [Pa] (u(tip) = tau_w h1 L/eta for the sublayer and Couette profiles); needs the
+    density. Exact gradient."""
+    spec = _stress(wall_shear_stress)
+
+    def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
+        if p.density is None:
+            raise ValueError("pillar_reynolds: the pillar has no density [kg/m^3]")
+        tau, d_tau = _stress_value(p, spec, hold)
+        k, d_ln_k, _, d_gamma = _pillar_groups(p)
+        _, h1, out = _pillar_rows(p, tau)
+        d_ln_lam = _comb((1.0, d_ln_k), (1.0 / tau, d_tau))
+        dh1 = _d_state(p, out[0], k * tau, d_ln_lam, d_gamma)
+        rho, eta = p.density, p.viscosity
+        value = 2.0 * rho * abs(tau) * p.length * p.radius * h1 / (eta * eta)
+        return value, _comb(
+            (value / rho, {"density": 1.0}),
+            (-2.0 * value / eta, {"viscosity": 1.0}),
+            (value / p.length, {"length": 1.0}),
+            (value / p.radius, {"radius": 1.0}),
+            (value / h1, dh1),
+            (value / tau, d_tau),
+        )
+
+    return Quantity(f"pillar_reynolds({_stress_name(spec)})", "pillar", "-", True, evaluate)
+
+
+def slenderness() -> Quantity:
+    """The pillar's slenderness L/a [-] (resistive-force drag needs it above
+    :data:`hairbed.pillars.SLENDERNESS_LIMIT` = 10). Exact gradient."""
+
+    def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
+        s = p.length / p.radius
+        return s, {"length": 1.0 / p.radius, "radius": -s / p.radius}
+
+    return Quantity("slenderness", "pillar", "-", True, evaluate)
+
+
+# -- the user's ------------------------------------------------------------------------------
+
+
+def custom(
+    function: Callable[[Any], float],
+    name: str = "custom",
+    *,
+    gradient: Callable[[Any], dict[str, float]] | None = None,
+    unit: str = "",
+) -> Quantity:
+    """A user's quantity: ``function(model) -> float``.
+
+    With ``gradient(model) -> {parameter: d value/d parameter}`` (SI) the gradient is the
+    user's (``exact`` True: the user vouches for it); without, it is a central difference
+    in each design variable (relative step :data:`FD_STEP`) and ``exact`` is False.
+    """
+    if not callable(function):
+        raise TypeError(f"custom: function must be callable, got {function!r}")
+    if gradient is not None and not callable(gradient):
+        raise TypeError(f"custom: gradient must be callable or None, got {gradient!r}")
+
+    def value_of(model: Any) -> float:
+        try:
+            v = float(function(model))
+        except Exception as exc:
+            raise ValueError(f"{name}: the function raised {type(exc).__name__}: {exc}") from exc
+        if not math.isfinite(v):
+            raise ArithmeticError(f"{name}: the function returned {v!r}")
+        return v
+
+    def evaluate(model: Any, hold: str) -> tuple[float, Grad]:
+        v = value_of(model)
+        if gradient is None:
+            return v, {}
+        return v, {k: float(x) for k, x in dict(gradient(model)).items()}
+
+    q = Quantity(name, "any", unit, gradient is not None, evaluate)
+    object.__setattr__(q, "_value_of", value_of)
+    return q
+
+
+# -- validity --------------------------------------------------------------------------------
+
+
+def validity_constraints(model: Any, quantities: Any) -> tuple[list[Constraint], list[str]]:
+    """The model-validity constraints of a design whose objectives and constraints are
+    ``quantities``, and notes of the checks that could not be made.
+
+    A bed: sqrt(k)/L <= 0.1 (the dense bed), and the gap Reynolds number <= 1 at +-dp of
+    every valve quantity (with a density). A pillar: L/a >= 10, and at every stress a
+    quantity uses, the pillar Reynolds number <= 0.5 and, for the sublayer profile,
+    L+ <= 5 (with a density).
+    """
+    out: list[Constraint] = []
+    notes: list[str] = []
+    if isinstance(model, HairBed):
+        out.append(Constraint(brinkman_ratio(), upper=DENSE_BED_LIMIT, validity=True))
+        drops = sorted({(o[1], o[2]) for q in quantities for o in q.operating if o[0] == "valve"})
+        for dp, length in drops:
+            if model.density is None:
+                notes.append(f"gap Reynolds number at +-{dp:g} Pa unchecked: no density")
+                continue
+            for s in (dp, -dp):
+                out.append(
+                    Constraint(gap_reynolds(s, length), upper=GAP_REYNOLDS_LIMIT, validity=True)
+                )
+    elif isinstance(model, Pillar):
+        out.append(Constraint(slenderness(), lower=SLENDERNESS_LIMIT, validity=True))
+        stresses: list[Any] = []
+        for q in quantities:
+            for o in q.operating:
+                if o[0] == "stress" and not any(o[1] is s or o[1] == s for s in stresses):
+                    stresses.append(o[1])
+            if q.name.startswith("linear_range") and not any(q is s for s in stresses):
+                stresses.append(q)
+        for s in stresses:
+            if model.density is None:
+                notes.append(
+                    f"pillar Reynolds number, L+ at {_stress_name(s)} unchecked: no density"
+                )
+                continue
+            out.append(Constraint(pillar_reynolds(s), upper=PILLAR_REYNOLDS_LIMIT, validity=True))
+            if model.profile == "sublayer":
+                out.append(Constraint(l_plus(s), upper=SUBLAYER_L_PLUS_LIMIT, validity=True))
+    return out, notes
