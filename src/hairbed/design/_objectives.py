@@ -23,6 +23,7 @@ Constraints are written with comparisons: ``resistance_ratio(500.0, 0.01) <= 4.0
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from collections.abc import Callable
@@ -215,8 +216,11 @@ def _ln(name: str, value: float) -> Grad:
     return {name: 1.0 / value}
 
 
+@functools.lru_cache(maxsize=64)
 def _valve_gaps(bed: HairBed, dp: float, length: float, hold: str) -> list[tuple[float, Grad]]:
-    """[(gap g [m], dg/dparameter)] of the valve's states at +dp and -dp (theory.md §11)."""
+    """[(gap g [m], dg/dparameter)] of the valve's states at +dp and -dp (theory.md §11);
+    cached per (bed, dp, l, hold): the quantities of one design share the states. The
+    caller must not change the dicts."""
     curve = valve_curve(bed, np.array([dp, -dp]), length)
     if not curve.success:
         raise ArithmeticError(f"the valve's states at +-{dp:g} Pa: {curve.message}")
@@ -421,6 +425,7 @@ def _pillar_groups(p: Pillar) -> tuple[float, Grad, float, Grad]:
     return p.forcing_per_stress, d_ln_k, gamma, d_gamma
 
 
+@functools.lru_cache(maxsize=64)
 def _pillar_rows(p: Pillar, tau: float) -> tuple[float, float, Any]:
     """(x1, h1, out) of the pillar's state at tau_w [Pa]; out[o, i] = d output/d input in
     the kernel's order (outputs tip_height, tip_deflection, ...; inputs forcing, theta0,
@@ -538,6 +543,7 @@ def linear_range(rtol: float = 0.1) -> Quantity:
     if not tol < 1.0:
         raise ValueError(f"rtol must lie in (0, 1), got {tol!r}")
 
+    @functools.lru_cache(maxsize=16)
     def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
         rng = p.linear_range(tol)
         if not rng.success:

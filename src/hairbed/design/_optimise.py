@@ -5,7 +5,7 @@ The problem is solved in the unit box of the variables (:class:`~hairbed.design.
     minimise  s_f f(u)   subject to   (b_j - q_j(u))/s_j >= 0  ("<=")  or
                                       (q_j(u) - b_j)/s_j >= 0  (">="),   0 <= u <= 1,
 
-with s_f = abs(f) at the first start and s_j = max(abs(b_j), 1e-300) (a maximisation
+with s_f the largest abs(f) over the starts and s_j = max(abs(b_j), 1e-300) (a maximisation
 minimises -f). Every start is a local SLSQP run (scipy.optimize.minimize) with the exact
 gradient of every quantity (``Quantity.exact``); the best start that meets every
 constraint, the model's validity included (to 1e-7 relative), is the design. SLSQP's
@@ -110,6 +110,19 @@ def _starts(space: Space, count: int, seed: int, x0: dict[str, float] | None) ->
     return out
 
 
+def _objective_scale(problem: _Problem, points: list[FloatArray]) -> float:
+    """The largest abs(f) over the starts (1 where all vanish or none evaluates): a start on
+    a plateau f = 0 (no bistable window) must not set the scale."""
+    found = []
+    for u in points:
+        try:
+            found.append(abs(float(problem.at(u)[0][0])))
+        except (ArithmeticError, ValueError):
+            continue
+    big = max(found, default=0.0)
+    return big if big > 0.0 and math.isfinite(big) else 1.0
+
+
 def _check(objective: Any, constraints: Any, sense: str, starts: Any, kind: str) -> None:
     if not isinstance(objective, Quantity):
         raise TypeError(
@@ -197,10 +210,7 @@ def optimise(
     sign_f = 1.0 if sense == "min" else -1.0
     sgn, scl = _signs(constraints), _scales(constraints)
     points = _starts(space, starts, seed, x0)
-    try:
-        fs = max(abs(float(problem.at(points[0])[0][0])), 1e-300)
-    except (ArithmeticError, ValueError):
-        fs = 1.0
+    fs = _objective_scale(problem, points)
     runs: list[tuple[FloatArray, Any, str]] = []
     for u0 in points:
         try:

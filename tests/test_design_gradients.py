@@ -1,0 +1,152 @@
+"""hairbed.design: every quantity's gradient against central differences (issue 32).
+
+The gradient the optimiser uses (d quantity/du in the unit box of the variables, from the
+library's exact derivatives and the chain rule through the SI scalings) is compared with a
+fourth-order central difference of the quantity's *value* at 20 random designs: an
+independent path (the value alone, solved anew at each shifted design).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from hairbed import HairBed, Pillar
+from hairbed import design as D
+from hairbed.design._optimise import _Problem
+
+RTOL = 1e-7
+DESIGNS = 20
+
+
+def _bed() -> HairBed:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return HairBed(length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=2e-3,
+                       viscosity=1.0, spacing=250e-6, base_angle=0.5, density=1200.0)  # fmt: skip
+
+
+def _pillar() -> Pillar:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return Pillar(length=500e-6, radius=25e-6, youngs_modulus=1e6, viscosity=1e-3,
+                      density=1000.0, base_angle=0.2)  # fmt: skip
+
+
+BED_SPACE = [
+    D.Variable("length", 0.6e-3, 1.4e-3, log=True),
+    D.Variable("radius", 30e-6, 60e-6),
+    D.Variable("youngs_modulus", 0.5e6, 2e6, log=True),
+    D.Variable("channel_height", 1.6e-3, 3e-3),
+    D.Variable("viscosity", 0.5, 2.0),
+    D.Variable("spacing", 200e-6, 400e-6),
+    D.Variable("base_angle", 0.1, 1.2),
+    D.Variable("density", 800.0, 1500.0),
+]
+PHI_SPACE = [*BED_SPACE[:5], D.Variable("packing_fraction", 0.05, 0.2), *BED_SPACE[6:]]
+WINDOW_SPACE = [
+    D.Variable("length", 1.9e-3, 1.98e-3),
+    D.Variable("radius", 30e-6, 60e-6, log=True),
+    D.Variable("youngs_modulus", 0.5e6, 2e6),
+    D.Variable("channel_height", 2.0e-3, 2.02e-3),
+    D.Variable("spacing", 200e-6, 400e-6),
+    D.Variable("base_angle", -1.4, -0.9),
+]
+PILLAR_SPACE = [
+    D.Variable("length", 300e-6, 800e-6),
+    D.Variable("radius", 15e-6, 30e-6, log=True),
+    D.Variable("youngs_modulus", 0.5e6, 2e6, log=True),
+    D.Variable("viscosity", 0.5e-3, 2e-3),
+    D.Variable("base_angle", -0.5, 0.5),
+    D.Variable("density", 800.0, 1200.0),
+    D.Variable("drag_scale", 0.8, 1.2),
+]
+
+CASES = [
+    ("bed", BED_SPACE, D.diodicity(1000.0, 0.01)),
+    ("bed", PHI_SPACE, D.diodicity(1000.0, 0.01)),
+    ("bed", BED_SPACE, D.resistance_ratio(1000.0, 0.01)),
+    ("bed", BED_SPACE, D.resistance_ratio(-800.0, 0.01)),
+    ("bed", BED_SPACE, D.gap_reynolds(1000.0, 0.01)),
+    ("bed", PHI_SPACE, D.gap_reynolds(-1000.0, 0.01)),
+    ("bed", BED_SPACE, D.brinkman_ratio()),
+    ("bed", PHI_SPACE, D.brinkman_ratio()),
+    ("window", WINDOW_SPACE, D.bistable_width()),
+    ("pillar", PILLAR_SPACE, D.tip_deflection(1.0)),
+    ("pillar", PILLAR_SPACE, D.linear_range(0.05)),
+    ("pillar", PILLAR_SPACE, D.tip_deflection(D.linear_range(0.05))),
+    ("pillar", PILLAR_SPACE, D.l_plus(2.0)),
+    ("pillar", PILLAR_SPACE, D.l_plus(D.linear_range(0.1))),
+    ("pillar", PILLAR_SPACE, D.pillar_reynolds(1.0)),
+    ("pillar", PILLAR_SPACE, D.pillar_reynolds(D.linear_range(0.05))),
+    ("pillar", PILLAR_SPACE, D.slenderness()),
+]
+
+
+def _base(kind: str):
+    if kind == "pillar":
+        return _pillar()
+    if kind == "window":
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return HairBed(length=1.95e-3, radius=50e-6, youngs_modulus=1e6,
+                           channel_height=2.01e-3, viscosity=1.0, spacing=250e-6,
+                           base_angle=-1.0)  # fmt: skip
+    return _bed()
+
+
+def _central(problem: _Problem, u: np.ndarray, h: float = 1e-3) -> np.ndarray:
+    """Fourth-order central differences of the objective's value in each u_i."""
+
+    def f(x: np.ndarray) -> float:
+        values = problem.space.values(x)
+        return problem.objective.evaluate(problem.space.model(values), problem.space.hold)[0]
+
+    g = np.empty(u.size)
+    for i in range(u.size):
+        e = np.zeros(u.size)
+        e[i] = h
+        g[i] = (8.0 * (f(u + e) - f(u - e)) - (f(u + 2 * e) - f(u - 2 * e))) / (12.0 * h)
+    return g
+
+
+def _worst(kind, space, q, designs=DESIGNS, seed=0):
+    problem = _Problem(D.Space(_base(kind), space), q, [])
+    rng = np.random.default_rng(seed)
+    worst = 0.0
+    for _ in range(designs):
+        u = rng.uniform(0.02, 0.98, len(space))  # the stencil stays in the box
+        exact = problem.at(u)[1][0]
+        ref = _central(problem, u)
+        worst = max(worst, float(np.max(np.abs(exact - ref)) / np.max(np.abs(ref))))
+    return worst
+
+
+@pytest.mark.parametrize(("kind", "space", "q"), CASES, ids=[c[2].name for c in CASES])
+def test_gradient_matches_central_differences(kind, space, q):
+    assert q.exact
+    assert _worst(kind, space, q) <= RTOL
+
+
+def test_the_sensitivity_says_its_gradient_is_not_exact():
+    q = D.sensitivity(1.0)
+    assert not q.exact
+    # a central difference of the exact first derivative: close, but not to rounding
+    assert _worst("pillar", PILLAR_SPACE, q, designs=3) <= 1e-5
+
+
+def test_a_custom_quantity_without_gradient_is_marked_inexact():
+    q = D.custom(lambda bed: bed.length / bed.radius, "aspect")
+    assert not q.exact
+    with_grad = D.custom(
+        lambda bed: bed.length / bed.radius,
+        "aspect",
+        gradient=lambda bed: {"length": 1 / bed.radius, "radius": -bed.length / bed.radius**2},
+    )
+    assert with_grad.exact
+    for quantity in (q, with_grad):
+        problem = _Problem(D.Space(_bed(), BED_SPACE[:2]), quantity, [])
+        u = np.array([0.3, 0.6])
+        np.testing.assert_allclose(problem.at(u)[1][0], _central(problem, u), rtol=1e-6)
