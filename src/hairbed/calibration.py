@@ -27,6 +27,15 @@ The weak-forcing limit is a cantilever under a point load at the tip, x1 - sin(t
 omega_eps^2 cos^2(theta0)/3 (F L^3/(3 E I) in metres); :func:`linear_range` says up to which
 deflection that line is within a tolerance of the exact calibration.
 
+A porous bed (``HairBed(..., model="porous")``, theory.md §13) takes the same path: its
+states come from the bed (``HairBed._tip_state``, the porous solver), their exact derivatives
+from :func:`hairbed.sensitivity.derivatives_at` (the implicit differentiation of the porous
+collocation, in omega^2, eps, theta0, kappa, gamma and the pump's load), and the Jacobian
+gains the terms of the bed's permeability kappa and drag ratio gamma, which move with L, a
+and phi through its drag law (exact derivatives of the drag logarithms). Its stress data are
+the stress on the tip plane: with Pi = 0 that fixes the state as at eps = 0, as for the dense
+bed. Its linear calibration is the exact slope at rest.
+
 The same :func:`fit`, :func:`measure`, :func:`model_tip_deflection` and :func:`linear_range`
 take an isolated pillar, a :class:`~hairbed.Pillar` (theory.md §12): its deflection
 L x1(Lambda) at known wall shear stresses (or the wall speeds of a Couette channel), with
@@ -57,11 +66,11 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import least_squares
 
+from ._bed_drag import MAX_PACKING_FRACTION
 from ._bracketing import find_root
 from ._channel_drives import gap_flow
-from ._core.loaded import _solve_loaded_trusted
 from ._core.outputs import float_or_array
-from ._core.solver import _from_parameter, _solve_checked
+from ._core.solver import _from_parameter
 from ._core.validation import (
     as_float_array,
     check_number,
@@ -86,7 +95,6 @@ from .units import (
     _reynolds_of_stress,
     _warn_reynolds,
     _warn_sparse,
-    require_dense,
 )
 
 __all__ = [
@@ -225,11 +233,9 @@ def _curve_state(bed: HairBed, kind: str, x: FloatArray) -> Any:
         raise ValueError(f"the forcing of {kind} {float(np.max(np.abs(x)))!r} overflows")
     if kind in _PUMPS:
         zero = np.zeros(forcing.shape)
-        return _solve_loaded_trusted(
-            _PUMPS[kind][1], zero, bed.eps, bed.base_angle, forcing, "low"
-        )
+        return bed._tip_state(zero, bed.eps, bed.base_angle, _PUMPS[kind][1], forcing)
     eps = bed.eps if kind == "velocity" else 0.0
-    return _solve_checked(forcing, eps, direction * bed.base_angle)
+    return bed._tip_state(forcing, eps, direction * bed.base_angle)
 
 
 def _warn_validity(
@@ -275,6 +281,13 @@ def _model_at(
     )
     deflection = direction * length * x1
     slopes = _log_slopes(geometry, kind)
+    # a porous bed's kappa and gamma move with its geometry (empty for the dense bed)
+    drag = bed._drag_slopes(geometry)
+    if drag:
+        dx1_k, dx1_g = (
+            np.asarray(dx1[name], dtype=np.float64).reshape(-1) for name in ("kappa", "gamma")
+        )
+        kappa = bed.kappa
     eps = bed.eps
     jac = np.empty((x.size, len(free)))
     for j, name in enumerate(free):
@@ -284,6 +297,9 @@ def _model_at(
         value = float(getattr(bed, name))
         lw, le = slopes[name]
         dlog = dx1_w * forcing * lw + (dx1_e * eps * le if kind != "wall_shear_stress" else 0.0)
+        if name in drag:
+            lk, lg = drag[name]
+            dlog = dlog + dx1_k * kappa * lk + dx1_g * lg
         d_lnp = direction * (length * dlog + (x1 * length if name == "length" else 0.0))
         jac[:, j] = d_lnp / value
     # dD/dx: dD/d forcing times d forcing/d|x| times d|x|/dx (= direction): direction^2 = 1
@@ -309,7 +325,6 @@ def model_tip_deflection(
     pump-driven state is not found the deflection is NaN.
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
-    require_dense(bed, "calibration.model_tip_deflection")
     if isinstance(bed, Pillar):
         _no_pump(pressure_gradient, flow_rate)
         return bed.deform(_pillar_known(bed, velocity, wall_shear_stress)[1]).tip_deflection
@@ -755,7 +770,8 @@ def _bounds(bed: HairBed, free: tuple[str, ...], geometry: str) -> tuple[FloatAr
         elif name == "spacing" and "radius" not in free:
             lo[j] = math.log(2.0 * bed.radius) + margin
         elif name == "packing_fraction":
-            hi[j] = math.log(CLOSE_PACKING_FRACTION) - margin
+            top = CLOSE_PACKING_FRACTION if bed.model == "dense" else MAX_PACKING_FRACTION
+            hi[j] = math.log(top) - margin
     return lo, hi
 
 
@@ -830,7 +846,6 @@ def fit(
     (1.3, True)
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
-    require_dense(bed, "calibration.fit")
     pillar = isinstance(bed, Pillar)
     if isinstance(bed, Pillar):
         _no_pump(pressure_gradient, flow_rate)
@@ -1077,7 +1092,7 @@ def _invert_pumped(bed: HairBed, kind: str, d: FloatArray) -> tuple[FloatArray, 
     target = d / bed.length
     zero = np.zeros(d.size)
     eps, angle = bed.eps, bed.base_angle
-    rest = _solve_loaded_trusted(drive, zero, eps, angle, zero, "low")
+    rest = bed._tip_state(zero, eps, angle, drive, zero)
     slope = np.asarray(derivatives_at(rest)["tip_deflection"][name], dtype=np.float64)
     x1 = np.asarray(rest.tip_deflection, dtype=np.float64).reshape(-1)
     load = (target - x1) / slope.reshape(-1)
@@ -1085,7 +1100,7 @@ def _invert_pumped(bed: HairBed, kind: str, d: FloatArray) -> tuple[FloatArray, 
     st = rest
     converged = False
     for _ in range(_MEASURE_STEPS):
-        st = _solve_loaded_trusted(drive, zero, eps, angle, load, "low")
+        st = bed._tip_state(zero, eps, angle, drive, load)
         x1 = np.asarray(st.tip_deflection, dtype=np.float64).reshape(-1)
         lost = ~np.isfinite(x1)
         if np.any(lost):  # no state there: back halfway to the last load that had one
@@ -1102,6 +1117,39 @@ def _invert_pumped(bed: HairBed, kind: str, d: FloatArray) -> tuple[FloatArray, 
         load = load + np.clip(step, -limit, limit)
     scale = _forcing(bed, kind, np.ones(1))[2]
     return load / scale, st, converged
+
+
+def _porous_pump_slopes(
+    bed: HairBed, kind: str, state: Any, der: Any
+) -> tuple[FloatArray, FloatArray]:
+    """(d tau/dx, d other/dx) of a porous bed's pump-driven states at the known drive x
+    (G [Pa/m] or Q' [m^2/s]), exact: tau = Q(1) E I/(A L^2), G = pi E I/(A L^3), from the
+    derivatives ``der`` of the states. The flux of a set G is no output of the pressure
+    drive's derivatives: dQ'/dG is 1/(dG/dQ') of the same state solved as the flow drive at
+    its flux (NaN where that solve finds another state)."""
+    name = "pi" if kind == "pressure_gradient" else "q"
+    scale = _forcing(bed, kind, np.ones(1))[2]
+    stress = bed.bending_stiffness / (bed.wall_area_per_hair * bed.length**2)
+    to_g = stress / bed.length  # G per unit pi
+    d_tau = np.asarray(der["tip_stress"][name], dtype=np.float64).reshape(-1) * scale * stress
+    if kind == "flow_rate":
+        d_pi = np.asarray(der["pi"]["q"], dtype=np.float64).reshape(-1)
+        return d_tau, d_pi * scale * to_g
+    q_scale = _forcing(bed, "flow_rate", np.ones(1))[2]
+    flux = np.asarray(state.flow_rate, dtype=np.float64).reshape(-1)
+    zero = np.zeros(flux.size)
+    twin = bed._tip_state(zero, bed.eps, bed.base_angle, "flow", flux * q_scale)
+    same = (
+        np.abs(
+            np.asarray(twin.tip_height).reshape(-1)
+            - np.asarray(state.tip_height, dtype=np.float64).reshape(-1) / bed.length
+        )
+        <= 1e-8
+    )
+    d_pi = np.asarray(derivatives_at(twin)["pi"]["q"], dtype=np.float64).reshape(-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d_flux = np.where(same, 1.0 / (d_pi * q_scale * to_g), np.nan)
+    return d_tau, d_flux
 
 
 def _measure_pumped(
@@ -1121,21 +1169,25 @@ def _measure_pumped(
             var = var + np.einsum("ij,jk,ik->i", g, fit.covariance, g)
     err = np.sqrt(var)
     xs = x.reshape(d.shape)  # the state in the deflection's shape (floats for a scalar)
-    state = bed._deform_pumped(None, xs if kind == "pressure_gradient" else None,
-                               xs if kind == "flow_rate" else None, "low")  # fmt: skip
+    state = bed.deform(None, pressure_gradient=xs if kind == "pressure_gradient" else None,
+                       flow_rate=xs if kind == "flow_rate" else None)  # fmt: skip
     # the stress and the other drive follow from x and h1(x): their errors through x (at
     # fixed bed: the bed's own covariance enters through x only)
     name = "pi" if kind == "pressure_gradient" else "q"
     scale = _forcing(bed, kind, np.ones(1))[2]
-    dh = np.asarray(der["tip_height"][name], dtype=np.float64).reshape(-1) * scale * bed.length
-    gap = bed.channel_height - bed.length * np.asarray(sol.tip_height).reshape(-1)
-    eta = bed.viscosity
-    if kind == "pressure_gradient":  # tau = G g/2, Q' = G g^3/(12 eta), dg/dG = -dh
-        d_tau = gap / 2.0 - x * dh / 2.0
-        d_other = gap**3 / (12.0 * eta) - x * gap**2 * dh / (4.0 * eta)
-    else:  # G = 12 eta Q'/g^3, tau = G g/2 = 6 eta Q'/g^2
-        d_tau = 6.0 * eta / gap**2 + 12.0 * eta * x * dh / gap**3
-        d_other = 12.0 * eta / gap**3 + 36.0 * eta * x * dh / gap**4
+    if bed.model == "porous":
+        d_tau, d_other = _porous_pump_slopes(bed, kind, state, der)
+    else:
+        dh = np.asarray(der["tip_height"][name], dtype=np.float64).reshape(-1)
+        dh = dh * scale * bed.length
+        gap = bed.channel_height - bed.length * np.asarray(sol.tip_height).reshape(-1)
+        eta = bed.viscosity
+        if kind == "pressure_gradient":  # tau = G g/2, Q' = G g^3/(12 eta), dg/dG = -dh
+            d_tau = gap / 2.0 - x * dh / 2.0
+            d_other = gap**3 / (12.0 * eta) - x * gap**2 * dh / (4.0 * eta)
+        else:  # G = 12 eta Q'/g^3, tau = G g/2 = 6 eta Q'/g^2
+            d_tau = 6.0 * eta / gap**2 + 12.0 * eta * x * dh / gap**3
+            d_other = 12.0 * eta / gap**3 + 36.0 * eta * x * dh / gap**4
     shape = d.shape
     errs = {
         kind: float_or_array(err.reshape(shape)),
@@ -1206,7 +1258,6 @@ def measure(
     Measurement
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
-    require_dense(bed, "calibration.measure")
     if fit is not None:
         check_type(fit, "fit", CalibrationFit, "a CalibrationFit (from calibration.fit) or None")
         if type(fit.bed) is not type(bed):
@@ -1231,16 +1282,16 @@ def measure(
                 f"drive must be None, 'pressure_gradient' or 'flow_rate', got {show(drive)}"
             )
         return _measure_pumped(bed, drive, d, s, fit)
-    v, direction, omega2, sol = bed._invert(d)  # d checked: no check again on the way down
-    state = bed._state(v, direction, omega2, sol)
-    v = v.reshape(-1)
+    state = bed._state_of_deflection(d)  # d checked: no check again on the way down
+    sol = state.solution
+    v = np.asarray(state.velocity, dtype=np.float64).reshape(-1)
     tau = np.asarray(state.wall_shear_stress, dtype=np.float64).reshape(-1)
     names = fit.parameters if fit is not None else ()
     geometry = fit.geometry if fit is not None else "spacing"
     # the derivatives of the state the deflection fixes (any root of a bistable window), not
     # of a forward solve at its speed; the stress model's state is the same t at eps = 0
     _, jac_v, dd_dv, _ = _model_at(bed, "velocity", v, sol, names, geometry)
-    collapsed = _from_parameter(sol.t, 0.0, sol.theta0)
+    collapsed = bed._collapsed_state(sol)
     _, jac_t, dd_dt, _ = _model_at(bed, "wall_shear_stress", tau, collapsed, names, geometry)
     sig = np.broadcast_to(s, d.shape).reshape(-1)
     ev, et = _stderr(sig, dd_dv, jac_v, fit), _stderr(sig, dd_dt, jac_t, fit)
@@ -1334,9 +1385,46 @@ def _worst(ev: FloatArray, et: FloatArray, quantity: str) -> FloatArray:
     return np.maximum(np.abs(ev), np.abs(et))
 
 
-def _excess(t: FloatArray, eps: Any, theta0: Any, tol: Any, which: Any) -> FloatArray:
-    _, ev, et = _linear_errors(t, float(np.ravel(eps)[0]), float(np.ravel(theta0)[0]))
-    return _worst(ev, et, _QUANTITIES[int(np.ravel(which)[0])]) - tol
+#: A porous bed's linear range is sought along its branch parametrised by u, the tip's
+#: fraction of the way from rest to a flat hair, x1 = sin(theta0) + u (1 - sin(theta0)):
+#: on this grid (the inverse of :func:`hairbed.inverse.porous_state_from_tip_deflection`).
+_POROUS_LINEAR_GRID = np.concatenate(
+    [np.geomspace(1e-6, 0.05, 40), np.linspace(0.05, 0.98, 94)[1:]]
+)
+
+
+def _linear_curve(bed: HairBed) -> tuple[FloatArray, Any]:
+    """(grid, errors) of the bed's branch from rest (flow towards +x): ``errors(p)`` gives
+    (relative error of the linear velocity, ... of the linear stress, omega^2, the stress on
+    the tip plane in load units, x1) at branch parameters p. The dense bed's parameter is
+    its closed form's t; the porous bed's the u of :data:`_POROUS_LINEAR_GRID`, its states
+    the porous inverse's, its linear calibration the exact slopes at rest
+    (:meth:`HairBed.linear_velocity_from_tip_deflection`)."""
+    eps, theta0 = bed.eps, bed.base_angle
+    if bed.model == "dense":
+
+        def dense(t: FloatArray) -> tuple[FloatArray, ...]:
+            sol, ev, et = _linear_errors(t, eps, theta0)
+            oe2 = np.asarray(sol.omega_eps, dtype=np.float64) ** 2
+            x1 = np.asarray(sol.tip_deflection, dtype=np.float64)
+            return ev, et, np.asarray(sol.omega2, dtype=np.float64), oe2, x1
+
+        return np.arange(-30.0, 40.0 + 1e-9, 0.1), dense
+    from .inverse import porous_state_from_tip_deflection
+
+    slope, stress_slope = bed._linear_slopes()
+    rest = math.sin(theta0)
+    kappa, gamma = bed.kappa, bed.drag_ratio
+
+    def porous(u: FloatArray) -> tuple[FloatArray, ...]:
+        x1 = rest + np.asarray(u, dtype=np.float64) * (1.0 - rest)
+        st = porous_state_from_tip_deflection(x1, eps, theta0, kappa=kappa, gamma=gamma)
+        omega2 = np.asarray(st.omega2, dtype=np.float64)
+        stress = np.asarray(st.tip_stress, dtype=np.float64)
+        w_lin = (x1 - rest) / slope
+        return w_lin / omega2 - 1.0, w_lin * stress_slope / stress - 1.0, omega2, stress, x1
+
+    return _POROUS_LINEAR_GRID, porous
 
 
 @renamed_parameters(tolerance="rtol")
@@ -1370,7 +1458,6 @@ def linear_range(
     LinearRange
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
-    require_dense(bed, "calibration.linear_range")
     tol = check_number(rtol, "rtol", low=0.0, high=1.0, low_open=True, high_open=True)
     if not isinstance(quantity, str) or quantity not in _QUANTITIES:
         raise ValueError(
@@ -1392,12 +1479,11 @@ def linear_range(
 
 def _linear_range(bed: HairBed, tol: float, quantity: str) -> LinearRange:
     """:func:`linear_range` of one quantity, its inputs checked."""
-    eps, theta0 = bed.eps, bed.base_angle
-    grid = np.arange(-30.0, 40.0 + 1e-9, 0.1)
-    _, ev, et = _linear_errors(grid, eps, theta0)
+    grid, errors = _linear_curve(bed)
+    ev, et = errors(grid)[:2]
     over = np.flatnonzero(_worst(ev, et, quantity) > tol)
     if over.size == 0:
-        t_star, status = float(grid[-1]), 4
+        p_star, status = float(grid[-1]), 4
         message = "the linear calibration stays within the tolerance over the whole range"
     elif over[0] == 0:
         raise ValueError(
@@ -1405,30 +1491,32 @@ def _linear_range(bed: HairBed, tol: float, quantity: str) -> LinearRange:
         )
     else:
         i = int(over[0])
-        t_star = float(
+
+        def excess(p: FloatArray) -> FloatArray:
+            e_v, e_t = errors(p)[:2]
+            return _worst(e_v, e_t, quantity) - tol
+
+        p_star = float(
             np.ravel(
                 find_root(
-                    _excess,
+                    excess,
                     grid[i - 1],
                     grid[i],
-                    args=(eps, theta0, tol, _QUANTITIES.index(quantity)),
                     xatol=1e-13,
                     what="the end of the linear range",
                 ).x
             )[0]
         )
         status, message = 0, "found"
-    sol, ev1, et1 = _linear_errors(np.array([t_star]), eps, theta0)
-    omega2 = float(np.ravel(sol.omega2)[0])
-    oe2 = float(np.ravel(sol.omega_eps)[0]) ** 2
+    ev1, et1, omega2, stress, x1 = (float(np.ravel(a)[0]) for a in errors(np.array([p_star])))
     velocity = omega2 * bed.velocity_scale
     return LinearRange(
-        tip_deflection=bed.length * float(np.ravel(sol.tip_deflection)[0]),
+        tip_deflection=bed.length * x1,
         velocity=velocity,
-        wall_shear_stress=bed.viscosity * bed.velocity_scale * oe2 / bed.channel_height,
+        wall_shear_stress=bed.viscosity * bed.velocity_scale * stress / bed.channel_height,
         rtol=tol,
-        velocity_error=float(ev1[0]),
-        wall_shear_stress_error=float(et1[0]),
+        velocity_error=ev1,
+        wall_shear_stress_error=et1,
         success=status == 0,
         status=status,
         message=message,

@@ -71,6 +71,8 @@ from ._core.loaded import LADDER, LoadedState, _check, _solve_loaded_checked
 from ._core.loaded_sensitivity import LOADED_OUTPUTS, loaded_gradient_table
 from ._core.pillar import PillarState
 from ._core.pillar_sensitivity import PILLAR_INPUTS, PILLAR_OUTPUTS, pillar_gradient_table
+from ._core.porous import PorousState
+from ._core.porous_sensitivity import porous_derivatives
 from ._core.solution import Solution
 from ._core.solver import _plain_inputs, _solve_checked
 from ._core.validation import (
@@ -144,7 +146,7 @@ class Derivatives(Mapping[str, Mapping[str, Any]]):
         table of every result.
     """
 
-    solution: Solution | LoadedState | PillarState
+    solution: Solution | LoadedState | PillarState | PorousState
     table: Mapping[str, Mapping[str, Any]]
     dt: Mapping[str, Any]
     status: Any
@@ -395,7 +397,7 @@ def _physical_partials(
 
 
 def derivatives_at(
-    sol: Solution | LoadedState | PillarState,
+    sol: Solution | LoadedState | PillarState | PorousState,
     *,
     profile: Any = "sublayer",
     height_ratio: float | None = None,
@@ -406,6 +408,11 @@ def derivatives_at(
 
     See :func:`derivatives`; this takes a state already at hand (any branch or root, any
     shape).
+
+    For a PorousState (:func:`hairbed.solve_porous`, any drive, or the porous inverse's
+    state) the table is that of ``hairbed._core.porous_sensitivity.porous_derivatives``:
+    outputs tip_height, tip_deflection, tip_angle, tip_stress, wall_stress, tip_velocity,
+    drag_x and, for the flow drive, pi; inputs omega2, eps, theta0, kappa, gamma and pi or q.
 
     For a PillarState the outputs are :data:`PILLAR_OUTPUTS` (tip_height, tip_deflection,
     tip_angle, base_curvature, drag_x, drag_z) and the inputs :data:`PILLAR_INPUTS`: forcing
@@ -437,6 +444,10 @@ def derivatives_at(
         table, status = pillar_gradient_table(sol, profile, height_ratio)
         frozen = {o: MappingProxyType(row) for o, row in table.items()}
         return Derivatives(sol, MappingProxyType(frozen), MappingProxyType({}), status)
+    if isinstance(sol, PorousState) and profile == "sublayer" and height_ratio is None:
+        porous = porous_derivatives(sol)
+        frozen = {o: MappingProxyType(row) for o, row in porous.table.items()}
+        return Derivatives(sol, MappingProxyType(frozen), MappingProxyType({}), porous.status)
     if profile != "sublayer" or height_ratio is not None:
         raise ValueError(
             "profile and height_ratio are a PillarState's (hairbed.solve_pillar); got "

@@ -43,7 +43,12 @@ from typing import TYPE_CHECKING, Any, cast
 import numpy as np
 from numpy.typing import NDArray
 
-from ._bed_drag import DRAG_MODELS, MAX_PACKING_FRACTION, drag_coefficients
+from ._bed_drag import (
+    DRAG_MODELS,
+    MAX_PACKING_FRACTION,
+    drag_coefficients,
+    drag_logarithm_slopes,
+)
 from ._channel_drives import drive_inputs, gap_flow, load_scale, porous_flow
 from ._core.loaded import _solve_loaded_trusted
 from ._core.outputs import float_or_array
@@ -138,7 +143,7 @@ def _warn_sparse(bed: HairBed, stacklevel: int = 4) -> None:
     """A :class:`ModelValidityWarning` where the flow penetrates the bed over more than
     :data:`DENSE_BED_LIMIT` of the hair length (the dense-bed condition, theory.md §10)."""
     ratio = bed.brinkman_length / bed.length
-    if ratio > DENSE_BED_LIMIT:
+    if ratio > DENSE_BED_LIMIT and getattr(bed, "model", "dense") == "dense":
         warnings.warn(
             f"the bed is not dense: the flow penetrates it over the Brinkman length sqrt(k) = "
             f"{bed.brinkman_length:.3g} m, {ratio:.3g} of the hair length (limit "
@@ -156,7 +161,8 @@ def _warn_sparse(bed: HairBed, stacklevel: int = 4) -> None:
 POROUS_SUPPORTED = (
     "deform, sweep, wall_shear_stress, rectification_ratio, state_from_tip_deflection, "
     "velocity_from_tip_deflection, wall_shear_stress_from_tip_deflection, "
-    "valve.valve_curve and valve.diodicity"
+    "velocity_from_wall_shear_stress, the linear calibrations, valve.valve_curve, "
+    "valve.diodicity and the calibration (fit, measure, model_tip_deflection, linear_range)"
 )
 
 
@@ -646,6 +652,85 @@ class HairBed:
     def _direction(self, v: NDArray[np.float64]) -> NDArray[np.float64]:
         return np.where(v < 0.0, -1.0, 1.0)
 
+    # -- the model's dimensionless states: one interface for every workflow (issue 29) ----------
+
+    def _tip_state(
+        self, omega2: Any, eps: Any, theta0: Any, drive: str = "pressure", load: Any = None
+    ) -> Any:
+        """The dimensionless state of the bed's own model (the low root where several
+        coexist) at checked inputs: the wall forcing omega2 >= 0 alone (``load`` None) or a
+        pump's load pi (``drive`` "pressure") or q ("flow") with omega2 the wall's signed
+        forcing. A :class:`hairbed.Solution` or :class:`hairbed.LoadedState` of the dense
+        bed, a :class:`hairbed.PorousState` of the porous one: every workflow asks this, and
+        :func:`hairbed.sensitivity.derivatives_at` differentiates each."""
+        if self.model == "dense":
+            if load is None:
+                return _solve_checked(omega2, eps, theta0)
+            return _solve_loaded_trusted(drive, omega2, eps, theta0, load, "low")
+        extra = () if load is None else (np.shape(load),)
+        shape = np.broadcast_shapes(np.shape(omega2), np.shape(eps), np.shape(theta0), *extra)
+        arrays = tuple(
+            np.array(np.broadcast_to(np.asarray(x, dtype=np.float64), shape))
+            for x in (omega2, eps, theta0, self.kappa, self.drag_ratio, 0.0 if load is None
+                      else load)
+        )  # fmt: skip
+        return _solve_porous_checked(drive, 0 if drive == "pressure" else 1, arrays, "low")
+
+    def _collapsed_state(self, sol: Any) -> Any:
+        """The state of the wall-driven ``sol`` (in its own frame) at eps = 0 with the same
+        hair: the state a known stress on the tip plane gives (the dense bed's collapsed
+        branch at the same t; the porous bed's at omega2 = its tip stress, since with no
+        gap the gap's condition reads Q(1) = omega2 and the bed's equations hold no eps)."""
+        if self.model == "dense":
+            return _from_parameter(sol.t, 0.0, sol.theta0)
+        return self._tip_state(np.asarray(sol.tip_stress, dtype=np.float64), 0.0, sol.theta0)
+
+    def _drag_slopes(self, geometry: str) -> dict[str, tuple[float, float]]:
+        """(d ln kappa/d ln P, d gamma/d ln P) of the porous bed's permeability kappa and
+        drag ratio gamma in each parameter P (empty for the dense bed, whose model holds
+        neither): exact, through the drag logarithms of
+        :func:`hairbed._bed_drag.drag_logarithm_slopes`. kappa = A Lambda_perp/(4 pi L^2),
+        gamma = Lambda_perp/(2 Lambda_par), A = pi a^2/phi; ``geometry`` is the one of
+        spacing and packing fraction held fixed when the radius changes."""
+        if self.model == "dense":
+            return {}
+        phi = cast(float, self.packing_fraction)
+        logs = drag_logarithm_slopes(
+            self.drag, self.length, self.radius, self.wall_area_per_hair, self.permeability,
+            phi,
+        )  # fmt: skip
+        lp, lq = logs["value"]
+        radius_phi = 2.0 if geometry == "spacing" else 0.0
+        # (d ln(2L/a), d ln phi, d ln A, d ln L) per unit d ln P
+        moves = {
+            "length": (1.0, 0.0, 0.0, 1.0),
+            "radius": (-1.0, radius_phi, 2.0 - radius_phi, 0.0),
+            "spacing": (0.0, -2.0, 2.0, 0.0),
+            "packing_fraction": (0.0, 1.0, -1.0, 0.0),
+        }
+        gamma = lp / (2.0 * lq)
+        out = {}
+        for name, (dlg, dphi, darea, dlen) in moves.items():
+            dp = logs["log_slenderness"][0] * dlg + logs["log_phi"][0] * dphi
+            dq = logs["log_slenderness"][1] * dlg + logs["log_phi"][1] * dphi
+            out[name] = (darea + dp / lp - 2.0 * dlen, gamma * (dp / lp - dq / lq))
+        return out
+
+    def _linear_slopes(self) -> tuple[float, float]:
+        """(dx1/d omega2, dQ1/d omega2) at rest, wall drive: the linear calibration's slope
+        of the tip deflection and of the stress on the tip plane (load units). The dense
+        bed's closed form cos^2(theta0)/(3 (1 - eps cos theta0)) and 1/(1 - eps cos theta0);
+        the porous bed's the exact derivatives of its state at rest."""
+        from .inverse import _slope
+
+        if self.model == "dense":
+            gap0 = 1.0 - self.eps * math.cos(self.base_angle)
+            return float(_slope(self.eps, self.base_angle)), 1.0 / gap0
+        from ._core.porous_sensitivity import porous_derivatives
+
+        table = porous_derivatives(self._tip_state(0.0, self.eps, self.base_angle)).table
+        return float(table["tip_deflection"]["omega2"]), float(table["tip_stress"]["omega2"])
+
     def deform(
         self,
         velocity: Any = None,
@@ -953,9 +1038,14 @@ class HairBed:
         The tip deflection determines the state uniquely (theory.md §5), even where several
         states share one velocity.
         """
+        return self._state_of_deflection(self._deflection(deflection))
+
+    def _state_of_deflection(self, d: NDArray[np.float64]) -> HairState:
+        """:meth:`state_from_tip_deflection` of a checked deflection d [m] in (-L, L), of
+        either model (the wall drive)."""
         if self.model == "porous":
-            return self._porous_from_tip_deflection(self._deflection(deflection))
-        return self._state(*self._solve_tip_deflection(deflection))
+            return self._porous_from_tip_deflection(d)
+        return self._state(*self._invert(d))
 
     def _porous_from_tip_deflection(self, d: NDArray[np.float64]) -> HairState:
         """:meth:`state_from_tip_deflection` of a porous bed, d [m] checked: the porous
@@ -1021,8 +1111,13 @@ class HairBed:
         collapsed problem (eps = 0) at omega_eps^2, one state for every stress, whose
         forcing at the bed's eps is omega^2 = omega_eps^2 (1 - eps h1), eq. (34); then
         v = omega^2 times :attr:`velocity_scale`. A negative stress is flow towards -x.
+
+        A porous bed's stress is the one on the tip plane (its :class:`HairState`'s), the
+        same as on the top wall of the wall-driven channel: at eps = 0 it fixes the state,
+        the tip load Q(1) = tau A L^2/(E I) of the bed at eps = 0 (whose equations hold no
+        eps), and the gap's condition gives omega^2 = eps w(1) + (1 - eps h1) Q(1)
+        (theory.md §13).
         """
-        require_dense(self, "HairBed.velocity_from_wall_shear_stress")
         tau = as_float_array(wall_shear_stress, "wall_shear_stress", unit="Pa")
         scale = self.wall_area_per_hair * self.length**2 / self.bending_stiffness
         with np.errstate(over="ignore"):
@@ -1036,9 +1131,14 @@ class HairBed:
             )
         direction = self._direction(tau)
         theta0 = direction * self.base_angle
-        collapsed = _solve_checked(forcing, 0.0, theta0)
-        state = _from_parameter(np.asarray(collapsed.t, dtype=np.float64), self.eps, theta0)
-        omega2 = np.asarray(state.omega2, dtype=np.float64)
+        collapsed = self._tip_state(forcing, 0.0, theta0)
+        if self.model == "dense":
+            state = _from_parameter(np.asarray(collapsed.t, dtype=np.float64), self.eps, theta0)
+            omega2 = np.asarray(state.omega2, dtype=np.float64)
+        else:  # the gap's condition at the bed's eps: omega2 = eps w(1) + (1 - eps h1) Q(1)
+            h1 = np.asarray(collapsed.tip_height, dtype=np.float64)
+            w1 = np.asarray(collapsed.tip_velocity, dtype=np.float64)
+            omega2 = self.eps * w1 + (1.0 - self.eps * h1) * forcing
         return float_or_array(direction * omega2 * self.velocity_scale)
 
     def wall_shear_stress_from_tip_deflection(self, deflection: Any) -> FloatOrArray:
@@ -1052,13 +1152,12 @@ class HairBed:
         (x1 L = F L^3/(3 E I) for an upright hair), and
         x1 = sin(theta0) + omega^2 cos^2(theta0) / (3 (1 - eps cos theta0)) (see
         :func:`hairbed.inverse.tip_deflection_slope`); the same line holds for v < 0. Compare
-        with :meth:`velocity_from_tip_deflection` to see where it fails.
+        with :meth:`velocity_from_tip_deflection` to see where it fails. A porous bed's
+        slope dx1/d omega^2 is the exact derivative of its state at rest (theory.md §13):
+        the linear response of the Brinkman bed.
         """
-        from .inverse import _slope
-
-        require_dense(self, "HairBed.linear_velocity_from_tip_deflection")
         d = self._deflection(deflection)
-        slope = _slope(self.eps, self.base_angle)
+        slope = self._linear_slopes()[0]
         x1 = d / self.length - math.sin(self.base_angle)
         return float_or_array(x1 / slope * self.velocity_scale)
 
@@ -1066,10 +1165,15 @@ class HairBed:
         """The linear calibration of the wall shear stress [Pa]: eta v_lin / (H - L cos theta0).
 
         v_lin is :meth:`linear_velocity_from_tip_deflection`; the gap is that of the hair at rest.
+        A porous bed's: the stress on its tip plane at rest, v_lin/v_s dQ1/d omega^2 E I/(A L^2)
+        (v_s the :attr:`velocity_scale`, dQ1/d omega^2 the exact derivative at rest).
         """
         v = np.asarray(self.linear_velocity_from_tip_deflection(deflection))
-        gap = self.channel_height - self.length * math.cos(self.base_angle)
-        return float_or_array(self.viscosity * v / gap)
+        if self.model == "dense":
+            gap = self.channel_height - self.length * math.cos(self.base_angle)
+            return float_or_array(self.viscosity * v / gap)
+        stress = self.bending_stiffness / (self.wall_area_per_hair * self.length**2)
+        return float_or_array(v / self.velocity_scale * self._linear_slopes()[1] * stress)
 
     def fit_profile(self, x: Any, z: Any, **kwargs: Any) -> BedProfileFit:
         """Fit the flow to measured points (x, z) [m] along one hair, base at the origin.
