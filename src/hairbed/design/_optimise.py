@@ -106,7 +106,7 @@ def _starts(space: Space, count: int, seed: int, x0: dict[str, float] | None) ->
     out = [first]
     if count > 1:
         sob = qmc.Sobol(space.size, scramble=True, seed=seed)
-        out.extend(sob.random(count - 1))
+        out.extend(sob.random_base2(max(0, math.ceil(math.log2(count - 1))))[: count - 1])
     return out
 
 
@@ -212,27 +212,43 @@ def optimise(
     points = _starts(space, starts, seed, x0)
     fs = _objective_scale(problem, points)
     runs: list[tuple[FloatArray, Any, str]] = []
+    bounds = np.array([c.bound for c in constraints])
+    scipy_constraints = (
+        [
+            {
+                "type": "ineq",
+                "fun": lambda u: sgn * (problem.at(u)[0][1:] - bounds) / scl,
+                "jac": lambda u: (sgn / scl)[:, None] * problem.at(u)[1][1:],
+            }
+        ]
+        if constraints
+        else []
+    )
+
+    def local(u0: FloatArray) -> Any:
+        return minimize(
+            lambda u: sign_f * problem.at(u)[0][0] / fs,
+            u0,
+            jac=lambda u: sign_f * problem.at(u)[1][0] / fs,
+            method="SLSQP",
+            bounds=[(0.0, 1.0)] * space.size,
+            constraints=scipy_constraints,
+            options={"maxiter": maxiter, "ftol": 1e-14},
+        )
+
     for u0 in points:
         try:
-            res = minimize(
-                lambda u: sign_f * problem.at(u)[0][0] / fs,
-                u0,
-                jac=lambda u: sign_f * problem.at(u)[1][0] / fs,
-                method="SLSQP",
-                bounds=[(0.0, 1.0)] * space.size,
-                constraints=[
-                    {
-                        "type": "ineq",
-                        "fun": lambda u: (
-                            sgn * (problem.at(u)[0][1:] - [c.bound for c in constraints]) / scl
-                        ),
-                        "jac": lambda u: (sgn / scl)[:, None] * problem.at(u)[1][1:],
-                    }
-                ]
-                if constraints
-                else [],
-                options={"maxiter": maxiter, "ftol": 1e-14},
-            )
+            res = local(u0)
+            # SLSQP's line search can stall at an optimum held to rounding (status 8):
+            # restarted there, a run that does not move confirms it
+            for _ in range(2):
+                if res.status != 8:
+                    break
+                again = local(np.clip(res.x, 0.0, 1.0))
+                if again.status in (0, 8) and np.max(np.abs(again.x - res.x)) <= 1e-10:
+                    again.success, again.status = True, 0
+                    again.message = "converged (SLSQP's line search stalled at the optimum)"
+                res = again
             u = np.clip(np.asarray(res.x, dtype=np.float64), 0.0, 1.0)
             runs.append((u, res, ""))
         except (ArithmeticError, ValueError) as exc:
