@@ -1234,3 +1234,59 @@ class Pillar:
         tau, _ = self._invert(d, strict=False)
         lin = (u * (1.0 - rest)) / (self.linear_coefficient * self.forcing_per_stress)
         return np.asarray(lin / tau - 1.0, dtype=np.float64)
+
+    # -- in time (hairbed.sensor_dynamics, theory.md §14) ------------------------------------
+
+    def frequency_response(
+        self,
+        frequency: Any,
+        *,
+        wall_shear_stress: float = 0.0,
+        pillar_density: float | None = None,
+        drag: str = "sader",
+        magnitude_tolerance: float = 0.05,
+        phase_tolerance: float = math.radians(5.0),
+    ) -> Any:
+        """The tip deflection per wall shear stress H(f) [m/Pa] against frequency f [Hz],
+        linearised about the static state at the mean ``wall_shear_stress`` [Pa], with the
+        resonance, its quality factor and the bandwidth:
+        :func:`hairbed.sensor_dynamics.frequency_response` (a
+        :class:`hairbed.sensor_dynamics.SensorResponse`)."""
+        from .sensor_dynamics import frequency_response
+
+        return frequency_response(
+            self,
+            frequency,
+            wall_shear_stress=wall_shear_stress,
+            pillar_density=pillar_density,
+            drag=drag,
+            magnitude_tolerance=magnitude_tolerance,
+            phase_tolerance=phase_tolerance,
+        )
+
+    def wall_shear_stress_from_tip_deflection_series(
+        self,
+        tip_deflection: Any,
+        sample_rate: float | None = None,
+        *,
+        times: Any = None,
+        noise_sigma: float | None = None,
+        pillar_density: float | None = None,
+        drag: str = "sader",
+    ) -> Any:
+        """The wall-shear-stress series [Pa] with its 1-sigma band of a tip-deflection series
+        [m] sampled at ``sample_rate`` [Hz] (or at uniform ``times`` [s]): the exact static
+        inverse about the mean and a Wiener deconvolution of the dynamics,
+        :func:`hairbed.sensor_dynamics.wall_shear_stress_from_tip_deflection_series` (a
+        :class:`hairbed.sensor_dynamics.StressSeries`)."""
+        from .sensor_dynamics import wall_shear_stress_from_tip_deflection_series as series
+
+        return series(
+            self,
+            tip_deflection,
+            sample_rate,
+            times=times,
+            noise_sigma=noise_sigma,
+            pillar_density=pillar_density,
+            drag=drag,
+        )

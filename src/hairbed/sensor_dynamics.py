@@ -1,0 +1,874 @@
+"""A micropillar wall-shear-stress sensor in time, in SI (issue 31, theory.md §14).
+
+The dimensionless linear dynamics of :mod:`hairbed.dynamics` (:func:`linearise_pillar` about
+the large-deflection static state at the mean stress) mapped onto a :class:`hairbed.Pillar`:
+
+    T     = zeta_perp L^4/(E I)                  the elastoviscous time [s]
+    omega = 2 pi f T                             the dimensionless angular frequency [-]
+    mu    = m E I/(zeta_perp^2 L^4) = m/(zeta_perp T)   the inertia number [-]
+    H(f)  = L (Lambda/tau_w) H_Lambda(omega)     tip deflection per wall shear stress [m/Pa]
+
+with m = (rho_s + rho_f) pi a^2 and chi = rho_s/(rho_s + rho_f) for the quasi-steady drag
+(the fluid's added mass on normal motion, theory.md §14 D3), or m = rho_s pi a^2 and Sader's
+oscillating-cylinder drag (which carries the added mass) for ``drag="sader"``.
+
+- :func:`frequency_response`: the Bode data, the static gain, the resonance, its quality
+  factor and the usable bandwidth (:class:`SensorResponse`).
+- :func:`wall_shear_stress_from_tip_deflection_series`: a measured tip-deflection series back
+  to the wall-shear-stress series with its 1-sigma band: the exact static inverse about the
+  mean and a Wiener deconvolution of the dynamics (:class:`StressSeries`).
+
+:meth:`hairbed.Pillar.frequency_response` and
+:meth:`hairbed.Pillar.wall_shear_stress_from_tip_deflection_series` call these.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+import scipy.ndimage
+import scipy.optimize
+from numpy.typing import NDArray
+
+from ._core.validation import (
+    as_float_array,
+    check_choice,
+    check_int,
+    check_number,
+    check_positive,
+)
+from ._warnings import ModelValidityWarning
+from .dynamics import linearise_pillar
+
+if TYPE_CHECKING:  # the Pillar's module calls this one (its methods): no import cycle
+    from .pillars import Pillar
+
+__all__ = [
+    "DRAG_MODELS",
+    "MIN_SERIES_SAMPLES",
+    "SENSOR_STATUS",
+    "SensorResponse",
+    "StressSeries",
+    "frequency_response",
+    "wall_shear_stress_from_tip_deflection_series",
+]
+
+FloatArray = NDArray[np.float64]
+ComplexArray = NDArray[np.complex128]
+
+#: The drag models of the sensor's dynamics (theory.md §14): Sader's oscillating cylinder
+#: above the crossover (the default), or the quasi-steady resistive force with added mass.
+DRAG_MODELS = ("sader", "quasi-steady")
+#: Status codes of a :class:`SensorResponse` and a :class:`StressSeries` (0 ok, positive a
+#: caveat).
+SENSOR_STATUS = {
+    0: "ok",
+    3: (
+        "inaccurate: a frequency beyond the resolution of the dynamics' N = 256 (theory.md "
+        "§14): the values there are not converged"
+    ),
+    4: (
+        "approximate: the 'wall-law' profile changes its shape with the stress; that part of "
+        "the response is taken with the frequency dependence of the forcing's (exact as "
+        "f -> 0)"
+    ),
+}
+#: The shortest series :func:`wall_shear_stress_from_tip_deflection_series` takes.
+MIN_SERIES_SAMPLES = 64
+#: beta_1^4 of the cantilever (1 + cos b cosh b = 0): the scale of the internal scan.
+_BETA1_4 = 1.875104068711961**4
+#: The internal scan of the resonance and the bandwidth: omega/omega_1 from 1e-4 to 30.
+_SCAN = np.concatenate([[0.0], np.geomspace(1e-4, 30.0, 240)])
+#: Sampling times are uniform where each step is within this of the mean step (relative).
+_UNIFORM_RTOL = 1e-6
+#: Half-width (in frequency bins) of the moving average of the stress spectrum's estimate.
+_SMOOTH_BINS = 8
+#: The top fraction of the band whose mean spectrum estimates the noise (white).
+_NOISE_BAND = 0.2
+#: Chebyshev degrees tried for the static inverse over a series' range of deflections.
+_INVERSE_DEGREES = (32, 64, 128, 256)
+#: The interpolated static inverse must agree with the exact one to this (relative).
+_INVERSE_RTOL = 1e-10
+
+
+def _as_pillar(pillar: Any) -> Pillar:
+    """``pillar`` if it is a :class:`hairbed.Pillar` (checked by its interface: the Pillar's
+    module calls this one, which therefore does not import it)."""
+    if type(pillar).__name__ != "Pillar" or not hasattr(pillar, "forcing_per_stress"):
+        raise TypeError(f"pillar must be a hairbed.Pillar, got {type(pillar).__name__}")
+    return pillar
+
+
+@dataclass(frozen=True, eq=False)
+class _Model:
+    """The linear dynamics of one pillar about one mean stress, in SI."""
+
+    pillar: Any
+    mean_stress: float
+    drag: str
+    pillar_density: float
+    time_scale: float  # T [s]
+    inertia_number: float  # mu [-]
+    tangential_mass: float
+    reynolds_scale: float  # rho_f b^2/(4 eta T)
+    gain_scale: float  # [m/Pa] per unit of the dimensionless forcing response
+    static_gain: float  # dx/dtau_w [m/Pa] (the pillar's exact sensitivity)
+    valid_below: float  # [Hz]: the Stokes layer equals the pillar's length
+    status: int
+    lin: Any = field(repr=False)
+
+    def response(self, frequency: FloatArray) -> tuple[ComplexArray, NDArray[np.int64]]:
+        """H [m/Pa] at frequencies [Hz] >= 0 and the dynamics' status of each."""
+        om = 2.0 * math.pi * self.time_scale * np.asarray(frequency, dtype=np.float64)
+        drag = (
+            (self.reynolds_scale, float(self.pillar.slenderness)) if self.drag == "sader" else None
+        )
+        fr = self.lin.frequency_response(om.reshape(-1), unsteady_drag=drag)
+        h = self.gain_scale * fr.tip_deflection
+        return h.reshape(np.shape(frequency)), np.asarray(fr.status).reshape(np.shape(frequency))
+
+
+def _model(pillar: Any, mean_stress: Any, pillar_density: Any, drag: Any) -> _Model:
+    p = _as_pillar(pillar)
+    tau = check_number(mean_stress, "wall_shear_stress", unit="Pa")
+    if pillar_density is None:
+        raise ValueError(
+            "pillar_density [kg/m^3] is needed for the pillar's inertia (PDMS: about 1e3)"
+        )
+    rho_s = check_positive(pillar_density, "pillar_density", "kg/m^3")
+    model = check_choice(drag, "drag", DRAG_MODELS)
+    if p.density is None:
+        raise ValueError(
+            "the pillar needs the fluid's density [kg/m^3] for its dynamics (the added mass, "
+            "the Stokes layer): give Pillar(density=...) or Pillar(fluid=...)"
+        )
+    rho_f = float(p.density)
+    eta, length, a = p.viscosity, p.length, p.radius
+    zeta = p.normal_drag_coefficient
+    ei = p.bending_stiffness
+    t_scale = zeta * length**4 / ei
+    area = math.pi * a * a
+    if model == "sader":  # the fluid's added mass is in Sader's drag: the solid's mass alone
+        mass, chi = rho_s * area, 1.0
+    else:
+        mass, chi = (rho_s + rho_f) * area, rho_s / (rho_s + rho_f)
+    mu = mass / (zeta * t_scale)
+    values = (t_scale, mu, rho_f * (2.0 * a) ** 2 / (4.0 * eta * t_scale))
+    if not all(math.isfinite(v) and v > 0.0 for v in values):
+        raise ValueError(
+            "the pillar's time scale zeta_perp L^4/(E I), inertia number or Reynolds scale "
+            f"under- or overflows double precision: {values!r}"
+        )
+    st = p._solved(tau)  # the static state at the mean stress (a ValueError if none)
+    wall = p.profile == "wall-law"
+    if wall:
+        row = p._wall_rows(np.array([tau]))[0][0]
+    else:
+        row = np.asarray(p._core_options[0][0])
+
+    def prof(z: FloatArray) -> FloatArray:
+        return np.asarray(np.polynomial.chebyshev.chebval(2.0 * z - 1.0, row))
+
+    lin = linearise_pillar(st.solution, profile=prof, mu=mu, tangential_mass=chi)
+    gain_scale = length * p.forcing_per_stress
+    static = float(st.sensitivity)
+    if wall:  # the shape's part at its static weight: H = sensitivity H_Lambda/H_Lambda(0)
+        h0 = complex(lin.frequency_response(0.0).tip_deflection[0])
+        if h0 != 0.0 and math.isfinite(static):
+            gain_scale = static / h0.real
+    return _Model(
+        pillar=p,
+        mean_stress=tau,
+        drag=model,
+        pillar_density=rho_s,
+        time_scale=t_scale,
+        inertia_number=mu,
+        tangential_mass=chi,
+        reynolds_scale=values[2],
+        gain_scale=gain_scale,
+        static_gain=static,
+        valid_below=(eta / rho_f) / (math.pi * length * length),
+        status=4 if wall and tau != 0.0 else 0,
+        lin=lin,
+    )
+
+
+def _warn_validity(model: _Model, frequency: FloatArray, stacklevel: int) -> None:
+    """A ModelValidityWarning where a frequency [Hz] is above the model's range."""
+    top = float(np.max(frequency)) if np.size(frequency) else 0.0
+    f_c = model.valid_below
+    if top > f_c:
+        drag = (
+            "; the quasi-steady drag fails there too (drag='sader' covers the drag)"
+            if model.drag == "quasi-steady"
+            else ""
+        )
+        warnings.warn(
+            f"frequencies up to {top:.4g} Hz exceed nu/(pi L^2) = {f_c:.4g} Hz, above which "
+            "the Stokes layer sqrt(2 nu/omega) is shorter than the pillar: there a wall-stress "
+            "fluctuation no longer drives the quasi-steady profile of the model along the "
+            f"whole pillar (theory.md §14, D2){drag}",
+            ModelValidityWarning,
+            stacklevel=stacklevel,
+        )
+
+
+@dataclass(frozen=True)
+class SensorResponse:
+    """A pillar sensor's frequency response in SI (from :func:`frequency_response`).
+
+    The tip deflection of a wall shear stress tau_w(t) = tau_mean + Re(tau_hat e^{2 pi i f t})
+    is x(t) = x_mean + Re(H(f) tau_hat e^{2 pi i f t}), linearised about the static state at
+    tau_mean (theory.md §14).
+
+    Attributes
+    ----------
+    frequency : ndarray
+        The frequencies f [Hz].
+    response : ndarray of complex
+        H(f) [m/Pa].
+    magnitude : ndarray
+        abs(H) [m/Pa].
+    phase : ndarray
+        arg H [rad] (the convention e^{+i 2 pi f t}: a lag is negative).
+    static_gain : float
+        H(0) = d(tip deflection)/d(tau_w) [m/Pa], the pillar's exact sensitivity.
+    resonance_frequency : float
+        The frequency of the largest abs(H) [Hz]; NaN where abs(H) has no peak (overdamped).
+    quality_factor : float
+        f_res/(f_2 - f_1), f_1 < f_res < f_2 where abs(H) = abs(H(f_res))/sqrt(2) (the
+        half-power width) [-]; NaN without a resonance or a lower half-power point.
+    bandwidth : float
+        The largest f_b [Hz] with abs(abs(H)/H(0) - 1) <= ``magnitude_tolerance`` and
+        abs(arg(H/H(0))) <= ``phase_tolerance`` at every f in [0, f_b].
+    magnitude_tolerance : float
+        [-] (relative).
+    phase_tolerance : float
+        [rad].
+    wall_shear_stress : float
+        The mean stress tau_mean [Pa] of the linearisation.
+    drag : str
+        The drag model: "sader" (Sader's oscillating cylinder above the crossover Reynolds
+        number 2 (a/L)^2, the quasi-steady resistive force below) or "quasi-steady"
+        (the resistive force with the fluid's added mass).
+    time_scale : float
+        T = zeta_perp L^4/(E I) [s].
+    inertia_number : float
+        mu = m/(zeta_perp T) [-] (m the normal mass per length of the model).
+    valid_below : float
+        nu/(pi L^2) [Hz]: above it the Stokes layer sqrt(2 nu/omega) is shorter than the
+        pillar (a :class:`hairbed.ModelValidityWarning`).
+    status : int
+        0, 3 (a frequency beyond the resolution) or 4 (the 'wall-law' approximation);
+        ``SENSOR_STATUS``.
+    """
+
+    frequency: FloatArray
+    response: ComplexArray
+    magnitude: FloatArray
+    phase: FloatArray
+    static_gain: float
+    resonance_frequency: float
+    quality_factor: float
+    bandwidth: float
+    magnitude_tolerance: float
+    phase_tolerance: float
+    wall_shear_stress: float
+    drag: str
+    time_scale: float
+    inertia_number: float
+    valid_below: float
+    status: int
+    _model: Any = field(repr=False, compare=False)
+
+    @property
+    def success(self) -> bool:
+        """True where status is 0."""
+        return self.status == 0
+
+    @property
+    def message(self) -> str:
+        """``SENSOR_STATUS`` of ``status``."""
+        return SENSOR_STATUS[self.status]
+
+    def at(self, frequency: Any) -> ComplexArray:
+        """H(f) [m/Pa] at other frequencies f [Hz] (finite, >= 0), of their shape."""
+        f = _frequencies(frequency)
+        return self._model.response(f)[0]
+
+    def to_xarray(self) -> Any:
+        """The response as an xarray.Dataset with the dimension ``frequency`` and CF
+        attributes (H split into magnitude and phase, and real and imaginary parts: netCDF
+        has no complex type). Needs the ``io`` extra."""
+        from ._optional import optional_import
+
+        xr = optional_import("xarray", "SensorResponse.to_xarray", "io")
+        h = self.response
+        data = {
+            "magnitude": (
+                "frequency",
+                self.magnitude,
+                {"units": "m/Pa", "long_name": "tip deflection per wall shear stress, |H|"},
+            ),
+            "phase": (
+                "frequency",
+                self.phase,
+                {"units": "rad", "long_name": "phase of H (exp(+i 2 pi f t))"},
+            ),
+            "response_real": ("frequency", h.real, {"units": "m/Pa", "long_name": "Re H"}),
+            "response_imag": ("frequency", h.imag, {"units": "m/Pa", "long_name": "Im H"}),
+        }
+        return xr.Dataset(
+            data,
+            coords={
+                "frequency": (
+                    "frequency",
+                    self.frequency,
+                    {"units": "Hz", "long_name": "frequency", "standard_name": "frequency"},
+                )
+            },
+            attrs={
+                "title": "hairbed pillar sensor frequency response",
+                "static_gain_m_per_Pa": self.static_gain,
+                "resonance_frequency_Hz": self.resonance_frequency,
+                "quality_factor": self.quality_factor,
+                "bandwidth_Hz": self.bandwidth,
+                "magnitude_tolerance": self.magnitude_tolerance,
+                "phase_tolerance_rad": self.phase_tolerance,
+                "wall_shear_stress_Pa": self.wall_shear_stress,
+                "drag": self.drag,
+                "time_scale_s": self.time_scale,
+                "inertia_number": self.inertia_number,
+                "valid_below_Hz": self.valid_below,
+                "status": self.status,
+                "message": self.message,
+                "time_convention": "exp(+i 2 pi f t)",
+                "Conventions": "CF-1.10",
+            },
+        )
+
+
+def _frequencies(frequency: Any) -> FloatArray:
+    f = as_float_array(frequency, "frequency", unit="Hz")
+    bad = f < 0.0
+    if np.any(bad):
+        i = int(np.flatnonzero(bad.reshape(-1))[0])
+        raise ValueError(
+            f"frequency must be >= 0 [Hz], got {float(f.reshape(-1)[i])!r} (first at index {i})"
+        )
+    return f
+
+
+def _scan(model: _Model) -> tuple[FloatArray, ComplexArray]:
+    """The response on the internal grid: 0 and omega/omega_1 in [1e-4, 30], omega_1 the
+    slowest rate of the straight cantilever (mu lambda^2 + lambda + beta_1^4 = 0)."""
+    mu = model.inertia_number
+    if mu * 4.0 * _BETA1_4 > 1.0:  # a ringing pair: |lambda| = beta_1^2/sqrt(mu)
+        rate = math.sqrt(_BETA1_4 / mu)
+    else:
+        rate = _BETA1_4 if mu == 0.0 else (1.0 - math.sqrt(1.0 - 4.0 * mu * _BETA1_4)) / (2 * mu)
+    f = _SCAN * rate / (2.0 * math.pi * model.time_scale)
+    return f, model.response(f)[0]
+
+
+def _abs_at(model: _Model, f: float) -> float:
+    return float(abs(model.response(np.array([f]))[0][0]))
+
+
+def _resonance(model: _Model, f: FloatArray, h: ComplexArray) -> tuple[float, float]:
+    """(the frequency of the peak of abs(H) [Hz], the half-power quality factor)."""
+    mag = np.abs(h)
+    i = int(np.argmax(mag))
+    if i == 0 or i == mag.size - 1 or not mag[i] > mag[0]:
+        return math.nan, math.nan
+    res = scipy.optimize.minimize_scalar(
+        lambda x: -_abs_at(model, x),
+        bounds=(float(f[i - 1]), float(f[i + 1])),
+        method="bounded",
+        options={"xatol": 1e-12 * float(f[i])},
+    )
+    f_r = float(res.x)
+    peak = max(_abs_at(model, f_r), float(mag[i]))
+    half = peak / math.sqrt(2.0)
+
+    def g(x: float) -> float:
+        return _abs_at(model, x) - half
+
+    # the grid with the peak in it: a half-power point lies between a point below half and
+    # its neighbour towards the peak
+    below = np.flatnonzero((f < f_r) & (mag < half))
+    above = np.flatnonzero((f > f_r) & (mag < half))
+    if below.size == 0 or above.size == 0:
+        return f_r, math.nan
+    j, k = int(below[-1]), int(above[0])
+    left = f[j + 1] if f[j + 1] < f_r and mag[j + 1] >= half else f_r
+    right = f[k - 1] if f[k - 1] > f_r and mag[k - 1] >= half else f_r
+    f1 = scipy.optimize.brentq(g, float(f[j]), float(left), xtol=1e-14 * f_r)
+    f2 = scipy.optimize.brentq(g, float(right), float(f[k]), xtol=1e-14 * f_r)
+    return f_r, f_r / (f2 - f1)
+
+
+def _bandwidth(model: _Model, f: FloatArray, h: ComplexArray, mtol: float, ptol: float) -> float:
+    """The largest f_b [Hz] within both tolerances on [0, f_b] (the first crossing of the
+    scan, refined by Brent's method)."""
+    h0 = h[0]
+
+    def excess(hv: ComplexArray) -> FloatArray:
+        r = hv / h0
+        return np.asarray(np.maximum(np.abs(np.abs(r) - 1.0) / mtol, np.abs(np.angle(r)) / ptol))
+
+    out = excess(h) - 1.0
+    over = np.flatnonzero(out > 0.0)
+    if over.size == 0:
+        return math.nan
+    k = int(over[0])
+    return float(
+        scipy.optimize.brentq(
+            lambda x: float(excess(model.response(np.array([x]))[0])[0]) - 1.0,
+            float(f[k - 1]),
+            float(f[k]),
+            xtol=1e-14 * float(f[k]),
+        )
+    )
+
+
+def frequency_response(
+    pillar: Pillar,
+    frequency: Any,
+    *,
+    wall_shear_stress: float = 0.0,
+    pillar_density: float | None = None,
+    drag: str = "sader",
+    magnitude_tolerance: float = 0.05,
+    phase_tolerance: float = math.radians(5.0),
+) -> SensorResponse:
+    """The tip deflection per wall shear stress of a pillar sensor against frequency, in SI.
+
+    Linearised about the static state at the mean stress (any deflection, theory.md §14):
+    H(f) = L (Lambda/tau_w) H_Lambda(2 pi f T) [m/Pa], H_Lambda the dimensionless transfer
+    function from the forcing to the tip deflection (:meth:`hairbed.dynamics.LinearPillar.
+    frequency_response`), T = zeta_perp L^4/(E I) [s], the inertia number
+    mu = m E I/(zeta_perp^2 L^4) with the mass per length m of the drag model (module
+    docstring). For the 'wall-law' profile the profile's change with the stress enters at
+    its static weight (status 4): H = (dx/dtau_w) H_Lambda/H_Lambda(0).
+
+    Parameters
+    ----------
+    pillar : Pillar
+        The sensor; it needs the fluid's ``density`` (or a ``fluid`` preset).
+    frequency : array_like
+        Frequencies f >= 0 [Hz] (any shape).
+    wall_shear_stress : float, optional
+        The mean stress tau_mean [Pa] to linearise about; default 0 (the pillar at rest).
+    pillar_density : float
+        The pillar's density rho_s > 0 [kg/m^3] (its mass per length rho_s pi a^2).
+    drag : {"sader", "quasi-steady"}, optional
+        Sader's oscillating-cylinder drag above the crossover Re = 2 (a/L)^2 (default), or the
+        quasi-steady resistive force with the fluid's added mass rho_f pi a^2 (theory.md §14).
+    magnitude_tolerance : float, optional
+        The bandwidth's tolerance on abs(H)/H(0) - 1, in (0, 1) [-]; default 0.05.
+    phase_tolerance : float, optional
+        The bandwidth's tolerance on the phase, in (0, pi) [rad]; default 5 degrees.
+
+    Returns
+    -------
+    SensorResponse
+        With the resonance (the peak of abs(H)), its half-power quality factor and the
+        bandwidth, each found on an internal scan refined by Brent's method.
+
+    Warns
+    -----
+    ModelValidityWarning
+        For frequencies above nu/(pi L^2) [Hz], where the Stokes layer sqrt(2 nu/omega) is
+        shorter than the pillar: a stress fluctuation there no longer drives the
+        quasi-steady profile over the whole pillar (and the quasi-steady drag fails too).
+    """
+    f = _frequencies(frequency)
+    mtol = check_number(
+        magnitude_tolerance,
+        "magnitude_tolerance",
+        low=0.0,
+        high=1.0,
+        low_open=True,
+        high_open=True,
+    )
+    ptol = check_number(
+        phase_tolerance,
+        "phase_tolerance",
+        low=0.0,
+        high=math.pi,
+        low_open=True,
+        high_open=True,
+        unit="rad",
+    )
+    model = _model(pillar, wall_shear_stress, pillar_density, drag)
+    _warn_validity(model, f, 3)
+    h, status = model.response(f)
+    fs, hs = _scan(model)
+    f_r, q = _resonance(model, fs, hs)
+    bw = _bandwidth(model, fs, hs, mtol, ptol)
+    code = 3 if np.any(status == 3) else model.status
+    return SensorResponse(
+        frequency=f,
+        response=h,
+        magnitude=np.abs(h),
+        phase=np.angle(h),
+        static_gain=model.static_gain,
+        resonance_frequency=f_r,
+        quality_factor=q,
+        bandwidth=bw,
+        magnitude_tolerance=mtol,
+        phase_tolerance=ptol,
+        wall_shear_stress=model.mean_stress,
+        drag=model.drag,
+        time_scale=model.time_scale,
+        inertia_number=model.inertia_number,
+        valid_below=model.valid_below,
+        status=int(code),
+        _model=model,
+    )
+
+
+# -- from a deflection series to the stress series ----------------------------------------------
+
+
+@dataclass(frozen=True)
+class StressSeries:
+    """A wall-shear-stress series recovered from a tip-deflection series (from
+    :func:`wall_shear_stress_from_tip_deflection_series`).
+
+    Attributes
+    ----------
+    time : ndarray
+        The sampling times [s] (from 0, or the ``times`` given).
+    wall_shear_stress : ndarray
+        tau_w(t) [Pa].
+    wall_shear_stress_sigma : ndarray
+        Its 1-sigma band [Pa]: the Wiener filter's mean-square error (noise and the part of
+        the signal it suppresses), through the local slope of the calibration.
+    quasi_static_deflection : ndarray
+        The deflection the pillar would have without dynamics [m] (the deconvolved series).
+    tip_deflection : ndarray
+        The measured series [m].
+    mean_wall_shear_stress : float
+        The exact static inverse of the mean deflection [Pa].
+    frequency : ndarray
+        The frequencies of the spectra [Hz] (0 to the Nyquist frequency).
+    stress_spectrum : ndarray
+        The one-sided power spectral density of the stress fluctuation [Pa^2/Hz], corrected by
+        the transfer function: (P_x - N)/abs(H)^2, smoothed, >= 0.
+    deflection_spectrum : ndarray
+        The measured one-sided PSD P_x of the deflection fluctuation [m^2/Hz] (smoothed).
+    noise_spectrum : float
+        The (white) noise's one-sided PSD N = 2 sigma^2/f_s [m^2/Hz].
+    wiener_gain : ndarray
+        abs(W H) [-]: the fraction of the stress passed at each frequency (1: all, 0: none).
+    noise_sigma : float
+        The deflection noise's standard deviation [m] (given or estimated).
+    noise_estimated : bool
+        True where ``noise_sigma`` was estimated from the top fifth of the band.
+    sample_rate : float
+        f_s [Hz].
+    response : SensorResponse
+        The linear response about the mean (its resonance, bandwidth, drag model).
+    status : int
+        ``SENSOR_STATUS`` (of the response).
+    """
+
+    time: FloatArray
+    wall_shear_stress: FloatArray
+    wall_shear_stress_sigma: FloatArray
+    quasi_static_deflection: FloatArray
+    tip_deflection: FloatArray
+    mean_wall_shear_stress: float
+    frequency: FloatArray
+    stress_spectrum: FloatArray
+    deflection_spectrum: FloatArray
+    noise_spectrum: float
+    wiener_gain: FloatArray
+    noise_sigma: float
+    noise_estimated: bool
+    sample_rate: float
+    response: SensorResponse = field(repr=False)
+    status: int = 0
+
+    @property
+    def success(self) -> bool:
+        """True where status is 0."""
+        return self.status == 0
+
+    @property
+    def message(self) -> str:
+        """``SENSOR_STATUS`` of ``status``."""
+        return SENSOR_STATUS[self.status]
+
+    def to_xarray(self) -> Any:
+        """The series (dimension ``time``) and the spectra (dimension ``frequency``) as an
+        xarray.Dataset with CF attributes. Needs the ``io`` extra."""
+        from ._optional import optional_import
+
+        xr = optional_import("xarray", "StressSeries.to_xarray", "io")
+        return xr.Dataset(
+            {
+                "wall_shear_stress": (
+                    "time",
+                    self.wall_shear_stress,
+                    {"units": "Pa", "long_name": "wall shear stress"},
+                ),
+                "wall_shear_stress_sigma": (
+                    "time",
+                    self.wall_shear_stress_sigma,
+                    {"units": "Pa", "long_name": "1-sigma uncertainty of the wall shear stress"},
+                ),
+                "quasi_static_deflection": (
+                    "time",
+                    self.quasi_static_deflection,
+                    {"units": "m", "long_name": "deconvolved (quasi-static) tip deflection"},
+                ),
+                "tip_deflection": (
+                    "time",
+                    self.tip_deflection,
+                    {"units": "m", "long_name": "measured tip deflection"},
+                ),
+                "stress_spectrum": (
+                    "frequency",
+                    self.stress_spectrum,
+                    {"units": "Pa2 Hz-1", "long_name": "one-sided PSD of the stress fluctuation"},
+                ),
+                "deflection_spectrum": (
+                    "frequency",
+                    self.deflection_spectrum,
+                    {"units": "m2 Hz-1", "long_name": "one-sided PSD of the deflection"},
+                ),
+                "wiener_gain": (
+                    "frequency",
+                    self.wiener_gain,
+                    {"units": "1", "long_name": "|W H|, the fraction of the stress passed"},
+                ),
+            },
+            coords={
+                "time": ("time", self.time, {"units": "s", "long_name": "time"}),
+                "frequency": (
+                    "frequency",
+                    self.frequency,
+                    {"units": "Hz", "long_name": "frequency"},
+                ),
+            },
+            attrs={
+                "title": "hairbed wall shear stress from a tip-deflection series",
+                "mean_wall_shear_stress_Pa": self.mean_wall_shear_stress,
+                "noise_sigma_m": self.noise_sigma,
+                "noise_estimated": int(self.noise_estimated),
+                "noise_spectrum_m2_per_Hz": self.noise_spectrum,
+                "sample_rate_Hz": self.sample_rate,
+                "drag": self.response.drag,
+                "resonance_frequency_Hz": self.response.resonance_frequency,
+                "bandwidth_Hz": self.response.bandwidth,
+                "status": self.status,
+                "message": self.message,
+                "Conventions": "CF-1.10",
+            },
+        )
+
+
+def _series(deflection: Any, sample_rate: Any, times: Any) -> tuple[FloatArray, float, FloatArray]:
+    """(the checked series [m], f_s [Hz], the times [s]); a clear error for NaN, a short
+    series, or times that are not uniform (a gap, jitter)."""
+    d = as_float_array(deflection, "tip_deflection", unit="m")
+    if d.ndim != 1:
+        raise ValueError(f"tip_deflection must be a 1-D series, got shape {d.shape}")
+    n = d.size
+    if n < MIN_SERIES_SAMPLES:
+        raise ValueError(
+            f"tip_deflection must hold at least {MIN_SERIES_SAMPLES} samples, got {n}"
+        )
+    if (sample_rate is None) == (times is None):
+        raise TypeError("give exactly one of sample_rate [Hz] and times [s]")
+    if times is None:
+        fs = check_positive(sample_rate, "sample_rate", "Hz")
+        return d, fs, np.arange(n) / fs
+    t = as_float_array(times, "times", unit="s")
+    if t.shape != d.shape:
+        raise ValueError(f"times must have the shape of tip_deflection {d.shape}, got {t.shape}")
+    step = np.diff(t)
+    if not np.all(step > 0.0):
+        i = int(np.flatnonzero(~(step > 0.0))[0])
+        raise ValueError(
+            f"times must increase strictly, got {float(t[i + 1])!r} s after {float(t[i])!r} s "
+            f"(index {i + 1})"
+        )
+    dt = float(np.median(step))
+    off = np.abs(step - dt) > _UNIFORM_RTOL * dt
+    if np.any(off):
+        i = int(np.flatnonzero(off)[0])
+        raise ValueError(
+            f"times must be uniformly sampled: the step from index {i} to {i + 1} is "
+            f"{float(step[i])!r} s against the median {dt!r} s (a gap or jitter beyond "
+            f"{_UNIFORM_RTOL:g} relative); resample the series to a uniform rate first"
+        )
+    return d, (n - 1) / float(t[-1] - t[0]), t
+
+
+def _static_inverse(pillar: Any, x: FloatArray) -> tuple[FloatArray, FloatArray]:
+    """(tau_w [Pa], dtau_w/dx [Pa/m]) at deflections x [m]: the exact inverse of the
+    calibration curve at Chebyshev points over x's range, interpolated (checked against the
+    exact inverse to ``_INVERSE_RTOL`` between the points; else the exact inverse at every
+    sample)."""
+    lo, hi = float(np.min(x)), float(np.max(x))
+    if hi - lo <= 1e-12 * max(abs(hi), abs(lo), pillar.length * 1e-12):
+        tau = pillar._invert(pillar._deflection(x, "the deconvolved deflection"))[0]
+        slope = 1.0 / float(pillar.sensitivity(float(np.mean(tau))))
+        return np.asarray(tau), np.full(x.shape, slope)
+    mid, half = 0.5 * (hi + lo), 0.5 * (hi - lo)
+    cheb = np.polynomial.chebyshev
+    for deg in _INVERSE_DEGREES:
+        nodes = np.cos(np.pi * np.arange(deg + 1) / deg)
+        xs = mid + half * nodes
+        tau_nodes = pillar._invert(pillar._deflection(xs, "the deconvolved deflection"))[0]
+        coefs = cheb.chebfit(nodes, tau_nodes, deg)
+        check = np.cos(np.pi * (np.arange(deg) + 0.5) / deg)[:: max(1, deg // 16)]
+        exact = pillar._invert(mid + half * check)[0]
+        err = np.max(np.abs(cheb.chebval(check, coefs) - exact))
+        if err <= _INVERSE_RTOL * max(float(np.max(np.abs(tau_nodes))), 1e-300):
+            u = (x - mid) / half
+            return (
+                np.asarray(cheb.chebval(u, coefs)),
+                np.asarray(cheb.chebval(u, cheb.chebder(coefs)) / half),
+            )
+    tau = pillar._invert(x)[0]  # not smooth enough to interpolate: every sample exactly
+    return np.asarray(tau), np.asarray(1.0 / np.asarray(pillar.sensitivity(tau)))
+
+
+def wall_shear_stress_from_tip_deflection_series(
+    pillar: Pillar,
+    tip_deflection: Any,
+    sample_rate: float | None = None,
+    *,
+    times: Any = None,
+    noise_sigma: float | None = None,
+    pillar_density: float | None = None,
+    drag: str = "sader",
+    smoothing: int = _SMOOTH_BINS,
+) -> StressSeries:
+    """The wall-shear-stress series tau_w(t) [Pa] of a measured tip-deflection series x(t).
+
+    The sensor is taken as its static calibration curve x = X(tau_w) (exact, nonlinear)
+    followed by its linear dynamics about the mean, normalised to a unit static gain,
+    G(f) = H(f)/H(0) (:func:`frequency_response` at the mean stress). Then, with the series
+    mean-free, x' = x - mean(x), and its discrete Fourier transform X'_k at f_k = k f_s/n:
+
+    1. the mean stress is the exact static inverse of mean(x);
+    2. the quasi-static deflection is q = mean(x) + IDFT[H(0) W_k X'_k], with the Wiener
+       filter W = H^* S/(abs(H)^2 S + N) = H^*/(abs(H)^2 + N/S) (the linear inverse of the
+       dynamics, regularised where the noise N exceeds the signal); S_k, the stress
+       fluctuation's spectrum, is estimated as (abs(X'_k)^2 - N_k)/abs(H_k)^2 averaged over
+       2 ``smoothing`` + 1 neighbouring frequencies (>= 0), N_k = n sigma^2 for white noise;
+    3. tau_w(t) = X^-1(q(t)), the exact static inverse (interpolated to 1e-10 over q's
+       range between exact inverses).
+
+    The 1-sigma band is the Wiener filter's mean-square error: per frequency
+    E_k = S_k N_k/(abs(H_k)^2 S_k + N_k) (the noise passed and the signal suppressed), summed
+    over the frequencies (Parseval, with the mean's sigma^2/(n H(0)^2)) and carried through
+    the local slope dX^-1/dx. The series is taken as periodic (a discrete Fourier transform):
+    within a few response times of its ends the join adds an error the band does not hold.
+
+    Parameters
+    ----------
+    pillar : Pillar
+        The sensor (with the fluid's density or a ``fluid`` preset).
+    tip_deflection : array_like
+        The measured tip deflections x [m], 1-D, at least ``MIN_SERIES_SAMPLES``, finite, in
+        (-L, L).
+    sample_rate : float, optional
+        f_s [Hz]; or instead ``times``.
+    times : array_like, optional
+        The sampling times [s], strictly increasing and uniform to 1e-6 relative (a gap or
+        jitter is refused: resample first).
+    noise_sigma : float, optional
+        The measurement noise's standard deviation [m] (white). Default: estimated from the
+        mean spectrum of the top fifth of the band (which must then be noise: the sensor's
+        response has fallen below the noise there).
+    pillar_density : float
+        The pillar's density [kg/m^3].
+    drag : {"sader", "quasi-steady"}, optional
+        The drag model of the dynamics (:func:`frequency_response`).
+    smoothing : int, optional
+        The half-width in frequency bins of the spectrum's moving average (>= 1); default 8.
+
+    Returns
+    -------
+    StressSeries
+
+    Raises
+    ------
+    ValueError
+        NaN or infinity (naming the first index), a series shorter than
+        ``MIN_SERIES_SAMPLES``, non-uniform or non-increasing times, a deflection outside
+        (-L, L), a negative noise_sigma, or no static state at the mean deflection.
+    """
+    d, fs, t = _series(tip_deflection, sample_rate, times)
+    p = _as_pillar(pillar)
+    d = p._deflection(d)
+    m = check_int(smoothing, "smoothing", 1, d.size // 4)
+    n = d.size
+    mean = float(np.mean(d))
+    tau_mean = float(p._invert(np.array([mean]), "the mean of tip_deflection")[0][0])
+    freq = np.asarray(np.fft.rfftfreq(n, 1.0 / fs), dtype=np.float64)
+    resp = frequency_response(
+        p, freq, wall_shear_stress=tau_mean, pillar_density=pillar_density, drag=drag
+    )
+    h = resp.response
+    h0 = float(h[0].real)
+    xk = np.fft.rfft(d - mean)
+    power = np.abs(xk) ** 2
+    if noise_sigma is None:
+        top = freq >= (1.0 - _NOISE_BAND) * freq[-1]
+        noise_var = float(np.mean(power[top])) / n
+        estimated = True
+    else:
+        noise_var = check_number(noise_sigma, "noise_sigma", low=0.0, unit="m") ** 2
+        estimated = False
+    nk = n * noise_var
+    h2 = np.abs(h) ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        raw = np.where(h2 > 0.0, (power - nk) / h2, 0.0)
+    raw[0] = 0.0
+    s = np.maximum(scipy.ndimage.uniform_filter1d(raw, 2 * m + 1, mode="nearest"), 0.0)
+    s[0] = 0.0
+    den = h2 * s + nk
+    with np.errstate(divide="ignore", invalid="ignore"):
+        w = np.where(den > 0.0, np.conj(h) * s / den, 0.0)
+        err = np.where(den > 0.0, s * nk / den, 0.0)
+    err[0] = nk / (h0 * h0) if h0 != 0.0 else 0.0  # the mean's own noise
+    weight = np.full(freq.size, 2.0)
+    weight[0] = 1.0
+    if n % 2 == 0:
+        weight[-1] = 1.0
+    var_tau = float(np.sum(weight * err)) / (n * n)
+    q = mean + np.fft.irfft(h0 * w * xk, n)
+    tau, slope = _static_inverse(p, q)
+    sigma = math.sqrt(var_tau) * abs(h0) * np.abs(slope)
+    scale = 2.0 / (n * fs)
+    psd_x = scipy.ndimage.uniform_filter1d(power, 2 * m + 1, mode="nearest") * scale
+    return StressSeries(
+        time=t,
+        wall_shear_stress=np.asarray(tau, dtype=np.float64),
+        wall_shear_stress_sigma=np.asarray(sigma, dtype=np.float64),
+        quasi_static_deflection=q,
+        tip_deflection=d,
+        mean_wall_shear_stress=tau_mean,
+        frequency=freq,
+        stress_spectrum=s * scale,
+        deflection_spectrum=psd_x,
+        noise_spectrum=2.0 * noise_var / fs,
+        wiener_gain=np.abs(w * h),
+        noise_sigma=math.sqrt(noise_var),
+        noise_estimated=estimated,
+        sample_rate=fs,
+        response=resp,
+        status=resp.status,
+    )
