@@ -1,0 +1,166 @@
+"""Cost of a design (issue 32), as times and ratios measured in one run.
+
+Rows:
+
+1. a three-variable constrained valve design: the largest diodicity at 1 kPa over
+   (base_angle, length, spacing) with the resistance ratio at most 2.5 and the model's
+   validity, 4 starts [s] (target <= 2 s);
+2. a three-variable constrained pillar design: the largest tip deflection at 0.5 Pa over
+   (length, radius, youngs_modulus) with a linear range (5 %) of at least 1 Pa, 4 starts [s];
+3. a 20-point Pareto front, diodicity against resistance ratio (epsilon-constraint) over
+   (base_angle, length) [s] (target <= 30 s);
+4. gradient cost: one quantity's value and exact gradient over the library's value alone
+   (``hairbed.valve.diodicity``, ``Pillar.tip_deflection``, ``Pillar.linear_range``)
+   (target <= 3x).
+
+Each time is the best of ``--repeat`` runs, the design's caches cleared before each.
+
+Run: ``python benchmarks/bench_design.py [--repeat N] [--json PATH]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import warnings
+from typing import Any
+
+sys.path.insert(0, os.path.dirname(__file__))
+
+from bench_common import best, report  # noqa: E402
+
+from hairbed import HairBed, Pillar  # noqa: E402
+from hairbed import design as D  # noqa: E402
+from hairbed.design import _objectives  # noqa: E402
+from hairbed.valve import diodicity  # noqa: E402
+
+__all__ = ["main", "run"]
+
+
+def _clear() -> None:
+    _objectives._valve_gaps.cache_clear()
+    _objectives._pillar_rows.cache_clear()
+
+
+def _models() -> tuple[HairBed, Pillar]:
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        bed = HairBed(length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=2e-3,
+                      viscosity=1.0, spacing=250e-6, base_angle=0.5, density=1200.0)  # fmt: skip
+        pillar = Pillar(length=500e-6, radius=25e-6, youngs_modulus=1e6, viscosity=0.1,
+                        density=1000.0)  # fmt: skip
+    return bed, pillar
+
+
+def run(repeat: int = 3) -> dict[str, Any]:
+    """Every row; a dict of the figures."""
+    bed, pillar = _models()
+    valve_vars = [
+        D.Variable("base_angle", 0.0, 1.4),
+        D.Variable("length", 0.6e-3, 1.5e-3),
+        D.Variable("spacing", 200e-6, 400e-6),
+    ]
+    budget = D.resistance_ratio(1000.0, 0.01) <= 2.5
+
+    def valve() -> D.DesignResult:
+        _clear()
+        return D.optimise(bed, valve_vars, D.diodicity(1000.0, 0.01), constraints=[budget],
+                          sense="max", starts=4)  # fmt: skip
+
+    pillar_vars = [
+        D.Variable("length", 300e-6, 800e-6),
+        D.Variable("radius", 20e-6, 30e-6),
+        D.Variable("youngs_modulus", 0.5e6, 2e6, log=True),
+    ]
+
+    def sensor() -> D.DesignResult:
+        _clear()
+        return D.optimise(pillar, pillar_vars, D.tip_deflection(0.5),
+                          constraints=[D.linear_range(0.05) >= 1.0], sense="max",
+                          starts=4)  # fmt: skip
+
+    def front() -> D.ParetoFront:
+        _clear()
+        return D.pareto_front(bed, valve_vars[:2], D.diodicity(1000.0, 0.01),
+                              D.resistance_ratio(1000.0, 0.01), senses=("max", "min"),
+                              points=20)  # fmt: skip
+
+    t_valve, r_valve = best(valve, repeat)
+    t_sensor, r_sensor = best(sensor, repeat)
+    t_front, r_front = best(front, 1)
+
+    def ratio(with_grad: Any, value_only: Any, n: int = 20) -> tuple[float, float, float]:
+        def many_grad() -> None:
+            for _ in range(n):
+                _clear()
+                with_grad()
+
+        def many_value() -> None:
+            for _ in range(n):
+                value_only()
+
+        tg, _ = best(many_grad, repeat)
+        tv, _ = best(many_value, repeat)
+        return tg / n, tv / n, tg / tv
+
+    q_di, q_tip, q_lin = D.diodicity(1000.0, 0.01), D.tip_deflection(0.5), D.linear_range(0.05)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        di = ratio(lambda: q_di.evaluate(bed), lambda: diodicity(bed, 1000.0, 0.01))
+        tip = ratio(lambda: q_tip.evaluate(pillar), lambda: pillar.tip_deflection(0.5))
+        lin = ratio(
+            lambda: q_lin._evaluate.__wrapped__(pillar, "spacing"),  # type: ignore[attr-defined]
+            lambda: pillar.linear_range(0.05),
+            n=5,
+        )
+    return {
+        "valve_design_s": t_valve,
+        "valve_design_success": r_valve.success,
+        "valve_design_nfev": r_valve.nfev,
+        "valve_design_objective": r_valve.objective,
+        "sensor_design_s": t_sensor,
+        "sensor_design_success": r_sensor.success,
+        "sensor_design_nfev": r_sensor.nfev,
+        "pareto_20_s": t_front,
+        "pareto_status": r_front.status,
+        "diodicity_grad_ms": di[0] * 1e3,
+        "diodicity_value_ms": di[1] * 1e3,
+        "diodicity_ratio": di[2],
+        "tip_grad_ms": tip[0] * 1e3,
+        "tip_value_ms": tip[1] * 1e3,
+        "tip_ratio": tip[2],
+        "linear_range_grad_ms": lin[0] * 1e3,
+        "linear_range_value_ms": lin[1] * 1e3,
+        "linear_range_ratio": lin[2],
+    }
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--json", default=None)
+    args = parser.parse_args(argv)
+    f = run(args.repeat)
+    rows = [
+        ("3-variable valve design [s] (target <= 2)",
+         f"{f['valve_design_s']:.3f}  ({f['valve_design_nfev']} evaluations, "
+         f"success {f['valve_design_success']})"),
+        ("3-variable sensor design [s]",
+         f"{f['sensor_design_s']:.3f}  ({f['sensor_design_nfev']} evaluations, "
+         f"success {f['sensor_design_success']})"),
+        ("20-point Pareto front [s] (target <= 30)", f"{f['pareto_20_s']:.2f}"),
+        ("diodicity: value+gradient / value (target <= 3)",
+         f"{f['diodicity_ratio']:.2f}  ({f['diodicity_grad_ms']:.2f} / "
+         f"{f['diodicity_value_ms']:.2f} ms)"),
+        ("tip deflection: value+gradient / value",
+         f"{f['tip_ratio']:.2f}  ({f['tip_grad_ms']:.2f} / {f['tip_value_ms']:.2f} ms)"),
+        ("linear range: value+gradient / value",
+         f"{f['linear_range_ratio']:.2f}  ({f['linear_range_grad_ms']:.1f} / "
+         f"{f['linear_range_value_ms']:.1f} ms)"),
+    ]  # fmt: skip
+    report(rows, f, args.json)
+
+
+if __name__ == "__main__":
+    main()
