@@ -10,7 +10,8 @@ version of hairbed that wrote it. ``hairbed calibrate --json`` prints this docum
 The format is JSON (strict: non-finite numbers are the strings "inf", "-inf", "nan")::
 
     {"format": "hairbed calibration", "format_version": 1, "hairbed_version": "...",
-     "bed": {"length": ..., ..., "density": null}, "geometry": "spacing",
+     "bed": {"length": ..., ..., "density": null, "model": "dense", "drag": "crossover"},
+     "geometry": "spacing",
      "kind": "velocity", "points": 10,
      "data": {"kind": "velocity", "points": 10, "weighted": true, "sha256": "..."},
      "parameters": {"youngs_modulus": {"value": ..., "stderr": ..., "start": ...,
@@ -58,8 +59,9 @@ __all__ = [
 FORMAT = "hairbed calibration"
 #: The version of the file layout this module writes (and the newest it reads).
 FORMAT_VERSION = 1
-#: The bed's parameters, as the file's "bed" holds them (HairBed's dataclass fields).
-_BED_FIELDS = names(BED, "bed")
+#: The bed's parameters, as the file's "bed" holds them (HairBed's dataclass fields), its
+#: model and drag law included (a file without them is a dense bed's, the default).
+_BED_FIELDS = names(BED, "bed") + names(BED, "bed_model")
 #: The pillar's parameters, as the file's "bed" of a pillar holds them (Pillar's fields).
 _PILLAR_FIELDS = (
     "length",

@@ -68,7 +68,7 @@ def add_parser(sub: Any) -> None:
         "--sigma", type=float, metavar="S", help="standard deviation of every deflection [m]"
     )
     add_json(p)
-    add_bed_options(p, velocity=False)
+    add_bed_options(p, velocity=False, model=True)
     add_sensor_pillar_options(p)
 
 

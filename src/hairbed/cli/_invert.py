@@ -51,7 +51,7 @@ def add_parser(sub: Any) -> None:
         "omega2 (and of the wall speed and stress, given a bed), to first order",
     )
     add_json(p)
-    add_bed_options(p, velocity=False)
+    add_bed_options(p, velocity=False, model=True)
 
 
 def _invert_bed(args: argparse.Namespace, bed: Any, sigma: float | None) -> None:

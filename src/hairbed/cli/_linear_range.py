@@ -64,7 +64,7 @@ def add_parser(sub: Any) -> None:
         help="relative tolerance of the linear calibration, in (0, 1) (default 0.1)",
     )
     add_json(p)
-    add_bed_options(p, velocity=False)
+    add_bed_options(p, velocity=False, model=True)
     add_sensor_pillar_options(p)
 
 

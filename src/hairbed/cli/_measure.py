@@ -66,7 +66,7 @@ def add_parser(sub: Any) -> None:
         "--sigma", type=float, default=0.0, metavar="S", help="its standard deviation [m]"
     )
     add_json(p)
-    add_bed_options(p, velocity=False)
+    add_bed_options(p, velocity=False, model=True)
     add_sensor_pillar_options(p)
 
 
@@ -91,6 +91,16 @@ def _check_bed_options(args: argparse.Namespace, fit: Any, path: str) -> None:
                     f"{opt} {given} disagrees with the pillar of --calibration {path} ({name} = "
                     f"{getattr(fit.bed, name)!r}): drop {opt} or calibrate again"
                 )
+    # --model and --drag have defaults: a value other than the default must be the file's
+    for opt, name, default in (("--model", "model", "dense"), ("--drag", "drag", "crossover")):
+        given = getattr(args, name, default)
+        if given != default and pillar:
+            raise UsageError(f"{opt} does not apply to a pillar (--calibration {path})")
+        if given != default and given != getattr(fit.bed, name):
+            raise UsageError(
+                f"{opt} {given} disagrees with the bed of --calibration {path} ({name} = "
+                f"{getattr(fit.bed, name)!r}): drop {opt} or calibrate again"
+            )
     for opt, (name, _) in BED_OPTIONS.items():
         given = getattr(args, name)
         if given is None:

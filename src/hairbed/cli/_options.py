@@ -374,6 +374,7 @@ def sensor_pillar_from(args: argparse.Namespace, what: str) -> Any:
         f"does not apply to {what} --pillar (an SI pillar: give --length, --radius, ...)",
     )
     refuse(args, _NOT_A_PILLAR, f"does not apply to {what} --pillar (an isolated pillar)")
+    refuse_model(args, f"does not apply to {what} --pillar (an isolated pillar)")
     given = {kw: getattr(args, kw) for kw, _ in BED_OPTIONS.values() if kw not in _NOT_A_PILLAR}
     given = {k: v for k, v in given.items() if v is not None}
     fluid = getattr(args, "fluid", None)
