@@ -8,6 +8,7 @@ from typing import Any
 
 import hairbed
 
+from ._measure_series import add_series_options, run_series
 from ._options import (
     BED_OPTIONS,
     add_bed_options,
@@ -45,6 +46,8 @@ examples:
   hairbed measure --tip-deflection 3e-4 --sigma 1e-6 --calibration cal.json
   hairbed measure --pillar --tip-deflection 2e-4 --sigma 1e-6 --length 500e-6 \\
       --radius 25e-6 --youngs-modulus 1e6 --viscosity 1e-3
+  hairbed measure --pillar --series series.csv --sample-rate 2000 --pillar-density 1000 \\
+      --length 1e-3 --radius 50e-6 --youngs-modulus 1e6 --fluid water > stress.csv
 """
 
 __all__ = ["ABOUT", "add_parser", "run"]
@@ -59,15 +62,14 @@ def add_parser(sub: Any) -> None:
         help="the output of 'hairbed calibrate --json': its bed is the one measured with, "
         "its covariance enters the errors",
     )
-    p.add_argument(
-        "--tip-deflection", type=float, required=True, metavar="X", help="tip deflection [m]"
-    )
+    p.add_argument("--tip-deflection", type=float, metavar="X", help="tip deflection [m]")
     p.add_argument(
         "--sigma", type=float, default=0.0, metavar="S", help="its standard deviation [m]"
     )
     add_json(p)
     add_bed_options(p, velocity=False, model=True)
     add_sensor_pillar_options(p)
+    add_series_options(p)
 
 
 def _load_calibration(path: str) -> Any:
@@ -119,6 +121,10 @@ def _check_bed_options(args: argparse.Namespace, fit: Any, path: str) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Invert the deflection on the (calibrated) bed; print tau and v with their errors."""
+    if args.series is not None:
+        return run_series(args)
+    if args.tip_deflection is None:
+        raise UsageError("measure needs --tip-deflection [m] (or --pillar --series FILE.csv)")
     if args.calibration is None:
         fit = None
         if args.pillar:
