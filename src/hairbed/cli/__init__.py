@@ -42,6 +42,7 @@ from . import (
     _bistability,
     _calibrate,
     _demo,
+    _design,
     _explore,
     _figures,
     _invert,
@@ -74,6 +75,7 @@ COMMANDS = (
     _measure,
     _linear_range,
     _valve,
+    _design,
 )
 
 
