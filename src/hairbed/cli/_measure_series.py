@@ -46,7 +46,7 @@ def add_series_options(p: argparse.ArgumentParser) -> None:
         "--series-drag",
         choices=("sader", "quasi-steady"),
         default="sader",
-        help="the drag of the pillar's motion (default sader: Sader's oscillating cylinder)",
+        help="the drag of the pillar's motion, default sader (Sader's oscillating cylinder)",
     )
 
 
