@@ -25,12 +25,14 @@ __all__ = [
     "STATUS_MAXSTEPS",
     "STATUS_OK",
     "STATUS_OUTSIDE",
+    "STATUS_JUMP",
     "STATUS_STEP_TOO_SMALL",
     "drive_value",
     "integrate_pillar",
     "pencil_outputs",
     "pencil_solve",
     "pillar_rates",
+    "tip_speed",
     "projected_load",
     "workspace",
 ]
@@ -50,25 +52,72 @@ def pencil_solve(aa, bb, g, sv, y):
             y[f, i] = acc / (s * bb[i, i] - aa[i, i])
 
 
+#: Frequencies per block of :func:`pencil_outputs` (its stages stay in the L1 cache).
+_FBLOCK = 32
+
+
 @kernel
 def pencil_outputs(aa, bb, g, sv, cz, out):
     """out[r, f] = cz[r] . y(sv[f]) with (sv[f] BB - AA) y = g (one right-hand side g for
-    every frequency; cz (rows, m) the outputs in the Schur basis; out complex (rows, nf))."""
+    every frequency; cz (rows, m) the outputs in the Schur basis; out complex (rows, nf)).
+
+    The back substitution runs over blocks of frequencies at once, in real arithmetic on
+    split real and imaginary parts, the frequency the innermost (contiguous) index: the
+    operations of each frequency are those of a scalar back substitution, in the same order,
+    while the loop over the block vectorises."""
     m = aa.shape[0]
     rows = cz.shape[0]
-    y = np.empty(m, dtype=np.complex128)
-    for f in range(sv.size):
-        s = sv[f]
+    nf = sv.size
+    fb = _FBLOCK
+    yr = np.empty((m, fb))
+    yi = np.empty((m, fb))
+    accr = np.empty(fb)
+    acci = np.empty(fb)
+    sr = np.empty(fb)
+    si = np.empty(fb)
+    for f0 in range(0, nf, fb):
+        nb = min(fb, nf - f0)
+        for f in range(nb):
+            sr[f] = sv[f0 + f].real
+            si[f] = sv[f0 + f].imag
         for i in range(m - 1, -1, -1):
-            acc = g[i]
+            gr = g[i].real
+            gi = g[i].imag
+            for f in range(nb):
+                accr[f] = gr
+                acci[f] = gi
             for j in range(i + 1, m):
-                acc -= (s * bb[i, j] - aa[i, j]) * y[j]
-            y[i] = acc / (s * bb[i, i] - aa[i, i])
+                ar = aa[i, j].real
+                ai = aa[i, j].imag
+                br = bb[i, j].real
+                bi = bb[i, j].imag
+                for f in range(nb):
+                    cr = sr[f] * br - si[f] * bi - ar
+                    ci = sr[f] * bi + si[f] * br - ai
+                    accr[f] -= cr * yr[j, f] - ci * yi[j, f]
+                    acci[f] -= cr * yi[j, f] + ci * yr[j, f]
+            ar = aa[i, i].real
+            ai = aa[i, i].imag
+            br = bb[i, i].real
+            bi = bb[i, i].imag
+            for f in range(nb):
+                dr = sr[f] * br - si[f] * bi - ar
+                di = sr[f] * bi + si[f] * br - ai
+                den = dr * dr + di * di
+                yr[i, f] = (accr[f] * dr + acci[f] * di) / den
+                yi[i, f] = (acci[f] * dr - accr[f] * di) / den
         for r in range(rows):
-            acc = 0.0j
+            for f in range(nb):
+                accr[f] = 0.0
+                acci[f] = 0.0
             for i in range(m):
-                acc += cz[r, i] * y[i]
-            out[r, f] = acc
+                cr = cz[r, i].real
+                ci = cz[r, i].imag
+                for f in range(nb):
+                    accr[f] += cr * yr[i, f] - ci * yi[i, f]
+                    acci[f] += cr * yi[i, f] + ci * yr[i, f]
+            for f in range(nb):
+                out[r, f0 + f] = complex(accr[f], acci[f])
 
 
 # ---------------------------------------------------------------------------------------
@@ -89,6 +138,9 @@ STATUS_OK = 0
 STATUS_OUTSIDE = -8
 STATUS_MAXSTEPS = -2
 STATUS_STEP_TOO_SMALL = -3
+#: The tip's speed |dx1/dt| reached the run's ``jump_speed``: the state left its quasi-static
+#: branch (a jump at a fold); the run stops there.
+STATUS_JUMP = -9
 
 _SQ6 = math.sqrt(6.0)
 #: Radau IIA of order 5 (three stages): nodes, coefficients, and the embedded order-3
@@ -441,6 +493,50 @@ def _lowest_cos(y, num, theta0, srow, th):
 
 
 @kernel
+def tip_speed(
+    t, y, num, dd, ii, srow, theta0, gamma, chi, mu, prof, drives, tabs, ft, dummy, ws, th
+):
+    """|dx1/dt| = |sum_j I_Nj cos(theta_j) theta_t,j| at (t, y) [L/T]: the rates are y's
+    second half with inertia, f(t, y) of :func:`pillar_rates` when overdamped (NaN where
+    that fails)."""
+    n = num - 1
+    _full_angles(y, 0, num, theta0, srow, th)
+    acc = 0.0
+    if mu == 0.0:
+        if not pillar_rates(
+            t,
+            y,
+            False,
+            num,
+            dd,
+            ii,
+            srow,
+            theta0,
+            gamma,
+            chi,
+            mu,
+            prof,
+            drives,
+            tabs,
+            ft,
+            dummy,
+            ws,
+        ):
+            return math.nan
+        tn = 0.0
+        for j in range(1, num):
+            acc += ii[num, j] * math.cos(th[j]) * ft[j - 1]
+            tn += srow[j] * ft[j - 1]
+    else:
+        tn = 0.0
+        for j in range(1, num):
+            acc += ii[num, j] * math.cos(th[j]) * y[n + j - 1]
+            tn += srow[j] * y[n + j - 1]
+    acc += ii[num, num] * math.cos(th[num]) * tn
+    return abs(acc)
+
+
+@kernel
 def integrate_pillar(
     y0,
     t_start,
@@ -462,22 +558,29 @@ def integrate_pillar(
     tabs,
     y_out,
     counts,
+    jump_speed=0.0,
 ):
     """Radau IIA (order 5, three stages, L-stable, stiffly accurate) on y' = f(t, y) of
     :func:`pillar_rates` from (t_start, y0) to t_eval[-1], writing y at every t_eval
     (sorted, >= t_start) into y_out by the collocation polynomial (dense output).
 
-    Simplified Newton on the stages with the exact Jacobian at each step's start, the 3m
-    system I - h A x J decoupled by the eigenvectors of A into one real and one complex
-    system of size m (two LUs), at most 7 iterations (a divergent one halves the step); the
-    embedded order-3 error estimate of Hairer & Wanner, (I/(gamma0 h) - J)^-1 (f0 + sum_i
-    DD_i Z_i/h), refined once after a rejection; the step by 0.9 err^(-1/4) within
-    [0.2, 5]. Error norm: the root mean square of err/(atol + rtol max(|y0|, |y1|)).
+    Simplified Newton on the stages with the exact Jacobian, the 3m system I - h A x J
+    decoupled by the eigenvectors of A into one real and one complex system of size m (two
+    LUs), at most 7 iterations; the embedded order-3 error estimate of Hairer & Wanner,
+    (I/(gamma0 h) - J)^-1 (f0 + sum_i DD_i Z_i/h), refined once after a rejection; the step
+    by 0.9 err^(-1/4) within [0.2, 5]. Error norm: the root mean square of
+    err/(atol + rtol max(|y0|, |y1|)). The Jacobian and the LUs are reused as in Hairer &
+    Wanner's RADAU5: after a step whose Newton converged in one iteration or with a
+    contraction below 1e-3 the next step keeps the Jacobian (a new one is taken at the step's
+    start after any rejection or divergent Newton with an old one), and keeps the LUs too where
+    the proposed step is within [1, 1.2] of the last (the step is then kept).
 
-    Event: the pillar reaching |theta| = pi/2 at a node (it lies on the wall) is located by
-    bisection on the dense output; the run stops there. Returns (status, t_end): 0, -8 at the
-    event, -2 after max_steps steps, -3 for a step below 1e-14 (t + 1) or a singular matrix.
-    counts: steps, accepted, rejected, f evaluations, Jacobians, LU factorisations."""
+    Events, located by bisection on the dense output, stop the run: the pillar reaching
+    |theta| = pi/2 at a node (it lies on the wall); where ``jump_speed`` > 0, the tip's speed
+    |dx1/dt| (:func:`tip_speed`) reaching it (a jump off a fold). Returns (status, t_end):
+    0, -8 at the wall, -9 at a jump, -2 after max_steps steps, -3 for a step below
+    1e-14 (t + 1) or a singular matrix. counts: steps, accepted, rejected, f evaluations,
+    Jacobians, LU factorisations."""
     m = y0.size
     n_eval = t_eval.size
     ws = workspace(num)
@@ -516,15 +619,37 @@ def integrate_pillar(
     steps = 0
     fnewt = 0.03
     cs = (_C1, _C2, 1.0)
+    reuse = False  # the last step's Newton converged fast: its Jacobian serves this one
+    fresh = False  # jac is the Jacobian at the step's start (t, y)
+    h_lu = -1.0  # the step of the factorisations e1, e2 of the current jac (-1: none)
     while nxt < n_eval:
         if steps >= max_steps:
             return STATUS_MAXSTEPS, t
         if not pillar_rates(
-            t, y, True, num, dd, ii, srow, theta0, gamma, chi, mu, prof, drives, tabs, f0, jac, ws
+            t,
+            y,
+            not reuse,
+            num,
+            dd,
+            ii,
+            srow,
+            theta0,
+            gamma,
+            chi,
+            mu,
+            prof,
+            drives,
+            tabs,
+            f0,
+            dummy if reuse else jac,
+            ws,
         ):
             return STATUS_STEP_TOO_SMALL, t
         counts[3] += 1
-        counts[4] += 1
+        if not reuse:
+            counts[4] += 1
+            h_lu = -1.0
+        fresh = not reuse
         while True:  # attempts of this step
             steps += 1
             counts[0] += 1
@@ -532,16 +657,18 @@ def integrate_pillar(
                 return (STATUS_STEP_TOO_SMALL if steps <= max_steps else STATUS_MAXSTEPS), t
             # the stages' Newton matrix, decoupled by T: the real (U1/h) I - J (also the
             # error estimate's) and the complex ((alpha - i beta)/h) I - J
-            shift = complex(_ALPHA / h, -_BETA / h)
-            for i in range(m):
-                for k in range(m):
-                    e1[i, k] = -jac[i, k]
-                    e2[i, k] = -jac[i, k]
-                e1[i, i] += _U1 / h
-                e2[i, i] += shift
-            counts[5] += 2
-            if not _lu_factor(e1, piv1, m) or not _lu_factor(e2, piv2, m):
-                return STATUS_STEP_TOO_SMALL, t
+            if h != h_lu:
+                shift = complex(_ALPHA / h, -_BETA / h)
+                for i in range(m):
+                    for k in range(m):
+                        e1[i, k] = -jac[i, k]
+                        e2[i, k] = -jac[i, k]
+                    e1[i, i] += _U1 / h
+                    e2[i, i] += shift
+                counts[5] += 2
+                if not _lu_factor(e1, piv1, m) or not _lu_factor(e2, piv2, m):
+                    return STATUS_STEP_TOO_SMALL, t
+                h_lu = h
             # the start of the stages: the last step's polynomial, or Euler
             if have_prev and not rejected:
                 for si in range(3):
@@ -635,9 +762,35 @@ def integrate_pillar(
                 if not math.isfinite(norm):
                     break
             if not ok:
-                h *= 0.5
                 rejected = True
                 counts[2] += 1
+                if not fresh:  # an old Jacobian: a new one, the same step
+                    if not pillar_rates(
+                        t,
+                        y,
+                        True,
+                        num,
+                        dd,
+                        ii,
+                        srow,
+                        theta0,
+                        gamma,
+                        chi,
+                        mu,
+                        prof,
+                        drives,
+                        tabs,
+                        f0,
+                        jac,
+                        ws,
+                    ):
+                        return STATUS_STEP_TOO_SMALL, t
+                    counts[3] += 1
+                    counts[4] += 1
+                    fresh = True
+                    h_lu = -1.0
+                else:
+                    h *= 0.5
                 continue
             for k in range(m):
                 y1[k] = y[k] + z[2 * m + k]
@@ -695,6 +848,31 @@ def integrate_pillar(
             rejected = True
             counts[2] += 1
             h = h_new if not first else 0.1 * h
+            if not fresh:
+                if not pillar_rates(
+                    t,
+                    y,
+                    True,
+                    num,
+                    dd,
+                    ii,
+                    srow,
+                    theta0,
+                    gamma,
+                    chi,
+                    mu,
+                    prof,
+                    drives,
+                    tabs,
+                    f0,
+                    jac,
+                    ws,
+                ):
+                    return STATUS_STEP_TOO_SMALL, t
+                counts[3] += 1
+                counts[4] += 1
+                fresh = True
+                h_lu = -1.0
         # accepted: dense output, the event, the next step
         counts[1] += 1
         t_new = t + h
@@ -713,6 +891,65 @@ def integrate_pillar(
                     lo = mid
             t_stop = t + hi * h
             status = STATUS_OUTSIDE
+        if jump_speed > 0.0:
+            tau = (t_stop - t) / h
+            if tau < 1.0:
+                _dense(y, z, m, tau, yt)
+            else:
+                for k in range(m):
+                    yt[k] = y1[k]
+            v = tip_speed(
+                t_stop,
+                yt,
+                num,
+                dd,
+                ii,
+                srow,
+                theta0,
+                gamma,
+                chi,
+                mu,
+                prof,
+                drives,
+                tabs,
+                ft,
+                dummy,
+                ws,
+                th_tmp,
+            )
+            counts[3] += 1
+            if not v < jump_speed:  # (NaN too) the first crossing, by bisection
+                lo = 0.0
+                hi = tau
+                for _ in range(60):
+                    mid = 0.5 * (lo + hi)
+                    _dense(y, z, m, mid, yt)
+                    v = tip_speed(
+                        t + mid * h,
+                        yt,
+                        num,
+                        dd,
+                        ii,
+                        srow,
+                        theta0,
+                        gamma,
+                        chi,
+                        mu,
+                        prof,
+                        drives,
+                        tabs,
+                        ft,
+                        dummy,
+                        ws,
+                        th_tmp,
+                    )
+                    counts[3] += 1
+                    if not v < jump_speed:
+                        hi = mid
+                    else:
+                        lo = mid
+                t_stop = t + hi * h
+                status = STATUS_JUMP
         while nxt < n_eval and t_eval[nxt] <= t_stop:
             _dense(y, z, m, (t_eval[nxt] - t) / h, yt)
             for k in range(m):
@@ -729,6 +966,9 @@ def integrate_pillar(
         t = t_new
         if rejected:
             h_new = min(h_new, h)
+        reuse = nit == 1 or rate_old < 1e-3
+        if reuse and h <= h_new <= 1.2 * h:
+            h_new = h  # the LUs too
         rejected = False
         first = False
         h = min(h_new, t_end - t) if t_end - t > 0.0 else h_new
