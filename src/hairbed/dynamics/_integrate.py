@@ -11,7 +11,9 @@ the wall event).
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -29,9 +31,20 @@ from .._core.validation import (
 from ._operators import _mapped
 from ._signals import Signal, as_signal
 
-__all__ = ["PillarTrajectory", "simulate_pillar"]
+__all__ = ["TRAJECTORY_STATUS", "PillarTrajectory", "simulate_pillar"]
 
 FloatArray = NDArray[np.float64]
+
+#: The status codes of a :class:`PillarTrajectory`: the package's table and the jump event.
+TRAJECTORY_STATUS: Mapping[int, str] = MappingProxyType(
+    {
+        **STATUS_MESSAGES,
+        -9: (
+            "a jump: the tip's speed |dx1/dt| reached jump_speed (the state left its "
+            "quasi-static branch, as past a fold); the run stops there (t_end)"
+        ),
+    }
+)
 
 
 @dataclass(frozen=True)
@@ -58,8 +71,9 @@ class PillarTrajectory:
         The model's constants.
     status : int
         0 reached the last time; -8 the pillar reached abs(theta) = pi/2 (it lies on the wall:
-        the event, at ``t_end``); -2 the step limit; -3 the step size underflowed or a
-        singular matrix (``STATUS_MESSAGES``).
+        the event, at ``t_end``); -9 the tip's speed reached ``jump_speed`` (a jump, the
+        event at ``t_end``); -2 the step limit; -3 the step size underflowed or a singular
+        matrix (``TRAJECTORY_STATUS``).
     t_end : float
         Where the integration ended [T].
     nsteps, naccept, nreject, nfev, njev, nlu : int
@@ -98,8 +112,8 @@ class PillarTrajectory:
 
     @property
     def message(self) -> Any:
-        """``STATUS_MESSAGES`` of the status."""
-        return status_messages(self.status, STATUS_MESSAGES)
+        """``TRAJECTORY_STATUS`` of the status."""
+        return status_messages(self.status, TRAJECTORY_STATUS)
 
     def energy(self) -> dict[str, FloatArray]:
         """The energy budget at every output time (units E I/L, time T):
@@ -191,6 +205,7 @@ def simulate_pillar(
     rtol: float = 1e-10,
     atol: float = 1e-12,
     max_steps: int = 100_000,
+    jump_speed: float | None = None,
 ) -> PillarTrajectory:
     """A pillar in a time-dependent flow, from the nonlinear model (theory.md §14).
 
@@ -226,6 +241,13 @@ def simulate_pillar(
         The integrator's tolerances on the angles (and rates).
     max_steps : int, optional
         The most steps (work is bounded; status -2 beyond).
+    jump_speed : float, optional
+        The jump event [L/T]: the run stops (status -9, ``t_end`` the event's time, located
+        on the dense output to round-off) where the tip's speed |dx1/dt| first reaches this
+        positive value: on a slow drive the pillar moves at the drive's pace along its
+        quasi-static branch, and at O(1) speed once it leaves it, as past a fold. Default
+        None: no such event. (A drive that jumps itself, a step, starts the pillar at O(1)
+        speed: set the threshold above that, or leave it off.)
 
     Returns
     -------
@@ -258,6 +280,11 @@ def simulate_pillar(
     rt = check_positive(rtol, "rtol")
     at = check_positive(atol, "atol")
     steps = check_int(max_steps, "max_steps", 1)
+    jump = (
+        0.0
+        if jump_speed is None
+        else check_number(jump_speed, "jump_speed", low=0.0, low_open=True)
+    )
     span_end = float(te[-1]) if te[-1] > te[0] else float(te[0]) + 1.0
     lam_sig: Signal = as_signal(forcing, "forcing", float(te[0]), span_end)
     tip_sig: Signal = as_signal(tip_load, "tip_load", float(te[0]), span_end)
@@ -341,6 +368,7 @@ def simulate_pillar(
         tabs,
         y_out,
         counts,
+        jump,
     )
     # the angles and rates at the nodes
     theta = np.full((te.size, deg + 1), np.nan)
