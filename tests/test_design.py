@@ -123,6 +123,22 @@ def test_three_variable_pillar_design_beats_the_grid():
     assert any(c.active for c in res.constraints)
 
 
+def test_sensor_design_with_bandwidth_and_linear_range_beats_the_grid():
+    p = _quiet(Pillar, length=500e-6, radius=25e-6, youngs_modulus=1e6, viscosity=0.1,
+               density=1000.0)  # fmt: skip
+    variables = [D.Variable("length", 300e-6, 800e-6), D.Variable("radius", 20e-6, 30e-6)]
+    objective = D.linear_sensitivity()
+    constraints = [D.bandwidth(0.5) >= 8.0, D.linear_range(0.05) >= 0.5]
+    res = D.optimise(p, variables, objective, constraints=constraints, sense="max", starts=2)
+    assert res.success and not res.exact_gradient and res.inexact == ("bandwidth(0.5 Pa)",)
+    space = D.Space(p, variables)
+    validity, _ = D.validity_constraints(p, [objective, *(c.quantity for c in constraints)])
+    best = _grid_best(space, objective, [*constraints, *validity], 9, "max")
+    assert res.objective >= best * (1 - 1e-12)
+    (band,) = [c for c in res.constraints if c.label == "bandwidth(0.5 Pa) >= 8"]
+    assert band.active and band.multiplier < 0.0  # a higher bandwidth costs sensitivity
+
+
 def test_multistart_finds_the_global_optimum_of_a_bistable_window():
     """The width of the window is 0 (every point stationary) wherever the branch does not
     fold: a start there stays there; the scan shows the plateau and the corner optimum."""

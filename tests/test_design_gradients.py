@@ -82,6 +82,7 @@ CASES = [
     ("pillar", PILLAR_SPACE, D.pillar_reynolds(1.0)),
     ("pillar", PILLAR_SPACE, D.pillar_reynolds(D.linear_range(0.05))),
     ("pillar", PILLAR_SPACE, D.slenderness()),
+    ("pillar", PILLAR_SPACE, D.linear_sensitivity()),
 ]
 
 
@@ -135,6 +136,17 @@ def test_the_sensitivity_says_its_gradient_is_not_exact():
     assert not q.exact
     # a central difference of the exact first derivative: close, but not to rounding
     assert _worst("pillar", PILLAR_SPACE, q, designs=3) <= 1e-5
+
+
+def test_the_bandwidth_says_its_gradient_is_not_exact():
+    q = D.bandwidth(1.0)
+    assert not q.exact
+    assert _worst("pillar", PILLAR_SPACE, q, designs=3) <= 1e-5
+
+
+def test_the_linear_sensitivity_is_the_small_stress_limit():
+    p = _pillar()
+    assert D.linear_sensitivity()(p) == pytest.approx(p.sensitivity(1e-7), rel=1e-6)
 
 
 def test_a_custom_quantity_without_gradient_is_marked_inexact():

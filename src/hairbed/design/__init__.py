@@ -3,7 +3,8 @@
 Choose SI parameters of a :class:`~hairbed.HairBed` or a :class:`~hairbed.Pillar`
 (:class:`Variable`, with bounds, optionally in log scale) to minimise or maximise a named
 quantity (:func:`diodicity`, :func:`resistance_ratio`, :func:`bistable_width`,
-:func:`tip_deflection`, :func:`sensitivity`, :func:`linear_range`, :func:`custom`, ...)
+:func:`tip_deflection`, :func:`sensitivity`, :func:`linear_sensitivity`,
+:func:`linear_range`, :func:`bandwidth`, :func:`custom`, ...)
 under constraints written in the same vocabulary (``resistance_ratio(500, 0.01) <= 4``),
 with the model's validity as constraints (:func:`validity_constraints`).
 
@@ -18,6 +19,7 @@ from ._objectives import (
     GAP_REYNOLDS_LIMIT,
     Constraint,
     Quantity,
+    bandwidth,
     bistable_width,
     brinkman_ratio,
     custom,
@@ -25,6 +27,7 @@ from ._objectives import (
     gap_reynolds,
     l_plus,
     linear_range,
+    linear_sensitivity,
     pillar_reynolds,
     resistance_ratio,
     sensitivity,
@@ -49,6 +52,7 @@ __all__ = [
     "Quantity",
     "Space",
     "Variable",
+    "bandwidth",
     "bistable_width",
     "brinkman_ratio",
     "custom",
@@ -56,6 +60,7 @@ __all__ = [
     "gap_reynolds",
     "l_plus",
     "linear_range",
+    "linear_sensitivity",
     "optimise",
     "pareto_front",
     "pillar_reynolds",

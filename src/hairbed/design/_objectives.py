@@ -45,6 +45,7 @@ from ..valve import valve_curve
 __all__ = [
     "Constraint",
     "Quantity",
+    "bandwidth",
     "bistable_width",
     "brinkman_ratio",
     "custom",
@@ -52,6 +53,7 @@ __all__ = [
     "gap_reynolds",
     "l_plus",
     "linear_range",
+    "linear_sensitivity",
     "pillar_reynolds",
     "resistance_ratio",
     "sensitivity",
@@ -529,6 +531,66 @@ def sensitivity(wall_shear_stress: float) -> Quantity:
     return Quantity(
         f"sensitivity({tau:g} Pa)", "pillar", "m/Pa", False, evaluate, (("stress", tau),)
     )
+
+
+def linear_sensitivity() -> Quantity:
+    """The pillar's sensitivity at small stress, L c1 Lambda/tau_w [m/Pa], c1 =
+    11 cos^3(theta0)/120 (the linear calibration, :attr:`hairbed.Pillar.linear_coefficient`,
+    sublayer and Couette profiles): the limit of :func:`sensitivity` as tau_w -> 0, a closed
+    form with an exact gradient."""
+
+    def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
+        k, d_ln_k, _, _ = _pillar_groups(p)
+        th = p.base_angle
+        c1 = 11.0 * math.cos(th) ** 3 / 120.0
+        dc1 = -33.0 * math.cos(th) ** 2 * math.sin(th) / 120.0
+        value = p.length * c1 * k
+        return value, _comb(
+            (c1 * k, {"length": 1.0}), (p.length * k * dc1, {"base_angle": 1.0}), (value, d_ln_k)
+        )
+
+    return Quantity("linear_sensitivity", "pillar", "m/Pa", True, evaluate)
+
+
+def bandwidth(wall_shear_stress: float) -> Quantity:
+    """The corner frequency [Hz] of the pillar's slowest mode about its state at tau_w [Pa]:
+    -Re(lambda_1)/(2 pi T), T = zeta_perp L^4/(E I) = eta Lambda/tau_w, lambda_1 the slowest
+    eigenvalue of the overdamped linear dynamics (:func:`hairbed.dynamics.linearise_pillar`,
+    inertia neglected, mu = 0: valid while the pillar's inertia number is small). At rest
+    and upright lambda_1 = -12.362 (1 + cos b cosh b = 0).
+
+    Its gradient: the eigenvalue's derivative in (Lambda, theta0, gamma) is a central
+    difference (relative step :data:`FD_STEP`; the library has no eigenvalue derivative),
+    chained exactly through T; ``exact`` is False."""
+    tau = _number(wall_shear_stress, "wall_shear_stress [Pa]", positive=False)
+
+    def rate(p: Pillar, lam: float, th: float, gamma: float) -> float:
+        from ..dynamics import linearise_pillar
+
+        args = (np.array(lam), np.array(th), np.array(gamma), np.zeros(()))  # one state
+        sol = _solve_pillar_checked(*args, *p._core_options)
+        lin = linearise_pillar(sol, profile=p._core_profile, height_ratio=p.height_ratio)
+        return float(-lin.modes(1).eigenvalues[0].real)
+
+    def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
+        k, d_ln_k, gamma, d_gamma = _pillar_groups(p)
+        lam, th = k * tau, p.base_angle
+        r0 = rate(p, lam, th, gamma)
+        t_scale = p.viscosity * k
+        value = r0 / (2.0 * math.pi * t_scale)
+        parts = []
+        for i, x in enumerate((lam, th, gamma)):
+            h = FD_STEP * max(abs(x), 1e-3)
+            up, down = [lam, th, gamma], [lam, th, gamma]
+            up[i] += h
+            down[i] -= h
+            parts.append((rate(p, *up) - rate(p, *down)) / (2.0 * h))
+        dr = _d_state(p, parts, lam, d_ln_k, d_gamma)
+        return value, _comb(
+            (value / r0, dr), (-value, d_ln_k), (-value / p.viscosity, {"viscosity": 1.0})
+        )
+
+    return Quantity(f"bandwidth({tau:g} Pa)", "pillar", "Hz", False, evaluate, (("stress", tau),))
 
 
 def linear_range(rtol: float = 0.1) -> Quantity:

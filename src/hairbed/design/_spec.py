@@ -11,8 +11,8 @@ The spec is a mapping::
 
 Quantities and their arguments: diodicity, resistance_ratio, gap_reynolds (pressure_drop
 [Pa], channel_length [m]); brinkman_ratio, bistable_width (none); tip_deflection,
-sensitivity, l_plus, pillar_reynolds (wall_shear_stress [Pa]); linear_range (rtol);
-slenderness (none).
+sensitivity, l_plus, pillar_reynolds, bandwidth (wall_shear_stress [Pa]); linear_range
+(rtol); slenderness, linear_sensitivity (none).
 """
 
 from __future__ import annotations
@@ -46,6 +46,8 @@ QUANTITIES: dict[str, tuple[Callable[..., Quantity], tuple[str, ...]]] = {
     "pillar_reynolds": (Q.pillar_reynolds, ("wall_shear_stress",)),
     "linear_range": (Q.linear_range, ("rtol",)),
     "slenderness": (Q.slenderness, ()),
+    "linear_sensitivity": (Q.linear_sensitivity, ()),
+    "bandwidth": (Q.bandwidth, ("wall_shear_stress",)),
 }
 _MODELS = {"bed": HairBed, "pillar": Pillar}
 
