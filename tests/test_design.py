@@ -276,3 +276,14 @@ def test_unknown_variable_objective_and_impossible_box_are_refused():
         D.resistance_ratio(1000.0, 0.01) <= math.nan  # noqa: B015
     with pytest.raises(ValueError, match="variables must hold at least one"):
         D.optimise(bed, [], q)
+    var = D.Variable("base_angle", 0.0, 1.0)
+    with pytest.raises(ValueError, match="seed must be an integer"):
+        D.optimise(bed, var, q, seed=-1)
+    with pytest.raises(ValueError, match="maxiter must be an integer"):
+        D.optimise(bed, var, q, maxiter=0)
+    with pytest.raises(ValueError, match="x0 must be a dict of every design variable"):
+        D.optimise(bed, var, q, x0={"length": 1e-3})
+    with pytest.raises(ValueError, match=r"x0\['base_angle'\] = 2.0 must lie within"):
+        D.optimise(bed, var, q, x0={"base_angle": 2.0})
+    with pytest.raises(ValueError, match="log must be True or False"):
+        D.Variable("length", 1e-4, 1e-3, log="yes")

@@ -123,6 +123,29 @@ def _objective_scale(problem: _Problem, points: list[FloatArray]) -> float:
     return big if big > 0.0 and math.isfinite(big) else 1.0
 
 
+def _check_options(space: Space, seed: Any, maxiter: Any, x0: Any) -> None:
+    """seed, maxiter and x0 of :func:`optimise`, or a ValueError naming them."""
+    for name, value, low, high in (("seed", seed, 0, 2**63 - 1), ("maxiter", maxiter, 1, 100_000)):
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+            raise ValueError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
+        if not low <= value <= high:
+            raise ValueError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
+    if x0 is None:
+        return
+    if not isinstance(x0, dict) or set(x0) != set(space.names):
+        raise ValueError(
+            f"x0 must be a dict of every design variable ({', '.join(space.names)}), got {x0!r}"
+        )
+    for v in space.variables:
+        x = x0[v.name]
+        if isinstance(x, bool) or not isinstance(x, (int, float, np.floating)):
+            raise ValueError(f"x0[{v.name!r}] must be a number, got {x!r}")
+        if not v.low <= float(x) <= v.high:
+            raise ValueError(
+                f"x0[{v.name!r}] = {x!r} must lie within its bounds [{v.low!r}, {v.high!r}]"
+            )
+
+
 def _check(objective: Any, constraints: Any, sense: str, starts: Any, kind: str) -> None:
     if not isinstance(objective, Quantity):
         raise TypeError(
@@ -202,6 +225,7 @@ def optimise(
     space = Space(base, variables)
     constraints = list(constraints)
     _check(objective, constraints, sense, starts, space.kind)
+    _check_options(space, seed, maxiter, x0)
     notes: list[str] = []
     if validity:
         extra, notes = validity_constraints(base, [objective, *(c.quantity for c in constraints)])

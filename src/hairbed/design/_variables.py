@@ -100,6 +100,10 @@ class Variable:
                 f"variable {self.name!r}: the bounds are {what} (low {self.low!r} must be "
                 f"less than high {self.high!r})"
             )
+        if not isinstance(self.log, (bool, np.bool_)):
+            raise ValueError(
+                f"variable {self.name!r}: log must be True or False, got {self.log!r}"
+            )
         if self.log and not self.low > 0.0:
             raise ValueError(
                 f"variable {self.name!r}: a log scale needs low > 0, got low {self.low!r}"
