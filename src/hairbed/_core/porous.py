@@ -54,6 +54,11 @@ IntValue = int | NDArray[np.int64]
 #: The ladder of Chebyshev degrees N (a thin bed's tip layer of width sqrt(kappa) needs the
 #: upper levels; measured: kappa = 1e-4 converges at N = 64, 1e-6 at 256).
 LADDER = (32, 64, 128, 256)
+#: The ladder of a bed no thinner than ``_QUICK_KAPPA``: N = 16 first, at a quarter of the
+#: cost of N = 32's LU (measured on 2000 states from kappa 1e-4 to 1e4: above kappa = 0.3,
+#: 89-94 % converge at N = 16 in every drive; below it none do).
+_QUICK_LADDER = (16, *LADDER)
+_QUICK_KAPPA = 0.3
 _DRIVES = {"pressure": 0, "flow": 1}
 _kernel_module: Any = None
 
@@ -478,9 +483,23 @@ def _solve_porous_checked(
     """:func:`solve_porous` of checked, broadcast inputs (``_check``), trusted."""
     shape = arrays[0].shape
     flat = tuple(np.ascontiguousarray(v, dtype=np.float64).reshape(-1) for v in arrays)
-    out, coefs, a = _run(code, flat, np.full(flat[0].size, np.nan), nums, tol)
-    if nums == LADDER:
-        _rescue(drive, code, flat, root, tol, out, coefs)
+    hfix = np.full(flat[0].size, np.nan)
+    if nums != LADDER:
+        out, coefs, a = _run(code, flat, hfix, nums, tol)
+        return _state(drive, code, shape, arrays, out, coefs, a)
+    size = flat[0].size
+    out = np.full((_kernels().NCOLS, size), np.nan)
+    coefs = np.empty((5, size, LADDER[-1] + 1))
+    a = np.empty(size)
+    quick = flat[3] >= _QUICK_KAPPA
+    # N = 16 first where the bed is not thin; the thin beds, and where N = 16 failed, from
+    # N = 32's start
+    for todo, ladder in ((quick, _QUICK_LADDER), (None, LADDER)):
+        idx = np.flatnonzero(todo if todo is not None else ~quick | (out[0] < 0))
+        if idx.size:
+            o, c, ai = _run(code, tuple(v[idx] for v in flat), hfix[idx], ladder, tol)
+            out[:, idx], coefs[:, idx, :], a[idx] = o, c, ai
+    _rescue(drive, code, flat, root, tol, out, coefs)
     return _state(drive, code, shape, arrays, out, coefs, a)
 
 
