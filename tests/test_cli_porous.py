@@ -18,6 +18,8 @@ import pytest
 
 import hairbed
 from hairbed.cli import main
+from hairbed.cli._output import to_plain
+from hairbed.cli._valve import _states_doc
 from hairbed.valve import diodicity, valve_curve
 
 #: A porous bed (the README's), in SI units.
@@ -243,10 +245,16 @@ def test_bad_input_is_one_line(
     _one_error(*_run(capsys, *args), *words)
 
 
-def test_not_implemented_is_one_line(capsys: pytest.CaptureFixture[str]) -> None:
-    """valve --states of a porous bed: the library's NotImplementedError, exit status 2."""
+def test_valve_states_of_a_porous_bed(capsys: pytest.CaptureFixture[str]) -> None:
+    """valve --states --model porous: the library's valve_states of the porous bed."""
     args = ("valve", "--states", "--pressure-drop", "0:200:3", "--channel-length", "0.01")
-    _one_error(*_run(capsys, *args, *VALVE_ARGS, "--model", "porous"), "valve_states", "dense")
+    status, out, err = _run(capsys, *args, *VALVE_ARGS, "--model", "porous", "--json")
+    assert status == 0, err
+    doc = json.loads(out)
+    bed = hairbed.HairBed(**VALVE_KW, model="porous")
+    ref = hairbed.valve.valve_states(bed, 0.01, pressure_drop=np.linspace(0.0, 200.0, 3))
+    assert doc == json.loads(json.dumps(to_plain(_states_doc(ref))))
+    assert doc["status"] == 0 and len(doc["points"]) == 3
 
 
 def test_subprocess_solve_kappa() -> None:

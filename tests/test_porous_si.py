@@ -213,8 +213,8 @@ def test_sweep_of_a_porous_bed_is_its_deform() -> None:
 
 def test_valve_of_a_porous_bed_counts_the_flow_through_the_bed() -> None:
     """valve_curve and diodicity take a porous bed: its flow through bed and gap, and the
-    resistance as the ratio of the flows; valve_states says it does not (the calibration
-    does: tests/test_porous_workflows.py)."""
+    resistance as the ratio of the flows (valve_states and the calibration:
+    tests/test_porous_workflows.py)."""
     from hairbed import valve
 
     bed = HairBed(**BED, model="porous", base_angle=0.6)
@@ -229,5 +229,3 @@ def test_valve_of_a_porous_bed_counts_the_flow_through_the_bed() -> None:
     )
     di = valve.diodicity(bed, 200.0, 0.01)
     assert di.success and di.diodicity > 1.0
-    with pytest.raises(NotImplementedError, match="valve.valve_states"):
-        valve.valve_states(bed, 0.01, pressure_drop=200.0)

@@ -346,13 +346,74 @@ def test_linear_range_ends_where_the_linear_calibration_misses_by_rtol(angle: fl
     assert rng.tip_deflection == min(r.tip_deflection for r in rng.limits.values())
 
 
+# -- valve states ---------------------------------------------------------------------------
+
+
+def _all_states(bed: HairBed, drive: str, load: float) -> list[Any]:
+    """Every state of the porous bed at a pump's load by solve_porous_all (its own scan)."""
+    import hairbed
+
+    kw = {"pi": load} if drive == "pressure" else {"q": load}
+    found = hairbed.solve_porous_all(
+        0.0, bed.eps, bed.base_angle, kappa=bed.kappa, gamma=bed.drag_ratio, **kw
+    )
+    return [s for s in found if s.status >= 0]
+
+
+def test_valve_states_are_those_of_solve_porous_all_and_the_valve_curve() -> None:
+    """A set pressure drop (one state at each): valve_states' states against
+    solve_porous_all's at the same drive, and their flow and resistance against
+    valve_curve's (the porous bed's deform)."""
+    from hairbed import valve
+    from hairbed._channel_drives import load_scale
+
+    bed = HairBed(**{**BED, "length": 1.8e-3}, base_angle=1.0, model="porous")
+    drop = np.linspace(-200.0, 200.0, 5)
+    s = valve.valve_states(bed, 0.01, pressure_drop=drop)
+    assert s.success and s.status == 0 and s.count.tolist() == [1] * 5
+    scale = load_scale(bed, "pressure") / 0.01
+    for i, dp in enumerate(drop):
+        (ref,) = _all_states(bed, "pressure", dp * scale)
+        assert s.tip_height[i, 0] == pytest.approx(float(ref.tip_height) * bed.length, rel=1e-9)
+        assert bool(s.stable[i, 0]) == bool(ref.stable)
+    curve = valve.valve_curve(bed, drop, 0.01)
+    np.testing.assert_allclose(s.flow_rate[:, 0], curve.flow_rate, rtol=1e-8, atol=1e-20)
+    np.testing.assert_allclose(s.resistance_ratio[:, 0], curve.resistance_ratio, rtol=1e-8)
+    np.testing.assert_array_equal(s.pressure_drop[:, 0], drop)
+
+
+def test_valve_states_of_a_bistable_porous_valve() -> None:
+    """A set flow rate against the hairs' lean (the dense bed's bistable valve, porous):
+    at every grid point valve_states finds the states solve_porous_all finds, with their
+    stability, and a fold between. Past the fold the hairs reach pi/2, outside the model,
+    where solve_porous_all finds no state either: the continuation stops there, and says so
+    (status -3, those points not covered)."""
+    from hairbed import valve
+    from hairbed._channel_drives import load_scale
+
+    bed = HairBed(**{**BED, "length": 1.6e-3}, base_angle=-1.2, model="porous")
+    flow = np.linspace(0.0, 3e-6, 7)
+    s = valve.valve_states(bed, 0.01, flow_rate=flow)
+    assert s.count.tolist() == [1, 1, 1, 1, 2, 0, 0]
+    assert s.status == -3 and not s.success and "reached" in s.message
+    assert s.covered.tolist() == [True] * 5 + [False] * 2
+    scale = load_scale(bed, "flow")
+    for i, q in enumerate(flow):
+        ref = _all_states(bed, "flow", q * scale)
+        assert s.count[i] == len(ref), q
+        got = s.tip_height[i, : len(ref)]
+        want = [float(r.tip_height) * bed.length for r in ref]
+        np.testing.assert_allclose(got, want, rtol=1e-8)
+        assert s.stable[i, : len(ref)].tolist() == [bool(r.stable) for r in ref]
+    np.testing.assert_array_equal(s.flow_rate[:5, 0], flow[:5])
+    # the fold where the stable and the unstable state meet: past the grid's 2e-6
+    assert s.fold_flow_rate.size == 1 and 2e-6 < s.fold_flow_rate[0] < 2.5e-6
+    assert s.tip_height[4, 0] < s.fold_tip_height[0] < s.tip_height[4, 1]
+
+
 # -- what stays refused -------------------------------------------------------------------------
 
 
 def test_what_a_porous_bed_still_refuses_says_so() -> None:
-    from hairbed import valve
-
-    with pytest.raises(NotImplementedError, match="valve.valve_states"):
-        valve.valve_states(TRUE, 0.01, pressure_drop=[0.0, 200.0])
     with pytest.raises(NotImplementedError, match="fit_profile"):
         TRUE.fit_profile([0.0, 1e-4], [0.0, 5e-4])

@@ -30,16 +30,20 @@ Examples
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from ._channel_drives import drive_inputs, gap_flow
-from ._core.arclength import continue_loaded
+from ._channel_drives import drive_inputs, gap_flow, porous_flow
+from ._core.arclength import LoadedBranch, _Curve, _follow, continue_loaded
 from ._core.loaded import _gap
 from ._core.outputs import float_or_array
+from ._core.porous import LADDER
+from ._core.porous import _run as _porous_run
+from ._core.porous import _state as _porous_state
 from ._core.validation import (
     STATUS_MESSAGES,
     _first_index,
@@ -50,7 +54,7 @@ from ._core.validation import (
     check_root,
 )
 from ._optional import optional_import
-from .units import HairBed, HairState, _warn_reynolds, require_dense
+from .units import HairBed, HairState, _warn_reynolds
 
 __all__ = [
     "Diodicity",
@@ -452,18 +456,43 @@ class _Drive:
         self.omega2 = float(omega2)
         self.scale = float(load)  # the dimensionless load per unit of the SI drive
         self.code = 0 if drive == "pressure" else 1
+        self.porous = bed.model == "porous"
+
+    def _frozen(self, h: NDArray[np.float64], p: NDArray[np.float64]) -> tuple[Any, Any, Any, Any]:
+        """The porous bed's states of load p with the gap frozen at the tip height h (the
+        kernel's columns, coefficients, map, and the inputs; at a root of G the bed's own
+        states): theory.md §13, :func:`hairbed.solve_porous_all`'s scan."""
+        b = self.bed
+        n = h.size
+        arrays = tuple(
+            np.full(n, float(x)) for x in (self.omega2, b.eps, b.base_angle, b.kappa,
+                                            b.drag_ratio)
+        ) + (np.ascontiguousarray(p, dtype=np.float64),)  # fmt: skip
+        out, coefs, amap = _porous_run(
+            self.code, arrays, np.ascontiguousarray(h, dtype=np.float64), LADDER, 1e-12
+        )
+        return out, coefs, amap, arrays
 
     def gap(self, h: NDArray[np.float64], p: NDArray[np.float64]) -> NDArray[np.float64]:
-        """G(h, p) = z1 - h with the drive's dimensionless load p (NaN where not found)."""
+        """G(h, p) = z1 - h with the drive's dimensionless load p (NaN where not found): the
+        dense bed's fixed-load solves, the porous bed's frozen-gap ones."""
         b = self.bed
+        if self.porous:
+            h = np.atleast_1d(np.asarray(h, dtype=np.float64))
+            out = self._frozen(h, np.broadcast_to(np.asarray(p, dtype=np.float64), h.shape))[0]
+            return np.where(out[0] >= 0, out[3] - h, np.nan)
         return np.asarray(_gap(self.code, self.omega2, b.eps, p, b.base_angle, h, 1e-12))
 
     def si(self, p: Any, h: Any) -> dict[str, NDArray[np.float64]]:
-        """dp [Pa], Q' [m^2/s], h1 L [m] and (H/g)^3 of states (load p, tip height h [L])."""
+        """dp [Pa], Q' [m^2/s], h1 L [m] and (H/g)^3 of states (load p, tip height h [L]);
+        a porous bed's: its flow through bed and gap, R/R0 the empty channel's flow over it
+        (as :func:`valve_curve`), and the gap's Reynolds number."""
         p = np.asarray(p, dtype=np.float64)
         h = np.asarray(h, dtype=np.float64)
         value = p / self.scale  # dp [Pa] or Q' [m^2/s]
         given = value / self.length if self.drive == "pressure" else value
+        if self.porous:
+            return self._porous_si(p, h, given)
         flow = gap_flow(self.bed, self.drive, self.v, given, h)
         gap = self.bed.channel_height - h * self.bed.length
         with np.errstate(over="ignore"):  # a huge channel_length: refused by valve_states
@@ -474,6 +503,42 @@ class _Drive:
             "tip_height": h * self.bed.length,
             "resistance_ratio": (self.bed.channel_height / gap) ** 3,
         }
+
+    def _porous_si(
+        self, p: NDArray[np.float64], h: NDArray[np.float64], given: NDArray[np.float64]
+    ) -> dict[str, NDArray[np.float64]]:
+        """:meth:`si` of the porous bed: its states at (p, h) (frozen gap, a root of G) and
+        their flow (:func:`hairbed._channel_drives.porous_flow`); NaN where p or h is."""
+        b = self.bed
+        keys = ("pressure_drop", "flow_rate", "tip_height", "resistance_ratio",
+                "reynolds_number")  # fmt: skip
+        res = {k: np.full(p.shape, np.nan) for k in keys}
+        ok = np.isfinite(p) & np.isfinite(h)
+        if np.any(ok):
+            pf, hf = p[ok], h[ok]
+            out, coefs, amap, arrays = self._frozen(hf, pf)
+            drive = "pressure" if self.code == 0 else "flow"
+            state = _porous_state(drive, self.code, (hf.size,), arrays, out, coefs, amap)
+            v = np.full(hf.size, float(self.v))
+            flow = porous_flow(b, state, v, drive, given[ok])
+            q = flow["flow_rate"]
+            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+                grad = flow["pressure_gradient"]
+                gap = b.channel_height - hf * b.length
+                ratio = np.where(
+                    q != 0.0,
+                    grad * b.channel_height**3 / (12.0 * b.viscosity * np.where(q != 0, q, 1.0)),
+                    (b.channel_height / gap) ** 3,
+                )
+                # the drive's own quantity is the one set: exactly so, at any (p, h)
+                res["pressure_drop"][ok] = (
+                    given[ok] * self.length if self.code == 0 else grad * self.length
+                )
+            res["flow_rate"][ok] = q if self.code == 0 else given[ok]
+            res["tip_height"][ok] = np.asarray(state.tip_height) * b.length
+            res["resistance_ratio"][ok] = ratio
+            res["reynolds_number"][ok] = flow["reynolds_number"]
+        return res
 
     def states_at(
         self,
@@ -559,6 +624,13 @@ def valve_states(
     a stronger feedback than the wall drive's (theory.md §11). At eps = 0.8, base_angle = -1.2
     the valve is bistable for 0.0764 < q < 0.2138, q = 6 A eta Q' L^2 / (E I H^2).
 
+    A porous bed (``HairBed(..., model="porous")``, theory.md §13) follows the same
+    continuation on its own G(h1, p), the tip height of its states with the gap frozen at
+    h1 (:func:`hairbed.solve_porous_all`'s scan) minus h1; its flow is the flow through bed
+    and gap and R/R0 the empty channel's flow over it, as :func:`valve_curve` has them. Where
+    its hairs reach abs(theta) = pi/2 the branch leaves the model and the continuation
+    stops there (status -3, the grid points beyond not covered).
+
     Parameters
     ----------
     bed : HairBed
@@ -593,7 +665,6 @@ def valve_states(
     """
     if not isinstance(bed, HairBed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
-    require_dense(bed, "valve.valve_states")
     length = check_positive(channel_length, "channel_length", unit="m")
     if (pressure_drop is None) == (flow_rate is None):
         raise ValueError(
@@ -633,6 +704,8 @@ def _branch_reynolds(
 ) -> NDArray[np.float64]:
     """The gap's Reynolds number at the branch's states within the range of the loads."""
     inside = np.isfinite(h) & (p >= np.min(loads)) & (p <= np.max(loads))
+    if d.porous:
+        return d.si(p[inside], h[inside])["reynolds_number"]
     value = p[inside] / d.scale  # dp [Pa] or Q' [m^2/s]
     given = value / d.length if d.drive == "pressure" else value
     return gap_flow(d.bed, d.drive, d.v, given, h[inside])["reynolds_number"]
@@ -647,7 +720,12 @@ def _branch(
     pieces, folds, status, nfev = [], [], 0, 0
     # from rest (a single state) down to the low end, then up to the high end
     for stop in ([low] if low < 0.0 else []) + ([high] if high > 0.0 or low >= 0.0 else []):
-        b = continue_loaded(d.omega2, bed.eps, bed.base_angle, stop=stop, max_steps=steps, **kw)
+        if d.porous:  # the same continuation on the porous bed's frozen-gap G(h, p)
+            b = _continue_porous(bed, d, stop, steps)
+        else:
+            b = continue_loaded(
+                d.omega2, bed.eps, bed.base_angle, stop=stop, max_steps=steps, **kw
+            )
         nfev += b.nfev
         status = status if b.status == 0 else b.status
         piece = _with_folds(np.c_[b.values, b.tip_height, b.stable], b.folds)
@@ -659,6 +737,24 @@ def _branch(
             folds.append(b.folds)
     arr = np.vstack(pieces)
     return arr[:, 0], arr[:, 1], arr[:, 2].astype(bool), np.vstack(folds), status, nfev
+
+
+def _continue_porous(bed: HairBed, d: _Drive, stop: float, steps: int) -> Any:
+    """The porous bed's branch from rest (its low state at zero load) to the load ``stop``:
+    :func:`hairbed.continue_loaded`'s continuation on the porous G(h, p) of the drive."""
+    name = "pi" if d.code == 0 else "q"
+    rest = bed._tip_state(
+        np.array(d.omega2), bed.eps, bed.base_angle, "pressure" if d.code == 0 else "flow",
+        np.array(0.0),
+    )  # fmt: skip
+    base = {"omega2": d.omega2, "eps": bed.eps, "theta0": bed.base_angle, name: 0.0}
+    curve = _Curve(name, base, 1e-12, gap=d.gap)
+    h0 = float(rest.tip_height)
+    if not (int(rest.status) >= 0 and math.isfinite(h0)):
+        return LoadedBranch(
+            name, np.array([0.0]), np.array([np.nan]), np.array([False]), np.empty((0, 2)), -3, 0
+        )
+    return _follow(curve, 0.0, h0, stop, 0.02, steps)
 
 
 def _with_folds(pts: NDArray[np.float64], folds: NDArray[np.float64]) -> NDArray[np.float64]:

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -63,18 +64,25 @@ class LoadedBranch:
 
 
 class _Curve:
-    """G(h, p) and its gradient at scalar points, counting evaluations."""
+    """G(h, p) and its gradient at scalar points, counting evaluations. ``gap`` (h, p) -> G
+    replaces the dense bed's fixed-load solves (the porous bed's frozen-gap ones)."""
 
-    def __init__(self, parameter: str, base: dict[str, float], tol: float) -> None:
+    def __init__(
+        self, parameter: str, base: dict[str, float], tol: float, gap: Any = None
+    ) -> None:
         self.parameter = parameter
         self.base = base
         self.tol = tol
         self.nfev = 0
+        self.gap = gap
 
     def many(self, h: FloatArray, p: FloatArray) -> FloatArray:
         """G at the points (h_i, p_i): one batch of fixed-load solves."""
         h = np.atleast_1d(np.asarray(h, dtype=np.float64))
         p = np.broadcast_to(np.asarray(p, dtype=np.float64), h.shape)
+        if self.gap is not None:
+            self.nfev += h.size
+            return np.asarray(self.gap(h, np.ascontiguousarray(p)), dtype=np.float64)
         code = 1 if "q" in self.base else 0
         load = self.base.get("q", self.base.get("pi", 0.0))
         w = p if self.parameter == "omega2" else self.base["omega2"]
@@ -166,14 +174,24 @@ def continue_loaded(
         base["pi"] = float(ld)
     p0 = base["omega2"] if name == "omega2" else float(ld)
     end = check_number(stop, "stop")
-    direction = 1.0 if end >= p0 else -1.0
     st = solve_loaded(**base, rtol=tol)  # type: ignore[arg-type]
     curve = _Curve(name, base, tol)
     if st.status != 0:
         return LoadedBranch(
             name, np.array([p0]), np.array([np.nan]), np.array([False]), np.empty((0, 2)), -3, 0
         )
-    y = np.array([p0, float(st.tip_height)])
+    return _follow(curve, p0, float(st.tip_height), end, step, limit)
+
+
+def _follow(
+    curve: _Curve, p0: float, h0: float, end: float, step: float, limit: int
+) -> LoadedBranch:
+    """The pseudo-arclength continuation of :func:`continue_loaded` along ``curve`` from the
+    state (p0, h0) to the parameter ``end``: the dense bed's, and the porous bed's valve
+    (:func:`hairbed.valve.valve_states`) with the porous ``gap`` of :class:`_Curve`."""
+    name = curve.parameter
+    direction = 1.0 if end >= p0 else -1.0
+    y = np.array([p0, h0])
     _, gh, gp = curve.gradient(y[1], y[0])
     tangent = np.array([-gh, gp])  # (dp, dh) orthogonal to (gp, gh)
     tangent /= np.linalg.norm(tangent)

@@ -41,7 +41,7 @@ examples:
   hairbed valve --pressure-drop 200 --diodicity --channel-length 0.01 ... --json
   hairbed valve --pressure-drop +-10:1e3:20:log --channel-length 0.01 ... --plot valve.png
   hairbed valve --pressure-drop 200 --diodicity --channel-length 0.01 ... --model porous
-      (a porous bed: the flow through bed and gap; --states takes the dense bed only)
+      (a porous bed: the flow through bed and gap; --states too)
 
 every coexisting state (--states): the branch of states is followed by continuation from rest
 over the range (hairbed.valve.valve_states); each line gives the set drive, the number of
