@@ -96,3 +96,36 @@ def test_a_missing_spec_file_exits_2(tmp_path, capsys):
     status = main(["design", str(tmp_path / "none.toml")])
     _, err = capsys.readouterr()
     assert status == 2 and "cannot read the spec" in err
+
+
+def test_a_second_objective_gives_the_pareto_front_and_its_plot(tmp_path, capsys):
+    second = """
+[second]
+quantity = "resistance_ratio"
+pressure_drop = 1000.0
+channel_length = 0.01
+sense = "min"
+"""
+    options = "\n[options]\nstarts = 2\npoints = 4\n"
+    path = tmp_path / "front.toml"
+    path.write_text(MODEL + VARIABLES + OBJECTIVE + second + options)
+    png = tmp_path / "front.png"
+    status = main(["design", str(path), "--plot", str(png)])
+    out, err = capsys.readouterr()
+    front = json.loads(out)
+    assert status == 0 and front["success"] and len(front["first"]) == 4
+    assert all(b < a for a, b in zip(front["second"], front["second"][1:], strict=False))
+    assert "epsilon-constraint" in front["method"]
+    assert png.stat().st_size > 0 and "wrote" in err
+
+
+def test_an_optimum_is_plotted_and_a_bad_plot_path_is_refused_first(tmp_path, capsys):
+    path = tmp_path / "spec.toml"
+    path.write_text(MODEL + VARIABLES + OBJECTIVE + OPTIONS)
+    png = tmp_path / "best.png"
+    assert main(["design", str(path), "--plot", str(png)]) == 0
+    assert png.stat().st_size > 0
+    capsys.readouterr()
+    assert main(["design", str(path), "--plot", str(tmp_path / "x.nope")]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and "unknown image format" in err

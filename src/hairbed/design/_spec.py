@@ -7,7 +7,9 @@ The spec is a mapping::
     [[variables]]           name, low, high, log (optional)
     [objective]             quantity, its arguments, sense = "min" or "max"
     [[constraints]]         quantity, its arguments, and max = bound or min = bound
-    [options]               starts, seed, validity (optional)
+    [second]                optional: a second objective (quantity, arguments, sense): the
+                            Pareto front of the two (epsilon-constraint) instead of one optimum
+    [options]               starts, seed, validity, points (of a front) (optional)
 
 Quantities and their arguments: diodicity, resistance_ratio, gap_reynolds (pressure_drop
 [Pa], channel_length [m]); brinkman_ratio, bistable_width (none); tip_deflection,
@@ -28,10 +30,11 @@ from ..units import HairBed
 from . import _objectives as Q
 from ._objectives import Constraint, Quantity
 from ._optimise import optimise
-from ._result import DesignResult
+from ._pareto import pareto_front
+from ._result import DesignResult, ParetoFront
 from ._variables import Variable
 
-__all__ = ["QUANTITIES", "design_from_spec", "result_as_dict"]
+__all__ = ["QUANTITIES", "design_from_spec", "front_as_dict", "result_as_dict"]
 
 #: Quantity name -> (factory, its argument names).
 QUANTITIES: dict[str, tuple[Callable[..., Quantity], tuple[str, ...]]] = {
@@ -81,12 +84,15 @@ def _quantity(table: Mapping[str, Any], where: str, extra: set[str]) -> Quantity
     return factory(**{a: table[a] for a in args if a in table})
 
 
-def design_from_spec(spec: Mapping[str, Any]) -> DesignResult:
-    """Run the design a spec describes (module docstring); a ValueError naming the key of
-    anything wrong in it."""
+def design_from_spec(spec: Mapping[str, Any]) -> DesignResult | ParetoFront:
+    """Run the design a spec describes (module docstring): one optimum, or the Pareto front
+    when the spec has a [second] objective; a ValueError naming the key of anything wrong
+    in it."""
     if not isinstance(spec, Mapping):
         raise ValueError("the spec must be a mapping (a TOML document)")
-    _unknown(spec, {"model", "variables", "objective", "constraints", "options"}, "the spec")
+    _unknown(
+        spec, {"model", "variables", "objective", "constraints", "options", "second"}, "the spec"
+    )
     model = dict(_table(spec, "model"))
     kind = model.pop("kind", "bed")
     if kind not in _MODELS:
@@ -112,7 +118,7 @@ def design_from_spec(spec: Mapping[str, Any]) -> DesignResult:
         for key in ("name", "low", "high"):
             if key not in v:
                 raise ValueError(f"{where} needs {key!r}")
-        variables.append(Variable(v["name"], v["low"], v["high"], bool(v.get("log", False))))
+        variables.append(Variable(v["name"], v["low"], v["high"], v.get("log", False)))
     obj = _table(spec, "objective")
     sense = obj.get("sense", "min")
     objective = _quantity(obj, "[objective]", {"sense"})
@@ -129,16 +135,29 @@ def design_from_spec(spec: Mapping[str, Any]) -> DesignResult:
             raise ValueError(f"{where}: give exactly one of max and min")
         constraints.append(q <= c["max"] if "max" in c else q >= c["min"])
     options = dict(spec.get("options", {}))
-    _unknown(options, {"starts", "seed", "validity"}, "[options]")
+    _unknown(options, {"starts", "seed", "validity", "points"}, "[options]")
+    common: dict[str, Any] = {
+        "constraints": constraints,
+        "seed": options.get("seed", 0),
+        "validity": bool(options.get("validity", True)),
+    }
+    if "second" in spec:
+        sec = _table(spec, "second")
+        second = _quantity(sec, "[second]", {"sense"})
+        return pareto_front(
+            base,
+            variables,
+            objective,
+            second,
+            senses=(sense, sec.get("sense", "min")),
+            points=options.get("points", 20),
+            starts=options.get("starts", 4),
+            **common,
+        )
+    if "points" in options:
+        raise ValueError("[options] points is the size of a Pareto front: give a [second]")
     return optimise(
-        base,
-        variables,
-        objective,
-        constraints=constraints,
-        sense=sense,
-        starts=options.get("starts", 8),
-        seed=options.get("seed", 0),
-        validity=bool(options.get("validity", True)),
+        base, variables, objective, sense=sense, starts=options.get("starts", 8), **common
     )
 
 
@@ -177,4 +196,21 @@ def result_as_dict(res: DesignResult) -> dict[str, Any]:
         "inexact": list(res.inexact),
         "notes": list(res.notes),
         "nfev": res.nfev,
+    }
+
+
+def front_as_dict(front: ParetoFront) -> dict[str, Any]:
+    """The Pareto front as plain data (JSON-ready): both objectives per point, each
+    point's variables and its full result."""
+    return {
+        "success": bool(front.status == 0),
+        "status": front.status,
+        "message": front.message,
+        "method": front.method,
+        "first_name": front.first_name,
+        "second_name": front.second_name,
+        "senses": list(front.senses),
+        "first": [_plain(float(v)) for v in front.first],
+        "second": [_plain(float(v)) for v in front.second],
+        "points": [result_as_dict(r) for r in front.results],
     }
