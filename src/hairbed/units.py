@@ -162,7 +162,8 @@ POROUS_SUPPORTED = (
     "deform, sweep, wall_shear_stress, rectification_ratio, state_from_tip_deflection, "
     "velocity_from_tip_deflection, wall_shear_stress_from_tip_deflection, "
     "velocity_from_wall_shear_stress, the linear calibrations, valve.valve_curve, "
-    "valve.diodicity and the calibration (fit, measure, model_tip_deflection, linear_range)"
+    "valve.diodicity, valve.valve_states and the calibration (fit, measure, "
+    "model_tip_deflection, linear_range)"
 )
 
 
