@@ -5,13 +5,14 @@
 - :func:`hydrodynamic_function` (Sader's Gamma of an oscillating cylinder) and
   :func:`sader_drag_ratio`: the optional frequency-dependent drag of the linear response.
 - :func:`simulate_pillar`: the nonlinear pillar in time (compiled Radau IIA), driven by
-  :func:`step`, :func:`ramp`, :func:`sine`, :func:`pulses`, :func:`sampled` or a callable.
+  :func:`step`, :func:`ramp`, :func:`sine`, :func:`pulses`, :func:`sampled` or a callable;
+  :func:`simulate_pillars` many pillars in one call, on threads.
 """
 
 from __future__ import annotations
 
 from ._hydrodynamic import crossover_reynolds, hydrodynamic_function, sader_drag_ratio
-from ._integrate import PillarTrajectory, simulate_pillar
+from ._integrate import TRAJECTORY_STATUS, PillarTrajectory, simulate_pillar, simulate_pillars
 from ._linear import (
     DRIVES,
     LINEAR_STATUS,
@@ -35,6 +36,8 @@ __all__ = [
     "ramp",
     "sampled",
     "simulate_pillar",
+    "simulate_pillars",
+    "TRAJECTORY_STATUS",
     "sine",
     "step",
     "DRIVES",

@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._core.loaded import _shape_at
 from .._core.pillar import PillarState, profile_coefficients, solve_pillar
 from .._core.validation import (
     STATUS_MESSAGES,
@@ -31,7 +32,7 @@ from .._core.validation import (
 from ._operators import _mapped
 from ._signals import Signal, as_signal
 
-__all__ = ["TRAJECTORY_STATUS", "PillarTrajectory", "simulate_pillar"]
+__all__ = ["TRAJECTORY_STATUS", "PillarTrajectory", "simulate_pillar", "simulate_pillars"]
 
 FloatArray = NDArray[np.float64]
 
@@ -260,34 +261,14 @@ def simulate_pillar(
     >>> run.success, round(float(run.tip_deflection[-1]), 6)
     (True, 0.539354)
     """
-    te = as_float_array(t_eval, "t_eval").reshape(-1)
-    if te.size < 1:
-        raise ValueError("t_eval must hold at least one time")
-    bad = ~np.isfinite(te)
-    if np.any(bad):
-        i = int(np.flatnonzero(bad)[0])
-        raise ValueError(f"t_eval must be finite, got {te[i]!r} at index {i}")
-    back = np.flatnonzero(np.diff(te) < 0.0)
-    if back.size:
-        i = int(back[0]) + 1
-        raise ValueError(f"t_eval must not decrease; index {i} is {te[i]!r}")
+    te = _checked_times(t_eval)
     t0 = check_number(theta0, "theta0", low=-0.5 * np.pi, high=0.5 * np.pi, low_open=True,
                       high_open=True)  # fmt: skip
     g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
     m = check_number(mu, "mu", low=0.0)
-    chi = check_number(tangential_mass, "tangential_mass", low=0.0, high=1.0, low_open=True)
-    deg = check_int(num, "num", 8, 128)
-    rt = check_positive(rtol, "rtol")
-    at = check_positive(atol, "atol")
-    steps = check_int(max_steps, "max_steps", 1)
-    jump = (
-        0.0
-        if jump_speed is None
-        else check_number(jump_speed, "jump_speed", low=0.0, low_open=True)
-    )
-    span_end = float(te[-1]) if te[-1] > te[0] else float(te[0]) + 1.0
-    lam_sig: Signal = as_signal(forcing, "forcing", float(te[0]), span_end)
-    tip_sig: Signal = as_signal(tip_load, "tip_load", float(te[0]), span_end)
+    opts = _options(te, tangential_mass, num, rtol, atol, max_steps, jump_speed)
+    deg = opts.num
+    lam_sig, tip_sig = _drives(forcing, tip_load, te)
     prof = profile_coefficients(profile, height_ratio)
     # the map of the collocation: that of the static state at the drives' last values
     last = solve_pillar(
@@ -300,7 +281,7 @@ def simulate_pillar(
         num=deg,
     )
     a = float(last._map) if np.isfinite(last._map) else 0.0
-    ss, sp, dd, ii, d0 = _mapped(deg, a)
+    ss = _mapped(deg, a)[0]
     if initial is None:  # at rest under the drives just before the start (a step at t0: before)
         before = float(np.nextafter(te[0], -np.inf))
         initial = solve_pillar(
@@ -325,12 +306,100 @@ def simulate_pillar(
             f"{float(initial.theta0)!r}, status {int(initial.status)}"
         )
     theta_start = np.asarray(initial.shape(ss)[3], dtype=np.float64)
+    return _run(_Job(te, opts, t0, g, m, a, theta_start, lam_sig, tip_sig, prof))
+
+
+@dataclass(frozen=True)
+class _Options:
+    """The checked options shared by every pillar of a run."""
+
+    chi: float
+    num: int
+    rtol: float
+    atol: float
+    max_steps: int
+    jump: float
+
+
+@dataclass(frozen=True)
+class _Job:
+    """One pillar's run: everything the kernel and the trajectory need."""
+
+    te: FloatArray
+    opts: _Options
+    theta0: float
+    gamma: float
+    mu: float
+    a: float  # the collocation's map parameter
+    theta_start: FloatArray  # theta at the mapped nodes at t_eval[0]
+    lam_sig: Signal
+    tip_sig: Signal
+    prof: FloatArray
+
+
+def _checked_times(t_eval: ArrayLike) -> FloatArray:
+    te = as_float_array(t_eval, "t_eval").reshape(-1)
+    if te.size < 1:
+        raise ValueError("t_eval must hold at least one time")
+    bad = ~np.isfinite(te)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(f"t_eval must be finite, got {te[i]!r} at index {i}")
+    back = np.flatnonzero(np.diff(te) < 0.0)
+    if back.size:
+        i = int(back[0]) + 1
+        raise ValueError(f"t_eval must not decrease; index {i} is {te[i]!r}")
+    return te
+
+
+def _options(
+    te: FloatArray,
+    tangential_mass: float,
+    num: int,
+    rtol: float,
+    atol: float,
+    max_steps: int,
+    jump_speed: float | None,
+) -> _Options:
+    chi = check_number(tangential_mass, "tangential_mass", low=0.0, high=1.0, low_open=True)
+    jump = (
+        0.0
+        if jump_speed is None
+        else check_number(jump_speed, "jump_speed", low=0.0, low_open=True)
+    )
+    return _Options(
+        chi=chi,
+        num=check_int(num, "num", 8, 128),
+        rtol=check_positive(rtol, "rtol"),
+        atol=check_positive(atol, "atol"),
+        max_steps=check_int(max_steps, "max_steps", 1),
+        jump=jump,
+    )
+
+
+def _drives(forcing: Any, tip_load: Any, te: FloatArray) -> tuple[Signal, Signal]:
+    span_end = float(te[-1]) if te[-1] > te[0] else float(te[0]) + 1.0
+    return (
+        as_signal(forcing, "forcing", float(te[0]), span_end),
+        as_signal(tip_load, "tip_load", float(te[0]), span_end),
+    )
+
+
+def _run(job: _Job) -> PillarTrajectory:
+    """The compiled integration of one pillar and its trajectory (the kernel releases the
+    GIL: runs of several pillars go in parallel on threads)."""
+    from .._core._kernels import dynamics as kern
+
+    te, opts = job.te, job.opts
+    deg, t0, g, m, chi = opts.num, job.theta0, job.gamma, job.mu, opts.chi
+    ss, sp, dd, ii, d0 = _mapped(deg, job.a)
     n = deg - 1
     size = n if m == 0.0 else 2 * n
     y0 = np.zeros(size)
-    y0[:n] = theta_start[1:deg]
+    y0[:n] = job.theta_start[1:deg]
     srow = -dd[deg, :] / dd[deg, deg]
     srow[deg] = 0.0
+    lam_sig, tip_sig = job.lam_sig, job.tip_sig
     drives = np.stack([lam_sig.row(), tip_sig.row()])
     tk = max(lam_sig.times.size, tip_sig.times.size, 1)
     tabs = np.zeros((4, tk))
@@ -342,19 +411,17 @@ def simulate_pillar(
             tabs[r + 1, sig.times.size :] = sig.values[-1]
         else:
             tabs[r] = np.arange(tk, dtype=np.float64)
-    from .._core._kernels import dynamics as kern
-
     y_out = np.full((te.size, size), np.nan)
     counts = np.zeros(6, dtype=np.int64)
-    pr = np.ascontiguousarray(prof)
+    pr = np.ascontiguousarray(job.prof)
     status, t_end = kern.integrate_pillar(
         y0,
         float(te[0]),
         te,
-        rt,
-        at,
+        opts.rtol,
+        opts.atol,
         1e-6,
-        steps,
+        opts.max_steps,
         deg,
         dd,
         ii,
@@ -368,7 +435,7 @@ def simulate_pillar(
         tabs,
         y_out,
         counts,
-        jump,
+        opts.jump,
     )
     # the angles and rates at the nodes
     theta = np.full((te.size, deg + 1), np.nan)
@@ -394,7 +461,7 @@ def simulate_pillar(
         rates[i, 0] = 0.0
         rates[i, deg] = rates[i, 1:deg] @ srow[1:deg]
     c, s = np.cos(theta), np.sin(theta)
-    d1s = _mapped_first(deg, a)
+    d1s = _mapped_first(deg, job.a)
     return PillarTrajectory(
         t=te,
         forcing=np.asarray(lam_sig(te), dtype=np.float64).reshape(te.shape),
@@ -418,8 +485,156 @@ def simulate_pillar(
         nfev=int(counts[3]),
         njev=int(counts[4]),
         nlu=int(counts[5]),
-        _ops={"ii": ii, "d1s": d1s, "prof": prof},
+        _ops={"ii": ii, "d1s": d1s, "prof": job.prof},
     )
+
+
+def simulate_pillars(
+    forcing: Any,
+    t_eval: ArrayLike,
+    *,
+    theta0: ArrayLike = 0.0,
+    tip_load: Any = 0.0,
+    profile: Any = "sublayer",
+    height_ratio: float | None = None,
+    gamma: ArrayLike = 0.5,
+    mu: ArrayLike = 0.0,
+    tangential_mass: float = 1.0,
+    num: int = 32,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    max_steps: int = 100_000,
+    jump_speed: float | None = None,
+    workers: int = 1,
+) -> list[PillarTrajectory]:
+    """Many pillars in time-dependent flows in one call: :func:`simulate_pillar` for each.
+
+    Each pillar is its own run of the compiled integrator (its own steps and error
+    control); the static states they start from and map their collocation by are solved in
+    one batch (:func:`hairbed.solve_pillar` on arrays), and the runs share out over
+    ``workers`` threads (the compiled integrator releases the GIL).
+
+    Parameters
+    ----------
+    forcing : sequence or number, Signal or callable
+        Lambda(t) of each pillar: a sequence of drives (numbers, signals or callables, as in
+        :func:`simulate_pillar`), or one drive for all.
+    t_eval : array_like
+        The output times [T], shared (as in :func:`simulate_pillar`).
+    theta0, gamma, mu : array_like, optional
+        Each pillar's base angle [rad] in (-pi/2, pi/2), drag ratio in (0, 1] and inertia
+        number >= 0; scalars or 1-d arrays, broadcast with the drives.
+    tip_load : sequence or number, Signal or callable, optional
+        P(t) [E I/L^2] of each pillar, or one for all.
+    profile, height_ratio, tangential_mass, num, rtol, atol, max_steps, jump_speed
+        As in :func:`simulate_pillar`, shared.
+    workers : int, optional
+        Threads in [1, 64] (default 1).
+
+    Returns
+    -------
+    list of PillarTrajectory
+        In the order of the pillars, each with its own ``status``.
+    """
+    te = _checked_times(t_eval)
+    opts = _options(te, tangential_mass, num, rtol, atol, max_steps, jump_speed)
+    nw = check_int(workers, "workers", 1, 64)
+
+    def seq(x: Any) -> list[Any] | None:
+        return list(x) if isinstance(x, (list, tuple)) else None
+
+    lams, tips = seq(forcing), seq(tip_load)
+    arrays = {}
+    for name, val in (("theta0", theta0), ("gamma", gamma), ("mu", mu)):
+        arr = as_float_array(val, name)
+        if arr.ndim > 1:
+            raise ValueError(f"{name} must be a scalar or 1-d, got shape {arr.shape}")
+        arrays[name] = arr
+    sizes = {len(v) for v in (lams, tips) if v is not None}
+    sizes |= {a.size for a in arrays.values() if a.ndim == 1}
+    if len(sizes) > 1:
+        raise ValueError(
+            f"forcing, tip_load, theta0, gamma and mu must have one length, got {sorted(sizes)}"
+        )
+    count = sizes.pop() if sizes else 1
+    if count < 1:
+        raise ValueError("simulate_pillars needs at least one pillar (got empty inputs)")
+    t0s = np.broadcast_to(arrays["theta0"], (count,))
+    gs = np.broadcast_to(arrays["gamma"], (count,))
+    mus = np.broadcast_to(arrays["mu"], (count,))
+    for name, arr, kw in (
+        ("theta0", t0s, dict(low=-0.5 * np.pi, high=0.5 * np.pi, low_open=True, high_open=True)),
+        ("gamma", gs, dict(low=0.0, high=1.0, low_open=True)),
+        ("mu", mus, dict(low=0.0)),
+    ):
+        for i, v in enumerate(arr):
+            try:
+                check_number(float(v), name, **kw)  # type: ignore[arg-type]
+            except ValueError as exc:
+                raise ValueError(f"{exc} (pillar {i})") from None
+    sigs = []
+    for i in range(count):
+        try:
+            sigs.append(
+                _drives(
+                    lams[i] if lams is not None else forcing,
+                    tips[i] if tips is not None else tip_load,
+                    te,
+                )
+            )
+        except (ValueError, TypeError) as exc:
+            raise type(exc)(f"{exc} (pillar {i})") from None
+    prof = profile_coefficients(profile, height_ratio)
+    before = float(np.nextafter(te[0], -np.inf))
+
+    def states(t: float) -> PillarState:
+        return solve_pillar(
+            np.array([ls.at_start(t) for ls, _ in sigs]),
+            np.array(t0s),
+            profile=profile,
+            height_ratio=height_ratio,
+            gamma=np.array(gs),
+            tip_load=np.array([ts.at_start(t) for _, ts in sigs]),
+            num=opts.num,
+        )
+
+    last = states(float(te[-1]))
+    start = states(before)
+    bad = np.flatnonzero(np.asarray(start.status).reshape(-1) < 0)
+    if bad.size:
+        i = int(bad[0])
+        raise ValueError(
+            f"no static state at the drives' values at t_eval[0] to start pillar {i} from "
+            f"(status {int(np.asarray(start.status).reshape(-1)[i])})"
+        )
+    maps = np.asarray(last._map, dtype=np.float64).reshape(-1)
+    maps = np.where(np.isfinite(maps), maps, 0.0)
+    smap = np.asarray(start._map, dtype=np.float64).reshape(-1)
+    scoef = np.asarray(start._coefs).reshape(3, count, -1)
+    jobs = []
+    for i in range(count):
+        ss = _mapped(opts.num, float(maps[i]))[0]
+        theta = np.asarray(_shape_at(smap[i : i + 1], scoef[:, i : i + 1], (1,), ss)[3])
+        jobs.append(
+            _Job(
+                te,
+                opts,
+                float(t0s[i]),
+                float(gs[i]),
+                float(mus[i]),
+                float(maps[i]),
+                np.asarray(theta, dtype=np.float64).reshape(-1),
+                sigs[i][0],
+                sigs[i][1],
+                prof,
+            )  # fmt: skip
+        )
+    if nw == 1 or count == 1:
+        return [_run(job) for job in jobs]
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(max_workers=min(nw, count)) as pool:
+        return list(pool.map(_run, jobs))
 
 
 def _mapped_first(num: int, a: float) -> FloatArray:
