@@ -76,7 +76,17 @@ SENSOR_STATUS = {
         "the response is taken with the frequency dependence of the forcing's (exact as "
         "f -> 0)"
     ),
+    5: (
+        "the noise was estimated from the top fifth of the band, whose spectrum is not flat "
+        "(its lower half holds more power than its upper half, by over 4 standard deviations "
+        "of the ratio): the signal "
+        "is still there, the estimate is too large and the band unreliable; give noise_sigma"
+    ),
 }
+#: A noise band is flat where the mean spectra of its two halves (M bins each) differ by at
+#: most this many of their ratio's standard deviations sqrt(2/M) (a mean of M periodogram
+#: values has the relative deviation 1/sqrt(M)).
+_NOISE_FLATNESS = 4.0
 #: The shortest series :func:`wall_shear_stress_from_tip_deflection_series` takes.
 MIN_SERIES_SAMPLES = 64
 #: beta_1^4 of the cantilever (1 + cos b cosh b = 0): the scale of the internal scan.
@@ -576,7 +586,7 @@ class StressSeries:
     response : SensorResponse
         The linear response about the mean (its resonance, bandwidth, drag model).
     status : int
-        ``SENSOR_STATUS`` (of the response).
+        ``SENSOR_STATUS``: the response's, or 5 where an estimated noise is not flat.
     """
 
     time: FloatArray
@@ -791,7 +801,8 @@ def wall_shear_stress_from_tip_deflection_series(
     noise_sigma : float, optional
         The measurement noise's standard deviation [m] (white). Default: estimated from the
         mean spectrum of the top fifth of the band (which must then be noise: the sensor's
-        response has fallen below the noise there).
+        response has fallen below the noise there; where that band's spectrum is not flat,
+        status 5 says so).
     pillar_density : float
         The pillar's density [kg/m^3].
     drag : {"sader", "quasi-steady"}, optional
@@ -829,9 +840,12 @@ def wall_shear_stress_from_tip_deflection_series(
         top = freq >= (1.0 - _NOISE_BAND) * freq[-1]
         noise_var = float(np.mean(power[top])) / n
         estimated = True
+        half = np.array_split(power[top], 2)
+        spread = _NOISE_FLATNESS * math.sqrt(2.0 / max(1, half[1].size))
+        flat = float(np.mean(half[0])) <= (1.0 + spread) * float(np.mean(half[1]))
     else:
         noise_var = check_number(noise_sigma, "noise_sigma", low=0.0, unit="m") ** 2
-        estimated = False
+        estimated, flat = False, True
     nk = n * noise_var
     h2 = np.abs(h) ** 2
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -870,5 +884,5 @@ def wall_shear_stress_from_tip_deflection_series(
         noise_estimated=estimated,
         sample_rate=fs,
         response=resp,
-        status=resp.status,
+        status=resp.status if flat else 5,
     )
