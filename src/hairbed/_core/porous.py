@@ -54,9 +54,9 @@ IntValue = int | NDArray[np.int64]
 #: The ladder of Chebyshev degrees N (a thin bed's tip layer of width sqrt(kappa) needs the
 #: upper levels; measured: kappa = 1e-4 converges at N = 64, 1e-6 at 256).
 LADDER = (32, 64, 128, 256)
-#: The ladder of a bed no thinner than ``_QUICK_KAPPA``: N = 16 first, at a quarter of the
-#: cost of N = 32's LU (measured on 2000 states from kappa 1e-4 to 1e4: above kappa = 0.3,
-#: 89-94 % converge at N = 16 in every drive; below it none do).
+#: A call's ladder unless all its beds are thinner than ``_QUICK_KAPPA``: N = 16 first, at a
+#: quarter of N = 32's LU (measured, 2000 states, kappa 1e-4 to 1e4, three drives: above
+#: kappa = 0.3 89-94 % converge at N = 16; a thinner bed goes on to N = 32 from there).
 _QUICK_LADDER = (16, *LADDER)
 _QUICK_KAPPA = 0.3
 _DRIVES = {"pressure": 0, "flow": 1}
@@ -487,18 +487,13 @@ def _solve_porous_checked(
     if nums != LADDER:
         out, coefs, a = _run(code, flat, hfix, nums, tol)
         return _state(drive, code, shape, arrays, out, coefs, a)
-    size = flat[0].size
-    out = np.full((_kernels().NCOLS, size), np.nan)
-    coefs = np.empty((5, size, LADDER[-1] + 1))
-    a = np.empty(size)
-    quick = flat[3] >= _QUICK_KAPPA
-    # N = 16 first where the bed is not thin; the thin beds, and where N = 16 failed, from
-    # N = 32's start
-    for todo, ladder in ((quick, _QUICK_LADDER), (None, LADDER)):
-        idx = np.flatnonzero(todo if todo is not None else ~quick | (out[0] < 0))
-        if idx.size:
-            o, c, ai = _run(code, tuple(v[idx] for v in flat), hfix[idx], ladder, tol)
-            out[:, idx], coefs[:, idx, :], a[idx] = o, c, ai
+    # N = 16 first unless every bed is thin (a thin bed fails there, in a few cheap steps)
+    thin = bool(np.all(flat[3] < _QUICK_KAPPA))
+    out, coefs, a = _run(code, flat, hfix, LADDER if thin else _QUICK_LADDER, tol)
+    again = np.flatnonzero(out[0] < 0) if not thin else np.empty(0, np.intp)
+    if again.size:  # where the ladder from N = 16 failed, from N = 32's start
+        o, c, ai = _run(code, tuple(v[again] for v in flat), hfix[again], LADDER, tol)
+        out[:, again], coefs[:, again, :], a[again] = o, c, ai
     _rescue(drive, code, flat, root, tol, out, coefs)
     return _state(drive, code, shape, arrays, out, coefs, a)
 
