@@ -104,6 +104,31 @@ def test_relaxing_an_active_bound_pays_its_multiplier():
     assert report.multiplier == pytest.approx(slope, rel=1e-3)
 
 
+def test_a_minimisation_multiplier_and_a_bound_sensitivity_match_reoptimisation():
+    bed = _bed()
+    highs = {"base_angle": 1.4, "length": 1.5e-3}
+
+    def best(di_min, **high):
+        top = {**highs, **high}
+        variables = [D.Variable("base_angle", 0.0, top["base_angle"]),
+                     D.Variable("length", 0.6e-3, top["length"])]  # fmt: skip
+        return D.optimise(bed, variables, D.resistance_ratio(1000.0, 0.01),
+                          constraints=[D.diodicity(1000.0, 0.01) >= di_min], starts=1)  # fmt: skip
+
+    res = best(2.0)
+    (report,) = [c for c in res.constraints if not c.validity]
+    assert res.success and report.active
+    h = 1e-3
+    slope = (best(2.0 + h).objective - best(2.0 - h).objective) / (2 * h)
+    assert slope > 0.0 and report.multiplier == pytest.approx(slope, rel=1e-3)
+    (key,) = res.bound_sensitivities  # one variable sits on its upper bound
+    name = key.removesuffix(".high")
+    dh = 1e-6 * highs[name]
+    up = best(2.0, **{name: highs[name] + dh}).objective
+    down = best(2.0, **{name: highs[name] - dh}).objective
+    assert res.bound_sensitivities[key] == pytest.approx((up - down) / (2 * dh), rel=1e-3)
+
+
 def test_three_variable_pillar_design_beats_the_grid():
     p = _quiet(Pillar, length=500e-6, radius=25e-6, youngs_modulus=1e6, viscosity=0.1,
                density=1000.0)  # fmt: skip
@@ -160,7 +185,13 @@ def test_multistart_finds_the_global_optimum_of_a_bistable_window():
     assert res.spread == pytest.approx(res.objective)  # the plateau's optima were reported
     assert np.any(res.local_optima == 0.0)
     assert res.variables["base_angle"] == pytest.approx(-1.4)
-    assert "base_angle.low" in res.bound_sensitivities
+    # at the corner, with no constraint, d(optimum)/d(bound) is the objective's own slope
+    space_at = D.Space(bed, variables)
+    h = 1e-6
+    up = _values(space_at, [q], [h / 1.4, 0.0])[0]
+    assert res.bound_sensitivities["base_angle.low"] == pytest.approx(
+        (up - res.objective) / h, rel=1e-4
+    )
 
 
 def test_pareto_front_is_monotone_and_feasible():

@@ -383,6 +383,7 @@ def _reports(
     fs: float,
     sense: str,
 ) -> list[ConstraintReport]:
+    sign_f = 1.0 if sense == "min" else -1.0
     out = []
     for j, c in enumerate(constraints):
         value = float(vals[1 + j])
@@ -393,8 +394,10 @@ def _reports(
         # lowers the scaled objective by lambda/s_j; in the user's sense, better is positive
         mult = 0.0
         if lam is not None and lam.size == len(constraints) and active:
+            # the scaled problem: d f_int*/d b = -lambda fs/s ("<=") or +lambda fs/s (">="),
+            # f_int = f (min) or -f (max)
             pay = float(lam[j]) * fs / scale
-            mult = pay if c.upper is not None else -pay
+            mult = sign_f * (-pay if c.upper is not None else pay)
         out.append(
             ConstraintReport(
                 label=c.label,
@@ -421,8 +424,8 @@ def _bound_sensitivities(
     u: FloatArray,
     sense: str,
 ) -> dict[str, float]:
-    """d(optimal objective)/d(bound) of the variables at an active bound, from the reduced
-    gradient of the Lagrangian (positive: moving the bound outwards improves)."""
+    """d(optimal objective)/d(bound) of the variables at an active bound: the gradient of
+    the Lagrangian in that variable (the bound moves the variable with it)."""
     sign_f = 1.0 if sense == "min" else -1.0
     gl = sign_f * grads[0] / fs
     if constraints and lam.size == len(constraints):
@@ -430,9 +433,10 @@ def _bound_sensitivities(
     slopes = space.slopes(values)
     out: dict[str, float] = {}
     for i, v in enumerate(space.variables):
-        d_f_dp = -gl[i] * fs / slopes[i]  # improvement of the objective per unit of p
+        # moving an active bound moves the variable with it: d f*/d bound = dL/dp_i
+        d_f = sign_f * gl[i] * fs / slopes[i]
         if u[i] <= 1e-9:
-            out[f"{v.name}.low"] = -d_f_dp
+            out[f"{v.name}.low"] = d_f
         elif u[i] >= 1.0 - 1e-9:
-            out[f"{v.name}.high"] = d_f_dp
+            out[f"{v.name}.high"] = d_f
     return out

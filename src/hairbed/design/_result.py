@@ -27,8 +27,9 @@ class ConstraintReport:
     active : bool
         True where the bound holds with equality (to 1e-6 relative).
     multiplier : float
-        d(optimal objective)/d(bound): what relaxing the bound by one unit would pay (in
-        the objective's unit, in the sense asked for: positive is better); 0 when inactive.
+        d(optimal objective)/d(bound) [objective's unit per bound's unit]: how the optimum's
+        objective changes as the bound rises (the Lagrange multiplier, what relaxing the
+        bound would pay); 0 when inactive.
     validity : bool
         True for a constraint of the model's validity.
     """
@@ -66,8 +67,8 @@ class DesignResult:
     constraints : tuple of ConstraintReport
         Every constraint, user's and validity's, at the design.
     bound_sensitivities : dict
-        {"name.low" or "name.high": d(optimal objective)/d(bound)} of the variables at an
-        active bound (positive: moving the bound outwards by one SI unit improves by that).
+        {"name.low" or "name.high": d(optimal objective)/d(bound)} [objective's unit per the
+        variable's SI unit] of the variables at an active bound.
     starts : int
         The number of local optimisations run.
     local_optima : ndarray
