@@ -262,7 +262,20 @@ def diodicity(pressure_drop: float, channel_length: float) -> Quantity:
     over a channel of length l [m] (:func:`hairbed.valve.diodicity`; g the gap above the
     tips, theory.md §11). Gradient exact: the loaded states' implicit derivatives in
     (eps, pi, theta0) and the chain rule. Validity: the gap's Reynolds number at both
-    drops (with a density) and the dense-bed condition."""
+    drops (with a density) and the dense-bed condition.
+
+    Parameters
+    ----------
+    pressure_drop : float
+        dp > 0 [Pa]: the valve at +dp and -dp.
+    channel_length : float
+        l [m], > 0.
+
+    Returns
+    -------
+    Quantity
+        Of a HairBed (dense), unit [-].
+    """
     dp, length = _drop(pressure_drop, channel_length)
 
     def evaluate(bed: HairBed, hold: str) -> tuple[float, Grad]:
@@ -283,7 +296,20 @@ def diodicity(pressure_drop: float, channel_length: float) -> Quantity:
 def resistance_ratio(pressure_drop: float, channel_length: float) -> Quantity:
     """R/R0 = (H/g)^3 [-] of the valve at the signed drop dp [Pa] over l [m]: its hydraulic
     resistance against the empty channel's (:func:`hairbed.valve.valve_curve`), exact
-    gradient as :func:`diodicity`."""
+    gradient as :func:`diodicity`.
+
+    Parameters
+    ----------
+    pressure_drop : float
+        dp, signed (negative: flow towards -x) [Pa].
+    channel_length : float
+        l [m], > 0.
+
+    Returns
+    -------
+    Quantity
+        Of a HairBed (dense), unit [-].
+    """
     if isinstance(pressure_drop, (int, float)) and pressure_drop < 0:
         dp, length = _drop(-pressure_drop, channel_length)
         index, sign = 1, -1.0
@@ -310,7 +336,20 @@ def resistance_ratio(pressure_drop: float, channel_length: float) -> Quantity:
 def gap_reynolds(pressure_drop: float, channel_length: float) -> Quantity:
     """The gap flow's Reynolds number rho u_max g/eta = rho abs(G) g^3/(8 eta^2) [-] of the
     valve at the signed drop dp [Pa] over l [m] (the walls at rest: u_max = G g^2/(8 eta)),
-    needs the bed's density; exact gradient."""
+    needs the bed's density; exact gradient.
+
+    Parameters
+    ----------
+    pressure_drop : float
+        dp, signed [Pa].
+    channel_length : float
+        l [m], > 0.
+
+    Returns
+    -------
+    Quantity
+        Of a HairBed (dense), unit [-].
+    """
     neg = isinstance(pressure_drop, (int, float)) and pressure_drop < 0
     dp, length = _drop(abs(pressure_drop) if neg else pressure_drop, channel_length)
     index = 1 if neg else 0
@@ -336,7 +375,13 @@ def brinkman_ratio() -> Quantity:
     """sqrt(k)/L [-]: the depth the flow penetrates the bed over the hair length
     (:attr:`hairbed.HairBed.brinkman_length`, Drummond & Tahir's k); the dense-bed model
     needs it below :data:`hairbed.units.DENSE_BED_LIMIT` = 0.1. Exact gradient (the
-    permeability's series differentiated by hand)."""
+    permeability's series differentiated by hand).
+
+    Returns
+    -------
+    Quantity
+        Of a HairBed, unit [-].
+    """
 
     def evaluate(bed: HairBed, hold: str) -> tuple[float, Grad]:
         phi = float(bed.packing_fraction)  # type: ignore[arg-type]
@@ -369,7 +414,13 @@ def bistable_width() -> Quantity:
 
     Gradient exact: at a fold d omega^2/dt = 0, so d omega^2_fold/dp is the partial at
     fixed t of omega^2 = omega_eps^2 (1 - eps h1), from the branch's closed-form partials
-    (:mod:`hairbed.sensitivity`), plus the chain rule through v*."""
+    (:mod:`hairbed.sensitivity`), plus the chain rule through v*.
+
+    Returns
+    -------
+    Quantity
+        Of a HairBed (dense), unit [m/s].
+    """
 
     def evaluate(bed: HairBed, hold: str) -> tuple[float, Grad]:
         eps, th = bed.eps, bed.base_angle
@@ -481,7 +532,18 @@ def _stress_name(spec: Any) -> str:
 
 def tip_deflection(wall_shear_stress: Any) -> Quantity:
     """The pillar's tip deflection x1 L [m] at tau_w [Pa] (or at the end of a
-    :func:`linear_range`), exact gradient (the collocation's implicit derivatives)."""
+    :func:`linear_range`), exact gradient (the collocation's implicit derivatives).
+
+    Parameters
+    ----------
+    wall_shear_stress : float or Quantity
+        tau_w [Pa], or a linear_range(...) quantity: at the end of that range.
+
+    Returns
+    -------
+    Quantity
+        Of a Pillar ("sublayer" or "couette" profile), unit [m].
+    """
     spec = _stress(wall_shear_stress)
 
     def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
@@ -503,7 +565,18 @@ def sensitivity(wall_shear_stress: float) -> Quantity:
 
     Its gradient needs second derivatives of the state, which the library does not have:
     it is the central difference (relative step :data:`FD_STEP`) of the exact dx1/dLambda
-    in (Lambda, theta0, gamma), chained exactly to the SI parameters; ``exact`` is False."""
+    in (Lambda, theta0, gamma), chained exactly to the SI parameters; ``exact`` is False.
+
+    Parameters
+    ----------
+    wall_shear_stress : float
+        tau_w [Pa], > 0.
+
+    Returns
+    -------
+    Quantity
+        Of a Pillar ("sublayer" or "couette" profile), unit [m/Pa].
+    """
     tau = _number(wall_shear_stress, "wall_shear_stress [Pa]")
 
     def slope(p: Pillar, lam: float, th: float, gamma: float) -> float:
@@ -537,7 +610,13 @@ def linear_sensitivity() -> Quantity:
     """The pillar's sensitivity at small stress, L c1 Lambda/tau_w [m/Pa], c1 =
     11 cos^3(theta0)/120 (the linear calibration, :attr:`hairbed.Pillar.linear_coefficient`,
     sublayer and Couette profiles): the limit of :func:`sensitivity` as tau_w -> 0, a closed
-    form with an exact gradient."""
+    form with an exact gradient.
+
+    Returns
+    -------
+    Quantity
+        Of a Pillar ("sublayer" or "couette" profile), unit [m/Pa].
+    """
 
     def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
         k, d_ln_k, _, _ = _pillar_groups(p)
@@ -561,7 +640,18 @@ def bandwidth(wall_shear_stress: float) -> Quantity:
 
     Its gradient: the eigenvalue's derivative in (Lambda, theta0, gamma) is a central
     difference (relative step :data:`FD_STEP`; the library has no eigenvalue derivative),
-    chained exactly through T; ``exact`` is False."""
+    chained exactly through T; ``exact`` is False.
+
+    Parameters
+    ----------
+    wall_shear_stress : float
+        tau_w [Pa] of the state the pillar is linearised about.
+
+    Returns
+    -------
+    Quantity
+        Of a Pillar ("sublayer" or "couette" profile), unit [Hz].
+    """
     tau = _number(wall_shear_stress, "wall_shear_stress [Pa]", positive=False)
 
     def rate(p: Pillar, lam: float, th: float, gamma: float) -> float:
@@ -600,7 +690,18 @@ def linear_range(rtol: float = 0.1) -> Quantity:
     Gradient exact: tau* = Lambda*/K with Lambda* the root of
     G = (x1(Lambda, theta0, gamma) - sin theta0)/(c1(theta0) Lambda) - 1 -+ rtol, so
     d Lambda* = -(G_theta0 d theta0 + G_gamma d gamma)/G_Lambda (implicit function theorem,
-    the state's exact first derivatives), c1 = 11 cos^3(theta0)/120."""
+    the state's exact first derivatives), c1 = 11 cos^3(theta0)/120.
+
+    Parameters
+    ----------
+    rtol : float
+        The linear calibration's relative error that ends the range, in (0, 1) [-].
+
+    Returns
+    -------
+    Quantity
+        Of a Pillar ("sublayer" or "couette" profile), unit [Pa].
+    """
     tol = _number(rtol, "rtol")
     if not tol < 1.0:
         raise ValueError(f"rtol must lie in (0, 1), got {tol!r}")
@@ -630,7 +731,18 @@ def linear_range(rtol: float = 0.1) -> Quantity:
 
 def l_plus(wall_shear_stress: Any) -> Quantity:
     """The pillar's height in wall units L+ = L sqrt(abs(tau_w) rho)/eta [-] at tau_w [Pa]
-    (or the end of a :func:`linear_range`); needs the density. Exact gradient."""
+    (or the end of a :func:`linear_range`); needs the density. Exact gradient.
+
+    Parameters
+    ----------
+    wall_shear_stress : float or Quantity
+        tau_w [Pa], or a linear_range(...) quantity.
+
+    Returns
+    -------
+    Quantity
+        Of a Pillar ("sublayer" or "couette" profile), unit [-].
+    """
     spec = _stress(wall_shear_stress)
 
     def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
@@ -652,7 +764,18 @@ def l_plus(wall_shear_stress: Any) -> Quantity:
 def pillar_reynolds(wall_shear_stress: Any) -> Quantity:
     """The pillar Reynolds number rho abs(u(tip)) 2a/eta = 2 rho abs(tau_w) L a h1/eta^2 [-]
     at tau_w [Pa] (u(tip) = tau_w h1 L/eta for the sublayer and Couette profiles); needs the
-    density. Exact gradient."""
+    density. Exact gradient.
+
+    Parameters
+    ----------
+    wall_shear_stress : float or Quantity
+        tau_w [Pa], or a linear_range(...) quantity.
+
+    Returns
+    -------
+    Quantity
+        Of a Pillar ("sublayer" or "couette" profile), unit [-].
+    """
     spec = _stress(wall_shear_stress)
 
     def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
@@ -679,7 +802,13 @@ def pillar_reynolds(wall_shear_stress: Any) -> Quantity:
 
 def slenderness() -> Quantity:
     """The pillar's slenderness L/a [-] (resistive-force drag needs it above
-    :data:`hairbed.pillars.SLENDERNESS_LIMIT` = 10). Exact gradient."""
+    :data:`hairbed.pillars.SLENDERNESS_LIMIT` = 10). Exact gradient.
+
+    Returns
+    -------
+    Quantity
+        Of a Pillar, unit [-].
+    """
 
     def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
         s = p.length / p.radius
