@@ -196,6 +196,10 @@ def _check(
     if pi is not None and q is not None:
         raise ValueError("give at most one of pi (pressure drive) and q (flow drive), got both")
     drive = "flow" if q is not None else "pressure"
+    load = q if q is not None else (0.0 if pi is None else pi)
+    fast = _plain_scalars(drive, omega2, eps, theta0, kappa, gamma, load)
+    if fast is not None:
+        return drive, _DRIVES[drive], fast
     w = as_float_array(omega2, "omega2")
     e = as_float_array(eps, "eps")
     t0 = as_float_array(theta0, "theta0")
@@ -206,7 +210,7 @@ def _check(
     _check_range(k, k <= 0.0, "kappa", "(0, inf)")
     _check_range(g, (g <= 0.0) | (g > 1.0), "gamma", "(0, 1]")
     name = "q" if q is not None else "pi"
-    ld = as_float_array(q if q is not None else (0.0 if pi is None else pi), name)
+    ld = as_float_array(load, name)
     w, e, t0, k, g, ld = broadcast_named(
         ("omega2", w), ("eps", e), ("theta0", t0), ("kappa", k), ("gamma", g), (name, ld)
     )
@@ -217,6 +221,32 @@ def _check(
             f"{name} = {float(ld[bad].flat[0])!r} with eps = 0{_first_index(bad)}"
         )
     return drive, _DRIVES[drive], (w, e, t0, k, g, ld)
+
+
+_PLAIN = (float, int, np.float64)
+
+
+def _plain_scalars(drive: str, *values: Any) -> tuple[FloatArray, ...] | None:
+    """The common call's shortcut past the array checks (a tenth of a scalar solve): Python or
+    numpy float scalars (or ints) that pass every check of :func:`_check`, as 0-d arrays;
+    None for anything else, which the full checks then take (and refuse with their
+    messages)."""
+    if not all(type(v) in _PLAIN for v in values):
+        return None
+    try:
+        w, e, t0, k, g, ld = (float(v) for v in values)
+    except OverflowError:  # an int beyond float64
+        return None
+    fine = (
+        math.isfinite(w)
+        and math.isfinite(ld)
+        and 0.0 <= e < 1.0
+        and abs(t0) < HALF_PI
+        and 0.0 < k < math.inf
+        and 0.0 < g <= 1.0
+        and (e > 0.0 or (drive == "pressure" and ld == 0.0))
+    )
+    return tuple(np.array(v) for v in (w, e, t0, k, g, ld)) if fine else None
 
 
 #: Gauss-Legendre nodes and weights on [0, 1] of the start's linear tip deflection.
