@@ -168,18 +168,6 @@ def test_rectification_ratio_of_a_tilted_porous_bed() -> None:
     assert HairBed(**BED, model="porous").rectification_ratio(0.1) == pytest.approx(1.0, abs=1e-12)
 
 
-@pytest.mark.parametrize(
-    "call",
-    [
-        lambda b: b.fit_profile([0.0, 1e-4], [0.0, 5e-4]),
-    ],
-)
-def test_what_a_porous_bed_does_not_support_yet_says_so(call: object) -> None:
-    bed = HairBed(**BED, model="porous")
-    with pytest.raises(NotImplementedError, match="dense bed .* only"):
-        call(bed)  # type: ignore[operator]
-
-
 def test_porous_variables_table_is_the_state() -> None:
     import dataclasses
 

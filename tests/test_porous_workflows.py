@@ -411,9 +411,44 @@ def test_valve_states_of_a_bistable_porous_valve() -> None:
     assert s.tip_height[4, 0] < s.fold_tip_height[0] < s.tip_height[4, 1]
 
 
-# -- what stays refused -------------------------------------------------------------------------
+# -- profile fit ---------------------------------------------------------------------------
 
 
-def test_what_a_porous_bed_still_refuses_says_so() -> None:
-    with pytest.raises(NotImplementedError, match="fit_profile"):
-        TRUE.fit_profile([0.0, 1e-4], [0.0, 5e-4])
+@pytest.mark.parametrize("free_angle", [False, True])
+def test_fit_profile_recovers_the_deformed_porous_hair(free_angle: bool) -> None:
+    """Points along deform's hair: the speed (and the base angle) back to 1e-10, the rms
+    distance at rounding, the fitted state the porous bed's own (its tip deflection)."""
+    bed = _with(TRUE, base_angle=0.3)
+    st = bed.deform(0.05)
+    x, z = st.profile(20)
+    kw = {"theta0": None, "theta0_guess": 0.1} if free_angle else {}
+    fit_ = bed.fit_profile(x, z, **kw)
+    assert fit_.success and fit_.status == 0
+    assert fit_.velocity == pytest.approx(0.05, rel=1e-10)
+    assert fit_.fit.theta0 == pytest.approx(0.3, abs=1e-10)
+    assert fit_.fit.residual < 1e-12
+    assert float(fit_.fit.solution.tip_deflection) * bed.length == pytest.approx(
+        st.tip_deflection, rel=1e-10
+    )
+
+
+def test_fit_profile_of_the_middle_state_of_a_window() -> None:
+    """Three states share a speed; the profile of the middle (unstable) one, from the porous
+    inverse of its tip deflection, fits back to that state, not another root."""
+    from hairbed.porous_curves import porous_branch
+
+    bed = HairBed(
+        length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=1e-3 / 0.95,
+        viscosity=1.0, spacing=150e-6, base_angle=-1.2, model="porous",
+    )  # fmt: skip
+    branch = porous_branch(
+        bed.eps, bed.base_angle, kappa=bed.kappa, gamma=bed.drag_ratio, num=60
+    )
+    assert branch.window is not None
+    x_mid = float(np.mean(branch.fold_tip_deflection))  # between the folds: unstable
+    st = bed.state_from_tip_deflection(x_mid * bed.length)
+    x, z = st.profile(25)
+    fit_ = bed.fit_profile(x, z)
+    assert fit_.success
+    assert fit_.velocity == pytest.approx(st.velocity, rel=1e-9)
+    assert float(fit_.fit.solution.tip_deflection) == pytest.approx(x_mid, abs=1e-10)

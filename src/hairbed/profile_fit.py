@@ -10,6 +10,7 @@ a root; omega^2 follows from eq. (34). The tip alone is :mod:`hairbed.inverse`.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -52,8 +53,8 @@ class ProfileFit:
         2 x 2 covariance of (omega2, theta0).
     residual : float
         Root-mean-square distance from the points to the fitted curve [-] (hair lengths).
-    solution : Solution
-        The fitted state (physical branch).
+    solution : Solution or PorousState
+        The fitted state (physical branch; a porous bed's state at its eps).
     sigma : ndarray
         Arc length [-] of the point of the curve closest to each measured point.
     success : bool
@@ -78,7 +79,7 @@ class ProfileFit:
     theta0_stderr: float
     covariance: FloatArray = field(repr=False)
     residual: float
-    solution: Solution = field(repr=False)
+    solution: Any = field(repr=False)  # Solution, or a porous bed's PorousState
     sigma: FloatArray = field(repr=False)
     success: bool
     status: int
@@ -97,8 +98,99 @@ _T_GUESS_MAX = 40.0
 _THETA0_LIMIT = HALF_PI - 1e-9
 
 
+class _Dense:
+    """The dense bed's curves: the closed-form physical state in its branch parameter t."""
+
+    #: the starting grid of the parameter, and its range for a guess
+    grid = np.linspace(-10.0, 14.0, 25)
+    low, high = -30.0, _T_GUESS_MAX
+
+    def __init__(self, eps: float) -> None:
+        self.eps = eps
+
+    def states(self, t: Any, theta0: Any) -> Any:
+        return _physical(t, self.eps, theta0)
+
+    def points(self, sol: Any, s: FloatArray) -> tuple[Any, Any, Any]:
+        """x, z, theta at arc lengths s (one row of each per state)."""
+        return sol.x(s), sol.z(s), sol.theta(s)
+
+    def profile(self, sol: Any, num: int) -> tuple[Any, Any]:
+        return sol.profile(num)
+
+    def omega2(self, sol: Any) -> Any:
+        return sol.omega2
+
+    def parameter(self, omega2: float, theta0: float) -> FloatArray:
+        """The parameter of the (low) state at forcing omega2."""
+        return np.atleast_1d(np.asarray(_solve_checked(omega2, self.eps, theta0).t))
+
+    def final(self, t: float, theta0: float) -> Any:
+        return _physical(np.float64(t), self.eps, np.float64(theta0))
+
+
+class _Porous:
+    """The porous bed's curves (theory.md §13) in u = ln F, F the stress on the tip plane in
+    load units: with no pressure gradient F fixes the state, the bed's at eps = 0 and
+    forcing F (its equations hold no eps), every state of a window too; the forcing at the
+    bed's eps is omega2 = eps w(1) + (1 - eps h1) F (the gap's condition)."""
+
+    grid = np.linspace(math.log(1e-3), math.log(1e3), 25)
+    low, high = math.log(1e-12), math.log(1e8)
+
+    def __init__(self, eps: float, kappa: float, gamma: float) -> None:
+        self.eps, self.kappa, self.gamma = eps, kappa, gamma
+
+    def states(self, u: Any, theta0: Any) -> Any:
+        from ._core.porous import solve_porous
+
+        u = np.clip(np.asarray(u, dtype=np.float64), self.low, self.high)
+        return solve_porous(np.exp(u), 0.0, theta0, kappa=self.kappa, gamma=self.gamma, pi=0.0)
+
+    def points(self, st: Any, s: FloatArray) -> tuple[Any, Any, Any]:
+        _, x, z, theta = st.shape(np.asarray(s, dtype=np.float64))
+        return x, z, theta
+
+    def profile(self, st: Any, num: int) -> tuple[Any, Any]:
+        _, x, z, _ = st.shape(np.linspace(0.0, 1.0, num))
+        return x, z
+
+    def omega2(self, st: Any) -> Any:
+        force = np.asarray(st.omega2, dtype=np.float64)
+        h1 = np.asarray(st.tip_height, dtype=np.float64)
+        w1 = np.asarray(st.tip_velocity, dtype=np.float64)
+        return self.eps * w1 + (1.0 - self.eps * h1) * force
+
+    def parameter(self, omega2: float, theta0: float) -> FloatArray:
+        """u of the low state at the bed's forcing omega2: its tip stress."""
+        from ._core.porous import solve_porous
+
+        st = solve_porous(omega2, self.eps, theta0, kappa=self.kappa, gamma=self.gamma)
+        with np.errstate(divide="ignore"):
+            return np.atleast_1d(np.log(np.asarray(st.tip_stress, dtype=np.float64)))
+
+    def final(self, u: float, theta0: float) -> Any:
+        """The fitted state at the bed's eps: of the states of its forcing
+        (:func:`hairbed.solve_porous_all`), the one of the fitted hair (its tip deflection;
+        the same hair at eps = 0 where none is found)."""
+        from ._core.porous import solve_porous_all
+
+        st0 = self.states(u, theta0)
+        if self.eps == 0.0:
+            return st0
+        omega2 = float(self.omega2(st0))
+        every = solve_porous_all(
+            omega2, self.eps, float(theta0), kappa=self.kappa, gamma=self.gamma
+        )
+        found = [s for s in every if int(s.status) >= 0]
+        if not found:
+            return st0
+        x1 = float(st0.tip_deflection)
+        return min(found, key=lambda s: abs(float(s.tip_deflection) - x1))
+
+
 def _curve(
-    t: Any, eps: float, theta0: Any, sigma: FloatArray, *, angle: bool = False
+    family: Any, t: Any, theta0: Any, sigma: FloatArray, *, angle: bool = False
 ) -> tuple[FloatArray, ...]:
     """x, z (and theta) at arc lengths sigma, continued along the end tangents outside [0, 1].
 
@@ -108,17 +200,19 @@ def _curve(
     """
     t = np.asarray(t, dtype=np.float64)
     th = np.clip(np.asarray(theta0, dtype=np.float64), -_THETA0_LIMIT, _THETA0_LIMIT)
-    if t.ndim:
+    dense = isinstance(family, _Dense)
+    if t.ndim and dense:
         t, th = t[:, np.newaxis], th[:, np.newaxis]
-    sol = _physical(t, eps, th)
+    sol = family.states(t, th)
     inside = np.clip(sigma, 0.0, 1.0)
     beyond = sigma - inside
-    x = np.asarray(sol.x(inside), dtype=np.float64)
-    z = np.asarray(sol.z(inside), dtype=np.float64)
+    xs, zs, ts = family.points(sol, inside)
+    x = np.asarray(xs, dtype=np.float64)
+    z = np.asarray(zs, dtype=np.float64)
     ends = np.flatnonzero(beyond)
     if not angle and ends.size == 0:
         return x, z
-    theta = np.asarray(sol.theta(inside), dtype=np.float64)
+    theta = np.asarray(ts, dtype=np.float64)
     x = x + beyond * np.sin(theta)
     z = z + beyond * np.cos(theta)
     return (x, z, theta) if angle else (x, z)
@@ -140,6 +234,8 @@ def fit_profile(
     theta0: float | None = None,
     omega2_guess: float | None = None,
     theta0_guess: float | None = None,
+    kappa: float | None = None,
+    gamma: float = 1.0,
 ) -> ProfileFit:
     """Least-squares fit of the forcing (and base angle) to measured points along one hair.
 
@@ -162,6 +258,13 @@ def fit_profile(
         Hold the base angle fixed at this value [rad]; by default it is fitted.
     omega2_guess, theta0_guess : float, optional
         Starting values; by default a coarse grid search over the physical branch.
+    kappa, gamma : float, optional
+        A porous bed's permeability kappa = k/L^2 > 0 and drag ratio gamma in (0, 1]
+        (:func:`hairbed.solve_porous`, theory.md §13): the curves are then the porous bed's
+        states, parametrised by the stress on their tip plane F (the state of the bed at
+        eps = 0 and forcing F, every state of a window too), and omega^2 = eps w(1) +
+        (1 - eps h1) F; ``solution`` is the state at ``eps`` (a
+        :class:`hairbed.PorousState`). By default (``kappa`` None) the dense bed.
 
     Returns
     -------
@@ -206,6 +309,15 @@ def fit_profile(
             "wall is the limit omega2 -> inf or theta0 -> +-pi/2, not a state of the model)"
         )
     eps = check_scalar_inputs(eps=eps, given=("eps",))[1]
+    family: Any
+    if kappa is None:
+        family = _Dense(eps)
+    else:
+        family = _Porous(
+            eps,
+            check_number(kappa, "kappa", low=0.0, low_open=True),
+            check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True),
+        )
     fit_theta = theta0 is None
     k = 2 if fit_theta else 1
     m = x.size
@@ -233,12 +345,11 @@ def fit_profile(
             # the branch parameter of the guessed state itself, within the range of t whose
             # shapes a profile resolves (-inf, the hair at rest, and a hair flat to rounding
             # start from the ends of that range)
-            sol0 = _solve_checked(float(omega2_guess), eps, float(th))
-            tc = np.atleast_1d(np.asarray(sol0.t, dtype=np.float64))
-            tc = np.clip(np.where(np.isfinite(tc), tc, -30.0), -30.0, _T_GUESS_MAX)
+            tc = family.parameter(float(omega2_guess), float(th))
+            tc = np.clip(np.where(np.isfinite(tc), tc, family.low), family.low, family.high)
         else:
-            tc = np.linspace(-10.0, 14.0, 25)
-        cx, cz = _physical(tc, eps, th).profile(num)
+            tc = family.grid
+        cx, cz = family.profile(family.states(tc, th), num)
         d2 = (cx[:, :, None] - x) ** 2 + (cz[:, :, None] - z) ** 2  # (t, sigma, point)
         cost = d2.min(axis=1).sum(axis=1)
         j = int(np.argmin(cost))
@@ -253,7 +364,7 @@ def fit_profile(
 
     def residuals(p: FloatArray) -> FloatArray:
         t, th, sg = unpack(p)
-        cx, cz = _curve(t, eps, th, sg)
+        cx, cz = _curve(family, t, th, sg)
         return np.concatenate([cx - x, cz - z])
 
     def globals_jac(t: float, th: float, sg: FloatArray) -> FloatArray:
@@ -261,7 +372,7 @@ def fit_profile(
         ht, hth = 1e-6 * max(1.0, abs(t)), 1e-6
         ts = np.array([t + ht, t - ht, t, t])[: 2 * k]
         ths = np.array([th, th, th + hth, th - hth])[: 2 * k]
-        cx, cz = _curve(ts, eps, ths, sg)  # one evaluation for all shifted parameters
+        cx, cz = _curve(family, ts, ths, sg)  # one evaluation for all shifted parameters
         steps = np.array([2.0 * ht, 2.0 * hth])[:k]
         dx = (cx[0::2] - cx[1::2]) / steps[:, None]
         dz = (cz[0::2] - cz[1::2]) / steps[:, None]
@@ -269,7 +380,7 @@ def fit_profile(
 
     def jac(p: FloatArray) -> FloatArray:
         t, th, sg = unpack(p)
-        _, _, ang = _curve(t, eps, th, sg, angle=True)
+        _, _, ang = _curve(family, t, th, sg, angle=True)
         out = np.zeros((2 * m, k + m))
         out[:, :k] = globals_jac(t, th, sg)
         rows = np.arange(m)
@@ -286,11 +397,11 @@ def fit_profile(
     )
     t, th, sg = unpack(res.x)
     th = float(np.clip(th, -_THETA0_LIMIT, _THETA0_LIMIT))
-    sol = _physical(np.float64(t), eps, np.float64(th))
+    sol = family.final(t, th)
     omega2 = float(sol.omega2)
 
     # covariance from the normal components (see Notes)
-    cx, cz, ang = _curve(t, eps, th, sg, angle=True)
+    cx, cz, ang = _curve(family, t, th, sg, angle=True)
     nx, nz = np.cos(ang), -np.sin(ang)
     dist = nx * (cx - x) + nz * (cz - z)
     g = globals_jac(t, th, sg)
@@ -303,7 +414,9 @@ def fit_profile(
     ht, hth = 1e-6 * max(1.0, abs(t)), 1e-6
     th_hi, th_lo = min(th + hth, _THETA0_LIMIT), max(th - hth, -_THETA0_LIMIT)  # inside
     w = np.asarray(
-        _physical(np.array([t + ht, t - ht, t, t]), eps, np.array([th, th, th_hi, th_lo])).omega2
+        family.omega2(
+            family.states(np.array([t + ht, t - ht, t, t]), np.array([th, th, th_hi, th_lo]))
+        )
     )
     dw_dt = (w[0] - w[1]) / (2.0 * ht)
     if fit_theta:

@@ -162,7 +162,7 @@ POROUS_SUPPORTED = (
     "deform, sweep, wall_shear_stress, rectification_ratio, state_from_tip_deflection, "
     "velocity_from_tip_deflection, wall_shear_stress_from_tip_deflection, "
     "velocity_from_wall_shear_stress, the linear calibrations, valve.valve_curve, "
-    "valve.diodicity, valve.valve_states and the calibration (fit, measure, "
+    "valve.diodicity, valve.valve_states, fit_profile and the calibration (fit, measure, "
     "model_tip_deflection, linear_range)"
 )
 
@@ -1181,7 +1181,8 @@ class HairBed:
 
         Calls :func:`hairbed.profile_fit.fit_profile` on (x/L, z/L) with the bed's eps and, unless
         ``theta0=None`` is passed, its base angle held fixed; keyword arguments are passed on.
-        Only flow towards +x is fitted.
+        Only flow towards +x is fitted. A porous bed passes its ``kappa`` and ``gamma``: its
+        own states are the curves fitted.
 
         Returns
         -------
@@ -1191,9 +1192,10 @@ class HairBed:
         """
         from .profile_fit import fit_profile
 
-        require_dense(self, "HairBed.fit_profile")
-
         kwargs.setdefault("theta0", self.base_angle)
+        if self.model == "porous":  # its curves: the porous bed's states (theory.md §13)
+            kwargs.setdefault("kappa", self.kappa)
+            kwargs.setdefault("gamma", self.drag_ratio)
         with np.errstate(over="ignore"):  # an overflow is infinite: refused, naming x or z
             x = as_float_array(x, "x", unit="m") / self.length
             z = as_float_array(z, "z", unit="m") / self.length

@@ -130,7 +130,7 @@ def _run(argv: Sequence[str] | None) -> int:
         command = args.command
         return int(args.func(args))
     except (UsageError, ValueError, NotImplementedError) as exc:
-        # NotImplementedError: what the library does not do yet (a porous bed's profile fit)
+        # NotImplementedError: what the library does not do yet for a model
         print(f"{PROG}: error: {one_line(exc)}", file=sys.stderr)
         return 2
     except ArithmeticError as exc:  # an overflow the library did not catch (a huge input)
