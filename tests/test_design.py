@@ -184,6 +184,7 @@ def test_multistart_finds_the_global_optimum_of_a_bistable_window():
     assert res.success and res.objective >= np.max(scan) - 1e-12
     assert res.spread == pytest.approx(res.objective)  # the plateau's optima were reported
     assert np.any(res.local_optima == 0.0)
+    assert any("bistable window is not checked" in n for n in res.notes)
     assert res.variables["base_angle"] == pytest.approx(-1.4)
     # at the corner, with no constraint, d(optimum)/d(bound) is the objective's own slope
     space_at = D.Space(bed, variables)

@@ -874,6 +874,11 @@ def validity_constraints(model: Any, quantities: Any) -> tuple[list[Constraint],
     notes: list[str] = []
     if isinstance(model, HairBed):
         out.append(Constraint(brinkman_ratio(), upper=DENSE_BED_LIMIT, validity=True))
+        if any(q.name == "bistable_width" for q in quantities):
+            notes.append(
+                "the Reynolds number of the wall-driven flow at the bistable window is not "
+                "checked (a constraint of it is not built yet)"
+            )
         drops = sorted({(o[1], o[2]) for q in quantities for o in q.operating if o[0] == "valve"})
         for dp, length in drops:
             if model.density is None:
