@@ -405,3 +405,35 @@ def test_deconvolution_of_the_nonlinear_pillar_in_time() -> None:
     band = (f > 0) & (f <= 0.8 * f_r)
     ratio = np.mean(np.abs(np.fft.rfft(err)[band]) ** 2 * np.abs(h[band]) ** 2) / (n * sigma**2)
     assert ratio <= 1.0 + 3.0 / math.sqrt(np.count_nonzero(band)), ratio
+
+
+@pytest.mark.filterwarnings("ignore::hairbed.ModelValidityWarning")
+def test_wall_law_profile_keeps_the_exact_static_gain() -> None:
+    """'wall-law' at 1 Pa (L+ = 32): H(0) is the pillar's exact sensitivity (central
+    differences of deform here) with the profile's change, status 4 says the frequency
+    dependence of that part is approximate; at rest (L+ = 0) it is the sublayer's, status 0."""
+    p = _readme("water", profile="wall-law")
+    r = p.frequency_response([0.0, 10.0, 100.0], wall_shear_stress=1.0, pillar_density=RHO_S)
+    h = 1e-5
+    fd = (p.tip_deflection(1.0 + h) - p.tip_deflection(1.0 - h)) / (2 * h)
+    assert abs(r.response[0] - fd) <= 1e-7 * fd and r.status == 4 and "wall-law" in r.message
+    sub = _readme("water")
+    f = [0.0, 10.0, 100.0]
+    rest = p.frequency_response(f, pillar_density=RHO_S)
+    want = sub.frequency_response(f, pillar_density=RHO_S)
+    assert rest.status == 0 and np.allclose(rest.response, want.response, rtol=1e-9)
+
+
+@pytest.mark.filterwarnings("ignore::hairbed.ModelValidityWarning")
+def test_series_to_xarray() -> None:
+    pytest.importorskip("xarray")
+    p = _readme("water")
+    t = np.arange(256) / 100.0
+    x = np.asarray(p.tip_deflection(0.1 + 0.01 * np.sin(2 * np.pi * t)))
+    out = p.wall_shear_stress_from_tip_deflection_series(x, 100.0, pillar_density=RHO_S)
+    ds = out.to_xarray()
+    assert ds["wall_shear_stress"].dims == ("time",) and ds["stress_spectrum"].dims == (
+        "frequency",
+    )
+    assert ds["wall_shear_stress"].attrs["units"] == "Pa" and ds["time"].attrs["units"] == "s"
+    assert ds.attrs["drag"] == "sader" and ds.sizes["frequency"] == 129
