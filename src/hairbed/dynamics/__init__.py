@@ -23,6 +23,12 @@ from ._linear import (
     linearise_pillar,
 )
 from ._signals import CALLABLE_SAMPLES, Signal, constant, pulses, ramp, sampled, sine, step
+from ._validity import (
+    ROTARY_INERTIA_LIMIT,
+    SADER_WAVELENGTH_LIMIT,
+    dynamics_validity,
+    warn_dynamics_validity,
+)
 
 __all__ = [
     "CALLABLE_SAMPLES",
@@ -47,4 +53,8 @@ __all__ = [
     "LinearPillar",
     "PillarModes",
     "linearise_pillar",
+    "ROTARY_INERTIA_LIMIT",
+    "SADER_WAVELENGTH_LIMIT",
+    "dynamics_validity",
+    "warn_dynamics_validity",
 ]

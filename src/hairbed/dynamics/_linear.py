@@ -39,6 +39,7 @@ from .._core.pillar import PillarState, profile_coefficients
 from .._core.validation import as_float_array, check_number, show, status_messages
 from ._hydrodynamic import sader_drag_ratio
 from ._operators import StateOperators, state_operators, velocity_operators
+from ._validity import warn_dynamics_validity
 
 __all__ = [
     "DRIVES",
@@ -426,6 +427,7 @@ class LinearPillar:
                 )
             drag = np.asarray(sader_drag_ratio(om, *unsteady_drag), dtype=np.complex128)
             drag = drag.reshape(-1)
+            warn_dynamics_validity(om, self.mu, *unsteady_drag, unsteady_drag=True)
         for deg in np.unique(degs):
             sel = np.flatnonzero(degs == deg)
             if drag is None:
