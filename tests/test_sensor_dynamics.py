@@ -181,7 +181,7 @@ def test_a_frequency_beyond_the_stokes_layer_warns() -> None:
     assert abs(r.valid_below - f_c) <= 1e-12 * f_c
     with pytest.warns(hairbed.ModelValidityWarning, match="Stokes layer"):
         p.frequency_response([2.0 * f_c], pillar_density=RHO_S)
-    with pytest.warns(hairbed.ModelValidityWarning, match="quasi-steady drag fails"):
+    with pytest.warns(hairbed.ModelValidityWarning, match="quasi-steady resistive-force"):
         p.frequency_response([2.0 * f_c], pillar_density=RHO_S, drag="quasi-steady")
 
 

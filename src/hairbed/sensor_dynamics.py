@@ -42,7 +42,7 @@ from ._core.validation import (
     check_positive,
 )
 from ._warnings import ModelValidityWarning
-from .dynamics import linearise_pillar
+from .dynamics import linearise_pillar, warn_dynamics_validity
 
 if TYPE_CHECKING:  # the Pillar's module calls this one (its methods): no import cycle
     from .pillars import Pillar
@@ -212,18 +212,21 @@ def _warn_validity(model: _Model, frequency: FloatArray, stacklevel: int) -> Non
     top = float(np.max(frequency)) if np.size(frequency) else 0.0
     f_c = model.valid_below
     if top > f_c:
-        drag = (
-            "; the quasi-steady drag fails there too (drag='sader' covers the drag)"
-            if model.drag == "quasi-steady"
-            else ""
-        )
         warnings.warn(
             f"frequencies up to {top:.4g} Hz exceed nu/(pi L^2) = {f_c:.4g} Hz, above which "
             "the Stokes layer sqrt(2 nu/omega) is shorter than the pillar: there a wall-stress "
             "fluctuation no longer drives the quasi-steady profile of the model along the "
-            f"whole pillar (theory.md §14, D2){drag}",
+            "whole pillar (theory.md §14, D2)",
             ModelValidityWarning,
             stacklevel=stacklevel,
+        )
+    if model.drag == "quasi-steady":  # the dynamics' own checks (Sader's: in its response)
+        warn_dynamics_validity(
+            2.0 * math.pi * model.time_scale * np.asarray(frequency).reshape(-1),
+            model.inertia_number,
+            model.reynolds_scale,
+            float(model.pillar.slenderness),
+            stacklevel=stacklevel + 1,
         )
 
 
@@ -495,7 +498,10 @@ def frequency_response(
     ModelValidityWarning
         For frequencies above nu/(pi L^2) [Hz], where the Stokes layer sqrt(2 nu/omega) is
         shorter than the pillar: a stress fluctuation there no longer drives the
-        quasi-steady profile over the whole pillar (and the quasi-steady drag fails too).
+        quasi-steady profile over the whole pillar; and where the dynamics' own assumptions
+        fail (:func:`hairbed.dynamics.dynamics_validity`: the quasi-steady drag there too,
+        Sader's drag at a bending wavelength under 10 diameters, rotary inertia). The
+        internal scan of the resonance and the bandwidth does not warn.
 
     Examples
     --------
@@ -529,10 +535,12 @@ def frequency_response(
     )
     model = _model(pillar, wall_shear_stress, pillar_density, drag)
     _warn_validity(model, f, 3)
-    h, status = model.response(f)
-    fs, hs = _scan(model)
-    f_r, q = _resonance(model, fs, hs)
-    bw = _bandwidth(model, fs, hs, mtol, ptol)
+    h, status = model.response(f)  # with Sader's drag the dynamics' own checks warn here
+    with warnings.catch_warnings():  # the internal scan's frequencies are not the user's
+        warnings.simplefilter("ignore", ModelValidityWarning)
+        fs, hs = _scan(model)
+        f_r, q = _resonance(model, fs, hs)
+        bw = _bandwidth(model, fs, hs, mtol, ptol)
     code = 3 if np.any(status == 3) else model.status
     return SensorResponse(
         frequency=f,
