@@ -79,3 +79,28 @@ def test_small_integration_relaxes_to_the_static_state() -> None:
     theta = np.append(theta, theta @ srow[:num])
     st = hairbed.solve_pillar(5.0, 0.2, num=num)
     assert abs(np.sin(theta) @ ii[num] - st.tip_deflection) <= 1e-9
+
+
+def test_projected_load_operator_against_numpy() -> None:
+    """The operator of ``projected_load`` alone (need 1, the rates' path) and with its
+    derivatives (need 2) against the numpy construction of ``velocity_operators`` (the
+    linear dynamics' B and M), at a bent state, N = 10."""
+    from hairbed.dynamics._operators import velocity_operators
+
+    num = 10
+    _, _, _, ii, _ = _mapped(num, 0.3)
+    n1 = num + 1
+    th = 0.2 + 0.9 * np.sin(np.linspace(0.0, 2.0, n1))
+    rate = np.cos(np.linspace(0.0, 3.0, n1))
+    for ratio in (0.5, 1.0, 0.2):
+        want, _ = velocity_operators(th, ii, ratio)
+        for need in (1, 2):
+            val = np.zeros(n1 + 1)
+            opa = np.zeros((n1 + 1, n1 + 1))
+            opb, dth = opa.copy(), opa.copy()
+            kern.projected_load(
+                th, rate, np.zeros(n1), ratio, num, ii, need, val, opa, opb, dth,
+                np.zeros((12, n1 + 1)),
+            )  # fmt: skip
+            assert np.allclose(opa[:n1, :n1], want, rtol=0.0, atol=1e-13)
+            assert np.allclose(val[:n1], want @ rate, rtol=0.0, atol=1e-13)

@@ -289,6 +289,26 @@ def projected_load(th, a, b, ratio, num, ii, need, val, opa, opb, dth, work):
         val[i] = c[i] * fx - s[i] * fz
     if need == 0:
         return
+    if need == 1:
+        # opa alone, by two products in one call: opa = diag(c) Q P1 - diag(s) Q P2 with
+        # P1 = diag(Rxx) I diag(c) - diag(Rxz) I diag(s), P2 = diag(Rxz) I diag(c) -
+        # diag(Rzz) I diag(s) (the rows below, expanded), and (Q P)_ik = (I P)_Nk - (I P)_ik
+        pp = np.empty((n1, 2 * n1))
+        for j in range(n1):
+            rxx = 1.0 - one * s[j] * s[j]
+            rxz = -one * s[j] * c[j]
+            rzz = 1.0 - one * c[j] * c[j]
+            for k in range(n1):
+                w = ii[j, k]
+                pp[j, k] = w * (rxx * c[k] - rxz * s[k])
+                pp[j, n1 + k] = w * (rxz * c[k] - rzz * s[k])
+        ip = np.dot(np.ascontiguousarray(ii[:n1, :n1]), pp)
+        for i in range(n1):
+            for k in range(n1):
+                opa[i, k] = c[i] * (ip[num, k] - ip[i, k]) - s[i] * (
+                    ip[num, n1 + k] - ip[i, n1 + k]
+                )
+        return
     # W1_ij = Q_ij (c_i Rxx_j - s_i Rxz_j), W2_ij = Q_ij (c_i Rxz_j - s_i Rzz_j), Q_ij =
     # I_Nj - I_ij: val = sum_j W1_ij rx_j + W2_ij rz_j. (W1 I)_ik = c_i A1_ik - s_i A2_ik and
     # (W2 I)_ik = c_i A2_ik - s_i A3_ik with A1 = Q diag(Rxx) I, A2 = Q diag(Rxz) I, A3 =
