@@ -86,3 +86,5 @@ def test_series_errors(tmp_path, capsys):
     assert "uniformly sampled" in capsys.readouterr().err
     assert main(["measure", *PILLAR]) == 2
     assert "--tip-deflection" in capsys.readouterr().err
+    assert main(["measure", "--tip-deflection", "1e-5", *PILLAR]) == 2
+    assert "--pillar-density needs --series" in capsys.readouterr().err

@@ -8,7 +8,7 @@ from typing import Any
 
 import hairbed
 
-from ._measure_series import add_series_options, run_series
+from ._measure_series import add_series_options, refuse_series_options, run_series
 from ._options import (
     BED_OPTIONS,
     add_bed_options,
@@ -125,6 +125,7 @@ def run(args: argparse.Namespace) -> int:
         return run_series(args)
     if args.tip_deflection is None:
         raise UsageError("measure needs --tip-deflection [m] (or --pillar --series FILE.csv)")
+    refuse_series_options(args)
     if args.calibration is None:
         fit = None
         if args.pillar:

@@ -20,7 +20,7 @@ from ._options import sensor_pillar_from
 from ._output import print_json, read_input
 from ._report import UsageError
 
-__all__ = ["add_series_options", "run_series"]
+__all__ = ["add_series_options", "refuse_series_options", "run_series"]
 
 
 def add_series_options(p: argparse.ArgumentParser) -> None:
@@ -48,6 +48,17 @@ def add_series_options(p: argparse.ArgumentParser) -> None:
         default="sader",
         help="the drag of the pillar's motion, default sader (Sader's oscillating cylinder)",
     )
+
+
+def refuse_series_options(args: argparse.Namespace) -> None:
+    """A series option given without --series: a usage error naming it."""
+    for opt, name, default in (
+        ("--sample-rate", "sample_rate", None),
+        ("--pillar-density", "pillar_density", None),
+        ("--series-drag", "series_drag", "sader"),
+    ):
+        if getattr(args, name) != default:
+            raise UsageError(f"{opt} needs --series (a tip-deflection series)")
 
 
 def read_series(path: str) -> tuple[list[float], list[float] | None]:
