@@ -49,6 +49,7 @@ from .validation import (
 )
 
 __all__ = [
+    "ATLAS_THETA0",
     "MIN_SLENDERNESS",
     "PROFILES",
     "WINDOW_THETA0",
@@ -654,6 +655,10 @@ def _state_start(
     """Starts (theta at the first level's nodes; h1 and Lambda) from solved states."""
     nodes = _ladder(tuple(nums))[1][0, : nums[0] + 1]
     theta = _clenshaw(coefs[0], np.broadcast_to(nodes, (coefs.shape[1], nodes.size)))
+    mapped = np.flatnonzero(out[3] != 0.0)  # states of an atlas's start: at plain nodes too
+    if mapped.size:
+        s = np.broadcast_to(0.5 * (nodes + 1.0), (mapped.size, nodes.size))
+        theta[mapped] = _theta_at(coefs[0, mapped], out[3, mapped], s)
     return np.ascontiguousarray(theta), np.stack([out[4], out[12]], axis=1)
 
 
@@ -695,6 +700,7 @@ def _walk_failed(
     out: FloatArray,
     coefs: FloatArray,
     a: FloatArray,
+    skip: NDArray[np.bool_] | None = None,
 ) -> None:
     """Inverse problems (x1 >= sin(theta0)) whose run failed, solved again by a march in
     x1, in place where the march arrives. x1 is monotone along the branch (no fold on the
@@ -704,8 +710,9 @@ def _walk_failed(
 
     Near the wall (theta0 -> -pi/2) the kernel's continuation from rest stops at isolated
     x1 between solved ones and in bands of x1 (theory.md §12; issue 33: up to all 400 of
-    a scan of the forcing at theta0 = -1.57 had status -7)."""
-    bad = np.flatnonzero(out[0] < 0)
+    a scan of the forcing at theta0 = -1.57 had status -7). Not the elements of ``skip``
+    (started from an atlas: :func:`_atlas_starts`)."""
+    bad = np.flatnonzero((out[0] < 0) & (True if skip is None else ~skip))
     if bad.size == 0:
         return
     anchor = _anchors(xf, tf, gf, pf, out[0] >= 0, bad)
@@ -770,6 +777,8 @@ def _grid_start(
     inv = inv.reshape(-1)
     if xf.size == 0 or xf.size < _GRID_START_RATIO * uniq.shape[0] * 4:
         return None
+    if np.all(uniq[:, 0] < ATLAS_THETA0):  # every start from an atlas (_inverse_run)
+        return None
     grid = np.concatenate([[0.0], _BRANCH_GRID])
     reps = grid.size - 1
     rest = np.sin(uniq[:, 0])
@@ -820,17 +829,23 @@ def _inverse_run(
     curves (:func:`_forward_run`): chord steps end with an absolute error of Lambda of their
     rate times the step tolerance, too much for a relative accuracy of a small Lambda (and a
     branch grid of a tiny forcing then had turns of rounding)."""
+    a = np.zeros(xf.size)
     if start is None:
         theta_start = np.repeat(tf[:, None], nums[0] + 1, axis=1)
         extra = np.stack([np.cos(tf), np.zeros(xf.size)], axis=1)
     else:
         theta_start, extra = start
-    a = np.zeros(xf.size)
+    # a pillar leaning onto the wall: each start (and map) from its branch's atlas (not for
+    # the steps of a walk, which start from their own states)
+    wall = (tf < ATLAS_THETA0) & (xf > np.sin(tf)) if walk else np.zeros(xf.size, np.bool_)
+    if np.any(wall):
+        theta_start, extra = np.array(theta_start), np.array(extra)
+        _atlas_starts(xf, tf, gf, pf, prof, tol, nums, wall, theta_start, extra, a)
     out, coefs = _kernel_run(_DRAG_INVERSE, xf, tf, gf, pf, a, theta_start, extra, prof, tol, nums)
     if retry:
-        _retry_finer(xf, tf, gf, pf, prof, tol, nums, out, coefs)
+        _retry_finer(xf, tf, gf, pf, prof, tol, nums, out, coefs, wall)
     if walk:
-        _walk_failed(xf, tf, gf, pf, prof, tol, nums, out, coefs, a)
+        _walk_failed(xf, tf, gf, pf, prof, tol, nums, out, coefs, a, wall)
     return out, coefs, a
 
 
@@ -844,6 +859,7 @@ def _retry_finer(
     nums: tuple[int, ...],
     out: FloatArray,
     coefs: FloatArray,
+    skip: NDArray[np.bool_] | None = None,
 ) -> None:
     """Inverse problems whose run failed, solved again from the straight pillar on the
     ladder's finer levels alone (for the default ladder: from N = 64, then from N = 128),
@@ -858,7 +874,7 @@ def _retry_finer(
     keys = np.stack([tf, gf, pf], axis=1)
     solved = np.unique(keys[out[0] >= 0], axis=0)
     for start in range(1, len(nums)):
-        bad = np.flatnonzero(out[0] < 0)
+        bad = np.flatnonzero((out[0] < 0) & (True if skip is None else ~skip))
         if bad.size and solved.size:
             near = (keys[bad][:, None, :] == solved[None, :, :]).all(axis=2).any(axis=1)
             bad = bad[near]
@@ -934,15 +950,42 @@ def _on_branch(
     inv = inv.reshape(-1)
     rest = np.sin(uniq[:, 0])
     x = (rest[:, None] + (uniq[:, 3] - rest)[:, None] * grid[None, :]).reshape(-1)
-    rep = [np.ascontiguousarray(np.repeat(uniq[:, c], reps)) for c in range(3)]
-    o, c, _ = _inverse_run(x, rep[0], rep[1], rep[2], prof, tol, nums, retry=True)
-    lam_grid = o[12].reshape(-1, reps)
-    coef_grid = c[0].reshape(uniq.shape[0], reps, -1)  # theta of the grid states (a = 0)
-    h_grid = o[4].reshape(-1, reps)
+    # a pillar leaning onto the wall: its branch from its atlas, not from the grid
+    wall = uniq[:, 0] < ATLAS_THETA0
+    grid_keys = np.flatnonzero(~wall)
     x_grid = x.reshape(-1, reps)
+    lam_grid = np.full((uniq.shape[0], reps), np.nan)
+    coef_grid = np.full((uniq.shape[0], reps, max(nums) + 1), np.nan)
+    h_grid, a_grid, fx_grid = (np.full((uniq.shape[0], reps), np.nan) for _ in range(3))
+    if grid_keys.size:
+        sel = np.repeat(~wall, reps)
+        rep = [np.ascontiguousarray(np.repeat(uniq[grid_keys, c], reps)) for c in range(3)]
+        o, c, _ = _inverse_run(
+            np.ascontiguousarray(x[sel]), rep[0], rep[1], rep[2], prof, tol, nums, retry=True
+        )
+        lam_grid[grid_keys] = o[12].reshape(-1, reps)
+        coef_grid[grid_keys, :, : c.shape[-1]] = c[0].reshape(grid_keys.size, reps, -1)
+        h_grid[grid_keys] = o[4].reshape(-1, reps)
+        a_grid[grid_keys] = o[3].reshape(-1, reps)
+        fx_grid[grid_keys] = o[8].reshape(-1, reps)
+    fresh = np.ones(uniq.shape[0], dtype=np.bool_)
+    atlases: dict[int, _Atlas] = {}
+    if np.any(wall):
+        need = np.zeros(uniq.shape[0])
+        np.maximum.at(need, inv, np.abs(lf[idx]))
+        now = (x_grid, lam_grid, coef_grid, h_grid, a_grid, fx_grid)
+        grids, atlases, fresh = _atlas_rows(uniq, wall, need, now, prof, tol, nums)
+        x_grid, lam_grid, coef_grid, h_grid, a_grid, fx_grid = grids
     # each fold between grid points in place of the grid's extreme point: else a forcing
-    # between the grid's extreme Lambda and the fold's misses two states of the window
-    _refine_turns(uniq, x_grid, lam_grid, coef_grid, h_grid, prof, tol, nums)
+    # between the grid's extreme Lambda and the fold's misses two states of the window (an
+    # atlas's once: kept with it)
+    _refine_turns(
+        uniq, x_grid, lam_grid, coef_grid, h_grid, prof, tol, nums, a_grid, fx_grid, fresh
+    )
+    for row, atlas in atlases.items():
+        if fresh[row]:
+            kept = (x_grid, lam_grid, coef_grid, h_grid, a_grid, fx_grid)
+            atlas.refined = (len(atlas.points), tuple(g[row].copy() for g in kept))
     # every element's crossings of its forcing along its branch (from rest: Lambda = 0)
     lam_b = np.concatenate([np.zeros((uniq.shape[0], 1)), lam_grid], axis=1)[inv]
     gexc = sign[:, None] * (lam_b - lf[idx][:, None])
@@ -973,12 +1016,16 @@ def _on_branch(
     lam0 = lam_b[good, j]
     lam1 = lam_b[good, j + 1]
     wgt = np.clip((lf[e] - lam0) / np.where(lam1 != lam0, lam1 - lam0, 1.0), 0.0, 1.0)
-    # the start: the grid states on either side, at the nodes of the forcing's own map
+    # the start: the grid states on either side, at the nodes of the forcing's own map (near
+    # the wall: the map of the drag of the states, whose base layer the start's misses)
     _, a2 = _start_load(lf[e], tf[e], pf[e], prof)
-    xi = 2.0 * _mapped_nodes(a2, nums[0]) - 1.0
-    th1 = _clenshaw(coef_grid[gu, j], xi)
+    jm = np.maximum(j - 1, 0)
+    fx0 = np.where(j == 0, 0.0, fx_grid[gu, jm])
+    a2 = np.where(wall[gu], _drag_map((1.0 - wgt) * fx0 + wgt * fx_grid[gu, j]), a2)
+    s2 = _mapped_nodes(a2, nums[0])
+    th1 = _theta_at(coef_grid[gu, j], a_grid[gu, j], s2)
     th0 = np.where(
-        (j == 0)[:, None], tf[e][:, None], _clenshaw(coef_grid[gu, np.maximum(j - 1, 0)], xi)
+        (j == 0)[:, None], tf[e][:, None], _theta_at(coef_grid[gu, jm], a_grid[gu, jm], s2)
     )
     h0 = np.where(j == 0, np.cos(tf[e]), h_grid[gu, np.maximum(j - 1, 0)])
     h1 = h_grid[gu, j]
@@ -1001,7 +1048,7 @@ def _on_branch(
         width = min(c2.shape[-1], c3.shape[-1])
         c2[:, m, :] = np.nan
         c2[:, m, :width] = c3[:, :, :width]
-        a2 = np.where(miss, 0.0, a2)
+        a2 = np.where(miss, o2[3], a2)
     out[:, e] = o2
     coefs[:, e, : c2.shape[-1]] = c2
     a[e] = a2
@@ -1061,12 +1108,19 @@ def _refine_turns(
     prof: FloatArray,
     tol: float,
     nums: tuple[int, ...],
+    a_grid: FloatArray | None = None,
+    fx_grid: FloatArray | None = None,
+    rows: NDArray[np.bool_] | None = None,
 ) -> None:
     """Each turn of Lambda along a branch grid (a fold between grid points i and i + 2)
     refined by a golden-section search in x1, every turn of every key at once (one batched
     inverse a step), and the fold's state written in place of the grid's extreme point
-    i + 1 (x1 stays monotone along the grid), in place."""
+    i + 1 (x1 stays monotone along the grid), in place (with its map and drag F_x(0) into
+    ``a_grid`` and ``fx_grid`` where given); only the turns of ``rows`` where given."""
     kk, ii, kind = _grid_turns(lam_grid)
+    if rows is not None:
+        mine = rows[kk]
+        kk, ii, kind = kk[mine], ii[mine], kind[mine]
     if kk.size == 0:
         return
     t, g, p = (np.ascontiguousarray(keys[kk, c]) for c in range(3))
@@ -1082,6 +1136,9 @@ def _refine_turns(
     x_grid[kk, ii + 1] = xf[ok]
     lam_grid[kk, ii + 1] = o[12]
     h_grid[kk, ii + 1] = o[4]
+    if a_grid is not None and fx_grid is not None:
+        a_grid[kk, ii + 1] = o[3]
+        fx_grid[kk, ii + 1] = o[8]
     width = min(coef_grid.shape[-1], cf.shape[-1])
     coef_grid[kk, ii + 1, :] = np.nan
     coef_grid[kk, ii + 1, :width] = cf[0][:, :width]
@@ -1140,3 +1197,333 @@ def _cell_root(
             (fx == 0.0) | ~np.isfinite(fx) | (np.abs(b - a) <= 4e-16 * np.maximum(1.0, np.abs(b)))
         )
     return best_o, best_c
+
+
+# ------------------------------------------------------------------------------------------
+# The branch near the wall: an atlas of states marched along it (issue 33)
+# ------------------------------------------------------------------------------------------
+
+#: Below this base angle (after the mirror of a flow towards -x) the branch of a pillar may
+#: be read from its atlas (:func:`_atlas`) where the inverse from rest fails: a pillar
+#: leaning onto the wall. At -1.5 the inverse grid reaches every state (issue 33).
+ATLAS_THETA0 = -1.5
+#: The first forcing of the atlas's march from rest, and its step factors: grown to at most
+#: ``_ATLAS_GROW`` after an easy step, cut to a quarter of its excess over 1 after a failed
+#: one; the march ends at a fold when the factor's excess falls below ``_ATLAS_FOLD``.
+_ATLAS_START = 1e-2
+_ATLAS_GROW = 2.0
+_ATLAS_FOLD = 1e-7
+#: A step of the forward march that takes more Newton iterations than this (every level)
+#: counts as failed: its Newton may have left the branch for another state (the inverse's
+#: one state per x1 cannot).
+_ATLAS_NIT = 40
+#: Kernel calls of one march at most (each a few Newton steps; a failed one the kernel's
+#: continuation from rest).
+_ATLAS_CALLS = 400
+#: The largest forcing an atlas is extended to (for a tip deflection nearer the wall).
+_ATLAS_MAX = 1e12
+#: The atlases kept (per theta0, gamma, tip load, profile and ladder), the oldest dropped.
+_ATLAS_CACHE: dict[tuple[Any, ...], _Atlas] = {}
+_ATLAS_KEEP = 32
+
+
+@dataclass
+class _Point:
+    """One state of an atlas: x1, Lambda, h1, dx1/dLambda, the map parameter a, the drag
+    F_x(0) (which sets the next map), the Chebyshev coefficients of theta (in xi of map a)."""
+
+    x1: float
+    lam: float
+    h: float
+    slope: float
+    a: float
+    fx: float
+    coef: FloatArray
+
+
+@dataclass
+class _Atlas:
+    """The states of one pillar's branch in the order of x1: from rest by a march in Lambda
+    to the upper fold, through the window by a march in x1, then again in Lambda."""
+
+    points: list[_Point]
+    open: bool = True  # the marches so far arrived (the atlas may be extended)
+    crossed: bool = False  # the window was crossed (the march in x1 is done)
+    #: the branch grid of the points but rest with its folds refined (:func:`_refine_turns`),
+    #: and how many points it was made of
+    refined: tuple[int, tuple[FloatArray, ...]] | None = None
+
+    def arrays(self) -> tuple[FloatArray, ...]:
+        """(x1, Lambda, h1, a, F_x(0)) of the points and their theta coefficients (n, K)."""
+        pts = self.points
+        cols = [np.array([getattr(p, f) for p in pts]) for f in ("x1", "lam", "h", "a", "fx")]
+        return (*cols, np.stack([p.coef for p in pts]))
+
+
+def _theta_at(coef: FloatArray, a: FloatArray, s: FloatArray) -> FloatArray:
+    """theta of states (Chebyshev coefficients (n, K) in xi of their maps a (n,)) at arc
+    lengths s (n, M): the inverse of the map s = expm1(a y)/expm1(a), then Clenshaw."""
+    a = np.asarray(a, dtype=np.float64)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        den = np.where(a != 0.0, a, 1.0)[:, None]
+        y = np.where(a[:, None] != 0.0, np.log1p(s * np.expm1(a)[:, None]) / den, s)
+    return _clenshaw(coef, 2.0 * np.clip(y, 0.0, 1.0) - 1.0)
+
+
+def _drag_map(fx: Any) -> FloatArray:
+    """The map parameter of a state whose drag is F_x(0) (the base layer's tension), as
+    ``loaded``'s for a tip load of that size."""
+    f = np.atleast_1d(np.asarray(fx, dtype=np.float64))
+    zero = np.zeros(f.size)
+    return _map_parameter(2, np.where(np.isfinite(f), f, 0.0), zero, zero, np.ones(f.size))
+
+
+def _atlas_step(
+    code: int,
+    value: float,
+    key: tuple[float, float, float],
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+    cur: _Point,
+    prev: _Point | None,
+) -> _Point | None:
+    """One step of a march: the state of ``code`` (forward: Lambda = value; inverse: x1 =
+    value) from the secant predictor through ``prev`` and ``cur`` (along Lambda or x1), at
+    the map of cur's drag; None where the kernel fails or labours."""
+    a = float(_drag_map(cur.fx)[0])
+    s = _mapped_nodes(np.array([a]), nums[0])
+    theta = _theta_at(cur.coef[None, :], np.array([cur.a]), s)[0]
+    h, lam = cur.h, cur.lam
+    if prev is not None:
+        along = (prev.lam, cur.lam) if code == _DRAG else (prev.x1, cur.x1)
+        if along[1] != along[0]:
+            r = (value - along[1]) / (along[1] - along[0])
+            theta = theta + r * (theta - _theta_at(prev.coef[None, :], np.array([prev.a]), s)[0])
+            h, lam = h + r * (h - prev.h), lam + r * (lam - prev.lam)
+    extra = [[h]] if code == _DRAG else [[h, lam]]
+    t0, g, p = key
+    o, c = _kernel_run(
+        code,
+        np.array([value]),
+        np.array([t0]),
+        np.array([g]),
+        np.array([p]),
+        np.array([a]),
+        np.ascontiguousarray(theta[None, :]),
+        np.array(extra, dtype=np.float64),
+        prof,
+        tol,
+        nums,
+    )
+    if not (o[0, 0] >= 0 and (code == _DRAG_INVERSE or o[1, 0] <= _ATLAS_NIT)):
+        return None
+    coef = np.nan_to_num(c[0, 0], nan=0.0)
+    return _Point(
+        float(o[5, 0]), float(o[12, 0]), float(o[4, 0]), float(o[13, 0]), a, float(o[8, 0]), coef
+    )
+
+
+def _march_forcing(
+    pts: list[_Point],
+    lam_end: float,
+    key: tuple[float, float, float],
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+) -> bool:
+    """March Lambda up from the last point to ``lam_end`` (the forward problem, each step
+    from the secant through the last two points), appending the states: True where it
+    arrives, False where its steps shrink to nothing (a fold) or run out."""
+    fac = _ATLAS_GROW
+    for _ in range(_ATLAS_CALLS):
+        cur = pts[-1]
+        if cur.lam >= lam_end:
+            return True
+        lam = min(lam_end, _ATLAS_START if cur.lam == 0.0 else cur.lam * fac)
+        prev = pts[-2] if len(pts) > 1 else None
+        new = _atlas_step(_DRAG, lam, key, prof, tol, nums, cur, prev)
+        # on the rising part Lambda and x1 grow together (dx1/dLambda > 0), by at most
+        # what the larger slope gives: else the Newton went to another state
+        if (
+            new is None
+            or not new.slope > 0.0
+            or not 0.0 < new.x1 - cur.x1 <= 2.0 * max(new.slope, cur.slope) * (lam - cur.lam)
+        ):
+            fac = 1.0 + 0.25 * (fac - 1.0)
+            if fac - 1.0 < _ATLAS_FOLD:
+                return False
+            continue
+        pts.append(new)
+        fac = min(_ATLAS_GROW, 1.0 + 2.0 * (fac - 1.0))
+    return False
+
+
+def _march_deflection(
+    pts: list[_Point],
+    lam_past: float,
+    key: tuple[float, float, float],
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+) -> bool:
+    """March x1 up from the last point (the inverse problem, each step from the secant
+    through the last two points) across a snap-through window: until Lambda, having fallen,
+    rises again (dx1/dLambda > 0) beyond ``lam_past`` (or beyond twice it, where the march
+    in Lambda stopped short of a fold). True where it gets there."""
+    step = 4.0 * (pts[-1].x1 - pts[-2].x1) if len(pts) > 1 else 1e-9
+    step = max(step, 1e-14)
+    turned = False  # past the fold: Lambda has fallen (dx1/dLambda < 0)
+    for _ in range(_ATLAS_CALLS):
+        cur = pts[-1]
+        turned |= cur.slope < 0.0
+        if cur.slope > 0.0 and (turned and cur.lam > lam_past or cur.lam > 2.0 * lam_past):
+            return True
+        x_new = cur.x1 + step
+        if not x_new < 1.0:
+            return False
+        new = _atlas_step(_DRAG_INVERSE, x_new, key, prof, tol, nums, cur, pts[-2])
+        if new is None:
+            step *= 0.25
+            if step < 1e-15:
+                return False
+            continue
+        pts.append(new)
+        step = min(2.0 * step, 0.05)
+    return False
+
+
+def _atlas(
+    key: tuple[float, float, float],
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+    lam_top: float = 0.0,
+    x_top: float = -1.0,
+) -> _Atlas:
+    """The atlas of the branch of ``key`` (theta0, gamma, tip load; a flow towards +x) to at
+    least the forcing ``lam_top`` and the tip deflection ``x_top`` (cached, and extended by
+    a later call that needs more).
+
+    The inverse problem in x1 cannot start from rest for a pillar lying within a few
+    hundredths of a radian of the wall: there x1 hardly moves with Lambda (dx1/dLambda = 11
+    cos^3(theta0)/120, 5e-11 at theta0 = -1.57), so Lambda is fixed by x1 only to its
+    rounding over that, and the inverse's Newton stalls; and at a large forcing the plain
+    nodes miss the boundary layer at the base. So the branch is marched: the forward
+    problem in Lambda from rest up to the upper fold of the window (where its steps shrink
+    to nothing), the inverse in x1 through the window until Lambda rises past that fold
+    again, then the forward problem in Lambda; every step from the secant through the two
+    states before it, at the map of the previous state's drag (its base layer)."""
+    ck = (*key, prof.tobytes(), tuple(nums), tol)
+    atlas = _ATLAS_CACHE.get(ck)
+    if atlas is None:
+        t0 = key[0]
+        coef = np.zeros(max(nums) + 1)
+        coef[0] = t0
+        atlas = _Atlas([_Point(math.sin(t0), 0.0, math.cos(t0), math.nan, 0.0, 0.0, coef)])
+        if len(_ATLAS_CACHE) >= _ATLAS_KEEP:
+            _ATLAS_CACHE.pop(next(iter(_ATLAS_CACHE)))
+        _ATLAS_CACHE[ck] = atlas
+    pts = atlas.points
+    while (
+        atlas.open and pts[-1].lam < _ATLAS_MAX and (pts[-1].lam < lam_top or pts[-1].x1 < x_top)
+    ):
+        # from rest through the window first, wherever the forcing asked for lies: a forcing
+        # in the window has three states
+        target = max(lam_top, 1.0, 4.0 * pts[-1].lam) if atlas.crossed else _ATLAS_MAX
+        if _march_forcing(pts, target, key, prof, tol, nums):
+            continue
+        # the march in Lambda ended at a fold: through the window in x1, once
+        atlas.open = not atlas.crossed and len(pts) > 1
+        if atlas.open:
+            atlas.crossed = True
+            atlas.open = _march_deflection(pts, pts[-1].lam, key, prof, tol, nums)
+    return atlas
+
+
+def _atlas_rows(
+    uniq: FloatArray,
+    wall: NDArray[np.bool_],
+    need: FloatArray,
+    grids: tuple[FloatArray, ...],
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+) -> tuple[tuple[FloatArray, ...], dict[int, _Atlas], NDArray[np.bool_]]:
+    """The branch grids (x1, Lambda, theta coefficients, h1, map, F_x(0); a row per key of
+    ``uniq``) with the rows of the keys ``wall`` replaced by their atlases (past twice the
+    forcing ``need`` of each, without the rest state), all rows padded with NaN at the end
+    to the longest; the atlases (by row); and which rows still need their folds refined (an
+    atlas's refined grid is kept with it)."""
+    atlases = {
+        int(k): _atlas(
+            (float(uniq[k, 0]), float(uniq[k, 1]), float(uniq[k, 2])),
+            prof[:1],
+            tol,
+            nums,
+            lam_top=2.0 * float(need[k]),
+        )
+        for k in np.flatnonzero(wall)
+    }
+    fresh = np.ones(uniq.shape[0], dtype=np.bool_)
+    rows: dict[int, tuple[FloatArray, ...]] = {}
+    for k, atlas in atlases.items():
+        if atlas.refined is not None and atlas.refined[0] == len(atlas.points):
+            rows[k] = atlas.refined[1]
+            fresh[k] = False
+        else:
+            arr = atlas.arrays()
+            rows[k] = tuple(arr[c][1:] for c in (0, 1, 5, 2, 3, 4))  # the grids' order
+    width = max([grids[0].shape[1]] + [r[0].shape[0] for r in rows.values()])
+    out = []
+    for i, g in enumerate(grids):
+        new = np.full((g.shape[0], width, *g.shape[2:]), np.nan)
+        new[:, : g.shape[1]] = g
+        for k, row in rows.items():
+            new[k] = np.nan
+            new[k, : row[i].shape[0]] = row[i]
+        out.append(new)
+    return tuple(out), atlases, fresh
+
+
+def _atlas_starts(
+    xf: FloatArray,
+    tf: FloatArray,
+    gf: FloatArray,
+    pf: FloatArray,
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+    wall: NDArray[np.bool_],
+    theta: FloatArray,
+    extra: FloatArray,
+    a: FloatArray,
+) -> None:
+    """Starts of the inverse problems ``wall`` (x1 > sin(theta0), theta0 < ATLAS_THETA0) from
+    the atlas of their branch: the two atlas states around each x1, interpolated linearly in
+    x1 (theta at the first level's nodes of the map of their drag, h1, Lambda), in place."""
+    idx = np.flatnonzero(wall)
+    rows = prof.shape[0] > 1
+    keys = np.stack([tf[idx], gf[idx], pf[idx]], axis=1)
+    if rows:
+        keys = np.concatenate([keys, idx[:, None].astype(np.float64)], axis=1)
+    uniq, inv = np.unique(keys, axis=0, return_inverse=True)
+    inv = inv.reshape(-1)
+    for u in range(uniq.shape[0]):
+        mine = idx[inv == u]
+        row = prof[mine[:1]] if rows else prof
+        key = (float(uniq[u, 0]), float(uniq[u, 1]), float(uniq[u, 2]))
+        xa, la, ha, aa, fa, ca = _atlas(key, row, tol, nums, x_top=float(xf[mine].max())).arrays()
+        j = np.clip(np.searchsorted(xa, xf[mine], side="right") - 1, 0, xa.size - 2)
+        if xa.size < 2:
+            continue
+        w = np.clip((xf[mine] - xa[j]) / (xa[j + 1] - xa[j]), 0.0, 1.0)
+        am = _drag_map((1.0 - w) * fa[j] + w * fa[j + 1])
+        s = _mapped_nodes(am, nums[0])
+        th = (1.0 - w)[:, None] * _theta_at(ca[j], aa[j], s) + w[:, None] * _theta_at(
+            ca[j + 1], aa[j + 1], s
+        )
+        theta[mine] = th
+        extra[mine, 0] = (1.0 - w) * ha[j] + w * ha[j + 1]
+        extra[mine, 1] = (1.0 - w) * la[j] + w * la[j + 1]
+        a[mine] = am

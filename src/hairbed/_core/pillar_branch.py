@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from .loaded import LADDER, _quiet
 from .pillar import (
+    ATLAS_THETA0,
     PillarState,
     _check,
     _golden_max,
@@ -229,6 +230,8 @@ def solve_pillar_all(
     if not np.any(branch.prof != 0.0):
         # no drag at all (U = 0): the one state of the tip load alone, at any forcing
         return [replace(_one_state(lam_t, branch), stable=True, n_states=1)]
+    if math.copysign(1.0, lam_t) * branch.theta0 < ATLAS_THETA0:
+        return _wall_states(lam_t, branch)
     # to the last state at twice the forcing: past a window there, whose far states (and
     # its lower fold) lie beyond the state a ramp from rest reaches
     br = _continue(2.0 * lam_t if abs(lam_t) < 1e300 else lam_t, branch, count, "high")
@@ -269,6 +272,25 @@ def solve_pillar_all(
     order = np.argsort(roots)
     n = len(roots)
     return [replace(branch.states(roots[k]), stable=rising[k], n_states=n) for k in order]
+
+
+def _wall_states(lam: float, branch: _Branch) -> list[PillarState]:
+    """Every state of a pillar leaning onto the wall (theta0 < ``ATLAS_THETA0`` for its flow):
+    the roots "low", "mid" and "high" of :func:`hairbed.solve_pillar`, read off the branch of
+    its atlas (marched in Lambda and through the window in x1, issue 33), where the inverse
+    on a grid in x1 cannot start from rest. Each with ``stable`` from the sign of its
+    dx1/dLambda (positive on a rising part of the branch)."""
+    lf, t0, g, tip = _check(lam, branch.theta0, branch.gamma, branch.tip_load)
+    low = _solve_pillar_checked(lf, t0, g, tip, branch.prof, 1e-12, LADDER, "low")
+    n = int(low.n_states)
+    roots = ("low",) if n <= 1 else ("low", "high") if n == 2 else ("low", "mid", "high")
+    states = [low] + [
+        _solve_pillar_checked(lf, t0, g, tip, branch.prof, 1e-12, LADDER, r) for r in roots[1:]
+    ]
+    return [
+        replace(st, stable=bool(st.tip_deflection_slope * lam > 0.0) if st.status >= 0 else None)
+        for st in states
+    ]
 
 
 def _one_state(lam: float, branch: _Branch) -> PillarState:
