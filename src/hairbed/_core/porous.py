@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 from .collocated import CollocatedState
 from .loaded import _clenshaw, _ladder, _mapped_nodes
 from .outputs import scalar_or_array
-from .solver import _solve_checked
+from .solver import _tables
 from .validation import (
     HALF_PI,
     _check_range,
@@ -251,40 +251,27 @@ def _plain_scalars(drive: str, *values: Any) -> tuple[FloatArray, ...] | None:
 
 #: Gauss-Legendre nodes and weights on [0, 1] of the start's linear tip deflection.
 _GAUSS_X, _GAUSS_V = np.polynomial.legendre.leggauss(48)
-_GAUSS_S, _GAUSS_W = 0.5 * (_GAUSS_X + 1.0), 0.5 * _GAUSS_V
+_GAUSS = np.ascontiguousarray([0.5 * (_GAUSS_X + 1.0), 0.5 * _GAUSS_V])
 #: The tips' map: a = -ln(_TIP_MAP / sqrt(kappa)) below kappa = _TIP_MAP^2 (measured: all of
 #: a 2000-state batch from kappa = 1e-4 to 1e4 then converges at N = 32, against 12 % at N = 64
 #: with the plain map).
 _TIP_MAP = 0.1
 #: The forcings, relative to the equivalent one, at which a hair leaning into its load is
-#: checked for the dense bed's windows (:func:`_start`).
+#: checked for the dense bed's windows (``_kernels.porous._closed_start``).
 _LEAN_FACTORS = np.geomspace(1.0 / 16.0, 16.0, 48)
 
 
 def _linear_deflection(
     omega2: FloatArray, eps: FloatArray, kappa: FloatArray, pi: FloatArray
 ) -> FloatArray:
-    """x1 of the straight bed's linear Brinkman theory (theory.md §13): w'' = w/kappa - Pi,
-    w(0) = 0, the gap condition at z = 1, and x1 = int_0^1 (w/kappa)(z^2/2 - z^3/6) dz. With
-    l = sqrt(kappa), w = kappa Pi + B1 e^((z - 1)/l) + B2 e^(-z/l) (no overflow at small l)."""
-    ell = np.sqrt(kappa)
-    e1 = np.exp(-1.0 / ell)
-    safe = np.where(eps > 0.0, eps, 1.0)
-    gp = np.where(pi != 0.0, pi * (1.0 - eps) ** 2 / (2.0 * safe), 0.0)
-    a21 = eps + (1.0 - eps) / ell
-    a22 = eps * e1 - (1.0 - eps) * e1 / ell
-    r1 = -kappa * pi
-    r2 = omega2 + gp - eps * kappa * pi
-    det = e1 * a22 - a21
-    b1 = (r1 * a22 - r2) / det
-    b2 = (e1 * r2 - a21 * r1) / det
-    z = _GAUSS_S[None, :]
-    w = (
-        (kappa * pi)[:, None]
-        + b1[:, None] * np.exp((z - 1.0) / ell[:, None])
-        + b2[:, None] * np.exp(-z / ell[:, None])
-    )
-    return np.sum(w / kappa[:, None] * (z * z / 2.0 - z**3 / 6.0) * _GAUSS_W, axis=1)
+    """x1 of the straight bed's linear Brinkman theory (theory.md §13), every element: the
+    kernel's (``_kernels.porous._linear_deflection``) that starts each solve."""
+    args = (np.ascontiguousarray(np.broadcast_to(v, np.shape(omega2)), dtype=np.float64).ravel()
+            for v in (omega2, eps, kappa, pi))  # fmt: skip
+    w, e, k, pi_ = args
+    out = np.empty(w.size)
+    _kernels().linear_deflection_array(w, e, k, pi_, _GAUSS, out)
+    return out.reshape(np.shape(omega2))
 
 
 def _tip_map(code: int, kappa: FloatArray, pi: FloatArray) -> FloatArray:
@@ -293,65 +280,6 @@ def _tip_map(code: int, kappa: FloatArray, pi: FloatArray) -> FloatArray:
     w = kappa Pi deep in the bed falls to 0 there): the plain map, dense at both ends."""
     a = -np.clip(np.log(_TIP_MAP / np.sqrt(kappa)), 0.0, 30.0)
     return np.where((code == 0) & (pi == 0.0), a, 0.0)
-
-
-def _start(
-    code: int, arrays: tuple[FloatArray, ...], a: FloatArray, num: int, hfix: FloatArray
-) -> FloatArray:
-    """The start of every element: the closed-form hair (§3) under the tip load W_eq that
-    deflects the straight hair as the bed's linear Brinkman load does, W_eq = 3 x1_lin
-    (mirrored where negative), at the first level's mapped nodes; Pi = pi (the flow drive's
-    Pi from the dense bed's formula of §11). A hair leaning into its load starts at rest
-    (unless the gap is frozen at ``hfix``, solve_porous_all's scan, whose load is fixed).
-    The kernel replaces the fluid by the fluid of this shape before Newton; where Newton
-    fails, the load continuation from rest."""
-    w, e, t0, kap, _, ld = arrays
-    n1 = num + 1
-    if code == 1:
-        u = 1.0 - e * np.cos(t0)
-        pi = 2.0 * e * ld / u**3 - 6.0 * e * w / u**2
-    else:
-        pi = ld
-    weq = 3.0 * _linear_deflection(w, e, kap, pi)
-    frozen = ~np.isnan(hfix)
-    # a frozen gap (solve_porous_all's scan): its stress, not the straight hair's
-    weq = np.where(frozen, weq * (1.0 - e) / (1.0 - e * np.where(frozen, hfix, 1.0)), weq)
-    weq = np.where(np.isfinite(weq), weq, 0.0)
-    mirror = np.where(weq < 0.0, -1.0, 1.0)
-    sol = _solve_checked(np.minimum(np.abs(weq), 1e12), np.zeros(w.size), mirror * t0)
-    ts = np.asarray(sol.t, dtype=np.float64).reshape(-1)
-    ok = ~np.isnan(ts)
-    shape = np.empty((6, w.size, n1))
-    from ._kernels import state as closed
-
-    closed.shape_array(
-        np.where(ok, ts, -np.inf),
-        np.zeros(w.size),
-        mirror * t0,
-        1,
-        0,
-        _mapped_nodes(a, num),
-        shape,
-    )
-    # a hair leaning into its load can have several states (theory.md §5): there the hair
-    # at rest, whose load continuation follows the least deformed state (root "low"), unless
-    # the wall drive's dense bed has one state at every forcing within a factor of 16 either
-    # way of the equivalent one (its windows hold the porous bed's: the flow through the bed
-    # narrows them, theory.md §13)
-    lean = (mirror * t0 < 0.0) & (e > 0.0) & ~frozen
-    if np.any(lean):
-        single = np.full(w.size, code == 0) & (pi == 0.0)
-        base = (np.abs(weq) * (1.0 - e))[lean]
-        grid = base[:, None] * _LEAN_FACTORS[None, :]
-        roots = _solve_checked(grid, e[lean][:, None], (mirror * t0)[lean][:, None]).n_roots
-        single[lean] &= np.all(np.asarray(roots) == 1, axis=1)
-        ok &= ~lean | single
-    start = np.zeros((w.size, 3 * n1 + 2))
-    start[:, :n1] = np.where(ok[:, None], mirror[:, None] * shape[0], t0[:, None])
-    h = np.asarray(sol.tip_height, dtype=np.float64).reshape(-1)
-    start[:, 3 * n1] = np.where(ok & np.isfinite(h), h, np.cos(t0))
-    start[:, 3 * n1 + 1] = pi
-    return start
 
 
 def _run(
@@ -366,7 +294,7 @@ def _run(
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
     """The kernel on flat arrays: (out (NCOLS, size), coefs (5, size, N + 1), map). Without
     a ``start`` (theta, w, Q at the plain map's nodes, h1, then Pi or the inverse's omega2)
-    the closed-form start of :func:`_start` on the tips' map, whose fluid the kernel solves;
+    the kernel's closed-form start (``_closed_start``) on the tips' map, and its fluid;
     with one, its fluid is used as it is unless ``fluid``. ``x1t`` the inverse's tip
     deflections (code 2)."""
     k = _kernels()
@@ -376,11 +304,23 @@ def _run(
     coefs = np.empty((5, size, int(max(nums)) + 1))
     given = start is not None
     a = np.zeros(size) if given else _tip_map(code, kap, ld)
-    if start is None:
-        start = _start(code, arrays, a, nums[0], hfix)
-        fluid = True
     desc = _description(code, arrays, hfix, x1t)
-    k.solve_porous_array(code, desc, a, start, *_ladder(tuple(nums)), tol, out, coefs, fluid)
+    closed = start is None  # the kernel's closed-form start and its fluid
+    k.solve_porous_array(
+        code,
+        desc,
+        a,
+        np.empty((0, 0)) if start is None else start,
+        *_ladder(tuple(nums)),
+        tol,
+        out,
+        coefs,
+        fluid or closed,
+        closed,
+        _tables(),
+        _GAUSS,
+        _LEAN_FACTORS,
+    )
     # the model needs z(s) monotone: a state that reaches |theta| = pi/2 is outside it
     outside = (out[0] >= 0) & (out[13] >= HALF_PI)
     out[0, outside] = -8

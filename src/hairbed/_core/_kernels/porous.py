@@ -37,6 +37,7 @@ import math
 import numpy as np
 
 from .._jit import kernel
+from .shape import shape_point, shape_setup
 from .spectral import (
     MAX_CONTINUATION,
     MAXITER,
@@ -52,6 +53,7 @@ from .spectral import (
     _map,
     _operators,
 )
+from .state import MAX_FOLDS, MAX_ROOTS, NFIELDS, ROOT_LOW, find_folds, needs_folds, solve_one
 
 __all__ = [
     "D_EPS",
@@ -68,6 +70,7 @@ __all__ = [
     "DRIVE_INVERSE",
     "DRIVE_PRESSURE",
     "NCOLS",
+    "linear_deflection_array",
     "porous_jacobians",
     "solve_porous_array",
 ]
@@ -459,6 +462,102 @@ def _continuation(u, keep, num, dd, ii, code, d, work, jac, piv, nit0):
 
 
 @kernel
+def _linear_deflection(omega2, eps, kappa, pi, gauss):
+    """x1 of the straight bed's linear Brinkman theory (theory.md §13): w'' = w/kappa - Pi,
+    w(0) = 0, the gap condition at z = 1, and x1 = int_0^1 (w/kappa)(z^2/2 - z^3/6) dz by the
+    Gauss-Legendre rule ``gauss`` (nodes, weights on [0, 1]). With l = sqrt(kappa),
+    w = kappa Pi + B1 e^((z - 1)/l) + B2 e^(-z/l) (no overflow at small l)."""
+    ell = math.sqrt(kappa)
+    e1 = math.exp(-1.0 / ell)
+    gp = pi * (1.0 - eps) ** 2 / (2.0 * eps) if pi != 0.0 else 0.0
+    a21 = eps + (1.0 - eps) / ell
+    a22 = eps * e1 - (1.0 - eps) * e1 / ell
+    r1 = -kappa * pi
+    r2 = omega2 + gp - eps * kappa * pi
+    det = e1 * a22 - a21
+    b1 = (r1 * a22 - r2) / det
+    b2 = (e1 * r2 - a21 * r1) / det
+    acc = 0.0
+    for j in range(gauss.shape[1]):
+        z = gauss[0, j]
+        w = kappa * pi + b1 * math.exp((z - 1.0) / ell) + b2 * math.exp(-z / ell)
+        acc += w / kappa * (z * z / 2.0 - z * z * z / 6.0) * gauss[1, j]
+    return acc
+
+
+@kernel
+def linear_deflection_array(omega2, eps, kappa, pi, gauss, out):
+    """:func:`_linear_deflection` of every element into out."""
+    for e in range(omega2.size):
+        out[e] = _linear_deflection(omega2[e], eps[e], kappa[e], pi[e], gauss)
+
+
+@kernel
+def _closed_start(code, d, num, ss, u, tables, gauss, lean, folds, roots, status, rows, grid):
+    """The start of one element into u (theta, w = Q = 0 at the nodes s = ss, h1, Pi): the
+    closed-form hair (theory.md §3) under the tip load W_eq that deflects the straight hair
+    as the bed's linear Brinkman load does, W_eq = 3 x1_lin (mirrored where negative); the
+    flow drive's Pi from the dense bed's formula of §11. A hair leaning into its load starts
+    at rest (theory.md §5: it can have several states; the load continuation from rest
+    follows the least deformed), unless the wall drive's dense bed has one state at every
+    forcing W_eq (1 - eps) ``lean`` (factors within 16 either way; its windows hold the
+    porous bed's), and unless the gap is frozen (``D_HFIX``, solve_porous_all's scan, whose
+    load is fixed). The kernel then replaces the fluid by the fluid of this shape."""
+    w, e, t0, kap, hfix = d[D_OMEGA2], d[D_EPS], d[D_THETA0], d[D_KAPPA], d[D_HFIX]
+    n1 = num + 1
+    if code == DRIVE_FLOW:
+        uu = 1.0 - e * math.cos(t0)
+        pi = 2.0 * e * d[D_Q] / uu**3 - 6.0 * e * w / uu**2
+    else:
+        pi = d[D_PI]
+    frozen = not math.isnan(hfix)
+    weq = 3.0 * _linear_deflection(w, e, kap, pi, gauss)
+    if frozen:  # a frozen gap: its stress, not the straight hair's
+        weq = weq * (1.0 - e) / (1.0 - e * hfix)
+    if not math.isfinite(weq):
+        weq = 0.0
+    mirror = -1.0 if weq < 0.0 else 1.0
+    mt0 = mirror * t0
+    row = rows[0]
+    _solve_dense(min(abs(weq), 1e12), 0.0, mt0, tables, folds, roots, status, row, grid)
+    ok = not math.isnan(row[0])
+    if ok and mt0 < 0.0 and e > 0.0 and not frozen:
+        ok = code == DRIVE_PRESSURE and pi == 0.0
+        base = abs(weq) * (1.0 - e)
+        for f in lean:
+            if not ok:
+                break
+            _solve_dense(base * f, e, mt0, tables, folds, roots, status, rows[1], grid)
+            ok = rows[1, 1] == 1.0
+    h = row[7]
+    if ok:
+        setup = shape_setup(row[0], 0.0, mt0, 1, 0)
+        for j in range(n1):
+            u[j] = mirror * shape_point(ss[j], 1, 0, setup)[0]
+    else:
+        for j in range(n1):
+            u[j] = t0
+    for j in range(n1, 3 * n1):
+        u[j] = 0.0
+    u[3 * n1] = h if ok and math.isfinite(h) else math.cos(t0)
+    u[3 * n1 + 1] = pi
+
+
+@kernel
+def _solve_dense(omega2, eps, theta0, tables, folds, roots, status, row, grid):
+    """The dense bed's closed form (theory.md §3) of one element, root "low", into ``row``
+    (``FIELDS``), with its own fold search as ``state.solve_scalar``."""
+    for j in range(MAX_FOLDS):
+        folds[j] = math.nan
+    n_folds = -1
+    if needs_folds(eps, theta0, 1, 0, tables):
+        n_folds = find_folds(eps, theta0, 1, 0, tables, folds, grid)
+    solve_one(
+        omega2, eps, theta0, 1, 0, ROOT_LOW, folds, n_folds, roots, status, row, tables, grid
+    )
+
+
+@kernel
 def solve_porous_array(
     code,
     desc,
@@ -474,11 +573,18 @@ def solve_porous_array(
     out,
     coefs,
     fluid_start,
+    closed_start,
+    tables,
+    gauss,
+    lean,
 ):
     """Every element on the ladder of N, its load description the row ``desc[e]`` (the
     ``D_*`` slots). ``start`` (size, 3 (nums[0] + 1) + 2): theta, w, Q
     at the first level's nodes, h1, Pi (flow drive); with ``fluid_start`` its fluid is
-    replaced by the fluid of its shape (:func:`_fluid_solve`) before Newton. ``a`` the map
+    replaced by the fluid of its shape (:func:`_fluid_solve`) before Newton. With
+    ``closed_start`` (wall and pressure drives) ``start`` is not read: each element starts
+    from :func:`_closed_start` (``tables`` the closed form's, ``gauss`` the linear
+    deflection's rule, ``lean`` the factors of its check of windows) and its fluid. ``a`` the map
     parameter of each element (negative: nodes clustered at the tips, for a thin bed's
     layer). Writes out (NCOLS, size) and coefs (5, size, nmax + 1): the Chebyshev
     coefficients in xi of theta, x, z, w, Q."""
@@ -498,6 +604,11 @@ def solve_porous_array(
     piv = np.empty(mmax, dtype=np.int64)
     u = np.empty(mmax)
     keep = np.empty((3, mmax))
+    folds = np.empty(MAX_FOLDS)
+    roots = np.empty(MAX_ROOTS)
+    rstat = np.empty(MAX_ROOTS, dtype=np.int64)
+    rows = np.empty((2, NFIELDS))
+    grid = np.empty(0)
     sp = np.empty(nmax + 1)
     ss = np.empty(nmax + 1)
     coef = np.empty(nmax + 1)
@@ -507,8 +618,9 @@ def solve_porous_array(
         num = nums[0]
         n1 = num + 1
         nst = 3 * n1 + 2
-        for j in range(nst):
-            u[j] = start[e, j]
+        if not closed_start:
+            for j in range(nst):
+                u[j] = start[e, j]
         status = 0
         nit = 0
         rmax = math.nan
@@ -541,6 +653,10 @@ def solve_porous_array(
             ii = ibuf[: n1 * n1].reshape((n1, n1))
             _map(a[e], num, nodes[lev], sp, ss)
             _operators(num, d1s[lev], d2s[lev], ims[lev], sp, a[e], dd, ii)
+            if lev == 0 and closed_start:
+                _closed_start(
+                    code, d, num, ss, u, tables, gauss, lean, folds, roots, rstat, rows, grid
+                )
             for j in range(m):
                 keep[0, j] = u[j]
             if lev == 0 and fluid_start:
