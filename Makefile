@@ -4,6 +4,7 @@ VENV   := .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 DOCS_STAMP := $(VENV)/.installed-docs
+BENCH_STAMP := $(VENV)/.installed-bench
 # one BLAS thread: the machines are 2-core and shared; threaded BLAS only adds contention
 export OPENBLAS_NUM_THREADS := 1
 export OMP_NUM_THREADS := 1
@@ -56,8 +57,15 @@ format: $(STAMP)
 	$(BIN)/ruff format src tests benchmarks
 	$(BIN)/ruff check --fix src tests benchmarks
 
-bench: $(STAMP)
+# the bench extra (PyElastica); offline it is skipped, and so is bench_pyelastica.py
+$(BENCH_STAMP): pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet -e ".[bench]" \
+		|| echo "could not install the bench extra (pyelastica): bench_pyelastica.py will skip"
+	touch $(BENCH_STAMP)
+
+bench: $(STAMP) $(BENCH_STAMP)
 	$(BIN)/python benchmarks/bench_solve.py
+	$(BIN)/python benchmarks/bench_pyelastica.py
 
 # Regenerate the mpmath reference data of the tests (slow: tens of minutes; run on demand).
 reference: $(STAMP)

@@ -1,0 +1,217 @@
+"""hairbed against PyElastica on one pillar step response (issue 30), in one run.
+
+The pillar: a clamped, upright, slender rod (L = 1, E I = 1, zeta_perp = 1, so T = 1) of mass
+per unit length mu = 13 (the PDMS pillar in water: it rings), under an isotropic resistive
+drag (gamma = 1) in a uniform flow whose speed rises smoothly from 0 to Lambda = 2 over one T,
+Lambda(t) = 1 - cos(pi t) for t < 1 (and 2 after): the distributed load f = Lambda(t) e_x -
+r_t per unit length. The tip deflection x1 at t = 0.5, 1, 1.5 and 2 T.
+
+- **hairbed**: ``simulate_pillar(..., profile=U = 1, gamma=1, mu=13)``, the inextensible
+  Kirchhoff rod of theory.md §14; the reference is N = 16, rtol 1e-10 (N = 32 agrees to
+  1e-10).
+- **PyElastica** (``pyelastica``, a benchmark-only dependency: ``pip install -e .[bench]``):
+  a Cosserat rod (extensible and shearable, Poisson ratio 0.5) of radius a = 0.01 L, clamped
+  at the base (``OneEndFixedBC``), the drag and the flow load as a forcing on the nodes
+  (weights of the nodes' lengths), the position Verlet stepper at a fixed step below the
+  axial and shear waves' limit (dt ~ a^2 sqrt(mu)). Its error falls only like 1/n with the
+  number of elements n (1.0e-2 at n = 10, 2.1e-3 at n = 40, 1.0e-3 at n = 80, 5.2e-4 at
+  n = 160, measured at t = 2 T) and each n costs 25,000 to 70,000 steps, so the comparison
+  is at a few n with a short final time (2 T, a third of the first mode's period).
+- The speed ratio is PyElastica's time at its finest n over hairbed's time at the cheapest
+  setting tried whose error is at most PyElastica's there (target >= 1000x); PyElastica's
+  first step (its numba compilation) and hairbed's first call are excluded.
+
+Measured (one run, 2 shared cores, benchmarks/results/bench_pyelastica.json): PyElastica
+4.5e-3 in 1.0 s (n = 20), 2.1e-3 in 1.3 s (n = 40), 1.0e-3 in 2.4 s (n = 80), 5.2e-4 in
+7.9 s (n = 160); hairbed 4.9e-6 in 1.9 ms (N = 8, rtol 1e-3: its floor, the cheapest
+setting, already 100 times more accurate than PyElastica's best here), 2.6e-12 in 114 ms.
+The ratio at PyElastica's accuracy: 515x (n = 20), 660x, 1270x, 4115x (n = 160); it grows
+as PyElastica is asked for more (its cost ~ n^2 at an error ~ 1/n).
+
+Run: ``python benchmarks/bench_pyelastica.py [--elements 20 40 80 160] [--json PATH]``. Without
+pyelastica it prints one line and exits 0.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from typing import Any
+
+import numpy as np
+
+from hairbed.dynamics import simulate_pillar
+
+__all__ = ["main", "run"]
+
+MU = 13.0  # the inertia number m E I/(zeta_perp^2 L^4)
+LAMBDA = 2.0  # the flow's final speed (load per length) [E I/L^3]
+RISE = 1.0  # the rise time [T]
+RADIUS = 0.01  # PyElastica's radius [L] (hairbed's rod is inextensible: a -> 0)
+TIMES = np.array([0.5, 1.0, 1.5, 2.0])  # [T]
+#: hairbed settings tried, cheapest first: (N, rtol)
+SETTINGS = ((8, 1e-3), (8, 1e-4), (12, 1e-5), (16, 1e-6), (16, 1e-8))
+
+
+def drive(t: Any) -> Any:
+    """Lambda(t) = (Lambda/2) (1 - cos(pi t/RISE)) until RISE, then Lambda."""
+    tt = np.minimum(np.asarray(t, dtype=np.float64), RISE)
+    return LAMBDA * 0.5 * (1.0 - np.cos(np.pi * tt / RISE))
+
+
+def _uniform(z: Any) -> Any:
+    return np.ones_like(z)
+
+
+def hairbed_tip(num: int, rtol: float) -> np.ndarray:
+    """hairbed's tip deflection at TIMES."""
+    run = simulate_pillar(
+        drive, np.concatenate([[0.0], TIMES]), profile=_uniform, gamma=1.0, mu=MU, num=num,
+        rtol=rtol, atol=1e-2 * rtol,
+    )  # fmt: skip
+    if not run.success:
+        raise RuntimeError(f"hairbed failed: {run.message}")
+    return np.asarray(run.tip_deflection[1:])
+
+
+def _elastica_rod(ea: Any, n: int) -> tuple[Any, Any]:
+    """A simulator with the clamped rod and the flow's drag, finalised."""
+
+    class Drag(ea.NoForces):
+        """f = Lambda(t) e_x - r_t per unit length (zeta_perp = 1, isotropic), lumped."""
+
+        def __init__(self, weights: np.ndarray) -> None:
+            super().__init__()
+            self.weights = weights
+
+        def apply_forces(self, system: Any, time: float = 0.0) -> None:
+            system.external_forces[0] += self.weights * float(drive(time))
+            system.external_forces -= self.weights * system.velocity_collection
+
+    class Simulator(ea.BaseSystemCollection, ea.Constraints, ea.Forcing):
+        pass
+
+    inertia = np.pi * RADIUS**4 / 4.0
+    youngs = 1.0 / inertia  # E I = 1
+    density = MU / (np.pi * RADIUS**2)  # rho A = mu
+    sim = Simulator()
+    rod = ea.CosseratRod.straight_rod(
+        n, np.zeros(3), np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0, 0.0]), 1.0, RADIUS,
+        density, youngs_modulus=youngs, shear_modulus=youngs / 3.0,
+    )  # fmt: skip
+    sim.append(rod)
+    sim.constrain(rod).using(
+        ea.OneEndFixedBC, constrained_position_idx=(0,), constrained_director_idx=(0,)
+    )
+    weights = np.zeros(n + 1)
+    weights[:-1] += 0.5 * rod.rest_lengths
+    weights[1:] += 0.5 * rod.rest_lengths
+    sim.add_forcing_to(rod).using(Drag, weights=weights)
+    sim.finalize()
+    return sim, rod
+
+
+def _time_step(n: int) -> float:
+    """Below the explicit limits: the axial wave dx/c, c = 2/(a sqrt(mu)) [L/T], and the
+    shear-rotation frequency ~ 0.64/a^2; a quarter of the smaller, rounded to divide 0.5."""
+    limit = min((1.0 / n) * RADIUS * np.sqrt(MU) / 2.0, 2.0 / (4.0 / np.sqrt(3 * MU) / RADIUS**2))
+    steps = int(np.ceil(0.5 / (0.25 * limit)))
+    return 0.5 / steps
+
+
+def elastica_tip(ea: Any, n: int) -> tuple[np.ndarray, float, int]:
+    """PyElastica's tip deflection at TIMES, its time [s] (after the first step) and the
+    number of steps."""
+    sim, rod = _elastica_rod(ea, n)
+    stepper = ea.PositionVerlet()
+    dt = _time_step(n)
+    t = np.float64(0.0)
+    t = stepper.step(sim, t, np.float64(dt))  # compiles
+    c0 = time.perf_counter()
+    out = []
+    count = 1
+    for target in TIMES:
+        k = int(round((target - float(t)) / dt))
+        for _ in range(k):
+            t = stepper.step(sim, t, np.float64(dt))
+        count += k
+        out.append(float(rod.position_collection[0, -1]))
+    return np.array(out), time.perf_counter() - c0, count
+
+
+def run(elements: list[int]) -> dict[str, Any]:
+    """Every figure of the comparison."""
+    import elastica as ea
+
+    reference = hairbed_tip(16, 1e-10)
+    hb = []
+    for num, rtol in SETTINGS:
+        hairbed_tip(num, rtol)  # warm
+        best = np.inf
+        for _ in range(3):
+            c0 = time.perf_counter()
+            tip = hairbed_tip(num, rtol)
+            best = min(best, time.perf_counter() - c0)
+        hb.append((num, rtol, best, float(np.max(np.abs(tip - reference)))))
+    pe = []
+    for n in elements:
+        tip, seconds, count = elastica_tip(ea, n)
+        error = float(np.max(np.abs(tip - reference)))
+        fits = [h for h in hb if h[3] <= error]
+        ratio = seconds / min(h[2] for h in fits) if fits else float("nan")
+        pe.append((n, count, seconds, error, ratio))
+    finest = pe[-1]
+    fits = [h for h in hb if h[3] <= finest[3]]
+    chosen = min(fits, key=lambda h: h[2]) if fits else hb[-1]
+    return {
+        "reference_tip": reference.tolist(),
+        "hairbed": [dict(zip(("num", "rtol", "seconds", "error"), h)) for h in hb],
+        "pyelastica": [
+            dict(zip(("elements", "steps", "seconds", "error", "ratio"), p)) for p in pe
+        ],
+        "pyelastica_error": finest[3],
+        "hairbed_at_that_accuracy": dict(zip(("num", "rtol", "seconds", "error"), chosen)),
+        "speed_ratio": finest[2] / chosen[2],
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--elements", type=int, nargs="+", default=[20, 40, 80, 160])
+    parser.add_argument("--json", default=None)
+    args = parser.parse_args(argv)
+    try:
+        import elastica  # noqa: F401
+    except ImportError:
+        print("bench_pyelastica: skipped, pyelastica is not installed (pip install -e .[bench])")
+        return 0
+    figs = run(sorted(args.elements))
+    print(f"reference tip deflection at t = {TIMES.tolist()} T: {figs['reference_tip']}")
+    for h in figs["hairbed"]:
+        print(
+            f"hairbed    N = {h['num']:3d}, rtol {h['rtol']:.0e}: {1e3 * h['seconds']:9.2f} ms, "
+            f"error {h['error']:.1e}"
+        )
+    for p in figs["pyelastica"]:
+        print(
+            f"PyElastica n = {p['elements']:3d}, {p['steps']:7d} steps: "
+            f"{1e3 * p['seconds']:9.1f} ms, error {p['error']:.1e}; hairbed at that accuracy "
+            f"{p['ratio']:.0f}x faster"
+        )
+    c = figs["hairbed_at_that_accuracy"]
+    print(
+        f"PyElastica's finest error {figs['pyelastica_error']:.1e}; hairbed at N = {c['num']}, "
+        f"rtol {c['rtol']:.0e} ({c['error']:.1e}) is {figs['speed_ratio']:.0f}x faster "
+        "[target >= 1000x]"
+    )
+    if args.json:
+        import json
+
+        with open(args.json, "w") as fh:
+            json.dump(figs, fh, indent=2)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
