@@ -294,6 +294,30 @@ def test_measure_carries_the_fit_covariance() -> None:
     assert mf.status == 0
 
 
+def test_measure_in_a_window_uses_the_state_the_deflection_fixes() -> None:
+    """Three states share a speed: measure's errors are those of the state the deflection
+    fixes (the middle one's too), sigma |dv/dD| with dv/dD by central differences of the
+    porous inverse."""
+    from hairbed.porous_curves import porous_branch
+
+    bed = HairBed(
+        length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=1e-3 / 0.95,
+        viscosity=1.0, spacing=150e-6, base_angle=-1.2, model="porous",
+    )  # fmt: skip
+    branch = porous_branch(bed.eps, bed.base_angle, kappa=bed.kappa, gamma=bed.drag_ratio, num=60)
+    lo, hi = sorted(branch.fold_tip_deflection)
+    d = bed.length * np.array([lo - 0.05, 0.5 * (lo + hi), hi + 0.05])
+    m = measure(bed, d, sigma=1e-6)
+    st = bed.state_from_tip_deflection(d)
+    np.testing.assert_allclose(m.velocity, st.velocity, rtol=1e-12)
+    h = 1e-9
+    dv = (bed.velocity_from_tip_deflection(d + h) - bed.velocity_from_tip_deflection(d - h)) / (
+        2 * h
+    )
+    np.testing.assert_allclose(m.velocity_stderr, np.abs(dv) * 1e-6, rtol=1e-5)
+    assert dv[1] < 0.0 < dv[0] and dv[2] > 0.0  # the middle state: v falls as D rises
+
+
 @pytest.mark.parametrize("kind", ["pressure_gradient", "flow_rate"])
 def test_measure_pump_driven_round_trip(kind: str) -> None:
     """A pump's drive read back from deform's deflections to 1e-9; the other drive's and
@@ -441,9 +465,7 @@ def test_fit_profile_of_the_middle_state_of_a_window() -> None:
         length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=1e-3 / 0.95,
         viscosity=1.0, spacing=150e-6, base_angle=-1.2, model="porous",
     )  # fmt: skip
-    branch = porous_branch(
-        bed.eps, bed.base_angle, kappa=bed.kappa, gamma=bed.drag_ratio, num=60
-    )
+    branch = porous_branch(bed.eps, bed.base_angle, kappa=bed.kappa, gamma=bed.drag_ratio, num=60)
     assert branch.window is not None
     x_mid = float(np.mean(branch.fold_tip_deflection))  # between the folds: unstable
     st = bed.state_from_tip_deflection(x_mid * bed.length)
