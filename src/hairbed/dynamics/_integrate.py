@@ -11,6 +11,7 @@ the wall event).
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -35,6 +36,17 @@ from ._signals import Signal, as_signal
 __all__ = ["TRAJECTORY_STATUS", "PillarTrajectory", "simulate_pillar", "simulate_pillars"]
 
 FloatArray = NDArray[np.float64]
+
+
+@functools.lru_cache(maxsize=256)
+def _operators_at(num: int, a: float) -> tuple[FloatArray, ...]:
+    """(s, ds/dxi, dd, ii, d0, D/s') of the map a at degree N, built once per (N, a) and
+    shared by the runs: not to be written to."""
+    from .._core.loaded import _matrices
+
+    ops = _mapped(num, a)
+    return (*ops, np.asarray(_matrices(num)[1] / ops[1][:, None]))
+
 
 #: The status codes of a :class:`PillarTrajectory`: the package's table and the jump event.
 TRAJECTORY_STATUS: Mapping[int, str] = MappingProxyType(
@@ -281,7 +293,6 @@ def simulate_pillar(
         num=deg,
     )
     a = float(last._map) if np.isfinite(last._map) else 0.0
-    ss = _mapped(deg, a)[0]
     if initial is None:  # at rest under the drives just before the start (a step at t0: before)
         before = float(np.nextafter(te[0], -np.inf))
         initial = solve_pillar(
@@ -305,8 +316,8 @@ def simulate_pillar(
             f"initial must be a converged state at theta0 = {t0!r}, got theta0 = "
             f"{float(initial.theta0)!r}, status {int(initial.status)}"
         )
-    theta_start = np.asarray(initial.shape(ss)[3], dtype=np.float64)
-    return _run(_Job(te, opts, t0, g, m, a, theta_start, lam_sig, tip_sig, prof))
+    start = (float(initial._map), np.asarray(initial._coefs, dtype=np.float64).reshape(3, -1))
+    return _run(_Job(te, opts, t0, g, m, a, start, lam_sig, tip_sig, prof))
 
 
 @dataclass(frozen=True)
@@ -331,7 +342,7 @@ class _Job:
     gamma: float
     mu: float
     a: float  # the collocation's map parameter
-    theta_start: FloatArray  # theta at the mapped nodes at t_eval[0]
+    start: tuple[float, FloatArray]  # the static state at t_eval[0]: its map, coefficients
     lam_sig: Signal
     tip_sig: Signal
     prof: FloatArray
@@ -392,11 +403,12 @@ def _run(job: _Job) -> PillarTrajectory:
 
     te, opts = job.te, job.opts
     deg, t0, g, m, chi = opts.num, job.theta0, job.gamma, job.mu, opts.chi
-    ss, sp, dd, ii, d0 = _mapped(deg, job.a)
+    ss, sp, dd, ii, d0, d1s = _operators_at(deg, job.a)
     n = deg - 1
     size = n if m == 0.0 else 2 * n
     y0 = np.zeros(size)
-    y0[:n] = job.theta_start[1:deg]
+    smap, scoef = job.start
+    y0[:n] = np.asarray(_shape_at(np.array([smap]), scoef[:, None, :], (1,), ss)[3])[0, 1:deg]
     srow = -dd[deg, :] / dd[deg, deg]
     srow[deg] = 0.0
     lam_sig, tip_sig = job.lam_sig, job.tip_sig
@@ -461,7 +473,6 @@ def _run(job: _Job) -> PillarTrajectory:
         rates[i, 0] = 0.0
         rates[i, deg] = rates[i, 1:deg] @ srow[1:deg]
     c, s = np.cos(theta), np.sin(theta)
-    d1s = _mapped_first(deg, job.a)
     return PillarTrajectory(
         t=te,
         forcing=np.asarray(lam_sig(te), dtype=np.float64).reshape(te.shape),
@@ -610,11 +621,9 @@ def simulate_pillars(
     maps = np.asarray(last._map, dtype=np.float64).reshape(-1)
     maps = np.where(np.isfinite(maps), maps, 0.0)
     smap = np.asarray(start._map, dtype=np.float64).reshape(-1)
-    scoef = np.asarray(start._coefs).reshape(3, count, -1)
+    scoef = np.asarray(start._coefs, dtype=np.float64).reshape(3, count, -1)
     jobs = []
     for i in range(count):
-        ss = _mapped(opts.num, float(maps[i]))[0]
-        theta = np.asarray(_shape_at(smap[i : i + 1], scoef[:, i : i + 1], (1,), ss)[3])
         jobs.append(
             _Job(
                 te,
@@ -623,7 +632,7 @@ def simulate_pillars(
                 float(gs[i]),
                 float(mus[i]),
                 float(maps[i]),
-                np.asarray(theta, dtype=np.float64).reshape(-1),
+                (float(smap[i]), np.ascontiguousarray(scoef[:, i])),
                 sigs[i][0],
                 sigs[i][1],
                 prof,
@@ -635,11 +644,3 @@ def simulate_pillars(
 
     with ThreadPoolExecutor(max_workers=min(nw, count)) as pool:
         return list(pool.map(_run, jobs))
-
-
-def _mapped_first(num: int, a: float) -> FloatArray:
-    """The first derivative in s at every node of the map a (D/s')."""
-    from .._core.loaded import _matrices
-
-    _, sp, _, _, _ = _mapped(num, a)
-    return np.asarray(_matrices(num)[1] / sp[:, None])
