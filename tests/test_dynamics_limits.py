@@ -23,6 +23,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+import scipy.fft
 from numpy.polynomial import chebyshev as cheb
 
 import hairbed
@@ -75,21 +76,31 @@ _FINE = 256
 _XF = -np.cos(np.pi * np.arange(_FINE + 1) / _FINE)
 
 
+def _lobatto_series(values: FloatArray) -> FloatArray:
+    """The Chebyshev series interpolating values at x_j = -cos(pi j/M), j = 0..M (a type-I
+    discrete cosine transform: c_k = (2/M) sum'' f(cos(pi j/M)) cos(pi j k/M))."""
+    m = values.size - 1
+    c = scipy.fft.dct(values[::-1], type=1) / m
+    c[0] *= 0.5
+    c[-1] *= 0.5
+    return np.asarray(c)
+
+
 def _budget(run: Any, k: int, profile: Any) -> dict[str, float]:
     """The energy budget at output k from the nodal theta and theta_t alone (units E I/L,
     time T): the interpolants in x = 2 s - 1 through the Gauss-Lobatto nodes (checked to be
-    the nodes), r_t = int_0^s theta_t (cos, -sin) ds' by Chebyshev integration on 257 points,
-    the integrals over s by 96-point Gauss-Legendre."""
+    the nodes; by a discrete cosine transform), r_t = int_0^s theta_t (cos, -sin) ds' by
+    Chebyshev integration on 257 points, the integrals over s by 96-point Gauss-Legendre."""
     num = run.s.size - 1
     lobatto = 0.5 * (1.0 - np.cos(np.pi * np.arange(num + 1) / num))
     assert np.allclose(run.s, lobatto, rtol=0.0, atol=1e-15)  # no map: plain nodes
     x = 2.0 * run.s - 1.0
-    th = cheb.chebfit(x, run.theta[k], num)
-    tt = cheb.chebfit(x, run.theta_t[k], num)
+    assert np.allclose(x, -np.cos(np.pi * np.arange(num + 1) / num), rtol=0.0, atol=1e-15)
+    th, tt = _lobatto_series(run.theta[k]), _lobatto_series(run.theta_t[k])
     thf, ttf = cheb.chebval(_XF, th), cheb.chebval(_XF, tt)
 
     def primitive(values: FloatArray) -> FloatArray:  # int_0^s in s, as a series in x
-        return np.asarray(0.5 * cheb.chebint(cheb.chebfit(_XF, values, _FINE), lbnd=-1.0))
+        return np.asarray(0.5 * cheb.chebint(_lobatto_series(values), lbnd=-1.0))
 
     vx, vz = primitive(ttf * np.cos(thf)), primitive(-ttf * np.sin(thf))
     zc = primitive(np.cos(thf))
@@ -115,6 +126,13 @@ def _budget(run: Any, k: int, profile: Any) -> dict[str, float]:
             -run.mu * (1.0 - chi) * _GW @ (cheb.chebval(xq, tt) * along * (tz * vxq - tx * vzq))
         ),
     }
+
+
+def test_lobatto_series_interpolates() -> None:
+    x = -np.cos(np.pi * np.arange(17) / 16)
+    c = _lobatto_series(np.exp(x) * np.sin(3 * x))
+    assert np.allclose(cheb.chebval(x, c), np.exp(x) * np.sin(3 * x), rtol=0.0, atol=1e-14)
+    assert np.allclose(c, cheb.chebfit(x, np.exp(x) * np.sin(3 * x), 16), rtol=0, atol=1e-13)
 
 
 def test_energy_balance_overdamped_independent_quadrature() -> None:
