@@ -700,7 +700,6 @@ def _walk_failed(
     out: FloatArray,
     coefs: FloatArray,
     a: FloatArray,
-    skip: NDArray[np.bool_] | None = None,
 ) -> None:
     """Inverse problems (x1 >= sin(theta0)) whose run failed, solved again by a march in
     x1, in place where the march arrives. x1 is monotone along the branch (no fold on the
@@ -710,9 +709,8 @@ def _walk_failed(
 
     Near the wall (theta0 -> -pi/2) the kernel's continuation from rest stops at isolated
     x1 between solved ones and in bands of x1 (theory.md §12; issue 33: up to all 400 of
-    a scan of the forcing at theta0 = -1.57 had status -7). Not the elements of ``skip``
-    (started from an atlas: :func:`_atlas_starts`)."""
-    bad = np.flatnonzero((out[0] < 0) & (True if skip is None else ~skip))
+    a scan of the forcing at theta0 = -1.57 had status -7)."""
+    bad = np.flatnonzero(out[0] < 0)
     if bad.size == 0:
         return
     anchor = _anchors(xf, tf, gf, pf, out[0] >= 0, bad)
@@ -842,10 +840,20 @@ def _inverse_run(
         theta_start, extra = np.array(theta_start), np.array(extra)
         _atlas_starts(xf, tf, gf, pf, prof, tol, nums, wall, theta_start, extra, a)
     out, coefs = _kernel_run(_DRAG_INVERSE, xf, tf, gf, pf, a, theta_start, extra, prof, tol, nums)
+    again = np.flatnonzero(wall & (out[0] < 0))
+    if again.size:
+        # near rest x1 fixes Lambda only to its rounding over dx1/dLambda: there the
+        # kernel's own continuation from the straight pillar may still arrive
+        xb, tb, gb, pb = (np.ascontiguousarray(v[again]) for v in (xf, tf, gf, pf))
+        plain = np.repeat(tb[:, None], nums[0] + 1, axis=1)
+        ex = np.stack([np.cos(tb), np.zeros(again.size)], axis=1)
+        a[again] = 0.0
+        o, c = _kernel_run(_DRAG_INVERSE, xb, tb, gb, pb, a[again], plain, ex, prof, tol, nums)
+        out[:, again], coefs[:, again] = o, c
     if retry:
-        _retry_finer(xf, tf, gf, pf, prof, tol, nums, out, coefs, wall)
+        _retry_finer(xf, tf, gf, pf, prof, tol, nums, out, coefs)
     if walk:
-        _walk_failed(xf, tf, gf, pf, prof, tol, nums, out, coefs, a, wall)
+        _walk_failed(xf, tf, gf, pf, prof, tol, nums, out, coefs, a)
     return out, coefs, a
 
 
@@ -859,7 +867,6 @@ def _retry_finer(
     nums: tuple[int, ...],
     out: FloatArray,
     coefs: FloatArray,
-    skip: NDArray[np.bool_] | None = None,
 ) -> None:
     """Inverse problems whose run failed, solved again from the straight pillar on the
     ladder's finer levels alone (for the default ladder: from N = 64, then from N = 128),
@@ -874,7 +881,7 @@ def _retry_finer(
     keys = np.stack([tf, gf, pf], axis=1)
     solved = np.unique(keys[out[0] >= 0], axis=0)
     for start in range(1, len(nums)):
-        bad = np.flatnonzero((out[0] < 0) & (True if skip is None else ~skip))
+        bad = np.flatnonzero(out[0] < 0)
         if bad.size and solved.size:
             near = (keys[bad][:, None, :] == solved[None, :, :]).all(axis=2).any(axis=1)
             bad = bad[near]
