@@ -431,7 +431,8 @@ def pillar_rates(
     rate[num] = acc_n
     for j in range(n1):
         acc[j] = -rate[j] * rate[j]  # b = -theta_t^2 (the centripetal part of r_tt)
-    projected_load(th, rate, zero, gamma, num, ii, 2 if need else 1, val1, opa1, opb1, dth1, wrk)
+    # the drag B theta_t (its operator only for the Jacobian), the inertia's operator M
+    projected_load(th, rate, zero, gamma, num, ii, 2 if need else 0, val1, opa1, opb1, dth1, wrk)
     projected_load(th, zero, acc, chi, num, ii, 2 if need else 1, val2, opa2, opb2, dth2, wrk)
     _reduce_into(opa2, num, srow, bmat, 0, 0, mu)
     if not _lu_factor(bmat, piv, n):
