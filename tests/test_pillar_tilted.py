@@ -167,3 +167,18 @@ def test_solve_pillar_all_counts_the_crossings_of_a_dense_scan(theta0: float) ->
         np.testing.assert_allclose([float(s.forcing) for s in states], forcing, rtol=1e-12)
         tested += 1
     assert tested >= 20
+
+
+@pytest.mark.parametrize(("theta0", "sign"), [(-1.57, 1.0), (1.57, -1.0), (-1.55, 1.0)])
+def test_continue_pillar_has_both_folds_and_every_state_up_to_them(theta0: float, sign: float):
+    """The branch near the wall has both folds of the window (the upper one within ~1e-6 of
+    rest in x1, under the grid's first point); just inside each fold solve_pillar_all finds
+    three states, just outside one; the branch's points are in the order of x1."""
+    br = hairbed.continue_pillar(sign * 1e4, theta0)
+    assert br.status == 0
+    assert np.all(np.diff(sign * br.tip_deflection) > 0.0)
+    assert br.folds.shape == (2, 2)
+    hi, lo = sorted(np.abs(br.folds[:, 0]), reverse=True)
+    assert 17.0 < lo < 18.0 and hi > 100.0
+    for lam, n in [(lo * 1.0001, 3), (hi * 0.9999, 3), (lo * 0.9999, 1), (hi * 1.0001, 1)]:
+        assert len(hairbed.solve_pillar_all(sign * lam, theta0)) == n, lam

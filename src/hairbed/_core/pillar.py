@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._kernels import description as D
 from .collocated import CollocatedState
 from .loaded import (
     LADDER,
@@ -480,12 +481,14 @@ def _kernel_run(
     k = _kernels()
     out = np.empty((k.NCOLS, values.size))
     coefs = np.empty((3, values.size, int(max(nums)) + 1))
+    desc = np.zeros((values.size, D.NDESC))
+    desc[:, D.D_THETA0] = tf
+    desc[:, D.D_X1 if code == _DRAG_INVERSE else D.D_LAMBDA] = values
+    desc[:, D.D_GAMMA] = gf
+    desc[:, D.D_TIP] = pf
     k.solve_loaded_chain(
         code,
-        np.ascontiguousarray(values),
-        gf,
-        pf,
-        tf,
+        desc,
         a,
         np.ascontiguousarray(theta_start),
         np.ascontiguousarray(extra),
@@ -1534,3 +1537,31 @@ def _atlas_starts(
         extra[mine, 0] = (1.0 - w) * ha[j] + w * ha[j + 1]
         extra[mine, 1] = (1.0 - w) * la[j] + w * la[j + 1]
         a[mine] = am
+
+
+def _atlas_branch(
+    key: tuple[float, float, float],
+    prof: FloatArray,
+    tol: float,
+    nums: tuple[int, ...],
+    lam_top: float,
+) -> tuple[FloatArray, FloatArray, FloatArray, FloatArray]:
+    """The branch of a pillar leaning onto the wall (``key``: theta0 < ``ATLAS_THETA0``, a
+    flow towards +x) from its atlas, past ``lam_top``, with its folds refined as for
+    ``root=`` (:func:`_refine_turns`, kept with the atlas): (x1, Lambda, h1, folds (k, 2)
+    of Lambda and x1), rest not included."""
+    uniq = np.array([key], dtype=np.float64)
+    none = np.full((1, 0), np.nan)
+    empty = (none, none, np.full((1, 0, max(nums) + 1), np.nan), none, none, none)
+    grids, atlases, fresh = _atlas_rows(
+        uniq, np.array([True]), np.array([0.5 * lam_top]), empty, prof[:1], tol, nums
+    )
+    x, lam, coef, h, a, fx = grids
+    _refine_turns(uniq, x, lam, coef, h, prof[:1], tol, nums, a, fx, fresh)
+    atlas = atlases[0]
+    if fresh[0]:
+        atlas.refined = (len(atlas.points), tuple(g[0].copy() for g in grids))
+    ok = np.isfinite(lam[0])
+    _, turns, _ = _grid_turns(lam[:, ok])
+    xs, ls = x[0, ok], lam[0, ok]
+    return xs, ls, h[0, ok], np.stack([ls[turns + 1], xs[turns + 1]], axis=1)

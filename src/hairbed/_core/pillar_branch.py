@@ -24,6 +24,7 @@ from .loaded import LADDER, _quiet
 from .pillar import (
     ATLAS_THETA0,
     PillarState,
+    _atlas_branch,
     _check,
     _golden_max,
     _grid_turns,
@@ -128,7 +129,11 @@ def continue_pillar(
     theta0, profile, height_ratio, gamma, tip_load
         As in :func:`hairbed.solve_pillar`, scalars.
     num : int, optional
-        Points of the grid in x1, in [16, 10^4]. Default 200.
+        Points of the grid in x1, in [16, 10^4]. Default 200. For a pillar leaning onto
+        the wall (theta0 < ``ATLAS_THETA0`` = -1.5 for its flow) the grid's states are
+        joined by those of the branch's atlas (issue 33: the upper fold of its window lies
+        within ~1e-6 of rest in x1, below the grid's first point), and its folds are the
+        atlas's.
 
     Returns
     -------
@@ -170,10 +175,40 @@ def _continue(end: float, branch: _Branch, count: int, root: str) -> PillarBranc
         xf, best = _golden_max(value, x[turns], x[turns + 2], 1e-12)
         folds = np.stack([kind * best, xf], axis=1)
     status = 0 if np.all(np.asarray(st.status) >= 0) else -7
+    height = np.asarray(st.tip_height, dtype=np.float64)
+    sign = math.copysign(1.0, end)
+    if sign * t0 < ATLAS_THETA0 and count > 1:
+        # leaning onto the wall: the window's upper fold lies within ~1e-6 of rest in x1,
+        # below the first point of the grid, where the inverse fixes Lambda only to its
+        # rounding; the atlas's states there (forward solves) and its refined folds
+        xa, la, ha, fa = _atlas_branch(
+            (sign * t0, branch.gamma, sign * branch.tip_load),
+            branch.prof,
+            1e-12,
+            LADDER,
+            abs(end),
+        )
+        # the grid's states (where the inverse arrived) and the atlas's on the way to the
+        # end state, in the order of x1; stable where Lambda rises along the branch (for
+        # the atlas's states, between their neighbours)
+        on = (xa > sign * x_rest) & (xa < sign * x_end)
+        good = np.isfinite(lam)
+        xs = np.concatenate([x[good], sign * xa[on]])
+        order = np.argsort(sign * xs, kind="stable")
+        ls = np.concatenate([lam[good], sign * la[on]])[order]
+        rise = np.gradient(sign * ls, sign * xs[order]) > 0.0 if xs.size > 1 else ls > 0
+        mine = np.concatenate([stable[good], np.zeros(int(on.sum()), dtype=np.bool_)])[order]
+        from_grid = np.concatenate([np.ones(int(good.sum()), bool), np.zeros(int(on.sum()), bool)])
+        stable = np.where(from_grid[order], mine, rise)
+        height = np.concatenate([height[good], ha[on]])[order]
+        x, lam = xs[order], ls
+        status = 0 if bool(good[-1]) else -7  # the end state itself came back
+        folds = np.stack([sign * fa[:, 0], sign * fa[:, 1]], axis=1)
+        folds = folds[sign * folds[:, 1] <= sign * x_end]  # on the way to the end state
     return PillarBranch(
         tip_deflection=x,
         forcing=lam,
-        tip_height=np.asarray(st.tip_height, dtype=np.float64),
+        tip_height=height,
         stable=stable,
         folds=folds,
         status=status,
