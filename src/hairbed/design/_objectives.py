@@ -26,6 +26,7 @@ from __future__ import annotations
 import functools
 import math
 import warnings
+from collections import OrderedDict
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -41,6 +42,7 @@ from ..pillars import PILLAR_REYNOLDS_LIMIT, SLENDERNESS_LIMIT, SUBLAYER_L_PLUS_
 from ..sensitivity import _physical_partials
 from ..units import DENSE_BED_LIMIT, HairBed
 from ..valve import valve_curve
+from ._linear_range import LinearRangeTracker
 
 __all__ = [
     "Constraint",
@@ -478,25 +480,56 @@ def _pillar_groups(p: Pillar) -> tuple[float, Grad, float, Grad]:
     return p.forcing_per_stress, d_ln_k, gamma, d_gamma
 
 
-@functools.lru_cache(maxsize=64)
-def _pillar_rows(p: Pillar, tau: float) -> tuple[float, float, Any]:
-    """(x1, h1, out) of the pillar's state at tau_w [Pa]; out[o, i] = d output/d input in
-    the kernel's order (outputs tip_height, tip_deflection, ...; inputs forcing, theta0,
-    gamma, ...), exact."""
-    st = p.deform(tau)
-    if int(np.asarray(st.status)) < 0:
-        raise ArithmeticError(f"no state of the pillar at tau_w = {tau:g} Pa")
-    sol = st.solution
+def _state_rows(p: Pillar, sol: Any, tau: float, index: int = 0) -> tuple[float, float, Any]:
+    """(x1, h1, out) of element ``index`` of the pillar's states ``sol`` (at tau_w [Pa], for
+    the messages); out[o, i] = d output/d input in the kernel's order (outputs tip_height,
+    tip_deflection, ...; inputs forcing, theta0, gamma, ...), exact."""
     prof = np.asarray(p._core_options[0])
     dp = _profile_derivative(p._core_profile, p.height_ratio)
     dprof = np.zeros((1, 1)) if dp is None else dp[None, :]
     with np.errstate(all="ignore"):
         out, status, _ = pillar_gradient_rows(sol, prof, dprof)
-    if int(status[0]) != 0:
+    if int(status[index]) != 0:
         raise ArithmeticError(f"the pillar's state at tau_w = {tau:g} Pa is at a fold")
-    x1 = float(np.asarray(sol.tip_deflection))
-    h1 = float(np.asarray(sol.tip_height))
-    return x1, h1, out[:, :, 0]
+    x1 = float(np.asarray(sol.tip_deflection).reshape(-1)[index])
+    h1 = float(np.asarray(sol.tip_height).reshape(-1)[index])
+    return x1, h1, out[:, :, index]
+
+
+class _RowCache:
+    """:func:`_pillar_rows` memoised per (pillar, tau_w), least recently used out first;
+    :meth:`seed` stores rows computed elsewhere (the linear range's root)."""
+
+    def __init__(self, size: int = 64) -> None:
+        self._size = size
+        self._rows: OrderedDict[tuple[Pillar, float], tuple[float, float, Any]] = OrderedDict()
+
+    def __call__(self, p: Pillar, tau: float) -> tuple[float, float, Any]:
+        """(x1, h1, out) of the pillar's state at tau_w [Pa] (:func:`_state_rows`)."""
+        key = (p, tau)
+        if key in self._rows:
+            self._rows.move_to_end(key)
+            return self._rows[key]
+        st = p.deform(tau)
+        if int(np.asarray(st.status)) < 0:
+            raise ArithmeticError(f"no state of the pillar at tau_w = {tau:g} Pa")
+        rows = _state_rows(p, st.solution, tau)
+        self.seed(p, tau, rows)
+        return rows
+
+    def seed(self, p: Pillar, tau: float, rows: tuple[float, float, Any]) -> None:
+        """Remember the rows of the state at tau_w [Pa]."""
+        self._rows[(p, tau)] = rows
+        self._rows.move_to_end((p, tau))
+        while len(self._rows) > self._size:
+            self._rows.popitem(last=False)
+
+    def cache_clear(self) -> None:
+        """Forget every state."""
+        self._rows.clear()
+
+
+_pillar_rows = _RowCache()
 
 
 def _d_state(p: Pillar, row: Any, lam: float, d_ln_lam: Grad, d_gamma: Grad) -> Grad:
@@ -692,6 +725,11 @@ def linear_range(rtol: float = 0.1) -> Quantity:
     d Lambda* = -(G_theta0 d theta0 + G_gamma d gamma)/G_Lambda (implicit function theorem,
     the state's exact first derivatives), c1 = 11 cos^3(theta0)/120.
 
+    Its value is :meth:`~hairbed.Pillar.linear_range`'s: the full scan at the first pillar,
+    then Lambda* followed by Newton's method from the root of the nearest pillar solved
+    before (:class:`hairbed.design._linear_range.LinearRangeTracker`, checked to stay the
+    first root; a failed check scans again), the same root to 1e-10.
+
     Parameters
     ----------
     rtol : float
@@ -706,12 +744,13 @@ def linear_range(rtol: float = 0.1) -> Quantity:
     if not tol < 1.0:
         raise ValueError(f"rtol must lie in (0, 1), got {tol!r}")
 
+    tracker = LinearRangeTracker(tol)
+
     @functools.lru_cache(maxsize=16)
     def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
-        rng = p.linear_range(tol)
-        if not rng.success:
-            raise ArithmeticError(f"linear_range(rtol={tol:g}): {rng.message}")
-        tau = float(rng.wall_shear_stress)
+        tau, state = tracker(p)
+        if state is not None:  # Newton's root: its state is the batch's last
+            _pillar_rows.seed(p, tau, _state_rows(p, state, tau, -1))
         k, d_ln_k, _, d_gamma = _pillar_groups(p)
         lam = k * tau
         x1, _, out = _pillar_rows(p, tau)
@@ -726,7 +765,9 @@ def linear_range(rtol: float = 0.1) -> Quantity:
         d_lam = _comb((-g_th / g_lam, {"base_angle": 1.0}), (-g_gam / g_lam, d_gamma))
         return tau, _comb((1.0 / k, d_lam), (-tau, d_ln_k))
 
-    return Quantity(f"linear_range(rtol={tol:g})", "pillar", "Pa", True, evaluate)
+    q = Quantity(f"linear_range(rtol={tol:g})", "pillar", "Pa", True, evaluate)
+    object.__setattr__(q, "_tracker", tracker)
+    return q
 
 
 def l_plus(wall_shear_stress: Any) -> Quantity:
