@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ._kernels import description as D
 from .collocated import CollocatedState
 from .outputs import scalar_or_array
 from .solution import Solution
@@ -640,6 +641,20 @@ def _closed_form_start(
     return np.ascontiguousarray(mirror[:, None] * start[0])
 
 
+def _description(
+    code: int, wf: FloatArray, ef: FloatArray, lf: FloatArray, tf: FloatArray
+) -> FloatArray:
+    """The kernel's load description of every element, (size, NDESC): the bed's slots of
+    ``_kernels.description``: the wall's omega2 and Pi (pressure drive) or q (flow drive);
+    for the scan's frozen loads (code 2) the tip force W and Pi."""
+    desc = np.zeros((wf.size, D.NDESC))
+    desc[:, D.D_THETA0] = tf
+    desc[:, D.D_EPS] = ef
+    desc[:, D.D_TIP if code == 2 else D.D_OMEGA2] = wf
+    desc[:, D.D_Q if code == 1 else D.D_PI] = lf
+    return desc
+
+
 def _run(
     code: int,
     wf: FloatArray,
@@ -660,10 +675,7 @@ def _run(
     coefs = np.empty((3, wf.size, int(max(nums)) + 1))
     k.solve_loaded_array(
         code,
-        wf,
-        ef,
-        lf,
-        tf,
+        _description(code, wf, ef, lf, tf),
         a,
         theta_start,
         hs[:, None],

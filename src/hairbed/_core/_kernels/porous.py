@@ -37,6 +37,18 @@ import math
 import numpy as np
 
 from .._jit import kernel
+from .description import (
+    D_EPS,
+    D_GAMMA,
+    D_HFIX,
+    D_KAPPA,
+    D_OMEGA2,
+    D_PI,
+    D_Q,
+    D_THETA0,
+    D_X1,
+    NDESC,
+)
 from .shape import shape_point, shape_setup
 from .spectral import (
     MAX_CONTINUATION,
@@ -83,18 +95,9 @@ _XTOL = 1e-12
 _FULL_STEP = 1e-7
 _CHORD_START = 1e-3
 _CHORD_RATE = 0.1
-#: The load description of one element: the slots of its row of ``desc``. Each drive fills
-#: its own (the inverse's tip deflection, the flow drive's q); none is reused for another.
-D_THETA0 = 0
-D_KAPPA = 1
-D_GAMMA = 2
-D_OMEGA2 = 3
-D_EPS = 4
-D_PI = 5
-D_Q = 6
-D_X1 = 7
-D_HFIX = 8
-NDESC = 9
+#: The load description of one element: the slots of its row of ``desc`` (the one table of
+#: ``description``). Each drive fills its own (the inverse's tip deflection, the flow drive's
+#: q); none is reused for another.
 #: Output columns of :func:`solve_porous_array`: status, nit, num, h1, x1, theta1, theta'(0),
 #: Q(1) (the tip plane's stress), w(1), Pi, Q(0) (the wall's stress), error estimate,
 #: residual, max |theta|, F_x(0), F_z(0) (the drag's totals), the map parameter, omega2

@@ -3,7 +3,10 @@
     theta'' = -[W + Pi (h1 - z(s))] cos(theta),  z' = cos(theta),  x' = sin(theta),
     theta(0) = theta0,  theta'(1) = 0,  z(0) = x(0) = 0,  h1 = z(1),
 
-with the loads W(h1), Pi(h1) of a drive (``DRIVE_PRESSURE``, ``DRIVE_FLOW``; theory.md §11).
+with the loads W(h1), Pi(h1) of a drive (``DRIVE_PRESSURE``, ``DRIVE_FLOW``; theory.md §11),
+or the resistive-force drag of a flow on the isolated pillar (``DRIVE_DRAG``; theory.md §12).
+Each element's loads come as one row of named slots, its load description (``description``),
+the vocabulary that the porous bed's kernel shares.
 
 Discretisation. Chebyshev-Gauss-Lobatto nodes xi_j = -cos(pi j/N) on [-1, 1], mapped to
 s in [0, 1] by the exponential map s = expm1(a y)/expm1(a), y = (xi + 1)/2, which clusters the
@@ -40,6 +43,7 @@ import math
 import numpy as np
 
 from .._jit import kernel
+from .description import D_EPS, D_GAMMA, D_LAMBDA, D_OMEGA2, D_PI, D_Q, D_THETA0, D_TIP, D_X1
 
 __all__ = [
     "DRIVE_DRAG",
@@ -53,6 +57,7 @@ __all__ = [
     "STATUS_INACCURATE",
     "STATUS_LOST",
     "STATUS_MAXITER",
+    "bed_arguments",
     "drive_loads",
     "solve_loaded_array",
     "solve_loaded_chain",
@@ -61,10 +66,10 @@ __all__ = [
 DRIVE_PRESSURE = 0
 DRIVE_FLOW = 1
 DRIVE_FIXED = 2
-#: The isolated pillar under resistive-force drag (issue 21, theory.md §12): omega2 carries
-#: Lambda, eps the drag ratio gamma, load a horizontal tip force, ``prof`` the profile U(z).
+#: The isolated pillar under resistive-force drag (issue 21, theory.md §12): its description
+#: holds Lambda, the drag ratio gamma and a horizontal tip force; ``prof`` the profile U(z).
 DRIVE_DRAG = 3
-#: The pillar's inverse problem: Lambda is an unknown, omega2 carries the tip deflection x1.
+#: The pillar's inverse problem: Lambda is an unknown, the target tip deflection in D_X1.
 DRIVE_DRAG_INVERSE = 4
 MAXITER = 60
 #: The rounding part of the error estimate, ROUNDING N^2 max(1, |theta|) (measured: the
@@ -445,43 +450,60 @@ def _jacobian_drag(u, num, dd, ii, lam, gamma, tip, prof, cs, sn, z, fx, fz, gw,
 
 
 @kernel
-def _system(u, num, dd, ii, theta0, code, omega2, eps, load, prof, work, res):
+def bed_arguments(code, d):
+    """(omega2, eps, load) of a bed's drive ``code`` from the description ``d``, as
+    :func:`drive_loads` reads them: the wall and Pi (pressure), the wall and q (flow), the
+    frozen tip force and Pi (``DRIVE_FIXED``)."""
+    if code == DRIVE_FLOW:
+        return d[D_OMEGA2], d[D_EPS], d[D_Q]
+    if code == DRIVE_FIXED:
+        return d[D_TIP], d[D_EPS], d[D_PI]
+    return d[D_OMEGA2], d[D_EPS], d[D_PI]
+
+
+@kernel
+def _system(u, num, dd, ii, code, d, prof, work, res):
     """The residual of either model (``DRIVE_DRAG`` or a bed's drive) at u into res:
-    (sum of squares, W, Pi, dW, dPi), the loads zero for the pillar."""
+    (sum of squares, W, Pi, dW, dPi), the loads zero for the pillar. ``d`` the element's load
+    description (``description``)."""
     if code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE:
-        # for the inverse u[num + 2] is Lambda and omega2 the tip deflection
+        # for the inverse u[num + 2] is Lambda, and D_X1 the target tip deflection
         inverse = code == DRIVE_DRAG_INVERSE
         n1 = num + 1
-        lam = u[n1 + 1] if inverse else omega2
+        lam = u[n1 + 1] if inverse else d[D_LAMBDA]
         cs, sn, z, fx, fz = work[0], work[1], work[2], work[6], work[7]
-        f = _residual_drag(u, num, dd, ii, theta0, lam, eps, load, prof, cs, sn, z, res, fx, fz)
+        f = _residual_drag(
+            u, num, dd, ii, d[D_THETA0], lam, d[D_GAMMA], d[D_TIP], prof, cs, sn, z, res, fx, fz
+        )
         if not inverse:
             return f, 0.0, 0.0, 0.0, 0.0
         x1 = 0.0
         for j in range(n1):
             x1 += ii[num, j] * sn[j]
-        res[n1 + 1] = x1 - omega2
+        res[n1 + 1] = x1 - d[D_X1]
         return f + res[n1 + 1] ** 2, 0.0, 0.0, 0.0, 0.0
+    omega2, eps, load = bed_arguments(code, d)
     return _residual(
-        u, num, dd, ii, theta0, code, omega2, eps, load, work[0], work[1], work[2], res
+        u, num, dd, ii, d[D_THETA0], code, omega2, eps, load, work[0], work[1], work[2], res
     )
 
 
 @kernel
-def _system_jacobian(u, num, dd, ii, code, omega2, eps, load, prof, work, pm, w, p, dw, dp, jac):
+def _system_jacobian(u, num, dd, ii, code, d, prof, work, pm, w, p, dw, dp, jac):
     """The Jacobian of :func:`_system` at u (after it) into jac."""
     if code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE:
         inverse = code == DRIVE_DRAG_INVERSE
         n1 = num + 1
-        lam = u[n1 + 1] if inverse else omega2
+        lam = u[n1 + 1] if inverse else d[D_LAMBDA]
+        gamma, tip = d[D_GAMMA], d[D_TIP]
         cs, sn, z = work[0], work[1], work[2]
         _jacobian_drag(
-            u, num, dd, ii, lam, eps, load, prof, cs, sn, z, work[6], work[7], work[8:12], pm, jac
+            u, num, dd, ii, lam, gamma, tip, prof, cs, sn, z, work[6], work[7], work[8:12], pm, jac
         )
         if inverse:
             # the column of Lambda: the load at Lambda = 1 (f is linear in Lambda); the row of
             # x1 = int_0^1 sin(theta) ds
-            _unit_load(u, num, ii, eps, prof, cs, sn, z, work[8], work[9], jac[:, n1 + 1])
+            _unit_load(u, num, ii, gamma, prof, cs, sn, z, work[8], work[9], jac[:, n1 + 1])
             for k in range(n1):
                 jac[n1 + 1, k] = ii[num, k] * cs[k]
             jac[n1 + 1, n1] = 0.0
@@ -503,9 +525,7 @@ def _step_size(step, u, n1, m):
 
 
 @kernel
-def _newton(
-    u, num, dd, ii, theta0, code, omega2, eps, load, prof, work, pm, jac, piv, nit0, maxiter, warm
-):
+def _newton(u, num, dd, ii, code, d, prof, work, pm, jac, piv, nit0, maxiter, warm):
     """Damped Newton on the collocation system from u (updated in place).
 
     Returns (status, iterations, max abs(residual)). ``work`` is (12, >= num + 2), ``pm``
@@ -519,16 +539,15 @@ def _newton(
     m = n1 + 2 if code == DRIVE_DRAG_INVERSE else n1 + 1
     res, step, trial = work[3], work[4], work[5]
     drag = code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE
-    f, w, p, dw, dp = _system(u, num, dd, ii, theta0, code, omega2, eps, load, prof, work, res)
+    eps = d[D_EPS]
+    f, w, p, dw, dp = _system(u, num, dd, ii, code, d, prof, work, res)
     chord = warm  # reuse the last factors (a chord step) once Newton contracts fast
     last = _CHORD_START / _CHORD_RATE if warm else math.inf
     for it in range(maxiter):
         if not math.isfinite(f):
             return STATUS_BREAKDOWN, nit0 + it, math.nan
         if not chord:
-            _system_jacobian(
-                u, num, dd, ii, code, omega2, eps, load, prof, work, pm, w, p, dw, dp, jac
-            )
+            _system_jacobian(u, num, dd, ii, code, d, prof, work, pm, w, p, dw, dp, jac)
             if not _lu_factor(jac, piv, m):
                 return STATUS_BREAKDOWN, nit0 + it, math.nan
         for i in range(m):
@@ -539,9 +558,7 @@ def _newton(
             return STATUS_BREAKDOWN, nit0 + it, math.nan
         if chord and big > _CHORD_RATE * last:  # the chord contracts too slowly: refresh
             chord = False
-            _system_jacobian(
-                u, num, dd, ii, code, omega2, eps, load, prof, work, pm, w, p, dw, dp, jac
-            )
+            _system_jacobian(u, num, dd, ii, code, d, prof, work, pm, w, p, dw, dp, jac)
             if not _lu_factor(jac, piv, m):
                 return STATUS_BREAKDOWN, nit0 + it, math.nan
             for i in range(m):
@@ -559,9 +576,7 @@ def _newton(
             if not drag and 1.0 - eps * ht <= 0.0:
                 ft = math.inf
             else:
-                ft, w, p, dw, dp = _system(
-                    trial, num, dd, ii, theta0, code, omega2, eps, load, prof, work, res
-                )
+                ft, w, p, dw, dp = _system(trial, num, dd, ii, code, d, prof, work, res)
             if big <= _FULL_STEP or ft <= (1.0 - 1e-4 * lam) * f:
                 break
             lam *= 0.5
@@ -587,16 +602,17 @@ def _newton(
 
 
 @kernel
-def _continuation(
-    u, keep, num, dd, ii, theta0, code, omega2, eps, load, prof, work, pm, jac, piv, nit0
-):
-    """Newton along the load factor lam from 0 (the hair at rest) to 1: (omega2, pi or q)
-    scaled by lam scales both loads, W and Pi, of either drive. A secant predictor, the step
+def _continuation(u, keep, num, dd, ii, code, d, dl, prof, work, pm, jac, piv, nit0):
+    """Newton along the load factor lam from 0 (the hair at rest) to 1: every load of the
+    description ``d`` (the wall's omega2, Pi or q, the tip force, the pillar's Lambda)
+    scaled by lam, so both loads, W and Pi, of either drive. A secant predictor, the step
     grown after an easy corrector and cut after a failed one; at most ``MAX_CONTINUATION``
-    steps. Ends with the state at lam = 1 in u, or a failure status. keep is (3, num + 3).
-    For the pillar's inverse problem (``DRIVE_DRAG_INVERSE``) lam moves the tip deflection
-    from the straight pillar's, sin(theta0), to omega2, and Lambda starts at 0."""
+    steps. Ends with the state at lam = 1 in u, or a failure status. keep is (3, num + 3),
+    ``dl`` the scaled description's work row. For the pillar's inverse problem
+    (``DRIVE_DRAG_INVERSE``) lam moves the tip deflection from the straight pillar's,
+    sin(theta0), to D_X1, and Lambda starts at 0."""
     inverse = code == DRIVE_DRAG_INVERSE
+    theta0 = d[D_THETA0]
     m = num + 3 if inverse else num + 2
     prev = keep[1]
     last = keep[2]
@@ -608,6 +624,8 @@ def _continuation(
     rest = math.sin(theta0)
     for j in range(m):
         prev[j] = last[j]
+    for j in range(d.size):
+        dl[j] = d[j]
     lam = 0.0
     lam_prev = 0.0
     dlam = 0.125
@@ -619,24 +637,12 @@ def _continuation(
         slope = (target - lam) / (lam - lam_prev) if lam > lam_prev else 0.0
         for j in range(m):
             u[j] = last[j] + slope * (last[j] - prev[j])
+        for slot in (D_OMEGA2, D_PI, D_Q, D_TIP, D_LAMBDA):
+            dl[slot] = target * d[slot]
+        if inverse:
+            dl[D_X1] = rest + target * (d[D_X1] - rest)
         status, nit, rmax = _newton(
-            u,
-            num,
-            dd,
-            ii,
-            theta0,
-            code,
-            rest + target * (omega2 - rest) if inverse else target * omega2,
-            eps,
-            target * load,
-            prof,
-            work,
-            pm,
-            jac,
-            piv,
-            nit,
-            12,
-            False,
+            u, num, dd, ii, code, dl, prof, work, pm, jac, piv, nit, 12, False
         )
         if status == 0:
             for j in range(m):
@@ -702,10 +708,13 @@ def _clenshaw(coef, num, x):
 def solve_loaded_array(*args):
     """Solve every element: the collocation system on the ladder of N ``nums``.
 
-    The arguments, in order: code, omega2, eps, load, theta0, a, start, h_start, nums, nodes,
-    d1s, d2s, ims, cms, rtol, prof, out, coefs. ``start`` (size, nums[0] + 1): theta at the
-    mapped nodes of the first level; ``h_start`` (size, 1) the start's h1, or (size, 2) h1
-    and Lambda for ``DRIVE_DRAG_INVERSE`` (whose omega2 is the tip deflection); ``a`` the map
+    The arguments, in order: code, desc, a, start, h_start, nums, nodes, d1s, d2s, ims, cms,
+    rtol, prof, out, coefs. ``desc`` (size, ``description.NDESC``): each element's load
+    description, whose slots its model fills (a bed's drive: D_THETA0, D_OMEGA2, D_EPS and
+    D_PI or D_Q, or D_TIP and D_PI frozen for ``DRIVE_FIXED``; the pillar: D_THETA0,
+    D_LAMBDA, D_GAMMA, D_TIP, and D_X1 for ``DRIVE_DRAG_INVERSE``). ``start`` (size,
+    nums[0] + 1): theta at the mapped nodes of the first level; ``h_start`` (size, 1) the
+    start's h1, or (size, 2) h1 and Lambda for ``DRIVE_DRAG_INVERSE``; ``a`` the map
     parameter of each element. ``nodes``, ``d1s``, ``d2s``, ``ims``, ``cms`` hold per level
     (padded to the largest N): the nodes in xi, the first and second differentiation
     matrices, the integration matrix from xi = -1, and the matrix from node values to
@@ -750,10 +759,7 @@ def _warm_start(u, tan, step, num_prev, cm_prev, a_prev, extra, num, nodes, a, s
 @kernel
 def solve_loaded_chain(
     code,
-    omega2,
-    eps,
-    load,
-    theta0,
+    desc,
     a,
     start,
     h_start,
@@ -801,20 +807,25 @@ def solve_loaded_chain(
     coef = np.empty(nmax + 1)
     vals = np.empty(nmax + 1)
     keep = np.empty((3, m))
+    dl = np.empty(desc.shape[1])
     dd = np.empty((nmax + 1, nmax + 1))
     ii = np.empty((nmax + 1, nmax + 1))
+    drag = code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE
+    # the curve's variable of a chain: the forcing, or the inverse's tip deflection
+    var = D_X1 if code == DRIVE_DRAG_INVERSE else D_LAMBDA if drag else D_OMEGA2
     prev_ok = False  # the previous element's state is in u
     prev_num = 0
     prev_lev = 0
     prev_a = 0.0
     fact_num = -1  # jac, piv hold factors of this level's N (-1: none)
-    for e in range(omega2.size):
+    for e in range(desc.shape[0]):
+        d = desc[e]
         pe = e if prof.shape[0] > 1 else 0
         pr = prof[pe]
         num = nums[0]
         warm = chain.size > 0 and chain[e] and prev_ok
         if warm:
-            step = omega2[e] - omega2[e - 1]
+            step = d[var] - desc[e - 1, var]
             _warm_start(
                 u,
                 tan,
@@ -863,43 +874,12 @@ def solve_loaded_chain(
             for j in range(num + 1 + extra):
                 keep[0, j] = u[j]
             status, nit, rmax = _newton(
-                u,
-                num,
-                dd,
-                ii,
-                theta0[e],
-                code,
-                omega2[e],
-                eps[e],
-                load[e],
-                pr,
-                work,
-                pm,
-                jac,
-                piv,
-                nit,
-                MAXITER,
-                chord and lev == 0,
+                u, num, dd, ii, code, d, pr, work, pm, jac, piv, nit, MAXITER, chord and lev == 0
             )
             if status != 0 and lev == 0:
                 # continuation in the load factor from the hair at rest
                 status, nit, rmax = _continuation(
-                    u,
-                    keep,
-                    num,
-                    dd,
-                    ii,
-                    theta0[e],
-                    code,
-                    omega2[e],
-                    eps[e],
-                    load[e],
-                    pr,
-                    work,
-                    pm,
-                    jac,
-                    piv,
-                    nit,
+                    u, keep, num, dd, ii, code, d, dl, pr, work, pm, jac, piv, nit
                 )
             lev_done = lev
             if status != 0:
@@ -928,7 +908,7 @@ def solve_loaded_chain(
             continue
         h = u[num + 1]
         cm = cms[lev_done]
-        forcing = u[num + 2] if extra == 2 else omega2[e]
+        forcing = u[num + 2] if extra == 2 else d[D_LAMBDA] if drag else bed_arguments(code, d)[0]
         out[12, e] = forcing
         # cos and sin at the nodes once (work rows 0, 1 are free here)
         cs, sn = work[0], work[1]
@@ -938,23 +918,22 @@ def solve_loaded_chain(
         x1 = 0.0
         for j in range(num + 1):
             x1 += ii[num, j] * sn[j]
-        if code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE:
+        if drag:
+            gamma, tip = d[D_GAMMA], d[D_TIP]
             # the drag and its moment about the base, theta'(0) = int_0^1 (z f_x - x f_z) ds
             fx, fz = work[6], work[7]
             w, p = _drag_forces(
-                u, num, ii, forcing, eps[e], load[e], pr, work[0], work[1], work[2], fx, fz
+                u, num, ii, forcing, gamma, tip, pr, work[0], work[1], work[2], fx, fz
             )
             for i in range(num + 1):
                 acc = 0.0
                 for j in range(num + 1):
                     acc += ii[i, j] * work[1, j]
                 xs[i] = acc
-            quad = load[e] * h
+            quad = tip * h
             for j in range(num + 1):
                 quad += ii[num, j] * (work[2, j] * fx[j] - xs[j] * fz[j])
-            slope = _drag_slope(
-                u, num, dd, ii, forcing, eps[e], load[e], pr, work, pm, jac_s, piv_s
-            )
+            slope = _drag_slope(u, num, dd, ii, forcing, gamma, tip, pr, work, pm, jac_s, piv_s)
             out[13, e] = slope
             # what the next element of a curve starts from: this state (u is untouched),
             # the forward problem's tangent du/dLambda (work row 4 after _drag_slope) and
@@ -975,7 +954,8 @@ def solve_loaded_chain(
                 tan[num + 2] = scale if good else 0.0
         else:
             out[13, e] = math.nan
-            w, p, _, _ = drive_loads(code, omega2[e], eps[e], load[e], h)
+            omega2, eps, load = bed_arguments(code, d)
+            w, p, _, _ = drive_loads(code, omega2, eps, load, h)
             # theta'(0) = int_0^1 [W + Pi (h1 - z)] cos(theta) ds (the ODE integrated once,
             # by the quadrature of the integration matrix's last row)
             quad = 0.0
