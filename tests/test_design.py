@@ -319,3 +319,12 @@ def test_unknown_variable_objective_and_impossible_box_are_refused():
         D.optimise(bed, var, q, x0={"base_angle": 2.0})
     with pytest.raises(ValueError, match="log must be True or False"):
         D.Variable("length", 1e-4, 1e-3, log="yes")
+
+
+def test_log_variable_ends_are_its_bounds():
+    # exp(ln(low)) can round below low; a design's variables are fed back as x0 (the
+    # Pareto front starts each point from its neighbour) and must lie within the bounds
+    v = D.Variable("youngs_modulus", 0.5e6, 2e6, log=True)
+    assert v.value(0.0) == 0.5e6 and v.value(1.0) == 2e6
+    for u in np.linspace(0.0, 1.0, 101):
+        assert v.low <= v.value(float(u)) <= v.high

@@ -110,11 +110,16 @@ class Variable:
             )
 
     def value(self, u: float) -> float:
-        """The parameter at the unit coordinate ``u`` in [0, 1]."""
+        """The parameter at the unit coordinate ``u`` in [0, 1], within the bounds (exp of
+        ln(low) can round below low: a design's variables are fed back as ``x0``)."""
+        if u in (0.0, 1.0):
+            return self.high if u == 1.0 else self.low
         if self.log:
             a, b = math.log(self.low), math.log(self.high)
-            return math.exp(a + u * (b - a))
-        return self.low + u * (self.high - self.low)
+            value = math.exp(a + u * (b - a))
+        else:
+            value = self.low + u * (self.high - self.low)
+        return min(max(value, self.low), self.high) if 0.0 <= u <= 1.0 else value
 
     def coordinate(self, value: float) -> float:
         """The unit coordinate of a parameter value (inverse of :meth:`value`)."""
