@@ -35,6 +35,8 @@ SMALL = {
     "fig_pillar_calibration": {"theta0s": (0.0, -0.6), "num": 40},
     "fig_pillar_snap": {"num": 40},
     "fig_collective_stiffening": {"num": 5},
+    "fig_valve_design": {"points": 3, "num": 9},
+    "fig_sensor_design": {"points": 3, "num": 9},
 }
 
 
@@ -149,6 +151,8 @@ PANELS = {
     "fig_pillar_snap": 2,
     "fig_twirling": 8,
     "fig_valve": 3,
+    "fig_valve_design": 2,
+    "fig_sensor_design": 2,
 }
 
 

@@ -30,6 +30,7 @@ from matplotlib.figure import Figure
 
 from .._core.validation import check_int
 from ..safe_files import atomic_path
+from .design import fig_sensor_design, fig_valve_design
 from .extra import (
     fig_bistability,
     fig_calibration,
@@ -72,12 +73,14 @@ __all__ = [
     "fig_pillar_states",
     "fig_profiles",
     "fig_rheology",
+    "fig_sensor_design",
     "fig_solution",
     "fig_speed",
     "fig_states",
     "fig_theta0s",
     "fig_twirling",
     "fig_valve",
+    "fig_valve_design",
     "fig_valve_result",
     "make_all",
     "parameters",
@@ -107,6 +110,8 @@ FIGURES: dict[str, Callable[..., Figure]] = {
     "pillar_calibration": fig_pillar_calibration,
     "pillar_snap": fig_pillar_snap,
     "collective_stiffening": fig_collective_stiffening,
+    "valve_design": fig_valve_design,
+    "sensor_design": fig_sensor_design,
 }
 
 
