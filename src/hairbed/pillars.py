@@ -1290,3 +1290,34 @@ class Pillar:
             pillar_density=pillar_density,
             drag=drag,
         )
+
+    def simulate(
+        self,
+        wall_shear_stress: Any,
+        t: Any,
+        *,
+        pillar_density: float | None = None,
+        overdamped: bool = False,
+        num: int = 12,
+        rtol: float = 1e-6,
+        atol: float = 1e-7,
+        max_steps: int = 100_000,
+    ) -> Any:
+        """The pillar's nonlinear motion [m] at times ``t`` [s] under a wall-shear-stress drive
+        tau_w(t) [Pa] (a number: a step from rest at t[0]; a :mod:`hairbed.dynamics` signal
+        in seconds and pascals; or a callable of t [s]), from rest in the static state before
+        t[0]: :func:`hairbed.sensor_dynamics.simulate` (a
+        :class:`hairbed.sensor_dynamics.SensorTrajectory`)."""
+        from .sensor_dynamics import simulate
+
+        return simulate(
+            self,
+            wall_shear_stress,
+            t,
+            pillar_density=pillar_density,
+            overdamped=overdamped,
+            num=num,
+            rtol=rtol,
+            atol=atol,
+            max_steps=max_steps,
+        )

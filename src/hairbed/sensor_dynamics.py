@@ -14,11 +14,14 @@ oscillating-cylinder drag (which carries the added mass) for ``drag="sader"``.
 
 - :func:`frequency_response`: the Bode data, the static gain, the resonance, its quality
   factor and the usable bandwidth (:class:`SensorResponse`).
+- :func:`simulate`: the nonlinear pillar in time under a wall-shear-stress drive tau_w(t)
+  (a step, a named signal in seconds and pascals, a callable), in SI
+  (:class:`SensorTrajectory`).
 - :func:`wall_shear_stress_from_tip_deflection_series`: a measured tip-deflection series back
   to the wall-shear-stress series with its 1-sigma band: the exact static inverse about the
   mean and a Wiener deconvolution of the dynamics (:class:`StressSeries`).
 
-:meth:`hairbed.Pillar.frequency_response` and
+:meth:`hairbed.Pillar.frequency_response`, :meth:`hairbed.Pillar.simulate` and
 :meth:`hairbed.Pillar.wall_shear_stress_from_tip_deflection_series` call these.
 """
 
@@ -27,6 +30,7 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, field
+from dataclasses import replace as dataclasses_replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -52,8 +56,10 @@ __all__ = [
     "MIN_SERIES_SAMPLES",
     "SENSOR_STATUS",
     "SensorResponse",
+    "SensorTrajectory",
     "StressSeries",
     "frequency_response",
+    "simulate",
     "wall_shear_stress_from_tip_deflection_series",
 ]
 
@@ -905,4 +911,331 @@ def wall_shear_stress_from_tip_deflection_series(
         sample_rate=fs,
         response=resp,
         status=resp.status if flat else 5,
+    )
+
+
+# -- the pillar in time: the nonlinear simulation in SI -----------------------------------------
+
+
+@dataclass(frozen=True)
+class SensorTrajectory:
+    """A pillar's motion under a wall-shear-stress drive, in SI (from :func:`simulate`).
+
+    The nonlinear model in time (:func:`hairbed.dynamics.simulate_pillar`, theory.md §14)
+    with the quasi-steady resistive-force drag and the fluid's added mass on normal motion,
+    mapped to SI: t = T t', T = zeta_perp L^4/(E I); tau_w = Lambda/(Lambda/tau_w); lengths
+    L x; the base moment E I theta'(0)/L.
+
+    Attributes
+    ----------
+    time : ndarray
+        The output times [s]. Past an event or a failure (``t_end``) the values are NaN.
+    wall_shear_stress : ndarray
+        The drive tau_w(t) [Pa] at the times (as the integrator evaluates it).
+    tip_deflection, tip_height : ndarray
+        x(L, t), z(L, t) [m].
+    tip_angle : ndarray
+        theta(L, t) [rad].
+    base_moment : ndarray
+        E I theta_s(0, t) [N m].
+    arc_length : ndarray
+        The collocation nodes s [m] (0 to L).
+    angle : ndarray
+        theta [rad] at the nodes, (time, node).
+    x, z : ndarray
+        The pillar's shape [m] at the nodes, (time, node).
+    time_scale : float
+        T = zeta_perp L^4/(E I) [s].
+    inertia_number : float
+        mu = m/(zeta_perp T) [-], m = (rho_s + rho_f) pi a^2 (0 when ``overdamped``).
+    pillar_density : float
+        rho_s [kg/m^3] (NaN when ``overdamped``).
+    status : int
+        The integrator's code: 0 reached the last time, -8 the pillar reached the wall,
+        -2 the step limit, -3 a step-size underflow (:data:`hairbed.dynamics.
+        TRAJECTORY_STATUS`).
+    t_end : float
+        Where the integration ended [s].
+    trajectory : hairbed.dynamics.PillarTrajectory
+        The dimensionless run (time in T, lengths in L).
+    """
+
+    time: FloatArray
+    wall_shear_stress: FloatArray
+    tip_deflection: FloatArray
+    tip_height: FloatArray
+    tip_angle: FloatArray
+    base_moment: FloatArray
+    arc_length: FloatArray
+    angle: FloatArray
+    x: FloatArray
+    z: FloatArray
+    time_scale: float
+    inertia_number: float
+    pillar_density: float
+    status: int
+    t_end: float
+    trajectory: Any = field(repr=False, compare=False)
+
+    @property
+    def success(self) -> bool:
+        """True where the run reached its last time (status 0)."""
+        return self.status == 0
+
+    @property
+    def message(self) -> str:
+        """The status's message."""
+        return str(self.trajectory.message)
+
+    def to_xarray(self) -> Any:
+        """The motion as an xarray.Dataset with the dimensions ``time`` (and ``node`` for the
+        shape), CF attributes. Needs the ``io`` extra."""
+        from ._optional import optional_import
+
+        xr = optional_import("xarray", "SensorTrajectory.to_xarray", "io")
+        t2 = ("time", "node")
+        data = {
+            "wall_shear_stress": (
+                "time",
+                self.wall_shear_stress,
+                {"units": "Pa", "long_name": "wall shear stress (the drive)"},
+            ),
+            "tip_deflection": (
+                "time",
+                self.tip_deflection,
+                {"units": "m", "long_name": "tip deflection (streamwise)"},
+            ),
+            "tip_height": ("time", self.tip_height, {"units": "m", "long_name": "tip height"}),
+            "tip_angle": ("time", self.tip_angle, {"units": "rad", "long_name": "tip angle"}),
+            "base_moment": (
+                "time",
+                self.base_moment,
+                {"units": "N m", "long_name": "bending moment at the base"},
+            ),
+            "angle": (t2, self.angle, {"units": "rad", "long_name": "tangent angle"}),
+            "x": (t2, self.x, {"units": "m", "long_name": "streamwise position of the pillar"}),
+            "z": (t2, self.z, {"units": "m", "long_name": "height of the pillar"}),
+        }
+        return xr.Dataset(
+            data,
+            coords={
+                "time": (
+                    "time",
+                    self.time,
+                    {"units": "s", "long_name": "time", "standard_name": "time"},
+                ),
+                "arc_length": (
+                    "node",
+                    self.arc_length,
+                    {"units": "m", "long_name": "arc length from the base"},
+                ),
+            },
+            attrs={
+                "title": "hairbed pillar sensor in time",
+                "time_scale_s": self.time_scale,
+                "inertia_number": self.inertia_number,
+                "pillar_density_kg_per_m3": self.pillar_density,
+                "drag": "quasi-steady",
+                "status": self.status,
+                "message": self.message,
+                "t_end_s": self.t_end,
+                "Conventions": "CF-1.10",
+            },
+        )
+
+
+#: The parameters of each named signal that are times [s] (divided by T) and stresses [Pa]
+#: (times Lambda/tau_w); sine's third is omega [rad/s] (times T).
+_SIGNAL_UNITS = {
+    "constant": ("stress",),
+    "step": ("stress", "stress", "time"),
+    "ramp": ("stress", "stress", "time", "time"),
+    "sine": ("stress", "stress", "rate", "angle"),
+    "pulses": ("stress", "stress", "time", "time", "time"),
+}
+
+
+def _si_drive(drive: Any, t: FloatArray, t_scale: float, per_stress: float) -> Any:
+    """The dimensionless Lambda(t') of an SI drive tau_w(t) [Pa], t [s]."""
+    from . import dynamics
+
+    if isinstance(drive, dynamics.Signal):
+        if drive.kind == "sampled":
+            return dynamics.sampled(drive.times / t_scale, drive.values * per_stress)
+        scale = {"stress": per_stress, "time": 1.0 / t_scale, "rate": t_scale, "angle": 1.0}
+        units = _SIGNAL_UNITS[drive.kind]
+        params = tuple(p * scale[u] for p, u in zip(drive.params, units, strict=True))
+        return dataclasses_replace(drive, params=params)
+    if callable(drive):  # sampled at CALLABLE_SAMPLES uniform times of the run, in seconds
+        ts = np.linspace(float(t[0]), float(t[-1]), dynamics.CALLABLE_SAMPLES)
+        try:
+            raw = drive(ts)
+        except Exception as exc:  # the user's function: say whose error it is
+            raise ValueError(
+                f"wall_shear_stress: the callable raised {type(exc).__name__}: {exc} (it is "
+                "called with an ndarray of times [s] and returns stresses [Pa])"
+            ) from exc
+        vals = np.asarray(raw, dtype=np.float64)
+        if vals.ndim == 0:
+            vals = np.full(ts.shape, float(vals))
+        if vals.shape != ts.shape:
+            raise ValueError(
+                f"wall_shear_stress: the callable must return an array of the shape of t "
+                f"{ts.shape} [Pa], got {vals.shape}"
+            )
+        bad = ~np.isfinite(vals)
+        if np.any(bad):
+            i = int(np.flatnonzero(bad)[0])
+            raise ValueError(
+                f"wall_shear_stress: the callable returned {float(vals[i])!r} Pa at "
+                f"t = {float(ts[i])!r} s"
+            )
+        if ts[-1] == ts[0]:
+            return dynamics.constant(float(vals[0]) * per_stress)
+        return dynamics.sampled(ts / t_scale, vals * per_stress)
+    if isinstance(drive, (int, float, np.integer, np.floating)) and not isinstance(drive, bool):
+        tau = check_number(drive, "wall_shear_stress", unit="Pa")
+        return dynamics.step(tau * per_stress, 0.0, float(t[0]) / t_scale)  # from rest at t[0]
+    raise TypeError(
+        "wall_shear_stress must be a number [Pa] (a step from rest at t[0]), a hairbed.dynamics "
+        "signal in SI (step, ramp, sine, pulses, sampled: times [s], stresses [Pa], sine's "
+        f"omega [rad/s]) or a callable tau_w(t) [Pa] of t [s], got {type(drive).__name__}"
+    )
+
+
+def simulate(
+    pillar: Pillar,
+    wall_shear_stress: Any,
+    t: Any,
+    *,
+    pillar_density: float | None = None,
+    overdamped: bool = False,
+    num: int = 12,
+    rtol: float = 1e-6,
+    atol: float = 1e-7,
+    max_steps: int = 100_000,
+) -> SensorTrajectory:
+    """A pillar sensor's nonlinear motion under a wall-shear-stress drive tau_w(t), in SI.
+
+    :func:`hairbed.dynamics.simulate_pillar` (the planar inextensible rod with the
+    quasi-steady resistive-force drag of the pillar's profile, theory.md §14) in the units
+
+        T = zeta_perp L^4/(E I) [s],  Lambda = (Lambda/tau_w) tau_w,
+        mu = (rho_s + rho_f) pi a^2/(zeta_perp T),  chi = rho_s/(rho_s + rho_f)
+
+    (the fluid's added mass acts on normal motion only), and back: lengths L x [m], the base
+    moment E I theta_s(0)/L [N m]. The pillar starts at rest in the static state of the drive
+    just before t[0] (a number: at rest in still fluid, the step at t[0]).
+
+    Parameters
+    ----------
+    pillar : Pillar
+        The sensor; its fluid's density is needed for the inertia (``density=`` or ``fluid=``)
+        unless ``overdamped``. Its profile must not be 'wall-law' (whose shape changes with
+        tau_w(t)).
+    wall_shear_stress : number, Signal or callable
+        tau_w(t) [Pa]: a number (a step from rest at t[0]); a :mod:`hairbed.dynamics` signal
+        given in SI (``step(after, before, at)``, ``ramp``, ``sine(mean, amplitude, omega,
+        phase)``, ``pulses``, ``sampled``: times [s], stresses [Pa], omega [rad/s]); or a
+        callable tau_w(t) [Pa] of an ndarray of times [s] (sampled at
+        ``hairbed.dynamics.CALLABLE_SAMPLES`` uniform times of the run).
+    t : array_like
+        The output times [s], finite and non-decreasing.
+    pillar_density : float
+        rho_s [kg/m^3] (PDMS: about 970); not needed when ``overdamped``.
+    overdamped : bool, optional
+        Neglect all inertia (mu = 0): the elastoviscous relaxation alone.
+    num : int, optional
+        The Chebyshev degree N in [8, 128]. The default 12 with rtol 1e-6, atol 1e-7: a sharp
+        step with inertia strikes every resolved mode, and in the quasi-steady drag every
+        ringing mode decays at the same rate 1/(2 mu T), so the work grows fast with N
+        (the PDMS pillar in water, a step to 1 Pa: N = 12 takes about 15,000 steps to
+        t = 490 T and ends 4e-14 L from the static state; N = 16 at rtol 1e-8 exceeds
+        100,000). A smooth drive (``ramp``, ``sine``, a callable) allows larger N.
+    rtol, atol : float, optional
+        The integrator's tolerances on the angles [rad] (and rates).
+    max_steps : int, optional
+        The most steps (status -2 beyond).
+
+    Returns
+    -------
+    SensorTrajectory
+
+    Raises
+    ------
+    ValueError
+        A missing pillar_density or fluid density, a 'wall-law' pillar, bad times, or a drive
+        that cannot be evaluated (naming the parameter).
+    """
+    from . import dynamics
+
+    p = _as_pillar(pillar)
+    if p.profile == "wall-law":
+        raise ValueError(
+            "simulate() does not take a 'wall-law' pillar: the law of the wall changes its "
+            "shape with tau_w(t), which the dynamics' fixed profile U(z) cannot follow; use "
+            "'sublayer' (or frequency_response, which linearises the wall law)"
+        )
+    if not isinstance(overdamped, (bool, np.bool_)):
+        raise TypeError(f"overdamped must be True or False, got {overdamped!r}")
+    tt = as_float_array(t, "t", unit="s").reshape(-1)
+    if tt.size == 0:
+        raise ValueError("t must hold at least one time [s]")
+    zeta, ei, length = p.normal_drag_coefficient, p.bending_stiffness, p.length
+    t_scale = zeta * length**4 / ei
+    if not (math.isfinite(t_scale) and t_scale > 0.0):
+        raise ValueError(
+            f"the pillar's time scale zeta_perp L^4/(E I) = {t_scale!r} s under- or overflows"
+        )
+    if overdamped:
+        mu, chi, rho_s = 0.0, 1.0, math.nan
+    else:
+        if pillar_density is None:
+            raise ValueError(
+                "pillar_density [kg/m^3] is needed for the pillar's inertia (PDMS: about 970), "
+                "or overdamped=True to neglect it"
+            )
+        rho_s = check_positive(pillar_density, "pillar_density", "kg/m^3")
+        if p.density is None:
+            raise ValueError(
+                "the pillar needs the fluid's density [kg/m^3] for its added mass: give "
+                "Pillar(density=...) or Pillar(fluid=...), or overdamped=True"
+            )
+        rho_f = float(p.density)
+        mu = (rho_s + rho_f) * math.pi * p.radius**2 / (zeta * t_scale)
+        chi = rho_s / (rho_s + rho_f)
+    per_stress = p.forcing_per_stress
+    lam = _si_drive(wall_shear_stress, tt, t_scale, per_stress)
+    run = dynamics.simulate_pillar(
+        lam,
+        tt / t_scale,
+        theta0=p.base_angle,
+        profile=p._core_profile,
+        height_ratio=p.height_ratio,
+        gamma=p.drag_ratio,
+        mu=mu,
+        tangential_mass=chi,
+        num=num,
+        rtol=rtol,
+        atol=atol,
+        max_steps=max_steps,
+    )
+    ii = run._ops["ii"]  # the collocation's integration matrix: the shape from the angles
+    return SensorTrajectory(
+        time=tt,
+        wall_shear_stress=np.asarray(run.forcing, dtype=np.float64) / per_stress,
+        tip_deflection=length * run.tip_deflection,
+        tip_height=length * run.tip_height,
+        tip_angle=np.asarray(run.tip_angle, dtype=np.float64),
+        base_moment=ei * run.base_moment / length,
+        arc_length=length * run.s,
+        angle=run.theta,
+        x=length * (np.sin(run.theta) @ ii.T),
+        z=length * (np.cos(run.theta) @ ii.T),
+        time_scale=t_scale,
+        inertia_number=mu,
+        pillar_density=rho_s,
+        status=int(run.status),
+        t_end=float(run.t_end) * t_scale,
+        trajectory=run,
     )
