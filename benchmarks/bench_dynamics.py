@@ -24,7 +24,9 @@ Rows (targets of the issue in brackets):
 4. the same transfer function by one dense LU per frequency (numpy, batched), and the ratio;
 5. a batch of 1,000 different pillars (``simulate_pillars``: steps to Lambda in [1, 30] at
    theta0 in [-0.5, 0.5], the settings of row 1) on one thread and on two, interleaved
-   [<= 10 s on one core; two threads >= 1.8x]; CPU per wall near 2 says both threads ran;
+   [<= 10 s on one core; two threads >= 1.8x]; CPU per wall near 2 says both threads ran,
+   and a control (a compiled nogil loop on one and two threads) says how many cores the
+   machine gave this process then;
 6. the fold jump: a ramp through the upper fold of the pillar at theta0 = -1.4 at rates
    1e-5 to 1e-2, the delay past the fold (``continue_pillar``'s) and its fitted exponent
    [2/3];
@@ -166,6 +168,28 @@ def _ringing(out: dict[str, Any], repeat: int) -> None:
     out["ringing_smoothed_scipy_radau_over_hairbed"] = ts / (1e-3 * out["ringing_smoothed_ms"])
 
 
+def _control(workers: int) -> tuple[float, float]:
+    """(wall, CPU) of a fixed amount of a compiled nogil loop shared over ``workers``
+    threads: how many cores the machine gives this process at the moment."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    import numba
+
+    @numba.njit(nogil=True, cache=False)
+    def busy(n: int) -> float:
+        acc = 0.0
+        for i in range(n):
+            acc += math.sin(i * 1e-3)
+        return acc
+
+    busy(10)
+    c0 = time.process_time()
+    t0 = time.perf_counter()
+    with ThreadPoolExecutor(workers) as pool:
+        list(pool.map(busy, [20_000_000 // workers] * workers))
+    return time.perf_counter() - t0, time.process_time() - c0
+
+
 def _batch(out: dict[str, Any], quick: bool) -> None:
     rng = np.random.default_rng(30)
     count = 200 if quick else 1000
@@ -190,6 +214,8 @@ def _batch(out: dict[str, Any], quick: bool) -> None:
     out["batch_2_threads_s"] = min(times[2])
     out["batch_2_threads_cpu_per_wall"] = cpus[2][int(np.argmin(times[2]))] / min(times[2])
     out["batch_speedup_2_over_1"] = min(times[1]) / min(times[2])
+    ctl = {w: min(_control(w)[0] for _ in range(2)) for w in (1, 2)}
+    out["control_nogil_loop_speedup_2_over_1"] = ctl[1] / ctl[2]
     out["batch_all_success"] = bool(all(r.success for r in runs))
     out["batch_max_error_vs_static"] = float(
         np.max(np.abs(np.array([r.tip_deflection[-1] for r in runs]) - st.tip_deflection))
