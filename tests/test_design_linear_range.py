@@ -78,3 +78,12 @@ def test_quantity_value_is_the_scan_value() -> None:
     for p in _nearby(3, 4, 0.0):
         assert q(p) == pytest.approx(p.linear_range(0.05).wall_shear_stress, rel=AGREE, abs=0.0)
     assert q._tracker.newton >= 2  # type: ignore[attr-defined]
+
+
+def test_follow_false_scans_every_pillar() -> None:
+    tracker = LinearRangeTracker(0.05, follow=False)
+    for p in _nearby(5, 3, 0.0):
+        tau, state = tracker(p)
+        assert state is None
+        assert tau == p.linear_range(0.05).wall_shear_stress
+    assert tracker.scans == 3 and tracker.newton == 0

@@ -61,14 +61,19 @@ class LinearRangeTracker:
     rtol : float
         The linear calibration's relative error that ends the range, in (0, 1) [-].
 
+    follow : bool
+        False: every pillar is scanned (:meth:`~hairbed.Pillar.linear_range`), the cost
+        without the tracker (``benchmarks/bench_design.py``).
+
     Attributes
     ----------
     scans, newton : int
         How many roots came from a full scan and how many from Newton's method.
     """
 
-    def __init__(self, rtol: float) -> None:
+    def __init__(self, rtol: float, follow: bool = True) -> None:
         self.rtol = float(rtol)
+        self.follow = bool(follow)
         self._memory: deque[tuple[tuple[Any, ...], float, float, float, float]] = deque(
             maxlen=MEMORY
         )
@@ -85,7 +90,7 @@ class LinearRangeTracker:
         """
         key = _profile_key(p)
         th, gamma = p.base_angle, p.drag_ratio
-        near = self._nearest(key, th, gamma)
+        near = self._nearest(key, th, gamma) if self.follow else None
         if near is not None:
             found = self._newton(p, near[0], near[1])
             if found is not None:
