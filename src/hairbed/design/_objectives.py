@@ -727,7 +727,7 @@ def linear_range(rtol: float = 0.1) -> Quantity:
 
     Its value is :meth:`~hairbed.Pillar.linear_range`'s: the full scan at the first pillar,
     then Lambda* followed by Newton's method from the root of the nearest pillar solved
-    before (:class:`hairbed.design._linear_range.LinearRangeTracker`, checked to stay the
+    before (``hairbed.design._linear_range.LinearRangeTracker``, checked to stay the
     first root; a failed check scans again), the same root to 1e-10.
 
     Parameters
