@@ -77,6 +77,13 @@ FALLBACKS = {
     ("linear-range", "drag_scale"): "1",
     ("solve", "drag_scale"): "1",
     ("sweep", "drag_scale"): "1",
+    # the pillar sensor in time (a Pillar's defaults; --t-end's from its decay time)
+    **{
+        (c, d): v
+        for c in ("simulate", "response")
+        for d, v in (("profile", "sublayer"), ("drag_scale", "1"), ("base_angle", "0"))
+    },
+    ("simulate", "t_end"): "20",
 }
 
 

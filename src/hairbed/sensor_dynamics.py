@@ -60,6 +60,7 @@ __all__ = [
     "StressSeries",
     "frequency_response",
     "simulate",
+    "time_scale_and_inertia",
     "wall_shear_stress_from_tip_deflection_series",
 ]
 
@@ -1103,6 +1104,47 @@ def _si_drive(drive: Any, t: FloatArray, t_scale: float, per_stress: float) -> A
     )
 
 
+def time_scale_and_inertia(
+    pillar: Pillar, pillar_density: float | None = None, *, overdamped: bool = False
+) -> tuple[float, float, float]:
+    """(T [s], mu [-], chi [-]) of :func:`simulate`: the elastoviscous time
+    T = zeta_perp L^4/(E I), the inertia number mu = (rho_s + rho_f) pi a^2/(zeta_perp T)
+    and the tangential-to-normal mass ratio chi = rho_s/(rho_s + rho_f) of the quasi-steady
+    drag with the fluid's added mass; (T, 0, 1) when ``overdamped``.
+
+    Raises
+    ------
+    ValueError
+        A missing or non-positive pillar_density [kg/m^3], a pillar without the fluid's
+        density, or a time scale that under- or overflows.
+    """
+    p = _as_pillar(pillar)
+    if not isinstance(overdamped, (bool, np.bool_)):
+        raise TypeError(f"overdamped must be True or False, got {overdamped!r}")
+    zeta = p.normal_drag_coefficient
+    t_scale = zeta * p.length**4 / p.bending_stiffness
+    if not (math.isfinite(t_scale) and t_scale > 0.0):
+        raise ValueError(
+            f"the pillar's time scale zeta_perp L^4/(E I) = {t_scale!r} s under- or overflows"
+        )
+    if overdamped:
+        return t_scale, 0.0, 1.0
+    if pillar_density is None:
+        raise ValueError(
+            "pillar_density [kg/m^3] is needed for the pillar's inertia (PDMS: about 970), "
+            "or overdamped=True to neglect it"
+        )
+    rho_s = check_positive(pillar_density, "pillar_density", "kg/m^3")
+    if p.density is None:
+        raise ValueError(
+            "the pillar needs the fluid's density [kg/m^3] for its added mass: give "
+            "Pillar(density=...) or Pillar(fluid=...), or overdamped=True"
+        )
+    rho_f = float(p.density)
+    mu = (rho_s + rho_f) * math.pi * p.radius**2 / (zeta * t_scale)
+    return t_scale, mu, rho_s / (rho_s + rho_f)
+
+
 def simulate(
     pillar: Pillar,
     wall_shear_stress: Any,
@@ -1176,34 +1218,12 @@ def simulate(
             "shape with tau_w(t), which the dynamics' fixed profile U(z) cannot follow; use "
             "'sublayer' (or frequency_response, which linearises the wall law)"
         )
-    if not isinstance(overdamped, (bool, np.bool_)):
-        raise TypeError(f"overdamped must be True or False, got {overdamped!r}")
     tt = as_float_array(t, "t", unit="s").reshape(-1)
     if tt.size == 0:
         raise ValueError("t must hold at least one time [s]")
-    zeta, ei, length = p.normal_drag_coefficient, p.bending_stiffness, p.length
-    t_scale = zeta * length**4 / ei
-    if not (math.isfinite(t_scale) and t_scale > 0.0):
-        raise ValueError(
-            f"the pillar's time scale zeta_perp L^4/(E I) = {t_scale!r} s under- or overflows"
-        )
-    if overdamped:
-        mu, chi, rho_s = 0.0, 1.0, math.nan
-    else:
-        if pillar_density is None:
-            raise ValueError(
-                "pillar_density [kg/m^3] is needed for the pillar's inertia (PDMS: about 970), "
-                "or overdamped=True to neglect it"
-            )
-        rho_s = check_positive(pillar_density, "pillar_density", "kg/m^3")
-        if p.density is None:
-            raise ValueError(
-                "the pillar needs the fluid's density [kg/m^3] for its added mass: give "
-                "Pillar(density=...) or Pillar(fluid=...), or overdamped=True"
-            )
-        rho_f = float(p.density)
-        mu = (rho_s + rho_f) * math.pi * p.radius**2 / (zeta * t_scale)
-        chi = rho_s / (rho_s + rho_f)
+    ei, length = p.bending_stiffness, p.length
+    t_scale, mu, chi = time_scale_and_inertia(p, pillar_density, overdamped=overdamped)
+    rho_s = math.nan if overdamped else float(pillar_density)  # type: ignore[arg-type]
     per_stress = p.forcing_per_stress
     lam = _si_drive(wall_shear_stress, tt, t_scale, per_stress)
     run = dynamics.simulate_pillar(

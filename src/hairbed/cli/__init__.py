@@ -1,13 +1,13 @@
 """The ``hairbed`` command line: a thin layer over the library.
 
 Subcommands: ``solve``, ``sweep``, ``invert``, ``bistability``, ``calibrate``, ``measure``,
-``linear-range``, ``figures``, ``bench``, ``demo``, ``explore``. Run ``hairbed <command>
---help`` for the options and examples of each. Bad input ends with one line ``hairbed: error:
-<message>`` on stderr and exit status 2 (so is what the library does not support yet, its
-``NotImplementedError``), an output path that cannot be written (refused before
-any work) included, as ``hairbed: error: cannot write PATH: <reason>``; a file whose writing
-fails after the work (a full disk) with ``hairbed: cannot write PATH: <reason>`` and a missing
-optional dependency with ``hairbed: <command> needs <module>: pip install
+``linear-range``, ``figures``, ``bench``, ``demo``, ``explore``, ``simulate``, ``response``.
+Run ``hairbed <command> --help`` for the options and examples of each. Bad input ends with one
+line ``hairbed: error: <message>`` on stderr and exit status 2 (so is what the library does not
+support yet, its ``NotImplementedError``), an output path that cannot be written (refused
+before any work) included, as ``hairbed: error: cannot write PATH: <reason>``; a file whose
+writing fails after the work (a full disk) with ``hairbed: cannot write PATH: <reason>`` and a
+missing optional dependency with ``hairbed: <command> needs <module>: pip install
 'hairbed[<extra>]'``, both exit status 1; Ctrl-C with the one line
 ``hairbed: interrupted`` and exit status 130, leaving no partial file behind; a warning (of the
 library, such as a flow outside the model's validity, or of numpy) is the one line ``hairbed:
@@ -48,6 +48,8 @@ from . import (
     _invert,
     _linear_range,
     _measure,
+    _response,
+    _simulate,
     _solve,
     _sweep,
     _valve,
@@ -76,6 +78,8 @@ COMMANDS = (
     _linear_range,
     _valve,
     _design,
+    _simulate,
+    _response,
 )
 
 
