@@ -182,14 +182,9 @@ def test_energy_balance_ringing_independent_quadrature() -> None:
     assert np.max(np.abs(rate - power)) <= 5e-9 * np.max(np.abs(power))
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="PillarTrajectory.energy() says d(elastic + kinetic)/dt = input - dissipation, "
-    "which holds only for tangential_mass = 1: with chi < 1 the turning mass's power "
-    "-mu (1 - chi) int theta_t (r_t . t)(r_t . n) ds is missing (0.019 of a power of 0.86 "
-    "here; reported to the lead)",
-)
 def test_the_trajectorys_own_energy_budget_with_an_anisotropic_mass() -> None:
+    """PillarTrajectory.energy() with chi < 1: its input carries the turning mass's power
+    -mu (1 - chi) int theta_t (r_t . t)(r_t . n) ds (0.019 of a power of 0.86 here)."""
     h = 2e-3
     centres = np.linspace(0.3, 1.8, 7)
     times = np.sort(np.concatenate([centres + j * h for j in (-2, -1, 0, 1, 2)]))

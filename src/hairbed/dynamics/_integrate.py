@@ -130,11 +130,14 @@ class PillarTrajectory:
 
     def energy(self) -> dict[str, FloatArray]:
         """The energy budget at every output time (units E I/L, time T):
-        ``elastic`` 1/2 int theta_s^2 ds, ``kinetic`` 1/2 mu int r_t . C r_t ds (C the
-        mass's anisotropy), ``input`` the power of the flow and the tip load on the moving
-        pillar, int Lambda U(z) e_x . A r_t ds + P x1_t, and ``dissipation`` int r_t . A r_t
-        ds (A = I - (1 - gamma) t t). In the model d(elastic + kinetic)/dt = input -
-        dissipation."""
+        ``elastic`` 1/2 int theta_s^2 ds, ``kinetic`` 1/2 mu int r_t . C r_t ds (C = I -
+        (1 - chi) t t the mass's anisotropy, chi the tangential mass), ``input`` the power
+        of the flow and the tip load on the moving pillar, int Lambda U(z) e_x . A r_t ds +
+        P x1_t, and with chi < 1 that of the fluid's added mass as the pillar turns,
+        1/2 mu int r_t . (dC/dt) r_t ds = -mu (1 - chi) int theta_t (r_t . t)(r_t . n) ds
+        (the model's inertia is C r_tt, not d/dt (C r_t)), and ``dissipation``
+        int r_t . A r_t ds (A = I - (1 - gamma) t t). In the model d(elastic +
+        kinetic)/dt = input - dissipation."""
         ops = self._ops
         ii, d1s, prof = ops["ii"], ops["d1s"], ops["prof"]
         th, tt = self.theta, self.theta_t
@@ -155,6 +158,9 @@ class PillarTrajectory:
         p = s * vx + c * vz
         ax = vx - (1.0 - self.gamma) * s * p  # (A r_t)_x
         inp = self.forcing * ((u * ax) @ ii[-1]) + self.tip_load * vx[:, -1]
+        if self.tangential_mass != 1.0:  # the anisotropic mass turning with the pillar
+            q = c * vx - s * vz  # n . r_t
+            inp = inp - self.mu * (1.0 - self.tangential_mass) * ((tt * p * q) @ ii[-1])
         return {
             "elastic": elastic,
             "kinetic": kinetic,
