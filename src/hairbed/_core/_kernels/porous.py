@@ -3,29 +3,15 @@
 The fluid inside the bed is solved with the hair, on the hair's own nodes: while z(s) is
 monotone, the bed's momentum balance eta u_zz + G = (1/A) f_x/cos(theta) is, along the arc
 length, w' = cos(theta) Q and Q' = f_x - Pi cos(theta), with w the fluid's velocity and Q its
-shear stress in load units (theory.md §13). Unknowns at the N + 1 mapped nodes s_j: theta_j,
-w_j, Q_j, then h1 and, for the flow drive, Pi. The rows:
+shear stress in load units (theory.md §13). The system (its unknowns theta, w, Q at the
+N + 1 mapped nodes, h1 and Pi or omega2; its rows; its exact Jacobian, O(N^2) to build, no
+z-dependence entering as the fluid lives on the hair's arc length) is ``porous_system``'s;
+``hfix`` (D_HFIX; NaN: free) freezes the tip height that the gap sees, for the scan of
+``solve_porous_all``: the states are the roots of z1(hfix) - hfix.
 
-    theta_0 = theta0
-    (d2 theta)_i + F_x(s_i) cos theta_i - F_z(s_i) sin theta_i = 0,   i = 1 .. N - 1
-    (d theta)_N = 0
-    w_i - (I [cos(theta) Q])_i = 0,                                  i = 0 .. N
-    Q_i - Q_N + ((I_N - I_i) [f_x - Pi cos(theta)]) = 0,             i = 0 .. N - 1
-    eps w_N + u Q_N - Pi u^2/(2 eps) - omega2 = 0,   u = 1 - eps h1   (the gap's exact profile)
-    h1 - (I [cos(theta)])_N = 0
-    flow drive: 6 eps^2 Phi - q = 0,  Phi = (I [w cos(theta)])_N + w_N g + Q_N g^2/2 - Pi g^3/6,
-    g = 1/eps - h1
-    inverse (``DRIVE_INVERSE``): omega2 an unknown, (I [sin(theta)])_N - x1t = 0
-
-with the drag per unit length f_x = (w/kappa)(cos^2 + gamma sin^2),
-f_z = -(w/kappa)(1 - gamma) sin cos, and F(s_i) = (I_N - I_i) f, I the spectral integration
-matrix from the base. Every entry of the Jacobian is written out (no z-dependence enters: the
-fluid lives on the hair's arc length), so one Jacobian costs O(N^2) and one Newton step the LU
-of a (3N + 4)-square matrix. ``hfix`` (NaN: free) freezes the tip height that the gap sees,
-for the scan of ``solve_porous_all``: the states are the roots of z1(hfix) - hfix.
-
-Newton, its line search, the chord steps, the ladder of N and the load continuation from rest
-are those of ``spectral`` (the same constants and the same in-place LU). The error estimate is
+Newton, its line search, the chord steps and the load continuation from rest are
+``spectral``'s own (one Newton for every model: the porous system enters it as the codes
+``spectral.POROUS`` + drive); the ladder of N as there. The error estimate is
 the largest Chebyshev tail of theta, w and Q (the fluid's relative to its largest value) plus
 the rounding part ``ROUNDING`` N^2 max(1, |theta|). Status codes as ``spectral``'s.
 """
@@ -49,20 +35,20 @@ from .description import (
     D_X1,
     NDESC,
 )
+from .porous_system import DRIVE_FLOW, DRIVE_INVERSE, DRIVE_PRESSURE, _fields, _jacobian, _residual
 from .shape import shape_point, shape_setup
 from .spectral import (
-    MAX_CONTINUATION,
     MAXITER,
+    POROUS,
     ROUNDING,
-    STATUS_BREAKDOWN,
     STATUS_INACCURATE,
-    STATUS_LOST,
-    STATUS_MAXITER,
     _clenshaw,
     _coefficients,
+    _continuation,
     _lu_apply,
     _lu_factor,
     _map,
+    _newton,
     _operators,
 )
 from .state import MAX_FOLDS, MAX_ROOTS, NFIELDS, ROOT_LOW, find_folds, needs_folds, solve_one
@@ -87,231 +73,11 @@ __all__ = [
     "solve_porous_array",
 ]
 
-DRIVE_PRESSURE = 0
-DRIVE_FLOW = 1
-#: The inverse problem of the wall drive: omega2 is the unknown that puts the tip at x1t.
-DRIVE_INVERSE = 2
-_XTOL = 1e-12
-_FULL_STEP = 1e-7
-_CHORD_START = 1e-3
-_CHORD_RATE = 0.1
-#: The load description of one element: the slots of its row of ``desc`` (the one table of
-#: ``description``). Each drive fills its own (the inverse's tip deflection, the flow drive's
-#: q); none is reused for another.
 #: Output columns of :func:`solve_porous_array`: status, nit, num, h1, x1, theta1, theta'(0),
 #: Q(1) (the tip plane's stress), w(1), Pi, Q(0) (the wall's stress), error estimate,
 #: residual, max |theta|, F_x(0), F_z(0) (the drag's totals), the map parameter, omega2
 #: (the input, or the inverse's solution).
 NCOLS = 18
-
-
-@kernel
-def _fields(u, num, ii, kappa, gamma, cs, sn, fx, fz):
-    """cos, sin, f_x, f_z at the nodes; returns the totals F_x(0), F_z(0)."""
-    n1 = num + 1
-    one_g = 1.0 - gamma
-    for j in range(n1):
-        c = math.cos(u[j])
-        s = math.sin(u[j])
-        cs[j] = c
-        sn[j] = s
-        wk = u[n1 + j] / kappa
-        fx[j] = wk * (c * c + gamma * s * s)
-        fz[j] = -wk * one_g * s * c
-    tx = 0.0
-    tz = 0.0
-    for j in range(n1):
-        tx += ii[num, j] * fx[j]
-        tz += ii[num, j] * fz[j]
-    return tx, tz
-
-
-@kernel
-def _residual(u, num, dd, ii, code, d, cs, sn, fx, fz, res):
-    """The residual of the collocation system (the module's rows) at u into res, with cos,
-    sin and the drag at the nodes into cs, sn, fx, fz; returns its sum of squares. ``d`` the
-    element's load description (the ``D_*`` slots)."""
-    theta0, kappa, gamma, omega2 = d[D_THETA0], d[D_KAPPA], d[D_GAMMA], d[D_OMEGA2]
-    eps, pi_in, q, x1t, hfix = d[D_EPS], d[D_PI], d[D_Q], d[D_X1], d[D_HFIX]
-    n1 = num + 1
-    wo = n1
-    qo = 2 * n1
-    hi = 3 * n1
-    h = u[hi] if math.isnan(hfix) else hfix
-    pi_l = u[hi + 1] if code == DRIVE_FLOW else pi_in
-    if code == DRIVE_INVERSE:
-        omega2 = u[hi + 1]
-    tx, tz = _fields(u, num, ii, kappa, gamma, cs, sn, fx, fz)
-    res[0] = u[0] - theta0
-    ref = u[num]
-    for i in range(1, num):
-        a2 = 0.0
-        ax = 0.0
-        az = 0.0
-        for j in range(n1):
-            a2 += dd[i, j] * (u[j] - ref)
-            ax += ii[i, j] * fx[j]
-            az += ii[i, j] * fz[j]
-        res[i] = a2 + (tx - ax) * cs[i] - (tz - az) * sn[i]
-    a1 = 0.0
-    for j in range(n1):
-        a1 += dd[num, j] * (u[j] - ref)
-    res[num] = a1
-    # the fluid
-    totg = 0.0
-    for j in range(n1):
-        totg += ii[num, j] * (fx[j] - pi_l * cs[j])
-    qn = u[qo + num]
-    for i in range(n1):
-        acc = 0.0
-        accg = 0.0
-        for j in range(n1):
-            acc += ii[i, j] * cs[j] * u[qo + j]
-            accg += ii[i, j] * (fx[j] - pi_l * cs[j])
-        res[wo + i] = u[wo + i] - acc
-        if i < num:
-            res[qo + i] = u[qo + i] - qn + (totg - accg)
-    uu = 1.0 - eps * h
-    gap = eps * u[wo + num] + uu * qn - omega2
-    if pi_l != 0.0:
-        gap -= pi_l * uu * uu / (2.0 * eps)
-    res[qo + num] = gap
-    zt = 0.0
-    for j in range(n1):
-        zt += ii[num, j] * cs[j]
-    res[hi] = u[hi] - zt
-    m = hi + 1
-    if code == DRIVE_FLOW:
-        g = 1.0 / eps - h
-        phi = u[wo + num] * g + qn * g * g / 2.0 - pi_l * g * g * g / 6.0
-        for j in range(n1):
-            phi += ii[num, j] * u[wo + j] * cs[j]
-        res[hi + 1] = 6.0 * eps * eps * phi - q
-        m = hi + 2
-    elif code == DRIVE_INVERSE:
-        x1 = 0.0
-        for j in range(n1):
-            x1 += ii[num, j] * sn[j]
-        res[hi + 1] = x1 - x1t
-        m = hi + 2
-    ss = 0.0
-    for i in range(m):
-        ss += res[i] * res[i]
-    return ss
-
-
-@kernel
-def _jacobian(u, num, dd, ii, code, d, cs, sn, fx, fz, dfx, dfz, jac):
-    """The exact Jacobian of :func:`_residual` at u into jac (cs, sn, fx, fz from that call;
-    dfx, dfz workspace for the drag's derivatives in theta)."""
-    kappa, gamma, eps, pi_in, hfix = d[D_KAPPA], d[D_GAMMA], d[D_EPS], d[D_PI], d[D_HFIX]
-    n1 = num + 1
-    wo = n1
-    qo = 2 * n1
-    hi = 3 * n1
-    m = hi + 1 if code == DRIVE_PRESSURE else hi + 2
-    free = math.isnan(hfix)
-    h = u[hi] if free else hfix
-    pi_l = u[hi + 1] if code == DRIVE_FLOW else pi_in
-    one_g = 1.0 - gamma
-    for i in range(m):
-        for k in range(m):
-            jac[i, k] = 0.0
-    for j in range(n1):
-        c, s = cs[j], sn[j]
-        wk = u[wo + j] / kappa
-        dfx[j] = -2.0 * wk * one_g * s * c  # d f_x / d theta
-        dfz[j] = -wk * one_g * (c * c - s * s)  # d f_z / d theta
-    tx = 0.0
-    tz = 0.0
-    for j in range(n1):
-        tx += ii[num, j] * fx[j]
-        tz += ii[num, j] * fz[j]
-    jac[0, 0] = 1.0
-    for i in range(1, num):
-        ci, si = cs[i], sn[i]
-        ax = 0.0
-        az = 0.0
-        for j in range(n1):
-            ax += ii[i, j] * fx[j]
-            az += ii[i, j] * fz[j]
-        fxi = tx - ax
-        fzi = tz - az
-        for k in range(n1):
-            r = ii[num, k] - ii[i, k]
-            ak = cs[k] * cs[k] + gamma * sn[k] * sn[k]
-            bk = one_g * sn[k] * cs[k]
-            jac[i, k] = dd[i, k] + r * (ci * dfx[k] - si * dfz[k])
-            jac[i, wo + k] = r * (ci * ak + si * bk) / kappa
-        jac[i, i] -= fxi * si + fzi * ci
-    for k in range(n1):
-        jac[num, k] = dd[num, k]
-    # w rows
-    for i in range(n1):
-        jac[wo + i, wo + i] = 1.0
-        for k in range(n1):
-            jac[wo + i, k] = ii[i, k] * sn[k] * u[qo + k]
-            jac[wo + i, qo + k] = -ii[i, k] * cs[k]
-    # Q rows
-    for i in range(num):
-        jac[qo + i, qo + i] += 1.0
-        jac[qo + i, qo + num] -= 1.0
-        dp = 0.0
-        for k in range(n1):
-            r = ii[num, k] - ii[i, k]
-            ak = cs[k] * cs[k] + gamma * sn[k] * sn[k]
-            jac[qo + i, k] = r * (dfx[k] + pi_l * sn[k])
-            jac[qo + i, wo + k] = r * ak / kappa
-            dp -= r * cs[k]
-        if code == DRIVE_FLOW:
-            jac[qo + i, hi + 1] = dp
-    uu = 1.0 - eps * h
-    qn = u[qo + num]
-    jac[qo + num, wo + num] = eps
-    jac[qo + num, qo + num] = uu
-    if free:
-        jac[qo + num, hi] = -eps * qn
-        if pi_l != 0.0:
-            jac[qo + num, hi] += pi_l * uu
-    if code == DRIVE_FLOW:
-        jac[qo + num, hi + 1] = -uu * uu / (2.0 * eps)
-    for k in range(n1):
-        jac[hi, k] = ii[num, k] * sn[k]
-    jac[hi, hi] = 1.0
-    if code == DRIVE_INVERSE:
-        jac[qo + num, hi + 1] = -1.0
-        for k in range(n1):
-            jac[hi + 1, k] = ii[num, k] * cs[k]
-    if code == DRIVE_FLOW:
-        g = 1.0 / eps - h
-        e6 = 6.0 * eps * eps
-        for k in range(n1):
-            jac[hi + 1, k] = -e6 * ii[num, k] * u[wo + k] * sn[k]
-            jac[hi + 1, wo + k] = e6 * ii[num, k] * cs[k]
-        jac[hi + 1, wo + num] += e6 * g
-        jac[hi + 1, qo + num] = e6 * g * g / 2.0
-        if free:
-            jac[hi + 1, hi] = e6 * (-u[wo + num] - qn * g + pi_l * g * g / 2.0)
-        jac[hi + 1, hi + 1] = -eps * eps * g * g * g
-
-
-@kernel
-def _step_size(step, u, num, m):
-    """The max norm of a Newton step: theta and h1 in radians and L, the fluid relative to
-    its largest value, Pi relative to max(1, |Pi|)."""
-    n1 = num + 1
-    scale = 1.0
-    for i in range(n1, 3 * n1):
-        scale = max(scale, abs(u[i]))
-    big = 0.0
-    for i in range(n1):
-        big = max(big, abs(step[i]))
-    for i in range(n1, 3 * n1):
-        big = max(big, abs(step[i]) / scale)
-    big = max(big, abs(step[3 * n1]))
-    if m > 3 * n1 + 1:
-        big = max(big, abs(step[m - 1]) / max(1.0, abs(u[m - 1])))
-    return big
 
 
 @kernel
@@ -340,128 +106,6 @@ def _fluid_solve(u, num, dd, ii, code, d, work, jac, sub, piv):
         ra = n1 + a if a < 2 * n1 else hi + 1
         u[ra] += rhs[a]
     return True
-
-
-@kernel
-def _newton(u, num, dd, ii, code, d, work, jac, piv, nit0, maxiter):
-    """Damped Newton on the collocation system from u (in place), as ``spectral``'s: the
-    exact Jacobian, a backtracking line search on the squared residual (a step limited to
-    one radian and a tenth of the height first), chord steps once it contracts fast.
-    Returns (status, iterations, max abs(residual)). ``work`` is (12, >= m)."""
-    eps, hfix = d[D_EPS], d[D_HFIX]
-    n1 = num + 1
-    hi = 3 * n1
-    m = hi + 1 if code == DRIVE_PRESSURE else hi + 2
-    cs, sn, fx, fz, dfx, dfz = work[0], work[1], work[2], work[3], work[4], work[5]
-    res, step, trial = work[6], work[7], work[8]
-    f = _residual(u, num, dd, ii, code, d, cs, sn, fx, fz, res)
-    chord = False
-    last = math.inf
-    for it in range(maxiter):
-        if not math.isfinite(f):
-            return STATUS_BREAKDOWN, nit0 + it, math.nan
-        if not chord:
-            _jacobian(u, num, dd, ii, code, d, cs, sn, fx, fz, dfx, dfz, jac)
-            if not _lu_factor(jac, piv, m):
-                return STATUS_BREAKDOWN, nit0 + it, math.nan
-        for i in range(m):
-            step[i] = -res[i]
-        _lu_apply(jac, piv, step, m)
-        big = _step_size(step, u, num, m)
-        if not math.isfinite(big):
-            return STATUS_BREAKDOWN, nit0 + it, math.nan
-        if chord and big > _CHORD_RATE * last:  # the chord contracts too slowly: refresh
-            chord = False
-            _jacobian(u, num, dd, ii, code, d, cs, sn, fx, fz, dfx, dfz, jac)
-            if not _lu_factor(jac, piv, m):
-                return STATUS_BREAKDOWN, nit0 + it, math.nan
-            for i in range(m):
-                step[i] = -res[i]
-            _lu_apply(jac, piv, step, m)
-            big = _step_size(step, u, num, m)
-        lam = 1.0
-        if big > _FULL_STEP:
-            lam = min(1.0, 1.0 / big, 0.1 / max(abs(step[hi]), 1e-300))
-        while True:
-            for i in range(m):
-                trial[i] = u[i] + lam * step[i]
-            if math.isnan(hfix) and 1.0 - eps * trial[hi] <= 0.0:
-                ft = math.inf
-            else:
-                ft = _residual(trial, num, dd, ii, code, d, cs, sn, fx, fz, res)
-            if big <= _FULL_STEP or ft <= (1.0 - 1e-4 * lam) * f:
-                break
-            lam *= 0.5
-            if lam < 1e-6:
-                return STATUS_BREAKDOWN, nit0 + it + 1, math.sqrt(f)
-        for i in range(m):
-            u[i] = trial[i]
-        f = ft
-        chord = lam == 1.0 and big <= _CHORD_START and big <= _CHORD_RATE * last
-        last = big
-        if abs(u[hi]) > 1.0 + 1e-9 or (math.isnan(hfix) and 1.0 - eps * u[hi] <= 0.0):
-            return STATUS_LOST, nit0 + it + 1, math.nan
-        for j in range(n1):
-            if abs(u[j]) > 10.0:
-                return STATUS_LOST, nit0 + it + 1, math.nan
-        if lam * big <= _XTOL:
-            rmax = 0.0
-            for i in range(m):
-                rmax = max(rmax, abs(res[i]))
-            return 0, nit0 + it + 1, rmax
-    return STATUS_MAXITER, nit0 + maxiter, math.sqrt(f)
-
-
-@kernel
-def _continuation(u, keep, num, dd, ii, code, d, work, jac, piv, nit0):
-    """Newton along the load factor lam from 0 (at rest) to 1, scaling omega2, Pi and q;
-    for the inverse (``DRIVE_INVERSE``) lam moves the tip from its rest, sin(theta0), to x1t,
-    and omega2 (an unknown) starts at 0."""
-    n1 = num + 1
-    hi = 3 * n1
-    m = hi + 1 if code == DRIVE_PRESSURE else hi + 2
-    inverse = code == DRIVE_INVERSE
-    theta0 = d[D_THETA0]
-    rest = math.sin(theta0)
-    dl = d.copy()  # the description along the continuation: its loads scaled
-    prev = keep[1]
-    last = keep[2]
-    for j in range(m):
-        last[j] = 0.0
-    for j in range(n1):
-        last[j] = theta0
-    last[hi] = math.cos(theta0)
-    for j in range(m):
-        prev[j] = last[j]
-    lam = 0.0
-    lam_prev = 0.0
-    dlam = 0.125
-    nit = nit0
-    rmax = math.nan
-    for _ in range(MAX_CONTINUATION):
-        target = min(1.0, lam + dlam)
-        slope = (target - lam) / (lam - lam_prev) if lam > lam_prev else 0.0
-        for j in range(m):
-            u[j] = last[j] + slope * (last[j] - prev[j])
-        dl[D_OMEGA2] = target * d[D_OMEGA2]
-        dl[D_PI] = target * d[D_PI]
-        dl[D_Q] = target * d[D_Q]
-        dl[D_X1] = rest + target * (d[D_X1] - rest) if inverse else d[D_X1]
-        status, nit, rmax = _newton(u, num, dd, ii, code, dl, work, jac, piv, nit, 12)
-        if status == 0:
-            for j in range(m):
-                prev[j] = last[j]
-                last[j] = u[j]
-            lam_prev = lam
-            lam = target
-            if lam >= 1.0:
-                return 0, nit, rmax
-            dlam *= 2.0
-        else:
-            dlam *= 0.25
-            if dlam < 1e-6:
-                return STATUS_LOST, nit, math.nan
-    return STATUS_MAXITER, nit, math.nan
 
 
 @kernel
@@ -607,6 +251,9 @@ def solve_porous_array(
     piv = np.empty(mmax, dtype=np.int64)
     u = np.empty(mmax)
     keep = np.empty((3, mmax))
+    dl = np.empty(NDESC)
+    noprof = np.zeros(1)  # the pillar's profile and its work: unused by the porous system
+    nopm = np.empty((2, 1, 1))
     folds = np.empty(MAX_FOLDS)
     roots = np.empty(MAX_ROOTS)
     rstat = np.empty(MAX_ROOTS, dtype=np.int64)
@@ -664,10 +311,12 @@ def solve_porous_array(
                 keep[0, j] = u[j]
             if lev == 0 and fluid_start:
                 _fluid_solve(u, num, dd, ii, code, d, work, jac, sub, piv)
-            status, nit, rmax = _newton(u, num, dd, ii, code, d, work, jac, piv, nit, MAXITER)
+            status, nit, rmax = _newton(
+                u, num, dd, ii, POROUS + code, d, noprof, work, nopm, jac, piv, nit, MAXITER, False
+            )
             if status != 0 and lev == 0:
                 status, nit, rmax = _continuation(
-                    u, keep, num, dd, ii, code, d, work, jac, piv, nit
+                    u, keep, num, dd, ii, POROUS + code, d, dl, noprof, work, nopm, jac, piv, nit
                 )
             lev_done = lev
             if status != 0:

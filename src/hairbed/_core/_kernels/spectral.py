@@ -43,7 +43,19 @@ import math
 import numpy as np
 
 from .._jit import kernel
-from .description import D_EPS, D_GAMMA, D_LAMBDA, D_OMEGA2, D_PI, D_Q, D_THETA0, D_TIP, D_X1
+from . import porous_system as ps
+from .description import (
+    D_EPS,
+    D_GAMMA,
+    D_HFIX,
+    D_LAMBDA,
+    D_OMEGA2,
+    D_PI,
+    D_Q,
+    D_THETA0,
+    D_TIP,
+    D_X1,
+)
 
 __all__ = [
     "DRIVE_DRAG",
@@ -71,6 +83,9 @@ DRIVE_FIXED = 2
 DRIVE_DRAG = 3
 #: The pillar's inverse problem: Lambda is an unknown, the target tip deflection in D_X1.
 DRIVE_DRAG_INVERSE = 4
+#: The porous bed (``porous_system``, theory.md §13): codes POROUS + its drive (pressure,
+#: flow, inverse), the hair's system with the fluid's fields, on this module's Newton.
+POROUS = 8
 MAXITER = 60
 #: The rounding part of the error estimate, ROUNDING N^2 max(1, |theta|) (measured: the
 #: collocation's differences between N and 2N at rounding level grow like N^2).
@@ -466,6 +481,9 @@ def _system(u, num, dd, ii, code, d, prof, work, res):
     """The residual of either model (``DRIVE_DRAG`` or a bed's drive) at u into res:
     (sum of squares, W, Pi, dW, dPi), the loads zero for the pillar. ``d`` the element's load
     description (``description``)."""
+    if code >= POROUS:  # cos, sin, f_x, f_z into work rows 0, 1, 6, 7
+        f = ps._residual(u, num, dd, ii, code - POROUS, d, work[0], work[1], work[6], work[7], res)
+        return f, 0.0, 0.0, 0.0, 0.0
     if code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE:
         # for the inverse u[num + 2] is Lambda, and D_X1 the target tip deflection
         inverse = code == DRIVE_DRAG_INVERSE
@@ -491,7 +509,23 @@ def _system(u, num, dd, ii, code, d, prof, work, res):
 @kernel
 def _system_jacobian(u, num, dd, ii, code, d, prof, work, pm, w, p, dw, dp, jac):
     """The Jacobian of :func:`_system` at u (after it) into jac."""
-    if code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE:
+    if code >= POROUS:
+        ps._jacobian(
+            u,
+            num,
+            dd,
+            ii,
+            code - POROUS,
+            d,
+            work[0],
+            work[1],
+            work[6],
+            work[7],
+            work[8],
+            work[9],
+            jac,
+        )
+    elif code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE:
         inverse = code == DRIVE_DRAG_INVERSE
         n1 = num + 1
         lam = u[n1 + 1] if inverse else d[D_LAMBDA]
@@ -513,15 +547,35 @@ def _system_jacobian(u, num, dd, ii, code, d, prof, work, pm, w, p, dw, dp, jac)
 
 
 @kernel
-def _step_size(step, u, n1, m):
+def _step_size(code, step, u, num, m):
     """The max norm of a Newton step over theta and h1, and the relative step of Lambda
-    where it is an unknown (m = n1 + 2)."""
+    where it is an unknown (m = n1 + 2); the porous bed's (``porous_system.step_size``)."""
+    if code >= POROUS:
+        return ps.step_size(step, u, num, m)
+    n1 = num + 1
     big = 0.0
     for i in range(n1 + 1):
         big = max(big, abs(step[i]))
     for i in range(n1 + 1, m):
         big = max(big, abs(step[i]) / max(1.0, abs(u[i])))
     return big
+
+
+@kernel
+def system_size(code, num):
+    """(unknowns, index of h1) of a model's system at N = num."""
+    if code >= POROUS:
+        return ps.size(code - POROUS, num), 3 * (num + 1)
+    return num + (3 if code == DRIVE_DRAG_INVERSE else 2), num + 1
+
+
+@kernel
+def _gap_moves(code, d):
+    """Whether the gap 1 - eps h1 follows the iterate's h1 (a bed's drive; not the pillar,
+    nor a porous scan's frozen gap)."""
+    if code >= POROUS:
+        return math.isnan(d[D_HFIX])
+    return code != DRIVE_DRAG and code != DRIVE_DRAG_INVERSE
 
 
 @kernel
@@ -536,9 +590,9 @@ def _newton(u, num, dd, ii, code, d, prof, work, pm, jac, piv, nit0, maxiter, wa
     ``_CHORD_RATE``, else the Jacobian is refreshed as after any chord step.
     """
     n1 = num + 1
-    m = n1 + 2 if code == DRIVE_DRAG_INVERSE else n1 + 1
+    m, hi = system_size(code, num)
     res, step, trial = work[3], work[4], work[5]
-    drag = code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE
+    gap = _gap_moves(code, d)
     eps = d[D_EPS]
     f, w, p, dw, dp = _system(u, num, dd, ii, code, d, prof, work, res)
     chord = warm  # reuse the last factors (a chord step) once Newton contracts fast
@@ -553,7 +607,7 @@ def _newton(u, num, dd, ii, code, d, prof, work, pm, jac, piv, nit0, maxiter, wa
         for i in range(m):
             step[i] = -res[i]
         _lu_apply(jac, piv, step, m)
-        big = _step_size(step, u, n1, m)
+        big = _step_size(code, step, u, num, m)
         if not math.isfinite(big):
             return STATUS_BREAKDOWN, nit0 + it, math.nan
         if chord and big > _CHORD_RATE * last:  # the chord contracts too slowly: refresh
@@ -564,16 +618,15 @@ def _newton(u, num, dd, ii, code, d, prof, work, pm, jac, piv, nit0, maxiter, wa
             for i in range(m):
                 step[i] = -res[i]
             _lu_apply(jac, piv, step, m)
-            big = _step_size(step, u, n1, m)
+            big = _step_size(code, step, u, num, m)
         lam = 1.0
         if big > _FULL_STEP:
             # limit a wild step (one radian of angle, a tenth of the height), then backtrack
-            lam = min(1.0, 1.0 / big, 0.1 / max(abs(step[n1]), 1e-300))
+            lam = min(1.0, 1.0 / big, 0.1 / max(abs(step[hi]), 1e-300))
         while True:
             for i in range(m):
                 trial[i] = u[i] + lam * step[i]
-            ht = trial[n1]
-            if not drag and 1.0 - eps * ht <= 0.0:
+            if gap and 1.0 - eps * trial[hi] <= 0.0:
                 ft = math.inf
             else:
                 ft, w, p, dw, dp = _system(trial, num, dd, ii, code, d, prof, work, res)
@@ -588,7 +641,7 @@ def _newton(u, num, dd, ii, code, d, prof, work, pm, jac, piv, nit0, maxiter, wa
         # a full step well inside the region of quadratic convergence: chord steps next
         chord = lam == 1.0 and big <= _CHORD_START and big <= _CHORD_RATE * last
         last = big
-        if abs(u[n1]) > 1.0 + 1e-9 or (not drag and 1.0 - eps * u[n1] <= 0.0):
+        if abs(u[hi]) > 1.0 + 1e-9 or (gap and 1.0 - eps * u[hi] <= 0.0):
             return STATUS_LOST, nit0 + it + 1, math.nan
         for j in range(n1):
             if abs(u[j]) > 10.0:
@@ -611,16 +664,16 @@ def _continuation(u, keep, num, dd, ii, code, d, dl, prof, work, pm, jac, piv, n
     ``dl`` the scaled description's work row. For the pillar's inverse problem
     (``DRIVE_DRAG_INVERSE``) lam moves the tip deflection from the straight pillar's,
     sin(theta0), to D_X1, and Lambda starts at 0."""
-    inverse = code == DRIVE_DRAG_INVERSE
+    inverse = code == DRIVE_DRAG_INVERSE or code == POROUS + ps.DRIVE_INVERSE
     theta0 = d[D_THETA0]
-    m = num + 3 if inverse else num + 2
+    m, hi = system_size(code, num)
     prev = keep[1]
     last = keep[2]
+    for j in range(m):  # the hair at rest, the fluid (porous) and the unknown load at 0
+        last[j] = 0.0
     for j in range(num + 1):
         last[j] = theta0
-    last[num + 1] = math.cos(theta0)
-    if inverse:
-        last[num + 2] = 0.0
+    last[hi] = math.cos(theta0)
     rest = math.sin(theta0)
     for j in range(m):
         prev[j] = last[j]
