@@ -37,6 +37,9 @@ SMALL = {
     "fig_collective_stiffening": {"num": 5},
     "fig_valve_design": {"points": 3, "num": 9},
     "fig_sensor_design": {"points": 3, "num": 9},
+    "fig_pillar_bode": {"num": 20},
+    "fig_pillar_step": {"num": 40, "periods": 1.0},
+    "fig_pillar_film": {"frames": 3, "periods": 0.5},
 }
 
 
@@ -153,6 +156,8 @@ PANELS = {
     "fig_valve": 3,
     "fig_valve_design": 2,
     "fig_sensor_design": 2,
+    "fig_pillar_bode": 2,
+    "fig_pillar_film": 3,
 }
 
 

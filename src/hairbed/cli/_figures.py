@@ -31,7 +31,10 @@ channel_height, viscosity, spacing [SI], base_angles, max_velocity, num), fd_con
 channel_height, viscosity, spacing, base_angle, channel_length [SI], max_flow_rate [m^2/s],
 diode_angles, num), pillar_calibration (theta0s, forcing_min, forcing_max, num,
 slenderness L/a: the drag ratio gamma of Gray & Hancock, default 20), pillar_snap (theta0,
-forcing_max, forcing, num, slenderness).
+forcing_max, forcing, num, slenderness), pillar_bode (length, radius, youngs_modulus,
+pillar_density [SI], frequency_range [Hz], num), pillar_step (length, radius,
+youngs_modulus, pillar_density, wall_shear_stress [SI], periods, num), pillar_film (the
+same, frames).
 
 examples:
   hairbed figures --out figures

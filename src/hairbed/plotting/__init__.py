@@ -31,6 +31,7 @@ from matplotlib.figure import Figure
 from .._core.validation import check_int
 from ..safe_files import atomic_path
 from .design import fig_sensor_design, fig_valve_design
+from .dynamics import fig_pillar_bode, fig_pillar_film, fig_pillar_step
 from .extra import (
     fig_bistability,
     fig_calibration,
@@ -68,9 +69,12 @@ __all__ = [
     "fig_pendulum",
     "fig_phase_portrait",
     "fig_physical_units",
+    "fig_pillar_bode",
     "fig_pillar_calibration",
+    "fig_pillar_film",
     "fig_pillar_snap",
     "fig_pillar_states",
+    "fig_pillar_step",
     "fig_profiles",
     "fig_rheology",
     "fig_sensor_design",
@@ -112,6 +116,9 @@ FIGURES: dict[str, Callable[..., Figure]] = {
     "collective_stiffening": fig_collective_stiffening,
     "valve_design": fig_valve_design,
     "sensor_design": fig_sensor_design,
+    "pillar_bode": fig_pillar_bode,
+    "pillar_step": fig_pillar_step,
+    "pillar_film": fig_pillar_film,
 }
 
 
