@@ -262,7 +262,7 @@ def simulate_pillar(
         The most steps (work is bounded; status -2 beyond).
     jump_speed : float, optional
         The jump event [L/T]: the run stops (status -9, ``t_end`` the event's time, located
-        on the dense output to round-off) where the tip's speed |dx1/dt| first reaches this
+        on the dense output to round-off) where the tip's speed ``|dx1/dt|`` first reaches this
         positive value: on a slow drive the pillar moves at the drive's pace along its
         quasi-static branch, and at O(1) speed once it leaves it, as past a fold. Default
         None: no such event. (A drive that jumps itself, a step, starts the pillar at O(1)

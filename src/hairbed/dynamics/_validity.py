@@ -71,8 +71,8 @@ def dynamics_validity(
     tuple of str
         One message per failed assumption (empty where all hold): the quasi-steady drag with
         a Stokes layer shorter than the pillar (Re > 2 (a/L)^2), Sader's drag with a bending
-        wavelength 2 pi/|k| below ``SADER_WAVELENGTH_LIMIT`` diameters, rotary inertia
-        (a |k|/(2 L))^2 above ``ROTARY_INERTIA_LIMIT``; each names the highest offending
+        wavelength ``2 pi/|k|`` below ``SADER_WAVELENGTH_LIMIT`` diameters, rotary inertia
+        ``(a |k|/(2 L))^2`` above ``ROTARY_INERTIA_LIMIT``; each names the highest offending
         frequency.
 
     Examples
