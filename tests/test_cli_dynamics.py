@@ -261,6 +261,18 @@ def test_bad_input_is_one_line_and_exit_2(
     assert needle in _one_error_line(err), err
 
 
+def test_an_error_is_the_only_line_even_after_warnings(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    """No static state at 1e30 Pa: the error alone, not the validity warnings before it."""
+    args = ["response", "--pillar-density", "970", "--wall-shear-stress", "1e30", *WATER]
+    with warnings.catch_warnings():
+        warnings.simplefilter("always")  # as a user's shell has them
+        assert main(args) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and err.startswith("hairbed: error: wall_shear_stress")
+
+
 def test_ctrl_c_is_one_line_and_130(
     monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
 ) -> None:

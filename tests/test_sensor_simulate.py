@@ -161,6 +161,8 @@ def test_bad_input_names_the_parameter() -> None:
         p.simulate(float("nan"), t, overdamped=True)
     with pytest.raises(ValueError, match="'wall-law'"):
         _pillar(profile="wall-law").simulate(1.0, t, overdamped=True)
+    with pytest.raises(ValueError, match="t must stay below"):
+        p.simulate(1.0, [0.0, 1e308], overdamped=True)
     nofluid = Pillar(length=L, radius=A, youngs_modulus=E, viscosity=ETA)
     with pytest.raises(ValueError, match="fluid's density"):
         nofluid.simulate(1.0, t, pillar_density=RHO_S)

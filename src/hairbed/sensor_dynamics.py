@@ -1225,10 +1225,17 @@ def simulate(
     t_scale, mu, chi = time_scale_and_inertia(p, pillar_density, overdamped=overdamped)
     rho_s = math.nan if overdamped else float(pillar_density)  # type: ignore[arg-type]
     per_stress = p.forcing_per_stress
+    with np.errstate(over="ignore"):
+        t_dim = tt / t_scale
+    if tt.size and np.all(np.isfinite(tt)) and not np.all(np.isfinite(t_dim)):
+        raise ValueError(
+            f"t must stay below {np.finfo(np.float64).max * t_scale:.4g} s in magnitude for "
+            f"this pillar (t/T overflows, T = {t_scale:.4g} s), got {float(np.max(np.abs(tt)))!r}"
+        )
     lam = _si_drive(wall_shear_stress, tt, t_scale, per_stress)
     run = dynamics.simulate_pillar(
         lam,
-        tt / t_scale,
+        t_dim,
         theta0=p.base_angle,
         profile=p._core_profile,
         height_ratio=p.height_ratio,

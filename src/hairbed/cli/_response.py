@@ -13,6 +13,7 @@ import argparse
 import csv
 import math
 import sys
+import warnings
 from typing import Any
 
 import numpy as np
@@ -44,6 +45,9 @@ examples:
 """
 
 __all__ = ["ABOUT", "add_parser", "parse_frequencies", "run"]
+
+#: The most frequencies of a LO:HI:N spec.
+MAX_N = 1_000_000
 
 
 def add_parser(sub: Any) -> None:
@@ -116,8 +120,10 @@ def parse_frequencies(spec: str) -> Any:
             raise UsageError(
                 f"--frequencies {spec!r}: expected LO:HI:N (numbers, N an integer)"
             ) from None
-        if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi and n >= 2):
-            raise UsageError(f"--frequencies {spec!r}: needs 0 < LO < HI finite [Hz] and N >= 2")
+        if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi and 2 <= n <= MAX_N):
+            raise UsageError(
+                f"--frequencies {spec!r}: needs 0 < LO < HI finite [Hz] and N in [2, {MAX_N}]"
+            )
         return np.geomspace(lo, hi, n)
     try:
         values = np.array([float(v) for v in text.split(",")], dtype=np.float64)
@@ -173,14 +179,18 @@ def run(args: argparse.Namespace) -> int:
     ptol = args.phase_tolerance
     if not (math.isfinite(ptol) and 0.0 < ptol < 180.0):
         raise UsageError(f"--phase-tolerance must be in (0, 180) [deg], got {ptol!r}")
-    r = pillar.frequency_response(
-        freq,
-        wall_shear_stress=args.wall_shear_stress,
-        pillar_density=args.pillar_density,
-        drag=args.drag_model,
-        magnitude_tolerance=args.magnitude_tolerance,
-        phase_tolerance=math.radians(ptol),
-    )
+    with warnings.catch_warnings(record=True) as caught:  # an error alone is one line
+        warnings.simplefilter("always")
+        r = pillar.frequency_response(
+            freq,
+            wall_shear_stress=args.wall_shear_stress,
+            pillar_density=args.pillar_density,
+            drag=args.drag_model,
+            magnitude_tolerance=args.magnitude_tolerance,
+            phase_tolerance=math.radians(ptol),
+        )
+    for w in caught:  # the response stands: its warnings, each once, as the CLI prints them
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     phase = np.degrees(r.phase)
     summary = _summary(r)
     if args.json:
