@@ -189,8 +189,8 @@ def run(args: argparse.Namespace) -> int:
             magnitude_tolerance=args.magnitude_tolerance,
             phase_tolerance=math.radians(ptol),
         )
-    for w in caught:  # the response stands: its warnings, each once, as the CLI prints them
-        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    for note in caught:  # the response stands: its warnings, each once, as the CLI prints them
+        warnings.warn_explicit(note.message, note.category, note.filename, note.lineno)
     phase = np.degrees(r.phase)
     summary = _summary(r)
     if args.json:
