@@ -12,6 +12,7 @@ import io
 import json
 import math
 import warnings
+from typing import Any
 
 import numpy as np
 import pytest
@@ -104,7 +105,9 @@ def test_simulate_default_t_end_is_twenty_decay_times(
     assert doc["tip_deflection"][-1] == pytest.approx(static, rel=1e-6)
 
 
-def test_simulate_netcdf_carries_cf_units(tmp_path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_simulate_netcdf_carries_cf_units(
+    tmp_path: Any, capsys: pytest.CaptureFixture[str]
+) -> None:
     xr = pytest.importorskip("xarray")
     pytest.importorskip("netCDF4")
     out = tmp_path / "run.nc"
