@@ -191,3 +191,21 @@ def test_small_sine_has_the_linear_response_of_the_same_drag() -> None:
     # measured 6.6e-7 and 7.7e-7 (the mean's second-order shift)
     assert abs(complex(a, b) / 0.01 - h) <= 1e-5 * abs(h)
     assert c == pytest.approx(p.deform(1.0).tip_deflection, rel=1e-5)
+
+
+def test_the_pillars_validity_checks_run_at_the_largest_stress() -> None:
+    """The README-like pillar in water at 1 Pa: Reynolds number 99.6 > 0.5 and
+    L+ = L sqrt(tau/rho)/(eta/rho) = sqrt(998) = 31.6 > 5 (Pillar.deform's checks), at the
+    run's largest stress, here the sine's peak."""
+    p = _pillar()
+    t = np.linspace(0.0, 1e-3, 5)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        p.simulate(sine(0.0, 1.0, 2.0 * math.pi * 250.0), t, overdamped=True)
+    texts = [str(w.message) for w in caught if w.category is ModelValidityWarning]
+    assert any("Reynolds number" in m for m in texts), texts
+    assert any("L+ = 31.6" in m for m in texts), texts  # at 1 Pa (the peak at t = 1 ms)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        p.simulate(1e-9, t, overdamped=True)  # a tiny stress: nothing to say
+    assert not [w for w in caught if w.category is ModelValidityWarning]

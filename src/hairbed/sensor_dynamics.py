@@ -44,6 +44,7 @@ from ._core.validation import (
     check_int,
     check_number,
     check_positive,
+    show,
 )
 from ._warnings import ModelValidityWarning
 from .dynamics import linearise_pillar, warn_dynamics_validity
@@ -1120,7 +1121,7 @@ def time_scale_and_inertia(
     """
     p = _as_pillar(pillar)
     if not isinstance(overdamped, (bool, np.bool_)):
-        raise TypeError(f"overdamped must be True or False, got {overdamped!r}")
+        raise TypeError(f"overdamped must be True or False, got {show(overdamped)}")
     zeta = p.normal_drag_coefficient
     t_scale = zeta * p.length**4 / p.bending_stiffness
     if not (math.isfinite(t_scale) and t_scale > 0.0):
@@ -1142,6 +1143,11 @@ def time_scale_and_inertia(
         )
     rho_f = float(p.density)
     mu = (rho_s + rho_f) * math.pi * p.radius**2 / (zeta * t_scale)
+    if not math.isfinite(mu):
+        raise ValueError(
+            f"pillar_density must be below {rho_s * 1.7e308 / mu:.4g} kg/m^3 for this pillar "
+            f"(the inertia number overflows), got {show(pillar_density)}"
+        )
     return t_scale, mu, rho_s / (rho_s + rho_f)
 
 
@@ -1167,7 +1173,9 @@ def simulate(
 
     (the fluid's added mass acts on normal motion only), and back: lengths L x [m], the base
     moment E I theta_s(0)/L [N m]. The pillar starts at rest in the static state of the drive
-    just before t[0] (a number: at rest in still fluid, the step at t[0]).
+    just before t[0] (a number: at rest in still fluid, the step at t[0]). The pillar's
+    validity checks (its Reynolds number, its height in wall units; theory.md §12) run on the
+    static state at the run's largest stress, each a :class:`hairbed.ModelValidityWarning`.
 
     Parameters
     ----------
@@ -1221,6 +1229,10 @@ def simulate(
     tt = as_float_array(t, "t", unit="s").reshape(-1)
     if tt.size == 0:
         raise ValueError("t must hold at least one time [s]")
+    back = np.flatnonzero(np.diff(tt) < 0.0)
+    if back.size:
+        i = int(back[0]) + 1
+        raise ValueError(f"t must not decrease [s]; t[{i}] = {show(float(tt[i]))} is earlier")
     ei, length = p.bending_stiffness, p.length
     t_scale, mu, chi = time_scale_and_inertia(p, pillar_density, overdamped=overdamped)
     rho_s = math.nan if overdamped else float(pillar_density)  # type: ignore[arg-type]
@@ -1247,10 +1259,14 @@ def simulate(
         atol=atol,
         max_steps=max_steps,
     )
+    tau = np.asarray(run.forcing, dtype=np.float64) / per_stress
+    finite = tau[np.isfinite(tau)]
+    if finite.size and np.max(np.abs(finite)) > 0.0:  # the static checks at the largest stress
+        p.deform(finite[np.argmax(np.abs(finite))])
     ii = run._ops["ii"]  # the collocation's integration matrix: the shape from the angles
     return SensorTrajectory(
         time=tt,
-        wall_shear_stress=np.asarray(run.forcing, dtype=np.float64) / per_stress,
+        wall_shear_stress=tau,
         tip_deflection=length * run.tip_deflection,
         tip_height=length * run.tip_height,
         tip_angle=np.asarray(run.tip_angle, dtype=np.float64),
