@@ -7,6 +7,8 @@
 - :func:`simulate_pillar`: the nonlinear pillar in time (compiled Radau IIA), driven by
   :func:`step`, :func:`ramp`, :func:`sine`, :func:`pulses`, :func:`sampled` or a callable;
   :func:`simulate_pillars` many pillars in one call, on threads.
+- :func:`snap_through`: a slow ramp through the upper fold of a pillar's snap-through window:
+  the jump's delay, the states before and after, the ringing.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from ._linear import (
     linearise_pillar,
 )
 from ._signals import CALLABLE_SAMPLES, Signal, constant, pulses, ramp, sampled, sine, step
+from ._snap import SNAP_STATUS, SnapThrough, snap_through
 from ._validity import (
     ROTARY_INERTIA_LIMIT,
     SADER_WAVELENGTH_LIMIT,
@@ -43,6 +46,9 @@ __all__ = [
     "sampled",
     "simulate_pillar",
     "simulate_pillars",
+    "SNAP_STATUS",
+    "SnapThrough",
+    "snap_through",
     "TRAJECTORY_STATUS",
     "sine",
     "step",
