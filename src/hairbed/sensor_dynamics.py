@@ -1142,11 +1142,12 @@ def time_scale_and_inertia(
             "Pillar(density=...) or Pillar(fluid=...), or overdamped=True"
         )
     rho_f = float(p.density)
-    mu = (rho_s + rho_f) * math.pi * p.radius**2 / (zeta * t_scale)
+    per_density = math.pi * p.radius**2 / (zeta * t_scale)  # (no overflow of rho pi first)
+    mu = (rho_s + rho_f) * per_density
     if not math.isfinite(mu):
         raise ValueError(
-            f"pillar_density must be below {rho_s * 1.7e308 / mu:.4g} kg/m^3 for this pillar "
-            f"(the inertia number overflows), got {show(pillar_density)}"
+            f"pillar_density must be below {np.finfo(np.float64).max / per_density:.4g} "
+            f"kg/m^3 for this pillar (the inertia number overflows), got {show(pillar_density)}"
         )
     return t_scale, mu, rho_s / (rho_s + rho_f)
 
