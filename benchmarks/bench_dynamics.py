@@ -30,7 +30,10 @@ Rows (targets of the issue in brackets):
 6. the fold jump: a ramp through the upper fold of the pillar at theta0 = -1.4 at rates
    1e-5 to 1e-2, the delay past the fold (``continue_pillar``'s) and its fitted exponent
    [2/3];
-7. PyElastica on the same overdamped step, if installed: not written yet.
+7. PyElastica: the figures of benchmarks/bench_pyelastica.py (the ringing pillar under a
+   smooth uniform flow, hairbed against PyElastica's Cosserat rod, target >= 1000x), by its
+   ``run`` where pyelastica is installed (elements 20 to 160; 20 and 40 with ``--quick``),
+   else the stored figures of benchmarks/results/bench_pyelastica.json and where they are.
 
 Run: ``python benchmarks/bench_dynamics.py [--quick] [--repeat N] [--json PATH]``.
 """
@@ -295,13 +298,48 @@ def run(repeat: int = 5, quick: bool = False) -> dict[str, Any]:
         )
     _batch(out, quick)
     _fold(out)
+    _pyelastica(out, quick)
+    return out
+
+
+def _pyelastica(out: dict[str, Any], quick: bool) -> None:
+    """Row 7: bench_pyelastica's figures, run here if pyelastica is installed, else read
+    from its stored results (this benchmark never needs pyelastica)."""
+    import importlib.util
+    from pathlib import Path
+
+    here = Path(__file__).resolve().parent
+    stored = here / "results" / "bench_pyelastica.json"
     try:
         import elastica  # noqa: F401
     except ImportError:
-        out["pyelastica"] = "not installed (pip install pyelastica): skipped"
+        figs = json.loads(stored.read_text()) if stored.is_file() else None
+        where = f"stored, {stored.relative_to(here.parent)}"
+        if figs is None:
+            out["pyelastica"] = (
+                "not installed (pip install -e .[bench]) and no stored figures: run "
+                "benchmarks/bench_pyelastica.py where it is"
+            )
+            return
     else:  # pragma: no cover - optional
-        out["pyelastica"] = "installed; the comparison is not written yet"
-    return out
+        path = here / "bench_pyelastica.py"
+        spec = importlib.util.spec_from_file_location("bench_pyelastica", path)
+        assert spec is not None and spec.loader is not None
+        mod = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(mod)
+        figs = mod.run([20, 40] if quick else [20, 40, 80, 160])
+        where = "run now, benchmarks/bench_pyelastica.py"
+    out["pyelastica"] = where
+    for p in figs["pyelastica"]:
+        n = p["elements"]
+        out[f"pyelastica_n{n}_s"] = p["seconds"]
+        out[f"pyelastica_n{n}_error"] = p["error"]
+        out[f"pyelastica_n{n}_hairbed_faster"] = p["ratio"]
+    chosen = figs["hairbed_at_that_accuracy"]
+    out["pyelastica_hairbed_setting"] = f"N = {chosen['num']}, rtol {chosen['rtol']:.0e}"
+    out["pyelastica_hairbed_ms"] = 1e3 * chosen["seconds"]
+    out["pyelastica_hairbed_error"] = chosen["error"]
+    out["pyelastica_speed_ratio_at_finest"] = figs["speed_ratio"]  # [>= 1000x]
 
 
 def main(argv: list[str] | None = None) -> None:
