@@ -128,6 +128,9 @@ def add_parser(sub: Any) -> None:
     add_json(p, "print one JSON document (with the units) instead of CSV")
     add_bed_options(p, velocity=False)
     add_sensor_pillar_options(p)
+    for action in p._actions:  # a bed's, refused for a pillar: not in the help
+        if action.dest in ("spacing", "packing_fraction"):
+            action.help = argparse.SUPPRESS
 
 
 def _drive(args: argparse.Namespace) -> Any:
