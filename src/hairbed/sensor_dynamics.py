@@ -1217,6 +1217,17 @@ def simulate(
     ValueError
         A missing pillar_density or fluid density, a 'wall-law' pillar, bad times, or a drive
         that cannot be evaluated (naming the parameter).
+
+    Examples
+    --------
+    >>> import numpy as np, hairbed
+    >>> p = hairbed.Pillar(length=1e-3, radius=50e-6, youngs_modulus=1e6, viscosity=1.0,
+    ...                    density=1260.0)  # a glycerol-like fluid
+    >>> run = p.simulate(1.0, np.linspace(0.0, 2.0, 5), overdamped=True)
+    >>> round(run.time_scale, 4), run.status  # T [s]: settled after 2 s
+    (0.6111, 0)
+    >>> round(run.tip_deflection[-1] / p.deform(1.0).tip_deflection, 10)
+    1.0
     """
     from . import dynamics
 
