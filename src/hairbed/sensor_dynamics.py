@@ -1226,7 +1226,7 @@ def simulate(
     >>> run = p.simulate(1.0, np.linspace(0.0, 2.0, 5), overdamped=True)
     >>> round(run.time_scale, 4), run.status  # T [s]: settled after 2 s
     (0.6111, 0)
-    >>> round(run.tip_deflection[-1] / p.deform(1.0).tip_deflection, 10)
+    >>> round(float(run.tip_deflection[-1] / p.deform(1.0).tip_deflection), 8)  # N = 12
     1.0
     """
     from . import dynamics
