@@ -37,6 +37,7 @@ from .._core.loaded_sensitivity import loaded_gradient_table
 from .._core.pillar import _solve_pillar_checked
 from .._core.pillar_sensitivity import _profile_derivative, pillar_gradient_rows
 from .._core.solver import _from_parameter
+from .._core.validation import show
 from ..branches import folds
 from ..pillars import PILLAR_REYNOLDS_LIMIT, SLENDERNESS_LIMIT, SUBLAYER_L_PLUS_LIMIT, Pillar
 from ..sensitivity import _physical_partials
@@ -164,7 +165,9 @@ class Constraint:
 
     def __post_init__(self) -> None:
         if not isinstance(self.quantity, Quantity):
-            raise TypeError(f"a constraint needs a hairbed.design Quantity, got {self.quantity!r}")
+            raise TypeError(
+                f"a constraint needs a hairbed.design Quantity, got {show(self.quantity)}"
+            )
         if (self.lower is None) == (self.upper is None):
             raise ValueError(
                 f"constraint on {self.quantity.name}: give exactly one of lower and upper"
@@ -174,7 +177,7 @@ class Constraint:
             raise ValueError(f"constraint on {self.quantity.name}: the bound must be a number")
         if not math.isfinite(float(bound)):
             raise ValueError(
-                f"constraint on {self.quantity.name}: the bound must be finite, got {bound!r}"
+                f"constraint on {self.quantity.name}: the bound must be finite, got {show(bound)}"
             )
 
     @property
@@ -199,10 +202,15 @@ class Constraint:
 
 def _number(value: Any, name: str, positive: bool = True) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)):
-        raise ValueError(f"{name} must be a real number, got {value!r}")
-    x = float(value)
+        raise ValueError(f"{name} must be a real number, got {show(value)}")
+    try:
+        x = float(value)
+    except OverflowError:  # an int beyond double precision
+        x = math.inf
     if not math.isfinite(x) or (positive and not x > 0.0):
-        raise ValueError(f"{name} must be a finite number{' > 0' if positive else ''}, got {x!r}")
+        raise ValueError(
+            f"{name} must be a finite number{' > 0' if positive else ''}, got {show(x)}"
+        )
     return x
 
 
@@ -742,7 +750,7 @@ def linear_range(rtol: float = 0.1) -> Quantity:
     """
     tol = _number(rtol, "rtol")
     if not tol < 1.0:
-        raise ValueError(f"rtol must lie in (0, 1), got {tol!r}")
+        raise ValueError(f"rtol must lie in (0, 1), got {show(tol)}")
 
     tracker = LinearRangeTracker(tol)
 
@@ -875,9 +883,9 @@ def custom(
     in each design variable (relative step :data:`FD_STEP`) and ``exact`` is False.
     """
     if not callable(function):
-        raise TypeError(f"custom: function must be callable, got {function!r}")
+        raise TypeError(f"custom: function must be callable, got {show(function)}")
     if gradient is not None and not callable(gradient):
-        raise TypeError(f"custom: gradient must be callable or None, got {gradient!r}")
+        raise TypeError(f"custom: gradient must be callable or None, got {show(gradient)}")
 
     def value_of(model: Any) -> float:
         try:

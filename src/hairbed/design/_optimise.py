@@ -25,6 +25,7 @@ from numpy.typing import NDArray
 from scipy.optimize import minimize
 from scipy.stats import qmc
 
+from .._core.validation import show
 from ._objectives import FD_STEP, Constraint, Quantity, validity_constraints
 from ._result import ConstraintReport, DesignResult
 from ._variables import Space, Variable
@@ -126,15 +127,16 @@ def _objective_scale(problem: _Problem, points: list[FloatArray]) -> float:
 def _check_options(space: Space, seed: Any, maxiter: Any, x0: Any) -> None:
     """seed, maxiter and x0 of :func:`optimise`, or a ValueError naming them."""
     for name, value, low, high in (("seed", seed, 0, 2**63 - 1), ("maxiter", maxiter, 1, 100_000)):
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-            raise ValueError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
+        if isinstance(value, (bool, np.timedelta64)) or not isinstance(value, (int, np.integer)):
+            raise ValueError(f"{name} must be an integer in [{low}, {high}], got {show(value)}")
         if not low <= value <= high:
-            raise ValueError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
+            raise ValueError(f"{name} must be an integer in [{low}, {high}], got {show(value)}")
     if x0 is None:
         return
     if not isinstance(x0, dict) or set(x0) != set(space.names):
         raise ValueError(
-            f"x0 must be a dict of every design variable ({', '.join(space.names)}), got {x0!r}"
+            f"x0 must be a dict of every design variable ({', '.join(space.names)}), got "
+            f"{show(x0)}"
         )
     for v in space.variables:
         x = x0[v.name]
@@ -150,17 +152,18 @@ def _check(objective: Any, constraints: Any, sense: str, starts: Any, kind: str)
     if not isinstance(objective, Quantity):
         raise TypeError(
             "objective must be a hairbed.design quantity (diodicity(...), linear_range(...), "
-            f"custom(...), ...), got {objective!r}"
+            f"custom(...), ...), got {show(objective)}"
         )
     for c in constraints:
         if not isinstance(c, Constraint):
             raise TypeError(
-                f"constraints must be hairbed.design constraints (quantity <= bound), got {c!r}"
+                "constraints must be hairbed.design constraints (quantity <= bound), got "
+                f"{show(c)}"
             )
-    if sense not in SENSES:
-        raise ValueError(f"sense must be one of {SENSES}, got {sense!r}")
+    if not isinstance(sense, str) or sense not in SENSES:
+        raise ValueError(f"sense must be one of {SENSES}, got {show(sense)}")
     if isinstance(starts, bool) or not isinstance(starts, int) or not 1 <= starts <= 10_000:
-        raise ValueError(f"starts must be an integer in [1, 10000], got {starts!r}")
+        raise ValueError(f"starts must be an integer in [1, 10000], got {show(starts)}")
     for q in (objective, *(c.quantity for c in constraints)):
         if q.kind not in ("any", kind):
             raise TypeError(f"{q.name} is a quantity of a {q.kind}, the design varies a {kind}")
@@ -223,9 +226,16 @@ def optimise(
     (True, 0.778)
     """
     space = Space(base, variables)
+    if isinstance(constraints, (str, bytes, dict)) or not hasattr(constraints, "__iter__"):
+        raise TypeError(
+            f"constraints must be a sequence of hairbed.design constraints, got "
+            f"{show(constraints)}"
+        )
     constraints = list(constraints)
     _check(objective, constraints, sense, starts, space.kind)
     _check_options(space, seed, maxiter, x0)
+    if not isinstance(validity, (bool, np.bool_)):
+        raise TypeError(f"validity must be True or False, got {show(validity)}")
     notes: list[str] = []
     if validity:
         extra, notes = validity_constraints(base, [objective, *(c.quantity for c in constraints)])

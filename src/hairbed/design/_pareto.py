@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from .._core.validation import show
 from ._objectives import Constraint, Quantity
 from ._optimise import SENSES, optimise
 from ._result import DesignResult, ParetoFront
@@ -57,12 +58,16 @@ def pareto_front(
     ParetoFront
     """
     if isinstance(points, bool) or not isinstance(points, int) or not 2 <= points <= 1000:
-        raise ValueError(f"points must be an integer in [2, 1000], got {points!r}")
-    if len(senses) != 2 or any(s not in SENSES for s in senses):
-        raise ValueError(f"senses must be two of {SENSES}, got {senses!r}")
+        raise ValueError(f"points must be an integer in [2, 1000], got {show(points)}")
+    if (
+        not isinstance(senses, (tuple, list))
+        or len(senses) != 2
+        or any(not isinstance(s, str) or s not in SENSES for s in senses)
+    ):
+        raise ValueError(f"senses must be two of {SENSES}, got {show(senses)}")
     for name, q in (("first", first), ("second", second)):
         if not isinstance(q, Quantity):
-            raise TypeError(f"{name} must be a hairbed.design quantity, got {q!r}")
+            raise TypeError(f"{name} must be a hairbed.design quantity, got {show(q)}")
     kw: dict[str, Any] = {"seed": seed, "validity": validity}
     a = optimise(
         base, variables, first, constraints=constraints, sense=senses[0], starts=starts, **kw

@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._core.validation import show
 from ..pillars import Pillar
 from ..units import HairBed
 
@@ -84,15 +85,19 @@ class Variable:
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
-            raise ValueError(f"Variable name must be a non-empty string, got {self.name!r}")
+            raise ValueError(f"Variable name must be a non-empty string, got {show(self.name)}")
         for side in ("low", "high"):
             value = getattr(self, side)
             if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)):
                 raise ValueError(
-                    f"variable {self.name!r}: {side} must be a real number, got {value!r}"
+                    f"variable {self.name!r}: {side} must be a real number, got {show(value)}"
                 )
+            if isinstance(value, int) and abs(value) > 2**1023:  # beyond double precision
+                value = math.inf
             if not math.isfinite(float(value)):
-                raise ValueError(f"variable {self.name!r}: {side} must be finite, got {value!r}")
+                raise ValueError(
+                    f"variable {self.name!r}: {side} must be finite, got {show(value)}"
+                )
             object.__setattr__(self, side, float(value))
         if not self.low < self.high:
             what = "empty" if self.low == self.high else "inverted"
@@ -102,7 +107,7 @@ class Variable:
             )
         if not isinstance(self.log, (bool, np.bool_)):
             raise ValueError(
-                f"variable {self.name!r}: log must be True or False, got {self.log!r}"
+                f"variable {self.name!r}: log must be True or False, got {show(self.log)}"
             )
         if self.log and not self.low > 0.0:
             raise ValueError(
@@ -171,13 +176,18 @@ class Space:
             )
         if isinstance(variables, Variable):
             variables = [variables]
+        if isinstance(variables, (str, bytes, dict)) or not hasattr(variables, "__iter__"):
+            raise TypeError(
+                f"variables must be a hairbed.design.Variable or a sequence of them, got "
+                f"{show(variables)}"
+            )
         variables = list(variables)
         if not variables:
             raise ValueError("variables must hold at least one Variable, got none")
         seen: set[str] = set()
         for v in variables:
             if not isinstance(v, Variable):
-                raise TypeError(f"variables must be hairbed.design.Variable, got {v!r}")
+                raise TypeError(f"variables must be hairbed.design.Variable, got {show(v)}")
             if v.name not in allowed:
                 raise ValueError(
                     f"unknown design variable {v.name!r} for a {type(base).__name__}: choose "
