@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from hairbed import ModelValidityWarning, Pillar
-from hairbed.dynamics import ramp, simulate_pillar, sine, step
+from hairbed.dynamics import pulses, ramp, simulate_pillar, sine, step
 
 L, A, E, RHO_S = 1e-3, 50e-6, 1e6, 970.0
 ETA, RHO_F = 1.0e-3, 998.0
@@ -115,6 +115,22 @@ def test_named_si_signals_map_times_stresses_and_rates() -> None:
         num=12, rtol=1e-6, atol=1e-7,
     )  # fmt: skip
     np.testing.assert_allclose(r2.tip_deflection, L * ref2.tip_deflection, rtol=0, atol=1e-9 * L)
+
+
+def test_si_pulses_and_a_delayed_step_from_a_prestress() -> None:
+    p = _pillar()
+    t_scale, per_pa, _, _, gamma = _scales()
+    t = np.linspace(0.0, 4.0 * t_scale, 17)
+    kw = {"overdamped": True, "num": 16, "rtol": 1e-10, "atol": 1e-12}
+    run = p.simulate(pulses(0.2, 1.0, t_scale, 0.3 * t_scale, 0.5 * t_scale), t, **kw)
+    ref = simulate_pillar(
+        pulses(0.2 * per_pa, per_pa, 1.0, 0.3, 0.5), t / t_scale, gamma=gamma, num=16,
+        rtol=1e-10, atol=1e-12,
+    )  # fmt: skip
+    np.testing.assert_allclose(run.tip_deflection, L * ref.tip_deflection, rtol=0, atol=1e-10 * L)
+    run = p.simulate(step(1.5, 0.5, 2.0 * t_scale), t, **kw)  # from rest at 0.5 Pa
+    assert run.tip_deflection[0] == pytest.approx(p.deform(0.5).tip_deflection, rel=1e-9)
+    np.testing.assert_allclose(run.wall_shear_stress, np.where(t < 2.0 * t_scale, 0.5, 1.5))
 
 
 def test_a_callable_in_seconds_and_pascals_matches_its_named_signal() -> None:
