@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import Any
 
 import numpy as np
 import pytest
@@ -121,7 +122,7 @@ def test_si_pulses_and_a_delayed_step_from_a_prestress() -> None:
     p = _pillar()
     t_scale, per_pa, _, _, gamma = _scales()
     t = np.linspace(0.0, 4.0 * t_scale, 17)
-    kw = {"overdamped": True, "num": 16, "rtol": 1e-10, "atol": 1e-12}
+    kw: dict[str, Any] = {"overdamped": True, "num": 16, "rtol": 1e-10, "atol": 1e-12}
     run = p.simulate(pulses(0.2, 1.0, t_scale, 0.3 * t_scale, 0.5 * t_scale), t, **kw)
     ref = simulate_pillar(
         pulses(0.2 * per_pa, per_pa, 1.0, 0.3, 0.5), t / t_scale, gamma=gamma, num=16,
