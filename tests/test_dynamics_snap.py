@@ -83,9 +83,11 @@ def test_ringing_matches_the_linear_modes(mu: float) -> None:
     assert abs(run.after_tip_deflection - float(high.tip_deflection)) <= 1e-6
 
 
-def test_no_window_names_theta0_and_the_range() -> None:
-    with pytest.raises(ValueError, match=r"theta0 = -1\.0 has no snap-through window") as exc:
-        snap_through(-1.0, rate=1e-2)
+@pytest.mark.parametrize("theta0", [-1.0, 0.3, -1.25])
+def test_no_window_names_theta0_and_the_range(theta0: float) -> None:
+    """Above -1.2 at once; at -1.25 (between -1.2 and the cusp) by the continuation."""
+    with pytest.raises(ValueError, match=rf"theta0 = {theta0} has no snap-through window") as exc:
+        snap_through(theta0, rate=1e-2)
     assert "-1.35" in str(exc.value) and "-1.3" in str(exc.value)
 
 

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from .._core.pillar import WINDOW_THETA0
 from .._core.pillar_branch import continue_pillar, solve_pillar_all
 from .._core.validation import check_int, check_number, check_positive, status_messages
 from ._integrate import PillarTrajectory, simulate_pillar
@@ -140,7 +141,13 @@ def _window(
 ) -> tuple[float, float, float]:
     """(upper fold's Lambda, its x1, lower fold's Lambda) from the statics, or a ValueError
     naming theta0 and where windows exist. The branch is continued to doubling forcings
-    (20 to 20 * 2^11) until it has passed both folds."""
+    (20 to 20 * 2^11) until it has passed both folds; above ``WINDOW_THETA0`` (-1.2), where
+    the statics themselves take the branch to have no window, at once."""
+    if theta0 > WINDOW_THETA0:
+        raise ValueError(
+            f"theta0 = {theta0!r} has no snap-through window (above {WINDOW_THETA0}, where "
+            f"the pillar's branch has no fold); {_WINDOW_TEXT}"
+        )
     end = 20.0
     for _ in range(12):
         folds = continue_pillar(
