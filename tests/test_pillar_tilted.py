@@ -182,3 +182,18 @@ def test_continue_pillar_has_both_folds_and_every_state_up_to_them(theta0: float
     assert 17.0 < lo < 18.0 and hi > 100.0
     for lam, n in [(lo * 1.0001, 3), (hi * 0.9999, 3), (lo * 0.9999, 1), (hi * 1.0001, 1)]:
         assert len(hairbed.solve_pillar_all(sign * lam, theta0)) == n, lam
+
+
+def test_nearer_the_wall_an_uncounted_window_says_so() -> None:
+    # theta0 = -1.5707 (1e-4 from the wall): the march through the window cannot resolve x1
+    # (its change at the window's upper fold is at the rounding of x1 ~ -1). Every state found
+    # below that fold is right, but its count is only a lower bound: status 6 says so, never
+    # status 0 with n_states = 1 where three may coexist (issue 33 item 7, left open).
+    st = hairbed.solve_pillar(FORCINGS, -1.5707)
+    status = np.asarray(st.status)
+    found = status >= 0
+    assert set(np.unique(status[found])) == {6}
+    assert np.all(np.asarray(st.n_states)[found] >= 1)
+    assert 6 in hairbed._core.validation.STATUS_MESSAGES
+    shape, base = _balance(hairbed.solve_pillar(FORCINGS[found], -1.5707))
+    assert shape.max() < BALANCE_RTOL and base.max() < BALANCE_RTOL

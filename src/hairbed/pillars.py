@@ -182,7 +182,8 @@ class PillarDeformation:
         profile's shape depends on it; with the "sublayer" profile above
         :data:`SUBLAYER_L_PLUS_LIMIT` a :class:`hairbed.ModelValidityWarning` is issued.
     status : int or ndarray
-        The solver's status (0 ok, 3 inaccurate, negative failed; ``STATUS_MESSAGES``).
+        The solver's status (0 ok, 3 inaccurate, 6 found but others may coexist, negative failed;
+        ``STATUS_MESSAGES``).
     n_states : int or ndarray
         How many states coexist at this stress (:attr:`hairbed.PillarState.n_states`): 1, or
         3 inside a snap-through window (a pillar tilted far against the flow), where this is

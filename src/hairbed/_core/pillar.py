@@ -232,7 +232,9 @@ class PillarState(CollocatedState):
         How many states coexist at this forcing (as :attr:`hairbed.Solution.n_roots` for a
         bed), from :func:`hairbed.solve_pillar` and :func:`hairbed.solve_pillar_all`: 1, or 3
         inside a snap-through window, where ``root`` picks one and
-        :func:`hairbed.solve_pillar_all` gives all of them; 0 where no state was found. None
+        :func:`hairbed.solve_pillar_all` gives all of them; 0 where no state was found; a
+        lower bound where the status is 6 (a pillar within ~1e-4 of the wall, theta0 ->
+        -pi/2, whose branch could not be followed through its window). None
         for the inverse (:func:`hairbed.solve_pillar_inverse`: one state per deflection).
     """
 
@@ -404,8 +406,10 @@ def _solve_pillar_checked(
         out[:, fwd], coefs[:, fwd], a[fwd] = o, c, aa
     count = np.ones(lf.size, dtype=np.int64)  # one state outside the windows
     todo = (out[0] < 0) | window
-    _on_branch(lf, tf, gf, pf, prof, tol, nums, out, coefs, a, todo, root, count)
+    unsure = np.zeros(lf.size, dtype=np.bool_)
+    _on_branch(lf, tf, gf, pf, prof, tol, nums, out, coefs, a, todo, root, count, unsure)
     count[(out[0] < 0) & (count == 1)] = 0
+    out[0, unsure & (out[0] == 0)] = 6  # found, but others may coexist: it says so
     _mirror(out, coefs, mirror)
     st = _pillar_state(shape, lam, t0, g, tip, out, coefs, a)
     return replace(st, n_states=scalar_or_array(count.reshape(shape)))
@@ -936,9 +940,12 @@ def _on_branch(
     todo: NDArray[np.bool_],
     root: str,
     n_found: NDArray[np.int64] | None = None,
+    unsure: NDArray[np.bool_] | None = None,
 ) -> None:
     """The state of ``root`` on the branch from rest, for the elements ``todo``, written into
-    out, coefs and a in place (and how many states each has, into ``n_found``).
+    out, coefs and a in place (and how many states each has, into ``n_found``; into
+    ``unsure`` True where that count is only a lower bound: a pillar so near the wall that
+    its atlas could not cross its window, at a forcing below the window's upper fold).
 
     The branch Lambda(x1) of each distinct (theta0, gamma, tip load) is the inverse problem on
     a grid in x1 (one batched call, shared by the elements that have those parameters); the
@@ -1004,6 +1011,13 @@ def _on_branch(
     count = cross.sum(axis=1)
     if n_found is not None:
         n_found[idx] = count
+    for row, atlas in atlases.items():
+        if unsure is not None and atlas.crossed and not atlas.open:
+            # the march in x1 through the window stopped (x1 moving below its rounding,
+            # theta0 within ~1e-4 of -pi/2): the window's far states were never followed
+            top = max(p.lam for p in atlas.points)
+            near = (inv == row) & (np.abs(lf[idx]) <= top)
+            unsure[idx[near]] = True
     pick = np.full(idx.size, -1)
     for k in np.flatnonzero(count > 0):
         where = np.flatnonzero(cross[k])

@@ -56,6 +56,10 @@ STATUS_MESSAGES: Mapping[int, str] = MappingProxyType(
         3: "converged, but inaccurate: the answer is known to miss the tolerance (see message)",
         4: "within the tolerance over the whole searched range: the values are at its end",
         5: "no degrees of freedom: as many data points as free parameters (see message)",
+        6: (
+            "a state, but the count of the states is a lower bound: the branch could not be "
+            "followed through a snap-through window (other states may coexist)"
+        ),
         -1: "no such state: the branch has fewer roots at these inputs than the one requested",
         -2: "iteration limit reached",
         -3: "the iteration broke down (singular step, no descent, integrator failure)",
