@@ -49,7 +49,11 @@ def hydrodynamic_function(reynolds: ArrayLike) -> Any:
     with np.errstate(all="ignore"):
         # exponentially scaled Bessel functions: their ratio is the same, and no overflow
         ratio = scipy.special.kve(1, arg) / scipy.special.kve(0, arg)
-    return scalar_or_array(1.0 + 4.0j * ratio / root)
+        gamma = 1.0 + 4.0j * ratio / root
+    _check_range(
+        re, ~np.isfinite(gamma), "reynolds", "(0, inf) with Gamma(Re) finite (Re above ~1e-300)"
+    )
+    return scalar_or_array(gamma)
 
 
 def crossover_reynolds(slenderness: float) -> float:
@@ -83,11 +87,27 @@ def sader_drag_ratio(omega: ArrayLike, reynolds_scale: float, slenderness: float
     _check_range(om, ~(om >= 0.0) | ~np.isfinite(om), "omega", "[0, inf)")
     k = check_number(reynolds_scale, "reynolds_scale", low=0.0, low_open=True)
     sl = check_number(slenderness, "slenderness", low=1.5, low_open=True)
-    re = k * om
+    with np.errstate(over="ignore"):
+        re = k * om
+    _check_range(
+        om, ~np.isfinite(re), "omega", f"[0, {np.finfo(np.float64).max / k:.4g}] (Re = "
+        f"reynolds_scale omega overflows)"
+    )  # fmt: skip
     out = np.ones(om.shape, dtype=np.complex128)
     use = re >= crossover_reynolds(sl)
     if np.any(use):
-        gam = np.asarray(hydrodynamic_function(re[use]), dtype=np.complex128)
+        try:
+            gam = np.asarray(hydrodynamic_function(re[use]), dtype=np.complex128)
+        except ValueError as exc:
+            raise ValueError(
+                f"omega and reynolds_scale: Re = reynolds_scale omega is out of the range of "
+                f"Sader's Gamma: {exc}"
+            ) from None
         log = np.log(2.0 * sl) + 0.5
-        out[use] = 1j * log * re[use] * np.conj(gam) / 4.0
+        with np.errstate(over="ignore", invalid="ignore"):
+            out[use] = 1j * log * re[use] * np.conj(gam) / 4.0
+        _check_range(
+            om, ~np.isfinite(out), "omega", "a range where the drag ratio is finite "
+            "(reynolds_scale omega, slenderness not near the largest double)"
+        )  # fmt: skip
     return scalar_or_array(out)

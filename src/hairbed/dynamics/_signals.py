@@ -76,7 +76,7 @@ class Signal:
 
     def at_start(self, t0: float) -> float:
         """d(t0)."""
-        return float(self(t0))
+        return float(self(check_number(t0, "t0")))
 
 
 _EMPTY = np.zeros(0)
@@ -125,7 +125,9 @@ def pulses(base: float, height: float, period: float, width: float, start: float
     """d = base, plus height during the first ``width`` of every ``period`` from ``start``
     (0 < width < period)."""
     p = check_number(period, "period", low=0.0, low_open=True)
-    w = check_number(width, "width", low=0.0, high=p, low_open=True, high_open=True)
+    w = check_number(width, "width", low=0.0, low_open=True)
+    if not w < p:
+        raise ValueError(f"width must be less than period = {p:g}, got width {w:g}")
     return Signal(
         "pulses",
         (_finite(base, "base"), _finite(height, "height"), p, w, _finite(start, "start")),

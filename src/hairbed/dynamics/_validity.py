@@ -25,7 +25,7 @@ import warnings
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .._core.validation import _check_range, as_float_array, check_number
+from .._core.validation import _check_range, as_float_array, check_number, show
 from .._warnings import ModelValidityWarning
 from ._hydrodynamic import crossover_reynolds, sader_drag_ratio
 
@@ -86,16 +86,21 @@ def dynamics_validity(
     m = check_number(mu, "mu", low=0.0)
     r = check_number(reynolds_scale, "reynolds_scale", low=0.0, low_open=True)
     sl = check_number(slenderness, "slenderness", low=1.5, low_open=True)
+    if not isinstance(unsteady_drag, (bool, np.bool_)):
+        raise TypeError(f"unsteady_drag must be True or False, got {show(unsteady_drag)}")
     if om.size == 0:
         return ()
     out: list[str] = []
-    re = r * om
+    with np.errstate(over="ignore", invalid="ignore"):  # a huge omega: |k| = inf, flagged
+        re = r * om
     drag = (
         np.asarray(sader_drag_ratio(om, r, sl), dtype=np.complex128).reshape(-1)
         if unsteady_drag
         else np.ones(om.size, dtype=np.complex128)
     )
-    wave = np.sqrt(np.sqrt(np.abs(m * om * om - 1j * om * drag)))  # |k| [1/L]
+    with np.errstate(over="ignore", invalid="ignore"):
+        wave = np.sqrt(np.sqrt(np.abs(m * om * om - 1j * om * drag)))  # |k| [1/L]
+    wave = np.where(np.isnan(wave), np.inf, wave)
     if not unsteady_drag:
         bad = re > crossover_reynolds(sl)
         if np.any(bad):
@@ -144,6 +149,8 @@ def warn_dynamics_validity(
     """Issue one :class:`hairbed.ModelValidityWarning` per message of
     :func:`dynamics_validity` (same parameters; ``stacklevel`` as in
     :func:`warnings.warn`)."""
+    if isinstance(stacklevel, (bool, np.bool_)) or not isinstance(stacklevel, (int, np.integer)):
+        raise TypeError(f"stacklevel must be an integer, got {show(stacklevel)}")
     for message in dynamics_validity(
         omega,
         mu=mu,
