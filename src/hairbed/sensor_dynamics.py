@@ -375,13 +375,19 @@ class SensorResponse:
 
 def _frequencies(frequency: Any) -> FloatArray:
     f = as_float_array(frequency, "frequency", unit="Hz")
-    bad = f < 0.0
+    bad = ~((f >= 0.0) & (f <= _MAX_FREQUENCY))
     if np.any(bad):
         i = int(np.flatnonzero(bad.reshape(-1))[0])
         raise ValueError(
-            f"frequency must be >= 0 [Hz], got {float(f.reshape(-1)[i])!r} (first at index {i})"
+            f"frequency must be >= 0 and <= {_MAX_FREQUENCY:g} [Hz], got "
+            f"{float(f.reshape(-1)[i])!r} (first at index {i})"
         )
     return f
+
+
+#: The largest frequency taken [Hz]: far beyond any pillar's resolved dynamics (status 3),
+#: and below where omega^2 overflows for any pillar's time scale.
+_MAX_FREQUENCY = 1e100
 
 
 def _scan(model: _Model) -> tuple[FloatArray, ComplexArray]:
@@ -1241,6 +1247,7 @@ def simulate(
     tt = as_float_array(t, "t", unit="s").reshape(-1)
     if tt.size == 0:
         raise ValueError("t must hold at least one time [s]")
+    max_steps = check_int(max_steps, "max_steps", 1, 10**9)
     back = np.flatnonzero(np.diff(tt) < 0.0)
     if back.size:
         i = int(back[0]) + 1
