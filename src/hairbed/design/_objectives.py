@@ -112,6 +112,8 @@ class Quantity:
     def evaluate(self, model: Any, hold: str = "spacing") -> tuple[float, Grad]:
         """(value, {parameter: d value/d parameter}) of ``model``; ``hold`` is the one of
         spacing and packing fraction a bed is built from (:class:`~hairbed.design.Space`)."""
+        if not isinstance(hold, str) or hold not in ("spacing", "packing_fraction"):
+            raise ValueError(f"hold must be 'spacing' or 'packing_fraction', got {show(hold)}")
         self._check_model(model)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -125,7 +127,8 @@ class Quantity:
         want = {"bed": HairBed, "pillar": Pillar}.get(self.kind)
         if want is not None and not isinstance(model, want):
             raise TypeError(
-                f"{self.name} is a quantity of a {want.__name__}, got {type(model).__name__}"
+                f"{self.name} is a quantity of a {want.__name__}: model must be one, got "
+                f"{type(model).__name__}"
             )
         if isinstance(model, HairBed) and model.model != "dense":
             raise NotImplementedError(
@@ -196,7 +199,11 @@ class Constraint:
         return f"{self.quantity.name} {self.sense} {self.bound:g}"
 
     def slack(self, value: float) -> float:
-        """bound - value for "<=", value - bound for ">=" (negative: violated)."""
+        """bound - value for "<=", value - bound for ">=" (negative: violated; NaN for a
+        NaN value: a failed design's reports)."""
+        if isinstance(value, bool) or not isinstance(value, (int, float, np.floating)):
+            raise TypeError(f"value must be a real number, got {show(value)}")
+        value = float(value) if not isinstance(value, int) or abs(value) < 2**1023 else math.inf
         return value - self.bound if self.lower is not None else self.bound - value
 
 
@@ -235,7 +242,7 @@ def _valve_gaps(bed: HairBed, dp: float, length: float, hold: str) -> list[tuple
     caller must not change the dicts."""
     curve = valve_curve(bed, np.array([dp, -dp]), length)
     if not curve.success:
-        raise ArithmeticError(f"the valve's states at +-{dp:g} Pa: {curve.message}")
+        raise ArithmeticError(f"the valve's states at pressure_drop +-{dp:g} Pa: {curve.message}")
     table, status = loaded_gradient_table(curve.states.solution)
     h1 = np.asarray(curve.states.solution.tip_height, dtype=np.float64)
     big_l, big_h, a, e = bed.length, bed.channel_height, bed.radius, bed.youngs_modulus
@@ -520,7 +527,9 @@ class _RowCache:
             return self._rows[key]
         st = p.deform(tau)
         if int(np.asarray(st.status)) < 0:
-            raise ArithmeticError(f"no state of the pillar at tau_w = {tau:g} Pa")
+            raise ArithmeticError(
+                f"no state of the pillar at wall_shear_stress tau_w = {tau:g} Pa"
+            )
         rows = _state_rows(p, st.solution, tau)
         self.seed(p, tau, rows)
         return rows
@@ -886,6 +895,9 @@ def custom(
         raise TypeError(f"custom: function must be callable, got {show(function)}")
     if gradient is not None and not callable(gradient):
         raise TypeError(f"custom: gradient must be callable or None, got {show(gradient)}")
+    for label, text in (("name", name), ("unit", unit)):
+        if not isinstance(text, str):
+            raise TypeError(f"custom: {label} must be a string, got {show(text)}")
 
     def value_of(model: Any) -> float:
         try:
@@ -919,6 +931,19 @@ def validity_constraints(model: Any, quantities: Any) -> tuple[list[Constraint],
     quantity uses, the pillar Reynolds number <= 0.5 and, for the sublayer profile,
     L+ <= 5 (with a density).
     """
+    if not isinstance(model, (HairBed, Pillar)):
+        raise TypeError(f"model must be a hairbed.HairBed or hairbed.Pillar, got {show(model)}")
+    if isinstance(quantities, Quantity):
+        quantities = [quantities]
+    if (
+        isinstance(quantities, (str, bytes, dict))
+        or not np.iterable(quantities)
+        or not all(isinstance(q, Quantity) for q in quantities)
+    ):
+        raise TypeError(
+            f"quantities must be a sequence of hairbed.design quantities, got {show(quantities)}"
+        )
+    quantities = list(quantities)
     out: list[Constraint] = []
     notes: list[str] = []
     if isinstance(model, HairBed):

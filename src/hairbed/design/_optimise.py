@@ -226,7 +226,7 @@ def optimise(
     (True, 0.778)
     """
     space = Space(base, variables)
-    if isinstance(constraints, (str, bytes, dict)) or not hasattr(constraints, "__iter__"):
+    if isinstance(constraints, (str, bytes, dict)) or not np.iterable(constraints):
         raise TypeError(
             f"constraints must be a sequence of hairbed.design constraints, got "
             f"{show(constraints)}"

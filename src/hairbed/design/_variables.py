@@ -57,6 +57,19 @@ PILLAR_VARIABLES: dict[str, str] = {
 _MAX_CORNER_CHECK = 12
 
 
+def _finite(value: Any, name: str, positive: bool = False) -> float:
+    """A finite real number (> 0 with ``positive``), or a ValueError/TypeError naming it."""
+    if isinstance(value, (bool, np.bool_, np.timedelta64)) or not isinstance(
+        value, (int, float, np.integer, np.floating)
+    ):
+        raise TypeError(f"{name} must be a real number, got {show(value)}")
+    x = float(value) if not isinstance(value, int) or abs(value) <= 2**1023 else math.inf
+    if not math.isfinite(x) or (positive and not x > 0.0):
+        raise ValueError(f"{name} must be a finite number{' > 0' if positive else ''}, got "
+                         f"{show(value)}")  # fmt: skip
+    return x
+
+
 @dataclass(frozen=True)
 class Variable:
     """One design variable: an SI parameter of the model and its bounds.
@@ -117,6 +130,7 @@ class Variable:
     def value(self, u: float) -> float:
         """The parameter at the unit coordinate ``u`` in [0, 1], within the bounds (exp of
         ln(low) can round below low: a design's variables are fed back as ``x0``)."""
+        u = _finite(u, "u")
         if u in (0.0, 1.0):
             return self.high if u == 1.0 else self.low
         if self.log:
@@ -128,13 +142,21 @@ class Variable:
 
     def coordinate(self, value: float) -> float:
         """The unit coordinate of a parameter value (inverse of :meth:`value`)."""
+        value = _finite(value, "value", positive=self.log)
         if self.log:
             a, b = math.log(self.low), math.log(self.high)
             return (math.log(value) - a) / (b - a)
-        return (value - self.low) / (self.high - self.low)
+        u = (value - self.low) / (self.high - self.low)
+        if not math.isfinite(u):
+            raise ValueError(
+                f"value {value!r} is too far outside the bounds of variable {self.name!r}: its "
+                "unit coordinate overflows"
+            )
+        return u
 
     def slope(self, value: float) -> float:
         """dp/du at the parameter ``value``."""
+        value = _finite(value, "value", positive=self.log)
         if self.log:
             return value * (math.log(self.high) - math.log(self.low))
         return self.high - self.low
@@ -176,7 +198,7 @@ class Space:
             )
         if isinstance(variables, Variable):
             variables = [variables]
-        if isinstance(variables, (str, bytes, dict)) or not hasattr(variables, "__iter__"):
+        if isinstance(variables, (str, bytes, dict)) or not np.iterable(variables):
             raise TypeError(
                 f"variables must be a hairbed.design.Variable or a sequence of them, got "
                 f"{show(variables)}"
@@ -224,20 +246,32 @@ class Space:
 
     def values(self, u: FloatArray) -> dict[str, float]:
         """{name: SI value} at the unit coordinates ``u``."""
-        return {v.name: v.value(float(x)) for v, x in zip(self.variables, u, strict=True)}
+        if isinstance(u, (str, bytes)) or not np.iterable(u) or len(u) != self.size:
+            raise TypeError(f"u must be a sequence of {self.size} unit coordinates, got {show(u)}")
+        return {v.name: v.value(x) for v, x in zip(self.variables, u, strict=True)}
+
+    def _named(self, values: Any) -> dict[str, float]:
+        if not isinstance(values, dict) or set(values) != set(self.names):
+            raise TypeError(
+                f"values must be a dict of every design variable ({', '.join(self.names)}), "
+                f"got {show(values)}"
+            )
+        return {k: _finite(x, f"values[{k!r}]") for k, x in values.items()}
 
     def slopes(self, values: dict[str, float]) -> FloatArray:
         """dp/du of every variable at its value."""
+        values = self._named(values)
         return np.array([v.slope(values[v.name]) for v in self.variables])
 
     def coordinates(self, values: dict[str, float]) -> FloatArray:
         """The unit coordinates of SI values (inverse of :meth:`values`)."""
+        values = self._named(values)
         return np.array([v.coordinate(values[v.name]) for v in self.variables])
 
     def model(self, values: dict[str, float]) -> Any:
         """The base model with the parameters ``values`` (SI) replaced; warnings of the
         constructor (plausibility, validity) are silenced: validity is a constraint."""
-        changes: dict[str, Any] = dict(values)
+        changes: dict[str, Any] = self._named(values)
         if self.kind == "bed":
             if self.hold == "packing_fraction":
                 changes["spacing"] = None

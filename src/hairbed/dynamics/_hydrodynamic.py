@@ -89,8 +89,9 @@ def sader_drag_ratio(omega: ArrayLike, reynolds_scale: float, slenderness: float
     sl = check_number(slenderness, "slenderness", low=1.5, low_open=True)
     with np.errstate(over="ignore"):
         re = k * om
+        top = np.finfo(np.float64).max / k  # inf for a subnormal reynolds_scale
     _check_range(
-        om, ~np.isfinite(re), "omega", f"[0, {np.finfo(np.float64).max / k:.4g}] (Re = "
+        om, ~np.isfinite(re), "omega", f"[0, {top:.4g}] (Re = "
         f"reynolds_scale omega overflows)"
     )  # fmt: skip
     out = np.ones(om.shape, dtype=np.complex128)

@@ -149,8 +149,12 @@ def warn_dynamics_validity(
     """Issue one :class:`hairbed.ModelValidityWarning` per message of
     :func:`dynamics_validity` (same parameters; ``stacklevel`` as in
     :func:`warnings.warn`)."""
-    if isinstance(stacklevel, (bool, np.bool_)) or not isinstance(stacklevel, (int, np.integer)):
+    if isinstance(stacklevel, (bool, np.bool_, np.timedelta64)) or not isinstance(
+        stacklevel, (int, np.integer)
+    ):
         raise TypeError(f"stacklevel must be an integer, got {show(stacklevel)}")
+    if not 1 <= stacklevel <= 10_000:
+        raise ValueError(f"stacklevel must lie in [1, 10000], got {show(stacklevel)}")
     for message in dynamics_validity(
         omega,
         mu=mu,
