@@ -52,11 +52,15 @@ from hairbed import (
     branches,
     calibration,
     calibration_files,
+    design,
+    dynamics,
     inverse,
     numerics,
+    porous_curves,
     quasistatic,
     rheology,
     sensitivity,
+    sensor_dynamics,
     stability,
     sweeps,
     units,
@@ -761,6 +765,398 @@ TARGETS += [
     ),
 ]
 
+# -- this session's new API: the dynamics, the sensor's dynamics, design, the porous bed ----------
+
+DYN_PILLAR = hairbed.Pillar(**PILLAR_KW, density=1000.0)
+DYN_STATE = hairbed.solve_pillar(2.0, 0.1)
+LINEAR = dynamics.linearise_pillar(DYN_STATE)
+SIGNAL = dynamics.step(1.0, 0.0, 0.1)
+#: A tip-deflection series [m] of the sensor under a wobbling stress, 64 samples at 1 kHz.
+SERIES = [float(d) for d in PILLAR.tip_deflection(1.0 + 0.1 * np.sin(np.arange(64) / 5.0))]
+SENSOR_RESPONSE = DYN_PILLAR.frequency_response(
+    [10.0, 100.0], wall_shear_stress=1.0, pillar_density=1000.0
+)
+DESIGN_BED = hairbed.HairBed(**BED_KW, density=1000.0)
+DESIGN_VAR = design.Variable("length", 300e-6, 1e-3)
+DESIGN_SPACE = design.Space(DYN_PILLAR, [DESIGN_VAR])
+POROUS_BED = hairbed.HairBed(**BED_KW, model="porous")
+POROUS_V = [0.02, 0.05, 0.1]
+POROUS_D = [float(POROUS_BED.deform(v).tip_deflection) for v in POROUS_V]
+POROUS_FIT = calibration.fit(POROUS_BED, POROUS_D, velocity=POROUS_V, sigma=1e-6)
+
+
+def _quantity(factory: Callable[..., Any], model: Any) -> Callable[..., Any]:
+    """A quantity built from the fuzzed arguments and evaluated on ``model``."""
+    return lambda **kw: factory(**kw)(model)
+
+
+#: A quantity's answer where its model has no state (the optimiser's signal; it must name
+#: the argument too).
+QUANTITY_ERRORS = (ValueError, TypeError, ArithmeticError)
+
+
+NEW_TARGETS = [
+    # hairbed.dynamics: the linear dynamics
+    Target(
+        "dynamics.linearise_pillar",
+        dynamics.linearise_pillar,
+        dict(state=DYN_STATE, profile="sublayer", height_ratio=None, mu=0.1, tangential_mass=1.0),
+    ),
+    Target("LinearPillar.modes", _method(LINEAR, "modes"), dict(num_modes=4, num=16)),
+    Target(
+        "LinearPillar.frequency_response",
+        _method(LINEAR, "frequency_response"),
+        dict(omega=[0.1, 1.0], drive="forcing", num=16, unsteady_drag=None),
+    ),
+    Target(
+        "LinearPillar.frequency_response[unsteady]",
+        _method(LINEAR, "frequency_response"),
+        dict(omega=[0.1, 1.0], num=16, unsteady_drag=(10.0, 20.0)),
+        fuzz=("unsteady_drag",),
+    ),
+    # hairbed.dynamics: the nonlinear pillar in time
+    Target(
+        "dynamics.simulate_pillar",
+        dynamics.simulate_pillar,
+        dict(
+            forcing=2.0,
+            t_eval=[0.0, 0.05],
+            theta0=0.1,
+            tip_load=0.0,
+            profile="sublayer",
+            height_ratio=None,
+            gamma=0.5,
+            mu=0.0,
+            tangential_mass=1.0,
+            initial=None,
+            num=8,
+            rtol=1e-8,
+            atol=1e-10,
+            max_steps=2000,
+            jump_speed=None,
+        ),
+    ),
+    Target(
+        "dynamics.simulate_pillars",
+        dynamics.simulate_pillars,
+        dict(
+            forcing=[1.0, 2.0],
+            t_eval=[0.0, 0.05],
+            theta0=0.1,
+            gamma=0.5,
+            mu=0.0,
+            num=8,
+            max_steps=2000,
+            workers=1,
+        ),
+    ),
+    # hairbed.dynamics: the drives
+    Target("dynamics.constant", dynamics.constant, dict(value=1.0)),
+    Target("dynamics.step", dynamics.step, dict(after=1.0, before=0.0, at=0.1)),
+    Target("dynamics.ramp", dynamics.ramp, dict(start=0.0, end=1.0, t_start=0.0, t_end=1.0)),
+    Target("dynamics.sine", dynamics.sine, dict(mean=1.0, amplitude=0.5, omega=2.0, phase=0.0)),
+    Target(
+        "dynamics.pulses",
+        dynamics.pulses,
+        dict(base=0.0, height=1.0, period=1.0, width=0.2, start=0.0),
+    ),
+    Target("dynamics.sampled", dynamics.sampled, dict(times=[0.0, 1.0, 2.0], values=[0, 1, 0.5])),
+    Target("Signal.at_start", _method(SIGNAL, "at_start"), dict(t0=0.5)),
+    # hairbed.dynamics: the unsteady drag and the validity of the dynamics
+    Target("dynamics.hydrodynamic_function", dynamics.hydrodynamic_function, dict(reynolds=1.0)),
+    Target("dynamics.crossover_reynolds", dynamics.crossover_reynolds, dict(slenderness=20.0)),
+    Target(
+        "dynamics.sader_drag_ratio",
+        dynamics.sader_drag_ratio,
+        dict(omega=[1.0, 2.0], reynolds_scale=10.0, slenderness=20.0),
+    ),
+    Target(
+        "dynamics.dynamics_validity",
+        dynamics.dynamics_validity,
+        dict(omega=[1.0], mu=0.1, reynolds_scale=10.0, slenderness=20.0, unsteady_drag=False),
+    ),
+    Target(
+        "dynamics.warn_dynamics_validity",
+        dynamics.warn_dynamics_validity,
+        dict(omega=[1.0], mu=0.1, reynolds_scale=10.0, slenderness=20.0, stacklevel=2),
+    ),
+    # hairbed.sensor_dynamics and its Pillar methods
+    Target(
+        "sensor_dynamics.frequency_response",
+        sensor_dynamics.frequency_response,
+        dict(
+            pillar=DYN_PILLAR,
+            frequency=[10.0, 100.0],
+            wall_shear_stress=1.0,
+            pillar_density=1000.0,
+            drag="sader",
+            magnitude_tolerance=0.05,
+            phase_tolerance=0.1,
+        ),
+    ),
+    Target(
+        "Pillar.frequency_response",
+        _method(DYN_PILLAR, "frequency_response"),
+        dict(frequency=[10.0, 100.0], wall_shear_stress=1.0, pillar_density=1000.0, drag="sader"),
+    ),
+    Target("SensorResponse.at", _method(SENSOR_RESPONSE, "at"), dict(frequency=[5.0, 50.0])),
+    Target(
+        "sensor_dynamics.wall_shear_stress_from_tip_deflection_series",
+        sensor_dynamics.wall_shear_stress_from_tip_deflection_series,
+        dict(
+            pillar=DYN_PILLAR,
+            tip_deflection=SERIES,
+            sample_rate=1000.0,
+            noise_sigma=None,
+            pillar_density=1000.0,
+            drag="sader",
+            smoothing=8,
+        ),
+    ),
+    Target(
+        "Pillar.wall_shear_stress_from_tip_deflection_series",
+        _method(DYN_PILLAR, "wall_shear_stress_from_tip_deflection_series"),
+        dict(
+            tip_deflection=SERIES,
+            sample_rate=None,
+            times=np.arange(64) / 1000.0,
+            noise_sigma=1e-8,
+            pillar_density=1000.0,
+        ),
+    ),
+    Target(
+        "sensor_dynamics.simulate",
+        sensor_dynamics.simulate,
+        dict(
+            pillar=DYN_PILLAR,
+            wall_shear_stress=1.0,
+            t=[0.0, 1e-3],
+            overdamped=True,
+            num=8,
+            rtol=1e-6,
+            atol=1e-7,
+            max_steps=2000,
+        ),
+    ),
+    Target(
+        "Pillar.simulate",
+        _method(DYN_PILLAR, "simulate"),
+        dict(wall_shear_stress=SIGNAL, t=[0.0, 1e-4, 1e-3], pillar_density=1000.0, num=8),
+    ),
+    Target(
+        "sensor_dynamics.time_scale_and_inertia",
+        sensor_dynamics.time_scale_and_inertia,
+        dict(pillar=DYN_PILLAR, pillar_density=1000.0, overdamped=False),
+    ),
+    # hairbed.design
+    Target("design.Variable", design.Variable, dict(name="length", low=1e-4, high=1e-3, log=True)),
+    Target("Variable.value", _method(DESIGN_VAR, "value"), dict(u=0.5)),
+    Target("Variable.coordinate", _method(DESIGN_VAR, "coordinate"), dict(value=5e-4)),
+    Target("Variable.slope", _method(DESIGN_VAR, "slope"), dict(value=5e-4)),
+    Target("design.Space", design.Space, dict(base=DYN_PILLAR, variables=[DESIGN_VAR])),
+    Target("Space.values", _method(DESIGN_SPACE, "values"), dict(u=[0.5])),
+    Target("Space.slopes", _method(DESIGN_SPACE, "slopes"), dict(values={"length": 5e-4})),
+    Target(
+        "Space.coordinates", _method(DESIGN_SPACE, "coordinates"), dict(values={"length": 5e-4})
+    ),
+    Target("Space.model", _method(DESIGN_SPACE, "model"), dict(values={"length": 5e-4})),
+    Target(
+        "design.optimise",
+        design.optimise,
+        dict(
+            base=DYN_PILLAR,
+            variables=DESIGN_VAR,
+            objective=design.slenderness(),
+            constraints=(),
+            sense="max",
+            starts=1,
+            seed=0,
+            x0=None,
+            validity=False,
+            maxiter=10,
+        ),
+    ),
+    Target(
+        "design.pareto_front",
+        design.pareto_front,
+        dict(
+            base=DYN_PILLAR,
+            variables=DESIGN_VAR,
+            first=design.slenderness(),
+            second=design.linear_sensitivity(),
+            senses=("max", "max"),
+            points=3,
+            constraints=(),
+            starts=1,
+            seed=0,
+            validity=False,
+        ),
+    ),
+    Target(
+        "design.diodicity",
+        _quantity(design.diodicity, DESIGN_BED),
+        dict(pressure_drop=100.0, channel_length=0.01),
+        errors=QUANTITY_ERRORS,
+    ),
+    Target(
+        "design.resistance_ratio",
+        _quantity(design.resistance_ratio, DESIGN_BED),
+        dict(pressure_drop=100.0, channel_length=0.01),
+        errors=QUANTITY_ERRORS,
+    ),
+    Target(
+        "design.gap_reynolds",
+        _quantity(design.gap_reynolds, DESIGN_BED),
+        dict(pressure_drop=100.0, channel_length=0.01),
+        errors=QUANTITY_ERRORS,
+    ),
+    Target(
+        "design.tip_deflection",
+        _quantity(design.tip_deflection, DYN_PILLAR),
+        dict(wall_shear_stress=1.0),
+        errors=QUANTITY_ERRORS,
+    ),
+    Target(
+        "design.sensitivity",
+        _quantity(design.sensitivity, DYN_PILLAR),
+        dict(wall_shear_stress=1.0),
+        errors=QUANTITY_ERRORS,
+    ),
+    Target(
+        "design.bandwidth",
+        _quantity(design.bandwidth, DYN_PILLAR),
+        dict(wall_shear_stress=1.0),
+        errors=QUANTITY_ERRORS,
+    ),
+    Target("design.linear_range", _quantity(design.linear_range, DYN_PILLAR), dict(rtol=0.1)),
+    Target("design.l_plus", _quantity(design.l_plus, DYN_PILLAR), dict(wall_shear_stress=1.0)),
+    Target(
+        "design.pillar_reynolds",
+        _quantity(design.pillar_reynolds, DYN_PILLAR),
+        dict(wall_shear_stress=1.0),
+        errors=QUANTITY_ERRORS,
+    ),
+    Target(
+        "design.custom",
+        _quantity(design.custom, DYN_PILLAR),
+        dict(function=lambda m: m.length * 2.0, name="twice", gradient=None, unit="m"),
+        errors=QUANTITY_ERRORS,
+    ),
+    Target(
+        "Quantity.evaluate",
+        _method(design.tip_deflection(1.0), "evaluate"),
+        dict(model=DYN_PILLAR, hold="spacing"),
+    ),
+    Target(
+        "Constraint.slack",
+        _method(design.slenderness() <= 30.0, "slack"),
+        dict(value=20.0),
+        nan_ok=True,  # NaN in, NaN out: a failed design's constraint report
+    ),
+    Target(
+        "design.validity_constraints",
+        design.validity_constraints,
+        dict(model=DYN_PILLAR, quantities=[design.tip_deflection(1.0)]),
+    ),
+    # the porous bed (issue 29): its branch and its SI workflows
+    Target(
+        "porous_curves.porous_branch",
+        porous_curves.porous_branch,
+        dict(eps=0.5, theta0=0.1, kappa=0.1, gamma=1.0, x1_max=0.9, num=8),
+    ),
+    Target(
+        "HairBed[porous]",
+        hairbed.HairBed,
+        dict(BED_KW, model="porous", drag="crossover"),
+        fuzz=("model", "drag", "spacing", "channel_height"),
+    ),
+    Target(
+        "HairBed.deform[porous pressure_gradient]",
+        _method(POROUS_BED, "deform"),
+        dict(velocity=0.01, pressure_gradient=500.0),
+    ),
+    Target(
+        "HairBed.deform[porous flow_rate]",
+        _method(POROUS_BED, "deform"),
+        dict(flow_rate=1e-6),
+    ),
+    Target(
+        "calibration.fit[porous]",
+        calibration.fit,
+        dict(bed=POROUS_BED, tip_deflection=POROUS_D, velocity=POROUS_V, sigma=1e-6),
+        fuzz=("tip_deflection", "velocity", "sigma"),
+    ),
+    Target(
+        "calibration.measure[porous]",
+        calibration.measure,
+        dict(bed=POROUS_BED, tip_deflection=POROUS_D[1], sigma=1e-6, fit=POROUS_FIT),
+        fuzz=("tip_deflection", "sigma"),
+    ),
+    Target(
+        "valve.valve_states[porous]",
+        hairbed.valve.valve_states,
+        dict(bed=POROUS_BED, channel_length=0.01, flow_rate=[0.0, 2e-7], max_steps=40),
+        fuzz=("channel_length", "flow_rate", "max_steps"),
+    ),
+    Target(
+        "valve.valve_curve[porous]",
+        hairbed.valve.valve_curve,
+        dict(bed=POROUS_BED, pressure_drop=[10.0, 100.0], channel_length=0.01),
+        fuzz=("pressure_drop", "channel_length"),
+    ),
+]
+TARGETS += NEW_TARGETS
+#: Known failures of the new API, each found by this catalogue and reported, not yet fixed
+#: because the fix belongs in a module under work by another engineer (dynamics/_integrate,
+#: _linear) or needs a decision: (target, argument) -> why. See ``CATALOGUE_PAIRS``.
+_INTEGRATE = "dynamics/_integrate.py (under work): "
+_SENSOR = "sensor_dynamics.py: "
+_LINEAR = "dynamics/_linear.py (under work): "
+_HUGE_LOAD = "a load with no static state: the message does not name the argument"
+_OVERFLOW = "numpy overflow warning leaks at a value near the largest double"
+_GAMMA = "3e38 Hz: Sader's Gamma's range error names omega and reynolds_scale, not frequency"
+KNOWN: dict[tuple[str, str], str] = {
+    ("LinearPillar.modes", "num_modes"): _LINEAR + "_check_count takes a timedelta64 to int()",
+    ("LinearPillar.frequency_response", "drive"): _LINEAR + "an array drive: `in DRIVES`",
+    ("dynamics.simulate_pillar", "forcing"): _INTEGRATE + _HUGE_LOAD,
+    ("dynamics.simulate_pillar", "tip_load"): _INTEGRATE + _HUGE_LOAD,
+    ("dynamics.simulate_pillar", "t_eval"): _INTEGRATE + "np.float64 repr in the message",
+    ("dynamics.simulate_pillar", "max_steps"): _INTEGRATE + "OverflowError at max_steps=1e300",
+    ("dynamics.simulate_pillars", "forcing"): _INTEGRATE + _HUGE_LOAD + " (and [] neither)",
+    ("dynamics.simulate_pillars", "t_eval"): _INTEGRATE + "np.float64 repr in the message",
+    ("dynamics.simulate_pillars", "max_steps"): _INTEGRATE + "OverflowError at 1e300",
+    ("sensor_dynamics.frequency_response", "frequency"): _SENSOR + _GAMMA,
+    ("sensor_dynamics.frequency_response", "pillar_density"): _SENSOR
+    + "5e-324: the under/overflow message does not name pillar_density",
+    ("sensor_dynamics.frequency_response", "magnitude_tolerance"): _SENSOR + _OVERFLOW,
+    ("sensor_dynamics.frequency_response", "phase_tolerance"): _SENSOR + _OVERFLOW,
+    ("Pillar.frequency_response", "frequency"): _SENSOR + _GAMMA,
+    ("Pillar.frequency_response", "pillar_density"): _SENSOR
+    + "5e-324: the under/overflow message does not name pillar_density",
+    ("SensorResponse.at", "frequency"): _SENSOR + _GAMMA,
+    ("sensor_dynamics.wall_shear_stress_from_tip_deflection_series", "sample_rate"): _SENSOR
+    + "1e300: its frequency grid's bound (1e100 Hz) is named frequency, not sample_rate",
+    ("sensor_dynamics.wall_shear_stress_from_tip_deflection_series", "noise_sigma"): _SENSOR
+    + "OverflowError at noise_sigma=1e300",
+    ("sensor_dynamics.wall_shear_stress_from_tip_deflection_series", "pillar_density"): _SENSOR
+    + "2**63: the deconvolution's range error does not name pillar_density",
+    ("Pillar.wall_shear_stress_from_tip_deflection_series", "noise_sigma"): _SENSOR
+    + "OverflowError at noise_sigma=1e300",
+    ("Pillar.wall_shear_stress_from_tip_deflection_series", "pillar_density"): _SENSOR
+    + "2**63: the deconvolution's range error does not name pillar_density",
+    ("sensor_dynamics.simulate", "wall_shear_stress"): _SENSOR
+    + "1.7e308: a matmul invalid-value warning leaks (the run's collocation)",
+    ("Pillar.simulate", "pillar_density"): _SENSOR
+    + "5e-324: chi = 0 refused as tangential_mass, not named pillar_density",
+    ("design.sensitivity", "wall_shear_stress"): "design: NaN at a stress with no state (1e300)",
+    ("design.bandwidth", "wall_shear_stress"): "design: 'state has no solution' at 1e300 names "
+    "no argument",
+    ("design.l_plus", "wall_shear_stress"): "design: inf at 1.7e308 (the friction velocity)",
+}
+
+#: The new API is strict: NaN and infinities refused, results judged (:func:`_silent`).
+STRICT_NEW = {t.name for t in NEW_TARGETS} - {"Constraint.slack"}
+
 STRICT = {
     "solve_loaded",
     "solve_loaded[q]",
@@ -791,6 +1187,7 @@ STRICT = {
     "solve_porous_all",
     "inverse.porous_state_from_tip_deflection",
     "HairBed.deform[porous]",
+    *STRICT_NEW,
 }
 #: Catalogue classes that a number must refuse (None, strings and odd dtypes may stand for
 #: a default or convert to a number; these never do).
@@ -907,6 +1304,13 @@ NOT_FUZZED = {
     "hairbed.calibration_files.read_calibration": "file input: test_calibration_misuse",
     "hairbed.calibration_files.write_calibration": "file output: test_calibration_misuse",
     "Solution.as_dict": "no input",
+    "LinearPillar.growth_rate": "no input",
+    "Signal.row": "no input",
+    "SensorResponse.to_xarray": "no input",
+    "hairbed.design.brinkman_ratio": "no input (its value is fuzzed through HairBed)",
+    "hairbed.design.bistable_width": "no input (its value is fuzzed through HairBed)",
+    "hairbed.design.linear_sensitivity": "no input (a pareto_front objective in its target)",
+    "hairbed.design.slenderness": "no input (the optimise objective in its target)",
 }
 
 PUBLIC_MODULES = (
@@ -924,9 +1328,26 @@ PUBLIC_MODULES = (
     "hairbed.units",
     "hairbed.valve",
     "hairbed.pillars",
+    "hairbed.dynamics",
+    "hairbed.sensor_dynamics",
+    "hairbed.design",
+    "hairbed.porous_curves",
 )
 #: Classes whose public methods take input.
-CLASSES_WITH_METHODS = {"Solution", "HairBed", "HairState", "Pillar", "PillarDeformation"}
+CLASSES_WITH_METHODS = {
+    "Solution",
+    "HairBed",
+    "HairState",
+    "Pillar",
+    "PillarDeformation",
+    "LinearPillar",
+    "Signal",
+    "SensorResponse",
+    "Variable",
+    "Space",
+    "Quantity",
+    "Constraint",
+}
 
 
 def test_every_public_function_is_fuzzed_or_excused():
@@ -1041,9 +1462,24 @@ def _run(target: Target, param: str, cls: str, value: Any) -> str | None:
 
 PAIRS = [(t, p) for t in TARGETS for p in t.fuzz]
 IDS = [f"{t.name}-{p}" for t, p in PAIRS]
+assert not set(KNOWN) - {(t.name, p) for t, p in PAIRS}, "a KNOWN entry names no target"
+#: The catalogue's pairs, a KNOWN failure as a strict xfail (fixing it makes it pass: then
+#: drop its entry); the generated draws leave KNOWN pairs out (they may or may not hit it).
+CATALOGUE_PAIRS = [
+    pytest.param(t, p, id=f"{t.name}-{p}", marks=pytest.mark.xfail(strict=True, reason=why))
+    if (why := KNOWN.get((t.name, p)))
+    else pytest.param(t, p, id=f"{t.name}-{p}")
+    for t, p in PAIRS
+]
+GENERATED_PAIRS = [
+    pytest.param(t, p, id=f"{t.name}-{p}", marks=pytest.mark.skip(reason=f"KNOWN: {why}"))
+    if (why := KNOWN.get((t.name, p)))
+    else pytest.param(t, p, id=f"{t.name}-{p}")
+    for t, p in PAIRS
+]
 
 
-@pytest.mark.parametrize(("target", "param"), PAIRS, ids=IDS)
+@pytest.mark.parametrize(("target", "param"), CATALOGUE_PAIRS)
 def test_catalogue(target: Target, param: str):
     """Every class of the catalogue on this argument."""
     failures = [f for cls, v in CATALOGUE if (f := _run(target, param, cls, v)) is not None]
@@ -1065,7 +1501,7 @@ def test_valid_edges_are_taken(name: str, param: str, value: Any):
     assert failure is None, f"{name}({param}={value!r}): {failure}"
 
 
-@pytest.mark.parametrize(("target", "param"), PAIRS, ids=IDS)
+@pytest.mark.parametrize(("target", "param"), GENERATED_PAIRS)
 @FUZZ
 @given(value=GENERATED)
 def test_generated(target: Target, param: str, value: Any):

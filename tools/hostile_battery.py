@@ -1,5 +1,9 @@
 """A hostile battery against the newer API (issue 33): the pump-driven bed, the valve, the
-isolated pillar, their derivatives and calibration files.
+isolated pillar, their derivatives and calibration files; then this session's API (the
+pillar's dynamics and the sensor's, ``hairbed.design``, the porous bed's branch and SI
+workflows) and its command line (``hairbed design``, ``measure --pillar --series``,
+``--model porous`` on invert/linear-range/calibrate/measure/``valve --states``,
+``hairbed simulate`` and ``hairbed response``), run in-process from a temporary directory.
 
 Each call gets a valid set of arguments with one of them replaced by a hostile value (from a
 catalogue of NaN, infinities, huge and tiny numbers, zeros, empty and 0-d arrays, wrong
@@ -17,8 +21,14 @@ falls in one class:
   with no status that says why;
 * ``valid input rejected``: an edge value that the documentation allows raised.
 
-Run ``python tools/hostile_battery.py [--json out.json] [--quick]``: it prints the count per
-class and each finding, and exits 1 when any class but ``ok`` has a count.
+A command-line run is ``internal traceback`` when it raises or prints a traceback, a warning
+or more than one line on stderr; ``bad input accepted`` when NaN, an infinity or a string
+for a number exits 0; ``silent empty`` when it exits 0 with nothing on stdout; ``silent
+NaN`` when stdout shows nan with nothing said on stderr.
+
+Run ``python tools/hostile_battery.py [--json out.json] [--quick] [--new] [--no-cli]``
+(``--new``: this session's API and the CLI only): it prints the count per class and each
+finding, and exits 1 when any class but ``ok`` has a count.
 """
 
 from __future__ import annotations
@@ -415,6 +425,475 @@ def _targets() -> list[Target]:
     ]
 
 
+def _new_targets() -> list[Target]:
+    """This session's API: the dynamics, the sensor's dynamics, design, the porous bed."""
+    from hairbed import design, dynamics, porous_curves, sensor_dynamics
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pillar = hairbed.Pillar(**PILLAR_KW, density=1000.0)
+        state = hairbed.solve_pillar(2.0, 0.1)
+        linear = dynamics.linearise_pillar(state)
+        series = [float(d) for d in pillar.tip_deflection(1.0 + 0.1 * np.sin(np.arange(64) / 5))]
+        response = pillar.frequency_response(
+            [10.0, 100.0], wall_shear_stress=1.0, pillar_density=1000.0
+        )
+        dbed = hairbed.HairBed(**BED_KW, density=1000.0)
+        var = design.Variable("length", 300e-6, 1e-3)
+        porous = hairbed.HairBed(**BED_KW, model="porous")
+        pv = [0.02, 0.05, 0.1]
+        pd = [float(porous.deform(v).tip_deflection) for v in pv]
+        pfit = calibration.fit(porous, pd, velocity=pv, sigma=1e-6)
+
+    def quantity(factory: Callable[..., Any], model: Any) -> Callable[..., Any]:
+        return lambda **kw: factory(**kw)(model)
+
+    return [
+        Target(
+            "dynamics.linearise_pillar",
+            lambda **kw: dynamics.linearise_pillar(**kw).modes(4),
+            dict(state=state, mu=0.1, tangential_mass=1.0, height_ratio=None),
+            edges={"mu": [0.0], "tangential_mass": [1e-3]},
+        ),
+        Target(
+            "LinearPillar.modes",
+            lambda **kw: linear.modes(**kw),
+            dict(num_modes=4, num=16),
+            edges={"num_modes": [1], "num": [None, 8]},
+        ),
+        Target(
+            "LinearPillar.frequency_response",
+            lambda **kw: linear.frequency_response(**kw),
+            dict(omega=[0.1, 1.0], drive="forcing", num=16),
+            edges={"omega": [0.0, [0.0, 1e3]], "drive": ["tip_load"]},
+            text=("drive",),
+        ),
+        Target(
+            "dynamics.simulate_pillar",
+            dynamics.simulate_pillar,
+            dict(forcing=2.0, t_eval=[0.0, 0.05], theta0=0.1, mu=0.0, num=8, max_steps=2000),
+            edges={
+                "forcing": [0.0, -2.0, dynamics.step(2.0), lambda t: 2.0],
+                "t_eval": [[0.0], [0.0, 1e-9]],
+                "mu": [0.1],
+                "theta0": [-1.2],
+            },
+        ),
+        Target(
+            "dynamics.simulate_pillars",
+            dynamics.simulate_pillars,
+            dict(forcing=[1.0, 2.0], t_eval=[0.0, 0.05], theta0=0.1, num=8, max_steps=2000),
+            edges={"forcing": [[1.0]], "theta0": [[0.1, 0.2]]},
+        ),
+        Target("dynamics.step", dynamics.step, dict(after=1.0, before=0.0, at=0.1)),
+        Target("dynamics.ramp", dynamics.ramp, dict(start=0.0, end=1.0, t_start=0.0, t_end=1.0)),
+        Target("dynamics.sine", dynamics.sine, dict(mean=1.0, amplitude=0.5, omega=2.0)),
+        Target(
+            "dynamics.pulses",
+            dynamics.pulses,
+            dict(base=0.0, height=1.0, period=1.0, width=0.2, start=0.0),
+        ),
+        Target(
+            "dynamics.sampled",
+            dynamics.sampled,
+            dict(times=[0.0, 1.0, 2.0], values=[0.0, 1.0, 0.5]),
+            edges={"times": [[0.0, 1.0, 5.0]]},
+        ),
+        Target(
+            "dynamics.hydrodynamic_function",
+            dynamics.hydrodynamic_function,
+            dict(reynolds=[1.0, 10.0]),
+            edges={"reynolds": [1e-6, 1e6]},
+        ),
+        Target(
+            "dynamics.sader_drag_ratio",
+            dynamics.sader_drag_ratio,
+            dict(omega=[1.0, 2.0], reynolds_scale=10.0, slenderness=20.0),
+            edges={"omega": [0.0]},
+        ),
+        Target(
+            "dynamics.dynamics_validity",
+            dynamics.dynamics_validity,
+            dict(omega=[1.0], mu=0.1, reynolds_scale=10.0, slenderness=20.0),
+            edges={"mu": [0.0], "omega": [[0.0]]},
+        ),
+        Target(
+            "Pillar.frequency_response",
+            lambda **kw: pillar.frequency_response(**kw),
+            dict(frequency=[10.0, 100.0], wall_shear_stress=1.0, pillar_density=1000.0),
+            edges={"frequency": [0.0, [0.0, 1e3]], "wall_shear_stress": [0.0, -1.0]},
+        ),
+        Target(
+            "SensorResponse.at",
+            lambda **kw: response.at(**kw),
+            dict(frequency=[5.0, 50.0]),
+            edges={"frequency": [0.0]},
+        ),
+        Target(
+            "Pillar.wall_shear_stress_from_tip_deflection_series",
+            lambda **kw: pillar.wall_shear_stress_from_tip_deflection_series(**kw),
+            dict(tip_deflection=series, sample_rate=1000.0, pillar_density=1000.0),
+            edges={"noise_sigma": [0.0, 1e-8]},
+        ),
+        Target(
+            "sensor_dynamics.simulate",
+            lambda **kw: sensor_dynamics.simulate(pillar, **kw),
+            dict(wall_shear_stress=1.0, t=[0.0, 1e-3], overdamped=True, num=8, max_steps=2000),
+            edges={"wall_shear_stress": [0.0, -1.0, dynamics.step(1.0)], "t": [[0.0]]},
+        ),
+        Target(
+            "Pillar.simulate",
+            lambda **kw: pillar.simulate(**kw),
+            dict(wall_shear_stress=1.0, t=[0.0, 1e-4, 1e-3], pillar_density=1000.0, num=8),
+        ),
+        Target(
+            "design.Variable",
+            design.Variable,
+            dict(name="length", low=1e-4, high=1e-3, log=True),
+            text=("name",),
+        ),
+        Target(
+            "design.optimise",
+            design.optimise,
+            dict(
+                base=pillar,
+                variables=var,
+                objective=design.slenderness(),
+                sense="max",
+                starts=1,
+                validity=False,
+                maxiter=10,
+            ),
+            edges={"starts": [1, 3], "x0": [{"length": 5e-4}]},
+            text=("sense",),
+        ),
+        Target(
+            "design.pareto_front",
+            design.pareto_front,
+            dict(
+                base=pillar,
+                variables=var,
+                first=design.slenderness(),
+                second=design.linear_sensitivity(),
+                points=3,
+                starts=1,
+                validity=False,
+            ),
+            edges={"points": [2]},
+        ),
+        Target(
+            "design.diodicity",
+            quantity(design.diodicity, dbed),
+            dict(pressure_drop=100.0, channel_length=0.01),
+        ),
+        Target(
+            "design.resistance_ratio",
+            quantity(design.resistance_ratio, dbed),
+            dict(pressure_drop=100.0, channel_length=0.01),
+            edges={"pressure_drop": [-100.0]},
+        ),
+        Target(
+            "design.tip_deflection",
+            quantity(design.tip_deflection, pillar),
+            dict(wall_shear_stress=1.0),
+            edges={"wall_shear_stress": [1e-3, 50.0]},
+        ),
+        Target(
+            "design.bandwidth", quantity(design.bandwidth, pillar), dict(wall_shear_stress=1.0)
+        ),
+        Target("design.linear_range", quantity(design.linear_range, pillar), dict(rtol=0.1)),
+        Target(
+            "porous_curves.porous_branch",
+            porous_curves.porous_branch,
+            dict(eps=0.5, theta0=0.1, kappa=0.1, gamma=1.0, x1_max=0.9, num=8),
+            edges={"eps": [0.0], "theta0": [-1.2], "gamma": [1.0]},
+        ),
+        Target(
+            "HairBed.deform[porous]",
+            lambda **kw: porous.deform(**kw),
+            dict(velocity=0.01, pressure_gradient=500.0),
+            edges={"pressure_gradient": [0.0, -500.0], "velocity": [0.0, -0.01]},
+        ),
+        Target(
+            "HairBed.deform[porous flow_rate]",
+            lambda **kw: porous.deform(**kw),
+            dict(flow_rate=1e-6),
+            edges={"flow_rate": [0.0, -1e-6]},
+        ),
+        Target(
+            "calibration.fit[porous]",
+            lambda **kw: calibration.fit(porous, **kw),
+            dict(tip_deflection=pd, velocity=pv, sigma=1e-6),
+            edges={"sigma": [None]},
+        ),
+        Target(
+            "calibration.measure[porous]",
+            lambda **kw: calibration.measure(porous, fit=pfit, **kw),
+            dict(tip_deflection=pd[1], sigma=1e-6),
+            edges={"sigma": [0.0], "tip_deflection": [[pd[0], pd[2]]]},
+        ),
+        Target(
+            "valve.valve_states[porous]",
+            lambda **kw: valve.valve_states(porous, 0.01, **kw),
+            dict(flow_rate=[0.0, 2e-7], max_steps=40),
+            edges={"flow_rate": [[-2e-7, 2e-7]]},
+        ),
+        Target(
+            "valve.valve_curve[porous]",
+            lambda **kw: valve.valve_curve(porous, **kw),
+            dict(pressure_drop=[10.0, 100.0], channel_length=0.01),
+            edges={"pressure_drop": [0.0, [-100.0, 100.0]]},
+        ),
+    ]
+
+
+# -- the command line ---------------------------------------------------------------------------
+
+_BED_ARGS = [
+    "--length=1e-3",
+    "--radius=50e-6",
+    "--youngs-modulus=1e6",
+    "--channel-height=2e-3",
+    "--viscosity=1",
+    "--spacing=400e-6",
+]
+_PILLAR_ARGS = [
+    "--length=500e-6",
+    "--radius=25e-6",
+    "--youngs-modulus=1e6",
+    "--fluid=water",
+    "--base-angle=0.1",
+]
+_SERIES = "series.csv"
+_DESIGN = "design.toml"
+_DESIGN_TEXT = """[model]
+kind = "pillar"
+length = 500e-6
+radius = 25e-6
+youngs_modulus = 1e6
+viscosity = 1e-3
+base_angle = 0.1
+
+[[variables]]
+name = "length"
+low = {low}
+high = {high}
+
+[objective]
+quantity = "slenderness"
+sense = "max"
+
+[options]
+starts = {starts}
+validity = false
+"""
+#: name -> (valid argv, options to fuzz, edge values: [(option, value)] that must be taken)
+CLI_COMMANDS: dict[str, tuple[list[str], tuple[str, ...], list[tuple[str, str]]]] = {
+    "measure --pillar --series": (
+        [
+            "measure",
+            "--pillar",
+            f"--series={_SERIES}",
+            "--sample-rate=1000",
+            "--pillar-density=1000",
+            "--sigma=0",
+            *_PILLAR_ARGS,
+        ],
+        ("--sample-rate", "--pillar-density", "--sigma", "--series"),
+        [("--sigma", "1e-8"), ("--series-drag", "quasi-steady")],
+    ),  # fmt: skip
+    "invert --model porous": (
+        ["invert", "--tip-deflection=3e-4", "--model=porous", *_BED_ARGS],
+        ("--tip-deflection", "--model", "--drag", "--spacing"),
+        [("--drag", "sparse")],
+    ),
+    "linear-range --model porous": (
+        ["linear-range", "--rtol=0.05", "--model=porous", *_BED_ARGS],
+        ("--rtol", "--model", "--drag"),
+        [],
+    ),
+    "calibrate --model porous": (
+        ["calibrate", "--data=points.csv", "--sigma=1e-6", "--model=porous", *_BED_ARGS],
+        ("--sigma", "--model", "--free"),
+        [],
+    ),  # fmt: skip
+    "measure --model porous": (
+        ["measure", "--tip-deflection=3e-4", "--sigma=1e-6", "--model=porous", *_BED_ARGS],
+        ("--tip-deflection", "--sigma", "--model"),
+        [("--sigma", "0")],
+    ),
+    "valve --states --model porous": (
+        [
+            "valve",
+            "--states",
+            "--flow-rate=0,2e-7",
+            "--channel-length=0.01",
+            "--max-steps=40",
+            "--model=porous",
+            *_BED_ARGS,
+        ],
+        ("--flow-rate", "--channel-length", "--max-steps", "--model"),
+        [("--flow-rate", "-2e-7,2e-7")],
+    ),  # fmt: skip
+    "simulate": (
+        [
+            "simulate",
+            "--wall-shear-stress=1",
+            "--t-end=1e-3",
+            "--samples=5",
+            "--pillar-density=1000",
+            "--num=8",
+            *_PILLAR_ARGS,
+        ],
+        (
+            "--wall-shear-stress",
+            "--frequency",
+            "--amplitude",
+            "--t-end",
+            "--samples",
+            "--pillar-density",
+            "--num",
+            "--rtol",
+        ),
+        [("--wall-shear-stress", "0"), ("--wall-shear-stress", "-1"), ("--samples", "2")],
+    ),  # fmt: skip
+    "response": (
+        [
+            "response",
+            "--frequencies=1:1000:5",
+            "--wall-shear-stress=1",
+            "--pillar-density=1000",
+            *_PILLAR_ARGS,
+        ],
+        (
+            "--frequencies",
+            "--wall-shear-stress",
+            "--pillar-density",
+            "--magnitude-tolerance",
+            "--phase-tolerance",
+        ),
+        [("--frequencies", "0,10"), ("--wall-shear-stress", "0")],
+    ),  # fmt: skip
+    "design": (
+        ["design", _DESIGN],
+        ("low", "high", "starts"),
+        [("low", "1e-4")],
+    ),
+}
+#: (class, command-line spelling, must be refused)
+CLI_HOSTILE: list[tuple[str, str, bool]] = [
+    ("nan", "nan", True),
+    ("inf", "inf", True),
+    ("inf", "-inf", True),
+    ("inf", "1e400", True),
+    ("negative", "-1", False),
+    ("huge", "1e308", False),
+    ("tiny", "5e-324", False),
+    ("zero", "0", False),
+    ("empty", "", True),
+    ("string", "abc", True),
+    ("string", "1,,2", True),
+    ("string", "1j", True),
+]
+
+
+def _cli_files(where: str) -> None:
+    """The inputs of the CLI battery: a series, calibration points, a design spec."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        pillar = hairbed.Pillar(**{**PILLAR_KW, "viscosity": 1.0016e-3}, density=998.2)
+        d = pillar.tip_deflection(1.0 + 0.1 * np.sin(np.arange(64) / 5))
+        porous = hairbed.HairBed(**BED_KW, model="porous")
+        bed_d = [float(porous.deform(v).tip_deflection) for v in (0.02, 0.05, 0.1)]
+    with open(os.path.join(where, _SERIES), "w") as fh:
+        fh.write("tip_deflection\n" + "".join(f"{float(x)!r}\n" for x in d))
+    with open(os.path.join(where, "points.csv"), "w") as fh:
+        fh.write("velocity,tip_deflection\n")
+        fh.writelines(f"{v},{float(x)!r}\n" for v, x in zip((0.02, 0.05, 0.1), bed_d, strict=True))
+    _design_file(where, {})
+
+
+def _design_file(where: str, change: dict[str, str]) -> None:
+    values = {"low": "300e-6", "high": "1e-3", "starts": "1", **change}
+    with open(os.path.join(where, _DESIGN), "w") as fh:
+        fh.write(_DESIGN_TEXT.format(**values))
+
+
+def run_cli(argv: list[str], refuse: bool, edge: bool) -> tuple[str, str]:
+    """The class of one in-process CLI run."""
+    import contextlib
+    import io
+
+    from hairbed.cli import main as cli_main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        with warnings.catch_warnings():
+            warnings.simplefilter("default")
+            try:
+                code = cli_main(argv)
+            except SystemExit as exc:
+                code = exc.code if isinstance(exc.code, int) else 1
+            except Exception as exc:  # noqa: BLE001 - the finding
+                return "internal traceback", f"{type(exc).__name__}: {exc}"
+    text, lines = err.getvalue(), err.getvalue().splitlines()
+    if "Traceback" in text or "Warning:" in text:
+        return "internal traceback", f"stderr {text[-200:]!r}"
+    if code != 0:
+        if len(lines) != 1:
+            return "internal traceback", f"exit {code} with {len(lines)} stderr lines"
+        return ("valid input rejected", lines[0]) if edge else ("ok", "")
+    if refuse:
+        return "bad input accepted", "exit 0"
+    body = out.getvalue()
+    if not body.strip() and "--out" not in " ".join(argv):
+        return "silent empty", "exit 0 with nothing on stdout"
+    if "nan" in body.lower() and not any(line.startswith("hairbed: ") for line in lines):
+        return "silent NaN", "nan on stdout with exit 0 and no word on stderr"
+    return "ok", ""
+
+
+def run_cli_battery(
+    counts: Counter[str], findings: list[str], only: str | None, quick: bool
+) -> dict[str, Counter[str]]:
+    import tempfile
+
+    per: dict[str, Counter[str]] = {}
+    hostile = CLI_HOSTILE[:6] if quick else CLI_HOSTILE
+    cwd = os.getcwd()
+    with tempfile.TemporaryDirectory() as where:
+        _cli_files(where)
+        os.chdir(where)
+        try:
+            for name, (base, options, edges) in CLI_COMMANDS.items():
+                if only and only not in name:
+                    continue
+                tally: Counter[str] = Counter()
+                cases = [(o, c, v, r, False) for o in options for c, v, r in hostile]
+                cases += [(o, "edge", v, False, True) for o, v in edges]
+                for option, cls, value, refuse, edge in cases:
+                    if name == "design":
+                        _design_file(where, {option: value if value else "''"})
+                        argv = list(base)
+                        if option != "starts" and cls == "negative":
+                            refuse = False
+                    else:
+                        argv = [a for a in base if not a.startswith(option + "=")]
+                        argv.append(f"{option}={value}")
+                    kind, why = run_cli(argv, refuse, edge)
+                    counts[kind] += 1
+                    tally[kind] += 1
+                    if kind != "ok":
+                        shown = f"{option}={value!r}"
+                        findings.append(f"{kind}: hairbed {name} {shown} [{cls}]: {why}")
+                _design_file(where, {})
+                per["cli " + name] = tally
+                print(f"cli {name}: {sum(tally.values())} calls {dict(tally)}", flush=True)
+        finally:
+            os.chdir(cwd)
+    return per
+
+
 def _hostile_documents(target: Target) -> list[tuple[str, Any, bool]]:
     """Hostile calibration documents: the valid one with one entry broken."""
     base = target.args["data"]
@@ -520,9 +999,9 @@ def _judge_result(result: Any, empty_input: bool) -> tuple[str, str] | None:
                 result.backward, empty_input
             )
         return None
-    if isinstance(result, (float, np.floating, np.ndarray)):
-        a = np.asarray(result, dtype=np.float64)
-        if np.any(np.isnan(a)):
+    if isinstance(result, (float, np.floating, np.complexfloating, np.ndarray)):
+        a = np.asarray(result)
+        if a.dtype.kind in "fc" and np.any(np.isnan(a)):
             return "silent NaN", "a bare NaN"
     return None
 
@@ -581,13 +1060,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", help="write the counts and findings to this file")
     parser.add_argument("--quick", action="store_true", help="the first 8 hostile values only")
     parser.add_argument("--only", help="targets whose name contains this")
+    parser.add_argument("--no-cli", action="store_true", help="the Python API only")
+    parser.add_argument(
+        "--new", action="store_true", help="this session's API only (dynamics, design, ...)"
+    )
     args = parser.parse_args(argv)
     counts: Counter[str] = Counter()
     per_target: dict[str, Counter[str]] = {}
     findings: list[str] = []
     start = time.perf_counter()
     hostile = HOSTILE[:8] if args.quick else HOSTILE
-    for target in _targets():
+    for target in [*([] if args.new else _targets()), *_new_targets()]:
         if args.only and args.only not in target.name:
             continue
         tally: Counter[str] = Counter()
@@ -608,6 +1091,8 @@ def main(argv: list[str] | None = None) -> int:
                     findings.append(f"{kind}: {target.name}({param}={shown}) [{cls}]: {why}")
         per_target[target.name] = tally
         print(f"{target.name}: {sum(tally.values())} calls {dict(tally)}", flush=True)
+    if not args.no_cli:
+        per_target.update(run_cli_battery(counts, findings, args.only, args.quick))
     total = sum(counts.values())
     print(f"\n{total} calls in {time.perf_counter() - start:.0f} s")
     for cls in CLASSES:
