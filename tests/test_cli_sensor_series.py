@@ -88,3 +88,12 @@ def test_series_errors(tmp_path, capsys):
     assert "--tip-deflection" in capsys.readouterr().err
     assert main(["measure", "--tip-deflection", "1e-5", *PILLAR]) == 2
     assert "--pillar-density needs --series" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("sigma", ["nan", "inf", "-inf", "-1e-9"])
+def test_series_sigma_must_be_a_noise(tmp_path, capsys, sigma):
+    """--sigma NaN or negative was taken as 'estimate it', inf overflowed (the battery)."""
+    path, _ = _series(tmp_path, n=32)
+    assert main(["measure", "--series", str(path), f"--sigma={sigma}", *PILLAR]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--sigma must be the series' noise" in err[0]

@@ -550,7 +550,7 @@ def _new_targets() -> list[Target]:
             "design.Variable",
             design.Variable,
             dict(name="length", low=1e-4, high=1e-3, log=True),
-            text=("name",),
+            fuzz=("low", "high", "log"),  # any name is a Variable's: Space checks it
         ),
         Target(
             "design.optimise",
@@ -839,6 +839,7 @@ def run_cli(argv: list[str], refuse: bool, edge: bool) -> tuple[str, str]:
     text, lines = err.getvalue(), err.getvalue().splitlines()
     if "Traceback" in text or "Warning:" in text:
         return "internal traceback", f"stderr {text[-200:]!r}"
+    lines = [line for line in lines if not line.startswith("hairbed: warning: ")]
     if code != 0:
         if len(lines) != 1:
             return "internal traceback", f"exit {code} with {len(lines)} stderr lines"
@@ -1030,7 +1031,11 @@ def run_one(target: Target, param: str, value: Any, refuse: bool, edge: bool) ->
         with np.errstate(over="warn", invalid="warn", divide="warn", under="ignore"):
             try:
                 result = target.call(**kwargs)
-            except (ValueError, TypeError) as exc:
+            except (ValueError, TypeError, ArithmeticError) as exc:
+                if isinstance(exc, ArithmeticError) and (
+                    isinstance(exc, OverflowError) or not target.name.startswith("design.")
+                ):  # a design quantity's documented "no state there"; nothing else
+                    return "internal traceback", f"{type(exc).__name__}: {exc}"
                 message = str(exc)
                 leaked = [w for w in caught if not issubclass(w.category, OWN_WARNINGS)]
                 if _inside_numpy(exc):

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import math
 import sys
 from typing import Any
 
@@ -102,6 +103,11 @@ def run_series(args: argparse.Namespace) -> int:
         raise UsageError("give --tip-deflection or --series, not both")
     if args.pillar_density is None:
         raise UsageError("--series needs --pillar-density [kg/m^3] (the pillar's inertia)")
+    if not (math.isfinite(args.sigma) and args.sigma >= 0.0):
+        raise UsageError(
+            f"--sigma must be the series' noise [m], finite and >= 0 (0: estimated from the "
+            f"series), got {args.sigma!r}"
+        )
     pillar = sensor_pillar_from(args, "measure --series")
     deflection, times = read_input(read_series, args.series, "--series")
     if (times is None) == (args.sample_rate is None):
