@@ -37,6 +37,7 @@ import argparse
 import json
 import math
 import os
+import re
 import sys
 import time
 import traceback
@@ -849,7 +850,7 @@ def run_cli(argv: list[str], refuse: bool, edge: bool) -> tuple[str, str]:
     body = out.getvalue()
     if not body.strip() and "--out" not in " ".join(argv):
         return "silent empty", "exit 0 with nothing on stdout"
-    if "nan" in body.lower() and not any(line.startswith("hairbed: ") for line in lines):
+    if re.search(r"\bnan\b", body.lower()) and not text.strip():
         return "silent NaN", "nan on stdout with exit 0 and no word on stderr"
     return "ok", ""
 
