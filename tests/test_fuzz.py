@@ -1126,13 +1126,9 @@ KNOWN: dict[tuple[str, str], str] = {
     ("dynamics.simulate_pillars", "t_eval"): _INTEGRATE + "np.float64 repr in the message",
     ("dynamics.simulate_pillars", "max_steps"): _INTEGRATE + "OverflowError at 1e300",
     ("sensor_dynamics.frequency_response", "frequency"): _SENSOR + _GAMMA,
-    ("sensor_dynamics.frequency_response", "pillar_density"): _SENSOR
-    + "5e-324: the under/overflow message does not name pillar_density",
     ("sensor_dynamics.frequency_response", "magnitude_tolerance"): _SENSOR + _OVERFLOW,
     ("sensor_dynamics.frequency_response", "phase_tolerance"): _SENSOR + _OVERFLOW,
     ("Pillar.frequency_response", "frequency"): _SENSOR + _GAMMA,
-    ("Pillar.frequency_response", "pillar_density"): _SENSOR
-    + "5e-324: the under/overflow message does not name pillar_density",
     ("SensorResponse.at", "frequency"): _SENSOR + _GAMMA,
     ("sensor_dynamics.wall_shear_stress_from_tip_deflection_series", "sample_rate"): _SENSOR
     + "1e300: its frequency grid's bound (1e100 Hz) is named frequency, not sample_rate",
@@ -1146,8 +1142,6 @@ KNOWN: dict[tuple[str, str], str] = {
     + "2**63: the deconvolution's range error does not name pillar_density",
     ("sensor_dynamics.simulate", "wall_shear_stress"): _SENSOR
     + "1.7e308: a matmul invalid-value warning leaks (the run's collocation)",
-    ("Pillar.simulate", "pillar_density"): _SENSOR
-    + "5e-324: chi = 0 refused as tangential_mass, not named pillar_density",
     ("design.sensitivity", "wall_shear_stress"): "design: NaN at a stress with no state (1e300)",
     ("design.bandwidth", "wall_shear_stress"): "design: 'state has no solution' at 1e300 names "
     "no argument",

@@ -175,6 +175,11 @@ def _model(pillar: Any, mean_stress: Any, pillar_density: Any, drag: Any) -> _Mo
     else:
         mass, chi = (rho_s + rho_f) * area, rho_s / (rho_s + rho_f)
     mu = mass / (zeta * t_scale)
+    if not (math.isfinite(mu) and mu > 0.0 and chi > 0.0):
+        raise ValueError(
+            f"pillar_density = {show(rho_s)} kg/m^3: the inertia number mu = {mu:.4g} or the "
+            f"mass ratio {chi:.4g} under- or overflows double precision"
+        )
     values = (t_scale, mu, rho_f * (2.0 * a) ** 2 / (4.0 * eta * t_scale))
     if not all(math.isfinite(v) and v > 0.0 for v in values):
         raise ValueError(
@@ -1150,6 +1155,11 @@ def time_scale_and_inertia(
     rho_f = float(p.density)
     per_density = math.pi * p.radius**2 / (zeta * t_scale)  # (no overflow of rho pi first)
     mu = (rho_s + rho_f) * per_density
+    if not rho_s / (rho_s + rho_f) > 0.0:
+        raise ValueError(
+            f"pillar_density = {show(pillar_density)} kg/m^3 is too small against the fluid's "
+            f"{rho_f:g} kg/m^3: the mass ratio rho_s/(rho_s + rho_f) underflows to 0"
+        )
     if not math.isfinite(mu):
         raise ValueError(
             f"pillar_density must be below {np.finfo(np.float64).max / per_density:.4g} "
