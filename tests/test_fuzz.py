@@ -1126,8 +1126,6 @@ KNOWN: dict[tuple[str, str], str] = {
     ("dynamics.simulate_pillars", "t_eval"): _INTEGRATE + "np.float64 repr in the message",
     ("dynamics.simulate_pillars", "max_steps"): _INTEGRATE + "OverflowError at 1e300",
     ("sensor_dynamics.frequency_response", "frequency"): _SENSOR + _GAMMA,
-    ("sensor_dynamics.frequency_response", "magnitude_tolerance"): _SENSOR + _OVERFLOW,
-    ("sensor_dynamics.frequency_response", "phase_tolerance"): _SENSOR + _OVERFLOW,
     ("Pillar.frequency_response", "frequency"): _SENSOR + _GAMMA,
     ("SensorResponse.at", "frequency"): _SENSOR + _GAMMA,
     ("sensor_dynamics.wall_shear_stress_from_tip_deflection_series", "sample_rate"): _SENSOR

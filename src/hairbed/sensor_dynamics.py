@@ -444,6 +444,10 @@ def _resonance(model: _Model, f: FloatArray, h: ComplexArray) -> tuple[float, fl
     return f_r, f_r / (f2 - f1)
 
 
+#: The smallest bandwidth tolerance: below, abs(H)/H(0) - 1 is rounding (and 1/tol overflows).
+_MIN_TOLERANCE = 1e-12
+
+
 def _bandwidth(model: _Model, f: FloatArray, h: ComplexArray, mtol: float, ptol: float) -> float:
     """The largest f_b [Hz] within both tolerances on [0, f_b] (the first crossing of the
     scan, refined by Brent's method)."""
@@ -502,9 +506,9 @@ def frequency_response(
         Sader's oscillating-cylinder drag above the crossover Re = 2 (a/L)^2 (default), or the
         quasi-steady resistive force with the fluid's added mass rho_f pi a^2 (theory.md §14).
     magnitude_tolerance : float, optional
-        The bandwidth's tolerance on abs(H)/H(0) - 1, in (0, 1) [-]; default 0.05.
+        The bandwidth's tolerance on abs(H)/H(0) - 1, in [1e-12, 1) [-]; default 0.05.
     phase_tolerance : float, optional
-        The bandwidth's tolerance on the phase, in (0, pi) [rad]; default 5 degrees.
+        The bandwidth's tolerance on the phase, in [1e-12, pi) [rad]; default 5 degrees.
 
     Returns
     -------
@@ -538,17 +542,15 @@ def frequency_response(
     mtol = check_number(
         magnitude_tolerance,
         "magnitude_tolerance",
-        low=0.0,
+        low=_MIN_TOLERANCE,
         high=1.0,
-        low_open=True,
         high_open=True,
     )
     ptol = check_number(
         phase_tolerance,
         "phase_tolerance",
-        low=0.0,
+        low=_MIN_TOLERANCE,
         high=math.pi,
-        low_open=True,
         high_open=True,
         unit="rad",
     )
