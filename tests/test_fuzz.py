@@ -1113,7 +1113,6 @@ _INTEGRATE = "dynamics/_integrate.py (under work): "
 _SENSOR = "sensor_dynamics.py: "
 _LINEAR = "dynamics/_linear.py (under work): "
 _HUGE_LOAD = "a load with no static state: the message does not name the argument"
-_OVERFLOW = "numpy overflow warning leaks at a value near the largest double"
 _GAMMA = "3e38 Hz: Sader's Gamma's range error names omega and reynolds_scale, not frequency"
 KNOWN: dict[tuple[str, str], str] = {
     ("LinearPillar.modes", "num_modes"): _LINEAR + "_check_count takes a timedelta64 to int()",
