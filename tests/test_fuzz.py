@@ -1128,7 +1128,7 @@ KNOWN: dict[tuple[str, str], str] = {
     ("Pillar.frequency_response", "frequency"): _SENSOR + _GAMMA,
     ("SensorResponse.at", "frequency"): _SENSOR + _GAMMA,
     ("sensor_dynamics.wall_shear_stress_from_tip_deflection_series", "sample_rate"): _SENSOR
-    + "1e300: its frequency grid's bound (1e100 Hz) is named frequency, not sample_rate",
+    + "2**63 and 3e38 Hz: the deconvolution's range error, Sader's Gamma's, name no sample_rate",
     ("sensor_dynamics.wall_shear_stress_from_tip_deflection_series", "noise_sigma"): _SENSOR
     + "OverflowError at noise_sigma=1e300",
     ("sensor_dynamics.wall_shear_stress_from_tip_deflection_series", "pillar_density"): _SENSOR

@@ -740,7 +740,7 @@ def _series(deflection: Any, sample_rate: Any, times: Any) -> tuple[FloatArray, 
     if (sample_rate is None) == (times is None):
         raise TypeError("give exactly one of sample_rate [Hz] and times [s]")
     if times is None:
-        fs = check_positive(sample_rate, "sample_rate", "Hz")
+        fs = check_number(sample_rate, "sample_rate", low=1e-100, high=_MAX_FREQUENCY, unit="Hz")
         return d, fs, np.arange(n) / fs
     t = as_float_array(times, "times", unit="s")
     if t.shape != d.shape:
@@ -835,7 +835,7 @@ def wall_shear_stress_from_tip_deflection_series(
         The measured tip deflections x [m], 1-D, at least ``MIN_SERIES_SAMPLES``, finite, in
         (-L, L).
     sample_rate : float, optional
-        f_s [Hz]; or instead ``times``.
+        f_s [Hz], in [1e-100, 1e100]; or instead ``times``.
     times : array_like, optional
         The sampling times [s], strictly increasing and uniform to 1e-6 relative (a gap or
         jitter is refused: resample first).
