@@ -1140,8 +1140,6 @@ KNOWN: dict[tuple[str, str], str] = {
     ("sensor_dynamics.simulate", "wall_shear_stress"): _SENSOR
     + "1.7e308: a matmul invalid-value warning leaks (the run's collocation)",
     ("design.sensitivity", "wall_shear_stress"): "design: NaN at a stress with no state (1e300)",
-    ("design.bandwidth", "wall_shear_stress"): "design: 'state has no solution' at 1e300 names "
-    "no argument",
     ("design.l_plus", "wall_shear_stress"): "design: inf at 1.7e308 (the friction velocity)",
 }
 

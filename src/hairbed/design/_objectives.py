@@ -709,6 +709,10 @@ def bandwidth(wall_shear_stress: float) -> Quantity:
 
         args = (np.array(lam), np.array(th), np.array(gamma), np.zeros(()))  # one state
         sol = _solve_pillar_checked(*args, *p._core_options)
+        if int(np.asarray(sol.status)) < 0:
+            raise ArithmeticError(
+                f"no state of the pillar at wall_shear_stress tau_w = {tau:g} Pa: {sol.message}"
+            )
         lin = linearise_pillar(sol, profile=p._core_profile, height_ratio=p.height_ratio)
         return float(-lin.modes(1).eigenvalues[0].real)
 
