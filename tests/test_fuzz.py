@@ -1111,12 +1111,9 @@ TARGETS += NEW_TARGETS
 #: _linear) or needs a decision: (target, argument) -> why. See ``CATALOGUE_PAIRS``.
 _INTEGRATE = "dynamics/_integrate.py (under work): "
 _SENSOR = "sensor_dynamics.py: "
-_LINEAR = "dynamics/_linear.py (under work): "
 _HUGE_LOAD = "a load with no static state: the message does not name the argument"
 _GAMMA = "3e38 Hz: Sader's Gamma's range error names omega and reynolds_scale, not frequency"
 KNOWN: dict[tuple[str, str], str] = {
-    ("LinearPillar.modes", "num_modes"): _LINEAR + "_check_count takes a timedelta64 to int()",
-    ("LinearPillar.frequency_response", "drive"): _LINEAR + "an array drive: `in DRIVES`",
     ("dynamics.simulate_pillar", "forcing"): _INTEGRATE + _HUGE_LOAD,
     ("dynamics.simulate_pillar", "tip_load"): _INTEGRATE + _HUGE_LOAD,
     ("dynamics.simulate_pillar", "t_eval"): _INTEGRATE + "np.float64 repr in the message",

@@ -399,7 +399,7 @@ class LinearPillar:
                 f"omega must be finite and >= 0 [1/T], got {show(float(om[i]))} (first at "
                 f"index {i})"
             )
-        if drive not in DRIVES:
+        if not isinstance(drive, str) or drive not in DRIVES:
             raise ValueError(f"drive must be one of {DRIVES}, got {show(drive)}")
         col = DRIVES.index(drive)
         wave = np.sqrt(np.sqrt(np.hypot(self.mu * om * om, om)))  # |k|
@@ -544,14 +544,19 @@ def _build_pencil(lin: LinearPillar, num: int, schur: bool) -> _Pencil:
 
 
 def _check_count(value: Any, name: str) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
+    # numpy's timedelta64 is an integer type too: refused as any non-count
+    if (
+        isinstance(value, (bool, np.timedelta64))
+        or not isinstance(value, (int, np.integer))
+        or value < 1
+    ):
         raise ValueError(f"{name} must be an integer >= 1, got {show(value)}")
     return int(value)
 
 
 def _check_degree(value: Any) -> int:
     if (
-        isinstance(value, bool)
+        isinstance(value, (bool, np.timedelta64))
         or not isinstance(value, (int, np.integer))
         or not (8 <= value <= 512)
     ):
