@@ -259,7 +259,7 @@ def simulate_pillar(
     rtol, atol : float, optional
         The integrator's tolerances on the angles (and rates).
     max_steps : int, optional
-        The most steps (work is bounded; status -2 beyond).
+        The most steps, in [1, 10^12] (work is bounded; status -2 beyond).
     jump_speed : float, optional
         The jump event [L/T]: the run stops (status -9, ``t_end`` the event's time, located
         on the dense output to round-off) where the tip's speed ``|dx1/dt|`` first reaches this
@@ -389,7 +389,8 @@ def _options(
         num=check_int(num, "num", 8, 128),
         rtol=check_positive(rtol, "rtol"),
         atol=check_positive(atol, "atol"),
-        max_steps=check_int(max_steps, "max_steps", 1),
+        # the kernel counts steps in int64: a bound far beyond any run, not an overflow
+        max_steps=check_int(max_steps, "max_steps", 1, 10**12),
         jump=jump,
     )
 
