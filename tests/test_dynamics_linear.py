@@ -176,6 +176,39 @@ def test_zero_frequency_is_the_static_derivative(
             assert abs(got.real - want) <= PILLAR_DERIVATIVE_FD_RTOL * max(1e-2, abs(want)) * 10
 
 
+@pytest.mark.parametrize("mu", (0.0, 13.0))
+def test_profile_drive_is_the_cantilever_under_its_load(straight: dict, mu: float) -> None:
+    """drive="profile": a flow change delta V(z) loads the straight pillar by V: V = 2 + 3 z
+    (coefficients in 2 z - 1, and as a callable) is twice the uniform load's Krylov response
+    plus three times the linear load's, at every frequency and through both solvers (a band
+    of over 64 frequencies takes the Schur form)."""
+    lin = linearise_pillar(straight["linear"], mu=mu)
+    om = np.concatenate([OMEGA, np.logspace(0.0, 2.0, 70)])
+    by_coef = lin.frequency_response(om, "profile", drive_profile=[3.5, 1.5])
+    by_func = lin.frequency_response(OMEGA, "profile", drive_profile=lambda z: 2.0 + 3.0 * z)
+    assert by_coef.drive == "profile" and np.all(by_coef.success)
+    for i, w in enumerate(om):
+        u1, u0 = _cantilever(float(w), mu, "uniform")
+        s1, s0 = _cantilever(float(w), mu, "linear")
+        w1, m0 = 2 * u1 + 3 * s1, 2 * u0 + 3 * s0
+        k2 = abs(complex(mu * w * w, -w)) ** 0.5
+        scale = max(abs(w1), abs(m0) / (1.0 + k2))
+        assert abs(by_coef.tip_deflection[i] - w1) <= DYNAMICS_LINEAR_RTOL * scale, (w, i)
+        assert abs(by_coef.base_moment[i] - m0) <= DYNAMICS_LINEAR_RTOL * abs(m0), (w, i)
+        if i < OMEGA.size:
+            assert abs(by_func.tip_deflection[i] - w1) <= DYNAMICS_LINEAR_RTOL * scale
+    with pytest.raises(ValueError, match="drive_profile"):
+        lin.frequency_response(1.0, "profile")
+    with pytest.raises(ValueError, match="drive='profile'"):
+        lin.frequency_response(1.0, drive_profile=[1.0])
+    with pytest.raises(ValueError, match=r"drive_profile .*index 1"):
+        lin.frequency_response(1.0, "profile", drive_profile=[1.0, np.inf])
+    with pytest.raises(ValueError, match="1-D"):
+        lin.frequency_response(1.0, "profile", drive_profile=[[1.0]])
+    with pytest.raises(ValueError, match="drive_profile"):
+        lin.frequency_response(1.0, "profile", drive_profile="sublayer")
+
+
 def test_bad_inputs() -> None:
     st = hairbed.solve_pillar(5.0)
     with pytest.raises(ValueError, match="mu"):

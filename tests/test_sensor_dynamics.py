@@ -408,20 +408,52 @@ def test_deconvolution_of_the_nonlinear_pillar_in_time() -> None:
 
 
 @pytest.mark.filterwarnings("ignore::hairbed.ModelValidityWarning")
-def test_wall_law_profile_keeps_the_exact_static_gain() -> None:
-    """'wall-law' at 1 Pa (L+ = 32): H(0) is the pillar's exact sensitivity (central
-    differences of deform here) with the profile's change, status 4 says the frequency
-    dependence of that part is approximate; at rest (L+ = 0) it is the sublayer's, status 0."""
-    p = _readme("water", profile="wall-law")
-    r = p.frequency_response([0.0, 10.0, 100.0], wall_shear_stress=1.0, pillar_density=RHO_S)
+def test_wall_law_response_is_exact() -> None:
+    """'wall-law' at 1 Pa (L+ = 32): the drive is the flow's exact change with the stress,
+    its amplitude and its shape (status 0). References written here: H(0) against central
+    differences of deform; the drive column at the large deflection (x1 = 0.3) against
+    central differences in tau_w of three static outputs of solve_pillar in the profile
+    u+(L+ z)/L+ from spalding_u_plus (the stress moves Lambda and L+ together); at rest
+    (L+ = 0) the sublayer's response."""
+    p = hairbed.Pillar(
+        length=1e-3, radius=50e-6, youngs_modulus=1e5, fluid="water", profile="wall-law"
+    )
+    f = [0.0, 10.0, 100.0, 300.0]
+    r = p.frequency_response(f, wall_shear_stress=1.0, pillar_density=RHO_S)
     h = 1e-5
     fd = (p.tip_deflection(1.0 + h) - p.tip_deflection(1.0 - h)) / (2 * h)
-    assert abs(r.response[0] - fd) <= 1e-7 * fd and r.status == 4 and "wall-law" in r.message
-    sub = _readme("water")
-    f = [0.0, 10.0, 100.0]
-    rest = p.frequency_response(f, pillar_density=RHO_S)
-    want = sub.frequency_response(f, pillar_density=RHO_S)
-    assert rest.status == 0 and np.allclose(rest.response, want.response, rtol=1e-9)
+    assert abs(r.response[0] - fd) <= 1e-7 * fd and r.status == 0 and r.success
+    # the drive column at large deflection: every static output's derivative in tau_w
+    model = sd._model(p, 1.0, RHO_S, "quasi-steady")
+    st = model.lin.state
+    per = p.forcing_per_stress
+    lp = p.deform(1.0).height_in_wall_units
+
+    def outputs(tau: float) -> np.ndarray:
+        lt = lp * math.sqrt(tau)
+
+        def prof(z: np.ndarray) -> np.ndarray:
+            return np.asarray(hairbed.spalding_u_plus(lt * z)) / lt
+
+        s = hairbed.solve_pillar(per * tau, theta0=0.0, gamma=float(st.gamma), profile=prof)
+        return np.array([s.tip_deflection, s.tip_height, s.base_curvature])
+
+    d = 1e-4
+    want = (outputs(1.0 + d) - outputs(1.0 - d)) / (2 * d)
+    got = model.lin.frequency_response(0.0, "profile", drive_profile=model.drive_profile)
+    got_v = per * np.array([got.tip_deflection[0], got.tip_height[0], got.base_moment[0]])
+    assert float(st.tip_deflection) > 0.2
+    assert np.all(np.abs(got_v.imag) <= 1e-12 * np.abs(got_v.real))
+    assert np.allclose(got_v.real, want, rtol=1e-7, atol=1e-9), (got_v, want)
+    # the shape's part is no longer the forcing's: H/H(0) differs from H_Lambda/H_Lambda(0)
+    hl = model.lin.frequency_response(2 * math.pi * model.time_scale * np.array(f[1:]))
+    g_law = np.asarray(r.response[1:]) / r.response[0]
+    ref0 = model.lin.frequency_response(0.0).tip_deflection[0]
+    assert np.max(np.abs(g_law - hl.tip_deflection / ref0)) > 1e-4
+    sub = hairbed.Pillar(length=1e-3, radius=50e-6, youngs_modulus=1e5, fluid="water")
+    rest = p.frequency_response(f[:3], pillar_density=RHO_S)
+    want0 = sub.frequency_response(f[:3], pillar_density=RHO_S)
+    assert rest.status == 0 and np.allclose(rest.response, want0.response, rtol=1e-9)
 
 
 @pytest.mark.filterwarnings("ignore::hairbed.ModelValidityWarning")

@@ -79,11 +79,6 @@ SENSOR_STATUS = {
         "inaccurate: a frequency beyond the resolution of the dynamics' N = 256 (theory.md "
         "§14): the values there are not converged"
     ),
-    4: (
-        "approximate: the 'wall-law' profile changes its shape with the stress; that part of "
-        "the response is taken with the frequency dependence of the forcing's (exact as "
-        "f -> 0)"
-    ),
     5: (
         "the noise was estimated from the top fifth of the band, whose spectrum is not flat "
         "(its lower half holds more power than its upper half, by over 4 standard deviations "
@@ -138,6 +133,9 @@ class _Model:
     valid_below: float  # [Hz]: the Stokes layer equals the pillar's length
     status: int
     lin: Any = field(repr=False)
+    #: The flow's change per unit of the forcing's, V(z) = U + (z U' - U)/2, as Chebyshev
+    #: coefficients in 2 z - 1 ('wall-law'; None: the profile is fixed, V = U).
+    drive_profile: FloatArray | None = field(default=None, repr=False)
 
     def response(self, frequency: FloatArray) -> tuple[ComplexArray, NDArray[np.int64]]:
         """H [m/Pa] at frequencies [Hz] >= 0 and the dynamics' status of each."""
@@ -145,7 +143,15 @@ class _Model:
         drag = (
             (self.reynolds_scale, float(self.pillar.slenderness)) if self.drag == "sader" else None
         )
-        fr = self.lin.frequency_response(om.reshape(-1), unsteady_drag=drag)
+        if self.drive_profile is None:
+            fr = self.lin.frequency_response(om.reshape(-1), unsteady_drag=drag)
+        else:
+            fr = self.lin.frequency_response(
+                om.reshape(-1),
+                "profile",
+                unsteady_drag=drag,
+                drive_profile=self.drive_profile,
+            )
         h = self.gain_scale * fr.tip_deflection
         return h.reshape(np.shape(frequency)), np.asarray(fr.status).reshape(np.shape(frequency))
 
@@ -188,8 +194,14 @@ def _model(pillar: Any, mean_stress: Any, pillar_density: Any, drag: Any) -> _Mo
         )
     st = p._solved(tau)  # the static state at the mean stress (a ValueError if none)
     wall = p.profile == "wall-law"
+    shape = None
     if wall:
-        row = p._wall_rows(np.array([tau]))[0][0]
+        rows, drows = p._wall_rows(np.array([tau]))
+        row = rows[0]
+        # Lambda U(z; L+) with Lambda ~ tau_w and q = ln L+ = ln|tau_w|/2 + const: the load's
+        # change per unit stress is (Lambda/tau_w) (U + (dU/dq)/2), dU/dq = z U' - U (the
+        # drive column of the linear pencil, exact; theory.md §14)
+        shape = np.ascontiguousarray(row + 0.5 * drows[0])
     else:
         row = np.asarray(p._core_options[0][0])
 
@@ -199,10 +211,6 @@ def _model(pillar: Any, mean_stress: Any, pillar_density: Any, drag: Any) -> _Mo
     lin = linearise_pillar(st.solution, profile=prof, mu=mu, tangential_mass=chi)
     gain_scale = length * p.forcing_per_stress
     static = float(st.sensitivity)
-    if wall:  # the shape's part at its static weight: H = sensitivity H_Lambda/H_Lambda(0)
-        h0 = complex(lin.frequency_response(0.0).tip_deflection[0])
-        if h0 != 0.0 and math.isfinite(static):
-            gain_scale = static / h0.real
     return _Model(
         pillar=p,
         mean_stress=tau,
@@ -215,8 +223,9 @@ def _model(pillar: Any, mean_stress: Any, pillar_density: Any, drag: Any) -> _Mo
         gain_scale=gain_scale,
         static_gain=static,
         valid_below=(eta / rho_f) / (math.pi * length * length),
-        status=4 if wall and tau != 0.0 else 0,
+        status=0,
         lin=lin,
+        drive_profile=shape,
     )
 
 
@@ -289,8 +298,7 @@ class SensorResponse:
         nu/(pi L^2) [Hz]: above it the Stokes layer sqrt(2 nu/omega) is shorter than the
         pillar (a :class:`hairbed.ModelValidityWarning`).
     status : int
-        0, 3 (a frequency beyond the resolution) or 4 (the 'wall-law' approximation);
-        ``SENSOR_STATUS``.
+        0, or 3 (a frequency beyond the resolution); ``SENSOR_STATUS``.
     """
 
     frequency: FloatArray
@@ -489,8 +497,10 @@ def frequency_response(
     function from the forcing to the tip deflection (:meth:`hairbed.dynamics.LinearPillar.
     frequency_response`), T = zeta_perp L^4/(E I) [s], the inertia number
     mu = m E I/(zeta_perp^2 L^4) with the mass per length m of the drag model (module
-    docstring). For the 'wall-law' profile the profile's change with the stress enters at
-    its static weight (status 4): H = (dx/dtau_w) H_Lambda/H_Lambda(0).
+    docstring). For the 'wall-law' profile, whose shape changes with the stress too, the
+    drive is the flow's exact change per unit stress, (Lambda/tau_w) (U + (z U' - U)/2)
+    (the linear pencil's "profile" drive): H = L (Lambda/tau_w) H_V(2 pi f T), exact at
+    every frequency, with H(0) the pillar's exact sensitivity dx/dtau_w.
 
     Parameters
     ----------

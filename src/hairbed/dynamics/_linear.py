@@ -55,8 +55,9 @@ FloatArray = NDArray[np.float64]
 ComplexArray = NDArray[np.complex128]
 
 #: The drives of a linear response: the forcing Lambda (the flow's amplitude, its profile
-#: fixed) and a horizontal tip force P [E I/L^2].
-DRIVES = ("forcing", "tip_load")
+#: fixed), a horizontal tip force P [E I/L^2], and a change of the flow's shape ("profile":
+#: the flow Lambda U(z) + delta V(z), V given as ``drive_profile``).
+DRIVES = ("forcing", "tip_load", "profile")
 #: The outputs of a linear response: x1 and h1 [L], and the base moment theta'(0) [E I/L].
 OUTPUTS = ("tip_deflection", "tip_height", "base_moment")
 #: Chebyshev degrees of the frequency bands (the smallest with N >= |k| + _MARGIN).
@@ -207,7 +208,8 @@ class FrequencyResponse:
     omega : ndarray
         Angular frequencies [1/T].
     drive : str
-        "forcing" (delta Lambda, the flow's profile fixed) or "tip_load" (delta P [E I/L^2]).
+        "forcing" (delta Lambda, the flow's profile fixed), "tip_load" (delta P [E I/L^2]) or
+        "profile" (the flow Lambda U(z) + delta V(z), V the ``drive_profile`` given).
     tip_deflection, tip_height : ndarray of complex
         dx1, dh1 per unit drive [L].
     base_moment : ndarray of complex
@@ -249,7 +251,7 @@ class FrequencyResponse:
 
         xr = optional_import("xarray", "FrequencyResponse.to_xarray", "io")
         units = {"tip_deflection": "L", "tip_height": "L", "base_moment": "E I/L"}
-        per = "1" if self.drive == "forcing" else "L^2/(E I)"
+        per = "L^2/(E I)" if self.drive == "tip_load" else "1"
         data: dict[str, Any] = {}
         for name in OUTPUTS:
             h = getattr(self, name)
@@ -379,10 +381,20 @@ class LinearPillar:
         *,
         num: int | None = None,
         unsteady_drag: tuple[float, float] | None = None,
+        drive_profile: Any = None,
     ) -> FrequencyResponse:
         """Transfer functions from ``drive`` to x1, h1 and theta'(0) at the frequencies
         ``omega`` [1/T] (finite, >= 0; any shape is flattened), each band by its own degree
         N (or all at ``num``).
+
+        ``drive="profile"`` drives the flow's shape: the flow is Lambda U(z) + delta(t) V(z)
+        (in the forcing's units, U the state's profile), V = ``drive_profile``: a callable
+        V(z) (as a profile of :func:`linearise_pillar`) or V's Chebyshev coefficients in
+        2 z - 1 (1-D, finite, at most 4097). The drive column is exact: the drag is linear in
+        the flow, so dR/d delta is the unit load of V at the state (the column of "forcing"
+        with V for U). V = U is the "forcing" drive. A profile that changes with a
+        parameter p, U(z; p), is driven by V = dU/dp (the law of the wall's shape, theory.md
+        §14).
 
         ``unsteady_drag=(reynolds_scale, slenderness)`` replaces the quasi-steady normal
         drag by the oscillating cylinder's (:func:`sader_drag_ratio`: Sader's hydrodynamic
@@ -402,6 +414,19 @@ class LinearPillar:
         if not isinstance(drive, str) or drive not in DRIVES:
             raise ValueError(f"drive must be one of {DRIVES}, got {show(drive)}")
         col = DRIVES.index(drive)
+        vprof = None
+        if drive == "profile":
+            if drive_profile is None:
+                raise ValueError(
+                    "drive 'profile' needs drive_profile: a callable V(z) or V's Chebyshev "
+                    "coefficients in 2 z - 1"
+                )
+            vprof = _drive_coefficients(drive_profile)
+        elif drive_profile is not None:
+            raise ValueError(
+                f"drive_profile is the shape of drive 'profile', not of {show(drive)}: pass "
+                "drive='profile'"
+            )
         wave = np.sqrt(np.sqrt(np.hypot(self.mu * om * om, om)))  # |k|
         if num is None:
             need = wave + _MARGIN
@@ -430,10 +455,11 @@ class LinearPillar:
             warn_dynamics_validity(om, self.mu, *unsteady_drag, unsteady_drag=True)
         for deg in np.unique(degs):
             sel = np.flatnonzero(degs == deg)
+            rhs = self._drive_column(int(deg), col, vprof)
             if drag is None:
-                out[:, sel] = self._response(int(deg), om[sel], col)
+                out[:, sel] = self._response(int(deg), om[sel], rhs)
             else:
-                out[:, sel] = self._unsteady_response(int(deg), om[sel], col, drag[sel])
+                out[:, sel] = self._unsteady_response(int(deg), om[sel], rhs, drag[sel])
         return FrequencyResponse(
             omega=om,
             drive=drive,
@@ -447,8 +473,40 @@ class LinearPillar:
             status=status,
         )
 
+    def _drive_column(self, deg: int, col: int, vprof: FloatArray | None) -> FloatArray:
+        """The reduced drive column at degree ``deg``: the pencil's own ("forcing",
+        "tip_load") or the unit load of the profile ``vprof`` ("profile")."""
+        p = self._pencil(deg, schur=False)
+        if vprof is None:
+            return np.asarray(p.drives[col])
+        from .._core.loaded import _kernels
+
+        ops = p.ops
+        num = ops.num
+        n1 = num + 1
+        u = np.empty(n1 + 1)
+        u[:n1] = ops.theta
+        u[n1] = float(ops.ii[num] @ np.cos(ops.theta))
+        work = np.empty((5, n1 + 1))
+        full = np.empty(n1 + 1)
+        _kernels()._unit_load(
+            u,
+            num,
+            ops.ii,
+            float(self.state.gamma),
+            vprof,
+            work[0],
+            work[1],
+            work[2],
+            work[3],
+            work[4],
+            full,
+        )
+        # the algebraic rows carry no load (as the pencil's own drives)
+        return np.ascontiguousarray(full[1:num])
+
     def _unsteady_response(
-        self, deg: int, om: FloatArray, col: int, drag: ComplexArray
+        self, deg: int, om: FloatArray, drive: FloatArray, drag: ComplexArray
     ) -> ComplexArray:
         """The outputs with the normal drag zeta_perp D(omega) (Sader's, theory.md §14) and
         the solid's mass mu (isotropic): one LU a frequency."""
@@ -475,11 +533,11 @@ class LinearPillar:
             - p.jr[None, :, :]
         )
         n = deg - 1
-        rhs = np.broadcast_to(p.drives[col].astype(np.complex128), (om.size, n))
+        rhs = np.broadcast_to(drive.astype(np.complex128), (om.size, n))
         v = np.linalg.solve(mats, rhs[:, :, None])[:, :, 0]
         return np.asarray((v @ p.outputs.T).T)
 
-    def _response(self, deg: int, om: FloatArray, col: int) -> ComplexArray:
+    def _response(self, deg: int, om: FloatArray, drive: FloatArray) -> ComplexArray:
         """The outputs at the frequencies ``om``, all at degree ``deg``: (3, size)."""
         from .._core._kernels import dynamics as kern
 
@@ -492,14 +550,14 @@ class LinearPillar:
                 + sv[:, None, None] * p.br
                 - p.jr[None, :, :]
             )
-            rhs = np.broadcast_to(p.drives[col].astype(np.complex128), (om.size, n))
+            rhs = np.broadcast_to(drive.astype(np.complex128), (om.size, n))
             v = np.linalg.solve(mats, rhs[:, :, None])[:, :, 0]
             return np.asarray((v @ p.outputs.T).T)
         p = self._pencil(deg)
         m = p.aa.shape[0]
         qh = np.ascontiguousarray(p.q.conj().T)
         full = np.zeros(m, dtype=np.complex128)
-        full[m - n :] = p.drives[col]
+        full[m - n :] = drive
         if deg <= 32:  # one right-hand side: the outputs straight from the Schur basis
             out = np.empty((3, om.size), dtype=np.complex128)
             cz = np.zeros((3, m), dtype=np.complex128)
@@ -541,6 +599,29 @@ def _build_pencil(lin: LinearPillar, num: int, schur: bool) -> _Pencil:
         lin.tangential_mass,
     )
     return _reduce(ops, lin.mu, schur)
+
+
+#: The longest Chebyshev series of a drive profile (the wall law's reach 1025 terms).
+_MAX_DRIVE_TERMS = 4097
+
+
+def _drive_coefficients(value: Any) -> FloatArray:
+    """The Chebyshev coefficients (in 2 z - 1) of a drive profile: a callable V(z), resolved
+    as a profile of :func:`linearise_pillar`, or the coefficients themselves."""
+    if callable(value):
+        return np.ascontiguousarray(profile_coefficients(value), dtype=np.float64)
+    if isinstance(value, (str, bytes)):
+        raise ValueError(
+            "drive_profile must be a callable V(z) or V's Chebyshev coefficients in 2 z - 1, "
+            f"got {show(value)}"
+        )
+    arr = as_float_array(value, "drive_profile")
+    if arr.ndim != 1 or not (1 <= arr.size <= _MAX_DRIVE_TERMS):
+        raise ValueError(
+            "drive_profile must be a 1-D array of 1 to "
+            f"{_MAX_DRIVE_TERMS} Chebyshev coefficients, got shape {arr.shape}"
+        )
+    return np.ascontiguousarray(arr, dtype=np.float64)
 
 
 def _check_count(value: Any, name: str) -> int:
