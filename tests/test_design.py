@@ -155,7 +155,7 @@ def test_sensor_design_with_bandwidth_and_linear_range_beats_the_grid():
     objective = D.linear_sensitivity()
     constraints = [D.bandwidth(0.5) >= 8.0, D.linear_range(0.05) >= 0.5]
     res = D.optimise(p, variables, objective, constraints=constraints, sense="max", starts=2)
-    assert res.success and not res.exact_gradient and res.inexact == ("bandwidth(0.5 Pa)",)
+    assert res.success and res.exact_gradient and res.inexact == ()
     space = D.Space(p, variables)
     validity, _ = D.validity_constraints(p, [objective, *(c.quantity for c in constraints)])
     best = _grid_best(space, objective, [*constraints, *validity], 9, "max")

@@ -14,9 +14,13 @@ through the dimensionless groups, explicit in the SI parameters (theory.md §7, 
     Lambda = 16 c tau_w L^4/(E a^4 s),  s = ln(2L/a) + 1/2       pillar's forcing [-]
     gamma  = s/(2 s - 2)                           pillar's drag ratio [-]
 
-A quantity without an exact gradient (the pillar's sensitivity, a user callable without
-its gradient) says so: ``exact`` is False, and its gradient is a central difference, named
-as such in every result.
+The second derivatives that the sensitivity and the bandwidth need (the derivative of the
+state's first-order system, and of the linear dynamics' operators) come from the residual
+run on second-order jets (``hairbed.design._pillar_second``).
+
+A quantity without an exact gradient (a user callable without its gradient) says so:
+``exact`` is False, and its gradient is a central difference, named as such in every
+result.
 
 Constraints are written with comparisons: ``resistance_ratio(500.0, 0.01) <= 4.0``.
 """
@@ -44,6 +48,7 @@ from ..sensitivity import _physical_partials
 from ..units import DENSE_BED_LIMIT, HairBed
 from ..valve import valve_curve
 from ._linear_range import LinearRangeTracker
+from ._pillar_second import mode_rate_gradient, slope_gradient
 
 __all__ = [
     "Constraint",
@@ -609,13 +614,26 @@ def tip_deflection(wall_shear_stress: Any) -> Quantity:
     )
 
 
+def _scalar_state(p: Pillar, lam: float, th: float, gamma: float, tau: float) -> Any:
+    """The pillar's one state at Lambda, theta0, gamma (tau_w [Pa] for the message)."""
+    args = (np.array(lam), np.array(th), np.array(gamma), np.zeros(()))
+    sol = _solve_pillar_checked(*args, *p._core_options)
+    if int(np.asarray(sol.status)) < 0:
+        raise ArithmeticError(
+            f"no state of the pillar at wall_shear_stress tau_w = {tau:g} Pa: {sol.message}"
+        )
+    return sol
+
+
 def sensitivity(wall_shear_stress: float) -> Quantity:
     """The pillar's sensitivity d(tip deflection)/d(tau_w) = L (dx1/dLambda) Lambda/tau_w
     [m/Pa] at tau_w [Pa] (:meth:`hairbed.Pillar.sensitivity`, its value exact).
 
-    Its gradient needs second derivatives of the state, which the library does not have:
-    it is the central difference (relative step :data:`FD_STEP`) of the exact dx1/dLambda
-    in (Lambda, theta0, gamma), chained exactly to the SI parameters; ``exact`` is False.
+    Gradient exact: a second derivative of the state, d(dx1/dLambda)/d(Lambda, theta0,
+    gamma), from the implicit function theorem differentiated once more,
+    J u_Lk = -R''[(u_k, e_k), (u_L, e_L)] with R'' the residual's second derivative
+    along the total directions, on second-order jets
+    (``hairbed.design._pillar_second``), chained to the SI parameters.
 
     Parameters
     ----------
@@ -629,30 +647,19 @@ def sensitivity(wall_shear_stress: float) -> Quantity:
     """
     tau = _number(wall_shear_stress, "wall_shear_stress [Pa]")
 
-    def slope(p: Pillar, lam: float, th: float, gamma: float) -> float:
-        args = (np.array([lam]), np.array([th]), np.array([gamma]), np.zeros(1))
-        sol = _solve_pillar_checked(*args, *p._core_options)
-        return float(np.asarray(sol.tip_deflection_slope).reshape(-1)[0])
-
     def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
         k, d_ln_k, gamma, d_gamma = _pillar_groups(p)
         lam, th = k * tau, p.base_angle
-        s0 = slope(p, lam, th, gamma)
+        sol = _scalar_state(p, lam, th, gamma, tau)
+        s0 = float(sol.tip_deflection_slope)
+        _, parts = slope_gradient(sol, np.asarray(p._core_options[0])[0])
         value = p.length * s0 * k
-        parts = []
-        for i, x in enumerate((lam, th, gamma)):
-            h = FD_STEP * max(abs(x), 1e-3)
-            up = [lam, th, gamma]
-            down = [lam, th, gamma]
-            up[i] += h
-            down[i] -= h
-            parts.append((slope(p, *up) - slope(p, *down)) / (2.0 * h))
         ds = _d_state(p, parts, lam, d_ln_k, d_gamma)
         grad = _comb((s0 * k, {"length": 1.0}), (p.length * k, ds), (value, d_ln_k))
         return value, grad
 
     return Quantity(
-        f"sensitivity({tau:g} Pa)", "pillar", "m/Pa", False, evaluate, (("stress", tau),)
+        f"sensitivity({tau:g} Pa)", "pillar", "m/Pa", True, evaluate, (("stress", tau),)
     )
 
 
@@ -688,9 +695,11 @@ def bandwidth(wall_shear_stress: float) -> Quantity:
     inertia neglected, mu = 0: valid while the pillar's inertia number is small). At rest
     and upright lambda_1 = -12.362 (1 + cos b cosh b = 0).
 
-    Its gradient: the eigenvalue's derivative in (Lambda, theta0, gamma) is a central
-    difference (relative step :data:`FD_STEP`; the library has no eigenvalue derivative),
-    chained exactly through T; ``exact`` is False.
+    Gradient exact: the eigenvalue's derivative d lambda = w^H (dJ - lambda dB) v/(w^H B v)
+    (w, v its left and right eigenvectors) with the total derivatives of the reduced
+    pencil's J and B in (Lambda, theta0, gamma) (the state's implicit derivatives and the
+    operators' second derivatives on jets, ``hairbed.design._pillar_second``), chained
+    through T.
 
     Parameters
     ----------
@@ -704,37 +713,23 @@ def bandwidth(wall_shear_stress: float) -> Quantity:
     """
     tau = _number(wall_shear_stress, "wall_shear_stress [Pa]", positive=False)
 
-    def rate(p: Pillar, lam: float, th: float, gamma: float) -> float:
+    def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
         from ..dynamics import linearise_pillar
 
-        args = (np.array(lam), np.array(th), np.array(gamma), np.zeros(()))  # one state
-        sol = _solve_pillar_checked(*args, *p._core_options)
-        if int(np.asarray(sol.status)) < 0:
-            raise ArithmeticError(
-                f"no state of the pillar at wall_shear_stress tau_w = {tau:g} Pa: {sol.message}"
-            )
-        lin = linearise_pillar(sol, profile=p._core_profile, height_ratio=p.height_ratio)
-        return float(-lin.modes(1).eigenvalues[0].real)
-
-    def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
         k, d_ln_k, gamma, d_gamma = _pillar_groups(p)
         lam, th = k * tau, p.base_angle
-        r0 = rate(p, lam, th, gamma)
+        sol = _scalar_state(p, lam, th, gamma, tau)
+        lin = linearise_pillar(sol, profile=p._core_profile, height_ratio=p.height_ratio)
+        r0 = float(-lin.modes(1).eigenvalues[0].real)
+        _, d_lam1 = mode_rate_gradient(sol, np.asarray(lin._prof), lin._degree())
         t_scale = p.viscosity * k
         value = r0 / (2.0 * math.pi * t_scale)
-        parts = []
-        for i, x in enumerate((lam, th, gamma)):
-            h = FD_STEP * max(abs(x), 1e-3)
-            up, down = [lam, th, gamma], [lam, th, gamma]
-            up[i] += h
-            down[i] -= h
-            parts.append((rate(p, *up) - rate(p, *down)) / (2.0 * h))
-        dr = _d_state(p, parts, lam, d_ln_k, d_gamma)
+        dr = _d_state(p, -d_lam1.real, lam, d_ln_k, d_gamma)
         return value, _comb(
             (value / r0, dr), (-value, d_ln_k), (-value / p.viscosity, {"viscosity": 1.0})
         )
 
-    return Quantity(f"bandwidth({tau:g} Pa)", "pillar", "Hz", False, evaluate, (("stress", tau),))
+    return Quantity(f"bandwidth({tau:g} Pa)", "pillar", "Hz", True, evaluate, (("stress", tau),))
 
 
 def linear_range(rtol: float = 0.1) -> Quantity:
@@ -812,7 +807,8 @@ def l_plus(wall_shear_stress: Any) -> Quantity:
             raise ValueError("l_plus: the pillar has no density [kg/m^3]")
         tau, d_tau = _stress_value(p, spec, hold)
         rho, eta = p.density, p.viscosity
-        value = p.length * math.sqrt(abs(tau) * rho) / eta
+        # sqrt(|tau_w|) sqrt(rho): no overflow of the product near the largest double
+        value = p.length * math.sqrt(abs(tau)) * math.sqrt(rho) / eta
         return value, _comb(
             (value / p.length, {"length": 1.0}),
             (0.5 * value / rho, {"density": 1.0}),

@@ -1,0 +1,366 @@
+"""Second derivatives of a pillar state, and the derivative of its slowest mode (issue 32).
+
+A converged pillar state u = (theta at the N + 1 mapped nodes, h1) is a root of the
+collocation system R(u; p) = 0 of ``_kernels.spectral`` (drive ``DRIVE_DRAG``, theory.md
+§12), p = (Lambda, theta0, gamma). The first derivatives solve J u_k = -R_k (J = dR/du, the
+implicit function theorem; :mod:`hairbed._core.pillar_sensitivity`); differentiating that
+system once more along p_l,
+
+    J u_kl = -R''[(u_k, e_k), (u_l, e_l)],
+
+where R'' is the second derivative of the residual in (u, p) along the two total
+directions: it carries R_uu[u_k, u_l], R_up and R_pp at once. R'' is computed exactly by
+running the residual on second-order jets (:class:`_Jet`: a value, its first derivatives in
+two groups of directions a and b and the mixed second derivatives ab; forward mode, nothing
+differenced). The same jets give the total derivative dJ/dp_k of the Jacobian (b the unit
+directions of u) and of the damping operator B(theta, gamma) of the pillar's overdamped
+dynamics (theory.md §14), from which the derivative of an eigenvalue of the pencil
+(lambda B - J) v = 0 is
+
+    d lambda = w^H (dJ - lambda dB) v / (w^H B v)
+
+with w, v its left and right eigenvectors, after the reduction of the algebraic rows
+(:func:`hairbed.dynamics._linear._reduce`) differentiated too.
+
+The residual here is the kernel's (``_residual_drag``) written over jets; the jets' value
+and Jacobian agree with the kernel's (``tests/test_design_gradients.py``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.linalg
+from numpy.typing import NDArray
+
+from .._core.loaded import _chebyshev_values, _matrices
+from .._core.pillar import PillarState
+
+__all__ = ["mode_rate_gradient", "slope_gradient"]
+
+FloatArray = NDArray[np.float64]
+
+
+class _Jet:
+    """A value with first derivatives in directions a (ka of them) and b (kb), and the
+    mixed second derivatives d^2/da db: ``v`` (S), ``a`` (ka, *S), ``b`` (kb, *S), ``ab``
+    (ka, kb, *S). Operands of one product have values of the same number of axes."""
+
+    __slots__ = ("a", "ab", "b", "v")
+
+    def __init__(self, v: Any, a: Any, b: Any, ab: Any) -> None:
+        self.v, self.a, self.b, self.ab = v, a, b, ab
+
+    @classmethod
+    def const(cls, v: Any, ka: int, kb: int) -> _Jet:
+        v = np.asarray(v, dtype=np.float64)
+        return cls(
+            v, np.zeros((ka, *v.shape)), np.zeros((kb, *v.shape)), np.zeros((ka, kb, *v.shape))
+        )
+
+    @classmethod
+    def seed(cls, v: Any, a: Any, b: Any) -> _Jet:
+        """An independent input: value v, its directions a (ka, *S), b (kb, *S)."""
+        v = np.asarray(v, dtype=np.float64)
+        a = np.asarray(a, dtype=np.float64)
+        b = np.asarray(b, dtype=np.float64)
+        return cls(v, a, b, np.zeros((a.shape[0], b.shape[0], *v.shape)))
+
+    def __add__(self, o: Any) -> _Jet:
+        if isinstance(o, _Jet):
+            return _Jet(self.v + o.v, self.a + o.a, self.b + o.b, self.ab + o.ab)
+        return _Jet(self.v + o, self.a, self.b, self.ab)
+
+    __radd__ = __add__
+
+    def __neg__(self) -> _Jet:
+        return _Jet(-self.v, -self.a, -self.b, -self.ab)
+
+    def __sub__(self, o: Any) -> _Jet:
+        return self + (-o)
+
+    def __rsub__(self, o: Any) -> _Jet:
+        return (-self) + o
+
+    def __mul__(self, o: Any) -> _Jet:
+        if not isinstance(o, _Jet):
+            return _Jet(self.v * o, self.a * o, self.b * o, self.ab * o)
+        ab = (
+            self.ab * o.v
+            + self.a[:, None] * o.b[None]
+            + self.b[None] * o.a[:, None]
+            + self.v * o.ab
+        )
+        return _Jet(self.v * o.v, self.a * o.v + self.v * o.a, self.b * o.v + self.v * o.b, ab)
+
+    __rmul__ = __mul__
+
+    def _map(self, f0: Any, f1: Any, f2: Any) -> _Jet:
+        """f(self) given f, f' and f'' at the value."""
+        ab = f1 * self.ab + f2 * (self.a[:, None] * self.b[None])
+        return _Jet(f0, f1 * self.a, f1 * self.b, ab)
+
+    def cos(self) -> _Jet:
+        c, s = np.cos(self.v), np.sin(self.v)
+        return self._map(c, -s, -c)
+
+    def sin(self) -> _Jet:
+        c, s = np.cos(self.v), np.sin(self.v)
+        return self._map(s, c, -s)
+
+    def apply(self, mat: FloatArray) -> _Jet:
+        """mat @ x along the value's last axis (a linear map: each part mapped)."""
+        m = mat.T
+        return _Jet(self.v @ m, self.a @ m, self.b @ m, self.ab @ m)
+
+    def left(self, mat: FloatArray) -> _Jet:
+        """mat @ X of a matrix-valued jet (the value's first axis)."""
+        return _Jet(mat @ self.v, mat @ self.a, mat @ self.b, mat @ self.ab)
+
+    def __getitem__(self, idx: Any) -> _Jet:
+        """Index the value's axes (a tuple for several)."""
+        t = idx if isinstance(idx, tuple) else (idx,)
+        e = (slice(None),)
+        return _Jet(self.v[t], self.a[e + t], self.b[e + t], self.ab[e + e + t])
+
+    @staticmethod
+    def concat(parts: list[_Jet]) -> _Jet:
+        """The values of 1-D jets end to end."""
+        return _Jet(
+            np.concatenate([p.v for p in parts]),
+            np.concatenate([p.a for p in parts], axis=-1),
+            np.concatenate([p.b for p in parts], axis=-1),
+            np.concatenate([p.ab for p in parts], axis=-1),
+        )
+
+
+def _profile(prof: FloatArray, z: _Jet) -> _Jet:
+    """U(z) = sum_k prof[k] T_k(2 z - 1) on a jet z (the kernel's ``profile_value``)."""
+    t = 2.0 * z - 1.0
+    val = z * 0.0 + float(prof[0])
+    if prof.size > 1:
+        t_prev, t_cur = z * 0.0 + 1.0, t
+        val = val + float(prof[1]) * t
+        for k in range(2, prof.size):
+            t_prev, t_cur = t_cur, 2.0 * t * t_cur - t_prev
+            val = val + float(prof[k]) * t_cur
+    return val
+
+
+@dataclass(frozen=True)
+class _Level:
+    """The mapped operators of one degree N (the kernel's ``_map`` and ``_operators``)."""
+
+    num: int
+    dd: FloatArray
+    ii: FloatArray
+
+
+def _level(num: int, a: float) -> _Level:
+    from ..dynamics._operators import _mapped
+
+    _, _, dd, ii, _ = _mapped(num, a)
+    return _Level(num, dd, ii)
+
+
+def _residual(
+    lev: _Level, u: _Jet, lam: _Jet, theta0: _Jet, gamma: _Jet, prof: FloatArray
+) -> _Jet:
+    """The pillar's collocation residual (the kernel's ``_residual_drag``, no tip load) on
+    jets: u (N + 2,), the scalars lam, theta0, gamma of shape (1,)."""
+    num = lev.num
+    n1 = num + 1
+    th = u[0:n1]
+    c, s = th.cos(), th.sin()
+    z = c.apply(lev.ii)
+    uu = _profile(prof, z)
+    fx = lam * uu * (c * c + gamma * s * s)
+    fz = -(lam * uu * (1.0 - gamma) * s * c)
+    tx = fx.apply(lev.ii[num : num + 1])
+    tz = fz.apply(lev.ii[num : num + 1])
+    big_fx = tx - fx.apply(lev.ii)  # F(s_i) = int_{s_i}^1 f
+    big_fz = tz - fz.apply(lev.ii)
+    rel = th - th[num : num + 1]
+    curv = rel.apply(lev.dd)
+    inner = curv + big_fx * c - big_fz * s
+    return _Jet.concat(
+        [
+            th[0:1] - theta0,
+            inner[1:num],
+            curv[num : num + 1],
+            u[n1 : n1 + 1] - z[num : num + 1],
+        ]
+    )
+
+
+def _inputs(
+    u0: FloatArray, p0: tuple[float, float, float], da: FloatArray, db: FloatArray
+) -> tuple[_Jet, _Jet, _Jet, _Jet]:
+    """Jets of u and (Lambda, theta0, gamma) along directions da (ka, m + 3) and db (kb,
+    m + 3) in (u, p)."""
+    m = u0.size
+    u = _Jet.seed(u0, da[:, :m], db[:, :m])
+    ps = [
+        _Jet.seed(np.array([p0[i]]), da[:, m + i : m + i + 1], db[:, m + i : m + i + 1])
+        for i in range(3)
+    ]
+    return u, ps[0], ps[1], ps[2]
+
+
+@dataclass(frozen=True)
+class _First:
+    """A state's first-order system: u, p, J, du/dp (m, 3), the profile."""
+
+    lev: _Level
+    u: FloatArray
+    p: tuple[float, float, float]
+    jac: FloatArray
+    du: FloatArray
+    prof: FloatArray
+
+
+def _first(state: PillarState, prof: FloatArray, num: int | None = None) -> _First:
+    """J and du/d(Lambda, theta0, gamma) at a scalar state, at its own degree or, with
+    ``num``, at degree ``num`` (its Chebyshev series padded, the same map): there du/dp is
+    the state's own derivative carried by the interpolation (what the value computed at
+    that degree sees)."""
+    own = int(state.num)
+    a = float(state._map)
+    coefs = np.asarray(state._coefs, dtype=np.float64)[0].reshape(-1)[: own + 1]
+    theta = _chebyshev_values(own) @ coefs
+    lev = _level(own, a)
+    p = (float(state.forcing), float(state.theta0), float(state.gamma))
+    first = _solve_first(lev, theta, p, prof)
+    if num is None or num == own:
+        return first
+    # the series padded to degree num: theta_num = V_num pad(C_own theta_own), linear in theta
+    cmat = _matrices(own)[4]
+    interp = _chebyshev_values(num)[:, : own + 1] @ cmat
+    lev2 = _level(num, a)
+    th2 = interp @ theta
+    u2 = np.append(th2, lev2.ii[num] @ np.cos(th2))
+    jac2 = _jacobian(lev2, u2, p, prof)
+    dth = interp @ first.du[: own + 1]
+    dh = (lev2.ii[num] * -np.sin(th2)) @ dth
+    du2 = np.vstack([dth, dh[None, :]])
+    return _First(lev2, u2, p, jac2, du2, prof)
+
+
+def _jacobian(
+    lev: _Level, u: FloatArray, p: tuple[float, float, float], prof: FloatArray
+) -> FloatArray:
+    m = u.size
+    da = np.eye(m + 3)[:m]
+    res = _residual(lev, *_inputs(u, p, da, np.zeros((0, m + 3))), prof=prof)
+    return np.asarray(res.a.T)
+
+
+def _solve_first(
+    lev: _Level, theta: FloatArray, p: tuple[float, float, float], prof: FloatArray
+) -> _First:
+    u = np.append(theta, lev.ii[lev.num] @ np.cos(theta))
+    m = u.size
+    res = _residual(lev, *_inputs(u, p, np.eye(m + 3), np.zeros((0, m + 3))), prof=prof)
+    jac = np.asarray(res.a[:m].T)
+    du = -np.linalg.solve(jac, res.a[m:].T)
+    return _First(lev, u, p, jac, du, prof)
+
+
+def _directions(first: _First) -> FloatArray:
+    """The total directions (u_k, e_k) of Lambda, theta0, gamma: (3, m + 3)."""
+    return np.hstack([first.du.T, np.eye(3)])
+
+
+def slope_gradient(state: PillarState, prof: FloatArray) -> tuple[float, FloatArray]:
+    """(dx1/dLambda, d(dx1/dLambda)/d(Lambda, theta0, gamma)) of a scalar converged pillar
+    state solved with the profile ``prof`` (Chebyshev coefficients of U(z)) and no tip
+    load: the second derivative of the discrete state, exact (the implicit function theorem
+    differentiated once more, on jets)."""
+    f = _first(state, prof)
+    lev, num = f.lev, f.lev.num
+    n1 = num + 1
+    dirs = _directions(f)
+    u, lam, th0, gam = _inputs(f.u, f.p, dirs, dirs[0:1])
+    res = _residual(lev, u, lam, th0, gam, prof)
+    d2u = -np.linalg.solve(f.jac, res.ab[:, 0, :].T)  # (m, 3): d u_Lambda/dp_k
+    x1 = u[0:n1].sin().apply(lev.ii[num : num + 1])
+    x1_u = lev.ii[num] * np.cos(f.u[:n1])
+    slope = float(x1_u @ f.du[:n1, 0])
+    grad = x1.ab[:, 0, 0] + x1_u @ d2u[:n1]
+    return slope, np.asarray(grad, dtype=np.float64)
+
+
+def _row(j: _Jet) -> _Jet:
+    """A 1-D jet as a row (1, n)."""
+    return _Jet(j.v[None, :], j.a[:, None, :], j.b[:, None, :], j.ab[:, :, None, :])
+
+
+def _col(j: _Jet) -> _Jet:
+    """A 1-D jet as a column (n, 1)."""
+    return _Jet(j.v[:, None], j.a[:, :, None], j.b[:, :, None], j.ab[:, :, :, None])
+
+
+def _damping(lev: _Level, theta: _Jet, ratio: _Jet) -> _Jet:
+    """B(theta, gamma) of :func:`hairbed.dynamics._operators.velocity_operators` on jets
+    (rows 0 .. N, columns 0 .. N), value (N + 1, N + 1)."""
+    ii = lev.ii
+    c, s = theta.cos(), theta.sin()
+    one = 1.0 - ratio  # shape (1,)
+    vx = _row(c) * ii
+    vz = -(_row(s) * ii)
+    gx = _col(1.0 - one * s * s) * vx - _col(one * s * c) * vz
+    gz = -(_col(one * s * c) * vx) + _col(1.0 - one * c * c) * vz
+    tail = ii[-1][None, :] - ii
+    return _col(c) * gx.left(tail) - _col(s) * gz.left(tail)
+
+
+def mode_rate_gradient(
+    state: PillarState, prof: FloatArray, num: int
+) -> tuple[complex, NDArray[np.complex128]]:
+    """(lambda_1, d lambda_1/d(Lambda, theta0, gamma)) of the slowest mode of the overdamped
+    pencil (lambda B - J) v = 0 of a scalar pillar state at degree ``num`` (as
+    :meth:`hairbed.dynamics.LinearPillar.modes`: the state's series padded, the algebraic
+    rows reduced), exact: the eigenvalue's derivative from its left and right eigenvectors
+    and the total derivatives of the reduced J and B (jets, the implicit function
+    theorem for the state's du/dp)."""
+    f = _first(state, prof, num)
+    lev = f.lev
+    n1 = num + 1
+    m = n1 + 1
+    dirs = _directions(f)
+    unit = np.hstack([np.eye(m), np.zeros((m, 3))])
+    u, lam, th0, gam = _inputs(f.u, f.p, dirs, unit)
+    res = _residual(lev, u, lam, th0, gam, f.prof)
+    jac = res.b.T  # (m, m): b_j the unit directions of u
+    djac = np.transpose(res.ab, (0, 2, 1))  # (3, m, m): total d J/dp_k
+    th_only, _, _, gam_only = _inputs(f.u, f.p, dirs, np.zeros((0, m + 3)))
+    bj = _damping(lev, th_only[0:n1], gam_only)
+    damp = np.zeros((m, m))
+    damp[1:num, :n1] = bj.v[1:num]
+    ddamp = np.zeros((3, m, m))
+    ddamp[:, 1:num, :n1] = bj.a[:, 1:num]
+    alg = np.array([0, num, n1])
+    dif = np.arange(1, num)
+    jaa, jad = jac[np.ix_(alg, alg)], jac[np.ix_(alg, dif)]
+    smat = -np.linalg.solve(jaa, jad)
+
+    def red(x: FloatArray, s: FloatArray) -> FloatArray:
+        return x[np.ix_(dif, dif)] + x[np.ix_(dif, alg)] @ s
+
+    jr, br = red(jac, smat), red(damp, smat)
+    lam_all, left, right = scipy.linalg.eig(jr, br, left=True, right=True)
+    fin = np.flatnonzero(np.isfinite(lam_all))
+    i = fin[np.argmin(np.abs(lam_all[fin]))]
+    lam1 = complex(lam_all[i])
+    w, v = left[:, i], right[:, i]
+    denom = np.conj(w) @ br @ v
+    grad = np.empty(3, dtype=np.complex128)
+    for k in range(3):
+        dj = djac[k]
+        ds = -np.linalg.solve(jaa, dj[np.ix_(alg, alg)] @ smat + dj[np.ix_(alg, dif)])
+        djr = red(dj, smat) + jac[np.ix_(dif, alg)] @ ds
+        dbr = red(ddamp[k], smat) + damp[np.ix_(dif, alg)] @ ds
+        grad[k] = (np.conj(w) @ (djr - lam1 * dbr) @ v) / denom
+    return lam1, grad
