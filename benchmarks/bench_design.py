@@ -15,6 +15,9 @@ Rows:
 4. gradient cost: one quantity's value and exact gradient over the library's value alone
    (``hairbed.valve.diodicity``, ``Pillar.tip_deflection``; the linear range over its
    tracker's value, both by Newton's method from the pillar's own root) (target <= 3x);
+   the sensitivity d(x1 L)/d(tau_w) over ``Pillar.sensitivity`` and the bandwidth over the
+   pillar's state and its slowest mode (``linearise_pillar(...).modes(1)``): their gradients
+   are second derivatives (jets, the eigenvalue's derivative);
 5. the linear range's value: Newton's method from a neighbour's root (10 pillars 0.2 %
    apart in length, after the first's scan) against :meth:`Pillar.linear_range`'s scan [ms].
 
@@ -40,6 +43,7 @@ from hairbed import HairBed, Pillar  # noqa: E402
 from hairbed import design as D  # noqa: E402
 from hairbed.design import _objectives  # noqa: E402
 from hairbed.design._linear_range import LinearRangeTracker  # noqa: E402
+from hairbed.dynamics import linearise_pillar  # noqa: E402
 from hairbed.valve import diodicity  # noqa: E402
 
 __all__ = ["main", "run"]
@@ -122,6 +126,15 @@ def run(repeat: int = 3) -> dict[str, Any]:
         warnings.simplefilter("ignore")
         di = ratio(lambda: q_di.evaluate(bed), lambda: diodicity(bed, 1000.0, 0.01))
         tip = ratio(lambda: q_tip.evaluate(pillar), lambda: pillar.tip_deflection(0.5))
+        q_sens, q_band = D.sensitivity(0.5), D.bandwidth(0.5)
+        sens = ratio(lambda: q_sens.evaluate(pillar), lambda: pillar.sensitivity(0.5))
+
+        def band_value() -> float:
+            st = pillar.deform(0.5).solution
+            lin = linearise_pillar(st, profile=pillar._core_profile)
+            return float(lin.modes(1).eigenvalues[0].real)
+
+        band = ratio(lambda: q_band.evaluate(pillar), band_value)
         tracker = q_lin._tracker  # type: ignore[attr-defined]
         lin = ratio(
             lambda: q_lin._evaluate.__wrapped__(pillar, "spacing"),  # type: ignore[attr-defined]
@@ -166,6 +179,12 @@ def run(repeat: int = 3) -> dict[str, Any]:
         "tip_grad_ms": tip[0] * 1e3,
         "tip_value_ms": tip[1] * 1e3,
         "tip_ratio": tip[2],
+        "sensitivity_grad_ms": sens[0] * 1e3,
+        "sensitivity_value_ms": sens[1] * 1e3,
+        "sensitivity_ratio": sens[2],
+        "bandwidth_grad_ms": band[0] * 1e3,
+        "bandwidth_value_ms": band[1] * 1e3,
+        "bandwidth_ratio": band[2],
         "linear_range_grad_ms": lin[0] * 1e3,
         "linear_range_value_ms": lin[1] * 1e3,
         "linear_range_ratio": lin[2],
@@ -198,6 +217,12 @@ def main(argv: list[str] | None = None) -> None:
          f"{f['diodicity_value_ms']:.2f} ms)"),
         ("tip deflection: value+gradient / value",
          f"{f['tip_ratio']:.2f}  ({f['tip_grad_ms']:.2f} / {f['tip_value_ms']:.2f} ms)"),
+        ("sensitivity: value+gradient / value (target <= 3)",
+         f"{f['sensitivity_ratio']:.2f}  ({f['sensitivity_grad_ms']:.2f} / "
+         f"{f['sensitivity_value_ms']:.2f} ms)"),
+        ("bandwidth: value+gradient / value (target <= 3)",
+         f"{f['bandwidth_ratio']:.2f}  ({f['bandwidth_grad_ms']:.2f} / "
+         f"{f['bandwidth_value_ms']:.2f} ms)"),
         ("linear range: value+gradient / value",
          f"{f['linear_range_ratio']:.2f}  ({f['linear_range_grad_ms']:.1f} / "
          f"{f['linear_range_value_ms']:.1f} ms)"),

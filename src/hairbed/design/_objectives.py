@@ -48,7 +48,7 @@ from ..sensitivity import _physical_partials
 from ..units import DENSE_BED_LIMIT, HairBed
 from ..valve import valve_curve
 from ._linear_range import LinearRangeTracker
-from ._pillar_second import mode_rate_gradient, slope_gradient
+from ._pillar_second import mode_gradient, slope_gradient
 
 __all__ = [
     "Constraint",
@@ -64,6 +64,7 @@ __all__ = [
     "linear_sensitivity",
     "pillar_reynolds",
     "resistance_ratio",
+    "resonance_frequency",
     "sensitivity",
     "slenderness",
     "tip_deflection",
@@ -721,15 +722,100 @@ def bandwidth(wall_shear_stress: float) -> Quantity:
         sol = _scalar_state(p, lam, th, gamma, tau)
         lin = linearise_pillar(sol, profile=p._core_profile, height_ratio=p.height_ratio)
         r0 = float(-lin.modes(1).eigenvalues[0].real)
-        _, d_lam1 = mode_rate_gradient(sol, np.asarray(lin._prof), lin._degree())
+        _, d_lam1 = mode_gradient(sol, np.asarray(lin._prof), lin._degree())
         t_scale = p.viscosity * k
         value = r0 / (2.0 * math.pi * t_scale)
-        dr = _d_state(p, -d_lam1.real, lam, d_ln_k, d_gamma)
+        dr = _d_state(p, -d_lam1.real[:3], lam, d_ln_k, d_gamma)
         return value, _comb(
             (value / r0, dr), (-value, d_ln_k), (-value / p.viscosity, {"viscosity": 1.0})
         )
 
     return Quantity(f"bandwidth({tau:g} Pa)", "pillar", "Hz", True, evaluate, (("stress", tau),))
+
+
+def resonance_frequency(wall_shear_stress: float, pillar_density: float) -> Quantity:
+    """The ringing frequency [Hz] of the pillar's slowest mode about its state at tau_w
+    [Pa], with its inertia: Im(lambda_1)/(2 pi T), lambda_1 the slowest eigenvalue of the
+    linear dynamics (:func:`hairbed.dynamics.linearise_pillar`) with the quasi-steady
+    resistive drag and the inertia number mu = m E I/(zeta_perp^2 L^4), m = (rho_s + rho_f)
+    pi a^2 (the fluid's added mass), tangential mass ratio chi = rho_s/(rho_s + rho_f), as
+    :func:`hairbed.sensor_dynamics.frequency_response` with ``drag="quasi-steady"``; T =
+    zeta_perp L^4/(E I). It is the damped natural frequency of the slowest mode (the peak of
+    abs(H) of :attr:`~hairbed.sensor_dynamics.SensorResponse.resonance_frequency` lies near
+    it for a light damping, below it by a factor sqrt(1 - 2 zeta^2) for a single mode). An
+    overdamped slowest mode (mu below about 1/(4 beta_1^4) = 0.02) has none: an
+    ArithmeticError.
+
+    Gradient exact: the eigenvalue's derivative w^H (dA - lambda dE) v/(w^H E v) of the
+    first-order pencil A = [[0, I], [J, -B]], E = [[I, 0], [0, mu M]] in (Lambda, theta0,
+    gamma, mu, chi) (``hairbed.design._pillar_second``), chained through mu, chi and T.
+
+    Parameters
+    ----------
+    wall_shear_stress : float
+        tau_w [Pa] of the state the pillar is linearised about.
+    pillar_density : float
+        rho_s [kg/m^3], > 0, of the pillar's material (the fluid's density is the
+        pillar's ``density``, needed).
+
+    Returns
+    -------
+    Quantity
+        Of a Pillar ("sublayer" or "couette" profile), unit [Hz].
+    """
+    tau = _number(wall_shear_stress, "wall_shear_stress [Pa]", positive=False)
+    rho_s = _number(pillar_density, "pillar_density [kg/m^3]")
+
+    def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
+        from ..dynamics import linearise_pillar
+
+        if p.density is None:
+            raise ValueError("resonance_frequency: the pillar has no (fluid) density [kg/m^3]")
+        rho_f = float(p.density)
+        k, d_ln_k, gamma, d_gamma = _pillar_groups(p)
+        lam, th = k * tau, p.base_angle
+        sol = _scalar_state(p, lam, th, gamma, tau)
+        t_scale = p.viscosity * k
+        big_l, a, e = p.length, p.radius, p.youngs_modulus
+        mass = (rho_s + rho_f) * math.pi * a * a
+        mu = mass * big_l**4 / (p.viscosity**2 * k * k * p.bending_stiffness)
+        chi = rho_s / (rho_s + rho_f)
+        lin = linearise_pillar(
+            sol, profile=p._core_profile, height_ratio=p.height_ratio, mu=mu, tangential_mass=chi
+        )
+        lam1 = complex(lin.modes(2).eigenvalues[0])
+        if not lam1.imag > 0.0:
+            raise ArithmeticError(
+                f"resonance_frequency: the pillar's slowest mode at tau_w = {tau:g} Pa is "
+                f"overdamped (lambda_1 = {lam1.real:.6g} [1/T], inertia number mu = {mu:.3g}): "
+                "no resonance"
+            )
+        _, g = mode_gradient(sol, np.asarray(lin._prof), lin._degree(), mu, chi)
+        value = lam1.imag / (2.0 * math.pi * t_scale)
+        d_ln_t = _comb((1.0, d_ln_k), (1.0, _ln("viscosity", p.viscosity)))
+        d_ln_mu = _comb(
+            (1.0 / (rho_s + rho_f), {"density": 1.0}),
+            (-2.0, _ln("radius", a)),
+            (4.0, _ln("length", big_l)),
+            (-2.0, _ln("viscosity", p.viscosity)),
+            (-2.0, d_ln_k),
+            (-1.0, _ln("youngs_modulus", e)),
+        )
+        d_im = _comb(
+            (1.0, _d_state(p, g.imag[:3], lam, d_ln_k, d_gamma)),
+            (float(g.imag[3]) * mu, d_ln_mu),
+            (-float(g.imag[4]) * rho_s / (rho_s + rho_f) ** 2, {"density": 1.0}),
+        )
+        return value, _comb((1.0 / (2.0 * math.pi * t_scale), d_im), (-value, d_ln_t))
+
+    return Quantity(
+        f"resonance_frequency({tau:g} Pa, rho_s={rho_s:g} kg/m^3)",
+        "pillar",
+        "Hz",
+        True,
+        evaluate,
+        (("stress", tau),),
+    )
 
 
 def linear_range(rtol: float = 0.1) -> Quantity:

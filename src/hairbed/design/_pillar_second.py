@@ -38,7 +38,7 @@ from numpy.typing import NDArray
 from .._core.loaded import _chebyshev_values, _matrices
 from .._core.pillar import PillarState
 
-__all__ = ["mode_rate_gradient", "slope_gradient"]
+__all__ = ["mode_gradient", "slope_gradient"]
 
 FloatArray = NDArray[np.float64]
 
@@ -87,12 +87,15 @@ class _Jet:
     def __mul__(self, o: Any) -> _Jet:
         if not isinstance(o, _Jet):
             return _Jet(self.v * o, self.a * o, self.b * o, self.ab * o)
-        ab = (
-            self.ab * o.v
-            + self.a[:, None] * o.b[None]
-            + self.b[None] * o.a[:, None]
-            + self.v * o.ab
-        )
+        if self.ab.size == 0:  # one group of directions empty: first order only
+            ab = np.zeros(np.broadcast_shapes(self.ab.shape, o.ab.shape))
+        else:
+            ab = (
+                self.ab * o.v
+                + self.a[:, None] * o.b[None]
+                + self.b[None] * o.a[:, None]
+                + self.v * o.ab
+            )
         return _Jet(self.v * o.v, self.a * o.v + self.v * o.a, self.b * o.v + self.v * o.b, ab)
 
     __rmul__ = __mul__
@@ -316,15 +319,19 @@ def _damping(lev: _Level, theta: _Jet, ratio: _Jet) -> _Jet:
     return _col(c) * gx.left(tail) - _col(s) * gz.left(tail)
 
 
-def mode_rate_gradient(
-    state: PillarState, prof: FloatArray, num: int
+def mode_gradient(
+    state: PillarState, prof: FloatArray, num: int, mu: float = 0.0, chi: float = 1.0
 ) -> tuple[complex, NDArray[np.complex128]]:
-    """(lambda_1, d lambda_1/d(Lambda, theta0, gamma)) of the slowest mode of the overdamped
-    pencil (lambda B - J) v = 0 of a scalar pillar state at degree ``num`` (as
+    """(lambda_1, d lambda_1/d(Lambda, theta0, gamma, mu, chi)) of the slowest mode of a
+    scalar pillar state's linear dynamics at degree ``num`` (as
     :meth:`hairbed.dynamics.LinearPillar.modes`: the state's series padded, the algebraic
-    rows reduced), exact: the eigenvalue's derivative from its left and right eigenvectors
-    and the total derivatives of the reduced J and B (jets, the implicit function
-    theorem for the state's du/dp)."""
+    rows reduced; the mode of the smallest abs(lambda), of a conjugate pair the one with
+    Im lambda > 0): the overdamped pencil (lambda B - J) v = 0 for ``mu`` = 0, else the
+    first-order pencil (lambda E - A) v = 0, A = [[0, I], [J, -B]], E = [[I, 0], [0, mu M]]
+    (inertia number mu, tangential mass ratio chi). Exact: the eigenvalue's derivative
+    w^H (dA - lambda dE) v/(w^H E v) from its left and right eigenvectors, with the total
+    derivatives of the reduced J, B and M (jets; the implicit function theorem for the
+    state's du/dp)."""
     f = _first(state, prof, num)
     lev = f.lev
     n1 = num + 1
@@ -335,12 +342,18 @@ def mode_rate_gradient(
     res = _residual(lev, u, lam, th0, gam, f.prof)
     jac = res.b.T  # (m, m): b_j the unit directions of u
     djac = np.transpose(res.ab, (0, 2, 1))  # (3, m, m): total d J/dp_k
-    th_only, _, _, gam_only = _inputs(f.u, f.p, dirs, np.zeros((0, m + 3)))
-    bj = _damping(lev, th_only[0:n1], gam_only)
-    damp = np.zeros((m, m))
-    damp[1:num, :n1] = bj.v[1:num]
-    ddamp = np.zeros((3, m, m))
-    ddamp[:, 1:num, :n1] = bj.a[:, 1:num]
+    # B(theta, gamma) and M(theta, chi) along the state's directions and chi's (a fourth)
+    four = np.vstack([dirs, np.zeros((1, m + 3))])
+    th_j, _, _, gam_j = _inputs(f.u, f.p, four, np.zeros((0, m + 3)))
+    chi_j = _Jet.seed(np.array([chi]), np.array([[0.0], [0.0], [0.0], [1.0]]), np.zeros((0, 1)))
+    ops = []
+    for jet in (_damping(lev, th_j[0:n1], gam_j), _damping(lev, th_j[0:n1], chi_j)):
+        full = np.zeros((m, m))
+        full[1:num, :n1] = jet.v[1:num]
+        dfull = np.zeros((4, m, m))
+        dfull[:, 1:num, :n1] = jet.a[:, 1:num]
+        ops.append((full, dfull))
+    (damp, ddamp), (mass, dmass) = ops
     alg = np.array([0, num, n1])
     dif = np.arange(1, num)
     jaa, jad = jac[np.ix_(alg, alg)], jac[np.ix_(alg, dif)]
@@ -349,18 +362,41 @@ def mode_rate_gradient(
     def red(x: FloatArray, s: FloatArray) -> FloatArray:
         return x[np.ix_(dif, dif)] + x[np.ix_(dif, alg)] @ s
 
-    jr, br = red(jac, smat), red(damp, smat)
-    lam_all, left, right = scipy.linalg.eig(jr, br, left=True, right=True)
+    jr, br, mr = red(jac, smat), red(damp, smat), red(mass, smat)
+    n = num - 1
+    zero = np.zeros((n, n))
+    if mu == 0.0:
+        a_mat, e_mat = jr, br
+    else:
+        a_mat = np.block([[zero, np.eye(n)], [jr, -br]])
+        e_mat = np.block([[np.eye(n), zero], [zero, mu * mr]])
+    lam_all, left, right = scipy.linalg.eig(a_mat, e_mat, left=True, right=True)
     fin = np.flatnonzero(np.isfinite(lam_all))
-    i = fin[np.argmin(np.abs(lam_all[fin]))]
+    size = np.array([float(f"{x:.10g}") for x in np.abs(lam_all[fin])])
+    i = fin[np.lexsort((-lam_all[fin].imag, size))][0]
     lam1 = complex(lam_all[i])
     w, v = left[:, i], right[:, i]
-    denom = np.conj(w) @ br @ v
-    grad = np.empty(3, dtype=np.complex128)
-    for k in range(3):
-        dj = djac[k]
+    denom = np.conj(w) @ e_mat @ v
+
+    def rate(da: FloatArray, de: FloatArray) -> complex:
+        return complex((np.conj(w) @ (da - lam1 * de) @ v) / denom)
+
+    def pencil(djr: FloatArray, dbr: FloatArray, dmr: FloatArray) -> tuple[Any, Any]:
+        if mu == 0.0:
+            return djr, dbr
+        return np.block([[zero, zero], [djr, -dbr]]), np.block([[zero, zero], [zero, dmr]])
+
+    grad = np.zeros(5, dtype=np.complex128)
+    for k in range(4):
+        dj = djac[k] if k < 3 else np.zeros((m, m))
         ds = -np.linalg.solve(jaa, dj[np.ix_(alg, alg)] @ smat + dj[np.ix_(alg, dif)])
         djr = red(dj, smat) + jac[np.ix_(dif, alg)] @ ds
         dbr = red(ddamp[k], smat) + damp[np.ix_(dif, alg)] @ ds
-        grad[k] = (np.conj(w) @ (djr - lam1 * dbr) @ v) / denom
+        dmr = mu * (red(dmass[k], smat) + mass[np.ix_(dif, alg)] @ ds)
+        if mu == 0.0 and k == 3:
+            continue  # no inertia: chi does not enter
+        idx = k if k < 3 else 4
+        grad[idx] = rate(*pencil(djr, dbr, dmr))
+    if mu != 0.0:
+        grad[3] = rate(np.zeros_like(a_mat), np.block([[zero, zero], [zero, mr]]))
     return lam1, grad

@@ -14,7 +14,8 @@ The spec is a mapping::
 Quantities and their arguments: diodicity, resistance_ratio, gap_reynolds (pressure_drop
 [Pa], channel_length [m]); brinkman_ratio, bistable_width (none); tip_deflection,
 sensitivity, l_plus, pillar_reynolds, bandwidth (wall_shear_stress [Pa]); linear_range
-(rtol); slenderness, linear_sensitivity (none).
+(rtol); slenderness, linear_sensitivity (none); resonance_frequency (wall_shear_stress
+[Pa], pillar_density [kg/m^3]).
 """
 
 from __future__ import annotations
@@ -51,6 +52,7 @@ QUANTITIES: dict[str, tuple[Callable[..., Quantity], tuple[str, ...]]] = {
     "slenderness": (Q.slenderness, ()),
     "linear_sensitivity": (Q.linear_sensitivity, ()),
     "bandwidth": (Q.bandwidth, ("wall_shear_stress",)),
+    "resonance_frequency": (Q.resonance_frequency, ("wall_shear_stress", "pillar_density")),
 }
 _MODELS = {"bed": HairBed, "pillar": Pillar}
 
