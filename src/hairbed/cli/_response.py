@@ -37,9 +37,20 @@ negative) at --frequencies (log-spaced from a spec LO:HI:N, or a list), and abov
 bandwidth [Hz] where abs(H)/H(0) stays within --magnitude-tolerance of 1 and the phase within
 --phase-tolerance [deg] of 0.
 
+Sweeps (hairbed.sweeps, dask with --chunks): --mean-stresses SPEC maps H over the grid of
+(mean stress, frequency) (response_sweep); --amplitudes SPEC integrates the nonlinear pillar
+under tau_w(t) = tau + a sin(2 pi f t) over the grid of (amplitude, frequency) about
+--wall-shear-stress (amplitude_sweep, quasi-steady drag): the first harmonic per amplitude
+beside the linear H, the mean shift and the distortion. Either writes a dataset to --out
+(.nc, .zarr, .csv, .parquet) or a long CSV table on stdout; SPEC is a value, a list A,B,...
+or START:STOP:NUM[:log].
+
 examples:
   hairbed response --pillar-density 970 --length 1e-3 --radius 50e-6 \\
       --youngs-modulus 1e6 --fluid water --frequencies 1:2000:200 > bode.csv
+  hairbed response --pillar-density 970 --length 1e-3 --radius 50e-6 \\
+      --youngs-modulus 1e6 --fluid water --frequencies 1:2000:50 \\
+      --mean-stresses 0:4:9 --chunks 3 --out bode_map.nc
   hairbed response --pillar-density 970 --length 1e-3 --radius 50e-6 \\
       --youngs-modulus 1e6 --fluid air --frequencies 100,447,1000 --json
 """
@@ -94,6 +105,24 @@ def add_parser(sub: Any) -> None:
         default=5.0,
         metavar="DEG",
         help="the bandwidth's phase tolerance [deg], in (0, 180) (default 5)",
+    )
+    g.add_argument(
+        "--mean-stresses",
+        metavar="SPEC",
+        help="sweep the mean stress [Pa] too: the (wall_shear_stress, frequency) grid of H "
+        "as a dataset (hairbed.sweeps.response_sweep)",
+    )
+    g.add_argument(
+        "--amplitudes",
+        metavar="SPEC",
+        help="the nonlinear periodic response over (amplitude [Pa] > 0, frequency) about "
+        "--wall-shear-stress (hairbed.sweeps.amplitude_sweep; quasi-steady drag)",
+    )
+    g.add_argument(
+        "--chunks",
+        type=int,
+        metavar="N",
+        help="compute a sweep in chunks of N along each dimension with dask",
     )
     g.add_argument(
         "--out",
@@ -171,6 +200,52 @@ SUMMARY_UNITS = {
 }
 
 
+def _sweep(args: argparse.Namespace, pillar: Any, freq: Any) -> int:
+    """--mean-stresses or --amplitudes: a dataset to --out or a long CSV on stdout."""
+    from hairbed import sweeps
+
+    if args.mean_stresses is not None and args.amplitudes is not None:
+        raise UsageError("give --mean-stresses or --amplitudes, not both")
+    if args.json:
+        raise UsageError(
+            "a sweep is a dataset: give --out FILE or none (CSV on stdout), not --json"
+        )
+    if args.chunks is not None and args.chunks < 1:
+        raise UsageError(f"--chunks must be an integer >= 1, got {args.chunks}")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        if args.mean_stresses is not None:
+            stress = sweeps.parse_spec(args.mean_stresses, "--mean-stresses")
+            ds = sweeps.response_sweep(
+                pillar,
+                freq,
+                stress,
+                pillar_density=args.pillar_density,
+                drag=args.drag_model,
+                chunks=args.chunks,
+            )
+        else:
+            if args.drag_model != "quasi-steady":
+                raise UsageError(
+                    "--amplitudes integrates the pillar in time with the quasi-steady drag: "
+                    "give --drag-model quasi-steady"
+                )
+            amps = sweeps.parse_spec(args.amplitudes, "--amplitudes")
+            ds = sweeps.amplitude_sweep(
+                pillar,
+                amps,
+                freq,
+                wall_shear_stress=args.wall_shear_stress,
+                pillar_density=args.pillar_density,
+                chunks=args.chunks,
+            )
+        ds = ds.compute()
+    for note in caught:
+        warnings.warn_explicit(note.message, note.category, note.filename, note.lineno)
+    write_dataset_output(ds, args.out)
+    return 0
+
+
 def run(args: argparse.Namespace) -> int:
     """The response as CSV (the summary in '#' lines), JSON or a file."""
     if args.json and args.out is not None:
@@ -179,6 +254,10 @@ def run(args: argparse.Namespace) -> int:
         check_dataset_output(args.out)
     freq = parse_frequencies(args.frequencies)
     pillar = _pillar_from(args, "response")
+    if args.mean_stresses is not None or args.amplitudes is not None:
+        return _sweep(args, pillar, freq)
+    if args.chunks is not None:
+        raise UsageError("--chunks is for a sweep: give --mean-stresses or --amplitudes")
     ptol = args.phase_tolerance
     if not (math.isfinite(ptol) and 0.0 < ptol < 180.0):
         raise UsageError(f"--phase-tolerance must be in (0, 180) [deg], got {ptol!r}")

@@ -22,6 +22,11 @@ and both are bitwise :func:`hairbed.solve` at the same points.
 :func:`hairbed.branches.bistable_window`) over a grid of (theta0, eps): exact at every cell,
 where a grid of omega^2 misses the windows narrower than its step near the cusp.
 
+:func:`response_sweep` maps a pillar sensor's linear frequency response over (mean stress,
+frequency), and :func:`amplitude_sweep` its nonlinear periodic response over (amplitude,
+frequency): the first harmonic, the mean shift and the distortion beside the linear response
+(issue 31, theory.md §14); both chunked with dask like the others.
+
 :func:`parse_spec` reads the SPEC of an axis or a path, as ``hairbed sweep`` takes them: a
 value, a comma list, ``start:stop:num[:log]``, or for a quasi-static path
 ``start:stop:num:updown``, a ramp up and back down (:mod:`hairbed._specs`).
@@ -73,8 +78,17 @@ from ._files import (
     write_dataset,
 )
 from ._grid import bed_sweep, path_dataset, sweep
+from ._response import (
+    AMPLITUDE_STATUS,
+    AMPLITUDE_VARIABLES,
+    RESPONSE_VARIABLES,
+    amplitude_sweep,
+    response_sweep,
+)
 
 __all__ = [
+    "AMPLITUDE_STATUS",
+    "AMPLITUDE_VARIABLES",
     "ATTRS",
     "BED_ATTRS",
     "DIMS",
@@ -89,13 +103,16 @@ __all__ = [
     "PILLAR_VARIABLES",
     "PROGRESS_DELAY",
     "PUMPED_ATTRS",
+    "RESPONSE_VARIABLES",
     "VARIABLES",
+    "amplitude_sweep",
     "bed_sweep",
     "bistability_map",
     "output_format",
     "parse_spec",
     "path_dataset",
     "read_table",
+    "response_sweep",
     "sweep",
     "write_csv_stream",
     "write_dataset",
