@@ -39,6 +39,10 @@ from .._core.validation import _check_range, as_float_array, check_number
 __all__ = ["crossover_reynolds", "hydrodynamic_function", "sader_drag_ratio"]
 
 
+#: Above this Reynolds number Gamma's Bessel ratio is Hankel's large-argument expansion.
+_ASYMPTOTIC_REYNOLDS = 1e16
+
+
 def hydrodynamic_function(reynolds: ArrayLike) -> Any:
     """Sader's Gamma_circ(Re) of a circular cylinder, Re = rho w b^2/(4 eta) > 0 [-]
     (J. Appl. Phys. 84, 64 (1998), eq. (20); the convention e^{-i w t}: Im Gamma > 0)."""
@@ -49,6 +53,10 @@ def hydrodynamic_function(reynolds: ArrayLike) -> Any:
     with np.errstate(all="ignore"):
         # exponentially scaled Bessel functions: their ratio is the same, and no overflow
         ratio = scipy.special.kve(1, arg) / scipy.special.kve(0, arg)
+        # above Re = 1e16 (abs(z) = 1e8; AMOS gives up near abs(z) ~ 1e9) Hankel's
+        # expansion K1/K0 = 1 + 1/(2 z) - 1/(8 z^2) + O(z^-3), exact there to rounding
+        far = 1.0 + 0.5 / arg - 0.125 / (arg * arg)
+        ratio = np.where(re > _ASYMPTOTIC_REYNOLDS, far, ratio)
         gamma = 1.0 + 4.0j * ratio / root
     _check_range(
         re, ~np.isfinite(gamma), "reynolds", "(0, inf) with Gamma(Re) finite (Re above ~1e-300)"

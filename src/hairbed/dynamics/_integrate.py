@@ -28,10 +28,11 @@ from .._core.validation import (
     check_int,
     check_number,
     check_positive,
+    show,
     status_messages,
 )
 from ._operators import _mapped
-from ._signals import Signal, as_signal
+from ._signals import Signal, as_signal, check_drive
 
 __all__ = ["TRAJECTORY_STATUS", "PillarTrajectory", "simulate_pillar", "simulate_pillars"]
 
@@ -237,13 +238,14 @@ def simulate_pillar(
     forcing : number, Signal or callable
         Lambda(t): a constant, a :mod:`hairbed.dynamics` signal (``step``, ``ramp``,
         ``sine``, ``pulses``, ``sampled``) or a callable of an ndarray of times (sampled at
-        ``CALLABLE_SAMPLES`` uniform times of the run).
+        ``CALLABLE_SAMPLES`` uniform times of the run); its levels within +-1e100
+        (beyond it the compiled rates would overflow).
     t_eval : array_like
         Output times [T], finite and non-decreasing; the run starts at t_eval[0].
     theta0 : float, optional
         The base angle [rad] in (-pi/2, pi/2).
     tip_load : number, Signal or callable, optional
-        P(t) [E I/L^2].
+        P(t) [E I/L^2], its levels within +-1e100 too.
     profile, height_ratio, gamma : optional
         As in :func:`hairbed.solve_pillar`.
     mu : float, optional
@@ -312,8 +314,8 @@ def simulate_pillar(
         )
         if int(initial.status) < 0:  # (3, a tail above rtol at a small fixed N, will do)
             raise ValueError(
-                f"no static state at the drives' values at t_eval[0] to start from "
-                f"({initial.message}); pass initial="
+                _no_start(lam_sig.at_start(before), tip_sig.at_start(before), initial.message)
+                + "; pass initial="
             )
     elif not isinstance(initial, PillarState) or np.ndim(initial.tip_height) != 0:
         raise TypeError("initial must be one PillarState (a scalar solve_pillar result)")
@@ -354,6 +356,14 @@ class _Job:
     prof: FloatArray
 
 
+def _no_start(lam: float, tip: float, why: Any) -> str:
+    """The message of a run with no static state to start from."""
+    return (
+        f"no static state at forcing = {show(lam)} and tip_load = {show(tip)} (the drives "
+        f"just before t_eval[0]) to start from: {why}"
+    )
+
+
 def _checked_times(t_eval: ArrayLike) -> FloatArray:
     te = as_float_array(t_eval, "t_eval").reshape(-1)
     if te.size < 1:
@@ -361,11 +371,14 @@ def _checked_times(t_eval: ArrayLike) -> FloatArray:
     bad = ~np.isfinite(te)
     if np.any(bad):
         i = int(np.flatnonzero(bad)[0])
-        raise ValueError(f"t_eval must be finite, got {te[i]!r} at index {i}")
+        raise ValueError(f"t_eval must be finite, got {show(float(te[i]))} at index {i}")
     back = np.flatnonzero(np.diff(te) < 0.0)
     if back.size:
         i = int(back[0]) + 1
-        raise ValueError(f"t_eval must not decrease; index {i} is {te[i]!r}")
+        raise ValueError(
+            f"t_eval must not decrease; index {i} is {show(float(te[i]))}, after "
+            f"{show(float(te[i - 1]))}"
+        )
     return te
 
 
@@ -398,8 +411,8 @@ def _options(
 def _drives(forcing: Any, tip_load: Any, te: FloatArray) -> tuple[Signal, Signal]:
     span_end = float(te[-1]) if te[-1] > te[0] else float(te[0]) + 1.0
     return (
-        as_signal(forcing, "forcing", float(te[0]), span_end),
-        as_signal(tip_load, "tip_load", float(te[0]), span_end),
+        check_drive(as_signal(forcing, "forcing", float(te[0]), span_end), "forcing"),
+        check_drive(as_signal(tip_load, "tip_load", float(te[0]), span_end), "tip_load"),
     )
 
 
@@ -576,7 +589,10 @@ def simulate_pillars(
         )
     count = sizes.pop() if sizes else 1
     if count < 1:
-        raise ValueError("simulate_pillars needs at least one pillar (got empty inputs)")
+        empty = [n for n, v in (("forcing", lams), ("tip_load", tips)) if v is not None]
+        empty += [n for n, a in arrays.items() if a.ndim == 1]
+        names = " and ".join(empty)
+        raise ValueError(f"simulate_pillars needs at least one pillar: {names} must not be empty")
     t0s = np.broadcast_to(arrays["theta0"], (count,))
     gs = np.broadcast_to(arrays["gamma"], (count,))
     mus = np.broadcast_to(arrays["mu"], (count,))
@@ -618,12 +634,13 @@ def simulate_pillars(
 
     last = states(float(te[-1]))
     start = states(before)
-    bad = np.flatnonzero(np.asarray(start.status).reshape(-1) < 0)
+    codes = np.asarray(start.status).reshape(-1)
+    bad = np.flatnonzero(codes < 0)
     if bad.size:
         i = int(bad[0])
+        lam_i, tip_i = sigs[i][0].at_start(before), sigs[i][1].at_start(before)
         raise ValueError(
-            f"no static state at the drives' values at t_eval[0] to start pillar {i} from "
-            f"(status {int(np.asarray(start.status).reshape(-1)[i])})"
+            _no_start(lam_i, tip_i, status_messages(int(codes[i]))) + f" (pillar {i})"
         )
     maps = np.asarray(last._map, dtype=np.float64).reshape(-1)
     maps = np.where(np.isfinite(maps), maps, 0.0)

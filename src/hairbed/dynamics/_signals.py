@@ -157,6 +157,38 @@ def sampled(times: ArrayLike, values: ArrayLike) -> Signal:
     return Signal("sampled", (), np.ascontiguousarray(tt), np.ascontiguousarray(vv))
 
 
+#: The largest magnitude of a drive's levels (a number; a step's, ramp's or pulse train's
+#: levels; a sine's mean plus amplitude; a sampled signal's samples): far above any state
+#: the statics find (they end near Lambda ~ 1e15), and far enough below the largest double
+#: that the integrator's rates and Jacobians, ~ N^4 times the drive, stay finite.
+MAX_DRIVE = 1e100
+
+
+def _peak(sig: Signal) -> float:
+    """The largest magnitude of the signal's levels (see :data:`MAX_DRIVE`)."""
+    p = np.abs(np.asarray(sig.params, dtype=np.float64))
+    with np.errstate(over="ignore"):
+        if sig.kind == "sampled":
+            return float(np.max(np.abs(sig.values)))
+        if sig.kind == "sine":  # mean +- amplitude
+            return float(p[0] + p[1])
+        if sig.kind == "pulses":  # base, and base + height
+            return max(float(p[0]), abs(float(np.float64(sig.params[0]) + sig.params[1])))
+        return float(np.max(p[:2]))  # constant; a step's before/after; a ramp's start/end
+
+
+def check_drive(sig: Signal, name: str) -> Signal:
+    """``sig`` if its levels stay within :data:`MAX_DRIVE` in magnitude, else a ValueError
+    naming ``name``."""
+    peak = _peak(sig)
+    if not peak <= MAX_DRIVE:
+        raise ValueError(
+            f"{name} must stay within [-{MAX_DRIVE:g}, {MAX_DRIVE:g}], got a {sig.kind} "
+            f"drive of magnitude {show(peak)}"
+        )
+    return sig
+
+
 def as_signal(value: Any, name: str, t0: float, t1: float) -> Signal:
     """A Signal from a number, a Signal or a callable d(t) (sampled over [t0, t1])."""
     if isinstance(value, Signal):
