@@ -1107,36 +1107,9 @@ NEW_TARGETS = [
 ]
 TARGETS += NEW_TARGETS
 #: Known failures of the new API, each found by this catalogue and reported, not yet fixed
-#: because the fix belongs in a module under work by another engineer (dynamics/_integrate,
-#: _linear) or needs a decision: (target, argument) -> why. See ``CATALOGUE_PAIRS``.
-_INTEGRATE = "dynamics/_integrate.py (under work): "
-_SENSOR = "sensor_dynamics.py: "
-_HUGE_LOAD = "a load with no static state: the message does not name the argument"
-_GAMMA = "3e38 Hz: Sader's Gamma's range error names omega and reynolds_scale, not frequency"
-KNOWN: dict[tuple[str, str], str] = {
-    ("dynamics.simulate_pillar", "forcing"): _INTEGRATE + _HUGE_LOAD,
-    ("dynamics.simulate_pillar", "tip_load"): _INTEGRATE + _HUGE_LOAD,
-    ("dynamics.simulate_pillar", "t_eval"): _INTEGRATE + "np.float64 repr in the message",
-    ("dynamics.simulate_pillars", "forcing"): _INTEGRATE + _HUGE_LOAD + " (and [] neither)",
-    ("dynamics.simulate_pillars", "t_eval"): _INTEGRATE + "np.float64 repr in the message",
-    ("sensor_dynamics.frequency_response", "frequency"): _SENSOR + _GAMMA,
-    ("Pillar.frequency_response", "frequency"): _SENSOR + _GAMMA,
-    ("SensorResponse.at", "frequency"): _SENSOR + _GAMMA,
-    ("sensor_dynamics.wall_shear_stress_from_tip_deflection_series", "sample_rate"): _SENSOR
-    + "2**63 and 3e38 Hz: the deconvolution's range error, Sader's Gamma's, name no sample_rate",
-    ("sensor_dynamics.wall_shear_stress_from_tip_deflection_series", "noise_sigma"): _SENSOR
-    + "OverflowError at noise_sigma=1e300",
-    ("sensor_dynamics.wall_shear_stress_from_tip_deflection_series", "pillar_density"): _SENSOR
-    + "2**63: the deconvolution's range error does not name pillar_density",
-    ("Pillar.wall_shear_stress_from_tip_deflection_series", "noise_sigma"): _SENSOR
-    + "OverflowError at noise_sigma=1e300",
-    ("Pillar.wall_shear_stress_from_tip_deflection_series", "pillar_density"): _SENSOR
-    + "2**63: the deconvolution's range error does not name pillar_density",
-    ("sensor_dynamics.simulate", "wall_shear_stress"): _SENSOR
-    + "1.7e308: a matmul invalid-value warning leaks (the run's collocation)",
-    ("design.sensitivity", "wall_shear_stress"): "design: NaN at a stress with no state (1e300)",
-    ("design.l_plus", "wall_shear_stress"): "design: inf at 1.7e308 (the friction velocity)",
-}
+#: (the fix belongs to a module under work by another engineer, or needs a decision):
+#: (target, argument) -> why. See ``CATALOGUE_PAIRS``.
+KNOWN: dict[tuple[str, str], str] = {}
 
 #: The new API is strict: NaN and infinities refused, results judged (:func:`_silent`).
 STRICT_NEW = {t.name for t in NEW_TARGETS} - {"Constraint.slack"}

@@ -48,11 +48,13 @@ from ._core.validation import (
 )
 from ._warnings import ModelValidityWarning
 from .dynamics import linearise_pillar, warn_dynamics_validity
+from .dynamics._signals import MAX_DRIVE, _peak
 
 if TYPE_CHECKING:  # the Pillar's module calls this one (its methods): no import cycle
     from .pillars import Pillar
 
 __all__ = [
+    "BANDWIDTH_MIN_TOLERANCE",
     "DRAG_MODELS",
     "MIN_SERIES_SAMPLES",
     "SENSOR_STATUS",
@@ -453,7 +455,7 @@ def _resonance(model: _Model, f: FloatArray, h: ComplexArray) -> tuple[float, fl
 
 
 #: The smallest bandwidth tolerance: below, abs(H)/H(0) - 1 is rounding (and 1/tol overflows).
-_MIN_TOLERANCE = 1e-12
+BANDWIDTH_MIN_TOLERANCE = 1e-12
 
 
 def _bandwidth(model: _Model, f: FloatArray, h: ComplexArray, mtol: float, ptol: float) -> float:
@@ -552,14 +554,14 @@ def frequency_response(
     mtol = check_number(
         magnitude_tolerance,
         "magnitude_tolerance",
-        low=_MIN_TOLERANCE,
+        low=BANDWIDTH_MIN_TOLERANCE,
         high=1.0,
         high_open=True,
     )
     ptol = check_number(
         phase_tolerance,
         "phase_tolerance",
-        low=_MIN_TOLERANCE,
+        low=BANDWIDTH_MIN_TOLERANCE,
         high=math.pi,
         high_open=True,
         unit="rad",
@@ -736,6 +738,10 @@ class StressSeries:
         )
 
 
+#: The largest noise_sigma taken [m] (its square, times the series' length, stays finite).
+_MAX_NOISE = 1e100
+
+
 def _series(deflection: Any, sample_rate: Any, times: Any) -> tuple[FloatArray, float, FloatArray]:
     """(the checked series [m], f_s [Hz], the times [s]); a clear error for NaN, a short
     series, or times that are not uniform (a gap, jitter)."""
@@ -850,10 +856,10 @@ def wall_shear_stress_from_tip_deflection_series(
         The sampling times [s], strictly increasing and uniform to 1e-6 relative (a gap or
         jitter is refused: resample first).
     noise_sigma : float, optional
-        The measurement noise's standard deviation [m] (white). Default: estimated from the
-        mean spectrum of the top fifth of the band (which must then be noise: the sensor's
-        response has fallen below the noise there; where that band's spectrum is not flat,
-        status 5 says so).
+        The measurement noise's standard deviation [m] (white), in [0, 1e100]. Default:
+        estimated from the mean spectrum of the top fifth of the band (which must then be
+        noise: the sensor's response has fallen below the noise there; where that band's
+        spectrum is not flat, status 5 says so).
     pillar_density : float
         The pillar's density [kg/m^3].
     drag : {"sader", "quasi-steady"}, optional
@@ -895,7 +901,8 @@ def wall_shear_stress_from_tip_deflection_series(
         spread = _NOISE_FLATNESS * math.sqrt(2.0 / max(1, half[1].size))
         flat = float(np.mean(half[0])) <= (1.0 + spread) * float(np.mean(half[1]))
     else:
-        noise_var = check_number(noise_sigma, "noise_sigma", low=0.0, unit="m") ** 2
+        sig = check_number(noise_sigma, "noise_sigma", low=0.0, high=_MAX_NOISE, unit="m")
+        noise_var = sig * sig
         estimated, flat = False, True
     nk = n * noise_var
     h2 = np.abs(h) ** 2
@@ -915,7 +922,17 @@ def wall_shear_stress_from_tip_deflection_series(
         weight[-1] = 1.0
     var_tau = float(np.sum(weight * err)) / (n * n)
     q = mean + np.fft.irfft(h0 * w * xk, n)
-    tau, slope = _static_inverse(p, q)
+    try:
+        tau, slope = _static_inverse(p, q)
+    except ValueError as exc:  # the inverse of the dynamics blew the series up
+        how = "estimated" if estimated else "given"
+        raise ValueError(
+            f"{exc}: the series changes faster than the sensor can follow at sample_rate = "
+            f"{show(fs)} Hz, pillar_density = {show(resp._model.pillar_density)} kg/m^3 and "
+            f"noise_sigma = {show(math.sqrt(noise_var))} m ({how}), so undoing its dynamics "
+            "amplifies the series beyond the pillar's length: check sample_rate and "
+            "pillar_density, or give a larger noise_sigma"
+        ) from None
     sigma = math.sqrt(var_tau) * abs(h0) * np.abs(slope)
     scale = 2.0 / (n * fs)
     psd_x = scipy.ndimage.uniform_filter1d(power, 2 * m + 1, mode="nearest") * scale
@@ -1084,7 +1101,18 @@ def _si_drive(drive: Any, t: FloatArray, t_scale: float, per_stress: float) -> A
     """The dimensionless Lambda(t') of an SI drive tau_w(t) [Pa], t [s]."""
     from . import dynamics
 
+    top = MAX_DRIVE / per_stress  # [Pa]: the dynamics' bound on Lambda, in SI
+
+    def within(peak: float) -> None:
+        if not peak <= top:
+            raise ValueError(
+                f"wall_shear_stress must stay within [-{top:.4g}, {top:.4g}] Pa for this "
+                f"pillar (the forcing (Lambda/tau_w) tau_w within +-{MAX_DRIVE:g}), got a "
+                f"drive of magnitude {show(peak)} Pa"
+            )
+
     if isinstance(drive, dynamics.Signal):
+        within(_peak(drive))
         if drive.kind == "sampled":
             return dynamics.sampled(drive.times / t_scale, drive.values * per_stress)
         scale = {"stress": per_stress, "time": 1.0 / t_scale, "rate": t_scale, "angle": 1.0}
@@ -1115,11 +1143,13 @@ def _si_drive(drive: Any, t: FloatArray, t_scale: float, per_stress: float) -> A
                 f"wall_shear_stress: the callable returned {float(vals[i])!r} Pa at "
                 f"t = {float(ts[i])!r} s"
             )
+        within(float(np.max(np.abs(vals))))
         if ts[-1] == ts[0]:
             return dynamics.constant(float(vals[0]) * per_stress)
         return dynamics.sampled(ts / t_scale, vals * per_stress)
     if isinstance(drive, (int, float, np.integer, np.floating)) and not isinstance(drive, bool):
         tau = check_number(drive, "wall_shear_stress", unit="Pa")
+        within(abs(tau))
         return dynamics.step(tau * per_stress, 0.0, float(t[0]) / t_scale)  # from rest at t[0]
     raise TypeError(
         "wall_shear_stress must be a number [Pa] (a step from rest at t[0]), a hairbed.dynamics "
@@ -1217,7 +1247,8 @@ def simulate(
         given in SI (``step(after, before, at)``, ``ramp``, ``sine(mean, amplitude, omega,
         phase)``, ``pulses``, ``sampled``: times [s], stresses [Pa], omega [rad/s]); or a
         callable tau_w(t) [Pa] of an ndarray of times [s] (sampled at
-        ``hairbed.dynamics.CALLABLE_SAMPLES`` uniform times of the run).
+        ``hairbed.dynamics.CALLABLE_SAMPLES`` uniform times of the run). Its magnitude at
+        most 1e100/(Lambda/tau_w) [Pa] (the dynamics' bound on the forcing).
     t : array_like
         The output times [s], finite and non-decreasing.
     pillar_density : float

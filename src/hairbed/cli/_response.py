@@ -18,10 +18,14 @@ from typing import Any
 
 import numpy as np
 
+from ..sensor_dynamics import BANDWIDTH_MIN_TOLERANCE
 from ._options import add_bed_options, add_command, add_json, add_sensor_pillar_options
 from ._options import sensor_pillar_from as _pillar_from
 from ._output import check_dataset_output, print_json, write_dataset_output
 from ._report import UsageError
+
+#: The smallest --phase-tolerance [deg]: the library's smallest tolerance, 1e-12 rad.
+_PHASE_MIN_DEG = math.degrees(BANDWIDTH_MIN_TOLERANCE)
 
 #: ``hairbed response --help``: the summary line, the description and the examples.
 ABOUT = """a pillar sensor's frequency response: magnitude, phase, resonance, Q, bandwidth
@@ -97,14 +101,15 @@ def add_parser(sub: Any) -> None:
         type=float,
         default=0.05,
         metavar="R",
-        help="the bandwidth's magnitude tolerance, relative, in (0, 1) (default 0.05)",
+        help="the bandwidth's magnitude tolerance, relative, in "
+        f"[{BANDWIDTH_MIN_TOLERANCE:g}, 1) (default 0.05)",
     )
     g.add_argument(
         "--phase-tolerance",
         type=float,
         default=5.0,
         metavar="DEG",
-        help="the bandwidth's phase tolerance [deg], in (0, 180) (default 5)",
+        help=f"the bandwidth's phase tolerance [deg], in [{_PHASE_MIN_DEG:.3g}, 180) (default 5)",
     )
     g.add_argument(
         "--mean-stresses",
@@ -246,21 +251,35 @@ def _sweep(args: argparse.Namespace, pillar: Any, freq: Any) -> int:
     return 0
 
 
+def _tolerances(args: argparse.Namespace) -> tuple[float, float]:
+    """(--magnitude-tolerance, --phase-tolerance [deg]) within the library's ranges
+    (:data:`hairbed.sensor_dynamics.BANDWIDTH_MIN_TOLERANCE`: below, abs(H)/H(0) - 1 is
+    rounding), else a one-line usage error naming the option."""
+    mtol, ptol = args.magnitude_tolerance, args.phase_tolerance
+    if not BANDWIDTH_MIN_TOLERANCE <= mtol < 1.0:
+        raise UsageError(
+            f"--magnitude-tolerance must be in [{BANDWIDTH_MIN_TOLERANCE:g}, 1), got {mtol!r}"
+        )
+    if not (BANDWIDTH_MIN_TOLERANCE <= math.radians(ptol) and ptol < 180.0):
+        raise UsageError(
+            f"--phase-tolerance must be in [{_PHASE_MIN_DEG:.3g}, 180) [deg], got {ptol!r}"
+        )
+    return mtol, ptol
+
+
 def run(args: argparse.Namespace) -> int:
     """The response as CSV (the summary in '#' lines), JSON or a file."""
     if args.json and args.out is not None:
         raise UsageError("give --json or --out, not both")
     if not args.json:
         check_dataset_output(args.out)
+    mtol, ptol = _tolerances(args)
     freq = parse_frequencies(args.frequencies)
     pillar = _pillar_from(args, "response")
     if args.mean_stresses is not None or args.amplitudes is not None:
         return _sweep(args, pillar, freq)
     if args.chunks is not None:
         raise UsageError("--chunks is for a sweep: give --mean-stresses or --amplitudes")
-    ptol = args.phase_tolerance
-    if not (math.isfinite(ptol) and 0.0 < ptol < 180.0):
-        raise UsageError(f"--phase-tolerance must be in (0, 180) [deg], got {ptol!r}")
     with warnings.catch_warnings(record=True) as caught:  # an error alone is one line
         warnings.simplefilter("always")
         r = pillar.frequency_response(
@@ -268,7 +287,7 @@ def run(args: argparse.Namespace) -> int:
             wall_shear_stress=args.wall_shear_stress,
             pillar_density=args.pillar_density,
             drag=args.drag_model,
-            magnitude_tolerance=args.magnitude_tolerance,
+            magnitude_tolerance=mtol,
             phase_tolerance=math.radians(ptol),
         )
     for note in caught:  # the response stands: its warnings, each once, as the CLI prints them
