@@ -7,16 +7,19 @@ exact Jacobian, the drives' columns and the outputs' rows; :func:`hairbed.solve_
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 import numpy as np
 import pytest
 
 import hairbed
-from hairbed.dynamics import BED_OUTPUTS, bed_operators
+from hairbed.dynamics import BED_OUTPUTS, bed_operators, simulate_bed, step
 from hairbed.dynamics._bed import _evaluate, _output_values, _system
 from hairbed.dynamics._signals import constant
 
 
-def _richardson(func, x: np.ndarray, h: float) -> np.ndarray:
+def _richardson(func: Callable[[np.ndarray], np.ndarray], x: np.ndarray, h: float) -> np.ndarray:
     """d func/dx by the fourth-order central difference, column by column."""
     cols = []
     for k in range(x.size):
@@ -47,7 +50,7 @@ def test_bed_operators_against_differences(
     op = bed_operators(st, inertia=mu, tangential_mass=0.8, womersley=alpha, num=12, num_gap=8)
     flow = "q" in load
     pump = 1 if flow else 0
-    pump_value = load.get("q", load.get("pi"))
+    pump_value = float(load["q"] if flow else load["pi"])
     sys = _system(12, float(st._map), 8, 0.3, 0.6, 0.8, mu, 0.05, 0.5, alpha, 0, pump,
                   constant(1.5), constant(pump_value))  # fmt: skip
     y = op.steady
@@ -72,9 +75,11 @@ def test_bed_operators_against_differences(
     assert set(op.drives) == {"wall", "flow_rate" if flow else "pressure"}
     for name, col in op.drives.items():
         d0 = 1.5 if name == "wall" else pump_value
-        num = _richardson(lambda x, nm=name: with_drive(nm, float(x[0])), np.array([d0]), 1e-5)[
-            :, 0
-        ]
+
+        def column(x: np.ndarray, nm: str = name) -> np.ndarray:
+            return with_drive(nm, float(x[0]))
+
+        num = _richardson(column, np.array([d0]), 1e-5)[:, 0]
         assert np.max(np.abs(col - num)) < 1e-8 * (1.0 + np.max(np.abs(num)))
     # the outputs' rows, and their values against the static solver
     for name in BED_OUTPUTS:
@@ -113,3 +118,96 @@ def test_bed_operators_bad_input() -> None:
             bed_operators(st, **kw)
     with pytest.raises(ValueError, match="eps"):
         bed_operators(hairbed.solve_porous(1.5, 0.0, 0.3, kappa=0.05))
+
+
+# ---------------------------------------------------------------------------------------
+# simulate_bed
+# ---------------------------------------------------------------------------------------
+
+
+def _smooth(a: float, b: float, span: float = 2.0) -> Callable[[np.ndarray], np.ndarray]:
+    """a to b as 1 - cos over [0, span]: smooth at its start (the ringing hair's drive)."""
+    return lambda t: (
+        a
+        + (b - a)
+        * np.where(t < span, 0.5 * (1.0 - np.cos(np.pi * np.clip(t, 0.0, span) / span)), 1.0)
+    )
+
+
+def _top_stress(st: Any) -> float:
+    return float(st.tip_stress - st.pi * (1.0 / st.eps - st.tip_height))
+
+
+@pytest.mark.parametrize(
+    ("kw", "static", "kappa", "num"),
+    [
+        ({"wall": step(1.0)}, {"omega2": 1.0}, 0.1, None),
+        ({"wall": 1.0, "pressure": step(0.8), "womersley": 0.5}, {"omega2": 1.0, "pi": 0.8},
+         0.3, None),
+        ({"wall": 1.0, "flow_rate": _smooth(0.0, 0.5), "womersley": 0.5},
+         {"omega2": 1.0, "q": 0.5}, 0.1, None),
+        ({"wall": 1.0, "flow_rate": step(0.5)}, {"omega2": 1.0, "q": 0.5}, 0.1, None),
+        ({"wall": _smooth(0.0, 3.0), "inertia": 0.2}, {"omega2": 3.0}, 1.0, 24),
+        ({"wall": _smooth(0.0, 3.0), "inertia": 0.2, "womersley": 0.3, "gamma": 0.6},
+         {"omega2": 3.0, "gamma": 0.6}, 1.0, 24),
+    ],
+)  # fmt: skip
+def test_constant_drives_relax_to_the_static_state(
+    kw: dict[str, Any], static: dict[str, float], kappa: float, num: int | None
+) -> None:
+    """Under drives that end constant the bed relaxes to solve_porous's state (the statics'
+    own rows: integrated, on its own ladder of degrees) within 1e-10: the wall, pressure and
+    flow drives, a quasi-steady and an inertial fluid (the flow drive's Pi then of index 2),
+    overdamped and inertial hairs."""
+    gamma = static.pop("gamma", 1.0)
+    st = hairbed.solve_porous(theta0=0.3, eps=0.5, kappa=kappa, gamma=gamma, **static)
+    mu = kw.get("inertia", 0.0)
+    run = simulate_bed(0.3, kappa, 0.5, t_eval=[0.0, 1.0, 22.0 if mu else 8.0], num=num,
+                       rtol=1e-6 if not mu else 1e-5, atol=1e-8 if not mu else 1e-6,
+                       max_steps=5000, **kw)  # fmt: skip
+    assert run.success, run.message
+    got = (run.tip_deflection[-1], run.tip_height[-1], run.base_moment[-1], run.wall_stress[-1])
+    want = (st.tip_deflection, st.tip_height, st.base_curvature, _top_stress(st))
+    assert np.max(np.abs(np.subtract(got, want))) < 1e-10
+    assert abs(run.pressure[-1] - st.pi) < 1e-9 * max(1.0, abs(st.pi))
+    assert abs(run.wall_speed[-1] - st.omega2) < 1e-9
+    if "q" in static:
+        assert abs(run.flow_rate[-1] - 0.5) < 1e-10
+
+
+def test_a_set_wall_stress_relaxes_to_the_static_state() -> None:
+    """A step in the top wall's shear stress (the wall's speed free): the end state is the
+    static solver's at the wall speed it reached, whose own top stress is the one set."""
+    run = simulate_bed(0.3, 0.1, 0.5, wall_stress=step(1.2), pressure=0.4,
+                       t_eval=[0.0, 1.0, 8.0], rtol=1e-6, atol=1e-8)  # fmt: skip
+    assert run.success and run.top == "wall_stress"
+    st = hairbed.solve_porous(float(run.wall_speed[-1]), 0.5, 0.3, kappa=0.1, pi=0.4)
+    assert abs(_top_stress(st) - 1.2) < 1e-10
+    assert abs(run.tip_deflection[-1] - st.tip_deflection) < 1e-10
+    assert abs(run.wall_stress[-1] - 1.2) < 1e-12
+
+
+def test_simulate_bed_bad_input() -> None:
+    """Each parameter refused by name; a flow rate that jumps with fluid inertia refused."""
+    ok: dict[str, Any] = {"theta0": 0.2, "kappa": 0.1, "eps": 0.5, "t_eval": [0.0, 1.0]}
+    bad = [
+        ("theta0", 2.0), ("kappa", 0.0), ("kappa", np.inf), ("eps", 1.0), ("eps", 0.0),
+        ("gamma", 0.0), ("inertia", -1.0), ("inertia", np.inf), ("tangential_mass", 1.5),
+        ("womersley", -0.1), ("num", 4), ("num_gap", 3), ("rtol", 0.0), ("atol", -1.0),
+        ("max_steps", 0), ("t_eval", [1.0, 0.0]), ("t_eval", [0.0, np.nan]),
+    ]  # fmt: skip
+    for name, value in bad:
+        with pytest.raises(ValueError, match=name):
+            simulate_bed(**{**ok, name: value})
+    with pytest.raises(ValueError, match="wall_stress"):
+        simulate_bed(**ok, wall=1.0, wall_stress=1.0)
+    with pytest.raises(ValueError, match="flow_rate"):
+        simulate_bed(**ok, pressure=1.0, flow_rate=1.0)
+    with pytest.raises(TypeError, match="wall"):
+        simulate_bed(**ok, wall="fast")
+    with pytest.raises(ValueError, match="flow_rate must not jump"):
+        simulate_bed(**ok, flow_rate=step(0.5), womersley=0.1)
+    with pytest.raises(TypeError, match="initial"):
+        simulate_bed(**ok, initial=1.0)  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="initial"):
+        simulate_bed(**ok, initial=hairbed.solve_porous(1.0, 0.5, 0.2, kappa=0.2))

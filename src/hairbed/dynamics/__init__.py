@@ -7,15 +7,23 @@
 - :func:`simulate_pillar`: the nonlinear pillar in time (compiled Radau IIA), driven by
   :func:`step`, :func:`ramp`, :func:`sine`, :func:`pulses`, :func:`sampled` or a callable;
   :func:`simulate_pillars` many pillars in one call, on threads.
-- :func:`bed_operators`: the porous bed's semi-discrete system M y' = g(t, y) linearised
-  about a steady state (theory.md §15): mass vector, exact Jacobian, drives, outputs.
+- :func:`simulate_bed`: the porous bed in time (hairs and fluid, theory.md §15), on the same
+  compiled Radau IIA; :func:`bed_operators` its semi-discrete system M y' = g(t, y)
+  linearised about a steady state: mass vector, exact Jacobian, drives, outputs.
 - :func:`snap_through`: a slow ramp through the upper fold of a pillar's snap-through window:
   the jump's delay, the states before and after, the ringing.
 """
 
 from __future__ import annotations
 
-from ._bed import BED_OUTPUTS, BedOperators, bed_operators
+from ._bed import (
+    BED_OUTPUTS,
+    BED_STATUS,
+    BedOperators,
+    BedTrajectory,
+    bed_operators,
+    simulate_bed,
+)
 from ._hydrodynamic import crossover_reynolds, hydrodynamic_function, sader_drag_ratio
 from ._integrate import TRAJECTORY_STATUS, PillarTrajectory, simulate_pillar, simulate_pillars
 from ._linear import (
@@ -38,8 +46,11 @@ from ._validity import (
 
 __all__ = [
     "BED_OUTPUTS",
+    "BED_STATUS",
     "BedOperators",
+    "BedTrajectory",
     "bed_operators",
+    "simulate_bed",
     "CALLABLE_SAMPLES",
     "PillarTrajectory",
     "Signal",

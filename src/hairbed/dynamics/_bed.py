@@ -10,20 +10,34 @@ own. This module builds its parameters, the steady vector of a :class:`PorousSta
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from .._core.loaded import _matrices
 from .._core.porous import PorousState
-from .._core.validation import check_int, check_number
-from ._signals import Signal, constant
+from .._core.validation import (
+    STATUS_MESSAGES,
+    check_int,
+    check_number,
+    check_positive,
+    status_messages,
+)
+from ._signals import Signal, as_signal, constant
 
-__all__ = ["BED_OUTPUTS", "BedOperators", "bed_operators"]
+__all__ = [
+    "BED_OUTPUTS",
+    "BED_STATUS",
+    "BedOperators",
+    "BedTrajectory",
+    "bed_operators",
+    "simulate_bed",
+]
 
 FloatArray = NDArray[np.float64]
 
@@ -176,15 +190,18 @@ def _output_values(sys: Any, y: Any, pump_value: Any) -> dict[str, Any]:
         dz, wz = sys.params[6], sys.params[8]
         top = kap * (vg @ dz[ngap]) / gg
         flux = bedflux + kap * gg * (vg @ wz)
+        speed = sys.eps * kap * vg[..., ngap]
     else:
         top = qn - pi * gg
         flux = bedflux + kap * v[..., num] * gg + qn * gg * gg / 2.0 - pi * gg**3 / 6.0
+        speed = sys.eps * (kap * v[..., num] + gg * qn - pi * gg * gg / 2.0)
     return {
         "tip_deflection": x1,
         "tip_height": h1,
         "base_moment": th @ sys.d0,
         "wall_stress": top,
         "flow_rate": 6.0 * sys.eps**2 * flux,
+        "wall_speed": speed,
         "pressure": pi if sys.pump == 1 else pi + 0.0 * x1,
     }
 
@@ -214,7 +231,13 @@ def _steady_guess(sys: _System, state: PorousState) -> FloatArray:
     return y
 
 
-def _newton_steady(sys: _System, y: FloatArray, t: float, tol: float = 1e-14) -> FloatArray:
+#: Newton's last step (relative): below it the iteration has converged quadratically (the
+#: error after it is its square) and what is left is the rounding of the solve (the
+#: collocation's matrices have condition numbers up to ~1e8).
+_NEWTON_TOL = 1e-9
+
+
+def _newton_steady(sys: _System, y: FloatArray, t: float, tol: float = _NEWTON_TOL) -> FloatArray:
     """Newton on g(t, y) = 0 (the steady state of the discrete system at the drives' values
     at t), with the exact Jacobian; raises ArithmeticError where it does not converge."""
     y = y.copy()
@@ -421,4 +444,466 @@ def bed_operators(
         eps=eps,
         gamma=float(state.gamma),
         theta0=float(state.theta0),
+    )
+
+
+# ---------------------------------------------------------------------------------------
+# The nonlinear bed in time
+# ---------------------------------------------------------------------------------------
+
+#: The status codes of a :class:`BedTrajectory` (the package's table).
+BED_STATUS: Mapping[int, str] = STATUS_MESSAGES
+
+
+@dataclass(frozen=True)
+class BedTrajectory:
+    """A porous bed's motion (theory.md §15); time in T = zeta_perp L^4/(E I), lengths in L,
+    stresses and loads in the units of §13 (a stress times A L^2/(E I)).
+
+    Attributes
+    ----------
+    t : ndarray
+        The output times [T]. Past an event or a failure (``t_end``) the values are NaN.
+    top, pump : str
+        The drives: "wall" (the top wall's speed omega2(t)) or "wall_stress" (its shear
+        stress); "pressure" (Pi(t)) or "flow_rate" (q(t); Pi is then the unknown).
+    top_drive, pump_drive : ndarray
+        The drives' values at t.
+    tip_deflection, tip_height : ndarray
+        x1(t), h1(t) [L].
+    tip_angle : ndarray
+        theta(1, t) [rad].
+    base_moment : ndarray
+        theta'(0, t) [E I/L].
+    wall_stress : ndarray
+        The top wall's shear stress Q(1/eps, t) [-] (what a rheometer measures).
+    wall_speed : ndarray
+        The top wall's speed as omega2 = eta V A L^2/(E I H) [-] (the drive, or the free
+        wall's speed under a set stress).
+    flow_rate : ndarray
+        q(t) = 6 eps^2 Phi [-] (§11's units).
+    pressure : ndarray
+        Pi(t) [-].
+    s : ndarray
+        The hair's collocation nodes [L].
+    theta, theta_t : ndarray
+        theta [rad] and its rate [rad/T] at the nodes, (time, node).
+    velocity, stress : ndarray
+        The fluid's velocity v [L/T] and shear stress Q [-] at the nodes' heights z(s_j, t),
+        (time, node).
+    kappa, eps, gamma, theta0, inertia, tangential_mass, womersley : float
+        The model's constants (womersley alpha = rho_f L^2/(eta T)).
+    num, num_gap : int
+        The Chebyshev degrees of the hair and the gap (the gap's only where womersley > 0).
+    status : int
+        0 reached the last time; -8 a node reached abs(theta) = pi/2 (outside the model,
+        at ``t_end``); -2 the step limit; -3 the step size underflowed or a singular matrix
+        (``BED_STATUS``).
+    t_end : float
+        Where the integration ended [T].
+    nsteps, naccept, nreject, nfev, njev, nlu : int
+        Work: steps tried, accepted, rejected; evaluations of g, Jacobians, LU
+        factorisations.
+    """
+
+    t: FloatArray
+    top: str
+    pump: str
+    top_drive: FloatArray
+    pump_drive: FloatArray
+    tip_deflection: FloatArray
+    tip_height: FloatArray
+    tip_angle: FloatArray
+    base_moment: FloatArray
+    wall_stress: FloatArray
+    wall_speed: FloatArray
+    flow_rate: FloatArray
+    pressure: FloatArray
+    s: FloatArray
+    theta: FloatArray
+    theta_t: FloatArray
+    velocity: FloatArray
+    stress: FloatArray
+    kappa: float
+    eps: float
+    gamma: float
+    theta0: float
+    inertia: float
+    tangential_mass: float
+    womersley: float
+    num: int
+    num_gap: int
+    status: int
+    t_end: float
+    nsteps: int
+    naccept: int
+    nreject: int
+    nfev: int
+    njev: int
+    nlu: int
+
+    @property
+    def success(self) -> bool:
+        """True where the run reached its last time (status 0)."""
+        return self.status == 0
+
+    @property
+    def message(self) -> Any:
+        """``BED_STATUS`` of the status."""
+        return status_messages(self.status, BED_STATUS)
+
+    def to_xarray(self) -> Any:
+        """The trajectory as an xarray.Dataset with the dimensions ``t`` and ``s``, CF
+        attributes. Needs the ``io`` extra."""
+        from .._optional import optional_import
+
+        xr = optional_import("xarray", "BedTrajectory.to_xarray", "io")
+        load = "E I/(A L^2)"
+
+        def var(dims: Any, value: Any, units: str, name: str) -> tuple[Any, Any, dict[str, str]]:
+            return (dims, value, {"units": units, "long_name": name})
+
+        data = {
+            "top_drive": var("t", self.top_drive, "1", f"top wall drive ({self.top})"),
+            "pump_drive": var("t", self.pump_drive, "1", f"pump drive ({self.pump})"),
+            "tip_deflection": var("t", self.tip_deflection, "L", "tip deflection x(1)"),
+            "tip_height": var("t", self.tip_height, "L", "tip height z(1)"),
+            "tip_angle": var("t", self.tip_angle, "rad", "tip angle theta(1)"),
+            "base_moment": var("t", self.base_moment, "E I/L", "base moment theta'(0)"),
+            "wall_stress": var("t", self.wall_stress, load, "top wall shear stress"),
+            "wall_speed": var("t", self.wall_speed, "1", "top wall speed omega2"),
+            "flow_rate": var("t", self.flow_rate, "1", "flow rate q"),
+            "pressure": var("t", self.pressure, "1", "pressure gradient load Pi"),
+            "theta": var(("t", "s"), self.theta, "rad", "angle"),
+            "theta_t": var(("t", "s"), self.theta_t, "rad/T", "angular rate"),
+            "velocity": var(("t", "s"), self.velocity, "L/T", "fluid velocity at the node"),
+            "stress": var(("t", "s"), self.stress, load, "fluid shear stress at the node"),
+        }
+        return xr.Dataset(
+            data,
+            coords={
+                "t": ("t", self.t, {"units": "T", "long_name": "time, T = zeta_perp L^4/(E I)"}),
+                "s": ("s", self.s, {"units": "L", "long_name": "arc length"}),
+            },
+            attrs={
+                "title": "hairbed porous bed trajectory",
+                "kappa": self.kappa,
+                "eps": self.eps,
+                "gamma": self.gamma,
+                "theta0": self.theta0,
+                "inertia": self.inertia,
+                "tangential_mass": self.tangential_mass,
+                "womersley": self.womersley,
+                "top": self.top,
+                "pump": self.pump,
+                "status": self.status,
+                "message": str(self.message),
+                "t_end": self.t_end,
+                "Conventions": "CF-1.10",
+            },
+        )
+
+
+def _consistent(sys: _System, y: FloatArray, t: float) -> FloatArray:
+    """The algebraic unknowns solved at time t with the differential ones held (index 1:
+    Newton on the algebraic rows; the index-2 Pi of a set flow rate with fluid inertia is
+    kept)."""
+    mass = _mass(sys)
+    alg = np.flatnonzero(mass == 0.0)
+    if sys.layout.pi >= 0 and sys.alpha > 0.0:
+        alg = alg[alg != sys.layout.pi]
+    y = y.copy()
+    for _ in range(30):
+        ok, g, jac = _evaluate(sys, t, y, True)
+        if not ok:
+            break
+        step = np.linalg.solve(jac[np.ix_(alg, alg)], -g[alg])
+        y[alg] += step
+        if np.max(np.abs(step) / (1.0 + np.abs(y[alg]))) <= _NEWTON_TOL:
+            return y
+    raise ArithmeticError("no consistent start of the bed's algebraic unknowns")
+
+
+def _top_drive(wall: Any, wall_stress: Any) -> tuple[int, Any, str]:
+    if wall is not None and wall_stress is not None:
+        raise ValueError(
+            "give at most one of wall (the top wall's speed) and wall_stress (its shear "
+            "stress), got both"
+        )
+    if wall_stress is not None:
+        return 1, wall_stress, "wall_stress"
+    return 0, (0.0 if wall is None else wall), "wall"
+
+
+def _pump_drive(pressure: Any, flow_rate: Any) -> tuple[int, Any, str]:
+    if pressure is not None and flow_rate is not None:
+        raise ValueError("give at most one of pressure (Pi(t)) and flow_rate (q(t)), got both")
+    if flow_rate is not None:
+        return 1, flow_rate, "flow_rate"
+    return 0, (0.0 if pressure is None else pressure), "pressure"
+
+
+def _static_start(
+    sys: _System, theta0: float, kappa: float, eps: float, gamma: float, top_v: float,
+    pump_v: float, t: float,
+) -> FloatArray:  # fmt: skip
+    """The discrete system's steady state at the drives' values at time t: from
+    :func:`hairbed.solve_porous` (the wall drive; under a set wall stress, omega2 by a
+    secant on the static solver's top stress), polished by Newton on g = 0."""
+    from .._core.porous import solve_porous
+
+    kw = {"q": pump_v} if sys.pump == 1 else {"pi": pump_v}
+
+    def state(omega2: float) -> PorousState:
+        return solve_porous(omega2, eps, theta0, kappa=kappa, gamma=gamma, **kw)
+
+    if sys.top == 0:
+        st = state(top_v)
+    else:
+
+        def top_stress(s: PorousState) -> float:
+            return float(s.tip_stress) - float(s.pi) * (1.0 / eps - float(s.tip_height))
+
+        w0, st = 0.0, state(0.0)
+        f0 = top_stress(st) - top_v
+        w1 = (1.0 - eps) * top_v if top_v != 0.0 else 0.0
+        for _ in range(8):
+            if w1 == w0 or int(st.status) < 0:
+                break
+            st = state(w1)
+            f1 = top_stress(st) - top_v
+            if f1 == f0:
+                break
+            w0, w1, f0 = w1, w1 - f1 * (w1 - w0) / (f1 - f0), f1
+    if int(st.status) < 0:
+        raise ValueError(
+            f"no static state at the drives' values at t_eval[0] to start from "
+            f"({st.message}); pass initial="
+        )
+    return _newton_steady(sys, _steady_guess(sys, st), t)
+
+
+def simulate_bed(
+    theta0: float,
+    kappa: float,
+    eps: float,
+    *,
+    t_eval: ArrayLike,
+    wall: Any = None,
+    pressure: Any = None,
+    flow_rate: Any = None,
+    wall_stress: Any = None,
+    gamma: float = 1.0,
+    inertia: float = 0.0,
+    tangential_mass: float = 1.0,
+    womersley: float = 0.0,
+    initial: PorousState | None = None,
+    num: int | None = None,
+    num_gap: int = 16,
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+    max_steps: int = 100_000,
+) -> BedTrajectory:
+    """A porous bed in time-dependent flow, hairs and fluid together (theory.md §15).
+
+    The hair of §14 (D1-D4) in the Brinkman bed of §13, the fluid laterally uniform with its
+    own inertia: with v the fluid's velocity [L/T], f = [I - (1 - gamma) t t](v e_x - r_t)
+    the drag per length on a hair,
+
+        theta'' = -(F_x cos - F_z sin),  F = int_s^1 (f - mu C r_tt) ds',
+        alpha kappa v_t = kappa v_zz + Pi(t) - f_x/cos(theta)   inside the bed,
+        alpha kappa v_t = kappa v_zz + Pi(t)                     in the gap,
+
+    v(0) = 0, v and v_z continuous at the tip plane, the top wall's speed or stress at
+    z = 1/eps, and Pi given or held by a set flow rate. Time in T = zeta_perp L^4/(E I).
+
+    Parameters
+    ----------
+    theta0 : float
+        The base angle [rad] in (-pi/2, pi/2).
+    kappa : float
+        The bed's permeability over L^2 [-] in (0, inf).
+    eps : float
+        L/H [-] in (0, 1).
+    t_eval : array_like
+        Output times [T], finite and non-decreasing; the run starts at t_eval[0].
+    wall, wall_stress : number, Signal or callable, optional
+        The top wall's drive: its speed as omega2(t) = eta V A L^2/(E I H) (default 0), or
+        its shear stress (load units of §13; the wall's speed is then free). At most one.
+    pressure, flow_rate : number, Signal or callable, optional
+        The pump: Pi(t) = A G L^3/(E I) (default 0), or the flow rate q(t) of §11 (Pi is then
+        the unknown that holds it; with womersley > 0 it must not jump). At most one.
+    gamma : float, optional
+        Drag ratio zeta_par/zeta_perp in (0, 1] (default 1).
+    inertia : float, optional
+        mu = m E I/(zeta_perp^2 L^4) >= 0 (default 0: overdamped hairs).
+    tangential_mass : float, optional
+        chi in (0, 1]: tangential over normal mass per length (default 1).
+    womersley : float, optional
+        alpha = rho_f L^2/(eta T) >= 0 (default 0: the quasi-steady fluid, a fast path with
+        the gap's exact profile).
+    initial : PorousState, optional
+        The bed's state at t_eval[0] (at rest; a scalar :func:`hairbed.solve_porous` result
+        of the same theta0, kappa, eps, gamma); default the steady state of the drives'
+        values just before t_eval[0] (a step at t_eval[0] starts from its value before).
+    num : int, optional
+        The hair's Chebyshev degree N in [8, 128] (default: that of the start's static
+        state).
+    num_gap : int, optional
+        The gap's degree M in [4, 128] (womersley > 0; default 16).
+    rtol, atol : float, optional
+        The integrator's tolerances (default 1e-8, 1e-10).
+    max_steps : int, optional
+        The most steps, in [1, 10^12] (status -2 beyond).
+
+    Returns
+    -------
+    BedTrajectory
+
+    Raises
+    ------
+    ValueError, TypeError
+        For inputs outside their ranges, naming the parameter.
+
+    Examples
+    --------
+    >>> from hairbed.dynamics import simulate_bed, step
+    >>> run = simulate_bed(0.0, 0.1, 0.5, wall=step(1.0), t_eval=[0.0, 5.0])
+    >>> run.success, round(float(run.tip_deflection[-1]), 6)  # the static state's 0.185036
+    (True, 0.185036)
+    """
+    from ._integrate import _checked_times
+
+    te = _checked_times(t_eval)
+    t0 = check_number(theta0, "theta0", low=-0.5 * np.pi, high=0.5 * np.pi, low_open=True,
+                      high_open=True)  # fmt: skip
+    kap = check_number(kappa, "kappa", low=0.0, low_open=True)
+    if not math.isfinite(kap):
+        raise ValueError(f"kappa must be finite, got {kap!r}")
+    e = check_number(eps, "eps", low=0.0, high=1.0, low_open=True, high_open=True)
+    g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
+    mu = check_number(inertia, "inertia", low=0.0)
+    chi = check_number(tangential_mass, "tangential_mass", low=0.0, high=1.0, low_open=True)
+    alpha = check_number(womersley, "womersley", low=0.0)
+    for name, v in (("inertia", mu), ("womersley", alpha)):
+        if not math.isfinite(v):
+            raise ValueError(f"{name} must be finite, got {v!r}")
+    ngap = check_int(num_gap, "num_gap", 4, 128)
+    tol_r = check_positive(rtol, "rtol")
+    tol_a = check_positive(atol, "atol")
+    steps = check_int(max_steps, "max_steps", 1, 10**12)
+    top, top_in, top_name = _top_drive(wall, wall_stress)
+    pump, pump_in, pump_name = _pump_drive(pressure, flow_rate)
+    span_end = float(te[-1]) if te[-1] > te[0] else float(te[0]) + 1.0
+    top_sig = as_signal(top_in, top_name, float(te[0]), span_end)
+    pump_sig = as_signal(pump_in, pump_name, float(te[0]), span_end)
+    before = float(np.nextafter(te[0], -np.inf))
+    if pump == 1 and alpha > 0.0 and pump_sig.at_start(before) != pump_sig.at_start(te[0]):
+        raise ValueError(
+            "flow_rate must not jump at t_eval[0] where womersley > 0 (with the fluid's inertia "
+            "a jump of the flow rate needs an impulsive pressure): use a ramp"
+        )
+    if initial is not None:
+        if not isinstance(initial, PorousState) or np.ndim(initial.tip_height) != 0:
+            raise TypeError("initial must be one PorousState (a scalar solve_porous result)")
+        same = all(
+            abs(float(getattr(initial, k)) - v) <= 1e-12 * max(1.0, abs(v))
+            for k, v in (("theta0", t0), ("kappa", kap), ("eps", e), ("gamma", g))
+        )
+        if not same or int(initial.status) < 0:
+            raise ValueError(
+                "initial must be a converged state of the same theta0, kappa, eps and gamma, "
+                f"got status {int(initial.status)}, theta0 = {float(initial.theta0)!r}, "
+                f"kappa = {float(initial.kappa)!r}, eps = {float(initial.eps)!r}, "
+                f"gamma = {float(initial.gamma)!r}"
+            )
+    if num is None:
+        deg = int(initial.num) if initial is not None else 32
+    else:
+        deg = check_int(num, "num", 8, 128)
+    a = 0.0
+    if initial is not None and np.isfinite(initial._map):
+        a = float(initial._map)
+    elif top == 0 and pump == 0 and pump_sig.at_start(before) == 0.0:
+        from .._core.porous import _tip_map
+
+        a = float(_tip_map(0, np.array(kap), np.array(0.0)))
+    sys = _system(deg, a, ngap, t0, g, chi, mu, kap, e, alpha, top, pump, top_sig, pump_sig)
+    if initial is not None:
+        y0 = _steady_guess(sys, initial)
+    else:
+        y0 = _static_start(sys, t0, kap, e, g, top_sig.at_start(before),
+                           pump_sig.at_start(before), before)  # fmt: skip
+    y0 = _consistent(sys, y0, float(te[0]))
+    return _integrate(sys, y0, te, tol_r, tol_a, steps, top_sig, pump_sig, top_name, pump_name)
+
+
+def _integrate(
+    sys: _System, y0: FloatArray, te: FloatArray, rtol: float, atol: float, max_steps: int,
+    top_sig: Signal, pump_sig: Signal, top_name: str, pump_name: str,
+) -> BedTrajectory:  # fmt: skip
+    """The compiled run and its trajectory."""
+    from .._core._kernels import dynamics as kern
+
+    lay = sys.layout
+    m = lay.size
+    mass = _mass(sys)
+    index2 = lay.pi if (lay.pi >= 0 and sys.alpha > 0.0) else m
+    y_out = np.full((te.size, m), np.nan)
+    counts = np.zeros(6, dtype=np.int64)
+    status, t_end = kern.integrate_bed(
+        y0, mass, index2, float(te[0]), te, rtol, atol, 1e-6, max_steps, sys.params, y_out,
+        counts,
+    )  # fmt: skip
+    num = sys.num
+    ok = np.all(np.isfinite(y_out), axis=1)
+    y_out[~ok] = np.nan
+    pump_vals = np.asarray(pump_sig(te), dtype=np.float64).reshape(te.shape)
+    vals = _output_values(sys, y_out, pump_vals)
+    theta = _angles(sys, y_out)
+    rates = np.full_like(theta, np.nan)
+    rates[:, 0] = 0.0
+    rates[:, 1:num] = y_out[:, lay.omega : lay.omega + num - 1]
+    rates[:, num] = rates[:, 1:num] @ sys.params[5][1:num]
+    rates[~ok] = np.nan
+    vel = np.zeros_like(theta)
+    vel[:, 1:] = y_out[:, lay.v : lay.v + num]
+    vel[~ok] = np.nan
+    stress = y_out[:, lay.stress : lay.stress + num + 1].copy()
+    return BedTrajectory(
+        t=te,
+        top=top_name,
+        pump=pump_name,
+        top_drive=np.asarray(top_sig(te), dtype=np.float64).reshape(te.shape),
+        pump_drive=pump_vals,
+        tip_deflection=np.asarray(vals["tip_deflection"]),
+        tip_height=np.asarray(vals["tip_height"]),
+        tip_angle=theta[:, num].copy(),
+        base_moment=np.asarray(vals["base_moment"]),
+        wall_stress=np.asarray(vals["wall_stress"]),
+        wall_speed=np.asarray(vals["wall_speed"]),
+        flow_rate=np.asarray(vals["flow_rate"]),
+        pressure=np.asarray(vals["pressure"]),
+        s=sys.s,
+        theta=theta,
+        theta_t=rates,
+        velocity=vel,
+        stress=stress,
+        kappa=sys.kappa,
+        eps=sys.eps,
+        gamma=float(sys.params[1][1]),
+        theta0=float(sys.params[1][0]),
+        inertia=sys.mu,
+        tangential_mass=float(sys.params[1][2]),
+        womersley=sys.alpha,
+        num=num,
+        num_gap=sys.num_gap if sys.alpha > 0.0 else 0,
+        status=int(status),
+        t_end=float(t_end),
+        nsteps=int(counts[0]),
+        naccept=int(counts[1]),
+        nreject=int(counts[2]),
+        nfev=int(counts[3]),
+        njev=int(counts[4]),
+        nlu=int(counts[5]),
     )

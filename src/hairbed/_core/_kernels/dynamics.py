@@ -28,6 +28,7 @@ __all__ = [
     "STATUS_JUMP",
     "STATUS_STEP_TOO_SMALL",
     "drive_value",
+    "integrate_bed",
     "integrate_pillar",
     "pencil_outputs",
     "pencil_solve",
@@ -583,18 +584,8 @@ def integrate_pillar(
 ):
     """Radau IIA (order 5, three stages, L-stable, stiffly accurate) on y' = f(t, y) of
     :func:`pillar_rates` from (t_start, y0) to t_eval[-1], writing y at every t_eval
-    (sorted, >= t_start) into y_out by the collocation polynomial (dense output).
-
-    Simplified Newton on the stages with the exact Jacobian, the 3m system I - h A x J
-    decoupled by the eigenvectors of A into one real and one complex system of size m (two
-    LUs), at most 7 iterations; the embedded order-3 error estimate of Hairer & Wanner,
-    (I/(gamma0 h) - J)^-1 (f0 + sum_i DD_i Z_i/h), refined once after a rejection; the step
-    by 0.9 err^(-1/4) within [0.2, 5]. Error norm: the root mean square of
-    err/(atol + rtol max(|y0|, |y1|)). The Jacobian and the LUs are reused as in Hairer &
-    Wanner's RADAU5: after a step whose Newton converged in one iteration or with a
-    contraction below 1e-3 the next step keeps the Jacobian (a new one is taken at the step's
-    start after any rejection or divergent Newton with an old one), and keeps the LUs too where
-    the proposed step is within [1, 1.2] of the last (the step is then kept).
+    (sorted, >= t_start) into y_out by the collocation polynomial (dense output): the
+    integrator :func:`_radau` with the pillar's model (mass I).
 
     Events, located by bisection on the dense output, stop the run: the pillar reaching
     |theta| = pi/2 at a node (it lies on the wall); where ``jump_speed`` > 0, the tip's speed
@@ -603,8 +594,111 @@ def integrate_pillar(
     1e-14 (t + 1) or a singular matrix. counts: steps, accepted, rejected, f evaluations,
     Jacobians, LU factorisations."""
     m = y0.size
+    mass = np.ones(m)
+    pp = (num, dd, ii, srow, theta0, gamma, chi, mu, prof, drives, tabs)
+    return _radau(
+        MODEL_PILLAR, mass, m, y0, t_start, t_eval, rtol, atol, h_start, max_steps, num,
+        theta0, srow, pp, _no_bed(), y_out, counts, jump_speed,
+    )  # fmt: skip
+
+
+@kernel
+def integrate_bed(y0, mass, index2, t_start, t_eval, rtol, atol, h_start, max_steps, bp,
+                  y_out, counts):  # fmt: skip
+    """Radau IIA (:func:`_radau`) on the porous bed's M y' = g(t, y) of
+    ``bed.bed_system`` (theory.md §15; ``bp`` its parameter tuple, ``mass`` the diagonal of
+    M, the components from ``index2`` on of index 2: Pi under a set flow rate with fluid
+    inertia), writing y at every t_eval into y_out. Events: a node reaching |theta| = pi/2
+    (status -8). Returns (status, t_end) as :func:`integrate_pillar`."""
+    num = bp[0][0]
+    theta0 = bp[1][0]
+    srow = bp[5]
+    z2 = np.zeros((1, 1))
+    pp = (num, z2, z2, srow, 0.0, 1.0, 1.0, 0.0, np.zeros(1), np.zeros((2, 8)), np.zeros((4, 1)))
+    return _radau(
+        MODEL_BED, mass, index2, y0, t_start, t_eval, rtol, atol, h_start, max_steps, num,
+        theta0, srow, pp, bp, y_out, counts, 0.0,
+    )  # fmt: skip
+
+
+@kernel
+def _no_bed():
+    """A bed parameter tuple of the right types for the pillar's runs (never read)."""
+    ints = np.zeros(4, dtype=np.int64)
+    ints[1] = 2
+    z2 = np.zeros((1, 1))
+    z1 = np.zeros(1)
+    return (ints, np.zeros(7), z2, z2, z2, z1, z2, z2, z1, z1, np.zeros((2, 8)),
+            np.zeros((4, 1)))  # fmt: skip
+
+
+@kernel
+def _rates(model, t, y, need, pp, bp, f, jac, ws, wsb):
+    """The model's right-hand side g(t, y) of M y' = g and, where ``need``, its Jacobian:
+    the pillar's :func:`pillar_rates` (M = I) or the bed's ``bed.bed_system``."""
+    if model == MODEL_PILLAR:
+        return pillar_rates(
+            t, y, need, pp[0], pp[1], pp[2], pp[3], pp[4], pp[5], pp[6], pp[7], pp[8], pp[9],
+            pp[10], f, jac, ws,
+        )  # fmt: skip
+    return _bed.bed_system(t, y, need, bp, f, jac, wsb)
+
+
+@kernel
+def _radau(
+    model,
+    mass,
+    index2,
+    y0,
+    t_start,
+    t_eval,
+    rtol,
+    atol,
+    h_start,
+    max_steps,
+    num,
+    theta0,
+    srow,
+    pp,
+    bp,
+    y_out,
+    counts,
+    jump_speed,
+):
+    """Radau IIA (order 5, three stages, L-stable, stiffly accurate) on M y' = g(t, y) with
+    a constant diagonal mass vector ``mass`` (M = I: an ODE; zeros: the algebraic rows of an
+    index-1 DAE), the model's g of :func:`_rates` (``model``: MODEL_PILLAR with its
+    parameters ``pp``, MODEL_BED with ``bp``), from (t_start, y0) to t_eval[-1], writing y
+    at every t_eval (sorted, >= t_start) into y_out by the collocation polynomial (dense
+    output). The components from ``index2`` on are of index 2 (their error and Newton
+    increments are scaled by h, as RADAU5 does).
+
+    Simplified Newton on the stages with the exact Jacobian, the 3m system (1/h) A^-1 x M -
+    I x J decoupled by the eigenvectors of A into one real and one complex system of size m
+    ((U1/h) M - J and ((alpha - i beta)/h) M - J, two LUs), at most 7 iterations; the
+    embedded order-3 error estimate of Hairer & Wanner (Solving ODEs II, IV.8),
+    ((gamma0/h) M - J)^-1 (f0 + M sum_i DD_i Z_i/h), refined once after a rejection; the step
+    by 0.9 err^(-1/4) within [0.2, 5]. Error norm: the root mean square of
+    err/(atol + rtol max(|y0|, |y1|)) over the differential components (mass != 0): an
+    index-1 DAE's algebraic components follow from them, and their estimate is the rounding
+    of the ill-conditioned collocation at the short steps of an impulsive start (the
+    algebraic variables suppressed from the error test, as IDA's ``suppressalg``; SUNDIALS,
+    Hindmarsh et al. 2005). The Jacobian and the LUs are reused as in Hairer &
+    Wanner's RADAU5: after a step whose Newton converged in one iteration or with a
+    contraction below 1e-3 the next step keeps the Jacobian (a new one is taken at the step's
+    start after any rejection or divergent Newton with an old one), and keeps the LUs too where
+    the proposed step is within [1, 1.2] of the last (the step is then kept).
+
+    Events as :func:`integrate_pillar` (the jump event for the pillar only)."""
+    m = y0.size
     n_eval = t_eval.size
-    ws = workspace(num)
+    mdiff = 0  # the error test counts the differential components (IDA's suppressalg)
+    for k in range(m):
+        if mass[k] != 0.0:
+            mdiff += 1
+    mdiff = max(mdiff, 1)
+    ws = workspace(num if model == MODEL_PILLAR else 2)
+    wsb = _bed.bed_workspace(num if model == MODEL_BED else 2, bp[0][1])
     th_tmp = np.empty(num + 1)
     y = y0.copy()
     y1 = np.empty(m)
@@ -646,24 +740,17 @@ def integrate_pillar(
     while nxt < n_eval:
         if steps >= max_steps:
             return STATUS_MAXSTEPS, t
-        if not pillar_rates(
+        if not _rates(
+            model,
             t,
             y,
             not reuse,
-            num,
-            dd,
-            ii,
-            srow,
-            theta0,
-            gamma,
-            chi,
-            mu,
-            prof,
-            drives,
-            tabs,
+            pp,
+            bp,
             f0,
             dummy if reuse else jac,
             ws,
+            wsb,
         ):
             return STATUS_STEP_TOO_SMALL, t
         counts[3] += 1
@@ -684,8 +771,8 @@ def integrate_pillar(
                     for k in range(m):
                         e1[i, k] = -jac[i, k]
                         e2[i, k] = -jac[i, k]
-                    e1[i, i] += _U1 / h
-                    e2[i, i] += shift
+                    e1[i, i] += _U1 / h * mass[i]
+                    e2[i, i] += shift * mass[i]
                 counts[5] += 2
                 if not _lu_factor(e1, piv1, m) or not _lu_factor(e2, piv2, m):
                     return STATUS_STEP_TOO_SMALL, t
@@ -698,10 +785,13 @@ def integrate_pillar(
                         z[si * m + k] = yt[k] - z_prev[2 * m + k]
             else:
                 for si in range(3):
-                    for k in range(m):
-                        z[si * m + k] = cs[si] * h * f0[k]
+                    for k in range(m):  # (y' = g/M on the differential rows, 0 else)
+                        fk = f0[k] if mass[k] == 1.0 else (f0[k] / mass[k] if mass[k] else 0.0)
+                        z[si * m + k] = cs[si] * h * fk
             for k in range(m):
                 sc[k] = atol + rtol * abs(y[k])
+                if k >= index2:
+                    sc[k] /= h
                 for si in range(3):  # W = T^-1 Z
                     w[si * m + k] = (
                         _TI[si][0] * z[k] + _TI[si][1] * z[m + k] + _TI[si][2] * z[2 * m + k]
@@ -717,24 +807,17 @@ def integrate_pillar(
                 for si in range(3):
                     for k in range(m):
                         yt[k] = y[k] + z[si * m + k]
-                    if not pillar_rates(
+                    if not _rates(
+                        model,
                         t + cs[si] * h,
                         yt,
                         False,
-                        num,
-                        dd,
-                        ii,
-                        srow,
-                        theta0,
-                        gamma,
-                        chi,
-                        mu,
-                        prof,
-                        drives,
-                        tabs,
+                        pp,
+                        bp,
                         ft,
                         dummy,
                         ws,
+                        wsb,
                     ):
                         good = False
                         break
@@ -749,9 +832,10 @@ def integrate_pillar(
                     tf1 = _TI[1][0] * fst[0, k] + _TI[1][1] * fst[1, k] + _TI[1][2] * fst[2, k]
                     tf2 = _TI[2][0] * fst[0, k] + _TI[2][1] * fst[1, k] + _TI[2][2] * fst[2, k]
                     w0, w1, w2 = w[k], w[m + k], w[2 * m + k]
-                    g[k] = tf0 - _U1 / h * w0
-                    r2 = tf1 - (_ALPHA * w1 + _BETA * w2) / h
-                    r3 = tf2 - (-_BETA * w1 + _ALPHA * w2) / h
+                    mk = mass[k]
+                    g[k] = tf0 - _U1 / h * mk * w0
+                    r2 = tf1 - mk * (_ALPHA * w1 + _BETA * w2) / h
+                    r3 = tf2 - mk * (-_BETA * w1 + _ALPHA * w2) / h
                     rc[k] = complex(r2, r3)
                 _lu_apply(e1, piv1, g, m)
                 _lu_apply(e2, piv2, rc, m)
@@ -786,24 +870,17 @@ def integrate_pillar(
                 rejected = True
                 counts[2] += 1
                 if not fresh:  # an old Jacobian: a new one, the same step
-                    if not pillar_rates(
+                    if not _rates(
+                        model,
                         t,
                         y,
                         True,
-                        num,
-                        dd,
-                        ii,
-                        srow,
-                        theta0,
-                        gamma,
-                        chi,
-                        mu,
-                        prof,
-                        drives,
-                        tabs,
+                        pp,
+                        bp,
                         f0,
                         jac,
                         ws,
+                        wsb,
                     ):
                         return STATUS_STEP_TOO_SMALL, t
                     counts[3] += 1
@@ -816,49 +893,58 @@ def integrate_pillar(
             for k in range(m):
                 y1[k] = y[k] + z[2 * m + k]
                 sc[k] = atol + rtol * max(abs(y[k]), abs(y1[k]))
+                if k >= index2:
+                    sc[k] /= h
             for k in range(m):
                 acc = f0[k]
-                for si in range(3):
-                    acc += _DD[si] * z[si * m + k] / h
+                if mass[k] == 1.0:
+                    for si in range(3):
+                        acc += _DD[si] * z[si * m + k] / h
+                else:
+                    part = 0.0
+                    for si in range(3):
+                        part += _DD[si] * z[si * m + k] / h
+                    acc += mass[k] * part
                 err[k] = acc
             _lu_apply(e1, piv1, err, m)
             en = 0.0
             for k in range(m):
-                en += (err[k] / sc[k]) ** 2
-            en = math.sqrt(en / m)
+                if mass[k] != 0.0:
+                    en += (err[k] / sc[k]) ** 2
+            en = math.sqrt(en / mdiff)
             if en >= 1.0 and (first or rejected):
                 for k in range(m):
                     yt[k] = y[k] + err[k]
-                pillar_rates(
+                _rates(
+                    model,
                     t,
                     yt,
                     False,
-                    num,
-                    dd,
-                    ii,
-                    srow,
-                    theta0,
-                    gamma,
-                    chi,
-                    mu,
-                    prof,
-                    drives,
-                    tabs,
+                    pp,
+                    bp,
                     ft,
                     dummy,
                     ws,
+                    wsb,
                 )
                 counts[3] += 1
                 for k in range(m):
                     acc = ft[k]
-                    for si in range(3):
-                        acc += _DD[si] * z[si * m + k] / h
+                    if mass[k] == 1.0:
+                        for si in range(3):
+                            acc += _DD[si] * z[si * m + k] / h
+                    else:
+                        part = 0.0
+                        for si in range(3):
+                            part += _DD[si] * z[si * m + k] / h
+                        acc += mass[k] * part
                     err[k] = acc
                 _lu_apply(e1, piv1, err, m)
                 en = 0.0
                 for k in range(m):
-                    en += (err[k] / sc[k]) ** 2
-                en = math.sqrt(en / m)
+                    if mass[k] != 0.0:
+                        en += (err[k] / sc[k]) ** 2
+                en = math.sqrt(en / mdiff)
             fac = 0.9 * (2 * 7 + 1) / (nit + 2 * 7)
             if not math.isfinite(en):
                 en = 1e10
@@ -870,24 +956,17 @@ def integrate_pillar(
             counts[2] += 1
             h = h_new if not first else 0.1 * h
             if not fresh:
-                if not pillar_rates(
+                if not _rates(
+                    model,
                     t,
                     y,
                     True,
-                    num,
-                    dd,
-                    ii,
-                    srow,
-                    theta0,
-                    gamma,
-                    chi,
-                    mu,
-                    prof,
-                    drives,
-                    tabs,
+                    pp,
+                    bp,
                     f0,
                     jac,
                     ws,
+                    wsb,
                 ):
                     return STATUS_STEP_TOO_SMALL, t
                 counts[3] += 1
@@ -912,7 +991,7 @@ def integrate_pillar(
                     lo = mid
             t_stop = t + hi * h
             status = STATUS_OUTSIDE
-        if jump_speed > 0.0:
+        if jump_speed > 0.0 and model == MODEL_PILLAR:
             tau = (t_stop - t) / h
             if tau < 1.0:
                 _dense(y, z, m, tau, yt)
@@ -923,16 +1002,16 @@ def integrate_pillar(
                 t_stop,
                 yt,
                 num,
-                dd,
-                ii,
+                pp[1],
+                pp[2],
                 srow,
                 theta0,
-                gamma,
-                chi,
-                mu,
-                prof,
-                drives,
-                tabs,
+                pp[5],
+                pp[6],
+                pp[7],
+                pp[8],
+                pp[9],
+                pp[10],
                 ft,
                 dummy,
                 ws,
@@ -949,16 +1028,16 @@ def integrate_pillar(
                         t + mid * h,
                         yt,
                         num,
-                        dd,
-                        ii,
+                        pp[1],
+                        pp[2],
                         srow,
                         theta0,
-                        gamma,
-                        chi,
-                        mu,
-                        prof,
-                        drives,
-                        tabs,
+                        pp[5],
+                        pp[6],
+                        pp[7],
+                        pp[8],
+                        pp[9],
+                        pp[10],
                         ft,
                         dummy,
                         ws,
@@ -999,3 +1078,10 @@ def integrate_pillar(
                     y_out[nxt, k] = y[k]
                 nxt += 1
     return STATUS_OK, t
+
+
+#: The models of :func:`_radau`.
+MODEL_PILLAR = 0
+MODEL_BED = 1
+
+from . import bed as _bed  # noqa: E402  (bed imports this module's loads and drives)
