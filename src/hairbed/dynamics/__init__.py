@@ -7,22 +7,24 @@
 - :func:`simulate_pillar`: the nonlinear pillar in time (compiled Radau IIA), driven by
   :func:`step`, :func:`ramp`, :func:`sine`, :func:`pulses`, :func:`sampled` or a callable;
   :func:`simulate_pillars` many pillars in one call, on threads.
-- :func:`simulate_bed`: the porous bed in time (hairs and fluid, theory.md §15), on the same
-  compiled Radau IIA; :func:`bed_operators` its semi-discrete system M y' = g(t, y)
-  linearised about a steady state: mass vector, exact Jacobian, drives, outputs.
+- :func:`bed_operators`: the porous bed's semi-discrete system M y' = g(t, y) linearised
+  about a steady state (theory.md §15): mass vector, exact Jacobian, drives, outputs.
 - :func:`snap_through`: a slow ramp through the upper fold of a pillar's snap-through window:
   the jump's delay, the states before and after, the ringing.
+- :func:`linearise_bed`: the porous bed's linear dynamics about any steady state, its modes
+  and its transfer functions (wall speed, pressure or flow rate -> tip deflection, tip
+  height, base moment, top wall's stress, flow rate).
 """
 
 from __future__ import annotations
 
-from ._bed import (
-    BED_OUTPUTS,
-    BED_STATUS,
-    BedOperators,
-    BedTrajectory,
-    bed_operators,
-    simulate_bed,
+from ._bed import BED_OUTPUTS, BedOperators, bed_operators
+from ._bed_linear import (
+    BED_LINEAR_STATUS,
+    BedFrequencyResponse,
+    BedModes,
+    LinearBed,
+    linearise_bed,
 )
 from ._hydrodynamic import crossover_reynolds, hydrodynamic_function, sader_drag_ratio
 from ._integrate import TRAJECTORY_STATUS, PillarTrajectory, simulate_pillar, simulate_pillars
@@ -46,11 +48,8 @@ from ._validity import (
 
 __all__ = [
     "BED_OUTPUTS",
-    "BED_STATUS",
     "BedOperators",
-    "BedTrajectory",
     "bed_operators",
-    "simulate_bed",
     "CALLABLE_SAMPLES",
     "PillarTrajectory",
     "Signal",
@@ -80,4 +79,9 @@ __all__ = [
     "SADER_WAVELENGTH_LIMIT",
     "dynamics_validity",
     "warn_dynamics_validity",
+    "BED_LINEAR_STATUS",
+    "BedFrequencyResponse",
+    "BedModes",
+    "LinearBed",
+    "linearise_bed",
 ]
