@@ -7,8 +7,9 @@
 - :func:`simulate_pillar`: the nonlinear pillar in time (compiled Radau IIA), driven by
   :func:`step`, :func:`ramp`, :func:`sine`, :func:`pulses`, :func:`sampled` or a callable;
   :func:`simulate_pillars` many pillars in one call, on threads.
-- :func:`bed_operators`: the porous bed's semi-discrete system M y' = g(t, y) linearised
-  about a steady state (theory.md §15): mass vector, exact Jacobian, drives, outputs.
+- :func:`simulate_bed`: the porous bed in time (hairs and fluid, theory.md §15), on the same
+  compiled Radau IIA; :func:`bed_operators` its semi-discrete system M y' = g(t, y)
+  linearised about a steady state: mass vector, exact Jacobian, drives, outputs.
 - :func:`snap_through`: a slow ramp through the upper fold of a pillar's snap-through window:
   the jump's delay, the states before and after, the ringing.
 - :func:`linearise_bed`: the porous bed's linear dynamics about any steady state, its modes
@@ -18,7 +19,14 @@
 
 from __future__ import annotations
 
-from ._bed import BED_OUTPUTS, BedOperators, bed_operators
+from ._bed import (
+    BED_OUTPUTS,
+    BED_STATUS,
+    BedOperators,
+    BedTrajectory,
+    bed_operators,
+    simulate_bed,
+)
 from ._bed_linear import (
     BED_LINEAR_STATUS,
     BedFrequencyResponse,
@@ -48,8 +56,11 @@ from ._validity import (
 
 __all__ = [
     "BED_OUTPUTS",
+    "BED_STATUS",
     "BedOperators",
+    "BedTrajectory",
     "bed_operators",
+    "simulate_bed",
     "CALLABLE_SAMPLES",
     "PillarTrajectory",
     "Signal",
