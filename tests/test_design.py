@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 from scipy.optimize import minimize_scalar
 
-from hairbed import HairBed, Pillar
+from hairbed import HairBed, Pillar, continue_pillar
 from hairbed import design as D
 
 
@@ -193,6 +193,40 @@ def test_multistart_finds_the_global_optimum_of_a_bistable_window():
     assert res.bound_sensitivities["base_angle.low"] == pytest.approx(
         (up - res.objective) / h, rel=1e-4
     )
+
+
+def test_multistart_finds_the_widest_snap_through_window_of_a_pillar():
+    """A pillar's snap-through window opens below base_angle ~ -1.33 (flow towards +x):
+    above, its width is 0 and every point stationary; the scan shows the plateau and the
+    corner optimum (the strongest tilt, the stiffest pillar: the width in Pa is
+    (Lambda_u - Lambda_l) E a^4 s/(16 c L^4))."""
+    p = _quiet(Pillar, length=500e-6, radius=25e-6, youngs_modulus=1e6, viscosity=1e-3,
+               density=1000.0, base_angle=-1.4)  # fmt: skip
+    variables = [
+        D.Variable("base_angle", -1.45, -1.0),
+        D.Variable("youngs_modulus", 0.5e6, 2e6),
+    ]
+    q = D.snap_window()
+    space = D.Space(p, variables)
+    scan = np.array(
+        [
+            _values(space, [q], u)[0]
+            for u in itertools.product(np.linspace(0, 1, 10), np.linspace(0, 1, 3))
+        ]
+    )
+    assert np.count_nonzero(scan == 0.0) > 10 and np.max(scan) > 0.0  # plateau and window
+    res = D.optimise(p, variables, q, sense="max", starts=4)
+    assert res.success and res.objective >= np.max(scan) - 1e-12
+    assert np.any(res.local_optima == 0.0)  # a start on the plateau stayed there
+    assert res.spread == pytest.approx(res.objective)
+    assert res.variables["base_angle"] == pytest.approx(-1.45)
+    assert res.variables["youngs_modulus"] == pytest.approx(2e6)
+    assert any("snap-through window" in n for n in res.notes)
+    # the width against the statics' own folds (continue_pillar's golden-section search)
+    best = res.design
+    folds = continue_pillar(40.0, best.base_angle, gamma=best.drag_ratio, num=40).folds
+    width = (folds[0, 0] - folds[1, 0]) / best.forcing_per_stress
+    assert res.objective == pytest.approx(width, rel=1e-9)
 
 
 def test_pareto_front_is_monotone_and_feasible():

@@ -4,7 +4,8 @@ Choose SI parameters of a :class:`~hairbed.HairBed` or a :class:`~hairbed.Pillar
 (:class:`Variable`, with bounds, optionally in log scale) to minimise or maximise a named
 quantity (:func:`diodicity`, :func:`resistance_ratio`, :func:`bistable_width`,
 :func:`tip_deflection`, :func:`sensitivity`, :func:`linear_sensitivity`,
-:func:`linear_range`, :func:`bandwidth`, :func:`resonance_frequency`, :func:`custom`, ...)
+:func:`linear_range`, :func:`bandwidth`, :func:`resonance_frequency`,
+:func:`snap_window`, :func:`custom`, ...)
 under constraints written in the same vocabulary (``resistance_ratio(500, 0.01) <= 4``),
 with the model's validity as constraints (:func:`validity_constraints`).
 
@@ -33,6 +34,7 @@ from ._objectives import (
     resonance_frequency,
     sensitivity,
     slenderness,
+    snap_window,
     tip_deflection,
     validity_constraints,
 )
@@ -69,6 +71,7 @@ __all__ = [
     "resonance_frequency",
     "sensitivity",
     "slenderness",
+    "snap_window",
     "tip_deflection",
     "validity_constraints",
 ]

@@ -49,6 +49,7 @@ from ..units import DENSE_BED_LIMIT, HairBed
 from ..valve import valve_curve
 from ._linear_range import LinearRangeTracker
 from ._pillar_second import mode_gradient, slope_gradient
+from ._pillar_window import WindowTracker, fold_gradient
 
 __all__ = [
     "Constraint",
@@ -67,6 +68,7 @@ __all__ = [
     "resonance_frequency",
     "sensitivity",
     "slenderness",
+    "snap_window",
     "tip_deflection",
     "validity_constraints",
 ]
@@ -818,6 +820,53 @@ def resonance_frequency(wall_shear_stress: float, pillar_density: float) -> Quan
     )
 
 
+def snap_window() -> Quantity:
+    """The width [Pa] of the pillar's snap-through window in the wall shear stress:
+    (Lambda_u - Lambda_l)/K, K = Lambda/tau_w, Lambda_u and Lambda_l its upper and lower
+    folds, for flow towards +x (a window exists for a pillar tilted far upstream, base_angle
+    below about -1.3; :func:`hairbed.dynamics.snap_through`). 0 where the branch does not
+    fold (a plateau on which every point is stationary: a design needs several starts).
+
+    The folds are followed from pillar to pillar by the secant method on dLambda/dx1 along
+    the branch, or found by a scan of it (``hairbed.design._pillar_window``). Gradient
+    exact: at a fold dLambda_f/dp = -(w . R_p)/(w . R_Lambda), w the left null vector of
+    the collocation's Jacobian there (the implicit function theorem on the extended
+    system), chained through K.
+
+    Returns
+    -------
+    Quantity
+        Of a Pillar ("sublayer" or "couette" profile), unit [Pa].
+    """
+    trackers: dict[Any, WindowTracker] = {}
+    folds: dict[Any, Any] = {}
+
+    def evaluate(p: Pillar, hold: str) -> tuple[float, Grad]:
+        key = (p.profile, p.height_ratio)
+        if key not in trackers:
+            trackers[key] = WindowTracker(p._core_profile, p.height_ratio)
+        k, d_ln_k, gamma, d_gamma = _pillar_groups(p)
+        at = (key, p.base_angle, gamma)  # the folds depend on theta0 and gamma alone
+        if at not in folds:
+            found = trackers[key].folds(p.base_angle, gamma)
+            prof = np.asarray(p._core_options[0])[0]
+            folds[at] = None if found is None else [fold_gradient(found, i, prof) for i in (0, 1)]
+            while len(folds) > 256:
+                folds.pop(next(iter(folds)))
+        if folds[at] is None:
+            return 0.0, {}
+        (lam_u, g_u), (lam_l, g_l) = folds[at]
+        width = (lam_u - lam_l) / k
+        d_lam = _comb(
+            (float(g_u[0] - g_l[0]), {"base_angle": 1.0}), (float(g_u[1] - g_l[1]), d_gamma)
+        )
+        return width, _comb((1.0 / k, d_lam), (-width, d_ln_k))
+
+    q = Quantity("snap_window", "pillar", "Pa", True, evaluate)
+    object.__setattr__(q, "_trackers", trackers)
+    return q
+
+
 def linear_range(rtol: float = 0.1) -> Quantity:
     """The end tau* [Pa] of the pillar's linear range (:meth:`hairbed.Pillar.linear_range`):
     where the linear calibration's relative error first reaches ``rtol`` in (0, 1).
@@ -1050,6 +1099,11 @@ def validity_constraints(model: Any, quantities: Any) -> tuple[list[Constraint],
                 )
     elif isinstance(model, Pillar):
         out.append(Constraint(slenderness(), lower=SLENDERNESS_LIMIT, validity=True))
+        if any(q.name == "snap_window" for q in quantities):
+            notes.append(
+                "the pillar Reynolds number and L+ at the snap-through window's folds are not "
+                "checked (a constraint of them is not built yet)"
+            )
         stresses: list[Any] = []
         for q in quantities:
             for o in q.operating:

@@ -14,7 +14,7 @@ The spec is a mapping::
 Quantities and their arguments: diodicity, resistance_ratio, gap_reynolds (pressure_drop
 [Pa], channel_length [m]); brinkman_ratio, bistable_width (none); tip_deflection,
 sensitivity, l_plus, pillar_reynolds, bandwidth (wall_shear_stress [Pa]); linear_range
-(rtol); slenderness, linear_sensitivity (none); resonance_frequency (wall_shear_stress
+(rtol); slenderness, linear_sensitivity, snap_window (none); resonance_frequency (wall_shear_stress
 [Pa], pillar_density [kg/m^3]).
 """
 
@@ -52,6 +52,7 @@ QUANTITIES: dict[str, tuple[Callable[..., Quantity], tuple[str, ...]]] = {
     "slenderness": (Q.slenderness, ()),
     "linear_sensitivity": (Q.linear_sensitivity, ()),
     "bandwidth": (Q.bandwidth, ("wall_shear_stress",)),
+    "snap_window": (Q.snap_window, ()),
     "resonance_frequency": (Q.resonance_frequency, ("wall_shear_stress", "pillar_density")),
 }
 _MODELS = {"bed": HairBed, "pillar": Pillar}
