@@ -1054,7 +1054,7 @@ class Pillar:
                 e = idx[grp]
                 o[:, grp], c[:, grp] = _kernel_run(
                     _DRAG_INVERSE,
-                    xm[e],
+                    xm[e] - np.sin(tm[e]),  # the kernel's inverse: x1 - sin(theta0)
                     tm[e],
                     g[e],
                     tip[e],

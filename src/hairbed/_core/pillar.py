@@ -233,9 +233,10 @@ class PillarState(CollocatedState):
         bed), from :func:`hairbed.solve_pillar` and :func:`hairbed.solve_pillar_all`: 1, or 3
         inside a snap-through window, where ``root`` picks one and
         :func:`hairbed.solve_pillar_all` gives all of them; 0 where no state was found; a
-        lower bound where the status is 6 (a pillar within ~1e-4 of the wall, theta0 ->
-        -pi/2, whose branch could not be followed through its window). None
-        for the inverse (:func:`hairbed.solve_pillar_inverse`: one state per deflection).
+        lower bound where the status is 6 (a pillar leaning onto the wall whose branch could
+        not be followed through its window; none measured for theta0 up to -1.57075, issue
+        33). None for the inverse (:func:`hairbed.solve_pillar_inverse`: one state per
+        deflection).
     """
 
     forcing: Value
@@ -415,8 +416,9 @@ def _solve_pillar_checked(
     return replace(st, n_states=scalar_or_array(count.reshape(shape)))
 
 
-#: The kernel's columns (and Chebyshev series: theta, x) that change sign with x -> -x.
-_ODD_COLUMNS = (5, 6, 7, 8, 12)
+#: The kernel's columns (and Chebyshev series: theta, x) that change sign with x -> -x (x1,
+#: theta1, theta'(0), drag_x, the forcing, the tip displacement x1 - sin(theta0)).
+_ODD_COLUMNS = (5, 6, 7, 8, 12, 14)
 
 
 def _mirror(out: FloatArray, coefs: FloatArray, mirror: FloatArray) -> None:
@@ -480,14 +482,14 @@ def _kernel_run(
     chain: NDArray[np.bool_] | None = None,
 ) -> tuple[FloatArray, FloatArray]:
     """``solve_loaded_chain`` of the drag drive ``code`` (the forcing or, for the inverse,
-    the tip deflection in ``values``): (out, coefs); no element chained where ``chain`` is
-    None."""
+    the tip displacement x1 - sin(theta0) in ``values``): (out, coefs); no element chained
+    where ``chain`` is None."""
     k = _kernels()
     out = np.empty((k.NCOLS, values.size))
     coefs = np.empty((3, values.size, int(max(nums)) + 1))
     desc = np.zeros((values.size, D.NDESC))
     desc[:, D.D_THETA0] = tf
-    desc[:, D.D_X1 if code == _DRAG_INVERSE else D.D_LAMBDA] = values
+    desc[:, D.D_DX1 if code == _DRAG_INVERSE else D.D_LAMBDA] = values
     desc[:, D.D_GAMMA] = gf
     desc[:, D.D_TIP] = pf
     k.solve_loaded_chain(
@@ -638,8 +640,9 @@ def _inverse_checked(
     )
     mirror = np.where(xf < np.sin(tf), -1.0, 1.0)  # a flow towards -x, solved as its mirror
     xm, tm, pm = mirror * xf, mirror * tf, mirror * pf
-    start = _grid_start(xm, tm, gf, pm, prof, tol, nums)
-    out, coefs, a = _inverse_run(xm, tm, gf, pm, prof, tol, nums, start, retry=True)
+    dm = xm - np.sin(tm)  # the tip displacement the kernel's inverse solves for
+    start = _grid_start(dm, tm, gf, pm, prof, tol, nums)
+    out, coefs, a = _inverse_run(dm, tm, gf, pm, prof, tol, nums, start, retry=True)
     _mirror(out, coefs, mirror)
     return _pillar_state(shape, out[12], t0, g, tip, out, coefs, a)
 
@@ -670,7 +673,7 @@ def _state_start(
 
 
 def _anchors(
-    xf: FloatArray,
+    df: FloatArray,
     tf: FloatArray,
     gf: FloatArray,
     pf: FloatArray,
@@ -678,10 +681,10 @@ def _anchors(
     bad: NDArray[np.intp],
 ) -> NDArray[np.intp]:
     """For each failed element of ``bad``, the solved element with the same theta0, gamma and
-    tip load whose x1 lies closest below its own and above rest (-1: none; the march then
-    starts at rest)."""
+    tip load whose tip displacement ``df`` (x1 - sin(theta0)) lies closest below its own and
+    above rest (-1: none; the march then starts at rest)."""
     anchor = np.full(bad.size, -1)
-    ok = np.flatnonzero(solved & (xf >= np.sin(tf)))
+    ok = np.flatnonzero(solved & (df >= 0.0))
     if ok.size == 0:
         return anchor
     keys = np.stack([tf, gf, pf], axis=1)
@@ -690,14 +693,14 @@ def _anchors(
         cand = ok[(tf[ok] == t) & (gf[ok] == g) & (pf[ok] == p)]
         if cand.size == 0:
             continue
-        cand = cand[np.argsort(xf[cand], kind="stable")]
-        pos = np.searchsorted(xf[cand], xf[bad[mine]], side="left") - 1
+        cand = cand[np.argsort(df[cand], kind="stable")]
+        pos = np.searchsorted(df[cand], df[bad[mine]], side="left") - 1
         anchor[mine] = np.where(pos >= 0, cand[np.maximum(pos, 0)], -1)
     return anchor
 
 
 def _walk_failed(
-    xf: FloatArray,
+    df: FloatArray,
     tf: FloatArray,
     gf: FloatArray,
     pf: FloatArray,
@@ -708,11 +711,12 @@ def _walk_failed(
     coefs: FloatArray,
     a: FloatArray,
 ) -> None:
-    """Inverse problems (x1 >= sin(theta0)) whose run failed, solved again by a march in
-    x1, in place where the march arrives. x1 is monotone along the branch (no fold on the
-    way), so each element marches from the nearest solved state below it in the same call
-    (same theta0, gamma, tip load), or from the straight pillar, each step started from the
-    state of the step before; a step that fails is cut, one that succeeds grown.
+    """Inverse problems (tip displacements ``df`` = x1 - sin(theta0) >= 0) whose run failed,
+    solved again by a march in the displacement, in place where the march arrives. x1 is
+    monotone along the branch (no fold on the way), so each element marches from the nearest
+    solved state below it in the same call (same theta0, gamma, tip load), or from the straight
+    pillar, each step started from the state of the step before; a step that fails is cut, one
+    that succeeds grown.
 
     Near the wall (theta0 -> -pi/2) the kernel's continuation from rest stops at isolated
     x1 between solved ones and in bands of x1 (theory.md §12; issue 33: up to all 400 of
@@ -720,10 +724,10 @@ def _walk_failed(
     bad = np.flatnonzero(out[0] < 0)
     if bad.size == 0:
         return
-    anchor = _anchors(xf, tf, gf, pf, out[0] >= 0, bad)
-    xt = xf[bad]
+    anchor = _anchors(df, tf, gf, pf, out[0] >= 0, bad)
+    xt = df[bad]
     has = anchor >= 0
-    xc = np.where(has, xf[np.maximum(anchor, 0)], np.sin(tf[bad]))
+    xc = np.where(has, df[np.maximum(anchor, 0)], 0.0)
     theta = np.repeat(tf[bad][:, None], nums[0] + 1, axis=1)
     extra = np.stack([np.cos(tf[bad]), np.zeros(bad.size)], axis=1)
     if np.any(has):
@@ -765,7 +769,7 @@ _GRID_START_RATIO = 50
 
 
 def _grid_start(
-    xf: FloatArray,
+    df: FloatArray,
     tf: FloatArray,
     gf: FloatArray,
     pf: FloatArray,
@@ -773,23 +777,24 @@ def _grid_start(
     tol: float,
     nums: tuple[int, ...],
 ) -> tuple[FloatArray, FloatArray] | None:
-    """Starts for a large batch of inverse problems (x1 >= sin(theta0)) that share few
-    parameter sets (a calibration curve): the inverse on the branch grid of each set once,
-    then each element's start interpolated linearly in x1 between the grid states around it
-    (theta at the nodes, h1, Lambda); None when the batch is not such a batch."""
+    """Starts for a large batch of inverse problems (tip displacements ``df`` = x1 -
+    sin(theta0) >= 0) that share few parameter sets (a calibration curve): the inverse on
+    the branch grid of each set once, then each element's start interpolated linearly in the
+    displacement between the grid states around it (theta at the nodes, h1, Lambda); None
+    when the batch is not such a batch."""
     keys = np.stack([tf, gf, pf], axis=1)
     uniq, inv = np.unique(keys, axis=0, return_inverse=True)
     inv = inv.reshape(-1)
-    if xf.size == 0 or xf.size < _GRID_START_RATIO * uniq.shape[0] * 4:
+    if df.size == 0 or df.size < _GRID_START_RATIO * uniq.shape[0] * 4:
         return None
     if np.all(uniq[:, 0] < ATLAS_THETA0):  # every start from an atlas (_inverse_run)
         return None
     grid = np.concatenate([[0.0], _BRANCH_GRID])
     reps = grid.size - 1
-    rest = np.sin(uniq[:, 0])
-    xg = (rest[:, None] + (1.0 - rest)[:, None] * grid[None, 1:]).reshape(-1)
+    span = 1.0 - np.sin(uniq[:, 0])  # the displacement from rest to the wall
+    dg = (span[:, None] * grid[None, 1:]).reshape(-1)
     rep = [np.ascontiguousarray(np.repeat(uniq[:, c], reps)) for c in range(3)]
-    o, c, _ = _inverse_run(xg, rep[0], rep[1], rep[2], prof, tol, nums)
+    o, c, _ = _inverse_run(dg, rep[0], rep[1], rep[2], prof, tol, nums)
     ng = uniq.shape[0]
     vals = _state_start(o, c, nums)[0].reshape(ng, reps, -1)
     straight = np.repeat(uniq[:, 0][:, None, None], vals.shape[2], axis=2)
@@ -797,7 +802,7 @@ def _grid_start(
     hg = np.concatenate([np.cos(uniq[:, 0])[:, None], o[4].reshape(ng, reps)], axis=1)
     lg = np.concatenate([np.zeros((ng, 1)), o[12].reshape(ng, reps)], axis=1)
     ok = np.isfinite(lg) & np.isfinite(hg) & np.all(np.isfinite(vals), axis=2)
-    u = (xf - rest[inv]) / (1.0 - rest[inv])
+    u = df / span[inv]
     j = np.clip(np.searchsorted(grid, u, side="right") - 1, 0, grid.size - 2)
     w = np.clip((u - grid[j]) / (grid[j + 1] - grid[j]), 0.0, 1.0)
     good = ok[inv, j] & ok[inv, j + 1] & (u <= grid[-1])
@@ -813,7 +818,7 @@ def _grid_start(
 
 
 def _inverse_run(
-    xf: FloatArray,
+    df: FloatArray,
     tf: FloatArray,
     gf: FloatArray,
     pf: FloatArray,
@@ -824,48 +829,50 @@ def _inverse_run(
     walk: bool = True,
     retry: bool = False,
 ) -> tuple[FloatArray, FloatArray, FloatArray]:
-    """The kernel's inverse problem on flat checked arrays: (out, coefs, a); out[12] is
-    Lambda. Started from ``start`` (theta at the first level's nodes; h1 and Lambda), or from
-    the straight pillar (Lambda = 0; the kernel continues in x1 where Newton fails); what
-    fails then is tried again on the ladder's finer levels where ``retry`` (:func:`_retry_finer`:
-    for a branch grid and a user's inverse, not for every step of a search, where each failed
-    run of the kernel costs its whole continuation) and marched to from the nearest solved
-    state (:func:`_walk_failed`, unless ``walk`` is False). Not as
-    curves (:func:`_forward_run`): chord steps end with an absolute error of Lambda of their
-    rate times the step tolerance, too much for a relative accuracy of a small Lambda (and a
-    branch grid of a tiny forcing then had turns of rounding)."""
-    a = np.zeros(xf.size)
+    """The kernel's inverse problem on flat checked arrays of tip displacements ``df`` = x1 -
+    sin(theta0) (the kernel's unknown measure: x1 itself rounds away the displacement of a
+    pillar leaning onto the wall): (out, coefs, a); out[12] is Lambda. Started from ``start``
+    (theta at the first level's nodes; h1 and Lambda), or from the straight pillar (Lambda = 0;
+    the kernel continues in x1 where Newton fails); what fails then is tried again on the
+    ladder's finer levels where ``retry`` (:func:`_retry_finer`: for a branch grid and a user's
+    inverse, not for every step of a search, where each failed run of the kernel costs its
+    whole continuation) and marched to from the nearest solved state (:func:`_walk_failed`,
+    unless ``walk`` is False). Not as curves (:func:`_forward_run`): chord steps end with an
+    absolute error of Lambda of their rate times the step tolerance, too much for a relative
+    accuracy of a small Lambda (and a branch grid of a tiny forcing then had turns of
+    rounding)."""
+    a = np.zeros(df.size)
     if start is None:
         theta_start = np.repeat(tf[:, None], nums[0] + 1, axis=1)
-        extra = np.stack([np.cos(tf), np.zeros(xf.size)], axis=1)
+        extra = np.stack([np.cos(tf), np.zeros(df.size)], axis=1)
     else:
         theta_start, extra = start
     # a pillar leaning onto the wall: each start (and map) from its branch's atlas (not for
     # the steps of a walk, which start from their own states)
-    wall = (tf < ATLAS_THETA0) & (xf > np.sin(tf)) if walk else np.zeros(xf.size, np.bool_)
+    wall = (tf < ATLAS_THETA0) & (df > 0.0) if walk else np.zeros(df.size, np.bool_)
     if np.any(wall):
         theta_start, extra = np.array(theta_start), np.array(extra)
-        _atlas_starts(xf, tf, gf, pf, prof, tol, nums, wall, theta_start, extra, a)
-    out, coefs = _kernel_run(_DRAG_INVERSE, xf, tf, gf, pf, a, theta_start, extra, prof, tol, nums)
+        _atlas_starts(df, tf, gf, pf, prof, tol, nums, wall, theta_start, extra, a)
+    out, coefs = _kernel_run(_DRAG_INVERSE, df, tf, gf, pf, a, theta_start, extra, prof, tol, nums)
     again = np.flatnonzero(wall & (out[0] < 0))
     if again.size:
         # near rest x1 fixes Lambda only to its rounding over dx1/dLambda: there the
         # kernel's own continuation from the straight pillar may still arrive
-        xb, tb, gb, pb = (np.ascontiguousarray(v[again]) for v in (xf, tf, gf, pf))
+        xb, tb, gb, pb = (np.ascontiguousarray(v[again]) for v in (df, tf, gf, pf))
         plain = np.repeat(tb[:, None], nums[0] + 1, axis=1)
         ex = np.stack([np.cos(tb), np.zeros(again.size)], axis=1)
         a[again] = 0.0
         o, c = _kernel_run(_DRAG_INVERSE, xb, tb, gb, pb, a[again], plain, ex, prof, tol, nums)
         out[:, again], coefs[:, again] = o, c
     if retry:
-        _retry_finer(xf, tf, gf, pf, prof, tol, nums, out, coefs)
+        _retry_finer(df, tf, gf, pf, prof, tol, nums, out, coefs)
     if walk:
-        _walk_failed(xf, tf, gf, pf, prof, tol, nums, out, coefs, a)
+        _walk_failed(df, tf, gf, pf, prof, tol, nums, out, coefs, a)
     return out, coefs, a
 
 
 def _retry_finer(
-    xf: FloatArray,
+    df: FloatArray,
     tf: FloatArray,
     gf: FloatArray,
     pf: FloatArray,
@@ -897,7 +904,7 @@ def _retry_finer(
         if bad.size == 0:
             return
         sub = tuple(nums[start:])
-        xb, tb, gb, pb = (np.ascontiguousarray(v[bad]) for v in (xf, tf, gf, pf))
+        xb, tb, gb, pb = (np.ascontiguousarray(v[bad]) for v in (df, tf, gf, pf))
         theta_start = np.repeat(tb[:, None], sub[0] + 1, axis=1)
         extra = np.stack([np.cos(tb), np.zeros(bad.size)], axis=1)
         o, c = _kernel_run(
@@ -948,7 +955,8 @@ def _on_branch(
     its atlas could not cross its window, at a forcing below the window's upper fold).
 
     The branch Lambda(x1) of each distinct (theta0, gamma, tip load) is the inverse problem on
-    a grid in x1 (one batched call, shared by the elements that have those parameters); the
+    a grid in x1 (one batched call, shared by the elements that have those parameters; in the
+    tip displacement d = x1 - sin(theta0), the inverse's measure, as every grid here); the
     crossings of each element's forcing are its states, in the order of the branch: "low" the
     first (the state a slow ramp from rest reaches), "high" the last, "mid" the middle of
     three (status -1 if there are not three). Each state is then the forward Newton at the
@@ -965,8 +973,9 @@ def _on_branch(
     keys = np.stack([tf[idx], gf[idx], pf[idx], sign], axis=1)
     uniq, inv = np.unique(keys, axis=0, return_inverse=True)
     inv = inv.reshape(-1)
-    rest = np.sin(uniq[:, 0])
-    x = (rest[:, None] + (uniq[:, 3] - rest)[:, None] * grid[None, :]).reshape(-1)
+    # the grid in the tip displacement d = x1 - sin(theta0), from rest (0) towards the wall
+    span = uniq[:, 3] - np.sin(uniq[:, 0])
+    x = (span[:, None] * grid[None, :]).reshape(-1)
     # a pillar leaning onto the wall: its branch from its atlas, not from the grid
     wall = uniq[:, 0] < ATLAS_THETA0
     grid_keys = np.flatnonzero(~wall)
@@ -1013,8 +1022,8 @@ def _on_branch(
         n_found[idx] = count
     for row, atlas in atlases.items():
         if unsure is not None and atlas.crossed and not atlas.open:
-            # the march in x1 through the window stopped (x1 moving below its rounding,
-            # theta0 within ~1e-4 of -pi/2): the window's far states were never followed
+            # the march in d through the window stopped (before d replaced x1 as its measure:
+            # theta0 = -1.5707, issue 33): the window's far states were never followed
             top = max(p.lam for p in atlas.points)
             near = (inv == row) & (np.abs(lf[idx]) <= top)
             unsure[idx[near]] = True
@@ -1056,14 +1065,14 @@ def _on_branch(
     start = np.ascontiguousarray((1.0 - wgt)[:, None] * th0 + wgt[:, None] * th1)
     hs = np.ascontiguousarray(((1.0 - wgt) * h0 + wgt * h1)[:, None])
     o2, c2 = _kernel_run(_DRAG, lf[e], tf[e], gf[e], pf[e], a2, start, hs, prof, tol, nums)
-    # x1 moves monotonically along the branch: the state of the crossing lies in its cell; a
-    # Newton that went to another state of the window (near a fold the two that merge there
-    # are close) is replaced by the root of Lambda(x1) = forcing in the cell
-    x_b = np.concatenate([rest[:, None], x_grid], axis=1)
+    # x1 (and d) moves monotonically along the branch: the state of the crossing lies in its
+    # cell; a Newton that went to another state of the window (near a fold the two that merge
+    # there are close) is replaced by the root of Lambda(d) = forcing in the cell
+    x_b = np.concatenate([np.zeros((uniq.shape[0], 1)), x_grid], axis=1)
     xa, xb = x_b[gu, j], x_b[gu, j + 1]
     lo, hi = np.minimum(xa, xb), np.maximum(xa, xb)
-    slack = 1e-12 * np.maximum(1.0, np.abs(hi))
-    miss = ~((o2[0] >= 0) & (o2[5] >= lo - slack) & (o2[5] <= hi + slack))
+    slack = 1e-12 * np.maximum(np.abs(lo), np.abs(hi))
+    miss = ~((o2[0] >= 0) & (o2[14] >= lo - slack) & (o2[14] <= hi + slack))
     if np.any(miss):
         m = np.flatnonzero(miss)
         o3, c3 = _cell_root(xa[m], xb[m], lf[e][m], tf[e][m], gf[e][m], pf[e][m], prof, tol, nums)
@@ -1079,7 +1088,8 @@ def _on_branch(
 
 
 #: Steps of the golden-section search for a fold (its bracket shrinks by 0.618 a step: 1e-12
-#: of it after 58). For root= it stops at a bracket of 1e-9 in x1: Lambda is flat at the
+#: of it after 58). For root= it stops at a bracket of 1e-9 of the tip displacement
+#: x1 - sin(theta0) (relative: near the wall the fold lies at d ~ 1e-9): Lambda is flat at the
 #: fold, so its extreme value is then within ~1e-18 relative, below rounding.
 _GOLDEN_STEPS = 80
 _GOLDEN_XTOL = 1e-9
@@ -1087,16 +1097,22 @@ _GOLDEN = 0.5 * (math.sqrt(5.0) - 1.0)
 
 
 def _golden_max(
-    value: Callable[[FloatArray], FloatArray], a: FloatArray, b: FloatArray, xtol: float
+    value: Callable[[FloatArray], FloatArray],
+    a: FloatArray,
+    b: FloatArray,
+    xtol: float,
+    relative: bool = False,
 ) -> tuple[FloatArray, FloatArray]:
     """Maxima of ``value`` (elementwise, one call a step for every bracket) on the brackets
     [a, b] (either order) by golden-section search, to a bracket of ``xtol`` relative (and
-    absolute below 1): (x, value there)."""
+    absolute below 1, unless ``relative``: for a tip displacement, whose size is its own
+    scale): (x, value there)."""
     a, b = np.array(a, dtype=np.float64), np.array(b, dtype=np.float64)
     c, d = b - _GOLDEN * (b - a), a + _GOLDEN * (b - a)
     fc, fd = value(c), value(d)
     for _ in range(_GOLDEN_STEPS):
-        if np.all(np.abs(b - a) <= xtol * np.maximum(1.0, np.abs(a))):
+        size = np.abs(a) if relative else np.maximum(1.0, np.abs(a))
+        if np.all(np.abs(b - a) <= xtol * size):
             break
         left = fc > fd  # the maximum lies in [a, d]: d <- c, and a new c
         b, a = np.where(left, d, b), np.where(left, a, c)
@@ -1136,9 +1152,10 @@ def _refine_turns(
     fx_grid: FloatArray | None = None,
     rows: NDArray[np.bool_] | None = None,
 ) -> None:
-    """Each turn of Lambda along a branch grid (a fold between grid points i and i + 2)
-    refined by a golden-section search in x1, every turn of every key at once (one batched
-    inverse a step), and the fold's state written in place of the grid's extreme point
+    """Each turn of Lambda along a branch grid (a fold between grid points i and i + 2; the
+    grid's abscissa ``x_grid`` the tip displacement x1 - sin(theta0)) refined by a
+    golden-section search in it (to a relative bracket), every turn of every key at once (one
+    batched inverse a step), and the fold's state written in place of the grid's extreme point
     i + 1 (x1 stays monotone along the grid), in place (with its map and drag F_x(0) into
     ``a_grid`` and ``fx_grid`` where given); only the turns of ``rows`` where given."""
     kk, ii, kind = _grid_turns(lam_grid)
@@ -1153,7 +1170,7 @@ def _refine_turns(
         o, _, _ = _inverse_run(np.ascontiguousarray(xs), t, g, p, prof, tol, nums)
         return np.where(np.isfinite(o[12]), kind * o[12], -np.inf)
 
-    xf, _ = _golden_max(value, x_grid[kk, ii], x_grid[kk, ii + 2], _GOLDEN_XTOL)
+    xf, _ = _golden_max(value, x_grid[kk, ii], x_grid[kk, ii + 2], _GOLDEN_XTOL, relative=True)
     o, cf, _ = _inverse_run(np.ascontiguousarray(xf), t, g, p, prof, tol, nums)
     ok = (o[0] >= 0) & np.isfinite(o[12]) & (kind * o[12] >= kind * lam_grid[kk, ii + 1])
     kk, ii, o, cf = kk[ok], ii[ok], o[:, ok], cf[:, ok]
@@ -1168,7 +1185,7 @@ def _refine_turns(
     coef_grid[kk, ii + 1, :width] = cf[0][:, :width]
 
 
-#: Illinois steps of :func:`_cell_root` (superlinear: ~10 reach the rounding of x1).
+#: Illinois steps of :func:`_cell_root` (superlinear: ~10 reach the rounding of d).
 _CELL_STEPS = 60
 
 
@@ -1183,9 +1200,10 @@ def _cell_root(
     tol: float,
     nums: tuple[int, ...],
 ) -> tuple[FloatArray, FloatArray]:
-    """The states where Lambda(x1) = ``lam`` with x1 between the branch points xa and xb (one
-    crossing there): the Illinois method in x1, every element at once (one batched inverse
-    a step), then the inverse state at the root: (out, coefs)."""
+    """The states where Lambda(d) = ``lam`` with the tip displacement d = x1 - sin(theta0)
+    between the branch points xa and xb (one crossing there): the Illinois method in d, every
+    element at once (one batched inverse a step), to the rounding of d, then the inverse state
+    at the root: (out, coefs)."""
     tf, gf, pf = (np.ascontiguousarray(v) for v in (tf, gf, pf))
 
     def residual(xs: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -1218,7 +1236,9 @@ def _cell_root(
         b, fb = np.where(upd, x, b), np.where(upd, fx, fb)
         side = np.where(upd, np.where(same, 1.0, -1.0), side)
         done |= (
-            (fx == 0.0) | ~np.isfinite(fx) | (np.abs(b - a) <= 4e-16 * np.maximum(1.0, np.abs(b)))
+            (fx == 0.0)
+            | ~np.isfinite(fx)
+            | (np.abs(b - a) <= 4e-16 * np.maximum(np.abs(a), np.abs(b)))
         )
     return best_o, best_c
 
@@ -1244,6 +1264,9 @@ _ATLAS_NIT = 40
 #: Kernel calls of one march at most (each a few Newton steps; a failed one the kernel's
 #: continuation from rest).
 _ATLAS_CALLS = 400
+#: The least step of the march through the window, relative to the tip displacement (and a
+#: tenth of it ends the march): a few hundred times its rounding.
+_ATLAS_DSTEP = 1e-13
 #: The largest forcing an atlas is extended to (for a tip deflection nearer the wall).
 _ATLAS_MAX = 1e12
 #: The atlases kept (per theta0, gamma, tip load, profile and ladder), the oldest dropped.
@@ -1253,10 +1276,12 @@ _ATLAS_KEEP = 32
 
 @dataclass
 class _Point:
-    """One state of an atlas: x1, Lambda, h1, dx1/dLambda, the map parameter a, the drag
-    F_x(0) (which sets the next map), the Chebyshev coefficients of theta (in xi of map a)."""
+    """One state of an atlas: the tip displacement d = x1 - sin(theta0) (the march's measure:
+    near the wall x1 ~ -1 rounds away the changes of d along the window), Lambda, h1,
+    dx1/dLambda, the map parameter a, the drag F_x(0) (which sets the next map), the
+    Chebyshev coefficients of theta (in xi of map a)."""
 
-    x1: float
+    d: float
     lam: float
     h: float
     slope: float
@@ -1268,7 +1293,8 @@ class _Point:
 @dataclass
 class _Atlas:
     """The states of one pillar's branch in the order of x1: from rest by a march in Lambda
-    to the upper fold, through the window by a march in x1, then again in Lambda."""
+    to the upper fold, through the window by a march in the tip displacement x1 -
+    sin(theta0), then again in Lambda."""
 
     points: list[_Point]
     open: bool = True  # the marches so far arrived (the atlas may be extended)
@@ -1278,9 +1304,10 @@ class _Atlas:
     refined: tuple[int, tuple[FloatArray, ...]] | None = None
 
     def arrays(self) -> tuple[FloatArray, ...]:
-        """(x1, Lambda, h1, a, F_x(0)) of the points and their theta coefficients (n, K)."""
+        """(d = x1 - sin(theta0), Lambda, h1, a, F_x(0)) of the points and their theta
+        coefficients (n, K)."""
         pts = self.points
-        cols = [np.array([getattr(p, f) for p in pts]) for f in ("x1", "lam", "h", "a", "fx")]
+        cols = [np.array([getattr(p, f) for p in pts]) for f in ("d", "lam", "h", "a", "fx")]
         return (*cols, np.stack([p.coef for p in pts]))
 
 
@@ -1312,15 +1339,15 @@ def _atlas_step(
     cur: _Point,
     prev: _Point | None,
 ) -> _Point | None:
-    """One step of a march: the state of ``code`` (forward: Lambda = value; inverse: x1 =
-    value) from the secant predictor through ``prev`` and ``cur`` (along Lambda or x1), at
-    the map of cur's drag; None where the kernel fails or labours."""
+    """One step of a march: the state of ``code`` (forward: Lambda = value; inverse: the tip
+    displacement d = value) from the secant predictor through ``prev`` and ``cur`` (along
+    Lambda or d), at the map of cur's drag; None where the kernel fails or labours."""
     a = float(_drag_map(cur.fx)[0])
     s = _mapped_nodes(np.array([a]), nums[0])
     theta = _theta_at(cur.coef[None, :], np.array([cur.a]), s)[0]
     h, lam = cur.h, cur.lam
     if prev is not None:
-        along = (prev.lam, cur.lam) if code == _DRAG else (prev.x1, cur.x1)
+        along = (prev.lam, cur.lam) if code == _DRAG else (prev.d, cur.d)
         if along[1] != along[0]:
             r = (value - along[1]) / (along[1] - along[0])
             theta = theta + r * (theta - _theta_at(prev.coef[None, :], np.array([prev.a]), s)[0])
@@ -1344,7 +1371,7 @@ def _atlas_step(
         return None
     coef = np.nan_to_num(c[0, 0], nan=0.0)
     return _Point(
-        float(o[5, 0]), float(o[12, 0]), float(o[4, 0]), float(o[13, 0]), a, float(o[8, 0]), coef
+        float(o[14, 0]), float(o[12, 0]), float(o[4, 0]), float(o[13, 0]), a, float(o[8, 0]), coef
     )
 
 
@@ -1372,7 +1399,7 @@ def _march_forcing(
         if (
             new is None
             or not new.slope > 0.0
-            or not 0.0 < new.x1 - cur.x1 <= 2.0 * max(new.slope, cur.slope) * (lam - cur.lam)
+            or not 0.0 < new.d - cur.d <= 2.0 * max(new.slope, cur.slope) * (lam - cur.lam)
         ):
             fac = 1.0 + 0.25 * (fac - 1.0)
             if fac - 1.0 < _ATLAS_FOLD:
@@ -1391,25 +1418,29 @@ def _march_deflection(
     tol: float,
     nums: tuple[int, ...],
 ) -> bool:
-    """March x1 up from the last point (the inverse problem, each step from the secant
-    through the last two points) across a snap-through window: until Lambda, having fallen,
-    rises again (dx1/dLambda > 0) beyond ``lam_past`` (or beyond twice it, where the march
-    in Lambda stopped short of a fold). True where it gets there."""
-    step = 4.0 * (pts[-1].x1 - pts[-2].x1) if len(pts) > 1 else 1e-9
-    step = max(step, 1e-14)
+    """March the tip displacement d = x1 - sin(theta0) up from the last point (the inverse
+    problem, each step from the secant through the last two points) across a snap-through
+    window: until Lambda, having fallen, rises again (dx1/dLambda > 0) beyond ``lam_past``
+    (or beyond twice it, where the march in Lambda stopped short of a fold). True where it
+    gets there. Its steps are relative to d: near the wall (theta0 = -1.5707) the window's
+    upper fold lies at d ~ 1e-9 and the branch turns there within ~1e-5 of d, 1e-14 in x1,
+    below x1's rounding (issue 33)."""
+    span = 1.0 - math.sin(key[0])  # the displacement from rest to the wall
+    step = 4.0 * (pts[-1].d - pts[-2].d) if len(pts) > 1 else 1e-9
+    step = max(step, _ATLAS_DSTEP * pts[-1].d)
     turned = False  # past the fold: Lambda has fallen (dx1/dLambda < 0)
     for _ in range(_ATLAS_CALLS):
         cur = pts[-1]
         turned |= cur.slope < 0.0
         if cur.slope > 0.0 and (turned and cur.lam > lam_past or cur.lam > 2.0 * lam_past):
             return True
-        x_new = cur.x1 + step
-        if not x_new < 1.0:
+        d_new = cur.d + step
+        if not d_new < span:
             return False
-        new = _atlas_step(_DRAG_INVERSE, x_new, key, prof, tol, nums, cur, pts[-2])
+        new = _atlas_step(_DRAG_INVERSE, d_new, key, prof, tol, nums, cur, pts[-2])
         if new is None:
             step *= 0.25
-            if step < 1e-15:
+            if step < 0.1 * _ATLAS_DSTEP * cur.d:
                 return False
             continue
         pts.append(new)
@@ -1423,11 +1454,11 @@ def _atlas(
     tol: float,
     nums: tuple[int, ...],
     lam_top: float = 0.0,
-    x_top: float = -1.0,
+    d_top: float = 0.0,
 ) -> _Atlas:
     """The atlas of the branch of ``key`` (theta0, gamma, tip load; a flow towards +x) to at
-    least the forcing ``lam_top`` and the tip deflection ``x_top`` (cached, and extended by
-    a later call that needs more).
+    least the forcing ``lam_top`` and the tip displacement x1 - sin(theta0) ``d_top``
+    (cached, and extended by a later call that needs more).
 
     The inverse problem in x1 cannot start from rest for a pillar lying within a few
     hundredths of a radian of the wall: there x1 hardly moves with Lambda (dx1/dLambda = 11
@@ -1435,8 +1466,9 @@ def _atlas(
     rounding over that, and the inverse's Newton stalls; and at a large forcing the plain
     nodes miss the boundary layer at the base. So the branch is marched: the forward
     problem in Lambda from rest up to the upper fold of the window (where its steps shrink
-    to nothing), the inverse in x1 through the window until Lambda rises past that fold
-    again, then the forward problem in Lambda; every step from the secant through the two
+    to nothing), the inverse in the tip displacement x1 - sin(theta0) (which, unlike x1,
+    resolves the window's turn near the wall) through the window until Lambda rises past that
+    fold again, then the forward problem in Lambda; every step from the secant through the two
     states before it, at the map of the previous state's drag (its base layer)."""
     ck = (*key, prof.tobytes(), tuple(nums), tol)
     atlas = _ATLAS_CACHE.get(ck)
@@ -1444,20 +1476,18 @@ def _atlas(
         t0 = key[0]
         coef = np.zeros(max(nums) + 1)
         coef[0] = t0
-        atlas = _Atlas([_Point(math.sin(t0), 0.0, math.cos(t0), math.nan, 0.0, 0.0, coef)])
+        atlas = _Atlas([_Point(0.0, 0.0, math.cos(t0), math.nan, 0.0, 0.0, coef)])
         if len(_ATLAS_CACHE) >= _ATLAS_KEEP:
             _ATLAS_CACHE.pop(next(iter(_ATLAS_CACHE)))
         _ATLAS_CACHE[ck] = atlas
     pts = atlas.points
-    while (
-        atlas.open and pts[-1].lam < _ATLAS_MAX and (pts[-1].lam < lam_top or pts[-1].x1 < x_top)
-    ):
+    while atlas.open and pts[-1].lam < _ATLAS_MAX and (pts[-1].lam < lam_top or pts[-1].d < d_top):
         # from rest through the window first, wherever the forcing asked for lies: a forcing
         # in the window has three states
         target = max(lam_top, 1.0, 4.0 * pts[-1].lam) if atlas.crossed else _ATLAS_MAX
         if _march_forcing(pts, target, key, prof, tol, nums):
             continue
-        # the march in Lambda ended at a fold: through the window in x1, once
+        # the march in Lambda ended at a fold: through the window in d, once
         atlas.open = not atlas.crossed and len(pts) > 1
         if atlas.open:
             atlas.crossed = True
@@ -1474,11 +1504,11 @@ def _atlas_rows(
     tol: float,
     nums: tuple[int, ...],
 ) -> tuple[tuple[FloatArray, ...], dict[int, _Atlas], NDArray[np.bool_]]:
-    """The branch grids (x1, Lambda, theta coefficients, h1, map, F_x(0); a row per key of
-    ``uniq``) with the rows of the keys ``wall`` replaced by their atlases (past twice the
-    forcing ``need`` of each, without the rest state), all rows padded with NaN at the end
-    to the longest; the atlases (by row); and which rows still need their folds refined (an
-    atlas's refined grid is kept with it)."""
+    """The branch grids (the tip displacement x1 - sin(theta0), Lambda, theta coefficients, h1,
+    map, F_x(0); a row per key of ``uniq``) with the rows of the keys ``wall`` replaced by
+    their atlases (past twice the forcing ``need`` of each, without the rest state), all rows
+    padded with NaN at the end to the longest; the atlases (by row); and which rows still need
+    their folds refined (an atlas's refined grid is kept with it)."""
     atlases = {
         int(k): _atlas(
             (float(uniq[k, 0]), float(uniq[k, 1]), float(uniq[k, 2])),
@@ -1523,9 +1553,10 @@ def _atlas_starts(
     extra: FloatArray,
     a: FloatArray,
 ) -> None:
-    """Starts of the inverse problems ``wall`` (x1 > sin(theta0), theta0 < ATLAS_THETA0) from
-    the atlas of their branch: the two atlas states around each x1, interpolated linearly in
-    x1 (theta at the first level's nodes of the map of their drag, h1, Lambda), in place."""
+    """Starts of the inverse problems ``wall`` (tip displacements ``xf`` = x1 - sin(theta0) >
+    0, theta0 < ATLAS_THETA0) from the atlas of their branch: the two atlas states around
+    each, interpolated linearly in the displacement (theta at the first level's nodes of the
+    map of their drag, h1, Lambda), in place."""
     idx = np.flatnonzero(wall)
     rows = prof.shape[0] > 1
     keys = np.stack([tf[idx], gf[idx], pf[idx]], axis=1)
@@ -1537,7 +1568,7 @@ def _atlas_starts(
         mine = idx[inv == u]
         row = prof[mine[:1]] if rows else prof
         key = (float(uniq[u, 0]), float(uniq[u, 1]), float(uniq[u, 2]))
-        xa, la, ha, aa, fa, ca = _atlas(key, row, tol, nums, x_top=float(xf[mine].max())).arrays()
+        xa, la, ha, aa, fa, ca = _atlas(key, row, tol, nums, d_top=float(xf[mine].max())).arrays()
         j = np.clip(np.searchsorted(xa, xf[mine], side="right") - 1, 0, xa.size - 2)
         if xa.size < 2:
             continue
@@ -1563,7 +1594,8 @@ def _atlas_branch(
     """The branch of a pillar leaning onto the wall (``key``: theta0 < ``ATLAS_THETA0``, a
     flow towards +x) from its atlas, past ``lam_top``, with its folds refined as for
     ``root=`` (:func:`_refine_turns`, kept with the atlas): (x1, Lambda, h1, folds (k, 2)
-    of Lambda and x1), rest not included."""
+    of Lambda and x1), rest not included; x1 = sin(theta0) + d of the atlas's tip
+    displacements d."""
     uniq = np.array([key], dtype=np.float64)
     none = np.full((1, 0), np.nan)
     empty = (none, none, np.full((1, 0, max(nums) + 1), np.nan), none, none, none)
@@ -1577,5 +1609,5 @@ def _atlas_branch(
         atlas.refined = (len(atlas.points), tuple(g[0].copy() for g in grids))
     ok = np.isfinite(lam[0])
     _, turns, _ = _grid_turns(lam[:, ok])
-    xs, ls = x[0, ok], lam[0, ok]
+    xs, ls = math.sin(key[0]) + x[0, ok], lam[0, ok]
     return xs, ls, h[0, ok], np.stack([ls[turns + 1], xs[turns + 1]], axis=1)

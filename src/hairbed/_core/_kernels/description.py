@@ -17,15 +17,18 @@ D_Q        q, the set flow rate (flow drive; Pi is then an unknown)
 D_TIP      a horizontal tip force (a bed's frozen tip load in a scan, a pillar's tip load)
 D_LAMBDA   Lambda, the pillar's drag forcing (zeta_perp U L^3/(E I) of the profile U)
 D_GAMMA    gamma = zeta_par/zeta_perp, the drag's anisotropy (1: isotropic)
-D_X1       the target tip deflection of an inverse problem (the forcing then an unknown)
+D_X1       the target tip deflection of the porous bed's inverse (its forcing then an unknown)
 D_KAPPA    kappa = k/L^2, the porous bed's permeability
 D_HFIX     a porous scan's frozen tip height seen by the gap (NaN: free)
+D_DX1      the target tip displacement x1 - sin(theta0) of the pillar's inverse (Lambda then
+           an unknown): carried apart from x1, which rounds it away near the wall
 =========  ==========================================================================
 """
 
 from __future__ import annotations
 
 __all__ = [
+    "D_DX1",
     "D_EPS",
     "D_GAMMA",
     "D_HFIX",
@@ -51,4 +54,5 @@ D_GAMMA = 7
 D_X1 = 8
 D_KAPPA = 9
 D_HFIX = 10
-NDESC = 11
+D_DX1 = 11
+NDESC = 12

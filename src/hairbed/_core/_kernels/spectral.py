@@ -45,6 +45,7 @@ import numpy as np
 from .._jit import kernel
 from . import porous_system as ps
 from .description import (
+    D_DX1,
     D_EPS,
     D_GAMMA,
     D_HFIX,
@@ -81,7 +82,8 @@ DRIVE_FIXED = 2
 #: The isolated pillar under resistive-force drag (issue 21, theory.md §12): its description
 #: holds Lambda, the drag ratio gamma and a horizontal tip force; ``prof`` the profile U(z).
 DRIVE_DRAG = 3
-#: The pillar's inverse problem: Lambda is an unknown, the target tip deflection in D_X1.
+#: The pillar's inverse problem: Lambda is an unknown, the target tip displacement
+#: x1 - sin(theta0) in D_DX1.
 DRIVE_DRAG_INVERSE = 4
 #: The porous bed (``porous_system``, theory.md §13): codes POROUS + its drive (pressure,
 #: flow, inverse), the hair's system with the fluid's fields, on this module's Newton.
@@ -98,8 +100,9 @@ STATUS_BREAKDOWN = -3
 STATUS_LOST = -7
 #: Output columns of :func:`solve_loaded_array`: status, nit, num, a, h1, x1, theta1,
 #: theta'(0), W, Pi, error estimate, residual, the forcing (omega2; the pillar's Lambda),
-#: the pillar's dx1/dLambda (NaN for the bed's drives).
-NCOLS = 14
+#: the pillar's dx1/dLambda (NaN for the bed's drives), the tip displacement
+#: x1 - sin(theta0) (by :func:`_displacement`, without the cancellation of x1's).
+NCOLS = 15
 #: A Newton step below this (max norm over theta and h1) ends the iteration.
 _XTOL = 1e-12
 #: Chord steps (the last LU factors reused) follow a full Newton step below _CHORD_START that
@@ -477,6 +480,19 @@ def bed_arguments(code, d):
 
 
 @kernel
+def _displacement(u, num, ii, theta0):
+    """The tip displacement x1 - sin(theta0) = int_0^1 (sin(theta) - sin(theta0)) ds of the
+    state u, the integrand as 2 cos((theta + theta0)/2) sin((theta - theta0)/2): no
+    cancellation where theta stays near theta0 (a pillar leaning onto the wall, whose x1 ~ -1
+    rounds away a displacement of 1e-9 and the changes of 1e-14 along its window; issue 33)."""
+    acc = 0.0
+    for j in range(num + 1):
+        half_sum = 0.5 * (u[j] + theta0)
+        acc += ii[num, j] * (2.0 * math.cos(half_sum) * math.sin(0.5 * (u[j] - theta0)))
+    return acc
+
+
+@kernel
 def _system(u, num, dd, ii, code, d, prof, work, res):
     """The residual of either model (``DRIVE_DRAG`` or a bed's drive) at u into res:
     (sum of squares, W, Pi, dW, dPi), the loads zero for the pillar. ``d`` the element's load
@@ -485,7 +501,8 @@ def _system(u, num, dd, ii, code, d, prof, work, res):
         f = ps._residual(u, num, dd, ii, code - POROUS, d, work[0], work[1], work[6], work[7], res)
         return f, 0.0, 0.0, 0.0, 0.0
     if code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE:
-        # for the inverse u[num + 2] is Lambda, and D_X1 the target tip deflection
+        # for the inverse u[num + 2] is Lambda, and D_DX1 the target tip displacement
+        # x1 - sin(theta0)
         inverse = code == DRIVE_DRAG_INVERSE
         n1 = num + 1
         lam = u[n1 + 1] if inverse else d[D_LAMBDA]
@@ -495,10 +512,7 @@ def _system(u, num, dd, ii, code, d, prof, work, res):
         )
         if not inverse:
             return f, 0.0, 0.0, 0.0, 0.0
-        x1 = 0.0
-        for j in range(n1):
-            x1 += ii[num, j] * sn[j]
-        res[n1 + 1] = x1 - d[D_X1]
+        res[n1 + 1] = _displacement(u, num, ii, d[D_THETA0]) - d[D_DX1]
         return f + res[n1 + 1] ** 2, 0.0, 0.0, 0.0, 0.0
     omega2, eps, load = bed_arguments(code, d)
     return _residual(
@@ -536,7 +550,8 @@ def _system_jacobian(u, num, dd, ii, code, d, prof, work, pm, w, p, dw, dp, jac)
         )
         if inverse:
             # the column of Lambda: the load at Lambda = 1 (f is linear in Lambda); the row of
-            # x1 = int_0^1 sin(theta) ds
+            # x1 - sin(theta0) = int_0^1 (sin(theta) - sin(theta0)) ds, whose derivative in
+            # theta_k is the quadrature weight times cos(theta_k) (no cancellation in it)
             _unit_load(u, num, ii, gamma, prof, cs, sn, z, work[8], work[9], jac[:, n1 + 1])
             for k in range(n1):
                 jac[n1 + 1, k] = ii[num, k] * cs[k]
@@ -662,9 +677,11 @@ def _continuation(u, keep, num, dd, ii, code, d, dl, prof, work, pm, jac, piv, n
     grown after an easy corrector and cut after a failed one; at most ``MAX_CONTINUATION``
     steps. Ends with the state at lam = 1 in u, or a failure status. keep is (3, num + 3),
     ``dl`` the scaled description's work row. For the pillar's inverse problem
-    (``DRIVE_DRAG_INVERSE``) lam moves the tip deflection from the straight pillar's,
-    sin(theta0), to D_X1, and Lambda starts at 0."""
-    inverse = code == DRIVE_DRAG_INVERSE or code == POROUS + ps.DRIVE_INVERSE
+    (``DRIVE_DRAG_INVERSE``) lam moves the tip displacement x1 - sin(theta0) from the
+    straight pillar's, 0, to D_DX1 (the porous bed's inverse: its tip deflection from
+    sin(theta0) to D_X1), and Lambda starts at 0."""
+    drag_inverse = code == DRIVE_DRAG_INVERSE
+    inverse = drag_inverse or code == POROUS + ps.DRIVE_INVERSE
     theta0 = d[D_THETA0]
     m, hi = system_size(code, num)
     prev = keep[1]
@@ -692,7 +709,9 @@ def _continuation(u, keep, num, dd, ii, code, d, dl, prof, work, pm, jac, piv, n
             u[j] = last[j] + slope * (last[j] - prev[j])
         for slot in (D_OMEGA2, D_PI, D_Q, D_TIP, D_LAMBDA):
             dl[slot] = target * d[slot]
-        if inverse:
+        if drag_inverse:
+            dl[D_DX1] = target * d[D_DX1]
+        elif inverse:
             dl[D_X1] = rest + target * (d[D_X1] - rest)
         status, nit, rmax = _newton(
             u, num, dd, ii, code, dl, prof, work, pm, jac, piv, nit, 12, False
@@ -765,7 +784,7 @@ def solve_loaded_array(*args):
     rtol, prof, out, coefs. ``desc`` (size, ``description.NDESC``): each element's load
     description, whose slots its model fills (a bed's drive: D_THETA0, D_OMEGA2, D_EPS and
     D_PI or D_Q, or D_TIP and D_PI frozen for ``DRIVE_FIXED``; the pillar: D_THETA0,
-    D_LAMBDA, D_GAMMA, D_TIP, and D_X1 for ``DRIVE_DRAG_INVERSE``). ``start`` (size,
+    D_LAMBDA, D_GAMMA, D_TIP, and D_DX1 for ``DRIVE_DRAG_INVERSE``). ``start`` (size,
     nums[0] + 1): theta at the mapped nodes of the first level; ``h_start`` (size, 1) the
     start's h1, or (size, 2) h1 and Lambda for ``DRIVE_DRAG_INVERSE``; ``a`` the map
     parameter of each element. ``nodes``, ``d1s``, ``d2s``, ``ims``, ``cms`` hold per level
@@ -830,13 +849,14 @@ def solve_loaded_chain(
 ):
     """:func:`solve_loaded_array` along a curve: where ``chain[e]`` (size 0: nowhere) the
     element e is started from the converged element e - 1 (the same problem at a nearby
-    forcing or tip deflection) instead of ``start``: by the tangent predictor
+    forcing or tip displacement) instead of ``start``: by the tangent predictor
     u + (Lambda_e - Lambda_e-1) du/dLambda (the tangent ``_drag_slope`` solves for; for the
-    inverse u + (x1_e - x1_e-1) du/dx1 from the same tangent), interpolated to this
-    element's map; and the first Newton steps are chord steps on the LU factors of the previous
-    element's Jacobian (:func:`_newton` with ``warm``). Where that Newton fails, the load
-    continuation from rest, as for a cold start. The same states to rounding (the same
-    discrete problem, the same tolerance and ladder), at a fraction of the work.
+    inverse u + (d_e - d_e-1) du/dd from the same tangent, d = x1 - sin(theta0)),
+    interpolated to this element's map; and the first Newton steps are chord steps on the LU
+    factors of the previous element's Jacobian (:func:`_newton` with ``warm``). Where that
+    Newton fails, the load continuation from rest, as for a cold start. The same states to
+    rounding (the same discrete problem, the same tolerance and ladder), at a fraction of the
+    work.
     """
     levels = nums.size
     nmax = nums[levels - 1]
@@ -864,8 +884,8 @@ def solve_loaded_chain(
     dd = np.empty((nmax + 1, nmax + 1))
     ii = np.empty((nmax + 1, nmax + 1))
     drag = code == DRIVE_DRAG or code == DRIVE_DRAG_INVERSE
-    # the curve's variable of a chain: the forcing, or the inverse's tip deflection
-    var = D_X1 if code == DRIVE_DRAG_INVERSE else D_LAMBDA if drag else D_OMEGA2
+    # the curve's variable of a chain: the forcing, or the inverse's tip displacement
+    var = D_DX1 if code == DRIVE_DRAG_INVERSE else D_LAMBDA if drag else D_OMEGA2
     prev_ok = False  # the previous element's state is in u
     prev_num = 0
     prev_lev = 0
@@ -1025,6 +1045,7 @@ def solve_loaded_chain(
         out[9, e] = p
         out[10, e] = tail + rounding
         out[11, e] = rmax
+        out[14, e] = _displacement(u, num, ii, d[D_THETA0])
         _coefficients(u, num, cm, coef)
         for k in range(num + 1):
             coefs[0, e, k] = coef[k]
