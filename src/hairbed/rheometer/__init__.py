@@ -5,15 +5,22 @@
   even (a tilted bed is not symmetric), the elastic and viscous stresses of Cho et al.
   (2005), Ewoldt's Chebyshev coefficients e_n, v_n and G'_M, G'_L, eta'_M, eta'_L (Ewoldt,
   Hosoi & McKinley 2008), and the Lissajous-Bowditch curves. Solver-independent.
+- :func:`oscillatory_shear`: small-amplitude oscillatory shear of the porous bed about a
+  pre-stress: G'(omega), G''(omega), the phase lag or lead against the wall's speed and the
+  crossovers, from the linear bed (:func:`hairbed.dynamics.linearise_bed`).
 """
 
 from __future__ import annotations
 
 from ._laos import LAOS_STATUS, STRAIN_SINE_TOL, LAOSAnalysis, analyse_laos
+from ._saos import SAOS_STATUS, OscillatoryShear, oscillatory_shear
 
 __all__ = [
     "LAOS_STATUS",
     "STRAIN_SINE_TOL",
     "LAOSAnalysis",
     "analyse_laos",
+    "SAOS_STATUS",
+    "OscillatoryShear",
+    "oscillatory_shear",
 ]

@@ -1,0 +1,294 @@
+"""Small-amplitude oscillatory shear of the porous bed about a pre-stress (issue 31 §2a).
+
+The rheometer moves the top wall; the strain is the wall's displacement over the channel's
+height, gamma = delta/H, so the wall's speed is V = H gamma_dot. About the steady state of a
+constant wall forcing omega2* (the pre-stress: the top wall's steady stress sigma* =
+Q(H)), a small oscillation gamma = Re(gamma_hat e^{i omega t}) moves the forcing
+omega2 = eta V A L^2/(E I H) = kappa eps V (V in L/T, lengths in L, H = L/eps) by
+kappa i omega gamma_hat, so the complex modulus is
+
+    G*(omega) = G' + i G'' = i omega kappa H_Q(omega)   [E I/(A L^2)],
+
+H_Q the linear bed's transfer function from the wall forcing to the top wall's stress
+(:func:`hairbed.dynamics.linearise_bed`; time in T = zeta_perp L^4/(E I), stresses in §13's
+load units Q = A L^2 eta u_z/(E I), so a modulus in E I/(A L^2)). A bare Newtonian channel
+gives G* = i omega kappa: G'' = eta omega in these units.
+
+**Lag and lead.** The phase of the stress against the wall's speed, arg G* - pi/2, is
+negative where the stress lags the speed (G' > 0: the hairs' elasticity stores energy) and
+positive where it leads (G' < 0: the inertia of the fluid, or of the hairs, dominates). The
+**lead crossover** is the frequency where G' changes sign; the **modulus crossover** where
+G' = G''. Both are set by the groups of the model (theory.md §13-§15): kappa = eta A/(zeta_perp
+L^2) (the fluid's viscosity against the hairs' drag), the Womersley number alpha =
+rho_f L^2/(eta T) (the fluid's inertia), the inertia number mu = m/(zeta_perp T) (the hairs'),
+the confinement eps = L/H, the tilt theta0, the drag ratio gamma and the pre-stress's forcing
+omega2*; the time unit T = zeta_perp L^4/(E I) carries the hairs' elasticity. Without any
+inertia (alpha = mu = 0) G' >= 0 at every frequency: no lead.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import scipy.optimize
+from numpy.typing import ArrayLike, NDArray
+
+from .._core.porous import solve_porous
+from .._core.validation import as_float_array, check_number, show, status_messages
+from ..dynamics import LinearBed, linearise_bed
+
+__all__ = ["SAOS_STATUS", "OscillatoryShear", "oscillatory_shear"]
+
+FloatArray = NDArray[np.float64]
+
+#: Status codes of :class:`OscillatoryShear` (per frequency and pre-stress).
+SAOS_STATUS = {
+    0: "ok",
+    3: "inaccurate: the frequency is beyond the linear bed's resolution (N or M > 128)",
+    -1: "no steady state at this pre-stress's forcing (solve_porous failed)",
+}
+_MODULUS_UNITS = "E I/(A L^2)"
+
+
+@dataclass(frozen=True)
+class OscillatoryShear:
+    """The bed's moduli over frequency and pre-stress (:func:`oscillatory_shear`).
+
+    Arrays are (frequency, pre_stress).
+
+    Attributes
+    ----------
+    omega : ndarray
+        Angular frequencies [1/T].
+    forcing : ndarray
+        The steady wall forcings omega2* of the pre-stresses [-].
+    pre_stress : ndarray
+        The top wall's steady stress at each forcing [E I/(A L^2)] (§13's Q(H)).
+    storage, loss : ndarray
+        G', G'' [E I/(A L^2)].
+    phase : ndarray
+        arg G* [rad]: the stress's phase against the strain.
+    lead : ndarray
+        arg G* - pi/2 [rad]: the stress's phase against the wall's speed (< 0 lag, > 0 lead).
+    lead_crossover, modulus_crossover : ndarray
+        Per pre-stress, the lowest frequency [1/T] in the range where G' changes sign and
+        where G' = G'' (Brent's method on the linear response); NaN where there is none.
+    kappa, eps, theta0, gamma, inertia, womersley : float
+        The bed.
+    status : ndarray of int
+        ``SAOS_STATUS`` (frequency, pre_stress).
+    """
+
+    omega: FloatArray
+    forcing: FloatArray
+    pre_stress: FloatArray
+    storage: FloatArray
+    loss: FloatArray
+    phase: FloatArray
+    lead: FloatArray
+    lead_crossover: FloatArray
+    modulus_crossover: FloatArray
+    kappa: float
+    eps: float
+    theta0: float
+    gamma: float
+    inertia: float
+    womersley: float
+    status: NDArray[np.int64]
+
+    @property
+    def success(self) -> Any:
+        """True where status is 0."""
+        return self.status == 0
+
+    @property
+    def message(self) -> Any:
+        """``SAOS_STATUS`` of each status."""
+        return status_messages(self.status, SAOS_STATUS)
+
+    @property
+    def loss_tangent(self) -> FloatArray:
+        """tan(delta) = G''/G' [-]."""
+        return self.loss / self.storage
+
+    def to_xarray(self) -> Any:
+        """An xarray.Dataset with dimensions ``frequency`` and ``pre_stress`` (CF units and
+        long names; the crossovers on ``pre_stress``). Needs the ``io`` extra."""
+        from .._optional import optional_import
+
+        xr = optional_import("xarray", "OscillatoryShear.to_xarray", "io")
+        dims = ("frequency", "pre_stress")
+
+        def att(units: str, name: str) -> dict[str, str]:
+            return {"units": units, "long_name": name}
+
+        return xr.Dataset(
+            {
+                "storage": (dims, self.storage, att(_MODULUS_UNITS, "storage modulus G'")),
+                "loss": (dims, self.loss, att(_MODULUS_UNITS, "loss modulus G''")),
+                "phase": (dims, self.phase, att("rad", "stress phase against the strain")),
+                "lead": (dims, self.lead, att("rad", "stress phase against the wall speed")),
+                "status": (dims, self.status, att("1", "status")),
+                "lead_crossover": (
+                    "pre_stress",
+                    self.lead_crossover,
+                    att("1/T", "frequency where G' changes sign (lag to lead)"),
+                ),
+                "modulus_crossover": (
+                    "pre_stress",
+                    self.modulus_crossover,
+                    att("1/T", "frequency where G' = G''"),
+                ),
+            },
+            coords={
+                "frequency": (
+                    "frequency",
+                    self.omega,
+                    att("1/T", "angular frequency, T = zeta_perp L^4/(E I)"),
+                ),
+                "pre_stress": (
+                    "pre_stress",
+                    self.pre_stress,
+                    att(_MODULUS_UNITS, "the top wall's steady shear stress"),
+                ),
+                "forcing": (
+                    "pre_stress",
+                    self.forcing,
+                    att("1", "steady wall forcing omega2 = eta V A L^2/(E I H)"),
+                ),
+            },
+            attrs={
+                "title": "hairbed porous bed: small-amplitude oscillatory shear",
+                "kappa": self.kappa,
+                "eps": self.eps,
+                "theta0": self.theta0,
+                "gamma": self.gamma,
+                "inertia": self.inertia,
+                "womersley": self.womersley,
+                "strain": "top wall displacement / channel height",
+                "time_convention": "exp(i omega t)",
+                "Conventions": "CF-1.10",
+            },
+        )  # fmt: skip
+
+
+def _modulus(lin: LinearBed, omega: FloatArray) -> tuple[Any, Any]:
+    fr = lin.frequency_response(omega, "wall")
+    return 1j * omega * float(lin.state.kappa) * fr.wall_stress, fr.status
+
+
+def _crossing(lin: LinearBed, om: FloatArray, f: FloatArray, which: str) -> float:
+    """The lowest frequency of a sign change of f (G' or G' - G'') on the grid, refined
+    by Brent's method in log omega."""
+    sign = np.sign(f)
+    idx = np.flatnonzero(sign[:-1] * sign[1:] < 0)
+    if idx.size == 0:
+        return math.nan
+    i = int(idx[0])
+
+    def fun(x: float) -> float:
+        g = _modulus(lin, np.array([math.exp(x)]))[0][0]
+        return float(g.real if which == "lead" else g.real - g.imag)
+
+    return math.exp(
+        scipy.optimize.brentq(fun, math.log(om[i]), math.log(om[i + 1]), xtol=1e-13, rtol=1e-13)
+    )
+
+
+def oscillatory_shear(
+    omega: ArrayLike,
+    forcing: ArrayLike = 0.0,
+    *,
+    eps: float,
+    kappa: float,
+    theta0: float = 0.0,
+    gamma: float = 1.0,
+    inertia: float = 0.0,
+    womersley: float = 0.0,
+    tangential_mass: float = 1.0,
+) -> OscillatoryShear:
+    """Storage and loss moduli of the porous bed under small-amplitude oscillatory shear.
+
+    Parameters
+    ----------
+    omega : array_like
+        Angular frequencies [1/T] (T = zeta_perp L^4/(E I)), finite and > 0, increasing.
+    forcing : array_like, optional
+        The pre-stresses as steady wall forcings omega2* = eta V* A L^2/(E I H) [-] (default
+        0: about the bed at rest); the pre-stress itself is the state's top wall stress.
+    eps, kappa, theta0, gamma : float
+        The bed (as :func:`hairbed.solve_porous`): L/H in (0, 1), kappa > 0, base angle
+        [rad], drag ratio in (0, 1].
+    inertia, womersley, tangential_mass : float, optional
+        mu, alpha and chi of :func:`hairbed.dynamics.linearise_bed` (default 0, 0, 1).
+
+    Returns
+    -------
+    OscillatoryShear
+        G'(omega, sigma*), G''(omega, sigma*), the phases and the crossovers.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> r = oscillatory_shear(np.array([0.1, 1.0]), eps=0.5, kappa=1.0)
+    >>> bool(np.all(r.storage > 0)), bool(np.all(r.lead < 0))  # no inertia: the stress lags
+    (True, True)
+    """
+    om = as_float_array(omega, "omega").reshape(-1)
+    bad = (om <= 0.0) | ~np.isfinite(om)
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(
+            f"omega must be finite and > 0 [1/T], got {show(float(om[i]))} (first at index {i})"
+        )
+    if om.size > 1 and np.any(np.diff(om) <= 0.0):
+        i = int(np.flatnonzero(np.diff(om) <= 0.0)[0]) + 1
+        raise ValueError(f"omega must increase, got omega[{i}] <= omega[{i - 1}]")
+    fo = as_float_array(forcing, "forcing").reshape(-1)
+    e = check_number(eps, "eps", low=0.0, high=1.0, low_open=True, high_open=True)
+    k = check_number(kappa, "kappa", low=0.0, low_open=True)
+    th = check_number(theta0, "theta0", low=-math.pi / 2, high=math.pi / 2, low_open=True,
+                      high_open=True)  # fmt: skip
+    g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
+    mu = check_number(inertia, "inertia", low=0.0)
+    alpha = check_number(womersley, "womersley", low=0.0)
+    chi = check_number(tangential_mass, "tangential_mass", low=0.0, high=1.0, low_open=True)
+    shape = (om.size, fo.size)
+    storage = np.full(shape, np.nan)
+    loss = np.full(shape, np.nan)
+    status = np.full(shape, -1, dtype=np.int64)
+    pre = np.full(fo.size, np.nan)
+    lead_x = np.full(fo.size, np.nan)
+    mod_x = np.full(fo.size, np.nan)
+    for j, w in enumerate(fo):
+        st = solve_porous(float(w), e, th, kappa=k, gamma=g)
+        if int(st.status) < 0:
+            continue
+        lin = linearise_bed(st, inertia=mu, womersley=alpha, tangential_mass=chi)
+        gs, stat = _modulus(lin, om)
+        storage[:, j], loss[:, j], status[:, j] = gs.real, gs.imag, stat
+        pre[j] = float(st.tip_stress)  # the wall drive's top stress Q(H) = Q(h1) (Pi = 0)
+        lead_x[j] = _crossing(lin, om, gs.real, "lead")
+        mod_x[j] = _crossing(lin, om, gs.real - gs.imag, "modulus")
+    phase = np.arctan2(loss, storage)
+    return OscillatoryShear(
+        omega=om,
+        forcing=fo,
+        pre_stress=pre,
+        storage=storage,
+        loss=loss,
+        phase=phase,
+        lead=phase - math.pi / 2,
+        lead_crossover=lead_x,
+        modulus_crossover=mod_x,
+        kappa=k,
+        eps=e,
+        theta0=th,
+        gamma=g,
+        inertia=mu,
+        womersley=alpha,
+        status=status,
+    )

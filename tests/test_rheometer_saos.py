@@ -1,0 +1,83 @@
+"""Small-amplitude oscillatory shear of the porous bed (issue 31 §2a) against mpmath.
+
+The strain is the top wall's displacement over H, so the wall speed per unit strain is
+i omega H and G* = i omega (top stress per unit V)/eps in §13's load units, with the stored
+transfer functions of tests/data/bed_linear_mpmath.json (per unit V [L/T]) and, at the lead
+crossover found by the workflow, the generator's own shooting (mpmath) at that frequency.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import math
+from pathlib import Path
+
+import mpmath as mp
+import numpy as np
+import pytest
+
+from hairbed.rheometer import oscillatory_shear
+
+HERE = Path(__file__).resolve().parent
+DATA = json.loads((HERE / "data" / "bed_linear_mpmath.json").read_text())
+
+
+def _generator():
+    spec = importlib.util.spec_from_file_location(
+        "generate_bed_linear", HERE / "reference" / "generate_bed_linear.py"
+    )
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    return mod
+
+
+def test_moduli_against_mpmath() -> None:
+    case = next(
+        c for c in DATA["responses"] if (c["kappa"], c["alpha"], c["mu"]) == (1.0, 1.0, 1.0)
+    )
+    rows = [r for r in case["responses"] if 0.0 < r["omega"] <= 10.0]
+    om = np.array([r["omega"] for r in rows])
+    eps = case["eps"]
+    res = oscillatory_shear(om, eps=eps, kappa=1.0, inertia=1.0, womersley=1.0)
+    want = 1j * om * np.array([complex(*r["wall"]["top_stress"]) for r in rows]) / eps
+    got = res.storage[:, 0] + 1j * res.loss[:, 0]
+    assert np.max(np.abs(got - want) / np.abs(want)) < 1e-10
+    assert np.all(res.status == 0) and res.pre_stress[0] == 0.0
+    # the fluid's inertia leads: G' < 0 at every frequency here
+    assert np.all(res.storage < 0) and np.all(res.lead > 0)
+
+
+def test_lead_crossover_and_prestress() -> None:
+    """Hair inertia (mu = 1, quasi-steady fluid): the stress lags the wall's speed at low
+    frequency (elastic hairs) and leads it above the crossover; at the crossover found, the
+    mpmath G' vanishes."""
+    om = np.logspace(-1, 2, 7)
+    res = oscillatory_shear(om, [0.0, 2.0], eps=0.5, kappa=1.0, inertia=1.0)
+    wc = float(res.lead_crossover[0])
+    assert 1.0 < wc < 30.0
+    assert res.storage[0, 0] > 0 and res.storage[-1, 0] < 0
+    gen = _generator()
+    with mp.workdps(40):
+        top = gen.method1(1.0, 0.5, 0.0, 1.0, wc, 1, 0)["top_stress"]
+    g = 1j * wc * complex(top) / 0.5
+    assert abs(g.real) < 1e-10 * abs(g)
+    # a pre-stressed bed: its state's stress, its own crossover
+    assert res.pre_stress[1] > 2.0 and math.isfinite(res.lead_crossover[1])
+    assert res.lead_crossover[1] != pytest.approx(wc, rel=1e-6)
+    ds = res.to_xarray()
+    assert ds["storage"].dims == ("frequency", "pre_stress")
+    assert (
+        ds["storage"].attrs["units"] == "E I/(A L^2)" and ds["frequency"].attrs["units"] == "1/T"
+    )
+    # without inertia no lead: G' >= 0 everywhere, no crossover
+    calm = oscillatory_shear(om, 2.0, eps=0.5, kappa=1.0, theta0=0.3)
+    assert np.all(calm.storage > 0) and np.all(calm.lead < 0)
+    assert np.all(np.isnan(calm.lead_crossover))
+    with pytest.raises(ValueError, match="omega must be finite and > 0.*index 0"):
+        oscillatory_shear([0.0, 1.0], eps=0.5, kappa=1.0)
+    with pytest.raises(ValueError, match="omega must increase"):
+        oscillatory_shear([2.0, 1.0], eps=0.5, kappa=1.0)
+    with pytest.raises(ValueError, match="eps"):
+        oscillatory_shear([1.0], eps=1.5, kappa=1.0)
