@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import warnings
+from typing import Any
 
 import mpmath
 import numpy as np
@@ -223,3 +224,40 @@ def test_response_cli_help_states_the_library_range(capsys):
     text = " ".join(capsys.readouterr().out.split())
     assert "in [1e-12, 1) (default 0.05)" in text
     assert f"in [{math.degrees(sensor_dynamics.BANDWIDTH_MIN_TOLERANCE):.3g}, 180)" in text
+
+
+def test_laos_stress_at_any_phase_and_periods_as_counts():
+    """LAOSAnalysis.stress is periodic in the phase: far out (theta + 2 pi 1e6) it is the
+    record's band-limited stress itself (harmonics 1 to 3), and at 1.7e308 finite with no
+    overflow warning; a timedelta64 is not a count of periods."""
+    from hairbed.rheometer import analyse_laos
+
+    phase = np.arange(64) * 2.0 * np.pi / 64.0
+    strain = 0.5 * np.sin(phase)
+    stress = 2.0 * strain + 0.3 * strain**3 + 0.75 * np.cos(phase)
+    res = analyse_laos(phase, strain, stress)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        far = res.stress(phase + 2.0 * np.pi * 1e6)["total"]
+        huge = res.stress(1.7e308)["total"]
+    assert np.max(np.abs(far - stress)) <= 1e-8 * np.max(np.abs(stress))
+    assert np.isfinite(huge)
+    for name in ("periods", "num_harmonics"):
+        bad: dict[str, Any] = {name: np.timedelta64(1, "s")}
+        with pytest.raises(ValueError, match=name):
+            analyse_laos(phase, strain, stress, **bad)
+
+
+@pytest.mark.parametrize("rho_s", [5e-324, 1.7e308, 1e300])
+def test_resonance_frequency_names_the_density(pillar, rho_s):
+    """A pillar density whose inertia number or mass ratio leaves double precision, or whose
+    modes the eigensolver no longer finds: named, not an IndexError or 'mu'/'tangential_mass'."""
+    with pytest.raises((ValueError, ArithmeticError), match="pillar_density"):
+        design.resonance_frequency(1.0, rho_s)(pillar)
+
+
+def test_amplitude_sweep_bounds_the_amplitude(pillar):
+    with pytest.raises(ValueError, match=r"amplitude must be at most .* \(first at index 1\)"):
+        hairbed.sweeps.amplitude_sweep(
+            pillar, [0.1, 1e300], [10.0], wall_shear_stress=1.0, pillar_density=1000.0
+        )

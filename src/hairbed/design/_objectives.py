@@ -782,10 +782,22 @@ def resonance_frequency(wall_shear_stress: float, pillar_density: float) -> Quan
         mass = (rho_s + rho_f) * math.pi * a * a
         mu = mass * big_l**4 / (p.viscosity**2 * k * k * p.bending_stiffness)
         chi = rho_s / (rho_s + rho_f)
+        if not (math.isfinite(mu) and chi > 0.0):
+            raise ValueError(
+                f"pillar_density = {rho_s:g} kg/m^3 is out of range for this pillar: the "
+                f"inertia number mu = {mu:.4g} or the mass ratio rho_s/(rho_s + rho_f) = "
+                f"{chi:.4g} leaves double precision"
+            )
         lin = linearise_pillar(
             sol, profile=p._core_profile, height_ratio=p.height_ratio, mu=mu, tangential_mass=chi
         )
-        lam1 = complex(lin.modes(2).eigenvalues[0])
+        eig = lin.modes(2).eigenvalues
+        if eig.size == 0:
+            raise ArithmeticError(
+                f"resonance_frequency: no mode of the pillar found at the inertia number mu = "
+                f"{mu:.4g} (pillar_density = {rho_s:g} kg/m^3)"
+            )
+        lam1 = complex(eig[0])
         if not lam1.imag > 0.0:
             raise ArithmeticError(
                 f"resonance_frequency: the pillar's slowest mode at tau_w = {tau:g} Pa is "

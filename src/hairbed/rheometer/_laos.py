@@ -178,7 +178,8 @@ class LAOSAnalysis:
         """The stress and its parts at the phases ``theta`` [rad] of the strain, summed from
         the harmonics: ``total``, ``elastic`` (sigma'), ``viscous`` (sigma'') and
         ``asymmetric`` (the mean and the even harmonics) [stress]."""
-        th = as_float_array(theta, "theta")
+        # the phase within one period: n theta overflowed near the largest double
+        th = np.mod(as_float_array(theta, "theta"), 2.0 * math.pi)
         g0 = self.strain_amplitude
         n = self.harmonic.astype(np.float64)
         odd = (self.harmonic % 2) == 1
@@ -338,7 +339,12 @@ def analyse_laos(
     (2.0, 2.075)
     """
     t, g, s = _check_record(time, strain, stress)
-    if isinstance(periods, bool) or not isinstance(periods, (int, np.integer)) or periods < 1:
+    # (numpy's timedelta64 is an integer type: a count of time, not of periods)
+    if (
+        isinstance(periods, (bool, np.timedelta64))
+        or not isinstance(periods, (int, np.integer))
+        or periods < 1
+    ):
         raise ValueError(f"periods must be an integer >= 1, got {show(periods)}")
     m = int(periods)
     size = t.size
@@ -351,7 +357,7 @@ def analyse_laos(
     if num_harmonics is None:
         kmax = nyq
     elif (
-        isinstance(num_harmonics, bool)
+        isinstance(num_harmonics, (bool, np.timedelta64))
         or not isinstance(num_harmonics, (int, np.integer))
         or not 1 <= num_harmonics <= nyq
     ):

@@ -431,6 +431,16 @@ def amplitude_sweep(
             raise ValueError(f"{name} must be > 0, got 0 (first at index {int(zero[0])})")
     tau = check_number(wall_shear_stress, "wall_shear_stress", unit="Pa")
     values["wall_shear_stress"] = np.asarray(tau)
+    # the run's drive tau + a sin(...) within the dynamics' bound on the forcing [Pa]
+    top = sd.MAX_DRIVE / p.forcing_per_stress - abs(tau)
+    over = np.flatnonzero(~(values["amplitude"].reshape(-1) <= top))
+    if over.size:
+        i = int(over[0])
+        raise ValueError(
+            f"amplitude must be at most {top:.4g} Pa for this pillar about wall_shear_stress = "
+            f"{show(tau)} Pa (the drive's magnitude within {sd.MAX_DRIVE:g}/(Lambda/tau_w)), "
+            f"got {show(float(values['amplitude'].reshape(-1)[i]))} Pa (first at index {i})"
+        )
     per = check_int(periods, "periods", 2, 10_000)
     stol = check_number(settle_tol, "settle_tol", low=0.0, high=1.0, low_open=True, high_open=True)
     ptol = check_number(periodic_tol, "periodic_tol", low=0.0, low_open=True)
