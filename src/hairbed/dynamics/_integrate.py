@@ -226,6 +226,7 @@ def simulate_pillar(
     atol: float = 1e-12,
     max_steps: int = 100_000,
     jump_speed: float | None = None,
+    method: str = "radau",
 ) -> PillarTrajectory:
     """A pillar in a time-dependent flow, from the nonlinear model (theory.md §14).
 
@@ -269,6 +270,14 @@ def simulate_pillar(
         quasi-static branch, and at O(1) speed once it leaves it, as past a fold. Default
         None: no such event. (A drive that jumps itself, a step, starts the pillar at O(1)
         speed: set the threshold above that, or leave it off.)
+    method : {"radau", "exponential"}, optional
+        The integrator. "radau" (the default): Radau IIA of order 5 on y' = f(t, y).
+        "exponential": an exponential Runge-Kutta method of order 4 about the steady state
+        y* of the drives' values at t_eval[-1], e' = J e + N(t, e) with e = y - y*, J the
+        exact Jacobian at y*, the linear part exact in J's modes and the error control on
+        the remainder N alone (theory.md §14): for a ringing pillar (mu > 0) that settles,
+        whose every mode rings about as long as the first. Needs a static state at the
+        drives' final values.
 
     Returns
     -------
@@ -287,6 +296,8 @@ def simulate_pillar(
     g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
     m = check_number(mu, "mu", low=0.0)
     opts = _options(te, tangential_mass, num, rtol, atol, max_steps, jump_speed)
+    if method not in ("radau", "exponential"):
+        raise ValueError(f"method must be 'radau' or 'exponential', got {method!r}")
     deg = opts.num
     lam_sig, tip_sig = _drives(forcing, tip_load, te)
     prof = profile_coefficients(profile, height_ratio)
@@ -301,6 +312,11 @@ def simulate_pillar(
         num=deg,
     )
     a = float(last._map) if np.isfinite(last._map) else 0.0
+    if method == "exponential" and int(last.status) < 0:
+        raise ValueError(
+            "method='exponential' needs a static state at the drives' values at t_eval[-1] "
+            f"to linearise about ({last.message}); use method='radau'"
+        )
     if initial is None:  # at rest under the drives just before the start (a step at t0: before)
         before = float(np.nextafter(te[0], -np.inf))
         initial = solve_pillar(
@@ -325,7 +341,10 @@ def simulate_pillar(
             f"{float(initial.theta0)!r}, status {int(initial.status)}"
         )
     start = (float(initial._map), np.asarray(initial._coefs, dtype=np.float64).reshape(3, -1))
-    return _run(_Job(te, opts, t0, g, m, a, start, lam_sig, tip_sig, prof))
+    end = None
+    if method == "exponential":
+        end = (float(last._map), np.asarray(last._coefs, dtype=np.float64).reshape(3, -1))
+    return _run(_Job(te, opts, t0, g, m, a, start, lam_sig, tip_sig, prof, end))
 
 
 @dataclass(frozen=True)
@@ -354,6 +373,9 @@ class _Job:
     lam_sig: Signal
     tip_sig: Signal
     prof: FloatArray
+    #: The exponential integrator's static state at the drives' final values (its map,
+    #: coefficients), or None: Radau IIA.
+    end: tuple[float, FloatArray] | None = None
 
 
 def _no_start(lam: float, tip: float, why: Any) -> str:
@@ -446,29 +468,32 @@ def _run(job: _Job) -> PillarTrajectory:
     y_out = np.full((te.size, size), np.nan)
     counts = np.zeros(6, dtype=np.int64)
     pr = np.ascontiguousarray(job.prof)
-    status, t_end = kern.integrate_pillar(
-        y0,
-        float(te[0]),
-        te,
-        opts.rtol,
-        opts.atol,
-        1e-6,
-        opts.max_steps,
-        deg,
-        dd,
-        ii,
-        srow,
-        t0,
-        g,
-        chi,
-        m,
-        pr,
-        drives,
-        tabs,
-        y_out,
-        counts,
-        opts.jump,
-    )
+    if job.end is not None:
+        status, t_end = _exponential(job, y0, ss, dd, ii, srow, pr, drives, tabs, y_out, counts)
+    else:
+        status, t_end = kern.integrate_pillar(
+            y0,
+            float(te[0]),
+            te,
+            opts.rtol,
+            opts.atol,
+            1e-6,
+            opts.max_steps,
+            deg,
+            dd,
+            ii,
+            srow,
+            t0,
+            g,
+            chi,
+            m,
+            pr,
+            drives,
+            tabs,
+            y_out,
+            counts,
+            opts.jump,
+        )
     # the angles and rates at the nodes
     theta = np.full((te.size, deg + 1), np.nan)
     rates = np.full((te.size, deg + 1), np.nan)
@@ -518,6 +543,43 @@ def _run(job: _Job) -> PillarTrajectory:
         nlu=int(counts[5]),
         _ops={"ii": ii, "d1s": d1s, "prof": job.prof},
     )
+
+
+def _exponential(
+    job: _Job,
+    y0: FloatArray,
+    ss: FloatArray,
+    dd: FloatArray,
+    ii: FloatArray,
+    srow: FloatArray,
+    pr: FloatArray,
+    drives: FloatArray,
+    tabs: FloatArray,
+    y_out: FloatArray,
+    counts: Any,
+) -> tuple[int, float]:
+    """The run by the exponential integrator (``_kernels.exponential``): the steady state
+    of the rates at the drives' final values (Newton from the static state ``job.end``), its
+    modes, then the integration about it. (status, t_end); -3 where the steady state or its
+    modal basis fails."""
+    from .._core._kernels import exponential as expo
+
+    assert job.end is not None
+    te, opts = job.te, job.opts
+    deg, n = opts.num, opts.num - 1
+    emap, ecoef = job.end
+    guess = np.zeros(y0.size)
+    guess[:n] = np.asarray(_shape_at(np.array([emap]), ecoef[:, None, :], (1,), ss)[3])[0, 1:deg]
+    pars = (deg, dd, ii, srow, job.theta0, job.gamma, opts.chi, job.mu, pr, drives, tabs)
+    ystar = np.empty(y0.size)
+    ok, lam, vec, inv = expo.steady_modes(guess, float(te[-1]), *pars, ystar, counts)
+    if not ok:
+        return -3, float(te[0])
+    status, t_end = expo.integrate_exponential(
+        y0, ystar, lam, vec, inv, float(te[0]), te, opts.rtol, opts.atol, 1e-6, opts.max_steps,
+        *pars, y_out, counts, opts.jump,
+    )  # fmt: skip
+    return int(status), float(t_end)
 
 
 def simulate_pillars(
