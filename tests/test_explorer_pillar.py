@@ -88,7 +88,7 @@ def test_every_bad_input_is_named_and_bad_choices_too():
     with pytest.raises(model.InputError) as info:
         pillar.validate_pillar(_raw(forcing="nan", pillar_theta0="2", pillar_view="map"))
     assert info.value.messages == (
-        "pillar_view must be one of 'shape', 'calibration', got 'map'",
+        "pillar_view must be one of 'shape', 'calibration', 'drive', got 'map'",
         _message(hairbed.solve_pillar, math.nan),
         _message(hairbed.solve_pillar, 0.0, 2.0),
     )

@@ -40,6 +40,8 @@ from hairbed._jsonsafe import to_plain
 from hairbed._variables import BED, BED_REQUIRED, LOADED, POROUS, SI, SOLUTION, cf_attrs, names
 from hairbed.units import MODELS, require_dense
 
+from ._drive import DRIVE_DEFAULTS
+
 __all__ = [
     "BED_KEYS",
     "DEFAULTS",
@@ -174,6 +176,10 @@ PILLAR_DEFAULTS: dict[str, str] = {
 }
 INPUT_KEYS += tuple(PILLAR_DEFAULTS)
 DEFAULTS.update(PILLAR_DEFAULTS)
+#: The pillar's drive view (:mod:`._drive`): amplitude, frequency, inertia and drag model,
+#: carried by the URL in the drive view only.
+INPUT_KEYS += tuple(DRIVE_DEFAULTS)
+DEFAULTS.update(DRIVE_DEFAULTS)
 #: SI mode's bed model (:class:`hairbed.HairBed`'s ``model`` and, porous, its ``drag``):
 #: "dense" (the paper's bed, the default) or "porous" (the flow through the bed, theory.md
 #: §13). Carried by the URL only for a porous bed: a dense bed's link is the one it always was.

@@ -39,6 +39,7 @@ import hairbed
 from hairbed._core.pillar import WINDOW_THETA0, profile_coefficients
 from hairbed._jsonsafe import to_plain
 
+from ._drive import DRIVE_DEFAULTS, DriveAnimation, DriveParams, drive_animation, validate_drive
 from ._model import DEFAULTS, INPUT_KEYS, PILLAR_DEFAULTS, InputError, _merge, _number, _recording
 
 __all__ = [
@@ -66,10 +67,11 @@ __all__ = [
 
 #: The page's modes: a bed of hairs in a channel, or one isolated pillar.
 MODES = ("bed", "pillar")
-#: The pillar mode's views: its shape in the profile, or its calibration curve.
-PILLAR_VIEWS = ("shape", "calibration")
+#: The pillar mode's views: its shape in the profile, its calibration curve, or its motion
+#: in an oscillating flow beside its Bode view (:mod:`._drive`).
+PILLAR_VIEWS = ("shape", "calibration", "drive")
 #: The pillar's inputs chosen from a list (not typed).
-PILLAR_CHOICES = ("mode", "profile", "pillar_view")
+PILLAR_CHOICES = ("mode", "profile", "pillar_view", "drag_model")
 #: Every :class:`hairbed.PillarState` field shown and exported, in the dataclass's order.
 PILLAR_FIELDS: tuple[str, ...] = (
     "forcing", "theta0", "gamma", "tip_load", "tip_deflection", "tip_height", "tip_angle",
@@ -130,11 +132,13 @@ class PillarParams:
     tip_load : float
         A horizontal force on the tip [E I/L^2].
     view : str
-        "shape" or "calibration".
+        "shape", "calibration" or "drive".
     raw : dict
         Every input of the page as text, as validated.
     warnings : tuple of str
         The library's warnings while validating.
+    drive : DriveParams or None
+        The drive view's inputs (that view only).
     """
 
     forcing: float
@@ -147,6 +151,7 @@ class PillarParams:
     view: str
     raw: dict[str, str] = field(default_factory=dict)
     warnings: tuple[str, ...] = ()
+    drive: DriveParams | None = None
 
     @property
     def kwargs(self) -> dict[str, Any]:
@@ -212,7 +217,9 @@ def validate_pillar(raw: Any) -> PillarParams:
     full = {k: str(raw.get(k, DEFAULTS[k])) for k in INPUT_KEYS}
     view = full["pillar_view"].strip()
     if view not in PILLAR_VIEWS:
-        problems.append(f"pillar_view must be one of 'shape', 'calibration', got {view!r}")
+        problems.append(
+            f"pillar_view must be one of 'shape', 'calibration', 'drive', got {view!r}"
+        )
     lam, t0, tip = (_number(full[k]) for k in ("forcing", "pillar_theta0", "tip_load"))
     profile = full["profile"].strip()
     ratio_text, slender_text = full["height_ratio"].strip(), full["slenderness"].strip()
@@ -241,13 +248,18 @@ def validate_pillar(raw: Any) -> PillarParams:
                         f"slenderness {slender!r} gives gamma = {gamma!r} "
                         f"(hairbed.gray_hancock_ratio), which the pillar refuses: {m}"
                     )
+    drive = None
+    if view == "drive":  # its inputs are checked (and carried by the URL) in that view only
+        drive, bad = validate_drive(full, None if slender is None else float(slender))
+        problems += bad
+        full["drag_model"] = drive.drag_model
     if problems:
         raise InputError(problems)
     full["profile"], full["pillar_view"] = profile, view
     return PillarParams(
         float(lam), float(t0) + 0.0, profile, None if ratio is None else float(ratio),
         None if slender is None else float(slender), float(gamma), float(tip) + 0.0, view,
-        raw=full, warnings=tuple(caught),
+        raw=full, warnings=tuple(caught), drive=drive,
     )  # fmt: skip
 
 
@@ -259,7 +271,8 @@ def pillar_query(p: PillarParams) -> str:
     >>> pillar_query(validate_pillar({"mode": "pillar", "forcing": "2"}))
     '?mode=pillar&forcing=2&pillar_theta0=0&profile=sublayer&height_ratio=&slenderness=&tip_load=0&pillar_view=shape'
     """
-    return "?" + urlencode({k: p.raw[k].strip() for k in PILLAR_DEFAULTS} | {"mode": "pillar"})
+    keys = (*PILLAR_DEFAULTS, *DRIVE_DEFAULTS) if p.view == "drive" else tuple(PILLAR_DEFAULTS)
+    return "?" + urlencode({k: p.raw[k].strip() for k in keys} | {"mode": "pillar"})
 
 
 @dataclass(frozen=True)
@@ -541,6 +554,8 @@ class PillarSnapshot:
         Wall times [ms]: "solve", "calibration", "total".
     message : str
         Why no state is shown ("" when there are states).
+    animation : DriveAnimation or None
+        The drive view's period of motion and Bode view (that view only).
     """
 
     params: PillarParams
@@ -551,6 +566,7 @@ class PillarSnapshot:
     warnings: list[str]
     timings: dict[str, float]
     message: str = ""
+    animation: DriveAnimation | None = None
 
     def error_at(self) -> float:
         """The linear formula's relative error at the first state [-] (NaN without one or
@@ -579,6 +595,7 @@ def clear_pillar_caches() -> None:
     needs once none is open."""
     for func in (pillar_branch, _states_on_branch, calibration_curve, _every_state):
         func.cache_clear()
+    drive_animation.cache_clear()
 
 
 def _labels(n: int, sign: float) -> list[str]:
@@ -632,11 +649,19 @@ def compute_pillar(p: PillarParams) -> PillarSnapshot:
         cal = None
         if p.view == "calibration":
             cal = calibration_curve(sign, p.theta0, p.profile, p.height_ratio, p.gamma, p.tip_load)
+        anim = None
+        if p.view == "drive" and p.drive is not None and states:
+            d = p.drive
+            anim = drive_animation(
+                p.forcing, p.theta0, p.profile, p.height_ratio, p.gamma, p.tip_load,
+                p.slenderness, d.amplitude, d.frequency, d.mu, d.drag_model,
+            )  # fmt: skip
     t2 = time.perf_counter()
+    key = "drive" if p.view == "drive" else "calibration"
     return PillarSnapshot(
         p, states, z, u, cal, _merge(p.warnings, caught),
-        {"solve": 1e3 * (t1 - t0), "calibration": 1e3 * (t2 - t1), "total": 1e3 * (t2 - t0)},
-        message,
+        {"solve": 1e3 * (t1 - t0), key: 1e3 * (t2 - t1), "total": 1e3 * (t2 - t0)},
+        message, anim,
     )  # fmt: skip
 
 
@@ -662,6 +687,20 @@ def pillar_snapshot_json(snap: PillarSnapshot) -> str:
         "states": states,
         "warnings": snap.warnings,
     }
+    a = snap.animation
+    if a is not None and p.drive is not None:
+        doc["drive"] = {
+            "inputs": {k: p.raw[k] for k in DRIVE_DEFAULTS},
+            "status": a.status,
+            "message": a.message,
+            "settle_time": a.settle,
+            "frame_time": a.t,
+            "forcing": a.forcing,
+            "tip_deflection": a.tip_x,
+            "tip_height": a.tip_z,
+            "first_harmonic": {"real": a.harmonic.real, "imag": a.harmonic.imag},
+            "linear": {"real": a.bode_now.real, "imag": a.bode_now.imag},
+        }
     c = snap.calibration
     if c is not None:
         doc["calibration"] = {

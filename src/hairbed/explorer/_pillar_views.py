@@ -22,6 +22,7 @@ import panel as pn
 from bokeh.models import ColumnDataSource, CustomJSTickFormatter, Range1d, Span
 
 from .._jsonsafe import to_plain
+from ._drive import DRIVE_DEFAULTS, SIDE_VIEWS
 from ._figures import (
     FOLD_COLOR,
     REST_COLOR,
@@ -44,7 +45,7 @@ from ._pillar import (
     validate_pillar,
 )
 
-__all__ = ["LOG_FORCING_RANGE", "PillarPanel", "refresh_pillar"]
+__all__ = ["FRAME_MS", "LOG_FORCING_RANGE", "PillarPanel", "drive_html", "refresh_pillar"]
 
 #: Range of the forcing slider, in log10(abs(Lambda)); the sign is the typed value's.
 LOG_FORCING_RANGE = (-3.0, 4.0)
@@ -56,10 +57,20 @@ TEXT_LABELS = {
     "height_ratio": "height ratio L/H [-], in (0, 1] (couette, poiseuille)",
     "slenderness": "slenderness L/a [-], > 1.5 (empty: gamma = 1/2)",
     "tip_load": "tip load [E I/L^2] (along +x)",
+    "amplitude": "drive amplitude A of Lambda [-]: Lambda + A sin(omega t)",
+    "frequency": "drive frequency omega [1/T], T = zeta_perp L^4/(E I)",
+    "mu": "inertia number mu [-], the solid's m_s E I/(zeta_perp^2 L^4)",
 }
+#: The drive view's inputs among the text fields (shown in that view only).
+DRIVE_TEXT = ("amplitude", "frequency", "mu")
+DRAG_OPTIONS = {"quasi-steady": "quasi-steady", "Sader (oscillating cylinder)": "sader"}
+#: Milliseconds between the animation's frames (one period in FRAMES frames: about 2 s).
+FRAME_MS = 40
+#: Frame times kept for the page's p50/p90 readout.
+_FRAME_WINDOW = 240
 MODE_OPTIONS = {"bed of hairs": "bed", "isolated pillar": "pillar"}
 PROFILE_OPTIONS = {"sublayer": "sublayer", "couette": "couette", "poiseuille": "poiseuille"}
-VIEW_OPTIONS = {"shape": "shape", "calibration curve": "calibration"}
+VIEW_OPTIONS = {"shape": "shape", "calibration curve": "calibration", "drive (animation)": "drive"}
 #: Rows of the state table: field -> label [unit].
 FIELD_LABELS = {
     "forcing": "forcing Lambda [-]",
@@ -174,6 +185,41 @@ def linear_html(snap: PillarSnapshot) -> str:
     )
 
 
+def drive_html(snap: PillarSnapshot, frame_ms: list[float] | None = None) -> str:
+    """The drive view's readout: the nonlinear run's first harmonic against the linear
+    response at the drive's frequency, the run, and the server's time per frame."""
+    a = snap.animation
+    d = snap.params.drive
+    if a is None or d is None:
+        return ""
+    if a.status < 0:
+        return (
+            f'<p class="hb-drive-message" data-status="{a.status}">no animation: '
+            f"{html.escape(a.message)}</p>"
+        )
+    rows = [
+        ("linear_gain", f"linear |dx1/dLambda| at omega ({d.drag_model}) [L]", abs(a.bode_now)),
+        ("linear_phase", "linear phase [rad]", math.atan2(a.bode_now.imag, a.bode_now.real)),
+        ("harmonic_gain", "nonlinear first harmonic |x1_1|/A (quasi-steady) [L]", abs(a.harmonic)),
+        ("harmonic_phase", "its phase [rad]", math.atan2(a.harmonic.imag, a.harmonic.real)),
+        ("settle_time", "time run before the period shown [T]", a.settle),
+        ("steps", "integrator steps", a.steps),
+        ("frames", "frames per period", a.x.shape[0]),
+    ]
+    if frame_ms:
+        ms = np.asarray(frame_ms, dtype=np.float64)
+        rows += [
+            ("frame_p50", "server time per frame, median [ms]", float(np.percentile(ms, 50))),
+            ("frame_p90", "server time per frame, p90 [ms]", float(np.percentile(ms, 90))),
+            ("frame_count", "frames timed", ms.size),
+        ]
+    body = "".join(
+        f'<tr><th>{html.escape(label)}</th><td class="num" data-field="{key}">{_fmt(v)}</td></tr>'
+        for key, label, v in rows
+    )
+    return f'<table class="hb hb-drive-table">{body}</table>'
+
+
 def _runs(stable: np.ndarray) -> list[tuple[int, int, bool]]:
     """Runs (start, stop, stable) of equal stability, each ending on the next one's start."""
     runs, start = [], 0
@@ -194,6 +240,12 @@ class PillarPanel:
         self.snapshot: PillarSnapshot | None = None
         #: The mode on screen: "bed" or "pillar".
         self.shown_mode = "bed"
+        #: The animation on screen (None: none), its frame, the server's time per frame [ms]
+        #: (the last _FRAME_WINDOW) and the periodic callback that plays it (served pages).
+        self._anim: Any = None
+        self._frame = 0
+        self.frame_ms: list[float] = []
+        self._player: Any = None
         self._build_widgets()
         self._build_layout()
 
@@ -219,7 +271,7 @@ class PillarPanel:
             k: _widget(
                 pn.widgets.TextInput,
                 label,
-                value=PILLAR_DEFAULTS[k],
+                value={**PILLAR_DEFAULTS, **DRIVE_DEFAULTS}[k],
                 css_classes=[f"hb-{k}"],
                 sizing_mode="stretch_width",
             )  # fmt: skip
@@ -232,6 +284,10 @@ class PillarPanel:
             options=VIEW_OPTIONS, value=PILLAR_DEFAULTS["pillar_view"],
             css_classes=["hb-pillar-view"],
         )  # fmt: skip
+        self.drag_model = pn.widgets.RadioButtonGroup(
+            options=DRAG_OPTIONS, value=DRIVE_DEFAULTS["drag_model"], css_classes=["hb-drag-model"]
+        )
+        self.drive_table = pn.pane.HTML("", css_classes=["hb-pillar-drive"], stylesheets=[_CSS])
         self.table = pn.pane.HTML("", css_classes=["hb-pillar-table"], stylesheets=[_CSS])
         self.linear_table = pn.pane.HTML("", css_classes=["hb-pillar-linear"], stylesheets=[_CSS])
         self.download_json = pn.widgets.FileDownload(
@@ -247,11 +303,17 @@ class PillarPanel:
             "mode": str(self.mode.value),
             "profile": str(self.profile.value),
             "pillar_view": str(self.view.value),
+            "drag_model": str(self.drag_model.value),
         }
 
     def apply_choices(self, args: dict[str, str]) -> None:
         """The choices a URL names (a bad one stays as it was: validation names it)."""
-        for key, w in (("mode", self.mode), ("profile", self.profile), ("pillar_view", self.view)):
+        for key, w in (
+            ("mode", self.mode),
+            ("profile", self.profile),
+            ("pillar_view", self.view),
+            ("drag_model", self.drag_model),
+        ):
             if key in args and args[key].strip() in w.options.values():
                 w.value = args[key].strip()
 
@@ -379,6 +441,77 @@ class PillarPanel:
         self.err_now = ColumnDataSource({"x": [], "y": [], "color": []})
         e.scatter("x", "y", source=self.err_now, color="color", size=10, line_color="black")
         self.err_fig = e
+        self._build_drive_figures()
+
+    def _build_drive_figures(self) -> None:
+        """The drive view: the pillar moving (one frame of the period at a time) and the
+        Bode view beside it (:data:`._drive.SIDE_VIEWS`; the bed's Lissajous view joins
+        there)."""
+        d = _fig(
+            "the pillar in the oscillating flow Lambda + A sin(omega t), to scale",
+            "x/L [-] (along the flow)",
+            "z/L [-] (height)",
+            x_range=Range1d(-1.2, 1.2),
+            y_range=Range1d(-0.1, 1.3),
+            frame_width=400,
+            frame_height=int(400 * 1.4 / 2.4),
+        )
+        d.quad(left=-100, right=100, bottom=-100, top=0, fill_color="#d9d9d9", line_color="black")
+        self.dr_mean = ColumnDataSource({"x": [], "y": []}, name="hb-drive-mean")
+        mean = d.line("x", "y", source=self.dr_mean, color=REST_COLOR, line_width=2,
+                      line_dash="dashed")  # fmt: skip
+        self.dr_path = ColumnDataSource({"x": [], "y": []}, name="hb-drive-path")
+        path = d.line("x", "y", source=self.dr_path, color="#E69F00", line_width=1.5)
+        self.dr_shape = ColumnDataSource({"x": [], "y": []}, name="hb-drive-shape")
+        now = d.line("x", "y", source=self.dr_shape, color=STATE_COLORS["low"], line_width=3)
+        self.dr_tip = ColumnDataSource({"x": [], "y": []}, name="hb-drive-tip")
+        d.scatter("x", "y", source=self.dr_tip, color=STATE_COLORS["low"], size=8)
+        _style_legend(
+            d,
+            [("now", [now]), ("static, at the mean", [mean]), ("the tip's path", [path])],
+            "top_left",
+        )
+        d.grid.grid_line_alpha = 0.3
+        self.drive_fig = d
+        g = _fig(
+            "Bode view: tip deflection per forcing dx1/dLambda",
+            "omega [1/T]",
+            "|dx1/dLambda| [L]",
+            x_axis_type="log",
+            y_axis_type="log",
+            width=430,
+            height=260,
+        )
+        self.bode_gain = ColumnDataSource({"x": [], "y": []}, name="hb-bode-gain")
+        lin = g.line("x", "y", source=self.bode_gain, color="black", line_width=2)
+        self.bode_now_gain = ColumnDataSource({"x": [], "y": []})
+        nl = g.scatter("x", "y", source=self.bode_now_gain, color="#D55E00", size=10,
+                       line_color="black")  # fmt: skip
+        self.bode_mark = Span(dimension="height", location=1.0, line_color="#999999",
+                              line_dash="dashed")  # fmt: skip
+        g.add_layout(self.bode_mark)
+        _style_legend(
+            g, [("linear", [lin]), ("nonlinear run, first harmonic", [nl])], "bottom_left"
+        )
+        self.bode_gain_fig = g
+        h = _fig(
+            "phase of dx1/dLambda (a lag is negative)",
+            "omega [1/T]",
+            "phase [deg]",
+            x_axis_type="log",
+            x_range=g.x_range,
+            width=430,
+            height=220,
+        )
+        self.bode_phase = ColumnDataSource({"x": [], "y": []}, name="hb-bode-phase")
+        h.line("x", "y", source=self.bode_phase, color="black", line_width=2)
+        self.bode_now_phase = ColumnDataSource({"x": [], "y": []})
+        h.scatter("x", "y", source=self.bode_now_phase, color="#D55E00", size=10,
+                  line_color="black")  # fmt: skip
+        self.bode_phase_mark = Span(dimension="height", location=1.0, line_color="#999999",
+                                    line_dash="dashed")  # fmt: skip
+        h.add_layout(self.bode_phase_mark)
+        self.bode_phase_fig = h
 
     def _build_layout(self) -> None:
         self.controls = pn.Column(
@@ -394,6 +527,7 @@ class PillarPanel:
             self.text["tip_load"],
             pn.pane.HTML("view:", margin=(5, 10, 0, 10)),
             self.view,
+            self._drive_controls(),
             self.download_json,
             visible=False,
             margin=0,
@@ -401,6 +535,18 @@ class PillarPanel:
         #: The pillar's views: empty until the pillar mode is first shown (a session that
         #: stays with the bed sends no figure of the pillar to its browser).
         self.views = pn.Column(visible=False)
+
+    def _drive_controls(self) -> Any:
+        """The drive view's inputs (shown in that view only)."""
+        self.drive_controls = pn.Column(
+            *(self.text[k] for k in DRIVE_TEXT),
+            pn.pane.HTML("drag of the Bode view:", margin=(5, 10, 0, 10)),
+            self.drag_model,
+            visible=False,
+            margin=0,
+            css_classes=["hb-drive-controls"],
+        )
+        return self.drive_controls
 
     def _ensure_views(self) -> None:
         """Build the figures and fill :attr:`views` (once)."""
@@ -411,11 +557,27 @@ class PillarPanel:
             pn.pane.Bokeh(self.cal_fig), pn.pane.Bokeh(self.err_fig),
             css_classes=["hb-pillar-calibration"], visible=False,
         )  # fmt: skip
+        self._shape_pane = pn.Column(
+            pn.pane.Bokeh(self.shape_fig), css_classes=["hb-pillar-shape"]
+        )
+        # the views beside the animation (._drive.SIDE_VIEWS): the Bode view; the bed's
+        # Lissajous view (the rheometer) is to be added to this column as another entry
+        self._side_views = {
+            "bode": pn.Column(
+                pn.pane.Bokeh(self.bode_gain_fig),
+                pn.pane.Bokeh(self.bode_phase_fig),
+                css_classes=["hb-drive-bode"],
+            )
+        }
+        assert set(self._side_views) == set(SIDE_VIEWS)
+        self._drive_pane = pn.Row(
+            pn.Column(pn.pane.Bokeh(self.drive_fig), self.drive_table),
+            pn.Column(*self._side_views.values()),
+            css_classes=["hb-pillar-drive-view"],
+            visible=False,
+        )
         self.views.objects = [
-            pn.Row(
-                pn.Column(pn.pane.Bokeh(self.shape_fig), css_classes=["hb-pillar-shape"]),
-                self._cal_pane,
-            ),
+            pn.Row(self._shape_pane, self._cal_pane, self._drive_pane),
             self.linear_table,
             self.table,
         ]
@@ -476,6 +638,67 @@ class PillarPanel:
         self.linear_table.object = linear_html(snap)
         self.linear_table.visible = snap.calibration is not None
         self._cal_pane.visible = p.view == "calibration"
+        self._update_drive(snap)
+
+    def _update_drive(self, snap: PillarSnapshot) -> None:
+        """The drive view: the animation's static parts and first frame, the Bode view."""
+        drive = snap.params.view == "drive"
+        self._drive_pane.visible = drive
+        self._shape_pane.visible = not drive
+        a = snap.animation if drive else None
+        if a is not self._anim:
+            self._anim, self._frame = a, 0
+            self.frame_ms.clear()
+        self.drive_table.object = drive_html(snap) if drive else ""
+        if a is None or a.status < 0:
+            self._set(self.dr_shape, {"x": [], "y": []})
+            self._set(self.dr_tip, {"x": [], "y": []})
+            self._set(self.dr_path, {"x": [], "y": []})
+            return
+        self._set(self.dr_mean, {"x": a.mean_x, "y": a.mean_z})
+        self._set(self.dr_path, {"x": np.append(a.tip_x, a.tip_x[:1]),
+                                 "y": np.append(a.tip_z, a.tip_z[:1])})  # fmt: skip
+        self.dr_shape.data = {"x": a.x[0].tolist(), "y": a.z[0].tolist()}
+        self.dr_tip.data = {"x": [float(a.tip_x[0])], "y": [float(a.tip_z[0])]}
+        gain = np.abs(a.bode)
+        self._set(self.bode_gain, {"x": a.omega, "y": gain})
+        self._set(self.bode_phase, {"x": a.omega, "y": np.degrees(np.unwrap(np.angle(a.bode)))})
+        d = snap.params.drive
+        assert d is not None
+        self.bode_mark.location = self.bode_phase_mark.location = d.frequency
+        ph = math.degrees(math.atan2(a.harmonic.imag, a.harmonic.real))
+        # the harmonic's phase on the linear curve's branch (unwrapped there)
+        lin_ph = float(np.interp(math.log(d.frequency), np.log(a.omega),
+                                 np.degrees(np.unwrap(np.angle(a.bode)))))  # fmt: skip
+        ph += 360.0 * round((lin_ph - ph) / 360.0)
+        self._set(self.bode_now_gain, {"x": [d.frequency], "y": [abs(a.harmonic)]})
+        self._set(self.bode_now_phase, {"x": [d.frequency], "y": [ph]})
+
+    def next_frame(self) -> None:
+        """The next frame of the animation (the periodic callback of a served page): the
+        precomputed shape and tip of that frame sent to the figure, its server time kept
+        (the model's update and the document's events, held and flushed here)."""
+        a = self._anim
+        if a is None or a.status < 0 or not a.x.size:
+            return
+        start = time.perf_counter()
+        k = self._frame = (self._frame + 1) % a.x.shape[0]
+        with pn.io.hold():
+            self.dr_shape.data = {"x": a.x[k].tolist(), "y": a.z[k].tolist()}
+            self.dr_tip.data = {"x": [float(a.tip_x[k])], "y": [float(a.tip_z[k])]}
+        self.frame_ms.append(1e3 * (time.perf_counter() - start))
+        del self.frame_ms[:-_FRAME_WINDOW]
+        if k == 0 and self.snapshot is not None:  # once a period: the readout's frame times
+            self.drive_table.object = drive_html(self.snapshot, self.frame_ms)
+
+    def play(self, served: bool) -> None:
+        """Start (in the drive view of a served page) or stop the periodic callback."""
+        on = served and self._anim is not None and self.shown_mode == "pillar"
+        if on and self._player is None:
+            self._player = pn.state.add_periodic_callback(self.next_frame, period=FRAME_MS)
+        elif not on and self._player is not None:
+            self._player.stop()
+            self._player = None
 
     def _update_calibration(self, snap: PillarSnapshot) -> None:
         c = snap.calibration
@@ -544,6 +767,9 @@ class PillarPanel:
             self.text["height_ratio"].visible = p.profile != "sublayer"
             self.profile.value = p.profile
             self.view.value = p.view
+            self.drive_controls.visible = p.view == "drive"
+            if p.drive is not None:
+                self.drag_model.value = p.drive.drag_model
         finally:
             self._syncing = False
 
@@ -551,6 +777,8 @@ class PillarPanel:
         """Show the bed's or the pillar's controls and views (and the mode selector's)."""
         pillar = mode == "pillar"
         self.shown_mode = mode
+        if not pillar:
+            self.play(False)  # the bed's views: no animation plays
         self._syncing = True
         try:
             self.mode.value = mode
@@ -585,7 +813,7 @@ class PillarPanel:
                 obj.append(self.views)
                 break
         page.text.update(self.text)
-        for w in (*self.text.values(), self.mode, self.profile, self.view):
+        for w in (*self.text.values(), self.mode, self.profile, self.view, self.drag_model):
             w.param.watch(page._on_input, "value")
 
     def restore(self, page: Any) -> bool:
@@ -606,6 +834,11 @@ class PillarPanel:
         return True
 
     def release(self) -> None:
+        if self._player is not None:
+            self._player.stop()
+            self._player = None
+        self._anim = None
+        self.frame_ms.clear()
         self.snapshot = None
         self._shown.clear()
 
@@ -627,6 +860,7 @@ def refresh_pillar(page: Any, raw: dict[str, str], notes_html: Any) -> bool:
     except Exception as exc:
         return bool(page._failed(exc, (ValueError, TypeError)))
     solved = time.perf_counter()
+    drive = params.view == "drive"
     with pn.io.hold():
         panel.update(snap)
         panel.sync(snap)
@@ -635,8 +869,9 @@ def refresh_pillar(page: Any, raw: dict[str, str], notes_html: Any) -> bool:
             notes_html(snap.warnings),
             pillar_query(params),
             snap.timings,
-            ("calibration", "calibration curve"),
+            ("drive", "drive animation") if drive else ("calibration", "calibration curve"),
             (start, solved),
         )
         panel.snapshot = snap
+    panel.play(bool(getattr(page, "_served", False)))
     return True
