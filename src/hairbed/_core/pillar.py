@@ -1022,10 +1022,13 @@ def _on_branch(
         n_found[idx] = count
     for row, atlas in atlases.items():
         if unsure is not None and atlas.crossed and not atlas.open:
-            # the march in d through the window stopped (before d replaced x1 as its measure:
-            # theta0 = -1.5707, issue 33): the window's far states were never followed
+            # the march stopped: in d through the window (before d replaced x1 as its
+            # measure: theta0 = -1.5707, issue 33), the window's far states never followed,
+            # so every forcing up to its upper fold; or in Lambda beyond it (theta0 = -1.57078
+            # at 1.07e5), the forcings beyond the march's end, up to that fold
             top = max(p.lam for p in atlas.points)
-            near = (inv == row) & (np.abs(lf[idx]) <= top)
+            end = atlas.points[-1].lam if atlas.through else 0.0
+            near = (inv == row) & (np.abs(lf[idx]) <= top) & (np.abs(lf[idx]) > end)
             unsure[idx[near]] = True
     pick = np.full(idx.size, -1)
     for k in np.flatnonzero(count > 0):
@@ -1298,7 +1301,8 @@ class _Atlas:
 
     points: list[_Point]
     open: bool = True  # the marches so far arrived (the atlas may be extended)
-    crossed: bool = False  # the window was crossed (the march in x1 is done)
+    crossed: bool = False  # the march through the window was tried (it is done once)
+    through: bool = False  # and it got through (Lambda rose past the upper fold again)
     #: the branch grid of the points but rest with its folds refined (:func:`_refine_turns`),
     #: and how many points it was made of
     refined: tuple[int, tuple[FloatArray, ...]] | None = None
@@ -1435,8 +1439,11 @@ def _march_deflection(
         if cur.slope > 0.0 and (turned and cur.lam > lam_past or cur.lam > 2.0 * lam_past):
             return True
         d_new = cur.d + step
-        if not d_new < span:
-            return False
+        if not d_new < span:  # towards the wall (a fold beyond 1e5): halve the way left
+            step = 0.5 * (span - cur.d)
+            d_new = cur.d + step
+            if not (d_new < span and step > _ATLAS_DSTEP * cur.d):
+                return False
         new = _atlas_step(_DRAG_INVERSE, d_new, key, prof, tol, nums, cur, pts[-2])
         if new is None:
             step *= 0.25
@@ -1491,7 +1498,7 @@ def _atlas(
         atlas.open = not atlas.crossed and len(pts) > 1
         if atlas.open:
             atlas.crossed = True
-            atlas.open = _march_deflection(pts, pts[-1].lam, key, prof, tol, nums)
+            atlas.open = atlas.through = _march_deflection(pts, pts[-1].lam, key, prof, tol, nums)
     return atlas
 
 
