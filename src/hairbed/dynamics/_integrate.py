@@ -256,7 +256,8 @@ def simulate_pillar(
         normally).
     initial : PillarState, optional
         The state at rest at t_eval[0]; default the static state of the drives' values just
-        before it (so a step at t_eval[0] starts from its value before).
+        before it (so a step at t_eval[0] starts from its value before): straight (theta =
+        theta0) where both are zero.
     num : int, optional
         The Chebyshev degree N in [8, 128] (default 32).
     rtol, atol : float, optional
@@ -317,8 +318,11 @@ def simulate_pillar(
             "method='exponential' needs a static state at the drives' values at t_eval[-1] "
             f"to linearise about ({last.message}); use method='radau'"
         )
-    if initial is None:  # at rest under the drives just before the start (a step at t0: before)
-        before = float(np.nextafter(te[0], -np.inf))
+    before = float(np.nextafter(te[0], -np.inf))
+    start: tuple[float, FloatArray] | None = None
+    if initial is None and lam_sig.at_start(before) == 0.0 and tip_sig.at_start(before) == 0.0:
+        pass  # no load before the start: the straight pillar theta = theta0 (start None)
+    elif initial is None:  # at rest under the drives just before the start (a step: before)
         initial = solve_pillar(
             lam_sig.at_start(before),
             t0,
@@ -340,7 +344,8 @@ def simulate_pillar(
             f"initial must be a converged state at theta0 = {t0!r}, got theta0 = "
             f"{float(initial.theta0)!r}, status {int(initial.status)}"
         )
-    start = (float(initial._map), np.asarray(initial._coefs, dtype=np.float64).reshape(3, -1))
+    if initial is not None:
+        start = (float(initial._map), np.asarray(initial._coefs, dtype=np.float64).reshape(3, -1))
     end = None
     if method == "exponential":
         end = (float(last._map), np.asarray(last._coefs, dtype=np.float64).reshape(3, -1))
@@ -369,7 +374,8 @@ class _Job:
     gamma: float
     mu: float
     a: float  # the collocation's map parameter
-    start: tuple[float, FloatArray]  # the static state at t_eval[0]: its map, coefficients
+    #: the static state at t_eval[0]: its map, coefficients (None: the straight pillar)
+    start: tuple[float, FloatArray] | None
     lam_sig: Signal
     tip_sig: Signal
     prof: FloatArray
@@ -449,8 +455,11 @@ def _run(job: _Job) -> PillarTrajectory:
     n = deg - 1
     size = n if m == 0.0 else 2 * n
     y0 = np.zeros(size)
-    smap, scoef = job.start
-    y0[:n] = np.asarray(_shape_at(np.array([smap]), scoef[:, None, :], (1,), ss)[3])[0, 1:deg]
+    if job.start is None:  # unloaded before the start: straight, theta = theta0
+        y0[:n] = t0
+    else:
+        smap, scoef = job.start
+        y0[:n] = np.asarray(_shape_at(np.array([smap]), scoef[:, None, :], (1,), ss)[3])[0, 1:deg]
     srow = -dd[deg, :] / dd[deg, deg]
     srow[deg] = 0.0
     lam_sig, tip_sig = job.lam_sig, job.tip_sig
@@ -503,20 +512,19 @@ def _run(job: _Job) -> PillarTrajectory:
     ws = kern.workspace(deg)
     f = np.empty(size)
     jdummy = np.zeros((size, size))
-    for i in range(te.size):
-        if not np.all(np.isfinite(y_out[i])):
-            theta[i] = np.nan
-            continue
-        if m == 0.0:
+    good = np.all(np.isfinite(y_out), axis=1)
+    theta[~good] = np.nan
+    if m == 0.0:  # the rates of the overdamped state: f(t, y)
+        for i in np.flatnonzero(good):
             kern.pillar_rates(
                 float(te[i]), y_out[i], False, deg, dd, ii, srow, t0, g, chi, m, pr, drives,
                 tabs, f, jdummy, ws,
             )  # fmt: skip
             rates[i, 1:deg] = f
-        else:
-            rates[i, 1:deg] = y_out[i, n:]
-        rates[i, 0] = 0.0
-        rates[i, deg] = rates[i, 1:deg] @ srow[1:deg]
+    else:  # with inertia they are the state's second half
+        rates[good, 1:deg] = y_out[good, n:]
+    rates[good, 0] = 0.0
+    rates[good, deg] = rates[good, 1:deg] @ srow[1:deg]
     c, s = np.cos(theta), np.sin(theta)
     return PillarTrajectory(
         t=te,
