@@ -18,6 +18,7 @@ from hairbed import HairBed, Pillar
 from hairbed import design as D
 from hairbed.design._optimise import _Problem
 from hairbed.dynamics import linearise_pillar
+from hairbed.valve import valve_curve
 
 RTOL = 1e-7
 DESIGNS = 20
@@ -84,6 +85,20 @@ SNAP_SPACE = [
     D.Variable("youngs_modulus", 0.5e6, 2e6, log=True),
     D.Variable("base_angle", -1.45, -1.36),
 ]
+#: The porous (Brinkman) bed's valve: kappa and gamma move with the length, the radius and
+#: the spacing or packing fraction (the drag model's exact slopes).
+POROUS_SPACE = [
+    D.Variable("length", 0.6e-3, 1.4e-3, log=True),
+    D.Variable("radius", 30e-6, 60e-6),
+    D.Variable("spacing", 200e-6, 400e-6),
+    D.Variable("base_angle", 0.1, 0.8),
+]
+POROUS_PHI_SPACE = [
+    D.Variable("youngs_modulus", 0.5e6, 2e6, log=True),
+    D.Variable("channel_height", 1.6e-3, 3e-3),
+    D.Variable("viscosity", 0.5, 2.0),
+    D.Variable("packing_fraction", 0.05, 0.2),
+]
 
 CASES = [
     ("bed", BED_SPACE, D.diodicity(1000.0, 0.01)),
@@ -108,6 +123,8 @@ CASES = [
     ("pillar", PILLAR_SPACE, D.bandwidth(1.0)),
     ("pillar", RING_SPACE, D.resonance_frequency(1.0, 1000.0)),
     ("snap", SNAP_SPACE, D.snap_window()),
+    ("porous", POROUS_SPACE, D.diodicity(300.0, 0.01)),
+    ("porous", POROUS_PHI_SPACE, D.resistance_ratio(-250.0, 0.01)),
 ]
 
 
@@ -132,18 +149,34 @@ def _resonance_value(p, rho_s=1000.0):
     return lam.imag / (2.0 * np.pi * t_scale)
 
 
+def _porous_diodicity(bed):
+    """Q'(+dp)/abs(Q'(-dp)) of the valve curve (both drops in one call)."""
+    q = valve_curve(bed, np.array([300.0, -300.0]), 0.01).flow_rate
+    return q[0] / -q[1]
+
+
 #: The value of a quantity by the library's public API (cheaper than the quantity's value
 #: and gradient, and another path to it), for the central differences.
 VALUES = {
     "sensitivity(1 Pa)": lambda p: p.sensitivity(1.0),
     "bandwidth(1 Pa)": _band_value,
     "resonance_frequency(1 Pa, rho_s=1000 kg/m^3)": _resonance_value,
+    "diodicity(dp=300 Pa, l=0.01 m)": lambda bed: _porous_diodicity(bed),
+    "resistance_ratio(dp=-250 Pa, l=0.01 m)": lambda bed: (
+        valve_curve(bed, -250.0, 0.01).resistance_ratio
+    ),
 }
 
 
 def _base(kind: str):
     if kind == "pillar":
         return _pillar()
+    if kind == "porous":
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return HairBed(length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=2e-3,
+                           viscosity=1.0, spacing=250e-6, base_angle=0.5,
+                           model="porous")  # fmt: skip
     if kind == "snap":
         return dataclasses.replace(_pillar(), base_angle=-1.4)
     if kind == "window":

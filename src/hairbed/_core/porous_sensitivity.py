@@ -78,7 +78,7 @@ def _nodal(state: PorousState, num: int, sel: NDArray[np.bool_]) -> FloatArray:
     return np.ascontiguousarray(u)
 
 
-def porous_derivatives(state: PorousState) -> PorousDerivatives:
+def porous_derivatives(state: PorousState, *, flux: bool = False) -> PorousDerivatives:
     """Exact derivatives of every tip quantity of porous states in every input.
 
     Parameters
@@ -86,6 +86,11 @@ def porous_derivatives(state: PorousState) -> PorousDerivatives:
     state : PorousState
         From :func:`hairbed.solve_porous` or :func:`hairbed.solve_porous_all` (not the
         inverse's, whose forcing is an output).
+    flux : bool, optional
+        Also the output "flux": the flux through bed and gap per unit width in load units,
+        Phi = int_0^1 w cos(theta) ds + w_1 g + Q_1 g^2/2 - Pi g^3/6, g = 1/eps - h1 (the
+        bed's part by the collocation's integration; theory.md §13), which sets the flow
+        rate Q' = E I Phi/(eta A) of a channel (:func:`hairbed.valve.valve_curve`).
 
     Returns
     -------
@@ -112,7 +117,7 @@ def porous_derivatives(state: PorousState) -> PorousDerivatives:
     status = np.asarray(state.status).reshape(-1)
     nums = np.asarray(state.num).reshape(-1)
     amap = np.asarray(state._map, dtype=np.float64).reshape(-1)
-    outputs = OUTPUTS if code else OUTPUTS[:-1]
+    outputs = (OUTPUTS if code else OUTPUTS[:-1]) + (("flux",) if flux else ())
     table = {o: {i: np.full(size, np.nan) for i in inputs} for o in outputs}
     out_status = status.copy()
     ladder = _ladder(LADDER)
@@ -124,7 +129,7 @@ def porous_derivatives(state: PorousState) -> PorousDerivatives:
         else:
             nodes = ladder[1][lev, : num + 1]
             d1, d2, im = (ladder[k][lev, : num + 1, : num + 1] for k in (2, 3, 4))
-        _group(code, int(num), sel, state, flat, amap, nodes, d1, d2, im, table, out_status)
+        _group(code, int(num), sel, state, flat, amap, nodes, d1, d2, im, table, out_status, flux)
     return PorousDerivatives(
         table={
             o: {i: scalar_or_array(v.reshape(shape)) for i, v in r.items()}
@@ -147,6 +152,7 @@ def _group(
     im: Any,
     table: dict[str, dict[str, FloatArray]],
     out_status: Any,
+    flux: bool = False,
 ) -> None:
     """The derivatives of the states of one Chebyshev degree, in place into ``table``."""
     n1 = num + 1
@@ -241,6 +247,24 @@ def _group(
     values["drag_x"] = drag
     if code:
         values["pi"] = du[:, hi + 1, :]
+    if flux:  # Phi = I_N[w cos] + w_N g + Q_N g^2/2 - Pi g^3/6, g = 1/eps - h1
+        dw = du[:, n1 : 2 * n1, :]
+        gg = (1.0 / safe - h)[:, None]
+        dg = -du[:, hi, :]
+        dg[:, 1] -= 1.0 / safe**2
+        dpi = du[:, hi + 1, :] if code else np.zeros((count, 6))
+        if not code:
+            dpi[:, 5] = 1.0
+        wn, qn = w[:, num][:, None], qq[:, num][:, None]
+        values["flux"] = (
+            np.einsum("ej,ejp->ep", last, c[:, :, None] * dw - (w * s)[:, :, None] * dth)
+            + du[:, n1 + num, :] * gg
+            + wn * dg
+            + du[:, 2 * n1 + num, :] * gg * gg / 2.0
+            + qn * gg * dg
+            - dpi * gg**3 / 6.0
+            - pi_l[:, None] * gg * gg * dg / 2.0
+        )
     names = ("omega2", "eps", "theta0", "kappa", "gamma", "q" if code else "pi")
     idx = np.flatnonzero(sel)
     for out_name, arr in values.items():

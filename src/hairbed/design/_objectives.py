@@ -116,6 +116,8 @@ class Quantity:
     exact: bool
     _evaluate: Callable[[Any, str], tuple[float, Grad]] = field(repr=False)
     operating: tuple[Any, ...] = field(default=(), repr=False)
+    #: True for a quantity of the porous bed too (HairBed(model="porous")).
+    porous: bool = field(default=False, repr=False)
 
     def evaluate(self, model: Any, hold: str = "spacing") -> tuple[float, Grad]:
         """(value, {parameter: d value/d parameter}) of ``model``; ``hold`` is the one of
@@ -138,9 +140,10 @@ class Quantity:
                 f"{self.name} is a quantity of a {want.__name__}: model must be one, got "
                 f"{type(model).__name__}"
             )
-        if isinstance(model, HairBed) and model.model != "dense":
+        if isinstance(model, HairBed) and model.model != "dense" and not self.porous:
             raise NotImplementedError(
-                f"{self.name}: hairbed.design supports the dense bed only, so far"
+                f"{self.name}: hairbed.design supports this quantity of the dense bed only, "
+                "so far (of a porous bed: diodicity, resistance_ratio)"
             )
         if isinstance(model, Pillar) and model.profile not in _PILLAR_PROFILES:
             raise NotImplementedError(
@@ -277,6 +280,66 @@ def _valve_gaps(bed: HairBed, dp: float, length: float, hold: str) -> list[tuple
     return out
 
 
+@functools.lru_cache(maxsize=64)
+def _porous_flows(bed: HairBed, dp: float, length: float, hold: str) -> list[tuple[float, Grad]]:
+    """[(Q' [m^2/s], dQ'/dparameter)] of the porous bed's valve at +dp and -dp (theory.md
+    §13): Q' = E I Phi/(eta A), Phi the flux through bed and gap in load units, its exact
+    derivatives in (eps, theta0, kappa, gamma, pi) (:func:`porous_derivatives` with
+    ``flux``), kappa's and gamma's in the SI parameters from the bed's drag model
+    (``HairBed._drag_slopes``), pi = A G L^3/(E I). Cached as :func:`_valve_gaps`."""
+    from .._core.porous_sensitivity import porous_derivatives
+
+    curve = valve_curve(bed, np.array([dp, -dp]), length)
+    if not curve.success:
+        raise ArithmeticError(f"the valve's states at pressure_drop +-{dp:g} Pa: {curve.message}")
+    d = porous_derivatives(curve.states.solution, flux=True)
+    status = np.asarray(d.status).reshape(-1)
+    flows = np.asarray(curve.flow_rate, dtype=np.float64).reshape(-1)
+    big_l, big_h, a, e = bed.length, bed.channel_height, bed.radius, bed.youngs_modulus
+    d_ln_a = _comb((2.0, _ln("radius", a)), (-1.0, _ln_phi(bed, hold)))  # A = pi a^2/phi
+    d_ln_scale = _comb(
+        (1.0, _ln("youngs_modulus", e)),
+        (4.0, _ln("radius", a)),
+        (-1.0, _ln("viscosity", bed.viscosity)),
+        (-1.0, d_ln_a),
+    )
+    d_ln_eps = _comb((1.0, _ln("length", big_l)), (-1.0, _ln("channel_height", big_h)))
+    d_ln_pi = _comb(
+        (1.0, d_ln_a), (3.0, _ln("length", big_l)), (-1.0, _ln("youngs_modulus", e)),
+        (-4.0, _ln("radius", a)),
+    )  # fmt: skip
+    held = {"length", "radius", hold}
+    slopes = {k: v for k, v in bed._drag_slopes(hold).items() if k in held}
+    size = {"length": big_l, "radius": a, "spacing": bed.spacing, "packing_fraction":
+            bed.packing_fraction}  # fmt: skip
+    d_ln_kappa = {k: v[0] / float(size[k]) for k, v in slopes.items()}  # type: ignore[arg-type]
+    d_gamma = {k: v[1] / float(size[k]) for k, v in slopes.items()}  # type: ignore[arg-type]
+    kappa, eps = bed.kappa, bed.eps
+    out = []
+    for i, sign in enumerate((1.0, -1.0)):
+        if status[i] != 0:
+            raise ArithmeticError(f"the porous valve's state at {sign * dp:g} Pa is at a fold")
+        row = {k: float(np.asarray(v).reshape(-1)[i]) for k, v in d.table["flux"].items()}
+        pi = (
+            sign
+            * (dp / length)
+            * float(bed.wall_area_per_hair)
+            * big_l**3
+            / (bed.bending_stiffness)
+        )
+        q = float(flows[i])
+        scale = bed.bending_stiffness / (bed.viscosity * float(bed.wall_area_per_hair))
+        d_phi = _comb(
+            (row["eps"] * eps, d_ln_eps),
+            (row["theta0"], {"base_angle": 1.0}),
+            (row["kappa"] * kappa, d_ln_kappa),
+            (row["gamma"], d_gamma),
+            (row["pi"] * pi, d_ln_pi),
+        )
+        out.append((q, _comb((q, d_ln_scale), (scale, d_phi))))
+    return out
+
+
 def _drop(pressure_drop: Any, channel_length: Any) -> tuple[float, float]:
     dp = _number(pressure_drop, "pressure_drop [Pa]")
     return dp, _number(channel_length, "channel_length [m]")
@@ -289,6 +352,11 @@ def diodicity(pressure_drop: float, channel_length: float) -> Quantity:
     (eps, pi, theta0) and the chain rule. Validity: the gap's Reynolds number at both
     drops (with a density) and the dense-bed condition.
 
+    A porous bed (``HairBed(model="porous")``, theory.md §13): Di = Q'(+dp)/abs(Q'(-dp))
+    with the flow through bed and gap, Q' = E I Phi/(eta A); its gradient from the porous
+    states' exact derivatives of the flux Phi in (eps, theta0, kappa, gamma, pi), with
+    kappa's and gamma's in the SI parameters from the bed's drag model.
+
     Parameters
     ----------
     pressure_drop : float
@@ -299,11 +367,15 @@ def diodicity(pressure_drop: float, channel_length: float) -> Quantity:
     Returns
     -------
     Quantity
-        Of a HairBed (dense), unit [-].
+        Of a HairBed (dense or porous), unit [-].
     """
     dp, length = _drop(pressure_drop, channel_length)
 
     def evaluate(bed: HairBed, hold: str) -> tuple[float, Grad]:
+        if bed.model == "porous":  # Q'(+dp)/abs(Q'(-dp)), through bed and gap
+            (qp, dqp), (qm, dqm) = _porous_flows(bed, dp, length, hold)
+            di = qp / -qm
+            return di, _comb((di / qp, dqp), (-di / qm, dqm))
         (gp, dgp), (gm, dgm) = _valve_gaps(bed, dp, length, hold)
         di = (gp / gm) ** 3
         return di, _comb((3.0 * di / gp, dgp), (-3.0 * di / gm, dgm))
@@ -315,13 +387,15 @@ def diodicity(pressure_drop: float, channel_length: float) -> Quantity:
         True,
         evaluate,
         (("valve", dp, length),),
+        porous=True,
     )
 
 
 def resistance_ratio(pressure_drop: float, channel_length: float) -> Quantity:
     """R/R0 = (H/g)^3 [-] of the valve at the signed drop dp [Pa] over l [m]: its hydraulic
     resistance against the empty channel's (:func:`hairbed.valve.valve_curve`), exact
-    gradient as :func:`diodicity`.
+    gradient as :func:`diodicity`. Of a porous bed: the empty channel's flow over the
+    bed's, H^3 G/(12 eta Q'), the flow through bed and gap (as :func:`diodicity`).
 
     Parameters
     ----------
@@ -343,8 +417,16 @@ def resistance_ratio(pressure_drop: float, channel_length: float) -> Quantity:
         index, sign = 0, 1.0
 
     def evaluate(bed: HairBed, hold: str) -> tuple[float, Grad]:
-        gap, dgap = _valve_gaps(bed, dp, length, hold)[index]
         h = bed.channel_height
+        if bed.model == "porous":  # the empty channel's flow over the bed's, H^3 G/(12 eta Q')
+            q, dq = _porous_flows(bed, dp, length, hold)[index]
+            r = sign * dp * h**3 / (12.0 * bed.viscosity * length * q)
+            return r, _comb(
+                (3.0 * r / h, {"channel_height": 1.0}),
+                (-r / bed.viscosity, {"viscosity": 1.0}),
+                (-r / q, dq),
+            )
+        gap, dgap = _valve_gaps(bed, dp, length, hold)[index]
         r = (h / gap) ** 3
         return r, _comb((3.0 * r / h, {"channel_height": 1.0}), (-3.0 * r / gap, dgap))
 
@@ -355,6 +437,7 @@ def resistance_ratio(pressure_drop: float, channel_length: float) -> Quantity:
         True,
         evaluate,
         (("valve", dp, length),),
+        porous=True,
     )
 
 
@@ -1093,7 +1176,15 @@ def validity_constraints(model: Any, quantities: Any) -> tuple[list[Constraint],
     quantities = list(quantities)
     out: list[Constraint] = []
     notes: list[str] = []
-    if isinstance(model, HairBed):
+    if isinstance(model, HairBed) and model.model == "porous":
+        # the porous (Brinkman) bed holds at any depth of penetration; its packing fraction's
+        # bound (Drummond & Tahir's permeabilities) is refused up front by the Space
+        if any(o[0] == "valve" for q in quantities for o in q.operating):
+            notes.append(
+                "the gap Reynolds number of the porous bed's valve is not checked (a "
+                "constraint of it is not built yet)"
+            )
+    elif isinstance(model, HairBed):
         out.append(Constraint(brinkman_ratio(), upper=DENSE_BED_LIMIT, validity=True))
         if any(q.name == "bistable_width" for q in quantities):
             notes.append(

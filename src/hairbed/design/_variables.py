@@ -185,11 +185,6 @@ class Space:
     def __init__(self, base: Any, variables: Any) -> None:
         if isinstance(base, HairBed):
             allowed, kind = BED_VARIABLES, "bed"
-            if base.model != "dense":
-                raise NotImplementedError(
-                    "hairbed.design supports the dense bed (model='dense') only, so far; got "
-                    f"model={base.model!r}"
-                )
         elif isinstance(base, Pillar):
             allowed, kind = PILLAR_VARIABLES, "pillar"
         else:
