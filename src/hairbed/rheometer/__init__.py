@@ -8,11 +8,21 @@
 - :func:`oscillatory_shear`: small-amplitude oscillatory shear of the porous bed about a
   pre-stress: G'(omega), G''(omega), the phase lag or lead against the wall's speed and the
   crossovers, from the linear bed (:func:`hairbed.dynamics.linearise_bed`).
+- :func:`large_amplitude_shear`: the bed's periodic steady state under a large oscillatory
+  strain (:func:`hairbed.dynamics.simulate_bed` until the transient decays), analysed by
+  :func:`analyse_laos`; :func:`pipkin_map` over frequency and amplitude.
 """
 
 from __future__ import annotations
 
 from ._laos import LAOS_STATUS, STRAIN_SINE_TOL, LAOSAnalysis, analyse_laos
+from ._large import (
+    LARGE_STATUS,
+    LargeAmplitudeShear,
+    PipkinMap,
+    large_amplitude_shear,
+    pipkin_map,
+)
 from ._saos import SAOS_STATUS, OscillatoryShear, oscillatory_shear
 
 __all__ = [
@@ -23,4 +33,9 @@ __all__ = [
     "SAOS_STATUS",
     "OscillatoryShear",
     "oscillatory_shear",
+    "LARGE_STATUS",
+    "LargeAmplitudeShear",
+    "PipkinMap",
+    "large_amplitude_shear",
+    "pipkin_map",
 ]

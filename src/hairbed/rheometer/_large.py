@@ -1,0 +1,300 @@
+"""Large-amplitude oscillatory shear of the porous bed in time (issue 31 §2b).
+
+The top wall is driven so that the strain (its displacement over H) is
+gamma(t) = gamma0 sin(omega t): its speed V = H gamma0 omega cos(omega t), i.e. the wall
+forcing omega2(t) = omega2* + kappa gamma0 omega cos(omega t) (omega2 = kappa eps V, V in L/T,
+H = L/eps), about an optional pre-stress's forcing omega2*. The bed is integrated in time by
+:func:`hairbed.dynamics.simulate_bed` (Radau IIA, rtol 1e-9) from the steady state of the
+forcing at t = 0.
+
+**The periodic steady state: integrate until the transient decays.** The transient decays
+at least as fast as the slowest mode of the linear bed about the mean state
+(:meth:`hairbed.dynamics.LinearBed.modes`, rate r = min |Re lambda|): the run covers
+n = ceil(ln(1/periodic_tol)/(r P)) + 2 periods (P = 2 pi/omega, at least 3, at most
+``max_periods``), and the **criterion** is checked on the result: the stress over the last
+period differs from the period before by at most ``periodic_tol`` of its largest value
+(status 1 otherwise). The last period, sampled at ``samples`` uniform phases, is analysed by
+:func:`analyse_laos` (harmonics, Ewoldt's measures, Lissajous curves).
+
+At low frequency the bed follows its static states: the stress is the quasi-static rheology
+Q(H) of :func:`hairbed.solve_porous` at the instantaneous forcing (``quasi_static_stress``),
+to O(omega T).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .._core.porous import solve_porous
+from .._core.validation import check_int, check_number, status_messages
+from ..dynamics import linearise_bed, simulate_bed, sine
+from ._laos import LAOSAnalysis, analyse_laos
+
+__all__ = [
+    "LARGE_STATUS",
+    "LargeAmplitudeShear",
+    "PipkinMap",
+    "large_amplitude_shear",
+    "pipkin_map",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Status codes of :class:`LargeAmplitudeShear`.
+LARGE_STATUS = {
+    0: "ok: periodic to periodic_tol",
+    1: "not periodic: the last two periods differ by more than periodic_tol (max_periods)",
+    -1: "the integration failed (see trajectory_status: simulate_bed's BED_STATUS)",
+}
+
+
+@dataclass(frozen=True)
+class LargeAmplitudeShear:
+    """The bed's periodic response to a large-amplitude oscillatory strain.
+
+    Attributes
+    ----------
+    omega, strain_amplitude, forcing : float
+        omega [1/T], gamma0 [-] and the pre-stress's steady forcing omega2* [-].
+    t : ndarray
+        The last period's sample times [T] (end excluded).
+    strain, stress : ndarray
+        gamma(t) [-] and the top wall's stress Q(H, t) [E I/(A L^2)] over the last period.
+    quasi_static_stress : ndarray
+        The static bed's top stress at the instantaneous forcing (solve_porous) [E I/(A L^2)].
+    analysis : LAOSAnalysis or None
+        :func:`analyse_laos` of the last period (None where the run failed).
+    periods : int
+        Periods integrated.
+    periodic_error : float
+        max |stress(last period) - stress(the one before)| / max |stress| [-].
+    trajectory_status : int
+        :func:`simulate_bed`'s status.
+    nsteps : int
+        The integrator's steps.
+    status : int
+        ``LARGE_STATUS``.
+    """
+
+    omega: float
+    strain_amplitude: float
+    forcing: float
+    t: FloatArray
+    strain: FloatArray
+    stress: FloatArray
+    quasi_static_stress: FloatArray
+    analysis: LAOSAnalysis | None
+    periods: int
+    periodic_error: float
+    trajectory_status: int
+    nsteps: int
+    status: int
+
+    @property
+    def success(self) -> bool:
+        """True where status is 0."""
+        return self.status == 0
+
+    @property
+    def message(self) -> Any:
+        """``LARGE_STATUS`` of ``status``."""
+        return status_messages(self.status, LARGE_STATUS)
+
+
+def large_amplitude_shear(
+    omega: float,
+    strain_amplitude: float,
+    *,
+    eps: float,
+    kappa: float,
+    theta0: float = 0.0,
+    gamma: float = 1.0,
+    forcing: float = 0.0,
+    inertia: float = 0.0,
+    womersley: float = 0.0,
+    samples: int = 64,
+    periodic_tol: float = 1e-6,
+    max_periods: int = 200,
+    rtol: float = 1e-9,
+) -> LargeAmplitudeShear:
+    """The porous bed's periodic steady state under gamma = gamma0 sin(omega t), analysed.
+
+    Parameters
+    ----------
+    omega : float
+        Angular frequency [1/T] > 0 (T = zeta_perp L^4/(E I)).
+    strain_amplitude : float
+        gamma0 [-] > 0: the top wall's displacement amplitude over H.
+    eps, kappa, theta0, gamma : float
+        The bed (as :func:`hairbed.solve_porous`).
+    forcing : float, optional
+        The pre-stress's steady wall forcing omega2* (default 0).
+    inertia, womersley : float, optional
+        mu and alpha of :func:`hairbed.dynamics.simulate_bed` (default 0: overdamped hairs,
+        quasi-steady fluid; with inertia the high modes ring for about 2 mu T each, and the
+        run is long).
+    samples : int, optional
+        Samples per period in [16, 4096] (default 64); the harmonics below samples/2.
+    periodic_tol : float, optional
+        The periodicity criterion (default 1e-6), in [1e-9, 0.1].
+    max_periods : int, optional
+        The most periods integrated, in [3, 10^4] (default 200).
+    rtol : float, optional
+        The integrator's relative tolerance (default 1e-9, below the periodicity criterion's
+        default; atol is the same: a smaller atol stalls the integrator's first step,
+        measured).
+
+    Returns
+    -------
+    LargeAmplitudeShear
+    """
+    om = check_number(omega, "omega", low=0.0, low_open=True)
+    g0 = check_number(strain_amplitude, "strain_amplitude", low=0.0, low_open=True)
+    e = check_number(eps, "eps", low=0.0, high=1.0, low_open=True, high_open=True)
+    k = check_number(kappa, "kappa", low=0.0, low_open=True)
+    th = check_number(theta0, "theta0", low=-math.pi / 2, high=math.pi / 2, low_open=True,
+                      high_open=True)  # fmt: skip
+    gm = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
+    w0 = check_number(forcing, "forcing")
+    mu = check_number(inertia, "inertia", low=0.0)
+    alpha = check_number(womersley, "womersley", low=0.0)
+    per = check_int(samples, "samples", 16, 4096)
+    tol = check_number(periodic_tol, "periodic_tol", low=1e-9, high=0.1)
+    nmax = check_int(max_periods, "max_periods", 3, 10_000)
+    rt = check_number(rtol, "rtol", low=1e-12, high=1e-3)
+    amp = k * g0 * om
+    mean = solve_porous(w0, e, th, kappa=k, gamma=gm)
+    if int(mean.status) < 0:
+        raise ValueError(
+            f"forcing {w0!r} has no steady state of this bed (status {int(mean.status)})"
+        )
+    lam = linearise_bed(mean, inertia=mu, womersley=alpha).modes(4).eigenvalues
+    rate = float(np.min(np.abs(lam.real))) if lam.size else 1.0
+    period = 2.0 * math.pi / om
+    need = math.log(1.0 / tol) / max(rate * period, 1e-300)
+    nper = int(min(max(3, math.ceil(need) + 2), nmax))
+    t = np.arange(nper * per + 1) * (period / per)
+    run = simulate_bed(
+        th, k, e, t_eval=t, wall=sine(w0, amp, om, math.pi / 2), gamma=gm, inertia=mu,
+        womersley=alpha, rtol=rt, atol=rt, max_steps=10_000_000,
+    )  # fmt: skip
+    last = slice(nper * per - per, nper * per)
+    prev = slice(nper * per - 2 * per, nper * per - per)
+    tl = np.asarray(t[last], dtype=np.float64)
+    strain = g0 * np.sin(om * tl)
+    stress = np.asarray(run.wall_stress[last], dtype=np.float64)
+    qs = solve_porous(w0 + amp * np.cos(om * tl), e, th, kappa=k, gamma=gm)
+    quasi = np.asarray(qs.tip_stress, dtype=np.float64)  # Q(H) = Q(h1) under the wall drive
+    if int(run.status) != 0 or not np.all(np.isfinite(run.wall_stress)):
+        return LargeAmplitudeShear(
+            om, g0, w0, tl, strain, stress, quasi, None, nper, math.nan, int(run.status),
+            int(run.nsteps), -1,
+        )  # fmt: skip
+    big = float(np.max(np.abs(stress)))
+    err = float(np.max(np.abs(stress - run.wall_stress[prev]))) / (big if big > 0 else 1.0)
+    res = analyse_laos(tl, strain, stress)
+    return LargeAmplitudeShear(
+        om, g0, w0, tl, strain, stress, quasi, res, nper, err, 0, int(run.nsteps),
+        0 if err <= tol else 1,
+    )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class PipkinMap:
+    """LAOS measures over frequency and strain amplitude (:func:`pipkin_map`).
+
+    Arrays are (frequency, amplitude).
+
+    Attributes
+    ----------
+    omega, strain_amplitude : ndarray
+        The axes [1/T], [-].
+    storage, loss : ndarray
+        The first harmonic's G'_1, G''_1 [E I/(A L^2)].
+    third_harmonic : ndarray
+        I_3/I_1 [-] (the odd nonlinearity).
+    even_ratio : ndarray
+        The even part's size over I_1 [-] (a tilted bed's asymmetry).
+    large_modulus, minimum_modulus, large_viscosity, minimum_viscosity : ndarray
+        Ewoldt's G'_L, G'_M [E I/(A L^2)], eta'_L, eta'_M [E I T/(A L^2)].
+    status : ndarray of int
+        ``LARGE_STATUS`` of each run.
+    """
+
+    omega: FloatArray
+    strain_amplitude: FloatArray
+    storage: FloatArray
+    loss: FloatArray
+    third_harmonic: FloatArray
+    even_ratio: FloatArray
+    large_modulus: FloatArray
+    minimum_modulus: FloatArray
+    large_viscosity: FloatArray
+    minimum_viscosity: FloatArray
+    status: NDArray[np.int64]
+
+    @property
+    def success(self) -> Any:
+        """True where status is 0."""
+        return self.status == 0
+
+    def to_xarray(self) -> Any:
+        """An xarray.Dataset with dimensions ``frequency`` and ``amplitude`` (units, long
+        names). Needs the ``io`` extra."""
+        from .._optional import optional_import
+
+        xr = optional_import("xarray", "PipkinMap.to_xarray", "io")
+        dims = ("frequency", "amplitude")
+        mod, vis = "E I/(A L^2)", "E I T/(A L^2)"
+        fields = {
+            "storage": (self.storage, mod, "first-harmonic storage modulus G'_1"),
+            "loss": (self.loss, mod, "first-harmonic loss modulus G''_1"),
+            "third_harmonic": (self.third_harmonic, "1", "I_3/I_1"),
+            "even_ratio": (self.even_ratio, "1", "even part over I_1"),
+            "large_modulus": (self.large_modulus, mod, "G'_L (Ewoldt 2008)"),
+            "minimum_modulus": (self.minimum_modulus, mod, "G'_M (Ewoldt 2008)"),
+            "large_viscosity": (self.large_viscosity, vis, "eta'_L (Ewoldt 2008)"),
+            "minimum_viscosity": (self.minimum_viscosity, vis, "eta'_M (Ewoldt 2008)"),
+            "status": (self.status, "1", "status"),
+        }
+        return xr.Dataset(
+            {n: (dims, v, {"units": u, "long_name": ln}) for n, (v, u, ln) in fields.items()},
+            coords={
+                "frequency": ("frequency", self.omega, {"units": "1/T", "long_name": "omega"}),
+                "amplitude": ("amplitude", self.strain_amplitude, {"units": "1"}),
+            },
+            attrs={"title": "hairbed porous bed: Pipkin map", "Conventions": "CF-1.10"},
+        )  # fmt: skip
+
+
+def pipkin_map(omegas: Any, strain_amplitudes: Any, **kwargs: Any) -> PipkinMap:
+    """:func:`large_amplitude_shear` over a grid of frequencies [1/T] and strain amplitudes
+    [-] (one run each; ``kwargs`` as that function's): the Pipkin map's measures."""
+    om = np.atleast_1d(np.asarray(omegas, dtype=np.float64))
+    ga = np.atleast_1d(np.asarray(strain_amplitudes, dtype=np.float64))
+    shape = (om.size, ga.size)
+    names = ("storage", "loss", "third_harmonic", "even_ratio", "large_modulus",
+             "minimum_modulus", "large_viscosity", "minimum_viscosity")  # fmt: skip
+    vals = {n: np.full(shape, np.nan) for n in names}
+    status = np.full(shape, -1, dtype=np.int64)
+    for i, w in enumerate(om):
+        for j, g in enumerate(ga):
+            r = large_amplitude_shear(float(w), float(g), **kwargs)
+            status[i, j] = r.status
+            a = r.analysis
+            if a is None:
+                continue
+            vals["storage"][i, j] = a.storage[0]
+            vals["loss"][i, j] = a.loss[0]
+            vals["third_harmonic"][i, j] = a.relative_intensity[2] if a.harmonic.size > 2 else 0.0
+            vals["even_ratio"][i, j] = a.even_ratio
+            vals["large_modulus"][i, j] = a.large_modulus
+            vals["minimum_modulus"][i, j] = a.minimum_modulus
+            vals["large_viscosity"][i, j] = a.large_viscosity
+            vals["minimum_viscosity"][i, j] = a.minimum_viscosity
+    return PipkinMap(omega=om, strain_amplitude=ga, status=status, **vals)

@@ -1,0 +1,43 @@
+"""Large-amplitude oscillatory shear of the porous bed in time (issue 31 §2b).
+
+References independent of the time integrator: at low frequency the static solver
+(``solve_porous``'s top stress at the instantaneous forcing, the quasi-static rheology), with
+the difference shrinking like omega; at small amplitude the linear bed's G* (tested against
+mpmath in tests/test_rheometer_saos.py).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from hairbed.rheometer import large_amplitude_shear, oscillatory_shear, pipkin_map
+
+
+def test_low_frequency_is_the_quasi_static_rheology() -> None:
+    diffs = []
+    for om in (1e-3, 3e-3):
+        # gamma0 = 1/omega: the forcing swings by +-1 (kappa = 1), far beyond the linear range
+        r = large_amplitude_shear(om, 1.0 / om, eps=0.5, kappa=1.0, rtol=1e-10)
+        assert r.success and r.periodic_error < 1e-6 and r.analysis is not None
+        assert r.analysis.relative_intensity[2] > 1e-4  # the third harmonic of shear-thinning
+        diffs.append(np.max(np.abs(r.stress - r.quasi_static_stress)) / np.max(np.abs(r.stress)))
+    assert diffs[0] < 1e-5
+    rate = np.log(diffs[1] / diffs[0]) / np.log(3.0)
+    assert abs(rate - 1.0) < 0.1, (diffs, rate)
+
+
+def test_small_amplitude_is_the_linear_bed_and_tilt_is_asymmetric() -> None:
+    lin = oscillatory_shear([1.0], eps=0.5, kappa=1.0)
+    g_lin = lin.storage[0, 0] + 1j * lin.loss[0, 0]
+    pm = pipkin_map([1.0], [0.01, 1.0], eps=0.5, kappa=1.0)
+    assert np.all(pm.success)
+    g_small = pm.storage[0, 0] + 1j * pm.loss[0, 0]
+    assert abs(g_small - g_lin) < 1e-6 * abs(g_lin)
+    assert pm.even_ratio[0, 1] < 1e-6  # the upright bed is symmetric
+    assert pm.third_harmonic[0, 1] > 100 * pm.third_harmonic[0, 0]
+    ds = pm.to_xarray()
+    assert ds["storage"].dims == ("frequency", "amplitude")
+    assert ds["storage"].attrs["units"] == "E I/(A L^2)"
+    tilted = large_amplitude_shear(1.0, 1.0, eps=0.5, kappa=1.0, theta0=0.4)
+    assert tilted.success and tilted.analysis is not None
+    assert tilted.analysis.even_ratio > 1e-3  # with and against the grain differ
