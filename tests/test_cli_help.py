@@ -57,6 +57,7 @@ FALLBACKS = {
     ("measure", "base_angle"): "0",
     ("linear-range", "base_angle"): "0",
     ("valve", "base_angle"): "0",
+    ("pump", "base_angle"): "0",
     ("bench", "n"): "1e5",
     ("bench", "rows"): "all",
     ("sweep", "out"): "CSV",

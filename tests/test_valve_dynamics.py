@@ -136,3 +136,51 @@ def test_pump_bad_input_is_named(kwargs, match):
 def test_not_a_bed_is_a_type_error():
     with pytest.raises(TypeError, match="bed"):
         valve_switching("bed", 1.0, LENGTH)  # type: ignore[arg-type]
+
+
+BED_ARGS = [
+    "--length", "1e-3", "--radius", "50e-6", "--youngs-modulus", "1e6",
+    "--channel-height", "2e-3", "--viscosity", "1", "--spacing", "250e-6",
+    "--base-angle", "0.5", "--channel-length", "0.01",
+]  # fmt: skip
+
+
+def test_cli_pump_switch_and_net_flow(capsys):
+    from hairbed.cli import main
+
+    assert main(["pump", "--switch", "300", "--num-times", "5", "--json", *BED_ARGS]) == 0
+    import json
+
+    doc = json.loads(capsys.readouterr().out)
+    q1 = float(valve_curve(_bed(model="dense"), 300.0, LENGTH).flow_rate)
+    assert doc["units"]["flow_rate"] == "m^2/s"
+    assert doc["status"] == 0 and len(doc["time"]) == 5
+    # the dense bed's steady flow differs from the porous model's that the run follows
+    assert doc["final_flow_rate"] == pytest.approx(
+        float(valve_curve(_bed(), 300.0, LENGTH).flow_rate), rel=1e-12
+    )
+    assert doc["final_flow_rate"] != pytest.approx(q1, rel=1e-6)
+    assert main(["pump", "--amplitudes", "300", "--frequencies", "0.01,0.1", *BED_ARGS]) == 0
+    out = capsys.readouterr().out.splitlines()
+    header = out.index("amplitude,frequency,net_flow,quasi_static_net_flow,periods,status")
+    rows = [line.split(",") for line in out[header + 1 :]]
+    assert [float(r[1]) for r in rows] == [0.01, 0.1]
+    assert all(r[-1] == "0" for r in rows)
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["pump", *BED_ARGS],
+        ["pump", "--switch", "1", "--amplitudes", "1", "--frequencies", "1", *BED_ARGS],
+        ["pump", "--amplitudes", "1", *BED_ARGS],
+        ["pump", "--switch", "nan", *BED_ARGS],
+        ["pump", "--switch", "1", "--num-times", "1", *BED_ARGS],
+    ],
+)
+def test_cli_pump_usage_errors_are_one_line(argv, capsys):
+    from hairbed.cli import main
+
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("hairbed: ")
