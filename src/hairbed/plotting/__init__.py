@@ -57,9 +57,11 @@ from .paper import (
     fig_theta0s,
 )
 from .porous import fig_collective_stiffening
+from .rheometer import fig_bed_moduli
 
 __all__ = [
     "FIGURES",
+    "fig_bed_moduli",
     "fig_bistability",
     "fig_calibration",
     "fig_collective_stiffening",
@@ -119,6 +121,7 @@ FIGURES: dict[str, Callable[..., Figure]] = {
     "pillar_bode": fig_pillar_bode,
     "pillar_step": fig_pillar_step,
     "pillar_film": fig_pillar_film,
+    "bed_moduli": fig_bed_moduli,
 }
 
 
