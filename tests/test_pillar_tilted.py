@@ -308,22 +308,25 @@ def test_at_the_wall_every_state_is_found(theta0: float) -> None:
     assert np.all(d_low < d_mid) and np.all(d_mid < d_high)
 
 
-def test_a_fold_beyond_the_range_nearer_still() -> None:
+@pytest.mark.parametrize("theta0", [-1.57078, -math.pi / 2 + 1e-7])
+def test_a_fold_beyond_the_range_nearer_still(theta0: float) -> None:
     """At theta0 = -1.57078 (1.6e-5 from the wall) the window's upper fold (~1.6e5) lies
     beyond the largest forcing: the march through the window ends at the wall's side of the
     range, where a step of 0.05 in d would pass the wall (before: it stopped there, and every
-    forcing said status 6). Every root of every forcing balances; at Lambda = 1e5 the low
-    state still leans on the wall and the high one has flipped over."""
+    forcing said status 6). At pi/2 - 1e-7 the march from rest starts where theta - theta0
+    is resolved (its first step at 1e-2 moved theta by less than its rounding: status -7
+    everywhere). Every root of every forcing balances; at Lambda = 1e5 the low state still
+    leans on the wall and the high one has flipped over. Within 1e-9 of the wall no state is
+    claimed."""
     lam = np.geomspace(1e-3, 1e5, 100)
-    low = hairbed.solve_pillar(lam, -1.57078)
+    low = hairbed.solve_pillar(lam, theta0)
     assert np.all(np.asarray(low.status) == 0)
     three = np.asarray(low.n_states) == 3
     assert np.all(three == (lam > 18.0))  # the lower fold: 17.69 (-1.5707 and -1.57075)
-    for st in (
-        low,
-        *(hairbed.solve_pillar(lam[three], -1.57078, root=r) for r in ("mid", "high")),
-    ):
+    for st in (low, *(hairbed.solve_pillar(lam[three], theta0, root=r) for r in ("mid", "high"))):
         assert np.all(np.asarray(st.status) == 0)
         shape, base = _balance(st, points=2001, grading=4.0)
         assert shape.max() < WALL_BALANCE_RTOL and base.max() < WALL_BALANCE_RTOL
     assert float(low.tip_deflection[-1]) < -0.99 and float(st.tip_deflection[-1]) > 0.95
+    beyond = hairbed.solve_pillar(lam, -math.pi / 2 + 1e-9)
+    assert np.all(np.asarray(beyond.status) == -7) and np.all(np.asarray(beyond.n_states) == 0)

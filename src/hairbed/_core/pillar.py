@@ -1258,6 +1258,14 @@ ATLAS_THETA0 = -1.5
 #: ``_ATLAS_GROW`` after an easy step, cut to a quarter of its excess over 1 after a failed
 #: one; the march ends at a fold when the factor's excess falls below ``_ATLAS_FOLD``.
 _ATLAS_START = 1e-2
+#: ... or later, where the straight pillar's theta - theta0 ~ Lambda cos^2(theta0)/11 reaches
+#: this (some 5000 times theta's rounding): nearer the wall (theta0 = -pi/2 + 1e-7) the
+#: first step's deflection would be below theta's rounding and its x1 - sin(theta0) zero
+_ATLAS_TURN = 1e-12
+#: ... but not beyond this: the window's upper fold lies at ~2.6/cos(theta0) for the
+#: sublayer (27330 at -1.5707), so the first step stays below 1e-3 of it down to
+#: cos(theta0) = 3.3e-9; nearer the wall the atlas gives up (status -7, no state claimed)
+_ATLAS_FIRST_MAX = 1e6
 _ATLAS_GROW = 2.0
 _ATLAS_FOLD = 1e-7
 #: A step of the forward march that takes more Newton iterations than this (every level)
@@ -1395,7 +1403,10 @@ def _march_forcing(
         cur = pts[-1]
         if cur.lam >= lam_end:
             return True
-        lam = min(lam_end, _ATLAS_START if cur.lam == 0.0 else cur.lam * fac)
+        first = max(_ATLAS_START, _ATLAS_TURN * 11.0 / math.cos(key[0]) ** 2)
+        if cur.lam == 0.0 and first > _ATLAS_FIRST_MAX:
+            return False  # so near the wall that theta cannot carry the deflection
+        lam = min(lam_end, first if cur.lam == 0.0 else cur.lam * fac)
         prev = pts[-2] if len(pts) > 1 else None
         new = _atlas_step(_DRAG, lam, key, prof, tol, nums, cur, prev)
         # on the rising part Lambda and x1 grow together (dx1/dLambda > 0), by at most
