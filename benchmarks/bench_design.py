@@ -17,7 +17,10 @@ Rows:
    tracker's value, both by Newton's method from the pillar's own root) (target <= 3x);
    the sensitivity d(x1 L)/d(tau_w) over ``Pillar.sensitivity`` and the bandwidth over the
    pillar's state and its slowest mode (``linearise_pillar(...).modes(1)``): their gradients
-   are second derivatives (jets, the eigenvalue's derivative);
+   are second derivatives (jets, the eigenvalue's derivative); the resonance frequency
+   over the state and its slowest mode with inertia; the porous bed's diodicity over
+   ``valve_curve`` at +-dp; the snap-through window of a pillar tilted upstream, its folds
+   followed from a neighbour (value and gradient) against the branch's scan [ms];
 5. the linear range's value: Newton's method from a neighbour's root (10 pillars 0.2 %
    apart in length, after the first's scan) against :meth:`Pillar.linear_range`'s scan [ms].
 
@@ -30,6 +33,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import math
 import os
 import sys
 import warnings
@@ -37,6 +41,7 @@ from typing import Any
 
 sys.path.insert(0, os.path.dirname(__file__))
 
+import numpy as np  # noqa: E402
 from bench_common import best, report  # noqa: E402
 
 from hairbed import HairBed, Pillar  # noqa: E402
@@ -44,7 +49,7 @@ from hairbed import design as D  # noqa: E402
 from hairbed.design import _objectives  # noqa: E402
 from hairbed.design._linear_range import LinearRangeTracker  # noqa: E402
 from hairbed.dynamics import linearise_pillar  # noqa: E402
-from hairbed.valve import diodicity  # noqa: E402
+from hairbed.valve import diodicity, valve_curve  # noqa: E402
 
 __all__ = ["main", "run"]
 
@@ -52,6 +57,7 @@ __all__ = ["main", "run"]
 def _clear() -> None:
     _objectives._valve_gaps.cache_clear()
     _objectives._pillar_rows.cache_clear()
+    _objectives._porous_flows.cache_clear()
 
 
 def _models() -> tuple[HairBed, Pillar]:
@@ -135,6 +141,40 @@ def run(repeat: int = 3) -> dict[str, Any]:
             return float(lin.modes(1).eigenvalues[0].real)
 
         band = ratio(lambda: q_band.evaluate(pillar), band_value)
+        q_res = D.resonance_frequency(0.5, 1000.0)
+        light = dataclasses.replace(pillar, viscosity=1e-3)
+
+        def res_value() -> float:
+            zeta = light.normal_drag_coefficient
+            t_scale = zeta * light.length**4 / light.bending_stiffness
+            mu = (1000.0 + 1000.0) * math.pi * light.radius**2 / (zeta * t_scale)
+            st = light.deform(0.5).solution
+            lin = linearise_pillar(st, profile=light._core_profile, mu=mu, tangential_mass=0.5)
+            return float(lin.modes(2).eigenvalues[0].imag)
+
+        res = ratio(lambda: q_res.evaluate(light), res_value)
+        porous = HairBed(length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=2e-3,
+                         viscosity=1.0, spacing=250e-6, base_angle=0.5,
+                         model="porous")  # fmt: skip
+        q_por = D.diodicity(300.0, 0.01)
+        por = ratio(
+            lambda: q_por.evaluate(porous),
+            lambda: valve_curve(porous, np.array([300.0, -300.0]), 0.01).flow_rate,
+        )
+        snap = dataclasses.replace(light, base_angle=-1.4)
+        tilts = [dataclasses.replace(snap, base_angle=-1.4 - 1e-3 * i) for i in range(1, 11)]
+
+        def window_follow() -> None:
+            q = D.snap_window()
+            q.evaluate(snap)
+            for p in tilts:
+                q.evaluate(p)
+
+        def window_scan() -> None:
+            D.snap_window().evaluate(snap)
+
+        t_wfollow, _ = best(window_follow, repeat)
+        t_wscan, _ = best(window_scan, repeat)
         tracker = q_lin._tracker  # type: ignore[attr-defined]
         lin = ratio(
             lambda: q_lin._evaluate.__wrapped__(pillar, "spacing"),  # type: ignore[attr-defined]
@@ -185,6 +225,14 @@ def run(repeat: int = 3) -> dict[str, Any]:
         "bandwidth_grad_ms": band[0] * 1e3,
         "bandwidth_value_ms": band[1] * 1e3,
         "bandwidth_ratio": band[2],
+        "resonance_grad_ms": res[0] * 1e3,
+        "resonance_value_ms": res[1] * 1e3,
+        "resonance_ratio": res[2],
+        "porous_diodicity_grad_ms": por[0] * 1e3,
+        "porous_diodicity_value_ms": por[1] * 1e3,
+        "porous_diodicity_ratio": por[2],
+        "snap_window_followed_ms": (t_wfollow - t_wscan) / 10 * 1e3,
+        "snap_window_scan_ms": t_wscan * 1e3,
         "linear_range_grad_ms": lin[0] * 1e3,
         "linear_range_value_ms": lin[1] * 1e3,
         "linear_range_ratio": lin[2],
@@ -223,6 +271,14 @@ def main(argv: list[str] | None = None) -> None:
         ("bandwidth: value+gradient / value (target <= 3)",
          f"{f['bandwidth_ratio']:.2f}  ({f['bandwidth_grad_ms']:.2f} / "
          f"{f['bandwidth_value_ms']:.2f} ms)"),
+        ("resonance frequency: value+gradient / value (target <= 3)",
+         f"{f['resonance_ratio']:.2f}  ({f['resonance_grad_ms']:.2f} / "
+         f"{f['resonance_value_ms']:.2f} ms)"),
+        ("porous diodicity: value+gradient / value (target <= 3)",
+         f"{f['porous_diodicity_ratio']:.2f}  ({f['porous_diodicity_grad_ms']:.2f} / "
+         f"{f['porous_diodicity_value_ms']:.2f} ms)"),
+        ("snap window: followed from a neighbour / scanned [ms]",
+         f"{f['snap_window_followed_ms']:.1f} / {f['snap_window_scan_ms']:.1f}"),
         ("linear range: value+gradient / value",
          f"{f['linear_range_ratio']:.2f}  ({f['linear_range_grad_ms']:.1f} / "
          f"{f['linear_range_value_ms']:.1f} ms)"),

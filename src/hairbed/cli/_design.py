@@ -21,8 +21,9 @@ and the constructor's parameters), [[variables]] tables (name, low, high, log), 
 Pareto front of the two, by the epsilon-constraint method) and an optional [options] table
 (starts, seed, validity, points). Quantities: diodicity, resistance_ratio, gap_reynolds
 (pressure_drop, channel_length), brinkman_ratio, bistable_width, tip_deflection,
-sensitivity, l_plus, pillar_reynolds, bandwidth (wall_shear_stress), linear_range (rtol),
-slenderness, linear_sensitivity. Prints the result as one line of JSON; a problem with no
+sensitivity, l_plus, pillar_reynolds, bandwidth (wall_shear_stress), resonance_frequency
+(wall_shear_stress, pillar_density), linear_range (rtol), slenderness, linear_sensitivity,
+snap_window. Prints the result as one line of JSON; a problem with no
 design (infeasible: the constraint that cannot be met is in its message) prints it too and
 exits 1.
 

@@ -14,8 +14,8 @@ The spec is a mapping::
 Quantities and their arguments: diodicity, resistance_ratio, gap_reynolds (pressure_drop
 [Pa], channel_length [m]); brinkman_ratio, bistable_width (none); tip_deflection,
 sensitivity, l_plus, pillar_reynolds, bandwidth (wall_shear_stress [Pa]); linear_range
-(rtol); slenderness, linear_sensitivity, snap_window (none); resonance_frequency (wall_shear_stress
-[Pa], pillar_density [kg/m^3]).
+(rtol); slenderness, linear_sensitivity, snap_window (none); resonance_frequency
+(wall_shear_stress [Pa], pillar_density [kg/m^3]).
 """
 
 from __future__ import annotations
