@@ -124,6 +124,21 @@ def test_bad_input_and_results() -> None:
     dn = hairbed.solve_porous(0.5 - h, 0.5, 0.2, kappa=0.5)
     dx = (float(up.tip_deflection) - float(dn.tip_deflection)) / (2 * h)
     assert abs(fr.tip_deflection[0] - dx) < 1e-8 * abs(dx)
+    # a state of the flow drive (Pi the unknown that holds q): the static limit in q
+    flow = linearise_bed(hairbed.solve_porous(0.5, 0.5, 0.2, q=1.0, kappa=0.5))
+    assert flow.drives == ("wall", "flow_rate")
+    fq = flow.frequency_response([0.0], "flow_rate")
+    h = 1e-5
+    up, dn = (hairbed.solve_porous(0.5, 0.5, 0.2, q=1.0 + d, kappa=0.5) for d in (h, -h))
+
+    def top(st):  # the top wall's stress Q(h1) - Pi g of the gap's exact profile
+        return float(st.tip_stress) - float(st.pi) * (2.0 - float(st.tip_height))
+
+    dx = (float(up.tip_deflection) - float(dn.tip_deflection)) / (2 * h)
+    assert abs(fq.tip_deflection[0] - dx) < 1e-8 * abs(dx)
+    dq = (top(up) - top(dn)) / (2 * h)
+    assert abs(fq.wall_stress[0] - dq) < 1e-8 * abs(dq)
+    assert abs(fq.flow_rate[0] - 1.0) < 1e-12
     ds = fr.to_xarray()
     assert ds["wall_stress_gain"].attrs["units"] == "E I/(A L^2)"
     assert ds["omega"].attrs["units"] == "1/T" and math.isclose(ds.attrs["inertia"], 0.0)
