@@ -272,29 +272,45 @@ class PipkinMap:
         )  # fmt: skip
 
 
-def pipkin_map(omegas: Any, strain_amplitudes: Any, **kwargs: Any) -> PipkinMap:
+def pipkin_map(
+    omegas: Any, strain_amplitudes: Any, *, workers: int = 1, **kwargs: Any
+) -> PipkinMap:
     """:func:`large_amplitude_shear` over a grid of frequencies [1/T] and strain amplitudes
-    [-] (one run each; ``kwargs`` as that function's): the Pipkin map's measures."""
-    om = np.atleast_1d(np.asarray(omegas, dtype=np.float64))
-    ga = np.atleast_1d(np.asarray(strain_amplitudes, dtype=np.float64))
+    [-] (one run each; ``kwargs`` as that function's): the Pipkin map's measures.
+
+    ``workers`` threads in [1, 64] share the runs (the integrator's kernel releases the
+    GIL)."""
+    om = np.atleast_1d(np.asarray(omegas, dtype=np.float64)).reshape(-1)
+    ga = np.atleast_1d(np.asarray(strain_amplitudes, dtype=np.float64)).reshape(-1)
+    nw = check_int(workers, "workers", 1, 64)
     shape = (om.size, ga.size)
     names = ("storage", "loss", "third_harmonic", "even_ratio", "large_modulus",
              "minimum_modulus", "large_viscosity", "minimum_viscosity")  # fmt: skip
     vals = {n: np.full(shape, np.nan) for n in names}
     status = np.full(shape, -1, dtype=np.int64)
-    for i, w in enumerate(om):
-        for j, g in enumerate(ga):
-            r = large_amplitude_shear(float(w), float(g), **kwargs)
-            status[i, j] = r.status
-            a = r.analysis
-            if a is None:
-                continue
-            vals["storage"][i, j] = a.storage[0]
-            vals["loss"][i, j] = a.loss[0]
-            vals["third_harmonic"][i, j] = a.relative_intensity[2] if a.harmonic.size > 2 else 0.0
-            vals["even_ratio"][i, j] = a.even_ratio
-            vals["large_modulus"][i, j] = a.large_modulus
-            vals["minimum_modulus"][i, j] = a.minimum_modulus
-            vals["large_viscosity"][i, j] = a.large_viscosity
-            vals["minimum_viscosity"][i, j] = a.minimum_viscosity
+    cells = [(i, j) for i in range(om.size) for j in range(ga.size)]
+
+    def run(cell: tuple[int, int]) -> LargeAmplitudeShear:
+        return large_amplitude_shear(float(om[cell[0]]), float(ga[cell[1]]), **kwargs)
+
+    if nw == 1 or len(cells) < 2:
+        results = [run(c) for c in cells]
+    else:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(max_workers=nw) as pool:
+            results = list(pool.map(run, cells))
+    for (i, j), r in zip(cells, results):
+        status[i, j] = r.status
+        a = r.analysis
+        if a is None:
+            continue
+        vals["storage"][i, j] = a.storage[0]
+        vals["loss"][i, j] = a.loss[0]
+        vals["third_harmonic"][i, j] = a.relative_intensity[2] if a.harmonic.size > 2 else 0.0
+        vals["even_ratio"][i, j] = a.even_ratio
+        vals["large_modulus"][i, j] = a.large_modulus
+        vals["minimum_modulus"][i, j] = a.minimum_modulus
+        vals["large_viscosity"][i, j] = a.large_viscosity
+        vals["minimum_viscosity"][i, j] = a.minimum_viscosity
     return PipkinMap(omega=om, strain_amplitude=ga, status=status, **vals)
