@@ -261,3 +261,16 @@ def test_amplitude_sweep_bounds_the_amplitude(pillar):
         hairbed.sweeps.amplitude_sweep(
             pillar, [0.1, 1e300], [10.0], wall_shear_stress=1.0, pillar_density=1000.0
         )
+
+
+def test_linear_bed_degrees_and_huge_frequencies():
+    """LinearBed.operators checks its degrees by name (NaN reached int()); at omega = 1e300
+    the bands' length scales overflowed with numpy's warning: beyond N = 128, status 3."""
+    lin = dynamics.linearise_bed(hairbed.solve_porous(2.0, 0.5, 0.1, kappa=0.1), inertia=0.1)
+    for num, num_gap, name in ((math.nan, 4, "num"), (3, 4, "num"), (8, 2**63, "num_gap")):
+        with pytest.raises(ValueError, match=rf"{name} must be an integer in \["):
+            lin.operators(num, num_gap)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        r = lin.frequency_response([0.1, 1e300])
+    assert list(r.status) == [0, 3]

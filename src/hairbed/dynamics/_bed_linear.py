@@ -278,8 +278,10 @@ class LinearBed:
         return max(_HAIR_BANDS[0], min(int(self.state.num), 128)), _GAP_BANDS[0]
 
     def operators(self, num: int, num_gap: int) -> BedOperators:
-        """:func:`bed_operators` at the degrees (N, M), built once each."""
-        key = (int(num), int(num_gap) if self.womersley > 0.0 else 0)
+        """:func:`bed_operators` at the degrees (N, M), built once each: N in [8, 128], M in
+        [4, 128]."""
+        deg, gdeg = _check_degree(num, "num"), _check_degree(num_gap, "num_gap", 4)
+        key = (deg, gdeg if self.womersley > 0.0 else 0)
         have = self._ops.get(key)
         if have is None:
             have = bed_operators(
@@ -347,8 +349,9 @@ class LinearBed:
         mu, alpha = self.inertia, self.womersley
         kappa, eps = float(self.state.kappa), float(self.state.eps)
         gap = max(1.0 / eps - float(self.state.tip_height), 1e-3)
-        wave = np.sqrt(np.sqrt(np.hypot(mu * om * om, om)))
-        layer = np.sqrt(np.hypot(1.0, alpha * kappa * om) / kappa)
+        with np.errstate(over="ignore"):  # beyond N = 128 anyway (status 3)
+            wave = np.sqrt(np.sqrt(np.hypot(mu * om * om, om)))
+            layer = np.sqrt(np.hypot(1.0, alpha * kappa * om) / kappa)
         need_n = np.maximum(wave + _MARGIN, np.sqrt(30.0 * layer) + 8.0)
         need_m = np.sqrt(30.0 * gap * np.sqrt(alpha * om)) + 8.0
         nn = _bands(need_n, _HAIR_BANDS)
