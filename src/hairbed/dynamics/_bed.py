@@ -824,7 +824,7 @@ def simulate_bed(
     a = 0.0
     if initial is not None and np.isfinite(initial._map):
         a = float(initial._map)
-    elif top == 0 and pump == 0 and pump_sig.at_start(before) == 0.0:
+    elif top == 0 and pump == 0 and pump_sig.kind == "constant" and pump_sig.params[0] == 0.0:
         from .._core.porous import _tip_map
 
         a = float(_tip_map(0, np.array(kap), np.array(0.0)))

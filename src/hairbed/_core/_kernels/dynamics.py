@@ -679,11 +679,12 @@ def _radau(
     embedded order-3 error estimate of Hairer & Wanner (Solving ODEs II, IV.8),
     ((gamma0/h) M - J)^-1 (f0 + M sum_i DD_i Z_i/h), refined once after a rejection; the step
     by 0.9 err^(-1/4) within [0.2, 5]. Error norm: the root mean square of
-    err/(atol + rtol max(|y0|, |y1|)) over the differential components (mass != 0): an
-    index-1 DAE's algebraic components follow from them, and their estimate is the rounding
-    of the ill-conditioned collocation at the short steps of an impulsive start (the
-    algebraic variables suppressed from the error test, as IDA's ``suppressalg``; SUNDIALS,
-    Hindmarsh et al. 2005). The Jacobian and the LUs are reused as in Hairer &
+    err/(atol + rtol max(|y0|, |y1|)) over the differential components (mass != 0), and the
+    Newton increments' norm likewise: an index-1 DAE's algebraic components follow from the
+    differential ones, and their estimate and increments are the rounding of the
+    ill-conditioned collocation (condition ~1e8) at tight tolerances (the algebraic
+    variables suppressed from the tests, as IDA's ``suppressalg``; SUNDIALS, Hindmarsh et
+    al. 2005). The Jacobian and the LUs are reused as in Hairer &
     Wanner's RADAU5: after a step whose Newton converged in one iteration or with a
     contraction below 1e-3 the next step keeps the Jacobian (a new one is taken at the step's
     start after any rejection or divergent Newton with an old one), and keeps the LUs too where
@@ -851,8 +852,9 @@ def _radau(
                     for si in range(3):  # dZ = T dW
                         dz = _TM[si][0] * d0 + _TM[si][1] * d1 + _TM[si][2] * d2
                         z[si * m + k] += dz
-                        norm += (dz / sc[k]) ** 2
-                norm = math.sqrt(norm / (3 * m))
+                        if mass[k] != 0.0:
+                            norm += (dz / sc[k]) ** 2
+                norm = math.sqrt(norm / (3 * mdiff))
                 if it > 0:
                     rate_old = norm / norm_old if norm_old > 0.0 else 0.0
                     if rate_old >= 0.99:
