@@ -40,6 +40,7 @@ SMALL = {
     "fig_pillar_bode": {"num": 20},
     "fig_pillar_step": {"num": 40, "periods": 1.0},
     "fig_pillar_film": {"frames": 3, "periods": 0.5},
+    "fig_valve_pump": {"num": 2, "frequency_range": (0.1, 10.0)},
     "fig_bed_moduli": {"num": 4, "forcings": (0.0,), "inertia": 0.0},
 }
 
@@ -159,6 +160,7 @@ PANELS = {
     "fig_sensor_design": 2,
     "fig_pillar_bode": 2,
     "fig_pillar_film": 3,
+    "fig_valve_pump": 2,
     "fig_bed_moduli": 2,
 }
 

@@ -37,8 +37,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._channel_drives import load_scale
+from ._core.porous import solve_porous
 from ._core.validation import _first_index, as_float_array, check_int, check_positive, show
-from .dynamics import BedTrajectory, simulate_bed, sine, step
+from .dynamics import BedTrajectory, linearise_bed, simulate_bed, sine, step
 from .units import HairBed
 from .valve import valve_curve
 
@@ -560,9 +561,16 @@ def pump_net_flow(
     status = np.zeros((na, nf), dtype=np.int64)
     messages: dict[int, str] = {0: PUMP_STATUS[0]}
     qs = np.array([_quasi_static(bed, float(a), length, m) for a in amps])
+    rate = _slowest_decay(s)
     for i, pia in enumerate(big):
         for j, om in enumerate(omega_t):
-            k = 4
+            # the periods for the start's transient to decay below tol at the rest state's
+            # slowest rate (the check below extends the run where the cycle's rate is slower)
+            k = int(
+                min(
+                    kmax, max(4, math.ceil(math.log(1.0 / ptol) * om / (2.0 * math.pi * rate)) + 2)
+                )
+            )
             while True:
                 t = np.arange(k * m + 1) * (2.0 * math.pi / om) / m
                 traj = _run(s, t, sine(0.0, float(pia), float(om)), rtol=itol, atol=itol * 1e-2)
@@ -597,6 +605,17 @@ def pump_net_flow(
         status=status,
         message=messages[worst],
     )
+
+
+def _slowest_decay(s: _BedScales) -> float:
+    """The slowest decay rate [1/T] of the bed's small motions about rest (the smallest
+    -Re lambda of :func:`hairbed.dynamics.linearise_bed`'s modes)."""
+    rest = solve_porous(0.0, s.eps, s.theta0, kappa=s.kappa, gamma=s.gamma, pi=0.0)
+    lin = linearise_bed(
+        rest, inertia=s.inertia, tangential_mass=s.tangential_mass, womersley=s.womersley
+    )
+    lam = lin.modes(4).eigenvalues
+    return float(np.min(-lam.real))
 
 
 def _peaks(freqs: FloatArray, net: FloatArray) -> tuple[FloatArray, NDArray[np.bool_]]:

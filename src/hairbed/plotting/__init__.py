@@ -58,6 +58,7 @@ from .paper import (
 )
 from .porous import fig_collective_stiffening
 from .rheometer import fig_bed_moduli
+from .valve_dynamics import fig_valve_pump
 
 __all__ = [
     "FIGURES",
@@ -87,6 +88,7 @@ __all__ = [
     "fig_twirling",
     "fig_valve",
     "fig_valve_design",
+    "fig_valve_pump",
     "fig_valve_result",
     "make_all",
     "parameters",
@@ -122,6 +124,7 @@ FIGURES: dict[str, Callable[..., Figure]] = {
     "pillar_step": fig_pillar_step,
     "pillar_film": fig_pillar_film,
     "bed_moduli": fig_bed_moduli,
+    "valve_pump": fig_valve_pump,
 }
 
 
