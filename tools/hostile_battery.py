@@ -645,6 +645,140 @@ def _new_targets() -> list[Target]:
             dict(pressure_drop=[10.0, 100.0], channel_length=0.01),
             edges={"pressure_drop": [0.0, [-100.0, 100.0]]},
         ),
+        *_later_targets(pillar),
+    ]
+
+
+def _later_targets(pillar: Any) -> list[Target]:
+    """Added later this session: the porous bed in time (and linearised), the rheometer
+    (LAOS's analysis, small-amplitude shear), the sensor's sweeps over stress, amplitude and
+    frequency, the resonance as a quantity, the valve's switching and a pump's net flow."""
+    from hairbed import design, dynamics, sweeps, valve_dynamics
+    from hairbed.rheometer import analyse_laos, large_amplitude_shear, oscillatory_shear
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        state = hairbed.solve_porous(2.0, 0.5, 0.1, kappa=0.1)
+        phase = np.arange(64) * 2.0 * np.pi / 64.0
+        strain = 0.5 * np.sin(phase)
+        stress = 2.0 * strain + 0.3 * strain**3 + 0.75 * np.cos(phase)
+        laos = analyse_laos(phase, strain, stress)
+        bed = hairbed.HairBed(**BED_KW, density=1000.0)
+
+    def resonance(**kw: Any) -> Any:
+        return design.resonance_frequency(**kw)(pillar)
+
+    return [
+        Target(
+            "dynamics.simulate_bed",
+            lambda **kw: dynamics.simulate_bed(**kw),
+            dict(
+                theta0=0.0,
+                kappa=0.1,
+                eps=0.5,
+                t_eval=[0.0, 0.05],
+                wall=1.0,
+                inertia=0.0,
+                womersley=0.0,
+                num=8,
+                num_gap=4,
+                max_steps=500,
+            ),
+            edges={
+                "wall": [0.0, -1.0, dynamics.step(1.0)],
+                "theta0": [-1.2, 1.2],
+                "inertia": [0.1],
+                "womersley": [1.0],
+                "t_eval": [[0.0]],
+            },
+        ),
+        Target(
+            "dynamics.bed_operators",
+            lambda **kw: dynamics.bed_operators(**kw),
+            dict(state=state, inertia=0.1, womersley=0.0, num=8, num_gap=4),
+            edges={"inertia": [0.0], "womersley": [2.0]},
+        ),
+        Target(
+            "rheometer.analyse_laos",
+            lambda **kw: analyse_laos(**kw),
+            dict(time=phase, strain=strain, stress=stress, periods=1, num_harmonics=None),
+            edges={"num_harmonics": [1, 31], "stress": [0.0 * stress + 1.0]},
+        ),
+        Target(
+            "LAOSAnalysis.stress",
+            lambda theta: laos.stress(theta),
+            dict(theta=[0.0, 1.0]),
+            edges={"theta": [0.0, -1e6, np.array([])]},
+        ),
+        Target(
+            "sweeps.response_sweep",
+            lambda **kw: sweeps.response_sweep(pillar, **kw),
+            dict(
+                frequency=[10.0, 100.0],
+                wall_shear_stress=[0.0, 1.0],
+                pillar_density=1000.0,
+                drag="quasi-steady",
+            ),
+            edges={"frequency": [0.0, [0.0, 1e3]], "wall_shear_stress": [-1.0], "drag": ["sader"]},
+            text=("drag",),
+        ),
+        Target(
+            "sweeps.amplitude_sweep",
+            lambda **kw: sweeps.amplitude_sweep(pillar, **kw),
+            dict(
+                amplitude=[0.1],
+                frequency=[10.0],
+                wall_shear_stress=1.0,
+                pillar_density=1000.0,
+                periods=2,
+                num=8,
+            ),
+            fuzz=("amplitude", "frequency", "wall_shear_stress", "periods"),
+            edges={"amplitude": [[0.1, 0.5]], "wall_shear_stress": [0.0]},
+        ),
+        Target(
+            "design.resonance_frequency",
+            resonance,
+            dict(wall_shear_stress=1.0, pillar_density=1000.0),
+            edges={"wall_shear_stress": [0.0, 10.0], "pillar_density": [2000.0]},
+        ),
+        Target(
+            "dynamics.linearise_bed",
+            lambda **kw: dynamics.linearise_bed(**kw).modes(2, num=8, num_gap=4),
+            dict(state=state, inertia=0.1, womersley=0.0),
+            edges={"inertia": [0.0], "womersley": [2.0]},
+        ),
+        Target(
+            "rheometer.oscillatory_shear",
+            lambda **kw: oscillatory_shear(**kw),
+            dict(omega=1.0, forcing=0.0, eps=0.5, kappa=1.0, inertia=0.0, womersley=0.0),
+            edges={"omega": [[0.1, 10.0]], "forcing": [1.0], "inertia": [0.5]},
+        ),
+        Target(
+            "rheometer.large_amplitude_shear",
+            lambda **kw: large_amplitude_shear(**kw),
+            dict(omega=1.0, strain_amplitude=0.5, eps=0.5, kappa=1.0, samples=16, max_periods=20),
+            fuzz=("omega", "strain_amplitude", "eps", "kappa"),
+        ),
+        Target(
+            "valve_dynamics.valve_switching",
+            lambda **kw: valve_dynamics.valve_switching(bed, **kw),
+            dict(pressure_drop=100.0, channel_length=0.01, num_times=11),
+            fuzz=("pressure_drop", "channel_length", "num_times"),
+            edges={"pressure_drop": [-100.0]},
+        ),
+        Target(
+            "valve_dynamics.pump_net_flow",
+            lambda **kw: valve_dynamics.pump_net_flow(bed, **kw),
+            dict(
+                amplitude=100.0,
+                frequency=1.0,
+                channel_length=0.01,
+                samples_per_period=16,
+                max_periods=20,
+            ),
+            fuzz=("amplitude", "frequency", "channel_length"),
+        ),
     ]
 
 
