@@ -7,17 +7,20 @@ method="exponential")``, ``_core/_kernels/exponential.py``, theory.md §14):
   N = 12, rtol 1e-7 against the Radau IIA run (the other integrator, sharing only the
   semi-discrete rates) at twice the degree, N = 24, and rtol 1e-10, within 1e-8 over 30 T
   (measured 2.4e-9);
+- the wall and jump events at the times Radau IIA finds (measured 3e-13 and 3e-11 apart);
 - bad input: an unknown method named.
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 import mpmath
 import numpy as np
 import pytest
 
 from hairbed._core._kernels.exponential import phi_functions
-from hairbed.dynamics import sampled, simulate_pillar
+from hairbed.dynamics import sampled, simulate_pillar, step
 
 
 def _phi_reference(z: complex, j: int) -> complex:
@@ -59,3 +62,21 @@ def test_ringing_pillar_against_radau_at_twice_the_degree() -> None:
 def test_unknown_method_is_named() -> None:
     with pytest.raises(ValueError, match="method"):
         simulate_pillar(1.0, [0.0, 1.0], method="rk45")
+
+
+def test_events_agree_with_radau() -> None:
+    """The wall event (a downstream-tilted pillar struck by Lambda = 300 overshoots to the
+    wall, theory.md §14) and the jump event (the tip's speed reaching 0.05 L/T after a
+    step), each located on the dense output by bisection: the same times as Radau IIA."""
+    kw: dict[str, Any] = {"theta0": 1.3, "mu": 1.0, "num": 12, "rtol": 1e-8, "atol": 1e-10}
+    te = [0.0, 0.1, 0.5]
+    wall = [simulate_pillar(step(300.0), te, method=m, **kw) for m in ("radau", "exponential")]
+    assert [r.status for r in wall] == [-8, -8]
+    assert abs(wall[0].t_end - wall[1].t_end) < 1e-9
+    assert np.isfinite(wall[1].tip_deflection[1]) and np.isnan(wall[1].tip_deflection[2])
+    jump = [
+        simulate_pillar(step(20.0), te, method=m, jump_speed=0.05, **kw)
+        for m in ("radau", "exponential")
+    ]
+    assert [r.status for r in jump] == [-9, -9]
+    assert abs(jump[0].t_end - jump[1].t_end) < 1e-8  # (measured 3e-11)
