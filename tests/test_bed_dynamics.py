@@ -299,3 +299,22 @@ def test_accuracy_against_twice_the_resolution() -> None:
     # the top stress too, after the impulsive start (at t = 0 the step's stress has the
     # hairs' singular start in it: 4e-5 apart)
     assert np.max(np.abs(a.wall_stress[1:] - b.wall_stress[1:])) < 1e-8
+
+
+def test_the_wall_event_the_xarray_and_a_given_start() -> None:
+    """A downstream-tilted inertial hair (theta0 = 1.3, mu = 1) struck by a step of the top
+    wall's speed overshoots to abs(theta) = pi/2: status -8 at t_end (N = 12 and 16 agree on
+    it to 4e-5), the values after it NaN; the trajectory as xarray with CF attributes; a
+    run started from a given static state of its own drives stays there."""
+    run = simulate_bed(1.3, 1.0, 0.5, wall=step(300.0), inertia=1.0,
+                       t_eval=[0.0, 0.05, 0.5], num=12, rtol=1e-6, atol=1e-8)  # fmt: skip
+    assert run.status == -8 and not run.success and "pi/2" in run.message
+    assert 0.17 < run.t_end < 0.18
+    assert np.isfinite(run.tip_deflection[1]) and np.isnan(run.tip_deflection[2])
+    ds = run.to_xarray()
+    assert ds["tip_deflection"].attrs["units"] == "L"
+    assert ds["theta"].dims == ("t", "s") and ds.attrs["status"] == -8
+    assert all("long_name" in ds[v].attrs for v in ds.data_vars)
+    st = hairbed.solve_porous(2.0, 0.5, 0.3, kappa=0.2, pi=0.5)
+    run = simulate_bed(0.3, 0.2, 0.5, wall=2.0, pressure=0.5, initial=st, t_eval=[0.0, 1.0])
+    assert run.success and np.max(np.abs(run.tip_deflection - st.tip_deflection)) < 1e-12
