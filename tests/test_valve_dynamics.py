@@ -73,20 +73,21 @@ def test_dense_bed_runs_the_porous_model_of_its_geometry():
 def test_pump_net_flow_tends_to_the_quasi_static_rectification():
     """f -> 0: the net flow of the periodic state -> the phase average of the valve curve,
     with an error falling like f^2 (the lag's first order is odd in the drop and averages
-    out; measured 1.8e-6, 1.0e-4, 1.0e-2 relative at f T = 0.01, 0.1, 1)."""
+    out; measured 1.8e-6, 1.0e-4, 1.0e-2 relative at f T = 0.01, 0.1, 1; the errors at f T
+    = 0.03, 0.1 lie well above the periodic state's and the integrator's tolerances)."""
     bed = _bed()
     t_scale = bed_time_scales(bed)["time_scale"]
-    f = np.array([1e-2, 3e-2]) / t_scale
-    res = pump_net_flow(bed, 300.0, f, LENGTH, samples_per_period=32)
+    f = np.array([3e-2, 1e-1]) / t_scale
+    res = pump_net_flow(bed, 300.0, f, LENGTH, samples_per_period=32, tol=1e-9, rtol=1e-9)
     assert res.success, res.message
     qs = float(res.quasi_static_net_flow[0])
     # the quasi-static net flow is not zero (the bed leans: a diode) and is positive along
     # the lean (forward flow opens the gap)
     assert qs > 0.0
     err = np.abs(res.net_flow[0] - qs)
-    assert err[0] < 1e-5 * abs(qs)
-    rate = math.log(err[1] / err[0]) / math.log(3.0)
-    assert 1.8 < rate < 2.2, (err, rate)
+    assert err[1] < 2e-4 * abs(qs)
+    rate = math.log(err[1] / err[0]) / math.log(10.0 / 3.0)
+    assert 1.9 < rate < 2.1, (err, rate)  # measured 1.9995
 
 
 def test_upright_bed_pumps_nothing():
