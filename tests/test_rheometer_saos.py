@@ -81,3 +81,34 @@ def test_lead_crossover_and_prestress() -> None:
         oscillatory_shear([2.0, 1.0], eps=0.5, kappa=1.0)
     with pytest.raises(ValueError, match="eps"):
         oscillatory_shear([1.0], eps=1.5, kappa=1.0)
+
+
+def test_si_moduli_of_a_hair_bed() -> None:
+    """bed_moduli in SI: at low frequency G''/(2 pi f) is the bed's effective viscosity,
+    the steady wall stress per shear rate tau H/v of HairBed.wall_shear_stress (the units
+    module's own conversions and the static porous solver)."""
+    import warnings
+
+    import hairbed
+    from hairbed.rheometer import bed_moduli
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        bed = hairbed.HairBed(
+            length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=2e-3,
+            viscosity=1e-3, spacing=4e-4, density=1000.0, model="porous",
+        )  # fmt: skip
+        v = 1e-7
+        eta_eff = float(bed.wall_shear_stress(v)) * bed.channel_height / v
+    res = bed_moduli(bed, [1e-4, 1e-3, 10.0], hair_density=1100.0)
+    slope = res.loss[:2, 0] / (2 * np.pi * res.frequency[:2])
+    assert abs(slope[0] / eta_eff - 1.0) < 1e-6
+    assert abs(slope[1] / eta_eff - 1.0) < 1e-4
+    assert np.all(res.success) and res.modulus_scale > 0 and res.time_scale > 0
+    # water's inertia (alpha about 290): the stress leads the wall's speed
+    assert res.storage[-1, 0] < 0 and res.lead[-1, 0] > 0
+    assert res.to_xarray()["storage"].attrs["units"] == "Pa"
+    with pytest.raises(TypeError, match="HairBed"):
+        bed_moduli("bed", [1.0])  # type: ignore[arg-type]
+    with pytest.raises(ValueError, match="hair_density"):
+        bed_moduli(bed, [1.0], hair_density=-1.0)

@@ -7,7 +7,8 @@
   Hosoi & McKinley 2008), and the Lissajous-Bowditch curves. Solver-independent.
 - :func:`oscillatory_shear`: small-amplitude oscillatory shear of the porous bed about a
   pre-stress: G'(omega), G''(omega), the phase lag or lead against the wall's speed and the
-  crossovers, from the linear bed (:func:`hairbed.dynamics.linearise_bed`).
+  crossovers, from the linear bed (:func:`hairbed.dynamics.linearise_bed`);
+  :func:`bed_moduli` the same in SI for a :class:`hairbed.HairBed` [Pa, Hz].
 - :func:`large_amplitude_shear`: the bed's periodic steady state under a large oscillatory
   strain (:func:`hairbed.dynamics.simulate_bed` until the transient decays), analysed by
   :func:`analyse_laos`; :func:`pipkin_map` over frequency and amplitude.
@@ -23,7 +24,7 @@ from ._large import (
     large_amplitude_shear,
     pipkin_map,
 )
-from ._saos import SAOS_STATUS, OscillatoryShear, oscillatory_shear
+from ._saos import SAOS_STATUS, BedModuli, OscillatoryShear, bed_moduli, oscillatory_shear
 
 __all__ = [
     "LAOS_STATUS",
@@ -33,6 +34,8 @@ __all__ = [
     "SAOS_STATUS",
     "OscillatoryShear",
     "oscillatory_shear",
+    "BedModuli",
+    "bed_moduli",
     "LARGE_STATUS",
     "LargeAmplitudeShear",
     "PipkinMap",

@@ -39,8 +39,9 @@ from numpy.typing import ArrayLike, NDArray
 from .._core.porous import solve_porous
 from .._core.validation import as_float_array, check_number, show, status_messages
 from ..dynamics import LinearBed, linearise_bed
+from ..units import HairBed
 
-__all__ = ["SAOS_STATUS", "OscillatoryShear", "oscillatory_shear"]
+__all__ = ["SAOS_STATUS", "BedModuli", "OscillatoryShear", "bed_moduli", "oscillatory_shear"]
 
 FloatArray = NDArray[np.float64]
 
@@ -291,4 +292,165 @@ def oscillatory_shear(
         inertia=mu,
         womersley=alpha,
         status=status,
+    )
+
+
+@dataclass(frozen=True)
+class BedModuli:
+    """G'(f) and G''(f) of a :class:`hairbed.HairBed` in SI (:func:`bed_moduli`).
+
+    Arrays are (frequency, pre_stress).
+
+    Attributes
+    ----------
+    frequency : ndarray
+        f [Hz].
+    speed : ndarray
+        The pre-stresses' steady wall speeds [m/s].
+    pre_stress : ndarray
+        The top wall's steady stress at each speed [Pa].
+    storage, loss : ndarray
+        G', G'' [Pa].
+    lead : ndarray
+        The stress's phase against the wall's speed [rad] (< 0 lag, > 0 lead).
+    lead_crossover, modulus_crossover : ndarray
+        Per pre-stress, the frequencies [Hz] where G' changes sign and where G' = G''.
+    time_scale : float
+        T = zeta_perp L^4/(E I) [s].
+    modulus_scale : float
+        E I/(A L^2) [Pa].
+    dimensionless : OscillatoryShear
+        The same in the bed's units (omega T, moduli over the modulus scale) with the groups
+        kappa, eps, alpha, mu.
+    """
+
+    frequency: FloatArray
+    speed: FloatArray
+    pre_stress: FloatArray
+    storage: FloatArray
+    loss: FloatArray
+    lead: FloatArray
+    lead_crossover: FloatArray
+    modulus_crossover: FloatArray
+    time_scale: float
+    modulus_scale: float
+    dimensionless: OscillatoryShear
+
+    @property
+    def status(self) -> NDArray[np.int64]:
+        """``SAOS_STATUS`` (frequency, pre_stress)."""
+        return self.dimensionless.status
+
+    @property
+    def success(self) -> Any:
+        """True where status is 0."""
+        return self.status == 0
+
+    @property
+    def message(self) -> Any:
+        """``SAOS_STATUS`` of each status."""
+        return self.dimensionless.message
+
+    def to_xarray(self) -> Any:
+        """An xarray.Dataset with dimensions ``frequency`` [Hz] and ``pre_stress`` [Pa]. Needs
+        the ``io`` extra."""
+        from .._optional import optional_import
+
+        xr = optional_import("xarray", "BedModuli.to_xarray", "io")
+        dims = ("frequency", "pre_stress")
+        p, f = "pre_stress", "frequency"
+
+        def att(units: str, name: str) -> dict[str, str]:
+            return {"units": units, "long_name": name}
+
+        return xr.Dataset(
+            {
+                "storage": (dims, self.storage, att("Pa", "storage modulus G'")),
+                "loss": (dims, self.loss, att("Pa", "loss modulus G''")),
+                "lead": (dims, self.lead, att("rad", "stress phase against the wall speed")),
+                "status": (dims, self.status, att("1", "status")),
+                "lead_crossover": (p, self.lead_crossover, att("Hz", "G' = 0")),
+                "modulus_crossover": (p, self.modulus_crossover, att("Hz", "G' = G''")),
+            },
+            coords={
+                "frequency": (f, self.frequency, att("Hz", "frequency")),
+                "pre_stress": (p, self.pre_stress, att("Pa", "top wall's steady stress")),
+                "speed": (p, self.speed, att("m s-1", "steady wall speed")),
+            },
+            attrs={
+                "title": "hairbed bed in a rheometer (SI)",
+                "time_scale_s": self.time_scale,
+                "modulus_scale_Pa": self.modulus_scale,
+                "Conventions": "CF-1.10",
+            },
+        )  # fmt: skip
+
+
+def bed_moduli(
+    bed: HairBed,
+    frequency: ArrayLike,
+    speed: ArrayLike = 0.0,
+    *,
+    hair_density: float | None = None,
+) -> BedModuli:
+    """G'(f) and G''(f) [Pa] of a hair bed in a rheometer, about steady wall speeds [m/s].
+
+    The bed's porous model (theory.md §13, the drag of ``bed.drag``) in the units of
+    :func:`oscillatory_shear`: T = zeta_perp L^4/(E I), omega = 2 pi f T, moduli in
+    E I/(A L^2) [Pa]; the Womersley number alpha = rho_f L^2/(eta T) from ``bed.density``
+    (0, a quasi-steady fluid, without one); the hairs' inertia mu = m/(zeta_perp T) with
+    m = (rho_s + rho_f) pi a^2 and chi = rho_s/(rho_s + rho_f) where ``hair_density`` rho_s
+    [kg/m^3] is given (0, overdamped hairs, without one).
+
+    Parameters
+    ----------
+    bed : HairBed
+        The bed (any ``model``: its porous description is used).
+    frequency : array_like
+        f [Hz], finite, > 0, increasing.
+    speed : array_like, optional
+        Steady wall speeds of the pre-stresses [m/s] (default 0; the sign is the direction).
+    hair_density : float, optional
+        rho_s [kg/m^3] > 0.
+
+    Returns
+    -------
+    BedModuli
+    """
+    if not isinstance(bed, HairBed):
+        raise TypeError(f"bed must be a HairBed, got {type(bed).__name__}")
+    f = as_float_array(frequency, "frequency").reshape(-1)
+    v = as_float_array(speed, "speed").reshape(-1)
+    zeta = float(bed.drag_coefficients[0])
+    ei = float(bed.bending_stiffness)
+    length = float(bed.length)
+    area = float(bed.wall_area_per_hair)
+    tscale = zeta * length**4 / ei
+    gscale = ei / (area * length**2)
+    rho_f = 0.0 if bed.density is None else float(bed.density)
+    alpha = rho_f * length**2 / (bed.viscosity * tscale)
+    mu, chi = 0.0, 1.0
+    if hair_density is not None:
+        rho_s = check_number(hair_density, "hair_density", low=0.0, low_open=True)
+        mass = (rho_s + rho_f) * math.pi * float(bed.radius) ** 2
+        mu, chi = mass / (zeta * tscale), rho_s / (rho_s + rho_f)
+    forcing = np.sign(v) * np.asarray(bed.omega2(np.abs(v)), dtype=np.float64).reshape(-1)
+    om = 2.0 * math.pi * f * tscale
+    res = oscillatory_shear(
+        om, forcing, eps=bed.eps, kappa=bed.kappa, theta0=bed.base_angle, gamma=bed.drag_ratio,
+        inertia=mu, womersley=alpha, tangential_mass=chi,
+    )  # fmt: skip
+    hz = 1.0 / (2.0 * math.pi * tscale)
+    return BedModuli(
+        frequency=f,
+        speed=v,
+        pre_stress=res.pre_stress * gscale,
+        storage=res.storage * gscale,
+        loss=res.loss * gscale,
+        lead=res.lead,
+        lead_crossover=res.lead_crossover * hz,
+        modulus_crossover=res.modulus_crossover * hz,
+        time_scale=tscale,
+        modulus_scale=gscale,
+        dimensionless=res,
     )
