@@ -328,5 +328,10 @@ def test_a_fold_beyond_the_range_nearer_still(theta0: float) -> None:
         shape, base = _balance(st, points=2001, grading=4.0)
         assert shape.max() < WALL_BALANCE_RTOL and base.max() < WALL_BALANCE_RTOL
     assert float(low.tip_deflection[-1]) < -0.99 and float(st.tip_deflection[-1]) > 0.95
+    # the low and high states are the stable ones, for the flow either way (before, with
+    # the flow towards -x, solve_pillar_all called the middle one stable and not the others)
+    for sign in (1.0, -1.0):
+        states = hairbed.solve_pillar_all(sign * 100.0, sign * theta0)
+        assert [s.stable for s in (states if sign > 0 else states[::-1])] == [True, False, True]
     beyond = hairbed.solve_pillar(lam, -math.pi / 2 + 1e-9)
     assert np.all(np.asarray(beyond.status) == -7) and np.all(np.asarray(beyond.n_states) == 0)

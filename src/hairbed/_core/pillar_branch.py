@@ -314,7 +314,8 @@ def _wall_states(lam: float, branch: _Branch) -> list[PillarState]:
     the roots "low", "mid" and "high" of :func:`hairbed.solve_pillar`, read off the branch of
     its atlas (marched in Lambda and through the window in x1, issue 33), where the inverse
     on a grid in x1 cannot start from rest. Each with ``stable`` from the sign of its
-    dx1/dLambda (positive on a rising part of the branch)."""
+    dx1/dLambda (positive on a rising part of the branch, for either sign of the forcing:
+    the mirror x -> -x changes the sign of both)."""
     lf, t0, g, tip = _check(lam, branch.theta0, branch.gamma, branch.tip_load)
     low = _solve_pillar_checked(lf, t0, g, tip, branch.prof, 1e-12, LADDER, "low")
     n = int(low.n_states)
@@ -323,7 +324,7 @@ def _wall_states(lam: float, branch: _Branch) -> list[PillarState]:
         _solve_pillar_checked(lf, t0, g, tip, branch.prof, 1e-12, LADDER, r) for r in roots[1:]
     ]
     return [
-        replace(st, stable=bool(st.tip_deflection_slope * lam > 0.0) if st.status >= 0 else None)
+        replace(st, stable=bool(st.tip_deflection_slope > 0.0) if st.status >= 0 else None)
         for st in states
     ]
 
