@@ -247,21 +247,32 @@ def test_a_custom_quantity_without_gradient_is_marked_inexact():
 
 def test_the_jets_residual_is_the_kernels():
     """The residual run on jets (the second derivatives' path) is the compiled kernel's:
-    zero at a converged state, and its Jacobian is the kernel's exact Jacobian."""
+    zero at a converged state, its Jacobian the kernel's exact Jacobian and its partials in
+    (Lambda, theta0, gamma) those of the first-order system; du/dLambda gives the kernel's
+    tip slope."""
     from hairbed._core.pillar import _solve_pillar_checked
-    from hairbed.design._pillar_second import _first
+    from hairbed.design._pillar_second import _first, _inputs, _partials, _residual
     from hairbed.dynamics._operators import state_operators
 
     p = _pillar()
-    prof = np.asarray(p._core_options[0])
+    prof = np.asarray(p._core_options[0])[0]
     for lam, th, g in [(3.0, 0.2, 0.7), (300.0, -0.4, 0.62)]:
         args = (np.array(lam), np.array(th), np.array(g), np.zeros(()))
         st = _solve_pillar_checked(*args, *p._core_options)
         num = int(st.num)
-        first = _first(st, prof[0])
+        first = _first(st, prof)
+        m = first.u.size
+        res = _residual(
+            first.lev, *_inputs(first.u, first.p, np.eye(m + 3), np.zeros((0, m + 3))), prof=prof
+        )
+        assert np.max(np.abs(res.v)) <= 1e-9 * (1.0 + lam)
+        jac, r_p = _partials(first.lev, first.u, first.p, prof)
         coefs = np.asarray(st._coefs)[0].reshape(-1)[: num + 1]
-        ops = state_operators(num, float(st._map), coefs, lam, g, 0.0, prof[0], 1.0)
-        np.testing.assert_allclose(first.jac, ops.jac, rtol=0, atol=1e-12 * np.abs(ops.jac).max())
+        ops = state_operators(num, float(st._map), coefs, lam, g, 0.0, prof, 1.0)
+        big = np.abs(ops.jac).max()
+        np.testing.assert_allclose(res.a[:m].T, ops.jac, rtol=0, atol=1e-12 * big)
+        np.testing.assert_allclose(res.a[:m].T, jac, rtol=0, atol=1e-12 * big)
+        np.testing.assert_allclose(res.a[m:].T, r_p, rtol=0, atol=1e-12 * np.abs(r_p).max())
         # du/dLambda against the kernel's tip slope dx1/dLambda
         x1_u = ops.ii[num] * np.cos(ops.theta)
         assert x1_u @ first.du[: num + 1, 0] == pytest.approx(

@@ -22,8 +22,10 @@ dynamics (theory.md §14), from which the derivative of an eigenvalue of the pen
 with w, v its left and right eigenvectors, after the reduction of the algebraic rows
 (:func:`hairbed.dynamics._linear._reduce`) differentiated too.
 
-The residual here is the kernel's (``_residual_drag``) written over jets; the jets' value
-and Jacobian agree with the kernel's (``tests/test_design_gradients.py``).
+The first-order system (J and R_p) is the compiled kernels' (``_jacobian_drag``,
+``_unit_load``); the second derivatives run the kernel's residual (``_residual_drag``)
+written over jets, whose value, Jacobian and partials agree with the kernels'
+(``tests/test_design_gradients.py``).
 """
 
 from __future__ import annotations
@@ -244,30 +246,56 @@ def _first(state: PillarState, prof: FloatArray, num: int | None = None) -> _Fir
     lev2 = _level(num, a)
     th2 = interp @ theta
     u2 = np.append(th2, lev2.ii[num] @ np.cos(th2))
-    jac2 = _jacobian(lev2, u2, p, prof)
+    jac2 = _partials(lev2, u2, p, prof)[0]
     dth = interp @ first.du[: own + 1]
     dh = (lev2.ii[num] * -np.sin(th2)) @ dth
     du2 = np.vstack([dth, dh[None, :]])
     return _First(lev2, u2, p, jac2, du2, prof)
 
 
-def _jacobian(
+def _partials(
     lev: _Level, u: FloatArray, p: tuple[float, float, float], prof: FloatArray
-) -> FloatArray:
-    m = u.size
-    da = np.eye(m + 3)[:m]
-    res = _residual(lev, *_inputs(u, p, da, np.zeros((0, m + 3))), prof=prof)
-    return np.asarray(res.a.T)
+) -> tuple[FloatArray, FloatArray]:
+    """(J, R_p) at u: the compiled kernels' exact Jacobian (``_jacobian_drag``) and dR/dLambda
+    (``_unit_load``: the drag is linear in Lambda); dR/dtheta0 = -e_0, and dR/dgamma through
+    the drag's df/dgamma = Lambda U (sin^2, sin cos) in the interior rows. R_p (m, 3)."""
+    from .._core.loaded import _kernels
+
+    k = _kernels()
+    num = lev.num
+    n1 = num + 1
+    m = n1 + 1
+    lam, _, gam = p
+    work = np.empty((12, m))
+    pm = np.empty((2, n1, n1))
+    jac = np.zeros((m, m))
+    cs, sn, z, fx, fz = work[0], work[1], work[2], work[6], work[7]
+    pr = np.ascontiguousarray(prof, dtype=np.float64)
+    uc = np.ascontiguousarray(u, dtype=np.float64)
+    k._drag_forces(uc, num, lev.ii, lam, gam, 0.0, pr, cs, sn, z, fx, fz)
+    k._jacobian_drag(
+        uc, num, lev.dd, lev.ii, lam, gam, 0.0, pr, cs, sn, z, fx, fz, work[8:12], pm, jac
+    )
+    r_p = np.zeros((m, 3))
+    col = np.empty(m)
+    k._unit_load(uc, num, lev.ii, gam, pr, cs, sn, z, work[8], work[9], col)
+    r_p[:, 0] = col
+    r_p[0, 1] = -1.0
+    c, s = np.cos(uc[:n1]), np.sin(uc[:n1])
+    uu = np.polynomial.chebyshev.chebval(2.0 * (lev.ii @ c) - 1.0, pr)
+    gx, gz = lam * uu * s * s, lam * uu * s * c
+    big_x = lev.ii[num] @ gx - lev.ii @ gx  # int_{s_i}^1 df/dgamma
+    big_z = lev.ii[num] @ gz - lev.ii @ gz
+    r_p[1:num, 2] = big_x[1:num] * c[1:num] - big_z[1:num] * s[1:num]
+    return jac, r_p
 
 
 def _solve_first(
     lev: _Level, theta: FloatArray, p: tuple[float, float, float], prof: FloatArray
 ) -> _First:
     u = np.append(theta, lev.ii[lev.num] @ np.cos(theta))
-    m = u.size
-    res = _residual(lev, *_inputs(u, p, np.eye(m + 3), np.zeros((0, m + 3))), prof=prof)
-    jac = np.asarray(res.a[:m].T)
-    du = -np.linalg.solve(jac, res.a[m:].T)
+    jac, r_p = _partials(lev, u, p, prof)
+    du = np.asarray(-np.linalg.solve(jac, r_p), dtype=np.float64)
     return _First(lev, u, p, jac, du, prof)
 
 
