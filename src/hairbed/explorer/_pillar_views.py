@@ -185,9 +185,25 @@ def linear_html(snap: PillarSnapshot) -> str:
     )
 
 
-def drive_html(snap: PillarSnapshot, frame_ms: list[float] | None = None) -> str:
+def _connected() -> bool:
+    """Whether a browser is connected to this served session (True outside a server): a tab
+    closed stops the frames at once, not when the server discards its session some seconds
+    later (a frame written to its closed websocket would be an error in the server's log)."""
+    doc = pn.state.curdoc
+    context = getattr(doc, "session_context", None) if doc is not None else None
+    session = getattr(context, "session", None) if context is not None else None
+    return session is None or int(session.connection_count) > 0
+
+
+def drive_html(
+    snap: PillarSnapshot,
+    frame_ms: list[float] | None = None,
+    frame_cpu_ms: list[float] | None = None,
+    frame_at: list[float] | None = None,
+) -> str:
     """The drive view's readout: the nonlinear run's first harmonic against the linear
-    response at the drive's frequency, the run, and the server's time per frame."""
+    response at the drive's frequency, the run, and the server's time per frame (wall and
+    this thread's CPU time [ms], and the frames' rate [1/s])."""
     a = snap.animation
     d = snap.params.drive
     if a is None or d is None:
@@ -213,6 +229,15 @@ def drive_html(snap: PillarSnapshot, frame_ms: list[float] | None = None) -> str
             ("frame_p90", "server time per frame, p90 [ms]", float(np.percentile(ms, 90))),
             ("frame_count", "frames timed", ms.size),
         ]
+    if frame_cpu_ms:
+        cpu = np.asarray(frame_cpu_ms, dtype=np.float64)
+        rows += [
+            ("frame_cpu_p50", "its CPU time, median [ms]", float(np.percentile(cpu, 50))),
+            ("frame_cpu_p90", "its CPU time, p90 [ms]", float(np.percentile(cpu, 90))),
+        ]
+    if frame_at and len(frame_at) > 1:
+        rate = (len(frame_at) - 1) / max(frame_at[-1] - frame_at[0], 1e-9)
+        rows.append(("frame_rate", f"frames per second (asked: {1e3 / FRAME_MS:g})", rate))
     body = "".join(
         f'<tr><th>{html.escape(label)}</th><td class="num" data-field="{key}">{_fmt(v)}</td></tr>'
         for key, label, v in rows
@@ -245,6 +270,8 @@ class PillarPanel:
         self._anim: Any = None
         self._frame = 0
         self.frame_ms: list[float] = []
+        self.frame_cpu_ms: list[float] = []
+        self.frame_at: list[float] = []
         self._player: Any = None
         self._build_widgets()
         self._build_layout()
@@ -648,7 +675,8 @@ class PillarPanel:
         a = snap.animation if drive else None
         if a is not self._anim:
             self._anim, self._frame = a, 0
-            self.frame_ms.clear()
+            for kept in (self.frame_ms, self.frame_cpu_ms, self.frame_at):
+                kept.clear()
         self.drive_table.object = drive_html(snap) if drive else ""
         if a is None or a.status < 0:
             self._set(self.dr_shape, {"x": [], "y": []})
@@ -679,17 +707,22 @@ class PillarPanel:
         precomputed shape and tip of that frame sent to the figure, its server time kept
         (the model's update and the document's events, held and flushed here)."""
         a = self._anim
-        if a is None or a.status < 0 or not a.x.size:
+        if a is None or a.status < 0 or not a.x.size or not _connected():
             return
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.thread_time()
         k = self._frame = (self._frame + 1) % a.x.shape[0]
         with pn.io.hold():
             self.dr_shape.data = {"x": a.x[k].tolist(), "y": a.z[k].tolist()}
             self.dr_tip.data = {"x": [float(a.tip_x[k])], "y": [float(a.tip_z[k])]}
         self.frame_ms.append(1e3 * (time.perf_counter() - start))
-        del self.frame_ms[:-_FRAME_WINDOW]
+        self.frame_cpu_ms.append(1e3 * (time.thread_time() - cpu))
+        self.frame_at.append(start)
+        for kept in (self.frame_ms, self.frame_cpu_ms, self.frame_at):
+            del kept[:-_FRAME_WINDOW]
         if k == 0 and self.snapshot is not None:  # once a period: the readout's frame times
-            self.drive_table.object = drive_html(self.snapshot, self.frame_ms)
+            self.drive_table.object = drive_html(
+                self.snapshot, self.frame_ms, self.frame_cpu_ms, self.frame_at
+            )
 
     def play(self, served: bool) -> None:
         """Start (in the drive view of a served page) or stop the periodic callback."""
@@ -838,7 +871,8 @@ class PillarPanel:
             self._player.stop()
             self._player = None
         self._anim = None
-        self.frame_ms.clear()
+        for kept in (self.frame_ms, self.frame_cpu_ms, self.frame_at):
+            kept.clear()
         self.snapshot = None
         self._shown.clear()
 
