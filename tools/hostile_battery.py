@@ -909,6 +909,30 @@ CLI_COMMANDS: dict[str, tuple[list[str], tuple[str, ...], list[tuple[str, str]]]
         ),
         [("--frequencies", "0,10"), ("--wall-shear-stress", "0")],
     ),  # fmt: skip
+    "response --mean-stresses": (
+        [
+            "response",
+            "--frequencies=10,100",
+            "--mean-stresses=0:2:3",
+            "--pillar-density=1000",
+            *_PILLAR_ARGS,
+        ],
+        ("--mean-stresses", "--frequencies", "--chunks"),
+        [("--mean-stresses", "-1,0,1"), ("--chunks", "2")],
+    ),  # fmt: skip
+    "response --amplitudes": (
+        [
+            "response",
+            "--frequencies=10",
+            "--amplitudes=0.1",
+            "--wall-shear-stress=1",
+            "--drag-model=quasi-steady",
+            "--pillar-density=1000",
+            *_PILLAR_ARGS,
+        ],
+        ("--amplitudes", "--frequencies", "--wall-shear-stress"),
+        [("--amplitudes", "0.1,0.2")],
+    ),  # fmt: skip
     "design": (
         ["design", _DESIGN],
         ("low", "high", "starts"),
