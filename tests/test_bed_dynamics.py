@@ -126,6 +126,9 @@ def test_bed_operators_bad_input() -> None:
             bed_operators(st, **kw)
     with pytest.raises(ValueError, match="eps"):
         bed_operators(hairbed.solve_porous(1.5, 0.0, 0.3, kappa=0.05))
+    for name, value in (("inertia", 1e308), ("womersley", 1e300), ("womersley", 2.0**63)):
+        with pytest.raises(ValueError, match=name):
+            bed_operators(st, **{name: value})
 
 
 # ---------------------------------------------------------------------------------------
@@ -199,10 +202,13 @@ def test_simulate_bed_bad_input() -> None:
     """Each parameter refused by name; a flow rate that jumps with fluid inertia refused."""
     ok: dict[str, Any] = {"theta0": 0.2, "kappa": 0.1, "eps": 0.5, "t_eval": [0.0, 1.0]}
     bad = [
-        ("theta0", 2.0), ("kappa", 0.0), ("kappa", np.inf), ("eps", 1.0), ("eps", 0.0),
-        ("gamma", 0.0), ("inertia", -1.0), ("inertia", np.inf), ("tangential_mass", 1.5),
-        ("womersley", -0.1), ("num", 4), ("num_gap", 3), ("rtol", 0.0), ("atol", -1.0),
-        ("max_steps", 0), ("t_eval", [1.0, 0.0]), ("t_eval", [0.0, np.nan]),
+        ("theta0", 2.0), ("kappa", 0.0), ("kappa", np.inf), ("kappa", 1e-7), ("kappa", 1e7),
+        ("eps", 1.0), ("eps", 0.0), ("eps", 1e-4), ("gamma", 0.0), ("inertia", -1.0),
+        ("inertia", np.inf), ("inertia", 1e-9), ("inertia", 1e8), ("tangential_mass", 1.5),
+        ("womersley", -0.1), ("womersley", 1e300), ("womersley", 5e-324), ("num", 4),
+        ("num_gap", 3), ("rtol", 0.0), ("atol", -1.0), ("max_steps", 0),
+        ("t_eval", [1.0, 0.0]), ("t_eval", [0.0, np.nan]), ("wall", 1e300), ("wall", 2**63),
+        ("pressure", step(1e7)), ("wall_stress", np.nan),
     ]  # fmt: skip
     for name, value in bad:
         with pytest.raises(ValueError, match=name):

@@ -10,7 +10,6 @@ own. This module builds its parameters, the steady vector of a :class:`PorousSta
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -26,6 +25,7 @@ from .._core.validation import (
     check_int,
     check_number,
     check_positive,
+    show,
     status_messages,
 )
 from ._signals import Signal, as_signal, constant
@@ -375,12 +375,13 @@ def bed_operators(
     state : PorousState
         One converged state (a scalar :func:`hairbed.solve_porous` result).
     inertia : float, optional
-        The hair's inertia number mu = m E I/(zeta_perp^2 L^4) >= 0 [-] (default 0).
+        The hair's inertia number mu = m E I/(zeta_perp^2 L^4) [-]: 0 (default) or in
+        [1e-6, 1e6].
     tangential_mass : float, optional
         chi in (0, 1]: tangential over normal mass per unit length (default 1).
     womersley : float, optional
-        The bed's Womersley number alpha = rho_f L^2/(eta T) >= 0 [-] (default 0: the
-        quasi-steady fluid, no gap grid).
+        The bed's Womersley number alpha = rho_f L^2/(eta T) [-]: 0 (default: the
+        quasi-steady fluid, no gap grid) or in [1e-6, 1e6].
     num : int, optional
         The hair's Chebyshev degree N in [8, 128] (default: the state's).
     num_gap : int, optional
@@ -394,9 +395,9 @@ def bed_operators(
         raise TypeError("state must be one PorousState (a scalar solve_porous result)")
     if int(state.status) < 0:
         raise ValueError(f"state must be a converged state, got status {int(state.status)}")
-    mu = check_number(inertia, "inertia", low=0.0)
+    mu = _zero_or_within(check_number(inertia, "inertia", low=0.0), "inertia")
     chi = check_number(tangential_mass, "tangential_mass", low=0.0, high=1.0, low_open=True)
-    alpha = check_number(womersley, "womersley", low=0.0)
+    alpha = _zero_or_within(check_number(womersley, "womersley", low=0.0), "womersley")
     deg = int(state.num) if num is None else check_int(num, "num", 8, 128)
     deg = min(max(deg, 8), 128)
     ngap = check_int(num_gap, "num_gap", 4, 128)
@@ -624,6 +625,35 @@ def _consistent(sys: _System, y: FloatArray, t: float) -> FloatArray:
     raise ArithmeticError("no consistent start of the bed's algebraic unknowns")
 
 
+#: The bed in time's ranges: kappa (below, the tips' layer sqrt(kappa) needs more than
+#: N = 128; above, the isolated pillar of simulate_pillar to 1e-6), eps (a gap of at most
+#: 1000 L), the inertia and Womersley numbers (0, or within [1e-6, 1e6]) and the drives'
+#: levels (the static states end near |theta| = pi/2 long before).
+KAPPA_RANGE = (1e-6, 1e6)
+EPS_MIN = 1e-3
+NUMBER_RANGE = (1e-6, 1e6)
+MAX_BED_DRIVE = 1e6
+
+
+def _zero_or_within(value: float, name: str) -> float:
+    lo, hi = NUMBER_RANGE
+    if value != 0.0 and not lo <= value <= hi:
+        raise ValueError(f"{name} must be 0 or lie in [{lo:g}, {hi:g}], got {show(value)}")
+    return value
+
+
+def _bounded_drive(sig: Signal, name: str) -> Signal:
+    from ._signals import _peak
+
+    peak = _peak(sig)
+    if not peak <= MAX_BED_DRIVE:
+        raise ValueError(
+            f"{name} must stay within [-{MAX_BED_DRIVE:g}, {MAX_BED_DRIVE:g}] for the bed in "
+            f"time, got a {sig.kind} drive of magnitude {show(peak)}"
+        )
+    return sig
+
+
 def _top_drive(wall: Any, wall_stress: Any) -> tuple[int, Any, str]:
     if wall is not None and wall_stress is not None:
         raise ValueError(
@@ -675,12 +705,23 @@ def _static_start(
             if f1 == f0:
                 break
             w0, w1, f0 = w1, w1 - f1 * (w1 - w0) / (f1 - f0), f1
+    drives = (
+        f"{'wall' if sys.top == 0 else 'wall_stress'} = {show(top_v)}, "
+        f"{'pressure' if sys.pump == 0 else 'flow_rate'} = {show(pump_v)}"
+    )
     if int(st.status) < 0:
         raise ValueError(
-            f"no static state at the drives' values at t_eval[0] to start from "
-            f"({st.message}); pass initial="
+            f"no static state at the drives' values at t_eval[0] to start from ({drives}: "
+            f"{st.message}); pass initial="
         )
-    return _newton_steady(sys, _steady_guess(sys, st), t)
+    try:
+        return _newton_steady(sys, _steady_guess(sys, st), t)
+    except ArithmeticError:
+        raise ValueError(
+            f"the steady state at the drives' values at t_eval[0] ({drives}) did not converge "
+            "on the dynamics' grid (N too small for the bed's tip layer?): pass num= or "
+            "initial="
+        ) from None
 
 
 def simulate_bed(
@@ -722,26 +763,27 @@ def simulate_bed(
     theta0 : float
         The base angle [rad] in (-pi/2, pi/2).
     kappa : float
-        The bed's permeability over L^2 [-] in (0, inf).
+        The bed's permeability over L^2 [-] in [1e-6, 1e6].
     eps : float
-        L/H [-] in (0, 1).
+        L/H [-] in [1e-3, 1).
     t_eval : array_like
         Output times [T], finite and non-decreasing; the run starts at t_eval[0].
     wall, wall_stress : number, Signal or callable, optional
         The top wall's drive: its speed as omega2(t) = eta V A L^2/(E I H) (default 0), or
-        its shear stress (load units of §13; the wall's speed is then free). At most one.
+        its shear stress (load units of §13; the wall's speed is then free). At most one;
+        levels within [-1e6, 1e6] (as the pump's).
     pressure, flow_rate : number, Signal or callable, optional
         The pump: Pi(t) = A G L^3/(E I) (default 0), or the flow rate q(t) of §11 (Pi is then
         the unknown that holds it; with womersley > 0 it must not jump). At most one.
     gamma : float, optional
         Drag ratio zeta_par/zeta_perp in (0, 1] (default 1).
     inertia : float, optional
-        mu = m E I/(zeta_perp^2 L^4) >= 0 (default 0: overdamped hairs).
+        mu = m E I/(zeta_perp^2 L^4): 0 (the default: overdamped hairs) or in [1e-6, 1e6].
     tangential_mass : float, optional
         chi in (0, 1]: tangential over normal mass per length (default 1).
     womersley : float, optional
-        alpha = rho_f L^2/(eta T) >= 0 (default 0: the quasi-steady fluid, a fast path with
-        the gap's exact profile).
+        alpha = rho_f L^2/(eta T): 0 (the default: the quasi-steady fluid, a fast path with
+        the gap's exact profile) or in [1e-6, 1e6].
     initial : PorousState, optional
         The bed's state at t_eval[0] (at rest; a scalar :func:`hairbed.solve_porous` result
         of the same theta0, kappa, eps, gamma); default the steady state of the drives'
@@ -769,25 +811,20 @@ def simulate_bed(
     --------
     >>> from hairbed.dynamics import simulate_bed, step
     >>> run = simulate_bed(0.0, 0.1, 0.5, wall=step(1.0), t_eval=[0.0, 5.0])
-    >>> run.success, round(float(run.tip_deflection[-1]), 6)  # the static state's 0.185036
-    (True, 0.185036)
+    >>> run.success, round(float(run.tip_deflection[-1]), 6)  # solve_porous: 0.2714279566
+    (True, 0.271428)
     """
     from ._integrate import _checked_times
 
     te = _checked_times(t_eval)
     t0 = check_number(theta0, "theta0", low=-0.5 * np.pi, high=0.5 * np.pi, low_open=True,
                       high_open=True)  # fmt: skip
-    kap = check_number(kappa, "kappa", low=0.0, low_open=True)
-    if not math.isfinite(kap):
-        raise ValueError(f"kappa must be finite, got {kap!r}")
-    e = check_number(eps, "eps", low=0.0, high=1.0, low_open=True, high_open=True)
+    kap = check_number(kappa, "kappa", low=KAPPA_RANGE[0], high=KAPPA_RANGE[1])
+    e = check_number(eps, "eps", low=EPS_MIN, high=1.0, high_open=True)
     g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
-    mu = check_number(inertia, "inertia", low=0.0)
+    mu = _zero_or_within(check_number(inertia, "inertia", low=0.0), "inertia")
     chi = check_number(tangential_mass, "tangential_mass", low=0.0, high=1.0, low_open=True)
-    alpha = check_number(womersley, "womersley", low=0.0)
-    for name, v in (("inertia", mu), ("womersley", alpha)):
-        if not math.isfinite(v):
-            raise ValueError(f"{name} must be finite, got {v!r}")
+    alpha = _zero_or_within(check_number(womersley, "womersley", low=0.0), "womersley")
     ngap = check_int(num_gap, "num_gap", 4, 128)
     tol_r = check_positive(rtol, "rtol")
     tol_a = check_positive(atol, "atol")
@@ -795,8 +832,8 @@ def simulate_bed(
     top, top_in, top_name = _top_drive(wall, wall_stress)
     pump, pump_in, pump_name = _pump_drive(pressure, flow_rate)
     span_end = float(te[-1]) if te[-1] > te[0] else float(te[0]) + 1.0
-    top_sig = as_signal(top_in, top_name, float(te[0]), span_end)
-    pump_sig = as_signal(pump_in, pump_name, float(te[0]), span_end)
+    top_sig = _bounded_drive(as_signal(top_in, top_name, float(te[0]), span_end), top_name)
+    pump_sig = _bounded_drive(as_signal(pump_in, pump_name, float(te[0]), span_end), pump_name)
     before = float(np.nextafter(te[0], -np.inf))
     if pump == 1 and alpha > 0.0 and pump_sig.at_start(before) != pump_sig.at_start(te[0]):
         raise ValueError(
@@ -834,7 +871,14 @@ def simulate_bed(
     else:
         y0 = _static_start(sys, t0, kap, e, g, top_sig.at_start(before),
                            pump_sig.at_start(before), before)  # fmt: skip
-    y0 = _consistent(sys, y0, float(te[0]))
+    try:
+        y0 = _consistent(sys, y0, float(te[0]))
+    except ArithmeticError:
+        raise ValueError(
+            f"no consistent start at t_eval[0] under the drives {top_name} = "
+            f"{show(top_sig.at_start(float(te[0])))}, {pump_name} = "
+            f"{show(pump_sig.at_start(float(te[0])))}"
+        ) from None
     return _integrate(sys, y0, te, tol_r, tol_a, steps, top_sig, pump_sig, top_name, pump_name)
 
 
