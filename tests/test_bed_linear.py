@@ -119,6 +119,7 @@ def test_bad_input_and_results() -> None:
     assert lin.stable and lin.growth_rate() < 0.0
     fr = lin.frequency_response([0.0, 1.0, 3e8])
     assert fr.status.tolist() == [0, 0, 3] and fr.success.tolist() == [True, True, False]
+    assert lin.frequency_response([1.0, 1e6], num=32).status.tolist() == [0, 3]
     h = 1e-6
     up = hairbed.solve_porous(0.5 + h, 0.5, 0.2, kappa=0.5)
     dn = hairbed.solve_porous(0.5 - h, 0.5, 0.2, kappa=0.5)

@@ -26,8 +26,8 @@ complex wavenumber |k|, k^4 = mu omega^2 - i omega (N >= |k| + 16, as the pillar
 fluid layer 1/|l_b|, l_b^2 = (1 + i alpha kappa omega)/kappa, and the gap's Stokes layer
 1/|l_g|, l_g^2 = i alpha omega, over the gap g: a Chebyshev grid resolves a layer of width
 delta at its end to 1e-12 with about sqrt(30/delta) + 8 nodes. N and the gap's M are the
-smallest of 32, 64, 128 (N) and 16, 32, 64, 128 (M) that meet them; beyond 128 a frequency
-has status 3.
+smallest of 32, 64, 128 (N) and 16, 32, 64, 128 (M) that meet them; a frequency whose
+degrees fall short (beyond 128, or a smaller ``num``/``num_gap`` given) has status 3.
 """
 
 from __future__ import annotations
@@ -60,8 +60,9 @@ ComplexArray = NDArray[np.complex128]
 BED_LINEAR_STATUS = {
     0: "ok",
     3: (
-        "inaccurate: a frequency beyond the resolution of N = 128 or the gap's M = 128 (the "
-        "hair's wavenumber or a fluid layer too thin): the values there are not converged"
+        "inaccurate: the degrees used are below the resolution this frequency needs (the "
+        "hair's wavenumber or a fluid layer too thin for N or the gap's M: beyond 128, or a "
+        "smaller num or num_gap given): the values there are not converged"
     ),
 }
 _HAIR_BANDS = (32, 64, 128)
@@ -345,7 +346,8 @@ class LinearBed:
 
     def _degrees(self, om: FloatArray) -> tuple[NDArray[np.int64], NDArray[np.int64], Any]:
         """N and M per frequency from the straight bed's length scales (module docstring),
-        and the status (3 beyond 128)."""
+        and the resolutions (N, M) they need (status 3 where a degree used is below its
+        need: beyond 128, or a smaller ``num``/``num_gap`` given)."""
         mu, alpha = self.inertia, self.womersley
         kappa, eps = float(self.state.kappa), float(self.state.eps)
         gap = max(1.0 / eps - float(self.state.tip_height), 1e-3)
@@ -357,10 +359,7 @@ class LinearBed:
         nn = _bands(need_n, _HAIR_BANDS)
         nn = np.maximum(nn, self._default()[0])
         mm = _bands(need_m, _GAP_BANDS) if alpha > 0.0 else np.zeros(om.size, dtype=np.int64)
-        status = np.where(
-            (need_n > _HAIR_BANDS[-1]) | ((need_m > _GAP_BANDS[-1]) & (alpha > 0.0)), 3, 0
-        ).astype(np.int64)
-        return nn, mm, status
+        return nn, mm, (need_n, need_m)
 
     def frequency_response(
         self,
@@ -387,15 +386,16 @@ class LinearBed:
         drives = self.drives
         if not isinstance(drive, str) or drive not in drives:
             raise ValueError(f"drive must be one of {drives} for this state, got {show(drive)}")
-        nn, mm, status = self._degrees(om)
+        nn, mm, (need_n, need_m) = self._degrees(om)
         if num is not None:
             nn = np.full(om.size, _check_degree(num, "num"), dtype=np.int64)
-            status[:] = 0
         if num_gap is not None:
             mm = np.full(om.size, _check_degree(num_gap, "num_gap", 4), dtype=np.int64)
-            status[:] = 0
         if self.womersley <= 0.0:
             mm[:] = 0
+        # status 3 where the degrees used (chosen or given) miss the resolution needed
+        short = (need_n > nn) | ((need_m > mm) & (self.womersley > 0.0))
+        status = np.where(short, 3, 0).astype(np.int64)
         out = np.empty((len(BED_OUTPUTS), om.size), dtype=np.complex128)
         for key in sorted(set(zip(nn.tolist(), mm.tolist()))):
             sel = np.flatnonzero((nn == key[0]) & (mm == key[1]))
