@@ -188,7 +188,7 @@ def test_cli_pump_usage_errors_are_one_line(argv, capsys):
 
 
 def test_pump_sweep_chunked_is_the_eager_net_flow(tmp_path):
-    from hairbed.sweeps import pump_sweep
+    from hairbed.valve_dynamics import pump_sweep
 
     bed = _bed()
     t_scale = bed_time_scales(bed)["time_scale"]

@@ -25,8 +25,8 @@ where a grid of omega^2 misses the windows narrower than its step near the cusp.
 :func:`response_sweep` maps a pillar sensor's linear frequency response over (mean stress,
 frequency), and :func:`amplitude_sweep` its nonlinear periodic response over (amplitude,
 frequency): the first harmonic, the mean shift and the distortion beside the linear response
-(issue 31, theory.md §14); both chunked with dask like the others. :func:`pump_sweep` maps a
-pulsing pump's net flow over (amplitude, frequency) (:mod:`hairbed.valve_dynamics`).
+(issue 31, theory.md §14); both chunked with dask like the others. A pulsing pump's net flow
+over (amplitude, frequency) is :func:`hairbed.valve_dynamics.pump_sweep`.
 
 :func:`parse_spec` reads the SPEC of an axis or a path, as ``hairbed sweep`` takes them: a
 value, a comma list, ``start:stop:num[:log]``, or for a quasi-static path
@@ -79,7 +79,6 @@ from ._files import (
     write_dataset,
 )
 from ._grid import bed_sweep, path_dataset, sweep
-from ._pump import PUMP_VARIABLES, pump_sweep
 from ._response import (
     AMPLITUDE_STATUS,
     AMPLITUDE_VARIABLES,
@@ -105,7 +104,6 @@ __all__ = [
     "PILLAR_VARIABLES",
     "PROGRESS_DELAY",
     "PUMPED_ATTRS",
-    "PUMP_VARIABLES",
     "RESPONSE_VARIABLES",
     "VARIABLES",
     "amplitude_sweep",
@@ -114,7 +112,6 @@ __all__ = [
     "output_format",
     "parse_spec",
     "path_dataset",
-    "pump_sweep",
     "read_table",
     "response_sweep",
     "sweep",
