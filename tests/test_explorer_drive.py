@@ -95,10 +95,12 @@ def test_page_url_frames_and_json() -> None:
     assert a is not None and a.status == 0
     assert panel.dr_shape.data["x"] == a.x[0].tolist()
     for k in range(1, FRAMES + 2):  # one period and one frame: the loop starts again
-        panel.next_frame()
+        panel.next_frame(k)
         assert panel.dr_shape.data["x"] == a.x[k % FRAMES].tolist()
-        assert panel.dr_tip.data["y"] == [float(a.tip_z[k % FRAMES])]
-    assert len(panel.frame_ms) == FRAMES + 1
+        assert panel.dr_shape.data["y"][-1] == float(a.tip_z[k % FRAMES])  # the tip's dot
+    panel.next_frame()  # the clock's frame (a served page's periodic callback)
+    assert panel.dr_shape.data["x"] in [row.tolist() for row in a.x]
+    assert len(panel.frame_ms) == FRAMES + 2
     assert 'data-field="frame_p90"' in panel.drive_table.object
     doc = json.loads(panel._json_file().getvalue())
     assert doc["drive"]["inputs"]["amplitude"] == "0.4"

@@ -45,6 +45,7 @@ __all__ = [
     "DRAG_MODELS",
     "DRIVE_DEFAULTS",
     "FRAMES",
+    "NODES",
     "SIDE_VIEWS",
     "DriveAnimation",
     "DriveParams",
@@ -75,6 +76,8 @@ SETTLE = 1e-4
 BODE_OMEGA = np.geomspace(1e-2, 1e3, 151)
 #: The integrator's settings: degree, tolerances, step bound.
 _NUM, _RTOL, _ATOL, _MAX_STEPS = 16, 1e-6, 1e-8, 40_000
+#: Points of each frame's shape: the run's collocation nodes, base first, the tip last.
+NODES = _NUM + 1
 #: The largest amplitude and frequency taken.
 _MAX_AMPLITUDE, _MAX_OMEGA = 1e3, 1e3
 

@@ -19,10 +19,17 @@ from typing import Any
 
 import numpy as np
 import panel as pn
-from bokeh.models import ColumnDataSource, CustomJSTickFormatter, Range1d, Span
+from bokeh.models import (
+    CDSView,
+    ColumnDataSource,
+    CustomJSTickFormatter,
+    IndexFilter,
+    Range1d,
+    Span,
+)
 
 from .._jsonsafe import to_plain
-from ._drive import DRIVE_DEFAULTS, SIDE_VIEWS
+from ._drive import DRIVE_DEFAULTS, NODES, SIDE_VIEWS
 from ._figures import (
     FOLD_COLOR,
     REST_COLOR,
@@ -66,8 +73,9 @@ DRIVE_TEXT = ("amplitude", "frequency", "mu")
 DRAG_OPTIONS = {"quasi-steady": "quasi-steady", "Sader (oscillating cylinder)": "sader"}
 #: Milliseconds between the animation's frames (one period in FRAMES frames: about 2 s).
 FRAME_MS = 40
-#: Frame times kept for the page's p50/p90 readout.
+#: Frame times kept for the page's p50/p90 readout, and how often it is shown (frames).
 _FRAME_WINDOW = 240
+_FRAMES_SHOWN = 48
 MODE_OPTIONS = {"bed of hairs": "bed", "isolated pillar": "pillar"}
 PROFILE_OPTIONS = {"sublayer": "sublayer", "couette": "couette", "poiseuille": "poiseuille"}
 VIEW_OPTIONS = {"shape": "shape", "calibration curve": "calibration", "drive (animation)": "drive"}
@@ -269,6 +277,8 @@ class PillarPanel:
         #: (the last _FRAME_WINDOW) and the periodic callback that plays it (served pages).
         self._anim: Any = None
         self._frame = 0
+        self._clock: float | None = None
+        self._timed = 0
         self.frame_ms: list[float] = []
         self.frame_cpu_ms: list[float] = []
         self.frame_at: list[float] = []
@@ -491,8 +501,9 @@ class PillarPanel:
         path = d.line("x", "y", source=self.dr_path, color="#E69F00", line_width=1.5)
         self.dr_shape = ColumnDataSource({"x": [], "y": []}, name="hb-drive-shape")
         now = d.line("x", "y", source=self.dr_shape, color=STATE_COLORS["low"], line_width=3)
-        self.dr_tip = ColumnDataSource({"x": [], "y": []}, name="hb-drive-tip")
-        d.scatter("x", "y", source=self.dr_tip, color=STATE_COLORS["low"], size=8)
+        # the tip is the shape's last point (one data source a frame: one message)
+        tip = CDSView(filter=IndexFilter([NODES - 1]))
+        d.scatter("x", "y", source=self.dr_shape, view=tip, color=STATE_COLORS["low"], size=8)
         _style_legend(
             d,
             [("now", [now]), ("static, at the mean", [mean]), ("the tip's path", [path])],
@@ -674,20 +685,18 @@ class PillarPanel:
         self._shape_pane.visible = not drive
         a = snap.animation if drive else None
         if a is not self._anim:
-            self._anim, self._frame = a, 0
+            self._anim, self._frame, self._clock = a, 0, None
             for kept in (self.frame_ms, self.frame_cpu_ms, self.frame_at):
                 kept.clear()
         self.drive_table.object = drive_html(snap) if drive else ""
         if a is None or a.status < 0:
             self._set(self.dr_shape, {"x": [], "y": []})
-            self._set(self.dr_tip, {"x": [], "y": []})
             self._set(self.dr_path, {"x": [], "y": []})
             return
         self._set(self.dr_mean, {"x": a.mean_x, "y": a.mean_z})
         self._set(self.dr_path, {"x": np.append(a.tip_x, a.tip_x[:1]),
                                  "y": np.append(a.tip_z, a.tip_z[:1])})  # fmt: skip
         self.dr_shape.data = {"x": a.x[0].tolist(), "y": a.z[0].tolist()}
-        self.dr_tip.data = {"x": [float(a.tip_x[0])], "y": [float(a.tip_z[0])]}
         gain = np.abs(a.bode)
         self._set(self.bode_gain, {"x": a.omega, "y": gain})
         self._set(self.bode_phase, {"x": a.omega, "y": np.degrees(np.unwrap(np.angle(a.bode)))})
@@ -702,24 +711,30 @@ class PillarPanel:
         self._set(self.bode_now_gain, {"x": [d.frequency], "y": [abs(a.harmonic)]})
         self._set(self.bode_now_phase, {"x": [d.frequency], "y": [ph]})
 
-    def next_frame(self) -> None:
-        """The next frame of the animation (the periodic callback of a served page): the
-        precomputed shape and tip of that frame sent to the figure, its server time kept
-        (the model's update and the document's events, held and flushed here)."""
+    def next_frame(self, frame: int | None = None) -> None:
+        """The animation's frame of the clock (the periodic callback of a served page), or
+        ``frame``: the precomputed shape of that frame sent to the figure, its server time
+        kept (the model's update and the document's events, held and flushed here)."""
         a = self._anim
         if a is None or a.status < 0 or not a.x.size or not _connected():
             return
         start, cpu = time.perf_counter(), time.thread_time()
-        k = self._frame = (self._frame + 1) % a.x.shape[0]
+        # the frame of the clock: the period takes FRAMES x FRAME_MS on screen, whatever
+        # frames a busy server drops (the first call starts the clock)
+        if self._clock is None:
+            self._clock = start - self._frame * FRAME_MS / 1e3
+        k = int((start - self._clock) * 1e3 / FRAME_MS) if frame is None else int(frame)
+        k %= a.x.shape[0]
+        self._frame = k
         with pn.io.hold():
             self.dr_shape.data = {"x": a.x[k].tolist(), "y": a.z[k].tolist()}
-            self.dr_tip.data = {"x": [float(a.tip_x[k])], "y": [float(a.tip_z[k])]}
         self.frame_ms.append(1e3 * (time.perf_counter() - start))
         self.frame_cpu_ms.append(1e3 * (time.thread_time() - cpu))
         self.frame_at.append(start)
         for kept in (self.frame_ms, self.frame_cpu_ms, self.frame_at):
             del kept[:-_FRAME_WINDOW]
-        if k == 0 and self.snapshot is not None:  # once a period: the readout's frame times
+        self._timed += 1
+        if self._timed % _FRAMES_SHOWN == 0 and self.snapshot is not None:  # the readout
             self.drive_table.object = drive_html(
                 self.snapshot, self.frame_ms, self.frame_cpu_ms, self.frame_at
             )
