@@ -127,8 +127,9 @@ def test_bed_operators_bad_input() -> None:
     with pytest.raises(ValueError, match="eps"):
         bed_operators(hairbed.solve_porous(1.5, 0.0, 0.3, kappa=0.05))
     for name, value in (("inertia", 1e308), ("womersley", 1e300), ("womersley", 2.0**63)):
+        kwargs: dict[str, Any] = {name: value}
         with pytest.raises(ValueError, match=name):
-            bed_operators(st, **{name: value})
+            bed_operators(st, **kwargs)
 
 
 # ---------------------------------------------------------------------------------------
