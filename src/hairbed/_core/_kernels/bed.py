@@ -56,8 +56,8 @@ import numpy as np
 
 from .._jit import kernel
 from .description import D_EPS, D_GAMMA, D_HFIX, D_KAPPA, D_THETA0, NDESC
-from .dynamics import drive_value, projected_load
 from .porous_system import DRIVE_PRESSURE, _jacobian, _residual
+from .rod_motion import drive_value, projected_load
 
 __all__ = ["bed_layout", "bed_mass", "bed_system", "bed_workspace"]
 
