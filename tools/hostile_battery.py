@@ -654,7 +654,12 @@ def _later_targets(pillar: Any) -> list[Target]:
     (LAOS's analysis, small-amplitude shear), the sensor's sweeps over stress, amplitude and
     frequency, the resonance as a quantity, the valve's switching and a pump's net flow."""
     from hairbed import design, dynamics, sweeps, valve_dynamics
-    from hairbed.rheometer import analyse_laos, large_amplitude_shear, oscillatory_shear
+    from hairbed.rheometer import (
+        analyse_laos,
+        bed_moduli,
+        large_amplitude_shear,
+        oscillatory_shear,
+    )
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -759,6 +764,12 @@ def _later_targets(pillar: Any) -> list[Target]:
             lambda **kw: large_amplitude_shear(**kw),
             dict(omega=1.0, strain_amplitude=0.5, eps=0.5, kappa=1.0, samples=16, max_periods=20),
             fuzz=("omega", "strain_amplitude", "eps", "kappa"),
+        ),
+        Target(
+            "rheometer.bed_moduli",
+            lambda **kw: bed_moduli(bed, **kw),
+            dict(frequency=[1.0, 10.0], speed=0.0, hair_density=None),
+            edges={"speed": [0.01], "hair_density": [1000.0], "frequency": [0.0]},
         ),
         Target(
             "valve_dynamics.valve_switching",
