@@ -59,7 +59,8 @@ def add_parser(sub: Any) -> None:
         "--duration",
         type=float,
         metavar="S",
-        help="how long to follow the switch [s] (without it: ten times the time scale T = zeta L^4/(E I))",
+        help="how long to follow the switch [s] (without it: ten times the time scale "
+        "T = zeta L^4/(E I))",
     )
     g.add_argument(
         "--num-times",
