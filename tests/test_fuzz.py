@@ -1207,11 +1207,7 @@ TARGETS += NEW_TARGETS
 #: Known failures of the new API, each found by this catalogue and reported, not yet fixed
 #: (the fix belongs to a module under work by another engineer, or needs a decision):
 #: (target, argument) -> why. See ``CATALOGUE_PAIRS``.
-KNOWN: dict[tuple[str, str], str] = {
-    ("sweeps.amplitude_sweep", "frequency"): "sweeps/_response.py: no bound on the frequency "
-    "(a decision): at 1e300 Hz the run's atol is NaN, at 1.7e308 omega overflows (both named "
-    "otherwise), at 5e-324 numpy's invalid-value warning leaks",
-}
+KNOWN: dict[tuple[str, str], str] = {}
 
 #: The new API is strict: NaN and infinities refused, results judged (:func:`_silent`).
 STRICT_NEW = {t.name for t in NEW_TARGETS} - {"Constraint.slack"}

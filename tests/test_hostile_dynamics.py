@@ -274,3 +274,10 @@ def test_linear_bed_degrees_and_huge_frequencies():
         warnings.simplefilter("error")
         r = lin.frequency_response([0.1, 1e300])
     assert list(r.status) == [0, 3]
+
+
+@pytest.mark.parametrize("f", [1e300, 5e-324])
+def test_amplitude_sweep_bounds_the_frequency(pillar, f):
+    """1e300 Hz gave a NaN atol named as such, 5e-324 Hz numpy's warning: now the range."""
+    with pytest.raises(ValueError, match=r"frequency must lie in \[1e-100, 1e\+100\] Hz"):
+        hairbed.sweeps.amplitude_sweep(pillar, [0.1], [10.0, f], pillar_density=1000.0)

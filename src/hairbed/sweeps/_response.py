@@ -83,6 +83,10 @@ _COORDS = {
 }
 
 
+#: The frequencies [Hz] an amplitude sweep takes (the run's times and rates stay finite).
+_MIN_FREQUENCY, _MAX_FREQUENCY = 1e-100, 1e100
+
+
 def _axis(value: Any, name: str, unit: str, low: float | None = None) -> FloatArray:
     """A scalar or 1-D axis [unit], finite (and >= low), not empty."""
     arr = as_float_array(value, name, unit=unit)
@@ -391,7 +395,7 @@ def amplitude_sweep(
     amplitude : float or 1-D array
         a > 0 [Pa].
     frequency : float or 1-D array
-        f > 0 [Hz].
+        f [Hz] in [1e-100, 1e100].
     wall_shear_stress : float
         tau_mean [Pa].
     pillar_density : float
@@ -429,6 +433,16 @@ def amplitude_sweep(
         zero = np.flatnonzero(values[name].reshape(-1) == 0.0)
         if zero.size:
             raise ValueError(f"{name} must be > 0, got 0 (first at index {int(zero[0])})")
+    # the run spans periods/f [s] and drives at 2 pi f [rad/s]: both finite in the units of
+    # the dynamics (as the stress series' sample rate, sensor_dynamics)
+    f_all = values["frequency"].reshape(-1)
+    off = np.flatnonzero(~((f_all >= _MIN_FREQUENCY) & (f_all <= _MAX_FREQUENCY)))
+    if off.size:
+        i = int(off[0])
+        raise ValueError(
+            f"frequency must lie in [{_MIN_FREQUENCY:g}, {_MAX_FREQUENCY:g}] Hz, got "
+            f"{show(float(f_all[i]))} (first at index {i})"
+        )
     tau = check_number(wall_shear_stress, "wall_shear_stress", unit="Pa")
     values["wall_shear_stress"] = np.asarray(tau)
     # the run's drive tau + a sin(...) within the dynamics' bound on the forcing [Pa]
