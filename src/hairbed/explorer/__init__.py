@@ -344,6 +344,7 @@ def serve(
     from ._pillar import compute_pillar, validate_pillar
 
     compute_pillar(validate_pillar({"mode": "pillar"}))  # and the pillar's
+    server.io_loop.asyncio_loop.set_exception_handler(_closed_socket_handler)
     server.start()
     actual = server.port
     url = f"http://{_url_host(host)}:{actual}/"
@@ -364,6 +365,19 @@ def serve(
         server.stop()
     if interrupted:
         raise KeyboardInterrupt
+
+
+def _closed_socket_handler(loop: Any, context: dict[str, Any]) -> None:
+    """The event loop's handler of an exception no task retrieved: a message written to a
+    browser tab that has just closed (tornado's WebSocketClosedError, as the drive view's
+    animation frames meet a closing tab) is expected and said nowhere; anything else goes to
+    the loop's default handler (the server's log)."""
+    from tornado.iostream import StreamClosedError
+    from tornado.websocket import WebSocketClosedError
+
+    if isinstance(context.get("exception"), (WebSocketClosedError, StreamClosedError)):
+        return
+    loop.default_exception_handler(context)
 
 
 def _url_host(host: str) -> str:
