@@ -58,6 +58,7 @@ FALLBACKS = {
     ("linear-range", "base_angle"): "0",
     ("valve", "base_angle"): "0",
     ("pump", "base_angle"): "0",
+    ("rheometer", "base_angle"): "0",
     ("bench", "n"): "1e5",
     ("bench", "rows"): "all",
     ("sweep", "out"): "CSV",

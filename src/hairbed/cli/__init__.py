@@ -1,7 +1,8 @@
 """The ``hairbed`` command line: a thin layer over the library.
 
 Subcommands: ``solve``, ``sweep``, ``invert``, ``bistability``, ``calibrate``, ``measure``,
-``linear-range``, ``figures``, ``bench``, ``demo``, ``explore``, ``simulate``, ``response``.
+``linear-range``, ``figures``, ``bench``, ``demo``, ``explore``, ``simulate``, ``response``,
+``rheometer``.
 Run ``hairbed <command> --help`` for the options and examples of each. Bad input ends with one
 line ``hairbed: error: <message>`` on stderr and exit status 2 (so is what the library does not
 support yet, its ``NotImplementedError``), an output path that cannot be written (refused
@@ -50,6 +51,7 @@ from . import (
     _measure,
     _pump,
     _response,
+    _rheometer,
     _simulate,
     _solve,
     _sweep,
@@ -82,6 +84,7 @@ COMMANDS = (
     _design,
     _simulate,
     _response,
+    _rheometer,
 )
 
 
