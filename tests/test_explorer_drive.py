@@ -97,11 +97,14 @@ def test_page_url_frames_and_json() -> None:
     for k in range(1, FRAMES + 2):  # one period and one frame: the loop starts again
         panel.next_frame(k)
         assert panel.dr_shape.data["x"] == a.x[k % FRAMES].tolist()
-        assert panel.dr_shape.data["y"][-1] == float(a.tip_z[k % FRAMES])  # the tip's dot
+        assert panel.dr_tip.data["y"] == [float(a.tip_z[k % FRAMES])]  # the tip's dot
     panel.next_frame()  # the clock's frame (a served page's periodic callback)
     assert panel.dr_shape.data["x"] in [row.tolist() for row in a.x]
     assert len(panel.frame_ms) == FRAMES + 2
     assert 'data-field="frame_p90"' in panel.drive_table.object
+    from hairbed.explorer._export import page_figures
+
+    assert page_figures(page) == [[panel.drive_fig, panel.bode_gain_fig], [panel.bode_phase_fig]]
     doc = json.loads(panel._json_file().getvalue())
     assert doc["drive"]["inputs"]["amplitude"] == "0.4"
     assert len(doc["drive"]["tip_deflection"]) == FRAMES

@@ -19,17 +19,10 @@ from typing import Any
 
 import numpy as np
 import panel as pn
-from bokeh.models import (
-    CDSView,
-    ColumnDataSource,
-    CustomJSTickFormatter,
-    IndexFilter,
-    Range1d,
-    Span,
-)
+from bokeh.models import ColumnDataSource, CustomJSTickFormatter, Range1d, Span
 
 from .._jsonsafe import to_plain
-from ._drive import DRIVE_DEFAULTS, NODES, SIDE_VIEWS
+from ._drive import DRIVE_DEFAULTS, SIDE_VIEWS
 from ._figures import (
     FOLD_COLOR,
     REST_COLOR,
@@ -501,9 +494,9 @@ class PillarPanel:
         path = d.line("x", "y", source=self.dr_path, color="#E69F00", line_width=1.5)
         self.dr_shape = ColumnDataSource({"x": [], "y": []}, name="hb-drive-shape")
         now = d.line("x", "y", source=self.dr_shape, color=STATE_COLORS["low"], line_width=3)
-        # the tip is the shape's last point (one data source a frame: one message)
-        tip = CDSView(filter=IndexFilter([NODES - 1]))
-        d.scatter("x", "y", source=self.dr_shape, view=tip, color=STATE_COLORS["low"], size=8)
+        # the tip's dot: its own source (a PNG export draws every point of a source)
+        self.dr_tip = ColumnDataSource({"x": [], "y": []}, name="hb-drive-tip")
+        d.scatter("x", "y", source=self.dr_tip, color=STATE_COLORS["low"], size=8)
         _style_legend(
             d,
             [("now", [now]), ("static, at the mean", [mean]), ("the tip's path", [path])],
@@ -692,11 +685,13 @@ class PillarPanel:
         if a is None or a.status < 0:
             self._set(self.dr_shape, {"x": [], "y": []})
             self._set(self.dr_path, {"x": [], "y": []})
+            self._set(self.dr_tip, {"x": [], "y": []})
             return
         self._set(self.dr_mean, {"x": a.mean_x, "y": a.mean_z})
         self._set(self.dr_path, {"x": np.append(a.tip_x, a.tip_x[:1]),
                                  "y": np.append(a.tip_z, a.tip_z[:1])})  # fmt: skip
         self.dr_shape.data = {"x": a.x[0].tolist(), "y": a.z[0].tolist()}
+        self.dr_tip.data = {"x": [float(a.tip_x[0])], "y": [float(a.tip_z[0])]}
         gain = np.abs(a.bode)
         self._set(self.bode_gain, {"x": a.omega, "y": gain})
         self._set(self.bode_phase, {"x": a.omega, "y": np.degrees(np.unwrap(np.angle(a.bode)))})
@@ -726,8 +721,9 @@ class PillarPanel:
         k = int((start - self._clock) * 1e3 / FRAME_MS) if frame is None else int(frame)
         k %= a.x.shape[0]
         self._frame = k
-        with pn.io.hold():
+        with pn.io.hold():  # both changes in one message
             self.dr_shape.data = {"x": a.x[k].tolist(), "y": a.z[k].tolist()}
+            self.dr_tip.data = {"x": [float(a.tip_x[k])], "y": [float(a.tip_z[k])]}
         self.frame_ms.append(1e3 * (time.perf_counter() - start))
         self.frame_cpu_ms.append(1e3 * (time.thread_time() - cpu))
         self.frame_at.append(start)
