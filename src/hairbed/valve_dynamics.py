@@ -36,7 +36,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._channel_drives import load_scale
+from ._bed_scales import _as_porous, _BedScales, _scales
 from ._core.porous import solve_porous
 from ._core.validation import _first_index, as_float_array, check_int, check_positive, show
 from ._optional import optional_import
@@ -73,22 +73,6 @@ PUMP_STATUS = {
 }
 
 
-@dataclass(frozen=True)
-class _BedScales:
-    """A bed's dimensionless model and the SI scales of its drive and its flow."""
-
-    theta0: float
-    kappa: float
-    eps: float
-    gamma: float
-    time: float  # T [s]
-    inertia: float  # mu [-]
-    tangential_mass: float  # chi [-]
-    womersley: float  # alpha [-]
-    pi_per_gradient: float  # Pi per G [1/(Pa/m)]
-    q_per_flow: float  # q per Q' [1/(m^2/s)]
-
-
 def bed_time_scales(bed: HairBed, hair_density: float | None = None) -> dict[str, float]:
     """The bed's time scale and the numbers of its dynamics (theory.md §15).
 
@@ -103,56 +87,6 @@ def bed_time_scales(bed: HairBed, hair_density: float | None = None) -> dict[str
         "womersley": s.womersley,
         "kappa": s.kappa,
     }
-
-
-def _scales(bed: Any, hair_density: Any) -> _BedScales:
-    if not isinstance(bed, HairBed):
-        raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
-    porous = bed if bed.model == "porous" else _as_porous(bed)
-    zeta = porous.drag_coefficients[0]
-    t_scale = zeta * bed.length**4 / bed.bending_stiffness
-    if not (math.isfinite(t_scale) and t_scale > 0.0):
-        raise ValueError(f"the bed's time scale zeta_perp L^4/(E I) = {t_scale!r} s under- or "
-                         "overflows")  # fmt: skip
-    rho_f = bed.density
-    alpha = 0.0 if rho_f is None else float(rho_f) * bed.length**2 / (bed.viscosity * t_scale)
-    mu, chi = 0.0, 1.0
-    if hair_density is not None:
-        rho_s = check_positive(hair_density, "hair_density", "kg/m^3")
-        added = 0.0 if rho_f is None else float(rho_f)
-        mu = (rho_s + added) * math.pi * bed.radius**2 / (zeta * t_scale)
-        chi = rho_s / (rho_s + added)
-        if not (math.isfinite(mu) and chi > 0.0):
-            raise ValueError(f"hair_density = {show(hair_density)} kg/m^3 gives an inertia "
-                             "number that over- or underflows")  # fmt: skip
-    return _BedScales(
-        theta0=float(bed.base_angle),
-        kappa=float(porous.kappa),
-        eps=float(bed.eps),
-        gamma=float(porous.drag_ratio),
-        time=t_scale,
-        inertia=mu,
-        tangential_mass=chi,
-        womersley=alpha,
-        pi_per_gradient=float(load_scale(porous, "pressure")),
-        q_per_flow=float(load_scale(porous, "flow")),
-    )
-
-
-def _as_porous(bed: HairBed) -> HairBed:
-    """The same bed under the porous model (the bed in time is §15's porous model)."""
-    return HairBed(
-        length=bed.length,
-        radius=bed.radius,
-        youngs_modulus=bed.youngs_modulus,
-        channel_height=bed.channel_height,
-        viscosity=bed.viscosity,
-        spacing=bed.spacing,
-        base_angle=bed.base_angle,
-        density=bed.density,
-        model="porous",
-        drag=bed.drag,
-    )
 
 
 def _channel_length(value: Any) -> float:
