@@ -66,6 +66,7 @@ from ._core.validation import (
 from ._warnings import ModelValidityWarning, UnitsWarning
 
 if TYPE_CHECKING:  # pragma: no cover
+    from .bed_simulation import BedSimulation
     from .profile_fit import ProfileFit
 
 __all__ = [
@@ -929,6 +930,45 @@ class HairBed:
             reynolds_number=float_or_array(reynolds),
             pressure_gradient=float_or_array(np.zeros(np.shape(gap))),
             flow_rate=float_or_array(v * gap / 2.0),
+        )
+
+    def simulate(
+        self,
+        times: Any,
+        *,
+        velocity: Any = None,
+        pressure_gradient: Any = None,
+        flow_rate: Any = None,
+        wall_shear_stress: Any = None,
+        hair_density: float | None = None,
+        num: int | None = None,
+        num_gap: int = 16,
+        rtol: float = 1e-8,
+        atol: float = 1e-10,
+        max_steps: int = 100_000,
+    ) -> BedSimulation:
+        """The bed's motion in time-dependent flow, in SI: the porous bed in time (theory.md
+        §15; a dense bed runs the porous model of its geometry) under a top wall's speed
+        v(t) [m/s] or stress tau(t) [Pa] and a pump's G(t) [Pa/m] or Q'(t) [m^2/s] (numbers:
+        steps from rest at times[0]; :mod:`hairbed.dynamics` signals in SI; callables of
+        t [s]), the fluid's inertia from ``density``, the hairs' from ``hair_density``
+        [kg/m^3]: :func:`hairbed.bed_simulation.simulate` (a
+        :class:`hairbed.bed_simulation.BedSimulation`)."""
+        from .bed_simulation import simulate
+
+        return simulate(
+            self,
+            times,
+            velocity=velocity,
+            pressure_gradient=pressure_gradient,
+            flow_rate=flow_rate,
+            wall_shear_stress=wall_shear_stress,
+            hair_density=hair_density,
+            num=num,
+            num_gap=num_gap,
+            rtol=rtol,
+            atol=atol,
+            max_steps=max_steps,
         )
 
     def wall_shear_stress(self, velocity: Any, *, root: str = "low") -> FloatOrArray:

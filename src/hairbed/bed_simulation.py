@@ -1,0 +1,416 @@
+"""A hair bed in time, in SI: :meth:`hairbed.HairBed.simulate` (issue 30, theory.md §15).
+
+The porous bed in time (:func:`hairbed.dynamics.simulate_bed`: hairs and fluid together,
+the top wall's speed or stress and a pump's pressure gradient or flow rate as drives) mapped
+onto a :class:`hairbed.HairBed` of either ``model`` (the dense bed runs the porous model of
+its geometry: its kappa and drag ratio from the bed's ``drag`` law), in the units of
+:mod:`hairbed._bed_scales`:
+
+    t = T t',  T = zeta_perp L^4/(E I) [s]
+    omega2 = A eta L^2/(E I H) v,  Q = A L^2/(E I) tau,  Pi = A L^3/(E I) G,
+    q = 6 A eta L^2/(E I H^2) Q',  A = pi a^2/phi,
+    alpha = rho_f L^2/(eta T) (the fluid's inertia, 0 without the bed's ``density``),
+    mu = (rho_s + rho_f) pi a^2/(zeta_perp T), chi = rho_s/(rho_s + rho_f) (the hairs'),
+
+and back: lengths L x [m], the base moment E I theta_s(0)/L [N m].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from dataclasses import replace as dataclasses_replace
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._bed_scales import _BedScales, _scales
+from ._core.validation import as_float_array, check_number, show
+from .dynamics import (
+    CALLABLE_SAMPLES,
+    BedTrajectory,
+    Signal,
+    constant,
+    sampled,
+    simulate_bed,
+    step,
+)
+from .dynamics._bed import MAX_BED_DRIVE, NUMBER_RANGE
+from .dynamics._signals import _peak
+from .sensor_dynamics import _SIGNAL_UNITS
+
+if TYPE_CHECKING:  # units.py calls this module (HairBed.simulate): no import cycle
+    from .units import HairBed
+
+__all__ = ["BedSimulation", "simulate"]
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class BedSimulation:
+    """A hair bed's motion in time-dependent flow, in SI (from :meth:`hairbed.HairBed.simulate`).
+
+    Always the porous model of theory.md §15 (``model`` "porous"; a dense ``HairBed`` runs
+    the porous model of its geometry, ``bed_model`` "dense").
+
+    Attributes
+    ----------
+    time : ndarray
+        The output times [s]. Past an event or a failure (``t_end``) the values are NaN.
+    tip_deflection, tip_height : ndarray
+        x(L, t), z(L, t) of the hairs [m].
+    tip_angle : ndarray
+        theta(L, t) [rad].
+    base_moment : ndarray
+        E I theta_s(0, t), the bending moment at a hair's base [N m].
+    wall_shear_stress : ndarray
+        The shear stress on the top wall [Pa] (what a rheometer measures; the drive under
+        ``wall_shear_stress``).
+    wall_velocity : ndarray
+        The top wall's speed [m/s] (the drive, or the free wall's under a set stress).
+    flow_rate : ndarray
+        Flow rate per unit width through bed and gap Q' [m^2/s].
+    pressure_gradient : ndarray
+        G = -dp/dx [Pa/m] (the drive, or the unknown that holds a set flow rate).
+    time_scale : float
+        T = zeta_perp L^4/(E I) [s].
+    kappa, drag_ratio : float
+        The porous model's permeability over L^2 and zeta_par/zeta_perp [-].
+    womersley : float
+        alpha = rho_f L^2/(eta T) [-] as run (0: the quasi-steady fluid: the bed has no
+        density, or alpha < 1e-6).
+    inertia_number : float
+        mu = (rho_s + rho_f) pi a^2/(zeta_perp T) [-] as run (0: overdamped hairs: no
+        hair_density, or mu < 1e-6).
+    hair_density : float
+        rho_s [kg/m^3] (NaN when not given).
+    model, bed_model : str
+        "porous" (the model run), and the bed's own ``model``.
+    status : int
+        0 reached the last time; -8 a hair node reached abs(theta) = pi/2; -2 the step
+        limit; -3 a step-size underflow (:data:`hairbed.dynamics.BED_STATUS`).
+    t_end : float
+        Where the integration ended [s].
+    trajectory : hairbed.dynamics.BedTrajectory
+        The dimensionless run (time in T, lengths in L).
+    """
+
+    time: FloatArray
+    tip_deflection: FloatArray
+    tip_height: FloatArray
+    tip_angle: FloatArray
+    base_moment: FloatArray
+    wall_shear_stress: FloatArray
+    wall_velocity: FloatArray
+    flow_rate: FloatArray
+    pressure_gradient: FloatArray
+    time_scale: float
+    kappa: float
+    drag_ratio: float
+    womersley: float
+    inertia_number: float
+    hair_density: float
+    model: str
+    bed_model: str
+    status: int
+    t_end: float
+    trajectory: BedTrajectory = field(repr=False, compare=False)
+
+    @property
+    def success(self) -> bool:
+        """True where the run reached its last time (status 0)."""
+        return self.status == 0
+
+    @property
+    def message(self) -> str:
+        """The status's message (:data:`hairbed.dynamics.BED_STATUS`)."""
+        return str(self.trajectory.message)
+
+    def to_xarray(self) -> Any:
+        """The motion as an xarray.Dataset with the dimension ``time``, CF attributes.
+        Needs the ``io`` extra."""
+        from ._optional import optional_import
+
+        xr = optional_import("xarray", "BedSimulation.to_xarray", "io")
+
+        def var(value: FloatArray, units: str, name: str) -> Any:
+            return ("time", value, {"units": units, "long_name": name})
+
+        data = {
+            "tip_deflection": var(self.tip_deflection, "m", "tip deflection (streamwise)"),
+            "tip_height": var(self.tip_height, "m", "tip height"),
+            "tip_angle": var(self.tip_angle, "rad", "tip angle"),
+            "base_moment": var(self.base_moment, "N m", "bending moment at the base"),
+            "wall_shear_stress": var(self.wall_shear_stress, "Pa", "top wall shear stress"),
+            "wall_velocity": var(self.wall_velocity, "m/s", "top wall speed"),
+            "flow_rate": var(self.flow_rate, "m^2/s", "flow rate per unit width"),
+            "pressure_gradient": var(self.pressure_gradient, "Pa/m", "pressure gradient -dp/dx"),
+        }
+        return xr.Dataset(
+            data,
+            coords={
+                "time": (
+                    "time",
+                    self.time,
+                    {"units": "s", "long_name": "time", "standard_name": "time"},
+                )
+            },
+            attrs={
+                "title": "hairbed hair bed in time",
+                "model": self.model,
+                "bed_model": self.bed_model,
+                "time_scale_s": self.time_scale,
+                "kappa": self.kappa,
+                "drag_ratio": self.drag_ratio,
+                "womersley": self.womersley,
+                "inertia_number": self.inertia_number,
+                "hair_density_kg_per_m3": self.hair_density,
+                "status": self.status,
+                "message": self.message,
+                "t_end_s": self.t_end,
+                "Conventions": "CF-1.10",
+            },
+        )
+
+
+def _si_drive(
+    drive: Any, name: str, unit: str, per_unit: float, t: FloatArray, t_scale: float
+) -> Signal | None:
+    """The dimensionless drive of an SI one d(t) [unit], t [s]: ``per_unit`` d(T t')."""
+    if drive is None:
+        return None
+    top = MAX_BED_DRIVE / per_unit  # [unit]: the bed dynamics' bound on its drives, in SI
+
+    def within(peak: float) -> None:
+        if not peak <= top:
+            raise ValueError(
+                f"{name} must stay within [-{top:.4g}, {top:.4g}] {unit} for this bed (its "
+                f"dimensionless drive within +-{MAX_BED_DRIVE:g}), got a drive of magnitude "
+                f"{show(peak)} {unit}"
+            )
+
+    if isinstance(drive, Signal):
+        within(_peak(drive))
+        if drive.kind == "sampled":
+            return sampled(drive.times / t_scale, drive.values * per_unit)
+        scale = {"stress": per_unit, "time": 1.0 / t_scale, "rate": t_scale, "angle": 1.0}
+        units = _SIGNAL_UNITS[drive.kind]
+        params = tuple(p * scale[u] for p, u in zip(drive.params, units, strict=True))
+        return dataclasses_replace(drive, params=params)
+    if callable(drive):  # sampled at CALLABLE_SAMPLES uniform times of the run, in seconds
+        ts = np.linspace(float(t[0]), float(t[-1]), CALLABLE_SAMPLES)
+        try:
+            raw = drive(ts)
+        except Exception as exc:  # the user's function: say whose error it is
+            raise ValueError(
+                f"{name}: the callable raised {type(exc).__name__}: {exc} (it is called with "
+                f"an ndarray of times [s] and returns {unit})"
+            ) from exc
+        vals = np.asarray(raw, dtype=np.float64)
+        if vals.ndim == 0:
+            vals = np.full(ts.shape, float(vals))
+        if vals.shape != ts.shape:
+            raise ValueError(
+                f"{name}: the callable must return an array of the shape of t {ts.shape} "
+                f"[{unit}], got {vals.shape}"
+            )
+        bad = ~np.isfinite(vals)
+        if np.any(bad):
+            i = int(np.flatnonzero(bad)[0])
+            raise ValueError(
+                f"{name}: the callable returned {float(vals[i])!r} {unit} at "
+                f"t = {float(ts[i])!r} s"
+            )
+        within(float(np.max(np.abs(vals))))
+        if ts[-1] == ts[0]:
+            return constant(float(vals[0]) * per_unit)
+        return sampled(ts / t_scale, vals * per_unit)
+    if isinstance(drive, (int, float, np.integer, np.floating)) and not isinstance(drive, bool):
+        value = check_number(drive, name, unit=unit)
+        within(abs(value))
+        return step(value * per_unit, 0.0, float(t[0]) / t_scale)  # from rest at t[0]
+    raise TypeError(
+        f"{name} must be a number [{unit}] (a step from rest at times[0]), a hairbed.dynamics "
+        f"signal in SI (step, ramp, sine, pulses, sampled: times [s], values [{unit}], sine's "
+        f"omega [rad/s]) or a callable of t [s] returning {unit}, got {type(drive).__name__}"
+    )
+
+
+def _within_range(s: _BedScales, bed: Any, hair_density: Any) -> _BedScales:
+    """The scales with a Womersley or inertia number below the bed dynamics' range
+    (NUMBER_RANGE[0] = 1e-6) set to 0 (the quasi-steady fluid, overdamped hairs: their
+    effect is of that relative order); one above it a ValueError naming its density."""
+    lo, hi = NUMBER_RANGE
+    if s.womersley > hi:
+        raise ValueError(
+            f"density = {show(bed.density)} kg/m^3 gives the Womersley number rho L^2/(eta T) "
+            f"= {s.womersley:.4g}, above the bed dynamics' range [{lo:g}, {hi:g}]"
+        )
+    if s.inertia > hi:
+        raise ValueError(
+            f"hair_density = {show(hair_density)} kg/m^3 gives the inertia number "
+            f"mu = {s.inertia:.4g}, above the bed dynamics' range [{lo:g}, {hi:g}]"
+        )
+    alpha = s.womersley if s.womersley >= lo else 0.0
+    mu, chi = (s.inertia, s.tangential_mass) if s.inertia >= lo else (0.0, 1.0)
+    return dataclasses_replace(s, womersley=alpha, inertia=mu, tangential_mass=chi)
+
+
+def simulate(
+    bed: HairBed,
+    times: Any,
+    *,
+    velocity: Any = None,
+    pressure_gradient: Any = None,
+    flow_rate: Any = None,
+    wall_shear_stress: Any = None,
+    hair_density: float | None = None,
+    num: int | None = None,
+    num_gap: int = 16,
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+    max_steps: int = 100_000,
+) -> BedSimulation:
+    """A hair bed's motion in time-dependent flow, in SI (theory.md §15).
+
+    :func:`hairbed.dynamics.simulate_bed` (the porous bed: planar inextensible hairs with the
+    resistive-force drag in a laterally uniform Brinkman flow, fluid and hairs together) in
+    the units of :mod:`hairbed.bed_simulation`. A dense ``HairBed`` runs the porous model of
+    its geometry (its kappa and drag ratio from the bed's ``drag`` law); the result says so
+    (``model`` "porous", ``bed_model``). The fluid's inertia enters with the Womersley number
+    alpha = rho L^2/(eta T) when the bed has a ``density`` (else the quasi-steady fluid); the
+    hairs' inertia with mu = (rho_s + rho_f) pi a^2/(zeta_perp T) when ``hair_density`` is
+    given (else overdamped). A Womersley or inertia number below 1e-6 is run as 0 (the
+    quasi-steady fluid, overdamped hairs; their effect is of that relative order) and the
+    result holds the value run. The bed starts at rest in the steady state of the drives just
+    before times[0] (a number: a step from still fluid at times[0]).
+
+    Parameters
+    ----------
+    bed : HairBed
+        The bed (either model).
+    times : array_like
+        The output times [s], finite and non-decreasing; the run starts at times[0].
+    velocity, wall_shear_stress : number, Signal or callable, optional
+        The top wall: its speed v(t) [m/s] (default at rest), or its shear stress tau(t) [Pa]
+        (the wall then moves freely). At most one.
+    pressure_gradient, flow_rate : number, Signal or callable, optional
+        The pump: G(t) = -dp/dx [Pa/m] (default 0), or the flow rate per unit width Q'(t)
+        [m^2/s] (G is then the unknown that holds it; with the fluid's inertia it must not
+        jump: use a ramp). At most one.
+
+        Each drive is a number (a step from rest at times[0]), a :mod:`hairbed.dynamics`
+        signal given in SI (``step(after, before, at)``, ``ramp``, ``sine(mean, amplitude,
+        omega, phase)``, ``pulses``, ``sampled``: times [s], values in the drive's unit,
+        omega [rad/s]) or a callable d(t) of an ndarray of times [s] (sampled at
+        ``hairbed.dynamics.CALLABLE_SAMPLES`` uniform times of the run). Its dimensionless
+        value within +-1e6.
+    hair_density : float, optional
+        rho_s [kg/m^3] of the hairs (their inertia; default None: overdamped).
+    num : int, optional
+        The hair's Chebyshev degree in [8, 128] (default that of the start's static state).
+    num_gap : int, optional
+        The gap's degree in [4, 128] (with the fluid's inertia; default 16).
+    rtol, atol : float, optional
+        The integrator's tolerances (default 1e-8, 1e-10).
+    max_steps : int, optional
+        The most steps (status -2 beyond).
+
+    Returns
+    -------
+    BedSimulation
+
+    Raises
+    ------
+    ValueError, TypeError
+        Bad times, drives or densities, naming the parameter.
+
+    Examples
+    --------
+    >>> import numpy as np, hairbed
+    >>> bed = hairbed.HairBed(length=1e-3, radius=50e-6, youngs_modulus=1e6,
+    ...                       channel_height=2e-3, viscosity=1.0, spacing=400e-6,
+    ...                       model="porous")
+    >>> run = bed.simulate([0.0, 60.0], velocity=0.1)  # the wall starts at 10 cm/s
+    >>> run.success, round(run.time_scale, 4)  # T [s]
+    (True, 3.4889)
+    >>> round(float(run.tip_deflection[-1] / bed.deform(0.1).tip_deflection), 8)
+    1.0
+    """
+    s: _BedScales = _scales(bed, hair_density)
+    tt = as_float_array(times, "times", unit="s").reshape(-1)
+    if tt.size == 0:
+        raise ValueError("times must hold at least one time [s]")
+    back = np.flatnonzero(np.diff(tt) < 0.0)
+    if back.size:
+        i = int(back[0]) + 1
+        raise ValueError(f"times must not decrease [s]; times[{i}] = {show(float(tt[i]))} is "
+                         "earlier")  # fmt: skip
+    with np.errstate(over="ignore"):
+        t_dim = tt / s.time
+    if not np.all(np.isfinite(t_dim)):
+        raise ValueError(
+            f"times must stay below {np.finfo(np.float64).max * s.time:.4g} s in magnitude for "
+            f"this bed (t/T overflows, T = {s.time:.4g} s), got {float(np.max(np.abs(tt)))!r}"
+        )
+    if velocity is not None and wall_shear_stress is not None:
+        raise ValueError("give at most one of velocity [m/s] and wall_shear_stress [Pa], got both")
+    if pressure_gradient is not None and flow_rate is not None:
+        raise ValueError(
+            "give at most one of pressure_gradient [Pa/m] and flow_rate [m^2/s], got both"
+        )
+    drives = {
+        "wall": _si_drive(velocity, "velocity", "m/s", s.omega2_per_velocity, tt, s.time),
+        "wall_stress": _si_drive(
+            wall_shear_stress, "wall_shear_stress", "Pa", s.load_per_stress, tt, s.time
+        ),
+        "pressure": _si_drive(
+            pressure_gradient, "pressure_gradient", "Pa/m", s.pi_per_gradient, tt, s.time
+        ),
+        "flow_rate": _si_drive(flow_rate, "flow_rate", "m^2/s", s.q_per_flow, tt, s.time),
+    }
+    s = _within_range(s, bed, hair_density)
+    run = simulate_bed(
+        s.theta0,
+        s.kappa,
+        s.eps,
+        t_eval=t_dim,
+        gamma=s.gamma,
+        inertia=s.inertia,
+        tangential_mass=s.tangential_mass,
+        womersley=s.womersley,
+        num=num,
+        num_gap=num_gap,
+        rtol=rtol,
+        atol=atol,
+        max_steps=max_steps,
+        wall=drives["wall"],
+        wall_stress=drives["wall_stress"],
+        pressure=drives["pressure"],
+        flow_rate=drives["flow_rate"],
+    )
+    length, ei = bed.length, bed.bending_stiffness
+    return BedSimulation(
+        time=tt,
+        tip_deflection=length * run.tip_deflection,
+        tip_height=length * run.tip_height,
+        tip_angle=np.asarray(run.tip_angle, dtype=np.float64),
+        base_moment=ei * run.base_moment / length,
+        wall_shear_stress=run.wall_stress / s.load_per_stress,
+        wall_velocity=run.wall_speed / s.omega2_per_velocity,
+        flow_rate=run.flow_rate / s.q_per_flow,
+        pressure_gradient=run.pressure / s.pi_per_gradient,
+        time_scale=s.time,
+        kappa=s.kappa,
+        drag_ratio=s.gamma,
+        womersley=s.womersley,
+        inertia_number=s.inertia,
+        hair_density=math.nan if hair_density is None else float(hair_density),
+        model="porous",
+        bed_model=str(bed.model),
+        status=int(run.status),
+        t_end=float(run.t_end) * s.time,
+        trajectory=run,
+    )
