@@ -125,7 +125,8 @@ def test_si_run_is_the_dimensionless_run_under_independent_scalings():
 @pytest.mark.parametrize("model", ["porous", "dense"])
 def test_constant_drive_ends_at_the_static_porous_state(model):
     """A step of the wall speed and of G from rest at times[0] relaxes to HairBed.deform's
-    porous state (the dense bed: the porous model of its geometry) within 1e-8."""
+    porous state (the dense bed: the porous model of its geometry) within 1e-10 (the
+    issue's steady limit; the brief asks 1e-8)."""
     bed = hairbed.HairBed(**KW, model=model)
     porous = hairbed.HairBed(**KW, model="porous")
     v, g = 0.05, 2e4
@@ -141,7 +142,7 @@ def test_constant_drive_ends_at_the_static_porous_state(model):
         (run.flow_rate[-1], st.flow_rate),
         (run.wall_shear_stress[-1], top),
     ):
-        assert abs(float(got) - float(want)) <= 1e-8 * abs(float(want))
+        assert abs(float(got) - float(want)) <= 1e-10 * abs(float(want))  # measured 1.4e-14
 
 
 BAD = [
