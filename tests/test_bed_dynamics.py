@@ -382,3 +382,52 @@ def test_dense_limit_in_time() -> None:
     assert np.all(errs[1] < 0.01)
     rate = np.log10(errs[0] / errs[1])
     assert np.all((rate > 0.45) & (rate < 0.65)), rate
+
+
+@pytest.mark.parametrize("alpha", [0.0, 0.5])
+def test_steady_response_with_the_feedthrough(alpha: float) -> None:
+    """The steady (omega = 0) response to the pump, c . (-J^-1 b) + f, of
+    :func:`bed_operators` and :func:`linearise_bed` against Richardson differences of the
+    static solver (:func:`hairbed.solve_porous` at Pi +- h, +- 2h): with a quasi-steady fluid
+    the top stress and the flux read Pi directly (f = -g and -eps^2 g^3), not otherwise."""
+    eps, kap, th, pi0 = 0.5, 0.05, 0.3, 0.7
+    st = hairbed.solve_porous(1.5, eps, th, kappa=kap, gamma=0.6, pi=pi0)
+    op = bed_operators(st, womersley=alpha)
+    gg = 1.0 / eps - st.tip_height
+    f = op.feedthrough["pressure"]
+    want_f = np.zeros(len(BED_OUTPUTS))
+    if alpha == 0.0:
+        want_f[BED_OUTPUTS.index("wall_stress")] = -gg
+        want_f[BED_OUTPUTS.index("flow_rate")] = -(eps**2) * gg**3
+    assert np.max(np.abs(f - want_f)) < 1e-12 * (1.0 + gg**3)
+    assert np.all(op.feedthrough["wall"] == 0.0)
+    dy = np.linalg.solve(op.jacobian, -op.drives["pressure"])
+    lin = {k: float(op.outputs[k] @ dy + f[BED_OUTPUTS.index(k)]) for k in BED_OUTPUTS}
+
+    def outputs(pi: float) -> np.ndarray:
+        s = hairbed.solve_porous(1.5, eps, th, kappa=kap, gamma=0.6, pi=pi)
+        top = s.tip_stress - pi * (1.0 / eps - s.tip_height)
+        return np.array([s.tip_deflection, s.tip_height, s.base_curvature, top])
+
+    def pressure(q: float) -> float:
+        return float(hairbed.solve_porous(1.5, eps, th, kappa=kap, gamma=0.6, q=q).pi)
+
+    def richardson(func: Callable[[float], Any], x: float, h: float) -> Any:
+        return (8.0 * (func(x + h) - func(x - h)) - (func(x + 2 * h) - func(x - 2 * h))) / (
+            12.0 * h
+        )
+
+    # the flux: dq/dPi = 1/(dPi/dq) along the static family under the flow drive, about
+    # the flow rate of this state (its Pi the static solver's to 1e-10)
+    q0 = op.output_values["flow_rate"]
+    assert abs(pressure(q0) - pi0) < 1e-10
+    ref = np.append(richardson(outputs, pi0, 1e-3), 1.0 / richardson(pressure, q0, 1e-3))
+    for i, name in enumerate(BED_OUTPUTS):
+        assert abs(lin[name] - ref[i]) < 1e-10 * (1.0 + abs(ref[i])), (name, lin[name], ref[i])
+    # linearise_bed takes the same feedthrough: its response at omega -> 0
+    resp = hairbed.dynamics.linearise_bed(st, womersley=alpha).frequency_response(
+        [0.0], "pressure", num=op.num, num_gap=16
+    )
+    for i, name in enumerate(BED_OUTPUTS):
+        got = complex(getattr(resp, name)[0])
+        assert abs(got - ref[i]) < 1e-10 * (1.0 + abs(ref[i])), (name, got, ref[i])

@@ -261,7 +261,8 @@ class BedOperators:
     """The linear operators of the semi-discrete bed about a steady state (theory.md §15).
 
     M y' = g(t, y) linearised about the steady y* under constant drives d*:
-    M dy' = J dy + sum_d b_d dd(t), and each output o = o* + c_o . dy.
+    M dy' = J dy + sum_d b_d dd(t), and each output o = o* + c_o . dy + sum_d f_d,o dd(t)
+    (f the feedthrough: an output that depends on a drive directly).
 
     Attributes
     ----------
@@ -280,6 +281,12 @@ class BedOperators:
         The rows c_o (size,) of ``BED_OUTPUTS``: tip_deflection [L], tip_height [L],
         base_moment theta'(0) [E I/L], wall_stress (the top wall's shear stress Q(H), load
         units of §13) and flow_rate (q, §11's units).
+    feedthrough : mapping of str to ndarray
+        f_d (len(BED_OUTPUTS),), in the order of ``BED_OUTPUTS``, for each drive of
+        ``drives``: the outputs' direct dependence on the drive at fixed y, so that
+        do = c_o . dy + f_d dd. Nonzero only for the pressure where the fluid has no
+        inertia (womersley = 0): the quasi-steady gap's exact profile carries Pi itself,
+        wall_stress -g and flow_rate -eps^2 g^3, g = 1/eps - h1 [L] (theory.md §13).
     output_values : mapping of str to float
         o* at y* (and "pressure", Pi).
     layout : mapping of str to int
@@ -301,6 +308,7 @@ class BedOperators:
     drives: Mapping[str, FloatArray]
     steady: FloatArray
     outputs: Mapping[str, FloatArray]
+    feedthrough: Mapping[str, FloatArray]
     output_values: Mapping[str, float]
     layout: Mapping[str, int]
     s: FloatArray
@@ -353,6 +361,23 @@ def _output_rows(sys: _System, y: FloatArray, pump_value: float) -> dict[str, Fl
     return {k: np.ascontiguousarray(np.imag(vals[k]) / h) for k in BED_OUTPUTS}
 
 
+def _feedthrough(
+    sys: _System, y: FloatArray, pump_value: float, drives: Mapping[str, FloatArray]
+) -> dict[str, FloatArray]:
+    """d o/d d at fixed y for each drive, by the complex step on the pump's value (the
+    outputs read the drive only there: Pi of the quasi-steady gap; the wall's drive and the
+    flow rate enter g alone)."""
+    h = 1e-30
+    out: dict[str, FloatArray] = {}
+    for name in drives:
+        f = np.zeros(len(BED_OUTPUTS))
+        if name == "pressure":
+            vals = _output_values(sys, y.astype(np.complex128), complex(pump_value, h))
+            f = np.array([float(np.imag(vals[k])) / h for k in BED_OUTPUTS])
+        out[name] = f
+    return out
+
+
 def bed_operators(
     state: PorousState,
     *,
@@ -368,7 +393,8 @@ def bed_operators(
     drive with the pressure or the flow drive) the semi-discrete bed M y' = g(t, y) is
     linearised: its diagonal mass vector M, the exact Jacobian J = dg/dy, the drives'
     columns dg/dd, the steady vector y* (the state on the dynamics' nodes, polished by
-    Newton on g = 0) and the outputs' rows. Time in T = zeta_perp L^4/(E I).
+    Newton on g = 0), the outputs' rows and their feedthrough from the drives. Time in
+    T = zeta_perp L^4/(E I).
 
     Parameters
     ----------
@@ -415,12 +441,14 @@ def bed_operators(
     ok, _, jac = _evaluate(sys, 0.0, y, True)
     vals = _output_values(sys, y, pump_value)
     lay = sys.layout
+    cols = _drive_columns(sys, y)
     return BedOperators(
         mass=_mass(sys),
         jacobian=jac,
-        drives=MappingProxyType(_drive_columns(sys, y)),
+        drives=MappingProxyType(cols),
         steady=y,
         outputs=MappingProxyType(_output_rows(sys, y, pump_value)),
+        feedthrough=MappingProxyType(_feedthrough(sys, y, pump_value, cols)),
         output_values=MappingProxyType({k: float(np.real(v)) for k, v in vals.items()}),
         layout=MappingProxyType(
             {

@@ -33,7 +33,6 @@ degrees fall short (beyond 128, or a smaller ``num``/``num_gap`` given) has stat
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -414,19 +413,8 @@ class LinearBed:
         )
 
     def _feedthrough(self, ops: BedOperators, drive: str) -> FloatArray:
-        """f: the outputs' direct dependence on the drive (module docstring)."""
-        have = getattr(ops, "feedthrough", None)
-        if isinstance(have, Mapping) and drive in have:
-            return np.asarray(have[drive], dtype=np.float64)
-        f = np.zeros(len(BED_OUTPUTS))
-        if drive == "pressure" and self.womersley <= 0.0:
-            # the quasi-steady gap's exact profile: Q(H) = Q(h1) - Pi g and the flux's
-            # -Pi g^3/6 (q = 6 eps^2 Phi), g = 1/eps - h1 (theory.md §13)
-            eps = float(ops.eps)
-            g = 1.0 / eps - float(ops.output_values["tip_height"])
-            f[BED_OUTPUTS.index("wall_stress")] = -g
-            f[BED_OUTPUTS.index("flow_rate")] = -(eps**2) * g**3
-        return f
+        """f: the outputs' direct dependence on the drive (``BedOperators.feedthrough``)."""
+        return np.asarray(ops.feedthrough[drive], dtype=np.float64)
 
     def _response(self, num: int, num_gap: int, om: FloatArray, drive: str) -> ComplexArray:
         """The outputs (len(BED_OUTPUTS), om.size) at the degrees (N, M)."""
