@@ -944,6 +944,11 @@ CLI_COMMANDS: dict[str, tuple[list[str], tuple[str, ...], list[tuple[str, str]]]
         ("--amplitudes", "--frequencies", "--wall-shear-stress"),
         [("--amplitudes", "0.1,0.2")],
     ),  # fmt: skip
+    "rheometer": (
+        ["rheometer", "--frequencies=1,10", "--density=1000", *_BED_ARGS],
+        ("--frequencies", "--velocity", "--hair-density", "--density"),
+        [("--velocity", "-0.01"), ("--velocity", "0")],
+    ),
     "design": (
         ["design", _DESIGN],
         ("low", "high", "starts"),
