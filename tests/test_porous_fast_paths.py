@@ -87,3 +87,16 @@ def test_the_first_level_of_16_keeps_the_states(kw):
     # ... and gives the plain ladder's state to the tolerance
     assert np.max(np.abs(quick.tip_deflection - out[4])) < 1e-11
     assert np.max(np.abs(quick.wall_stress - out[10]) / np.maximum(1.0, np.abs(out[10]))) < 1e-11
+
+
+def test_a_load_that_lays_the_hair_flat_has_no_state_at_once():
+    """q = -1.1e13 (a fuzz case): every frozen gap's state reaches pi/2 at the first degree;
+    solve_porous_all says so (status -8) without climbing the ladder at every gap (20 s
+    before), and solve_porous's rescue keeps its own failure."""
+    import hairbed
+
+    states = hairbed.solve_porous_all(0.5, 0.5, 0.1, kappa=0.1, q=-1.1e13)
+    assert len(states) == 1 and int(states[0].status) == -8
+    assert "pi/2" in states[0].message or "wall" in states[0].message
+    one = hairbed.solve_porous(0.5, 0.5, 0.1, kappa=0.1, q=-1.1e13)
+    assert int(one.status) < 0

@@ -602,7 +602,8 @@ def solve_porous_all(
     list of PorousState
         Sorted by tip height, each with ``stable`` (dG/dh < 0 at the root: True stable).
         Never empty: where the scan finds no state, one state of NaN values whose
-        ``status`` (-7) and ``message`` say so.
+        ``status`` (-7; -8 where the load lays the hair on the wall at every frozen gap)
+        and ``message`` say so.
     """
     named: tuple[tuple[str, Any], ...] = (
         ("omega2", omega2),
@@ -631,6 +632,13 @@ def solve_porous_all(
     if float(arrays[1]) == 0.0:  # no gap feedback: one state, or its failure status
         return [solve_porous(omega2, eps, theta0, kappa=kappa, gamma=gamma, pi=pi, q=q, rtol=tol)]
     h = np.unique(np.concatenate([np.geomspace(*_SCAN_LOW), np.linspace(0.02, 1.0, count)]))
+    # a load that lays the hair on the wall at every frozen gap already at the first degree
+    # (status -8 everywhere): no state, said at once (the ladder's finer degrees only say it
+    # again, at ~20 s a call for loads like q = 1e13)
+    full = tuple(np.full(h.size, float(v.reshape(-1)[0])) for v in arrays)
+    first = _run(code, full, np.ascontiguousarray(h, dtype=np.float64), LADDER[:1], tol)[0]
+    if np.all(first[0] == -8):
+        return [_no_state(drive, code, arrays, -8)]
     out = _frozen(code, arrays, h, tol)[0]
     g = np.where(out[0] >= 0, out[3] - h, np.nan)
     lo_i = np.flatnonzero(np.isfinite(g[:-1]) & np.isfinite(g[1:]) & (g[:-1] * g[1:] <= 0.0))
@@ -692,12 +700,15 @@ def solve_porous_all(
     return states or [_no_state(drive, code, arrays)]
 
 
-def _no_state(drive: str, code: int, arrays: tuple[FloatArray, ...]) -> PorousState:
+def _no_state(
+    drive: str, code: int, arrays: tuple[FloatArray, ...], status: int = -7
+) -> PorousState:
     """The one state of :func:`solve_porous_all` where the scan finds none: NaN values,
-    status -7 (no state reached), never an empty list."""
+    status -7 (no state reached) or -8 (the load lays the hair on the wall at every frozen
+    gap), never an empty list."""
     k = _kernels()
     out = np.full((k.NCOLS, 1), np.nan)
-    out[0] = -7
+    out[0] = status
     out[1:3] = 0
     one = tuple(np.array(float(v.reshape(-1)[0])) for v in arrays)
     coefs = np.full((5, 1, LADDER[-1] + 1), np.nan)
