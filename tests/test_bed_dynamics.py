@@ -431,3 +431,24 @@ def test_steady_response_with_the_feedthrough(alpha: float) -> None:
     for i, name in enumerate(BED_OUTPUTS):
         got = complex(getattr(resp, name)[0])
         assert abs(got - ref[i]) < 1e-10 * (1.0 + abs(ref[i])), (name, got, ref[i])
+
+
+def test_tight_absolute_tolerance_and_a_tilted_oscillation() -> None:
+    """Regression (issue 30): with atol 100 times below rtol the run stalled at its first
+    step (status -3), and a tilted bed (theta0 = 0.4) under an oscillating wall failed in
+    mid-run, both from the algebraic unknowns' rounding in the Newton and error norms (fixed
+    in 320bb5a: both norms over the differential components). Both now run through with few
+    rejections, and the tighter run agrees with the default one to the tolerances."""
+    te = np.linspace(0.0, 2.0 * np.pi, 65)
+    runs = [
+        simulate_bed(
+            0.4, 1.0, 0.5, t_eval=te, wall=sine(0.0, 1.0, 1.0, np.pi / 2), rtol=rt, atol=at
+        )
+        for rt, at in ((1e-9, 1e-11), (1e-8, 1e-10))
+    ]
+    for run in runs:
+        assert run.success and run.t_end == te[-1]
+        assert run.nreject < 0.05 * run.nsteps
+    scale = np.max(np.abs(runs[0].wall_stress))
+    assert np.max(np.abs(runs[0].wall_stress - runs[1].wall_stress)) < 1e-7 * scale
+    assert np.max(np.abs(runs[0].tip_deflection - runs[1].tip_deflection)) < 1e-8
