@@ -41,6 +41,7 @@ from ._core.porous import solve_porous
 from ._core.validation import _first_index, as_float_array, check_int, check_positive, show
 from ._optional import optional_import
 from ._version import __version__
+from .bed_simulation import _within_range
 from .dynamics import BedTrajectory, linearise_bed, simulate_bed, sine, step
 from .units import HairBed
 from .valve import valve_curve
@@ -87,6 +88,18 @@ def bed_time_scales(bed: HairBed, hair_density: float | None = None) -> dict[str
         "womersley": s.womersley,
         "kappa": s.kappa,
     }
+
+
+def _per_drop(s: _BedScales, length: float) -> float:
+    """Pi per Pa of pressure drop over the channel [1/Pa] (a ValueError naming
+    channel_length where it overflows or underflows)."""
+    per_drop = s.pi_per_gradient / length
+    if not (math.isfinite(per_drop) and per_drop > 0.0):
+        raise ValueError(
+            f"channel_length = {show(length)} m gives a pressure load per pascal of "
+            f"{per_drop!r} for this bed: choose a channel length within about 1e-300 and 1e300 m"
+        )
+    return per_drop
 
 
 def _channel_length(value: Any) -> float:
@@ -243,14 +256,14 @@ def valve_switching(
     -------
     ValveSwitching
     """
-    s = _scales(bed, hair_density)
+    s = _within_range(_scales(bed, hair_density), bed, hair_density)
     length = _channel_length(channel_length)
+    per_drop = _per_drop(s, length)
     dp1 = _drop(pressure_drop, "pressure_drop")
     dp0 = _drop(initial_pressure_drop, "initial_pressure_drop")
     n = check_int(num_times, "num_times", 3, 10**6)
     t_end = 10.0 * s.time if duration is None else check_positive(duration, "duration", "s")
     tol = _rtol(rtol)
-    per_drop = s.pi_per_gradient / length
     pi0, pi1 = dp0 * per_drop, dp1 * per_drop
     for name, value in (("initial_pressure_drop", pi0), ("pressure_drop", pi1)):
         if not math.isfinite(value):
@@ -472,8 +485,9 @@ def pump_net_flow(
     -------
     PumpNetFlow
     """
-    s = _scales(bed, hair_density)
+    s = _within_range(_scales(bed, hair_density), bed, hair_density)
     length = _channel_length(channel_length)
+    per_drop = _per_drop(s, length)
     amps = _positive_array(amplitude, "amplitude", "Pa")
     freqs = _positive_array(frequency, "frequency", "Hz")
     m = check_int(samples_per_period, "samples_per_period", 8, 4096)
@@ -482,17 +496,21 @@ def pump_net_flow(
     if not 1e-12 <= ptol <= 1e-2:
         raise ValueError(f"tol must be in [1e-12, 1e-2], got {show(tol)}")
     itol = _rtol(rtol)
-    per_drop = s.pi_per_gradient / length
     big = amps * per_drop
     if not np.all(np.isfinite(big)):
         bad = ~np.isfinite(big)
         raise ValueError(f"amplitude overflows the bed's pressure load Pi: below "
                          f"{np.finfo(np.float64).max / per_drop:.3g} Pa, please"
                          f"{_first_index(bad)}")  # fmt: skip
-    omega_t = 2.0 * math.pi * freqs * s.time  # the angular frequency in 1/T
-    if not np.all(np.isfinite(omega_t)):
-        bad = ~np.isfinite(omega_t)
-        raise ValueError(f"frequency overflows the bed's time scale{_first_index(bad)}")
+    with np.errstate(over="ignore", under="ignore"):
+        omega_t = 2.0 * math.pi * freqs * s.time  # the angular frequency in 1/T
+    bad = ~((omega_t >= 1e-9) & (omega_t <= 1e9))
+    if np.any(bad):
+        lo, hi = 1e-9 / (2.0 * math.pi * s.time), 1e9 / (2.0 * math.pi * s.time)
+        raise ValueError(
+            f"frequency must lie in [{lo:.3g}, {hi:.3g}] Hz for this bed (1e-9 to 1e9 over its "
+            f"time scale 2 pi T), got {show(float(freqs[bad][0]))}{_first_index(bad)}"
+        )
     na, nf = amps.size, freqs.size
     net = np.full((na, nf), np.nan)
     periods = np.zeros((na, nf), dtype=np.int64)
