@@ -88,7 +88,7 @@ def test_csv_and_json_are_the_library_call(
         (["--frequencies", "1:x"], "--frequencies"),
         (["--frequencies", "1", "--velocity", "inf"], "--velocity"),
         (["--frequencies", "1", "--hair-density", "-3"], "hair_density"),
-        (["--frequencies", "1", "--hair-density", "1000"], "--hair-density"),
+        (["--frequencies", "1", "--hair-density", "1e300"], "hair_density"),
         (["--frequencies", "1", "--out", "x.foo"], "unknown output format"),
         (["--frequencies", "1", "--json", "--out", "x.nc"], "--json and --out"),
         (["--frequencies", "1", "--drag", "sparse"], "--model porous only"),

@@ -36,8 +36,10 @@ import numpy as np
 import scipy.optimize
 from numpy.typing import ArrayLike, NDArray
 
+from .._bed_scales import _scales
 from .._core.porous import solve_porous
 from .._core.validation import as_float_array, check_number, show, status_messages
+from ..bed_simulation import _within_range
 from ..dynamics import LinearBed, linearise_bed
 from ..units import HairBed
 
@@ -400,7 +402,9 @@ def bed_moduli(
     E I/(A L^2) [Pa]; the Womersley number alpha = rho_f L^2/(eta T) from ``bed.density``
     (0, a quasi-steady fluid, without one); the hairs' inertia mu = m/(zeta_perp T) with
     m = (rho_s + rho_f) pi a^2 and chi = rho_s/(rho_s + rho_f) where ``hair_density`` rho_s
-    [kg/m^3] is given (0, overdamped hairs, without one).
+    [kg/m^3] is given (0, overdamped hairs, without one). A number below the bed dynamics'
+    range (1e-6) is run as 0, its effect of that relative order (a realistic hair in a
+    viscous fluid: mu ~ 1e-8), as :meth:`hairbed.HairBed.simulate` does.
 
     Parameters
     ----------
@@ -421,19 +425,15 @@ def bed_moduli(
         raise TypeError(f"bed must be a HairBed, got {type(bed).__name__}")
     f = as_float_array(frequency, "frequency").reshape(-1)
     v = as_float_array(speed, "speed").reshape(-1)
-    zeta = float(bed.drag_coefficients[0])
-    ei = float(bed.bending_stiffness)
-    length = float(bed.length)
-    area = float(bed.wall_area_per_hair)
-    tscale = zeta * length**4 / ei
-    gscale = ei / (area * length**2)
-    rho_f = 0.0 if bed.density is None else float(bed.density)
-    alpha = rho_f * length**2 / (bed.viscosity * tscale)
-    mu, chi = 0.0, 1.0
     if hair_density is not None:
-        rho_s = check_number(hair_density, "hair_density", low=0.0, low_open=True)
-        mass = (rho_s + rho_f) * math.pi * float(bed.radius) ** 2
-        mu, chi = mass / (zeta * tscale), rho_s / (rho_s + rho_f)
+        check_number(hair_density, "hair_density", low=0.0, low_open=True)
+    # the one HairBed -> model conversion (T, alpha, mu, chi; numbers below the bed
+    # dynamics' range run as 0, their effect of that relative order)
+    sc = _within_range(_scales(bed, hair_density), bed, hair_density)
+    ei = float(bed.bending_stiffness)
+    tscale = sc.time
+    gscale = ei / (float(bed.wall_area_per_hair) * float(bed.length) ** 2)
+    alpha, mu, chi = sc.womersley, sc.inertia, sc.tangential_mass
     forcing = np.sign(v) * np.asarray(bed.omega2(np.abs(v)), dtype=np.float64).reshape(-1)
     om = 2.0 * math.pi * f * tscale
     res = oscillatory_shear(
