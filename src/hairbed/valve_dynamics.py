@@ -454,7 +454,7 @@ def pump_net_flow(
     the mean of Q'(t) over it by the periodic trapezoidal rule on ``samples_per_period``
     samples (spectrally accurate on a periodic state). The periodic state is reached when two
     consecutive periods' net flows agree within ``tol`` times the flow amplitude
-    max |Q'(t)| of the last period; the net flow reported is the last period's. The run is
+    max abs(Q'(t)) of the last period; the net flow reported is the last period's. The run is
     extended (doubling its periods) up to ``max_periods``.
 
     The quasi-static net flow, the phase average of the steady valve curve, is computed by

@@ -72,7 +72,7 @@ class LargeAmplitudeShear:
     periods : int
         Periods integrated.
     periodic_error : float
-        max |stress(last period) - stress(the one before)| / max |stress| [-].
+        max abs(stress(last period) - stress(the one before)) / max abs(stress) [-].
     trajectory_status : int
         :func:`simulate_bed`'s status.
     nsteps : int

@@ -382,10 +382,10 @@ def amplitude_sweep(
     periods, then ``periods`` periods sampled 64 times each. Over those, the tip deflection's
     Fourier coefficients x_k at k f give the first harmonic per stress amplitude,
     H_1 = x_1/(-i a) [m/Pa] (-> the linear H(f) as a -> 0, their difference O(a^2)), the
-    harmonic distortion sqrt(sum_{k=2}^{8} |x_k|^2)/|x_1| and the mean's shift from the
+    harmonic distortion sqrt(sum_{k=2}^{8} abs(x_k)^2)/abs(x_1) and the mean's shift from the
     static deflection at tau_mean [m] (O(a^2), the static curve's curvature and the
     dynamics'). The last period is compared with the one before: a change above
-    ``periodic_tol`` |x_1| is status 1 (not yet periodic).
+    ``periodic_tol`` abs(x_1) is status 1 (not yet periodic).
 
     Parameters
     ----------
@@ -405,7 +405,7 @@ def amplitude_sweep(
     settle_tol : float
         The transient's decay before the analysis, in (0, 1) (default 1e-6).
     periodic_tol : float
-        The periodicity a cell must reach (relative to |x_1|; default 1e-4).
+        The periodicity a cell must reach (relative to abs(x_1); default 1e-4).
     num, rtol, max_steps :
         The integrator's Chebyshev degree, relative tolerance and step bound per cell.
     chunks : int or dict, optional
