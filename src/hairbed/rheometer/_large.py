@@ -146,8 +146,8 @@ def large_amplitude_shear(
         The most periods integrated, in [3, 10^4] (default 200).
     rtol : float, optional
         The integrator's relative tolerance (default 1e-9, below the periodicity criterion's
-        default; atol is the same: a smaller atol stalls the integrator's first step,
-        measured).
+        default); atol is the same (with hair inertia an atol far below rtol makes the steps
+        crawl at the rates' rounding floor, measured at atol 1e-11).
 
     Returns
     -------
