@@ -17,7 +17,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from hairbed.rheometer import oscillatory_shear
+from hairbed.rheometer import bed_moduli, large_amplitude_shear, oscillatory_shear
 
 HERE = Path(__file__).resolve().parent
 DATA = json.loads((HERE / "data" / "bed_linear_mpmath.json").read_text())
@@ -112,3 +112,34 @@ def test_si_moduli_of_a_hair_bed() -> None:
         bed_moduli("bed", [1.0])  # type: ignore[arg-type]
     with pytest.raises(ValueError, match="hair_density"):
         bed_moduli(bed, [1.0], hair_density=-1.0)
+
+
+def _si_bed() -> object:
+    from hairbed import HairBed
+
+    return HairBed(length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=2e-3,
+                   viscosity=1.0, spacing=250e-6)  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("call", "match"),
+    [
+        (lambda: oscillatory_shear([1.0], eps=5e-324, kappa=1.0), "eps"),
+        (lambda: oscillatory_shear([1.0], eps=0.5, kappa=1e300), "kappa"),
+        (lambda: large_amplitude_shear(1e300, 0.1, eps=0.5, kappa=1.0), "omega"),
+        (lambda: large_amplitude_shear(1e8, 0.1, eps=0.5, kappa=1.0), "strain_amplitude"),
+        (lambda: large_amplitude_shear(1.0, 0.1, eps=0.5, kappa=5e-324), "kappa"),
+        (lambda: bed_moduli(_si_bed(), [1.0, -2.0], 0.0), r"frequency.*index 1"),
+        (lambda: bed_moduli(_si_bed(), [1e300], 0.0), "frequency"),
+        (lambda: bed_moduli(_si_bed(), [1.0], 1.7e308), "speed"),
+    ],
+)
+def test_hostile_rheometer_inputs_are_named(call, match) -> None:
+    """The battery's findings (tools/hostile_battery.py): each bad input named, no
+    ArithmeticError, numpy LinAlgError or leaked warning."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(ValueError, match=match):
+            call()

@@ -769,7 +769,7 @@ def _later_targets(pillar: Any) -> list[Target]:
             "rheometer.bed_moduli",
             lambda **kw: bed_moduli(bed, **kw),
             dict(frequency=[1.0, 10.0], speed=0.0, hair_density=None),
-            edges={"speed": [0.01], "hair_density": [1000.0], "frequency": [0.0]},
+            edges={"speed": [0.01], "hair_density": [1000.0], "frequency": [1e-3]},
         ),
         Target(
             "valve_dynamics.valve_switching",

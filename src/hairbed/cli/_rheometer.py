@@ -30,12 +30,12 @@ strain gives the complex modulus G* = G' + i G'' [Pa]. Prints, at each of --freq
 G' [Pa], G'' [Pa], the phase delta = arg G* of the stress against the strain [deg] (above
 90 the stress leads the wall's speed: inertia) and the status; above them, in '#' lines, the
 pre-stress [Pa], the lead crossover (G' changes sign) and the modulus crossover (G' = G'')
-[Hz] (nan where none lies within the frequencies), the time scale T = zeta L^4/(E I) [s], the
-modulus scale E I/(A L^2) [Pa] and the groups kappa, eps, the Womersley number (from
---density; a quasi-steady fluid without it) and the hairs' inertia number (from
---hair-density; overdamped hairs without it). --json prints one JSON document; --out FILE
-writes a dataset with units (.nc, .zarr, .csv, .parquet). SPEC is a value, a list A,B,... or
-START:STOP:NUM[:log], increasing and > 0.
+[Hz] ("none within the frequencies" where none lies in them; null in JSON, NaN in files),
+the time scale T = zeta L^4/(E I) [s], the modulus scale E I/(A L^2) [Pa] and the groups
+kappa, eps, the Womersley number (from --density; a quasi-steady fluid without it) and the
+hairs' inertia number (from --hair-density; overdamped hairs without it). --json prints one
+JSON document; --out FILE writes a dataset with units (.nc, .zarr, .csv, .parquet). SPEC is
+a value, a list A,B,... or START:STOP:NUM[:log], increasing and > 0.
 
 Large-amplitude shear (harmonics, Ewoldt's measures) exists only in the bed's units
 (hairbed.rheometer.large_amplitude_shear): not on the command line yet.
@@ -182,6 +182,8 @@ def run(args: argparse.Namespace) -> int:
         for key, value in summary.items():
             unit = SUMMARY_UNITS.get(key)
             shown = repr(value) if isinstance(value, float) else str(value)
+            if key.endswith("_crossover") and not math.isfinite(value):
+                shown = "none within the frequencies"  # the CSV's words, not a bare nan
             print(f"# {key} = {shown} [{unit}]" if unit else f"# {key} = {shown}")
         print("frequency [Hz],storage [Pa],loss [Pa],phase [deg],status")
         for f, gs, gl, ph, st in zip(r.frequency, storage, loss, phase, status):

@@ -33,7 +33,9 @@ from numpy.typing import NDArray
 from .._core.porous import solve_porous
 from .._core.validation import check_int, check_number, status_messages
 from ..dynamics import linearise_bed, simulate_bed, sine
+from ..dynamics._bed import MAX_BED_DRIVE
 from ._laos import LAOSAnalysis, analyse_laos
+from ._saos import EPS_MIN, KAPPA_RANGE, OMEGA_RANGE
 
 __all__ = [
     "LARGE_STATUS",
@@ -153,10 +155,10 @@ def large_amplitude_shear(
     -------
     LargeAmplitudeShear
     """
-    om = check_number(omega, "omega", low=0.0, low_open=True)
+    om = check_number(omega, "omega", low=OMEGA_RANGE[0], high=OMEGA_RANGE[1])
     g0 = check_number(strain_amplitude, "strain_amplitude", low=0.0, low_open=True)
-    e = check_number(eps, "eps", low=0.0, high=1.0, low_open=True, high_open=True)
-    k = check_number(kappa, "kappa", low=0.0, low_open=True)
+    e = check_number(eps, "eps", low=EPS_MIN, high=1.0, high_open=True)
+    k = check_number(kappa, "kappa", low=KAPPA_RANGE[0], high=KAPPA_RANGE[1])
     th = check_number(theta0, "theta0", low=-math.pi / 2, high=math.pi / 2, low_open=True,
                       high_open=True)  # fmt: skip
     gm = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
@@ -168,6 +170,12 @@ def large_amplitude_shear(
     nmax = check_int(max_periods, "max_periods", 3, 10_000)
     rt = check_number(rtol, "rtol", low=1e-12, high=1e-3)
     amp = k * g0 * om
+    if not abs(w0) + amp <= MAX_BED_DRIVE:
+        raise ValueError(
+            f"strain_amplitude * omega = {g0 * om:.4g} [1/T] is too fast for this bed: the top "
+            f"wall's forcing kappa gamma0 omega = {amp:.4g} plus the pre-stress's must stay "
+            f"within {MAX_BED_DRIVE:g} (give a smaller strain_amplitude or omega)"
+        )
     mean = solve_porous(w0, e, th, kappa=k, gamma=gm)
     if int(mean.status) < 0:
         raise ValueError(

@@ -54,6 +54,11 @@ SAOS_STATUS = {
     -1: "no steady state at this pre-stress's forcing (solve_porous failed)",
 }
 _MODULUS_UNITS = "E I/(A L^2)"
+#: The rheometer's ranges: kappa (its states converge on the dynamics' grid, N <= 128), the
+#: smallest eps = L/H, and omega [1/T] of the bed in time.
+KAPPA_RANGE = (1e-4, 1e6)
+EPS_MIN = 1e-6
+OMEGA_RANGE = (1e-9, 1e9)
 
 
 @dataclass(frozen=True)
@@ -251,8 +256,8 @@ def oscillatory_shear(
         i = int(np.flatnonzero(np.diff(om) <= 0.0)[0]) + 1
         raise ValueError(f"omega must increase, got omega[{i}] <= omega[{i - 1}]")
     fo = as_float_array(forcing, "forcing").reshape(-1)
-    e = check_number(eps, "eps", low=0.0, high=1.0, low_open=True, high_open=True)
-    k = check_number(kappa, "kappa", low=0.0, low_open=True)
+    e = check_number(eps, "eps", low=EPS_MIN, high=1.0, high_open=True)
+    k = check_number(kappa, "kappa", low=KAPPA_RANGE[0], high=KAPPA_RANGE[1])
     th = check_number(theta0, "theta0", low=-math.pi / 2, high=math.pi / 2, low_open=True,
                       high_open=True)  # fmt: skip
     g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
@@ -423,8 +428,18 @@ def bed_moduli(
     """
     if not isinstance(bed, HairBed):
         raise TypeError(f"bed must be a HairBed, got {type(bed).__name__}")
-    f = as_float_array(frequency, "frequency").reshape(-1)
-    v = as_float_array(speed, "speed").reshape(-1)
+    f = as_float_array(frequency, "frequency", unit="Hz").reshape(-1)
+    v = as_float_array(speed, "speed", unit="m/s").reshape(-1)
+    bad = ~(np.isfinite(f) & (f > 0.0))
+    if np.any(bad):
+        i = int(np.flatnonzero(bad)[0])
+        raise ValueError(
+            f"frequency must be finite and > 0 [Hz], got {show(float(f[i]))} (first at index {i})"
+        )
+    down = np.flatnonzero(np.diff(f) <= 0.0)
+    if down.size:
+        i = int(down[0]) + 1
+        raise ValueError(f"frequency must increase, got frequency[{i}] <= frequency[{i - 1}]")
     if hair_density is not None:
         check_number(hair_density, "hair_density", low=0.0, low_open=True)
     # the one HairBed -> model conversion (T, alpha, mu, chi; numbers below the bed
@@ -434,8 +449,18 @@ def bed_moduli(
     tscale = sc.time
     gscale = ei / (float(bed.wall_area_per_hair) * float(bed.length) ** 2)
     alpha, mu, chi = sc.womersley, sc.inertia, sc.tangential_mass
-    forcing = np.sign(v) * np.asarray(bed.omega2(np.abs(v)), dtype=np.float64).reshape(-1)
-    om = 2.0 * math.pi * f * tscale
+    forcing = np.sign(v) * bed._forcing(np.abs(v), "speed")[1].reshape(-1)
+    with np.errstate(over="ignore", under="ignore"):
+        om = 2.0 * math.pi * f * tscale
+    out = np.flatnonzero(~((om >= OMEGA_RANGE[0]) & (om <= OMEGA_RANGE[1])))
+    if out.size:
+        i = int(out[0])
+        lo, hi = (w / (2.0 * math.pi * tscale) for w in OMEGA_RANGE)
+        raise ValueError(
+            f"frequency must lie in [{lo:.4g}, {hi:.4g}] Hz for this bed (omega T in "
+            f"[{OMEGA_RANGE[0]:g}, {OMEGA_RANGE[1]:g}]), got {show(float(f[i]))} (first at "
+            f"index {i})"
+        )
     res = oscillatory_shear(
         om, forcing, eps=bed.eps, kappa=bed.kappa, theta0=bed.base_angle, gamma=bed.drag_ratio,
         inertia=mu, womersley=alpha, tangential_mass=chi,
