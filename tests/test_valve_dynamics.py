@@ -109,6 +109,7 @@ def test_upright_bed_pumps_nothing():
         ({"rtol": 1.0}, "rtol"),
         ({"hair_density": -1.0}, "hair_density"),
         ({"pressure_drop": [1.0, 2.0]}, "pressure_drop"),
+        ({"pressure_drop": 1e300}, r"pressure_drop.*channel_length"),
     ],
 )
 def test_switching_bad_input_is_named(kwargs, match):

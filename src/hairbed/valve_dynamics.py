@@ -43,6 +43,7 @@ from ._optional import optional_import
 from ._version import __version__
 from .bed_simulation import _within_range
 from .dynamics import BedTrajectory, linearise_bed, simulate_bed, sine, step
+from .dynamics._bed import MAX_BED_DRIVE
 from .units import HairBed
 from .valve import valve_curve
 
@@ -265,10 +266,13 @@ def valve_switching(
     t_end = 10.0 * s.time if duration is None else check_positive(duration, "duration", "s")
     tol = _rtol(rtol)
     pi0, pi1 = dp0 * per_drop, dp1 * per_drop
-    for name, value in (("initial_pressure_drop", pi0), ("pressure_drop", pi1)):
-        if not math.isfinite(value):
-            raise ValueError(f"{name} overflows the bed's pressure load Pi: below "
-                             f"{np.finfo(np.float64).max / per_drop:.3g} Pa, please")  # fmt: skip
+    for name, value, drop in (("initial_pressure_drop", pi0, dp0), ("pressure_drop", pi1, dp1)):
+        if not abs(value) <= MAX_BED_DRIVE:
+            raise ValueError(
+                f"{name} must lie within +-{MAX_BED_DRIVE / per_drop:.4g} Pa over channel_length "
+                f"= {show(length)} m for this bed in time (its pressure load Pi within "
+                f"+-{MAX_BED_DRIVE:g}), got {show(drop)}"
+            )
     q0 = _steady_flow(bed, dp0, length)
     q1 = _steady_flow(bed, dp1, length)
     time = np.linspace(0.0, t_end, n)
@@ -496,12 +500,16 @@ def pump_net_flow(
     if not 1e-12 <= ptol <= 1e-2:
         raise ValueError(f"tol must be in [1e-12, 1e-2], got {show(tol)}")
     itol = _rtol(rtol)
-    big = amps * per_drop
-    if not np.all(np.isfinite(big)):
-        bad = ~np.isfinite(big)
-        raise ValueError(f"amplitude overflows the bed's pressure load Pi: below "
-                         f"{np.finfo(np.float64).max / per_drop:.3g} Pa, please"
-                         f"{_first_index(bad)}")  # fmt: skip
+    with np.errstate(over="ignore"):
+        big = amps * per_drop
+    bad = ~(big <= MAX_BED_DRIVE)
+    if np.any(bad):
+        raise ValueError(
+            f"amplitude must be at most {MAX_BED_DRIVE / per_drop:.4g} Pa over channel_length = "
+            f"{show(length)} m for this bed in time (its pressure load Pi within "
+            f"{MAX_BED_DRIVE:g}), got {show(float(amps[bad][0]))}"
+            f"{_first_index(bad)}"
+        )
     with np.errstate(over="ignore", under="ignore"):
         omega_t = 2.0 * math.pi * freqs * s.time  # the angular frequency in 1/T
     bad = ~((omega_t >= 1e-9) & (omega_t <= 1e9))
