@@ -50,7 +50,10 @@ def _is_bed(bed: Any) -> bool:
 
 
 def _as_porous(bed: Any) -> Any:
-    """The same bed under the porous model (the bed in time is §15's porous model)."""
+    """The same bed under the porous model (the bed in time is §15's porous model); a
+    porous bed is itself."""
+    if bed.model == "porous":
+        return bed
     return type(bed)(
         length=bed.length,
         radius=bed.radius,
@@ -70,7 +73,7 @@ def _scales(bed: Any, hair_density: Any) -> _BedScales:
     None: overdamped hairs)."""
     if not _is_bed(bed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
-    porous = bed if bed.model == "porous" else _as_porous(bed)
+    porous = _as_porous(bed)
     zeta = porous.drag_coefficients[0]
     t_scale = zeta * bed.length**4 / bed.bending_stiffness
     if not (math.isfinite(t_scale) and t_scale > 0.0):
