@@ -12,6 +12,8 @@
 - :func:`large_amplitude_shear`: the bed's periodic steady state under a large oscillatory
   strain (:func:`hairbed.dynamics.simulate_bed` until the transient decays), analysed by
   :func:`analyse_laos`; :func:`pipkin_map` over frequency and amplitude.
+- :func:`bed_laos` and :func:`bed_pipkin_map`: the same for a :class:`hairbed.HairBed` in SI
+  (frequency [Hz], stress and moduli [Pa], viscosities [Pa s], strain rate [1/s]).
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from ._large import (
     pipkin_map,
 )
 from ._saos import SAOS_STATUS, BedModuli, OscillatoryShear, bed_moduli, oscillatory_shear
+from ._si import BedLAOS, BedPipkinMap, bed_laos, bed_pipkin_map
 
 __all__ = [
     "LAOS_STATUS",
@@ -41,4 +44,8 @@ __all__ = [
     "PipkinMap",
     "large_amplitude_shear",
     "pipkin_map",
+    "BedLAOS",
+    "BedPipkinMap",
+    "bed_laos",
+    "bed_pipkin_map",
 ]
