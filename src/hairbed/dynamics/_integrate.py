@@ -21,7 +21,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._core.loaded import _shape_at
-from .._core.pillar import PillarState, profile_coefficients, solve_pillar
+from .._core.pillar import (
+    WINDOW_THETA0,
+    PillarState,
+    _start_load,
+    profile_coefficients,
+    solve_pillar,
+)
 from .._core.validation import (
     STATUS_MESSAGES,
     as_float_array,
@@ -303,16 +309,19 @@ def simulate_pillar(
     lam_sig, tip_sig = _drives(forcing, tip_load, te)
     prof = profile_coefficients(profile, height_ratio)
     # the map of the collocation: that of the static state at the drives' last values
-    last = solve_pillar(
-        lam_sig.at_start(float(te[-1])),
-        t0,
-        profile=profile,
-        height_ratio=height_ratio,
-        gamma=g,
-        tip_load=tip_sig.at_start(float(te[-1])),
-        num=deg,
-    )
-    a = float(last._map) if np.isfinite(last._map) else 0.0
+    lam_end, tip_end = lam_sig.at_start(float(te[-1])), tip_sig.at_start(float(te[-1]))
+    a = _forward_map(lam_end, t0, tip_end, prof) if method == "radau" else None
+    if a is None:
+        last = solve_pillar(
+            lam_end,
+            t0,
+            profile=profile,
+            height_ratio=height_ratio,
+            gamma=g,
+            tip_load=tip_end,
+            num=deg,
+        )
+        a = float(last._map) if np.isfinite(last._map) else 0.0
     if method == "exponential" and int(last.status) < 0:
         raise ValueError(
             "method='exponential' needs a static state at the drives' values at t_eval[-1] "
@@ -350,6 +359,21 @@ def simulate_pillar(
     if method == "exponential":
         end = (float(last._map), np.asarray(last._coefs, dtype=np.float64).reshape(3, -1))
     return _run(_Job(te, opts, t0, g, m, a, start, lam_sig, tip_sig, prof, end))
+
+
+def _forward_map(lam: float, theta0: float, tip: float, prof: FloatArray) -> float | None:
+    """The collocation's map parameter of the static state at (Lambda, theta0, P), without
+    the solve: :func:`~hairbed.solve_pillar`'s forward Newton maps its collocation by the
+    closed-form start's (``_start_load``, the flow mirrored to +x), so this is the solved
+    state's map wherever that Newton gives the state (Radau IIA needs only the map, not the
+    state). None where the state is picked on the branch (theta0 below ``WINDOW_THETA0`` in
+    the mirrored flow): there the solve's own map."""
+    mirror = -1.0 if lam < 0.0 else 1.0
+    if mirror * theta0 < WINDOW_THETA0 and lam != 0.0:
+        return None
+    one = np.ones(1)
+    _, a = _start_load(abs(lam) * one, mirror * theta0 * one, mirror * tip * one, prof[None, :])
+    return float(a[0])
 
 
 @dataclass(frozen=True)
