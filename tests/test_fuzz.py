@@ -1404,6 +1404,12 @@ NOT_FUZZED = {
     "hairbed.rheometer.bed_moduli": (
         "oscillatory_shear's runs in SI, about 1 s a call: fuzzed in tools/hostile_battery.py"
     ),
+    "hairbed.rheometer.bed_laos": (
+        "large_amplitude_shear in SI, seconds a call: its bad input in test_laos_si.py"
+    ),
+    "hairbed.rheometer.bed_pipkin_map": (
+        "a grid of bed_laos runs (minutes): its bad input in test_laos_si.py"
+    ),
     "hairbed.valve_dynamics.pump_sweep": (
         "a dask grid of pump_net_flow runs (whose inputs the battery fuzzes), minutes a call"
     ),

@@ -235,6 +235,8 @@ class BedPipkinMap:
         eta'_L, eta'_M [Pa s].
     time_scale, modulus_scale : float
         T [s] and E I/(A L^2) [Pa].
+    kappa, eps, womersley : float
+        The bed's groups [-].
     dimensionless : PipkinMap
         The same in the bed's units.
     """
@@ -253,6 +255,9 @@ class BedPipkinMap:
     minimum_viscosity: FloatArray
     time_scale: float
     modulus_scale: float
+    kappa: float
+    eps: float
+    womersley: float
     dimensionless: PipkinMap
 
     @property
@@ -295,6 +300,9 @@ class BedPipkinMap:
                 "pre_stress_Pa": self.pre_stress,
                 "time_scale_s": self.time_scale,
                 "modulus_scale_Pa": self.modulus_scale,
+                "kappa": self.kappa,
+                "eps": self.eps,
+                "womersley": self.womersley,
                 "status_messages": "; ".join(f"{k}: {v}" for k, v in LARGE_STATUS.items()),
                 "references": _REFERENCES,
                 "Conventions": "CF-1.10",
@@ -498,5 +506,8 @@ def bed_pipkin_map(
         minimum_viscosity=res.minimum_viscosity * gs * ts,
         time_scale=ts,
         modulus_scale=gs,
+        kappa=sc.kappa,
+        eps=sc.eps,
+        womersley=sc.womersley,
         dimensionless=res,
     )
