@@ -72,6 +72,33 @@ def test_transfer_functions_against_mpmath() -> None:
     assert worst > 0.0
 
 
+def test_many_frequencies_against_mpmath() -> None:
+    """A band of 64 frequencies or more takes the modal form where its checks pass, else the
+    Schur form: the same reference, the same 1e-10, on every stored frequency (half decades,
+    each asked 64 times: the first kappa = 1 bed and the bed at alpha = 10 are modal, those
+    with mu = 13 fall back)."""
+    worst, methods = 0.0, set()
+    for key, top in CASES.items():
+        kappa, eps, alpha, mu = key
+        rows = [r for r in _case(key)["responses"] if r["omega"] <= top]
+        om = np.array([r["omega"] for r in rows])
+        reps = 64
+        lin = linearise_bed(
+            hairbed.solve_porous(0.0, eps, kappa=kappa), inertia=mu, womersley=alpha
+        )
+        for drive, scale in (("wall", 1.0 / (eps * kappa)), ("pressure", 1.0)):
+            fr = lin.frequency_response(np.tile(om, reps), drive)
+            assert np.all(fr.status == 0)
+            methods |= set(fr.method)
+            for name, ref in PAIRS:
+                want = np.array([complex(*r[drive][ref]) for r in rows]) * scale
+                got = getattr(fr, name).reshape(reps, -1)
+                err = np.abs(got - want) / np.maximum(abs(want), abs(want[0]))
+                worst = max(worst, float(err.max()))
+                assert err.max() < TOL, (key, drive, name, float(err.max()))
+    assert methods == {"modal", "schur"} and worst > 0.0
+
+
 def test_pillar_limit_modes() -> None:
     """At large kappa the bed's hair modes tend to the cantilever's, lambda = -beta^4
     (1 + cos beta cosh beta = 0) overdamped and mu lambda^2 + lambda + beta^4 = 0 with inertia,
