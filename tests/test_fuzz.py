@@ -559,6 +559,17 @@ TARGETS: list[Target] = [
         dict(tip_deflection=3e-5),
     ),
     Target("Pillar.linear_range", _method(PILLAR, "linear_range"), dict(rtol=0.1)),
+    # array-valued models (issue 32): the scalar model of an element
+    Target(
+        "Pillar.item",
+        _method(hairbed.Pillar(**{**PILLAR_KW, "base_angle": [0.0, 0.2]}), "item"),
+        dict(index=1),
+    ),
+    Target(
+        "HairBed.item",
+        _method(hairbed.HairBed(**{**BED_KW, "base_angle": [[0.0], [0.2]]}), "item"),
+        dict(index=(1, 0)),
+    ),
     Target("PillarDeformation.profile", _method(PILLAR.deform(1.0), "profile"), dict(num=10)),
     # the law of the wall (issue 31)
     Target("spalding_u_plus", hairbed.spalding_u_plus, dict(y_plus=30.0, kappa=0.41, b=5.0)),

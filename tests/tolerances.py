@@ -67,3 +67,9 @@ DYNAMICS_STEADY_ATOL = 1e-10
 #: 6e-11 at N = 32 during and after a ramp; at the impulsive start of a ramp, where the
 #: boundary layers of the rate are not resolved, 1e-7).
 DYNAMICS_ENERGY_RTOL = 1e-9
+#: An element of an array-valued Pillar against the scalar pillar, relative: the pillar core's
+#: batched solves differ from one element's in the last bits (it chains neighbouring
+#: elements of the same theta0, drag ratio and profile, as for an array of stresses on one
+#: pillar, whose elements differ alike); measured up to 8e-14 (sublayer) and 3e-13 (wall law),
+#: the solver's own tolerance being 1e-12.
+ARRAY_MODEL_CHAINED_RTOL = 1e-11

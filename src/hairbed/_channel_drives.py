@@ -35,8 +35,8 @@ def _finite_scaled(value: FloatArray, scale: float, name: str, unit: str) -> Flo
     with np.errstate(over="ignore"):
         out = value * scale
     bad = ~np.isfinite(out)
-    if np.any(bad):
-        limit = np.finfo(np.float64).max / scale
+    if np.any(bad):  # an array-valued bed's scale: at the first offending element
+        limit = np.finfo(np.float64).max / float(np.broadcast_to(scale, bad.shape)[bad].flat[0])
         raise ValueError(
             f"{name} must be within +-{limit:.3g} {unit} for this bed (its dimensionless load "
             f"overflows), got {float(value[bad].flat[0])!r}{_first_index(bad)}"
@@ -57,7 +57,10 @@ def pump_drive(pressure_gradient: Any, flow_rate: Any) -> tuple[str, str, Any]:
 
 
 def load_scale(bed: Any, drive: str) -> float:
-    """pi/G [m/Pa] of the "pressure" drive, q/Q' [s/m^2] of the "flow" drive."""
+    """pi/G [m/Pa] of the "pressure" drive, q/Q' [s/m^2] of the "flow" drive; an array of
+    the bed's shape for an array-valued bed (each element the scalar bed's number)."""
+    if getattr(bed, "shape", ()):
+        return bed._per_element(lambda one: load_scale(one, drive))
     if drive == "pressure":
         return float(bed.wall_area_per_hair * bed.length**3 / bed.bending_stiffness)
     return float(
@@ -83,6 +86,8 @@ def drive_inputs(
     scale = load_scale(bed, drive)
     value = as_float_array(given, name, unit=unit)
     v, value = broadcast_named(("velocity", v), (name, value))
+    if getattr(bed, "shape", ()):  # an array-valued bed: the drive broadcast with it
+        v, value = (bed._broadcast_input(a, n) for a, n in ((v, "velocity"), (value, name)))
     omega2 = _finite_scaled(v, 1.0 / bed.velocity_scale, "velocity", "m/s")
     load = _finite_scaled(value, scale, name, unit)
     return drive, np.asarray(v, dtype=np.float64), value, omega2, load

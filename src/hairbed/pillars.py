@@ -36,7 +36,7 @@ import math
 import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -82,7 +82,18 @@ from ._core.wall_law import (
 )
 from ._ranges import LinearRange
 from ._warnings import ModelValidityWarning
-from .units import _warn_implausible
+from .units import (
+    _array_names,
+    _array_parameter,
+    _at,
+    _flat_index,
+    _frozen,
+    _hashable,
+    _is_array,
+    _shape_of,
+    _sin,
+    _warn_implausible,
+)
 
 __all__ = [
     "FLUIDS",
@@ -125,6 +136,19 @@ FLUIDS: dict[str, tuple[float, float]] = {
     "glycerol": (1.412, 1261.3),
     "air": (1.825e-5, 1.2041),
 }
+#: The SI parameters of a :class:`Pillar` with the units a pint quantity is converted to: each
+#: may be an array (issue 32), and they broadcast together.
+_PILLAR_UNITS = (
+    ("length", "m"),
+    ("radius", "m"),
+    ("youngs_modulus", "Pa"),
+    ("viscosity", "Pa s"),
+    ("base_angle", "rad"),
+    ("drag_scale", ""),
+    ("channel_height", "m"),
+    ("density", "kg/m^3"),
+)
+_PILLAR_NAMES = tuple(n for n, _ in _PILLAR_UNITS)
 #: Gauss-Legendre nodes of the linear coefficient (exact for a profile of degree < 390).
 _GAUSS = np.polynomial.legendre.leggauss(200)
 #: The search grid of :meth:`Pillar.linear_range`: the fraction u of the way from the tip at
@@ -450,6 +474,9 @@ class Pillar:
                 "Pillar() needs the viscosity [Pa s] of the fluid, or a fluid preset "
                 f"(fluid= one of {', '.join(map(repr, FLUIDS))})"
             )
+        if any(_is_array(getattr(self, n), n, u) for n, u in _PILLAR_UNITS):
+            self._post_init_arrays()
+            return
         for name, unit in (
             ("length", "m"),
             ("radius", "m"),
@@ -513,6 +540,23 @@ class Pillar:
                 f"e^1.5/2 = {MIN_SLENDERNESS:.4f} (Gray & Hancock's ratio zeta_par/zeta_perp "
                 f"<= 1), got {slenderness!r}"
             )
+        self._derive()
+        _warn_implausible(self, "Pillar")
+        if slenderness < SLENDERNESS_LIMIT:
+            warnings.warn(
+                f"the pillar's slenderness L/a = {slenderness:.3g} is below "
+                f"{SLENDERNESS_LIMIT:g}: slender-body (resistive-force) drag is out of its "
+                "range (theory.md §12)",
+                ModelValidityWarning,
+                stacklevel=3,
+            )
+
+    def _derive(self, resolved: tuple[Any, float] | None = None) -> None:
+        """Set the core's profile and options and the scales per stress of a checked pillar
+        of numbers (``resolved``: a callable profile's (U, speed) already resolved), or a
+        ValueError where they under- or overflow."""
+        set_ = object.__setattr__
+        profile = self.profile
         with np.errstate(all="ignore"):  # numpy floats: inf or 0 on overflow, checked below
             length, radius = np.float64(self.length), np.float64(self.radius)
             per_stress = float(
@@ -523,7 +567,7 @@ class Pillar:
             speed = float(length / np.float64(self.viscosity))  # u(tip) = tau_w L U(h1)/eta
         core: Any = "sublayer" if profile == "wall-law" else profile
         if callable(profile):
-            core, speed = self._callable_profile(profile)
+            core, speed = self._callable_profile(profile) if resolved is None else resolved
         if not (math.isfinite(per_stress) and per_stress > 0.0 and math.isfinite(speed)):
             raise ValueError(
                 "length, radius, youngs_modulus, viscosity and drag_scale give a forcing per "
@@ -534,15 +578,224 @@ class Pillar:
         # the core's checked keywords (solve_pillar's defaults), once: the solves trust them
         set_(self, "_core_options", _options(core, self.height_ratio, 1e-12, None))
         set_(self, "_per_stress", (per_stress, speed))
+
+    # -- array-valued pillars (issue 32) -------------------------------------------------------
+
+    def _post_init_arrays(self) -> None:
+        """:meth:`__post_init__` of a pillar with array parameters: each checked element by
+        element (the first offending index named), the shapes broadcast, the scales computed
+        element by element by the scalar pillar's own code."""
+        set_ = object.__setattr__
+
+        def checked(name: str, unit: str, **kw: Any) -> Any:
+            value = getattr(self, name)
+            if _is_array(value, name, unit):
+                return _array_parameter(value, name, unit, **kw)
+            if "shown" in kw:
+                return check_number(value, name, low=-HALF_PI, high=HALF_PI, low_open=True,
+                                    high_open=True, unit=unit)  # fmt: skip
+            return check_positive(value, name, unit)
+
+        for name, unit in _PILLAR_UNITS[:4]:
+            set_(self, name, checked(name, unit))
+        set_(self, "base_angle", checked("base_angle", "rad", low=-HALF_PI, high=HALF_PI,
+                                         shown="(-pi/2, pi/2)"))  # fmt: skip
+        set_(self, "drag_scale", checked("drag_scale", ""))
+        if self.density is not None:
+            set_(self, "density", checked("density", "kg/m^3"))
+        profile = self.profile
+        channel = isinstance(profile, str) and profile in ("couette", "poiseuille")
+        if not callable(profile) and not (isinstance(profile, str) and profile in PILLAR_PROFILES):
+            raise ValueError(
+                f"profile must be one of {', '.join(map(repr, PILLAR_PROFILES))} or a callable "
+                f"u(z) [m/s] of z [m], got {show(profile)}"
+            )
+        if profile == "wall-law" and self.density is None:
+            raise ValueError(
+                "profile 'wall-law' needs the fluid's density [kg/m^3] for its wall units "
+                "u_tau = sqrt(tau_w/rho), nu = eta/rho: give density= or fluid="
+            )
+        if channel:
+            if self.channel_height is None:
+                raise ValueError(f"profile {profile!r} needs channel_height H [m] (L <= H)")
+            set_(self, "channel_height", checked("channel_height", "m"))
+        elif self.channel_height is not None:
+            raise ValueError(
+                "channel_height is used only by the 'couette' and 'poiseuille' profiles, got "
+                f"{show(self.channel_height)} with profile {show(profile)}"
+            )
+        shape = _shape_of(self, _PILLAR_NAMES, "Pillar")
+        self.__dict__["_shape"] = shape
+        if callable(profile) and (np.ndim(self.length) or np.ndim(self.viscosity)):
+            raise ValueError(
+                "a callable profile u(z) [m/s] needs a single length and viscosity (its "
+                "dimensionless shape depends on them): give them as numbers"
+            )
+        length, radius = self.length, self.radius
+        if channel:
+            bad = ~np.asarray(length <= cast(Any, self.channel_height))
+            if np.any(bad):
+                raise ValueError(
+                    f"length {_at(length, bad)!r} m must not exceed channel_height "
+                    f"{_at(self.channel_height, bad)!r} m{_first_index(bad)}: the pillar must "
+                    "fit in its channel (L <= H)"
+                )
+        with np.errstate(all="ignore"):
+            slenderness = np.broadcast_to(np.asarray(length / radius), shape)
+        bad = ~np.isfinite(slenderness)
+        if np.any(bad):
+            raise ValueError(
+                f"length {_at(length, bad)!r} m over radius {_at(radius, bad)!r} m"
+                f"{_first_index(bad)} overflows double precision (the slenderness L/a)"
+            )
+        bad = ~(slenderness >= MIN_SLENDERNESS)
+        if np.any(bad):
+            raise ValueError(
+                f"radius {_at(radius, bad)!r} m{_first_index(bad)}: the slenderness "
+                f"length/radius must be at least e^1.5/2 = {MIN_SLENDERNESS:.4f} (Gray & "
+                f"Hancock's ratio zeta_par/zeta_perp <= 1), got {_at(slenderness, bad)!r}"
+            )
+        resolved = None
+        if callable(profile):  # the same for every element: resolved once
+            resolved = self._callable_profile(profile)
+        elements = list(self._elements())
+        failed = np.zeros(len(elements), dtype=bool)
+        for i, el in enumerate(elements):
+            try:
+                el._derive(resolved)
+            except ValueError:
+                failed[i] = True
+        if np.any(failed):
+            bad = failed.reshape(shape)
+            raise ValueError(
+                "length, radius, youngs_modulus, viscosity and drag_scale give a forcing per "
+                f"unit stress zeta_perp L^4/(eta E I) (or a speed scale L/eta) that under- or "
+                f"overflows double precision{_first_index(bad)}"
+            )
+        first = elements[0]
+        varying = profile == "poiseuille" and np.ndim(cast(Any, self.height_ratio)) > 0
+        set_(self, "_core_profile", first._core_profile)
+        set_(self, "_core_options", None if varying else first._core_options)
+        per = np.array([el._per_stress for el in elements], dtype=np.float64)
+        set_(self, "_per_stress", tuple(_frozen(per[:, k].reshape(shape)) for k in (0, 1)))
+        self.__dict__["_elements_cache"] = elements
+        self.__dict__["_derived"] = {}
         _warn_implausible(self, "Pillar")
-        if slenderness < SLENDERNESS_LIMIT:
+        low = slenderness < SLENDERNESS_LIMIT
+        if np.any(low):
             warnings.warn(
-                f"the pillar's slenderness L/a = {slenderness:.3g} is below "
-                f"{SLENDERNESS_LIMIT:g}: slender-body (resistive-force) drag is out of its "
-                "range (theory.md §12)",
+                f"the pillar's slenderness L/a = {_at(slenderness, low):.3g}{_first_index(low)} "
+                f"is below {SLENDERNESS_LIMIT:g}: slender-body (resistive-force) drag is out of "
+                "its range (theory.md §12)",
                 ModelValidityWarning,
                 stacklevel=3,
             )
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The broadcast shape of the pillar's parameters: () for a pillar of numbers, else
+        that of its array parameters (numpy rules); results of its methods broadcast it with
+        their own array arguments (issue 32)."""
+        return cast("tuple[int, ...]", self.__dict__.get("_shape", ()))
+
+    def item(self, index: Any = ()) -> Pillar:
+        """The pillar of numbers at ``index`` of :attr:`shape` (a pillar of numbers is its
+        own item)."""
+        shape = self.shape
+        flat = _flat_index(index, shape, "pillar")
+        if not shape:
+            return self
+        kwargs: dict[str, Any] = {}
+        for name in _PILLAR_NAMES:
+            value = getattr(self, name)
+            if isinstance(value, np.ndarray):
+                value = float(np.broadcast_to(value, shape).reshape(-1)[flat])
+            kwargs[name] = value
+        return Pillar(**kwargs, profile=self.profile)
+
+    def _elements(self) -> Any:
+        """The pillars of numbers of every element (C order), trusted and without their
+        scales (:meth:`_derive`): the array pillar was checked."""
+        cached = self.__dict__.get("_elements_cache")
+        if cached is not None:
+            yield from cached
+            return
+        shape = self.shape
+        cols = {
+            n: np.broadcast_to(np.asarray(v, dtype=np.float64), shape).reshape(-1)
+            for n in _PILLAR_NAMES
+            if (v := getattr(self, n)) is not None
+        }
+        for i in range(math.prod(shape)):
+            el = object.__new__(Pillar)
+            for n in _PILLAR_NAMES:
+                object.__setattr__(el, n, float(cols[n][i]) if n in cols else None)
+            object.__setattr__(el, "profile", self.profile)
+            object.__setattr__(el, "fluid", self.fluid)
+            object.__setattr__(el, "_told", self._told)
+            object.__setattr__(el, "_rows", self._rows)
+            yield el
+
+    def _derived_value(self, name: str) -> Any:
+        """An array pillar's derived quantity ``name``, each element's own (cached)."""
+        cache = self.__dict__["_derived"]
+        if name not in cache:
+            values = np.array([getattr(el, name) for el in self._elements()], dtype=np.float64)
+            cache[name] = _frozen(values.reshape(self.shape))
+        return cache[name]
+
+    def _require_scalar(self, what: str) -> None:
+        """A ValueError where ``what`` is asked of an array-valued pillar, which it does not
+        support: naming the array parameters and saying that numbers are needed."""
+        if not self.shape:
+            return
+        names = _array_names(self, _PILLAR_NAMES)
+        verb = "is an array" if len(names) == 1 else "are arrays"
+        raise ValueError(
+            f"{what} needs a single pillar, each parameter a number: {', '.join(names)} "
+            f"{verb} (shape {self.shape}) here. Pillar.deform, tip_deflection, sensitivity, "
+            "the inverse and the linear calibration take array parameters; "
+            "Pillar.item(index) gives one pillar of the array"
+        )
+
+    def _broadcast_input(self, x: FloatArray, name: str) -> FloatArray:
+        """An input array broadcast with the pillar's parameters (a copy), or a ValueError."""
+        if not self.shape:
+            return x
+        try:
+            shape = np.broadcast_shapes(x.shape, self.shape)
+        except ValueError:
+            raise ValueError(
+                f"{name} of shape {x.shape} must broadcast with the pillar's array parameters "
+                f"of shape {self.shape} (numpy rules)"
+            ) from None
+        return np.array(np.broadcast_to(x, shape))
+
+    def _flat(self, x: Any, shape: tuple[int, ...]) -> FloatArray:
+        """A parameter (number or array) broadcast to ``shape`` and flattened."""
+        return np.broadcast_to(np.asarray(x, dtype=np.float64), shape).reshape(-1)
+
+    def _profile_rows(self, shape: tuple[int, ...]) -> FloatArray:
+        """The core profile's Chebyshev row of every element of ``shape`` (flat): one row
+        unless the profile varies between the elements ("poiseuille" with an array L/H)."""
+        if self._core_options is not None:
+            return np.asarray(self._core_options[0])
+        ratio = self._flat(self.height_ratio, shape)
+        return np.array([profile_coefficients(self._core_profile, r) for r in ratio.tolist()])
+
+    def _key(self) -> tuple[Any, ...]:
+        return tuple(
+            _hashable(getattr(self, f.name)) for f in dataclasses.fields(self) if f.compare
+        )
+
+    def __eq__(self, other: object) -> bool:
+        """Equal pillars have equal parameters (arrays: the same shape and elements)."""
+        if not isinstance(other, Pillar) or other.__class__ is not self.__class__:
+            return NotImplemented
+        return self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash(self._key())
 
     def _callable_profile(self, func: Callable[..., Any]) -> tuple[Any, float]:
         """(dimensionless profile U, u(tip)/(tau_w U(h1)) [m/(s Pa)]) of a callable u(z)."""
@@ -591,23 +844,31 @@ class Pillar:
     @property
     def bending_stiffness(self) -> float:
         """E I = E pi a^4/4 [N m^2]."""
+        if "_derived" in self.__dict__:  # an array pillar: element by element
+            return cast(Any, self._derived_value("bending_stiffness"))
         with np.errstate(over="ignore"):  # inf rather than an OverflowError
             return float(self.youngs_modulus * (np.pi / 4.0) * np.float64(self.radius) ** 4)
 
     @property
     def slenderness(self) -> float:
         """L/a [-]."""
+        if "_derived" in self.__dict__:  # an array pillar: element by element
+            return cast(Any, self._derived_value("slenderness"))
         return self.length / self.radius
 
     @property
     def drag_ratio(self) -> float:
         """gamma = zeta_par/zeta_perp of Gray & Hancock's coefficients [-]
         (:func:`hairbed.gray_hancock_ratio`)."""
+        if "_derived" in self.__dict__:  # an array pillar: element by element
+            return cast(Any, self._derived_value("drag_ratio"))
         return float(gray_hancock_ratio(self.slenderness))
 
     @property
     def normal_drag_coefficient(self) -> float:
         """zeta_perp = c 4 pi eta/(ln(2L/a) + 1/2) [Pa s], c = :attr:`drag_scale`."""
+        if "_derived" in self.__dict__:  # an array pillar: element by element
+            return cast(Any, self._derived_value("normal_drag_coefficient"))
         return (
             self.drag_scale
             * 4.0
@@ -619,6 +880,8 @@ class Pillar:
     @property
     def height_ratio(self) -> float | None:
         """L/H of a channel profile [-]; None otherwise."""
+        if "_derived" in self.__dict__ and self.channel_height is not None:
+            return cast(Any, self._derived_value("height_ratio"))
         return None if self.channel_height is None else self.length / self.channel_height
 
     @property
@@ -635,6 +898,8 @@ class Pillar:
         "wall-law" profile the sublayer's, its limit as L+ -> 0 (the shape of its profile
         changes with the stress; :meth:`linear_range` says how far the formula holds).
         """
+        if "_derived" in self.__dict__:  # an array pillar: element by element
+            return cast(Any, self._derived_value("linear_coefficient"))
         c = math.cos(self.base_angle)
         xg, wg = _GAUSS
         s = 0.5 * (xg + 1.0)
@@ -646,7 +911,16 @@ class Pillar:
         core = self._core_profile
         if callable(core):
             return np.asarray(core(z), dtype=np.float64)
-        coefs = profile_coefficients(core, self.height_ratio)
+        if self._core_options is None:  # each element its own profile (of z's shape)
+            shape = np.shape(z)
+            rows = self._profile_rows(shape)
+            t = 2.0 * np.asarray(z, dtype=np.float64).reshape(-1) - 1.0
+            values = np.polynomial.chebyshev.chebval(t, rows.T, tensor=False)
+            return np.asarray(values, dtype=np.float64).reshape(shape)
+        if self.shape:  # one profile for every element: the core's row
+            coefs = np.asarray(self._core_options[0])[0]
+        else:
+            coefs = profile_coefficients(core, self.height_ratio)
         return np.asarray(np.polynomial.chebyshev.chebval(2.0 * z - 1.0, coefs))
 
     # -- the forward problem ----------------------------------------------------------------------
@@ -670,17 +944,20 @@ class Pillar:
             )
         name, value = given[0]
         if name == "wall_shear_stress":
-            return as_float_array(value, name, unit="Pa")
+            return self._broadcast_input(as_float_array(value, name, unit="Pa"), name)
         needs = "couette" if name == "velocity" else "poiseuille"
         if self.profile != needs:
             raise ValueError(
                 f"{name} drives a {needs!r} channel; this pillar's profile is "
                 f"{show(self.profile)}: give wall_shear_stress [Pa]"
             )
-        h = float(self.channel_height)  # type: ignore[arg-type]
+        h: Any = self.channel_height
+        h = float(h) if not self.shape else h
         if name == "velocity":  # tau_w = eta V/H
-            return as_float_array(value, name, unit="m/s") * (self.viscosity / h)
-        return as_float_array(value, name, unit="Pa/m") * (0.5 * h)  # tau_w = G H/2
+            v = self._broadcast_input(as_float_array(value, name, unit="m/s"), name)
+            return v * (self.viscosity / h)
+        g = self._broadcast_input(as_float_array(value, name, unit="Pa/m"), name)
+        return g * (0.5 * h)  # tau_w = G H/2
 
     def _forcing(self, tau: FloatArray) -> FloatArray:
         with np.errstate(over="ignore"):
@@ -689,21 +966,33 @@ class Pillar:
         if np.any(bad):
             raise ValueError(
                 f"wall_shear_stress must be below "
-                f"{np.finfo(np.float64).max / self.forcing_per_stress:.3g} Pa in magnitude for "
+                f"{np.finfo(np.float64).max / _at(self.forcing_per_stress, bad):.3g} Pa in "
+                "magnitude for "
                 f"this pillar (its forcing overflows), got {float(tau[bad].flat[0])!r}"
                 f"{_first_index(bad)}"
             )
         return lam
 
+    def _options_of(self) -> Any:
+        """The core's options (profile row, tolerance, ladder); an array pillar whose
+        profile varies between elements gives the first element's row (replaced per group)."""
+        if self._core_options is not None:
+            return self._core_options
+        return next(iter(self._elements()))._core_options
+
     def _solve(self, lam: FloatArray) -> Any:
         """The dimensionless states at forcings ``lam`` (checked, finite)."""
         t0, g, tip = self._checked_like(lam)
-        if self.profile != "wall-law" or np.size(lam) == 0:
-            return _solve_pillar_checked(lam, t0, g, tip, *self._core_options)
-        # the profile of each stress: one solve per distinct L+ (tau_w = Lambda/(Lambda/tau_w))
-        _, tol, nums = self._core_options
+        varying = self._core_options is None
+        if (self.profile != "wall-law" and not varying) or np.size(lam) == 0:
+            return _solve_pillar_checked(lam, t0, g, tip, *self._options_of())
+        # the profile of each stress (or element): one solve per distinct profile
+        _, tol, nums = self._options_of()
         flat = np.asarray(lam, dtype=np.float64).reshape(-1)
-        prof, _ = self._wall_rows(flat / self.forcing_per_stress)
+        if varying:  # "poiseuille" with an array L/H
+            prof = self._profile_rows(np.shape(lam))
+        else:  # tau_w = Lambda/(Lambda/tau_w)
+            prof, _ = self._wall_rows(np.asarray(lam) / self.forcing_per_stress)
         return _merged(
             np.shape(lam),
             flat,
@@ -739,7 +1028,11 @@ class Pillar:
         lp = np.where(np.isnan(lp), 0.0, lp)  # no state there (NaN stays NaN): any profile
         bad = ~(lp <= MAX_L_PLUS)
         if np.any(bad):
-            limit = MAX_L_PLUS * self.viscosity / (self.length * math.sqrt(self.density))  # type: ignore[arg-type]
+            with np.errstate(all="ignore"):
+                limit = _at(
+                    MAX_L_PLUS * self.viscosity / (self.length * np.sqrt(cast(Any, self.density))),
+                    bad,
+                )
             raise ValueError(
                 f"wall_shear_stress {float(tau[bad].flat[0])!r} Pa{_first_index(bad)} puts "
                 f"the pillar {float(lp[bad].flat[0]):.4g} wall units tall, above "
@@ -770,8 +1063,7 @@ class Pillar:
         """dx1/dtau_w [1/Pa] of the states ``sol`` at stresses ``tau`` [Pa] (their shape):
         dx1/dLambda Lambda/tau_w, plus the profile's part for the "wall-law" profile."""
         if self.profile == "wall-law":
-            flat = np.asarray(tau, dtype=np.float64).reshape(-1)
-            return self._wall_slope(flat, sol).reshape(np.shape(tau))
+            return self._wall_slope(np.asarray(tau, dtype=np.float64), sol).reshape(np.shape(tau))
         return np.asarray(sol.tip_deflection_slope) * self.forcing_per_stress
 
     def _tip_derivatives(self, tau: FloatArray, sol: Any) -> dict[str, FloatArray]:
@@ -786,6 +1078,7 @@ class Pillar:
             prof = np.asarray(self._core_options[0])
             dp = _profile_derivative(self._core_profile, self.height_ratio)
             dprof = np.zeros((1, 1)) if dp is None else dp[None, :]
+        self._require_scalar("the derivatives of a pillar's state in its parameters")
         with np.errstate(all="ignore"):
             out, _, _ = pillar_gradient_rows(sol, prof, dprof)
         x1 = out[1]
@@ -809,16 +1102,20 @@ class Pillar:
         prof, dprof = self._wall_rows(tau)
         out, _, _ = pillar_gradient_rows(sol, prof, dprof)
         x1_lam, x1_q = out[1, 0], out[1, 3]
+        flat = np.asarray(tau, dtype=np.float64).reshape(-1)
+        fps = self._flat(self.forcing_per_stress, np.shape(tau)) if self.shape else (
+            self.forcing_per_stress
+        )  # fmt: skip
         with np.errstate(divide="ignore", invalid="ignore"):
-            shape_part = np.where(tau != 0.0, x1_q / (2.0 * tau), 0.0)
-        return np.asarray(x1_lam * self.forcing_per_stress + shape_part, dtype=np.float64)
+            shape_part = np.where(flat != 0.0, x1_q / (2.0 * flat), 0.0)
+        return np.asarray(x1_lam * fps + shape_part, dtype=np.float64)
 
     def _checked_like(self, a: FloatArray) -> tuple[FloatArray, FloatArray, FloatArray]:
         """theta0, gamma and the tip load (none) at the shape of checked inputs ``a``."""
         shape = np.shape(a)
         return (
-            np.full(shape, self.base_angle),
-            np.full(shape, self.drag_ratio),
+            np.array(np.broadcast_to(self.base_angle, shape), dtype=np.float64),
+            np.array(np.broadcast_to(self.drag_ratio, shape), dtype=np.float64),
             np.zeros(shape),
         )
 
@@ -913,17 +1210,17 @@ class Pillar:
             pillar=self,
             wall_shear_stress=float_or_array(tau),
             velocity=float_or_array(
-                tau * (h / self.viscosity) if self.profile == "couette" and h else nan
+                tau * (h / self.viscosity) if self.profile == "couette" and h is not None else nan
             ),
             pressure_gradient=float_or_array(
-                2.0 * tau / h if self.profile == "poiseuille" and h else nan
+                2.0 * tau / h if self.profile == "poiseuille" and h is not None else nan
             ),
             forcing=float_or_array(lam),
             solution=sol,
             tip_deflection=float_or_array(length * x1),
             tip_height=float_or_array(length * h1),
             tip_angle=float_or_array(sol.tip_angle),
-            tip_displacement=float_or_array(length * (x1 - math.sin(self.base_angle))),
+            tip_displacement=float_or_array(length * (x1 - _sin(self.base_angle))),
             base_moment=float_or_array(ei * np.asarray(sol.base_curvature) / length),
             drag=float_or_array(ei * np.asarray(sol.drag_x) / length / length),
             drag_wall_normal=float_or_array(ei * np.asarray(sol.drag_z) / length / length),
@@ -967,11 +1264,15 @@ class Pillar:
 
     def _deflection(self, deflection: Any, name: str = "tip_deflection") -> FloatArray:
         """A tip deflection [m] (pint quantities converted) in (-length, length)."""
-        d = as_float_array(deflection, name, unit="m")
-        length = self.length
+        if self.shape and (self.profile == "wall-law" or self._core_options is None):
+            self._require_scalar(
+                f"the inverse of a {self.profile!r} pillar (its profile varies per element)"
+            )
+        d = self._broadcast_input(as_float_array(deflection, name, unit="m"), name)
         with np.errstate(over="ignore"):
-            bad = np.abs(d) / length >= 1.0
+            bad = np.asarray(np.abs(d) / self.length >= 1.0)
         if np.any(bad):
+            length = _at(self.length, bad)
             raise ValueError(
                 f"{name} must lie in (-length, length) = ({-length!r}, {length!r}) m, got "
                 f"{float(d[bad].flat[0])!r}{_first_index(bad)} (a tip at the full length is "
@@ -1136,7 +1437,7 @@ class Pillar:
         (:meth:`linear_range`).
         """
         d = self._deflection(tip_deflection)
-        x1 = d / self.length - math.sin(self.base_angle)
+        x1 = d / self.length - _sin(self.base_angle)
         return float_or_array(x1 / (self.linear_coefficient * self.forcing_per_stress))
 
     def linear_range(self, rtol: float = 0.1) -> LinearRange:
@@ -1160,6 +1461,7 @@ class Pillar:
             With ``quantity="wall_shear_stress"``; ``velocity`` is the Couette wall speed
             there (NaN for the other profiles) and ``velocity_error`` the same relative error.
         """
+        self._require_scalar("Pillar.linear_range")
         tol = check_number(rtol, "rtol", low=0.0, high=1.0, low_open=True, high_open=True)
         rest = math.sin(self.base_angle)
         # the grid from rest in chunks, up to the first that leaves the tolerance (or finds no
@@ -1255,6 +1557,7 @@ class Pillar:
         :class:`hairbed.sensor_dynamics.SensorResponse`)."""
         from .sensor_dynamics import frequency_response
 
+        self._require_scalar("Pillar.frequency_response")
         return frequency_response(
             self,
             frequency,
@@ -1282,6 +1585,7 @@ class Pillar:
         :class:`hairbed.sensor_dynamics.StressSeries`)."""
         from .sensor_dynamics import wall_shear_stress_from_tip_deflection_series as series
 
+        self._require_scalar("Pillar.wall_shear_stress_from_tip_deflection_series")
         return series(
             self,
             tip_deflection,
@@ -1311,6 +1615,7 @@ class Pillar:
         :class:`hairbed.sensor_dynamics.SensorTrajectory`)."""
         from .sensor_dynamics import simulate
 
+        self._require_scalar("Pillar.simulate")
         return simulate(
             self,
             wall_shear_stress,

@@ -35,6 +35,7 @@ References
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -50,7 +51,7 @@ from ._bed_drag import (
     drag_logarithm_slopes,
 )
 from ._channel_drives import drive_inputs, gap_flow, load_scale, porous_flow
-from ._core.loaded import _solve_loaded_trusted
+from ._core.loaded import _DRIVES, LADDER, _solve_loaded_checked, _solve_loaded_trusted
 from ._core.outputs import float_or_array
 from ._core.porous import _solve_porous_checked
 from ._core.solver import _from_parameter, _solve_checked
@@ -61,7 +62,9 @@ from ._core.validation import (
     check_choice,
     check_number,
     check_positive,
+    check_real_array,
     check_root,
+    show,
 )
 from ._warnings import ModelValidityWarning, UnitsWarning
 
@@ -91,6 +94,33 @@ DENSE_BED_LIMIT = 0.1
 MODELS = ("dense", "porous")
 
 FloatOrArray = float | NDArray[np.float64]
+
+#: The SI parameters of a :class:`HairBed`, with the units a pint quantity is converted to:
+#: each may be an array (issue 32), and they broadcast together.
+_BED_UNITS = (
+    ("length", "m"),
+    ("radius", "m"),
+    ("youngs_modulus", "Pa"),
+    ("channel_height", "m"),
+    ("viscosity", "Pa*s"),
+    ("spacing", "m"),
+    ("packing_fraction", ""),
+    ("base_angle", "rad"),
+    ("density", "kg/m**3"),
+)
+_BED_NAMES = tuple(n for n, _ in _BED_UNITS)
+#: The derived quantities of an array-valued bed, computed element by element by the scalar
+#: bed's own properties (so that each element's numbers are bitwise those of the scalar bed).
+_BED_DERIVED = (
+    "eps",
+    "second_moment",
+    "bending_stiffness",
+    "wall_area_per_hair",
+    "velocity_scale",
+    "permeability",
+    "brinkman_length",
+)
+_BED_DRAG = ("drag_coefficients", "kappa", "drag_ratio")
 
 
 def transverse_permeability(radius: float, packing_fraction: float) -> float:
@@ -142,19 +172,164 @@ def _transverse_permeability(radius: float, phi: float) -> float:
 
 def _warn_sparse(bed: HairBed, stacklevel: int = 4) -> None:
     """A :class:`ModelValidityWarning` where the flow penetrates the bed over more than
-    :data:`DENSE_BED_LIMIT` of the hair length (the dense-bed condition, theory.md §10)."""
-    ratio = bed.brinkman_length / bed.length
-    if ratio > DENSE_BED_LIMIT and getattr(bed, "model", "dense") == "dense":
+    :data:`DENSE_BED_LIMIT` of the hair length (the dense-bed condition, theory.md §10); for
+    an array-valued bed, at its first such element."""
+    ratio = np.asarray(bed.brinkman_length / bed.length, dtype=np.float64)
+    sparse = ratio > DENSE_BED_LIMIT
+    if np.any(sparse) and getattr(bed, "model", "dense") == "dense":
+        where = _first_index(sparse)
+        brinkman = _at(bed.brinkman_length, sparse)
+        phi = _at(bed.packing_fraction, sparse)
         warnings.warn(
             f"the bed is not dense: the flow penetrates it over the Brinkman length sqrt(k) = "
-            f"{bed.brinkman_length:.3g} m, {ratio:.3g} of the hair length (limit "
-            f"{DENSE_BED_LIMIT:g}; packing fraction {bed.packing_fraction:.3g}), but the model "
+            f"{brinkman:.3g} m, {_at(ratio, sparse):.3g} of the hair length (limit "
+            f"{DENSE_BED_LIMIT:g}; packing fraction {phi:.3g}){where}, but the model "
             "loads the hairs at their tips only (to first order it overestimates the "
             "deflection by 1.5 sqrt(k)/L); HairBed(..., model='porous') solves the flow "
             "through the bed (theory.md §13)",
             ModelValidityWarning,
             stacklevel=stacklevel,
         )
+
+
+def _at(value: Any, mask: NDArray[np.bool_]) -> float:
+    """``value`` (a number, or an array that broadcasts to ``mask``) at the first True of
+    ``mask``, as a float: what a message about an array-valued model shows."""
+    arr = np.broadcast_to(np.asarray(value, dtype=np.float64), np.shape(mask))
+    return float(arr[mask].flat[0]) if np.any(mask) else float(arr.flat[0])
+
+
+def _sin(x: Any) -> Any:
+    """sin of a base angle: math's for a number (as the scalar model always had), numpy's for
+    an array (the same values on IEEE doubles, tested)."""
+    return math.sin(x) if isinstance(x, float) else np.sin(x)
+
+
+def _cos(x: Any) -> Any:
+    """cos of a base angle, as :func:`_sin`."""
+    return math.cos(x) if isinstance(x, float) else np.cos(x)
+
+
+def _frozen(arr: Any) -> NDArray[np.float64]:
+    """A read-only float64 copy (a model's array parameter: the model is frozen); -0.0 is
+    stored as 0.0, so that equal models hash alike."""
+    out = np.array(arr, dtype=np.float64) + 0.0
+    out.setflags(write=False)
+    return out
+
+
+def _range_of(low: float, high: float | None, low_open: bool, high_open: bool) -> str:
+    lo = "(" if low_open else "["
+    hi = "inf)" if high is None else (f"{high:.6g})" if high_open else f"{high:.6g}]")
+    return f"{lo}{low:g}, {hi}"
+
+
+def _array_parameter(
+    value: Any,
+    name: str,
+    unit: str,
+    *,
+    low: float = 0.0,
+    high: float | None = None,
+    low_open: bool = True,
+    high_open: bool = True,
+    shown: str | None = None,
+) -> NDArray[np.float64]:
+    """An array-valued model parameter (a pint quantity converted to ``unit``), every element
+    finite and in the range, as a read-only float64 array; else a ValueError naming it, its
+    range and the first offending index."""
+    arr = check_real_array(value, name, unit)
+    rng = (shown or _range_of(low, high, low_open, high_open)) + (f" [{unit}]" if unit else "")
+    if arr.size == 0:
+        raise ValueError(f"{name} must be a number or a non-empty array in {rng}, got an "
+                         f"empty array of shape {arr.shape}")  # fmt: skip
+    with np.errstate(over="ignore"):
+        a = arr.astype(np.float64)
+    inside = np.isfinite(a) & ((a > low) if low_open else (a >= low))
+    if high is not None:
+        inside &= (a < high) if high_open else (a <= high)
+    bad = ~inside
+    if np.any(bad):
+        raise ValueError(
+            f"{name} must lie in {rng} (every element), got {float(a[bad].flat[0])!r}"
+            f"{_first_index(bad)}"
+        )
+    return _frozen(a)
+
+
+def _is_array(value: Any, name: str, unit: str) -> bool:
+    """Whether a model parameter is given as an array (a list, an ndarray, a pint quantity of
+    one): the model then broadcasts it (issue 32). A value that is no real number is refused
+    here, with the same message the scalar check gives."""
+    return value is not None and check_real_array(value, name, unit).ndim > 0
+
+
+def _shape_of(model: Any, names: tuple[str, ...], kind: str) -> tuple[int, ...]:
+    """The broadcast shape of a model's array parameters, or a ValueError naming them."""
+    shapes = [(n, np.shape(getattr(model, n))) for n in names if getattr(model, n) is not None]
+    try:
+        return tuple(np.broadcast_shapes(*(s for _, s in shapes)))
+    except ValueError:
+        given = ", ".join(f"{n} {s}" for n, s in shapes if s != ())
+        raise ValueError(
+            f"the array parameters of {kind} must broadcast together (numpy rules), got "
+            f"shapes {given}"
+        ) from None
+
+
+def _array_names(model: Any, names: tuple[str, ...]) -> list[str]:
+    """The parameters of ``model`` given as arrays."""
+    return [n for n in names if np.ndim(getattr(model, n)) > 0]
+
+
+def _phi_of_spacing(radius: float, spacing: float) -> float:
+    """phi = (2 pi/sqrt 3) a^2/delta^2 (the scalar bed's expression)."""
+    return 2.0 * math.pi / math.sqrt(3.0) * (radius / spacing) ** 2
+
+
+def _spacing_of_phi(radius: float, phi: float) -> float:
+    """delta = a sqrt(2 pi/(sqrt 3 phi)) (the scalar bed's expression)."""
+    return radius * math.sqrt(2.0 * math.pi / (math.sqrt(3.0) * phi))
+
+
+def _elementwise(func: Any, *args: Any) -> Any:
+    """``func`` of numbers, element by element over broadcast arguments (a number of
+    numbers): a model's parameter conversion, bitwise the scalar model's."""
+    if all(np.ndim(a) == 0 for a in args):
+        return func(*(float(a) for a in args))
+    cols = np.broadcast_arrays(*(np.asarray(a, dtype=np.float64) for a in args))
+    out = np.array([func(*map(float, t)) for t in zip(*(c.reshape(-1) for c in cols))])
+    return _frozen(out.reshape(cols[0].shape))
+
+
+def _flat_index(index: Any, shape: tuple[int, ...], kind: str) -> int:
+    """The flat (C order) position of ``index`` (an int for a 1-d shape, or a tuple of one
+    int per axis; negative counts from the end) in ``shape``, or a ValueError."""
+    idx = index if isinstance(index, tuple) else (index,)
+    whole = all(
+        isinstance(i, (int, np.integer))
+        and not isinstance(i, (bool, np.bool_, np.timedelta64, np.datetime64))
+        for i in idx
+    )
+    if not whole or len(idx) != len(shape):
+        raise ValueError(
+            f"index must be {len(shape)} integer(s) into the {kind}'s shape {shape} (an int "
+            f"or a tuple), got {show(index)}"
+        )
+    flat = 0
+    for i, n in zip(idx, shape):
+        j = int(i) + n if int(i) < 0 else int(i)
+        if not 0 <= j < n:
+            raise ValueError(f"index {show(index)} is out of range for the {kind}'s shape {shape}")
+        flat = flat * n + j
+    return flat
+
+
+def _hashable(value: Any) -> Any:
+    """A field value as a hashable, comparable key: an array by its shape and bytes."""
+    if isinstance(value, np.ndarray):
+        return ("ndarray", value.shape, value.tobytes())
+    return value
 
 
 #: What a porous bed (``HairBed(..., model="porous")``) supports so far; every other method
@@ -254,14 +429,19 @@ def _positive(value: Any, name: str, unit: str) -> float:
 def _warn_implausible(bed: Any, kind: str = "HairBed") -> None:
     """A :class:`UnitsWarning` for each SI input of a valid bed (or pillar: ``kind`` names
     its class) outside :data:`PLAUSIBLE_RANGES` (after every check has passed: an invalid bed
-    gets only its error)."""
+    gets only its error); for an array-valued input, at its first such element."""
     for name, (low, high, shown, below, above) in PLAUSIBLE_RANGES.items():
         x = getattr(bed, name, None)
-        if x is not None and not low <= x <= high:
+        if x is None:
+            continue
+        a = np.asarray(x, dtype=np.float64)
+        out = ~((low <= a) & (a <= high))
+        if np.any(out):
+            xv = _at(a, out)
             warnings.warn(
-                f"{name} = {x:g} {shown} is outside the plausible range [{low:g}, {high:g}] "
-                f"{shown}: {below if x < low else above} ({kind} takes SI units or pint "
-                "quantities)",
+                f"{name} = {xv:g} {shown}{_first_index(out)} is outside the plausible range "
+                f"[{low:g}, {high:g}] {shown}: {below if xv < low else above} ({kind} takes "
+                "SI units or pint quantities)",
                 UnitsWarning,
                 stacklevel=4,
             )
@@ -466,6 +646,11 @@ class HairBed:
 
     def __post_init__(self) -> None:
         """Validate the inputs and fill in the one of spacing / packing fraction not given."""
+        given = "spacing" if self.spacing is not None else "packing_fraction"
+        object.__setattr__(self, "_given", given)
+        if any(_is_array(getattr(self, n), n, u) for n, u in _BED_UNITS):
+            self._post_init_arrays()
+            return
         length = _positive(self.length, "length", "m")
         radius = _positive(self.radius, "radius", "m")
         youngs_modulus = _positive(self.youngs_modulus, "youngs_modulus", "Pa")
@@ -484,7 +669,7 @@ class HairBed:
                     f"radius ({radius!r} m) must be less than half the spacing "
                     f"({spacing!r} m): neighbouring hairs would overlap"
                 )
-            phi = 2.0 * math.pi / math.sqrt(3.0) * (radius / spacing) ** 2
+            phi = _phi_of_spacing(radius, spacing)
         else:
             phi = _positive(packing_fraction, "packing_fraction", "")
             if phi >= CLOSE_PACKING_FRACTION:
@@ -492,7 +677,7 @@ class HairBed:
                     f"packing_fraction ({phi!r}) must be less than hexagonal close packing, "
                     f"pi/(2 sqrt 3) = {CLOSE_PACKING_FRACTION:.6f}: hairs would overlap"
                 )
-            spacing = radius * math.sqrt(2.0 * math.pi / (math.sqrt(3.0) * phi))
+            spacing = _spacing_of_phi(radius, phi)
         if length >= channel_height:
             raise ValueError(
                 f"length ({length!r} m) must be less than channel_height "
@@ -546,32 +731,284 @@ class HairBed:
         if self.model == "dense":
             _warn_sparse(self)
 
+    # -- array-valued beds (issue 32) ---------------------------------------------------------
+
+    def _post_init_arrays(self) -> None:
+        """:meth:`__post_init__` of a bed with array parameters: each checked element by
+        element (the first offending index named), the shapes broadcast, the derived numbers
+        computed element by element by the scalar bed's own properties."""
+        set_ = object.__setattr__
+
+        def positive(name: str, unit: str) -> Any:
+            value = getattr(self, name)
+            if _is_array(value, name, unit):
+                return _array_parameter(value, name, unit)
+            return _positive(value, name, unit)
+
+        for name, unit in _BED_UNITS[:5]:
+            set_(self, name, positive(name, unit))
+        spacing, packing_fraction = self.spacing, self.packing_fraction
+        if (spacing is None) == (packing_fraction is None):
+            raise ValueError(
+                "give exactly one of spacing [m] and packing_fraction [-], "
+                f"got spacing={show(spacing)}, packing_fraction={show(packing_fraction)}"
+            )
+        if spacing is not None:
+            set_(self, "spacing", positive("spacing", "m"))
+        else:
+            set_(self, "packing_fraction", positive("packing_fraction", ""))
+        base_angle: Any
+        if _is_array(self.base_angle, "base_angle", "rad"):
+            base_angle = _array_parameter(
+                self.base_angle, "base_angle", "rad", low=-HALF_PI, high=HALF_PI,
+                shown="(-pi/2, pi/2)",
+            )  # fmt: skip
+        else:
+            base_angle = check_number(self.base_angle, "base_angle", unit="rad")
+            if not (abs(base_angle) < HALF_PI):
+                raise ValueError(f"base_angle must lie in (-pi/2, pi/2) [rad], got {base_angle!r}")
+        set_(self, "base_angle", base_angle)
+        if self.density is not None:
+            set_(self, "density", positive("density", "kg/m**3"))
+        shape = _shape_of(self, _BED_NAMES, "HairBed")
+        self.__dict__["_shape"] = shape
+        radius, length = self.radius, self.length
+        if spacing is not None:
+            spacing = self.spacing
+            bad = ~np.asarray(radius < 0.5 * cast(Any, spacing))
+            if np.any(bad):
+                raise ValueError(
+                    f"radius ({_at(radius, bad)!r} m) must be less than half the spacing "
+                    f"({_at(spacing, bad)!r} m){_first_index(bad)}: neighbouring hairs would "
+                    "overlap"
+                )
+            set_(self, "packing_fraction", _elementwise(_phi_of_spacing, radius, spacing))
+        else:
+            phi: Any = self.packing_fraction
+            bad = ~np.asarray(phi < CLOSE_PACKING_FRACTION)
+            if np.any(bad):
+                raise ValueError(
+                    f"packing_fraction ({_at(phi, bad)!r}){_first_index(bad)} must be less "
+                    f"than hexagonal close packing, pi/(2 sqrt 3) = "
+                    f"{CLOSE_PACKING_FRACTION:.6f}: hairs would overlap"
+                )
+            set_(self, "spacing", _elementwise(_spacing_of_phi, radius, phi))
+        bad = ~np.asarray(length < self.channel_height)
+        if np.any(bad):
+            raise ValueError(
+                f"length ({_at(length, bad)!r} m) must be less than channel_height "
+                f"({_at(self.channel_height, bad)!r} m){_first_index(bad)}: eps = L/H must "
+                "be < 1, or the hairs would reach the top wall"
+            )
+        set_(self, "model", check_choice(self.model, "model", MODELS))
+        set_(self, "drag", check_choice(self.drag, "drag", DRAG_MODELS))
+        self.__dict__["_derived"] = {}
+        values = self._over_elements(_BED_DERIVED)
+        scales = [values[n] for n in ("second_moment", "wall_area_per_hair", "velocity_scale")]
+        bad = ~np.all([(0.0 < s) & (s < math.inf) for s in scales], axis=0)
+        if np.any(bad):
+            raise ValueError(
+                "the bed's parameters (length, radius, youngs_modulus, channel_height, viscosity, "
+                "spacing or packing_fraction) give a velocity scale E I H phi/(pi a^2 L^2 eta) = "
+                f"{_at(scales[2], bad):g} m/s, second moment {_at(scales[0], bad):g} m^4 and "
+                f"wall area per hair {_at(scales[1], bad):g} m^2{_first_index(bad)} that under- "
+                "or overflow double precision: check their units"
+            )
+        if self.model == "porous":
+            phi = cast(Any, self.packing_fraction)
+            bad = ~np.asarray(phi <= MAX_PACKING_FRACTION)
+            if np.any(bad):
+                raise ValueError(
+                    f"packing_fraction must lie in (0, {MAX_PACKING_FRACTION}] for "
+                    f"model='porous', got {_at(phi, bad)!r}{_first_index(bad)}: the array's "
+                    "permeabilities (Drummond & Tahir) that set the hairs' drag hold only below "
+                    "it"
+                )
+            bad = ~np.asarray(length > 1.5 * radius)
+            if np.any(bad):
+                raise ValueError(
+                    f"length/radius must exceed 1.5 for model='porous' (a slender hair: "
+                    f"ln(2L/a) > 1/2 keeps zeta_par positive), got "
+                    f"{_at(length, bad) / _at(radius, bad)!r}{_first_index(bad)}"
+                )
+            self._over_elements(_BED_DRAG)
+        _warn_implausible(self)
+        if self.model == "dense":
+            _warn_sparse(self)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The broadcast shape of the bed's parameters: () for a bed of numbers, else that of
+        its array parameters (numpy rules); results of its methods broadcast it with their
+        own array arguments (issue 32)."""
+        return cast("tuple[int, ...]", self.__dict__.get("_shape", ()))
+
+    def item(self, index: Any = ()) -> HairBed:
+        """The bed of numbers at ``index`` of :attr:`shape` (a bed of numbers is its own
+        item): the same parameters, given the same way (spacing or packing fraction)."""
+        shape = self.shape
+        flat = _flat_index(index, shape, "bed")
+        if not shape:
+            return self
+        kwargs: dict[str, Any] = {}
+        for name in _BED_NAMES:
+            value = getattr(self, name)
+            if value is not None and name in ("spacing", "packing_fraction"):
+                if name != self.__dict__["_given"]:
+                    continue
+            if isinstance(value, np.ndarray):
+                value = float(np.broadcast_to(value, shape).reshape(-1)[flat])
+            kwargs[name] = value
+        return HairBed(**kwargs, model=self.model, drag=self.drag)
+
+    def _elements(self, shape: tuple[int, ...] | None = None) -> Any:
+        """The beds of numbers of every element (C order), trusted: built without a check
+        (the array bed was checked), their properties the scalar bed's own code."""
+        shape = self.shape if shape is None else shape
+        cols = {
+            n: np.broadcast_to(np.asarray(v, dtype=np.float64), shape).reshape(-1)
+            for n in _BED_NAMES
+            if (v := getattr(self, n)) is not None
+        }
+        for i in range(math.prod(shape)):
+            bed = object.__new__(HairBed)
+            for n in _BED_NAMES:
+                object.__setattr__(bed, n, float(cols[n][i]) if n in cols else None)
+            object.__setattr__(bed, "model", self.model)
+            object.__setattr__(bed, "drag", self.drag)
+            yield bed
+
+    def _per_element(self, func: Any) -> NDArray[np.float64]:
+        """``func(bed)`` of each element's bed of numbers, as an array of :attr:`shape`: a
+        conversion of the bed's SI numbers that must match the scalar bed's bitwise."""
+        out = np.array([func(bed) for bed in self._elements()], dtype=np.float64)
+        return out.reshape(self.shape)
+
+    def _over_elements(self, names: tuple[str, ...]) -> dict[str, Any]:
+        """The derived quantities ``names`` of an array bed (cached): each element's
+        property, NaN where it under- or overflows."""
+        cache = self.__dict__["_derived"]
+        missing = [n for n in names if n not in cache]
+        if missing:
+            rows: dict[str, list[Any]] = {n: [] for n in missing}
+            for bed in self._elements():
+                for n in missing:
+                    try:
+                        value = getattr(bed, n)
+                    except (ZeroDivisionError, OverflowError, ValueError):
+                        value = (math.nan, math.nan) if n == "drag_coefficients" else math.nan
+                    rows[n].append(value)
+            shape = self.shape
+            for n in missing:
+                arr = np.array(rows[n], dtype=np.float64)
+                if n == "drag_coefficients":
+                    cache[n] = tuple(_frozen(arr[:, k].reshape(shape)) for k in (0, 1))
+                else:
+                    cache[n] = _frozen(arr.reshape(shape))
+        return {n: cache[n] for n in names}
+
+    def _derived_value(self, name: str) -> Any:
+        return self._over_elements((name,))[name]
+
+    def _take(self, idx: NDArray[np.intp], shape: tuple[int, ...]) -> HairBed:
+        """The bed of the flat elements ``idx`` of ``shape`` (a shape its own broadcasts
+        to), as a 1-d array bed, trusted; a bed of numbers is itself."""
+        if not self.shape:
+            return self
+        sub = object.__new__(HairBed)
+
+        def take(a: Any) -> Any:
+            if not isinstance(a, np.ndarray):
+                return a
+            return _frozen(np.broadcast_to(a, shape).reshape(-1)[idx])
+
+        for f in dataclasses.fields(self):
+            object.__setattr__(sub, f.name, take(getattr(self, f.name)))
+        derived = {
+            n: tuple(take(a) for a in v) if isinstance(v, tuple) else take(v)
+            for n, v in self.__dict__["_derived"].items()
+        }
+        sub.__dict__.update(_derived=derived, _shape=(int(np.size(idx)),))
+        sub.__dict__["_given"] = self.__dict__["_given"]
+        return sub
+
+    def _require_scalar(self, what: str) -> None:
+        """A ValueError where ``what`` is asked of an array-valued bed, which it does not
+        support: naming the array parameters and saying that numbers are needed."""
+        if not self.shape:
+            return
+        skip = "packing_fraction" if self.__dict__["_given"] == "spacing" else "spacing"
+        names = [n for n in _array_names(self, _BED_NAMES) if n != skip]
+        verb = "is an array" if len(names) == 1 else "are arrays"
+        raise ValueError(
+            f"{what} needs a single bed, each parameter a number: {', '.join(names)} {verb} "
+            f"(shape {self.shape}) here. HairBed.deform, valve.valve_curve and valve.diodicity "
+            "take array parameters; HairBed.item(index) gives one bed of the array"
+        )
+
+    def _broadcast_input(self, x: NDArray[np.float64], name: str) -> NDArray[np.float64]:
+        """An input array broadcast with the bed's parameters (a copy), or a ValueError."""
+        if not self.shape:
+            return x
+        try:
+            shape = np.broadcast_shapes(x.shape, self.shape)
+        except ValueError:
+            raise ValueError(
+                f"{name} of shape {x.shape} must broadcast with the bed's array parameters of "
+                f"shape {self.shape} (numpy rules)"
+            ) from None
+        return np.array(np.broadcast_to(x, shape))
+
+    def _key(self) -> tuple[Any, ...]:
+        return tuple(
+            _hashable(getattr(self, f.name)) for f in dataclasses.fields(self) if f.compare
+        )
+
+    def __eq__(self, other: object) -> bool:
+        """Equal beds have equal parameters (arrays: the same shape and elements)."""
+        if not isinstance(other, HairBed) or other.__class__ is not self.__class__:
+            return NotImplemented
+        return self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash(self._key())
+
     # -- the bed -------------------------------------------------------------------------------
 
     @property
     def eps(self) -> float:
         """Confinement eps = L / H [-]."""
+        if "_derived" in self.__dict__:  # an array bed: element by element
+            return cast(Any, self._derived_value("eps"))
         return self.length / self.channel_height
 
     @property
     def second_moment(self) -> float:
         """Second moment of area of the hair cross-section, I = pi a^4 / 4 [m^4]."""
+        if "_derived" in self.__dict__:  # an array bed: element by element
+            return cast(Any, self._derived_value("second_moment"))
         return 0.25 * math.pi * self.radius**4
 
     @property
     def bending_stiffness(self) -> float:
         """Bending stiffness E I [N m^2]."""
+        if "_derived" in self.__dict__:  # an array bed: element by element
+            return cast(Any, self._derived_value("bending_stiffness"))
         return self.youngs_modulus * self.second_moment
 
     @property
     def wall_area_per_hair(self) -> float:
         """Wall area per hair, pi a^2 / phi = (sqrt 3 / 2) delta^2 [m^2]."""
+        if "_derived" in self.__dict__:  # an array bed: element by element
+            return cast(Any, self._derived_value("wall_area_per_hair"))
         return math.pi * self.radius**2 / cast(float, self.packing_fraction)  # set by post-init
 
     @property
     def permeability(self) -> float:
         """Darcy permeability k of the bed to flow along the wall [m^2]: that of a hexagonal
         array of cylinders across their axes (Drummond & Tahir 1984; theory.md §10)."""
+        if "_derived" in self.__dict__:  # an array bed: element by element
+            return cast(Any, self._derived_value("permeability"))
         phi = cast(float, self.packing_fraction)  # set and checked by post-init
         return _transverse_permeability(self.radius, phi)
 
@@ -579,12 +1016,16 @@ class HairBed:
     def brinkman_length(self) -> float:
         """Depth sqrt(k) over which the flow penetrates the bed [m] (theory.md §10): the model
         needs it small against the hair length (:data:`DENSE_BED_LIMIT`)."""
+        if "_derived" in self.__dict__:  # an array bed: element by element
+            return cast(Any, self._derived_value("brinkman_length"))
         return math.sqrt(self.permeability)
 
     @property
     def drag_coefficients(self) -> tuple[float, float]:
         """(zeta_perp, zeta_par) [Pa s]: one hair's drag per unit length and speed, normal and
         along it, under the bed's ``drag`` model (theory.md §13)."""
+        if "_derived" in self.__dict__:  # an array bed: element by element
+            return cast(Any, self._derived_value("drag_coefficients"))
         phi = cast(float, self.packing_fraction)  # set and checked by post-init
         return drag_coefficients(
             self.drag,
@@ -600,18 +1041,24 @@ class HairBed:
     def kappa(self) -> float:
         """The porous bed's permeability over L^2, kappa = eta A/(zeta_perp L^2) [-]: the
         square of its Brinkman length in hair lengths (theory.md §13)."""
+        if "_derived" in self.__dict__:  # an array bed: element by element
+            return cast(Any, self._derived_value("kappa"))
         zeta = self.drag_coefficients[0]
         return self.viscosity * self.wall_area_per_hair / (zeta * self.length**2)
 
     @property
     def drag_ratio(self) -> float:
         """gamma = zeta_par/zeta_perp [-] of the bed's ``drag`` model."""
+        if "_derived" in self.__dict__:  # an array bed: element by element
+            return cast(Any, self._derived_value("drag_ratio"))
         perp, par = self.drag_coefficients
         return par / perp
 
     @property
     def velocity_scale(self) -> float:
         """Wall speed of unit forcing, E I H phi / (pi a^2 L^2 eta) [m/s]: omega^2 = v / it."""
+        if "_derived" in self.__dict__:  # an array bed: element by element
+            return cast(Any, self._derived_value("velocity_scale"))
         return (
             self.bending_stiffness
             * self.channel_height
@@ -639,13 +1086,14 @@ class HairBed:
         self, velocity: Any, name: str
     ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """(v [m/s], omega^2 [-]) of a wall speed, refusing speeds whose omega^2 overflows."""
-        v = as_float_array(velocity, name, unit="m/s")
+        v = self._broadcast_input(as_float_array(velocity, name, unit="m/s"), name)
         with np.errstate(over="ignore"):
             omega2 = np.abs(v) / self.velocity_scale
         bad = ~np.isfinite(omega2)
         if np.any(bad):
+            limit = np.finfo(np.float64).max * _at(self.velocity_scale, bad)
             raise ValueError(
-                f"{name} must be below {np.finfo(np.float64).max * self.velocity_scale:.3g} m/s "
+                f"{name} must be below {limit:.3g} m/s "
                 f"for this bed (its forcing omega2 overflows), got {float(v[bad].flat[0])!r}"
                 f"{_first_index(bad)}"
             )
@@ -670,7 +1118,9 @@ class HairBed:
                 return _solve_checked(omega2, eps, theta0)
             return _solve_loaded_trusted(drive, omega2, eps, theta0, load, "low")
         extra = () if load is None else (np.shape(load),)
-        shape = np.broadcast_shapes(np.shape(omega2), np.shape(eps), np.shape(theta0), *extra)
+        shape = np.broadcast_shapes(
+            np.shape(omega2), np.shape(eps), np.shape(theta0), self.shape, *extra
+        )
         arrays = tuple(
             np.array(np.broadcast_to(np.asarray(x, dtype=np.float64), shape))
             for x in (omega2, eps, theta0, self.kappa, self.drag_ratio, 0.0 if load is None
@@ -696,6 +1146,7 @@ class HairBed:
         spacing and packing fraction held fixed when the radius changes."""
         if self.model == "dense":
             return {}
+        self._require_scalar("the derivatives of a porous bed in its parameters")
         phi = cast(float, self.packing_fraction)
         logs = drag_logarithm_slopes(
             self.drag, self.length, self.radius, self.wall_area_per_hair, self.permeability,
@@ -725,6 +1176,7 @@ class HairBed:
         the porous bed's the exact derivatives of its state at rest."""
         from .inverse import _slope
 
+        self._require_scalar("the linear calibration")
         if self.model == "dense":
             gap0 = 1.0 - self.eps * math.cos(self.base_angle)
             return float(_slope(self.eps, self.base_angle)), 1.0 / gap0
@@ -797,7 +1249,7 @@ class HairBed:
         """:meth:`deform` with a pump drive: the distributed-load solver, signs kept."""
         drive, v, value, omega2, load = drive_inputs(self, velocity, pressure_gradient, flow_rate)
         # checked: the drive by drive_inputs, eps and the base angle by the bed itself
-        sol = _solve_loaded_trusted(drive, omega2, self.eps, self.base_angle, load, root)
+        sol = self._solve_loaded(drive, omega2, load, root)
         h1 = np.asarray(sol.tip_height, dtype=np.float64)
         flow = gap_flow(self, drive, v, value, h1)
         if self.density is not None:
@@ -816,11 +1268,24 @@ class HairBed:
             wall_shear_stress=float_or_array(flow["wall_shear_stress"]),
             force_per_hair=float_or_array(flow["force_per_hair"]),
             stress_ratio=float_or_array(flow["stress_ratio"]),
-            tip_displacement=float_or_array(length * (x1 - math.sin(self.base_angle))),
+            tip_displacement=float_or_array(length * (x1 - _sin(self.base_angle))),
             reynolds_number=float_or_array(flow["reynolds_number"]),
             pressure_gradient=float_or_array(flow["pressure_gradient"]),
             flow_rate=float_or_array(flow["flow_rate"]),
         )
+
+    def _solve_loaded(self, drive: str, omega2: Any, load: Any, root: str) -> Any:
+        """The dense bed's distributed-load states (:func:`hairbed.solve_loaded`) at checked
+        drives, the bed's eps and base angle broadcast with them: one compiled call."""
+        if not self.shape:
+            return _solve_loaded_trusted(drive, omega2, self.eps, self.base_angle, load, root)
+        shape = np.broadcast_shapes(np.shape(omega2), np.shape(load), self.shape)
+        w, e, t0, ld = (
+            np.array(np.broadcast_to(np.asarray(x, dtype=np.float64), shape))
+            for x in (omega2, self.eps, self.base_angle, load)
+        )
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            return _solve_loaded_checked(drive, _DRIVES[drive], w, e, t0, ld, root, 1e-12, LADDER)
 
     def _deform_porous(
         self, velocity: Any, pressure_gradient: Any, flow_rate: Any, root: str
@@ -838,7 +1303,7 @@ class HairBed:
             drive, v, value, omega2, load = drive_inputs(
                 self, velocity, pressure_gradient, flow_rate
             )
-        shape = np.shape(omega2)
+        shape = np.broadcast_shapes(np.shape(omega2), np.shape(load), self.shape)
         arrays = tuple(
             np.array(np.broadcast_to(np.asarray(x, dtype=np.float64), shape))
             for x in (omega2, self.eps, self.base_angle, self.kappa, self.drag_ratio, load)
@@ -864,7 +1329,7 @@ class HairBed:
             wall_shear_stress=float_or_array(flow["wall_shear_stress"]),
             force_per_hair=float_or_array(flow["force_per_hair"]),
             stress_ratio=float_or_array(flow["stress_ratio"]),
-            tip_displacement=float_or_array(length * (x1 - math.sin(self.base_angle))),
+            tip_displacement=float_or_array(length * (x1 - _sin(self.base_angle))),
             reynolds_number=float_or_array(flow["reynolds_number"]),
             pressure_gradient=float_or_array(flow["pressure_gradient"]),
             flow_rate=float_or_array(flow["flow_rate"]),
@@ -888,12 +1353,13 @@ class HairBed:
         idx = np.flatnonzero(rest)
         probe = [np.ascontiguousarray(a.reshape(-1)[idx]) for a in arrays]
         tiny = np.full(idx.size, 1e-100)
+        bed = self._take(idx, arrays[0].shape)  # an array bed: the elements at rest
         if wall:
-            probe[0], v, value = tiny, tiny * self.velocity_scale, np.zeros(idx.size)
+            probe[0], v, value = tiny, tiny * bed.velocity_scale, np.zeros(idx.size)
         else:
-            probe[5], v, value = tiny, np.zeros(idx.size), tiny / load_scale(self, drive)
+            probe[5], v, value = tiny, np.zeros(idx.size), tiny / load_scale(bed, drive)
         sol = _solve_porous_checked(drive, 0 if drive == "pressure" else 1, tuple(probe), root)
-        near = porous_flow(self, sol, v, drive, value)["stress_ratio"]
+        near = porous_flow(bed, sol, v, drive, value)["stress_ratio"]
         ratio = np.array(flow["stress_ratio"], dtype=np.float64)
         ratio.reshape(-1)[idx] = near
         flow["stress_ratio"] = ratio
@@ -956,6 +1422,7 @@ class HairBed:
         :class:`hairbed.bed_simulation.BedSimulation`)."""
         from .bed_simulation import simulate
 
+        self._require_scalar("HairBed.simulate")
         return simulate(
             self,
             times,
@@ -1003,6 +1470,7 @@ class HairBed:
         """
         from .sweeps import bed_sweep
 
+        self._require_scalar("HairBed.sweep")
         return bed_sweep(
             self,
             velocity,
@@ -1036,6 +1504,7 @@ class HairBed:
 
     def _deflection(self, deflection: Any, name: str = "deflection") -> NDArray[np.float64]:
         """A tip deflection [m] (pint quantities converted) in (-length, length)."""
+        self._require_scalar("the calibration from a tip deflection")
         d = as_float_array(deflection, name, unit="m")
         length = self.length
         # |d| >= L, or |d|/L rounding to 1: a hair lying flat, the limit v -> inf (no state)
@@ -1159,6 +1628,7 @@ class HairBed:
         eps), and the gap's condition gives omega^2 = eps w(1) + (1 - eps h1) Q(1)
         (theory.md §13).
         """
+        self._require_scalar("HairBed.velocity_from_wall_shear_stress")
         tau = as_float_array(wall_shear_stress, "wall_shear_stress", unit="Pa")
         scale = self.wall_area_per_hair * self.length**2 / self.bending_stiffness
         with np.errstate(over="ignore"):
@@ -1232,6 +1702,7 @@ class HairBed:
         """
         from .profile_fit import fit_profile
 
+        self._require_scalar("HairBed.fit_profile")
         kwargs.setdefault("theta0", self.base_angle)
         if self.model == "porous":  # its curves: the porous bed's states (theory.md §13)
             kwargs.setdefault("kappa", self.kappa)
