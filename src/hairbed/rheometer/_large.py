@@ -3,18 +3,25 @@
 The top wall is driven so that the strain (its displacement over H) is
 gamma(t) = gamma0 sin(omega t): its speed V = H gamma0 omega cos(omega t), i.e. the wall
 forcing omega2(t) = omega2* + kappa gamma0 omega cos(omega t) (omega2 = kappa eps V, V in L/T,
-H = L/eps), about an optional pre-stress's forcing omega2*. The bed is integrated in time by
-:func:`hairbed.dynamics.simulate_bed` (Radau IIA, rtol 1e-9) from the steady state of the
-forcing at t = 0.
+H = L/eps), about an optional pre-stress's forcing omega2*.
 
-**The periodic steady state: integrate until the transient decays.** The transient decays
-at least as fast as the slowest mode of the linear bed about the mean state
-(:meth:`hairbed.dynamics.LinearBed.modes`, rate r = min |Re lambda|): the run covers
-n = ceil(ln(1/periodic_tol)/(r P)) + 2 periods (P = 2 pi/omega, at least 3, at most
-``max_periods``), and the **criterion** is checked on the result: the stress over the last
-period differs from the period before by at most ``periodic_tol`` of its largest value
-(status 1 otherwise). The last period, sampled at ``samples`` uniform phases, is analysed by
-:func:`analyse_laos` (harmonics, Ewoldt's measures, Lissajous curves).
+**The periodic steady state**, by one of two methods (``method``):
+
+* ``"collocation"`` (the default): :func:`hairbed.dynamics.periodic_bed`, trigonometric
+  collocation in time with Newton's method (theory.md §16), directly periodic; its truncation
+  error below min(periodic_tol, 1e-10) (the highest harmonics' amplitudes). The ``samples``
+  phases are read off its trigonometric interpolant.
+* ``"transient"`` (the baseline): :func:`hairbed.dynamics.simulate_bed` (Radau IIA) from the
+  steady state of the forcing at t = 0 until the transient decays. It decays at least as fast
+  as the slowest mode of the linear bed about the mean state
+  (:meth:`hairbed.dynamics.LinearBed.modes`, rate r = min |Re lambda|): the run covers
+  n = ceil(ln(1/periodic_tol)/(r P)) + 2 periods (P = 2 pi/omega, at least 3, at most
+  ``max_periods``), and the **criterion** is checked on the result: the stress over the last
+  period differs from the period before by at most ``periodic_tol`` of its largest value
+  (status 1 otherwise).
+
+The period, sampled at ``samples`` uniform phases, is analysed by :func:`analyse_laos`
+(harmonics, Ewoldt's measures, Lissajous curves).
 
 At low frequency the bed follows its static states: the stress is the quasi-static rheology
 Q(H) of :func:`hairbed.solve_porous` at the instantaneous forcing (``quasi_static_stress``),
@@ -32,12 +39,13 @@ from numpy.typing import NDArray
 
 from .._core.porous import solve_porous
 from .._core.validation import check_int, check_number, status_messages
-from ..dynamics import linearise_bed, simulate_bed, sine
+from ..dynamics import linearise_bed, periodic_bed, simulate_bed, sine
 from ..dynamics._bed import MAX_BED_DRIVE
 from ._laos import LAOSAnalysis, analyse_laos
 from ._saos import EPS_MIN, KAPPA_RANGE, OMEGA_RANGE
 
 __all__ = [
+    "LARGE_METHODS",
     "LARGE_STATUS",
     "LargeAmplitudeShear",
     "PipkinMap",
@@ -50,9 +58,14 @@ FloatArray = NDArray[np.float64]
 #: Status codes of :class:`LargeAmplitudeShear`.
 LARGE_STATUS = {
     0: "ok: periodic to periodic_tol",
-    1: "not periodic: the last two periods differ by more than periodic_tol (max_periods)",
-    -1: "the integration failed (see trajectory_status: simulate_bed's BED_STATUS)",
+    1: "not periodic to periodic_tol: (transient) the last two periods differ by more than "
+    "periodic_tol at max_periods; (collocation) the highest harmonics exceed it at the "
+    "largest degree",
+    -1: "the periodic state failed (see trajectory_status: simulate_bed's BED_STATUS, or "
+    "periodic_bed's PERIODIC_STATUS)",
 }
+#: The methods of :func:`large_amplitude_shear`.
+LARGE_METHODS = ("collocation", "transient")
 
 
 @dataclass(frozen=True)
@@ -64,7 +77,8 @@ class LargeAmplitudeShear:
     omega, strain_amplitude, forcing : float
         omega [1/T], gamma0 [-] and the pre-stress's steady forcing omega2* [-].
     t : ndarray
-        The last period's sample times [T] (end excluded).
+        The period's sample times [T] (end excluded): the last period's (transient), or
+        k P/samples (collocation).
     strain, stress : ndarray
         gamma(t) [-] and the top wall's stress Q(H, t) [E I/(A L^2)] over the last period.
     quasi_static_stress : ndarray
@@ -72,15 +86,21 @@ class LargeAmplitudeShear:
     analysis : LAOSAnalysis or None
         :func:`analyse_laos` of the last period (None where the run failed).
     periods : int
-        Periods integrated.
+        Periods integrated (transient; 0 for collocation).
     periodic_error : float
-        max abs(stress(last period) - stress(the one before)) / max abs(stress) [-].
+        Transient: max abs(stress(last period) - stress(the one before)) / max abs(stress)
+        [-]; collocation: :attr:`hairbed.dynamics.PeriodicBed.error`, the truncation's
+        estimate.
     trajectory_status : int
-        :func:`simulate_bed`'s status.
+        :func:`simulate_bed`'s status (transient) or :func:`periodic_bed`'s (collocation).
     nsteps : int
-        The integrator's steps.
+        The integrator's steps (transient) or Newton's iterations (collocation).
     status : int
         ``LARGE_STATUS``.
+    method : str
+        ``"collocation"`` or ``"transient"``.
+    harmonics : int
+        The collocation's trigonometric degree H (0 for transient).
     """
 
     omega: float
@@ -96,6 +116,8 @@ class LargeAmplitudeShear:
     trajectory_status: int
     nsteps: int
     status: int
+    method: str = "transient"
+    harmonics: int = 0
 
     @property
     def success(self) -> bool:
@@ -123,6 +145,7 @@ def large_amplitude_shear(
     periodic_tol: float = 1e-6,
     max_periods: int = 200,
     rtol: float = 1e-9,
+    method: str = "collocation",
 ) -> LargeAmplitudeShear:
     """The porous bed's periodic steady state under gamma = gamma0 sin(omega t), analysed.
 
@@ -143,13 +166,17 @@ def large_amplitude_shear(
     samples : int, optional
         Samples per period in [16, 4096] (default 64); the harmonics below samples/2.
     periodic_tol : float, optional
-        The periodicity criterion (default 1e-6), in [1e-9, 0.1].
+        The periodicity criterion (default 1e-6), in [1e-9, 0.1]; collocation meets
+        min(periodic_tol, 1e-10).
     max_periods : int, optional
-        The most periods integrated, in [3, 10^4] (default 200).
+        The most periods integrated, in [3, 10^4] (default 200; transient only).
     rtol : float, optional
         The integrator's relative tolerance (default 1e-9, below the periodicity criterion's
         default); atol is the same (with hair inertia an atol far below rtol makes the steps
-        crawl at the rates' rounding floor, measured at atol 1e-11).
+        crawl at the rates' rounding floor, measured at atol 1e-11). Transient only.
+    method : {"collocation", "transient"}, optional
+        The periodic state's method (the module's description): collocation in time
+        (default) or integration until the transient decays.
 
     Returns
     -------
@@ -169,6 +196,8 @@ def large_amplitude_shear(
     tol = check_number(periodic_tol, "periodic_tol", low=1e-9, high=0.1)
     nmax = check_int(max_periods, "max_periods", 3, 10_000)
     rt = check_number(rtol, "rtol", low=1e-12, high=1e-3)
+    if method not in LARGE_METHODS:
+        raise ValueError(f"method must be one of {LARGE_METHODS}, got {method!r}")
     amp = k * g0 * om
     if not abs(w0) + amp <= MAX_BED_DRIVE:
         raise ValueError(
@@ -181,12 +210,31 @@ def large_amplitude_shear(
         raise ValueError(
             f"forcing {w0!r} has no steady state of this bed (status {int(mean.status)})"
         )
+    period = 2.0 * math.pi / om
+    if method == "collocation":
+        orbit = periodic_bed(
+            th, k, e, omega=om, wall=sine(w0, amp, om, math.pi / 2), gamma=gm, inertia=mu,
+            womersley=alpha, tol=min(tol, 1e-10),
+        )  # fmt: skip
+        tl = np.arange(per, dtype=np.float64) * (period / per)
+        strain = g0 * np.sin(om * tl)
+        stress = np.asarray(orbit.outputs_at(tl)["wall_stress"], dtype=np.float64)
+        quasi = _quasi_static(w0, amp, om, tl, e, th, k, gm)
+        if orbit.status < 0:
+            return LargeAmplitudeShear(
+                om, g0, w0, tl, strain, stress, quasi, None, 0, math.nan, orbit.status,
+                orbit.iterations, -1, "collocation", orbit.harmonics,
+            )  # fmt: skip
+        return LargeAmplitudeShear(
+            om, g0, w0, tl, strain, stress, quasi, analyse_laos(tl, strain, stress), 0,
+            orbit.error, orbit.status, orbit.iterations, 0 if orbit.error <= tol else 1,
+            "collocation", orbit.harmonics,
+        )  # fmt: skip
     lam = linearise_bed(mean, inertia=mu, womersley=alpha).modes(4).eigenvalues
     rate = float(np.min(np.abs(lam.real))) if lam.size else 1.0
-    period = 2.0 * math.pi / om
     need = math.log(1.0 / tol) / max(rate * period, 1e-300)
     nper = int(min(max(3, math.ceil(need) + 2), nmax))
-    t = np.arange(nper * per + 1) * (period / per)
+    t = np.arange(nper * per + 1, dtype=np.float64) * (period / per)
     run = simulate_bed(
         th, k, e, t_eval=t, wall=sine(w0, amp, om, math.pi / 2), gamma=gm, inertia=mu,
         womersley=alpha, rtol=rt, atol=rt, max_steps=10_000_000,
@@ -196,8 +244,7 @@ def large_amplitude_shear(
     tl = np.asarray(t[last], dtype=np.float64)
     strain = g0 * np.sin(om * tl)
     stress = np.asarray(run.wall_stress[last], dtype=np.float64)
-    qs = solve_porous(w0 + amp * np.cos(om * tl), e, th, kappa=k, gamma=gm)
-    quasi = np.asarray(qs.tip_stress, dtype=np.float64)  # Q(H) = Q(h1) under the wall drive
+    quasi = _quasi_static(w0, amp, om, tl, e, th, k, gm)
     if int(run.status) != 0 or not np.all(np.isfinite(run.wall_stress)):
         return LargeAmplitudeShear(
             om, g0, w0, tl, strain, stress, quasi, None, nper, math.nan, int(run.status),
@@ -210,6 +257,15 @@ def large_amplitude_shear(
         om, g0, w0, tl, strain, stress, quasi, res, nper, err, 0, int(run.nsteps),
         0 if err <= tol else 1,
     )  # fmt: skip
+
+
+def _quasi_static(
+    w0: float, amp: float, om: float, tl: FloatArray, eps: float, theta0: float, kappa: float,
+    gamma: float,
+) -> FloatArray:  # fmt: skip
+    """The static bed's top stress at the instantaneous forcing (solve_porous)."""
+    qs = solve_porous(w0 + amp * np.cos(om * tl), eps, theta0, kappa=kappa, gamma=gamma)
+    return np.asarray(qs.tip_stress, dtype=np.float64)  # Q(H) = Q(h1) under the wall drive
 
 
 @dataclass(frozen=True)

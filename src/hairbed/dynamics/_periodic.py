@@ -1,0 +1,749 @@
+"""The porous bed's periodic steady state by collocation in time (issue 31, theory.md §16).
+
+Under drives of period P = 2 pi/omega the semi-discrete bed M y' = g(t, y) of
+:func:`hairbed.dynamics.simulate_bed` (theory.md §15) has a periodic state. Here it is found
+directly, not by integrating until the transient decays:
+
+* **Trigonometric collocation in time.** y(t) is the trigonometric polynomial of degree H
+  through K = 2H + 1 equispaced phases t_k = k P/K (odd K: no Nyquist mode), and
+  M (D y)_k = g(t_k, y_k) holds at every phase, D the exact derivative of the interpolant
+  (by the FFT). For a smooth periodic state the error falls geometrically with H.
+* **Newton** on the K m unknowns with the exact Jacobian (the kernel's dg/dy at every phase):
+  M D dY - diag(J_k) dY = -R. Quadratic convergence (measured: steps 1e-1, 3e-3, 9e-7, 7e-14).
+* **The linear solve.** At each phase the algebraic unknowns (mass 0) are eliminated by the
+  Schur complement, dy_a = J_aa^-1 (R_a - J_ad dy_d), which leaves the differential ones:
+  M_d D dy_d - A_k dy_d = r, A_k = J_dd - J_da J_aa^-1 J_ad. That system is solved by GMRES
+  (Saad & Schultz 1986) preconditioned by its phase average: in frequency, one
+  (i j omega M_d - mean_k A_k) solve per harmonic j (measured 4 to 12 iterations to 1e-12).
+* **The degree.** From H = ``harmonics`` (default 12) H doubles, the last state interpolated as
+  the start, until the two highest harmonics' amplitudes lie below ``tol`` of each
+  component's scale 1 + max abs(y) (the error of the truncation, geometric decay).
+* **The start.** The linear periodic response about the steady state of the drives' means
+  (one (i j omega M - J) solve per harmonic of the drives); if Newton fails from it, the
+  quasi-static states (g(t_k, y_k) = 0 phase by phase, the low-frequency limit).
+
+:func:`periodic_sensitivity` solves the forced variational equation M S' = J(t) S + G(t) for
+its periodic solution on the same collocation and factors: for parameter columns G = dg/dp
+this is dy/dp along the periodic orbit (implicit differentiation of the periodic state;
+S(0) = dy0/dp = (I - Phi)^-1 times the forced solution from rest over one period, Phi the
+monodromy matrix), and the derivatives of the period-means of the outputs follow.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from .._core.validation import check_int, check_number, show, status_messages
+from ._bed import (
+    BED_OUTPUTS,
+    EPS_MIN,
+    KAPPA_RANGE,
+    _angles,
+    _bounded_drive,
+    _drive_columns,
+    _evaluate,
+    _mass,
+    _newton_steady,
+    _output_values,
+    _pump_drive,
+    _static_start,
+    _System,
+    _system,
+    _top_drive,
+    _zero_or_within,
+)
+from ._signals import Signal, as_signal, constant, sine
+
+__all__ = [
+    "PERIODIC_STATUS",
+    "PeriodicBed",
+    "PeriodicSensitivity",
+    "periodic_bed",
+    "periodic_sensitivity",
+]
+
+FloatArray = NDArray[np.float64]
+
+#: Status codes of :class:`PeriodicBed`.
+PERIODIC_STATUS: Mapping[int, str] = MappingProxyType(
+    {
+        0: "periodic: Newton converged and the truncation error is below tol",
+        1: "Newton converged, but the highest harmonics exceed tol at max_harmonics",
+        -1: "Newton did not converge (from the linear and from the quasi-static start)",
+        -3: "a rate is not finite at the periodic state's phases",
+        -8: "the periodic state reaches abs(theta) = pi/2 at a node (outside the model)",
+    }
+)
+
+#: The Krylov solver's relative tolerance on the preconditioned residual and its iterations.
+_KRYLOV_TOL = 1e-12
+_KRYLOV_MAX = 150
+#: Newton's largest step in the angles [rad] (a longer step is shortened to it).
+_MAX_TURN = 0.5
+
+
+@dataclass(frozen=True)
+class PeriodicBed:
+    """The porous bed's periodic steady state (:func:`periodic_bed`).
+
+    Attributes
+    ----------
+    omega, period : float
+        The base angular frequency [1/T] and the period P = 2 pi/omega [T].
+    t : ndarray
+        The K = 2H + 1 collocation phases t_k = k P/K [T].
+    y : ndarray
+        The states there, (K, size), in the layout of :func:`hairbed.dynamics.bed_operators`.
+    outputs : mapping of str to ndarray
+        ``BED_OUTPUTS`` and ``wall_speed``, ``pressure`` at the phases (K,), in the units of
+        :class:`hairbed.dynamics.BedTrajectory`.
+    harmonics : int
+        H, the trigonometric degree.
+    error : float
+        The truncation's estimate: the two highest harmonics' amplitudes over each
+        component's 1 + max abs(y) [-].
+    iterations : int
+        Newton iterations (all degrees).
+    krylov_iterations : int
+        GMRES iterations (all Newton steps).
+    start : str
+        "linear" or "quasi-static": the start Newton converged from.
+    status : int
+        ``PERIODIC_STATUS``.
+    """
+
+    omega: float
+    period: float
+    t: FloatArray
+    y: FloatArray
+    outputs: Mapping[str, FloatArray]
+    harmonics: int
+    error: float
+    iterations: int
+    krylov_iterations: int
+    start: str
+    status: int
+    _sys: _System = field(repr=False)
+    _pump: Signal = field(repr=False)
+
+    @property
+    def success(self) -> bool:
+        """True where status is 0."""
+        return self.status == 0
+
+    @property
+    def y_t(self) -> FloatArray:
+        """dy/dt at the phases [1/T], (K, size): the exact derivative of the trigonometric
+        interpolant (the collocation's D y)."""
+        c = np.fft.rfft(self.y, axis=0)
+        c *= 1j * self.omega * np.arange(c.shape[0])[:, None]
+        return np.fft.irfft(c, n=self.y.shape[0], axis=0)
+
+    @property
+    def message(self) -> Any:
+        """``PERIODIC_STATUS`` of ``status``."""
+        return status_messages(self.status, PERIODIC_STATUS)
+
+    def states_at(self, t: ArrayLike) -> FloatArray:
+        """The states at times t [T] (any, taken modulo P) by the trigonometric interpolant:
+        (len(t), size)."""
+        tt = np.asarray(t, dtype=np.float64).reshape(-1)
+        if not np.all(np.isfinite(tt)):
+            i = int(np.flatnonzero(~np.isfinite(tt))[0])
+            raise ValueError(f"t must be finite, got {show(float(tt[i]))} at index {i}")
+        return _interpolate(self.y, self.omega, tt)
+
+    def outputs_at(self, t: ArrayLike) -> dict[str, FloatArray]:
+        """``BED_OUTPUTS`` (and ``wall_speed``, ``pressure``) at times t [T]."""
+        tt = np.asarray(t, dtype=np.float64).reshape(-1)
+        ys = self.states_at(tt)
+        pump = np.asarray(self._pump(tt), dtype=np.float64).reshape(tt.shape)
+        return {k: np.asarray(v, dtype=np.float64) for k, v in
+                _output_values(self._sys, ys, pump).items()}  # fmt: skip
+
+    def mean(self, output: str) -> float:
+        """The period-mean of an output (exact for the trigonometric polynomial: the mean of
+        its values at the K phases)."""
+        if output not in self.outputs:
+            raise ValueError(f"output must be one of {sorted(self.outputs)}, got {output!r}")
+        return float(np.mean(self.outputs[output]))
+
+
+def _interpolate(y: FloatArray, omega: float, t: FloatArray) -> FloatArray:
+    """The trigonometric interpolant of the K = 2H + 1 equispaced values y (K, m) at t."""
+    kk = y.shape[0]
+    c = np.fft.rfft(y, axis=0) / kk
+    c[1:] *= 2.0
+    e = np.exp(1j * omega * np.outer(t, np.arange(c.shape[0])))
+    return np.ascontiguousarray(np.real(e @ c))
+
+
+def _periodic_drive(value: Any, name: str, omega: float) -> Signal:
+    """A constant or a sine whose frequency is a whole multiple of omega."""
+    sig = _bounded_drive(as_signal(value, name, 0.0, 1.0), name)
+    if sig.kind == "constant":
+        return sig
+    if sig.kind != "sine":
+        raise ValueError(
+            f"{name} must be a number or a hairbed.dynamics.sine of a whole multiple of omega "
+            f"for a periodic state, got a {sig.kind} drive"
+        )
+    ratio = sig.params[2] / omega
+    if not (ratio >= 0.5 and abs(ratio - round(ratio)) <= 1e-12 * ratio):
+        raise ValueError(
+            f"{name}'s frequency {show(sig.params[2])} [1/T] must be a whole multiple of "
+            f"omega = {show(omega)} [1/T] (the period's harmonics), got ratio {ratio:.6g}"
+        )
+    return sig
+
+
+def _mean_value(sig: Signal) -> float:
+    return float(sig.params[0])
+
+
+class _Problem:
+    """One bed under periodic drives: its index sets and the collocation's operations."""
+
+    def __init__(self, sys: _System, omega: float) -> None:
+        self.sys = sys
+        self.omega = omega
+        self.m = sys.layout.size
+        self.mass = _mass(sys)
+        d = np.flatnonzero(self.mass != 0.0)
+        a = np.flatnonzero(self.mass == 0.0)
+        self.nd = d.size
+        self.perm = np.concatenate([d, a])
+        self.ident = bool(np.array_equal(self.perm, np.arange(self.m)))
+        self.md = self.mass[d]
+        from .._core._kernels import bed as kb
+
+        self.kb = kb
+        self.ws = kb.bed_workspace(sys.num, sys.num_gap)
+        self.scratch = np.zeros((self.m, self.m))
+
+    def times(self, kk: int) -> FloatArray:
+        return np.arange(kk) * (2.0 * math.pi / self.omega) / kk
+
+    def rates(self, t: FloatArray, y: FloatArray, need: bool) -> tuple[bool, Any, Any]:
+        """g (K, m) and, where ``need``, J (K, m, m) at the phases."""
+        kk = t.size
+        g = np.empty((kk, self.m))
+        jac = np.zeros((kk, self.m, self.m)) if need else None
+        ok = True
+        for k in range(kk):
+            out = jac[k] if jac is not None else self.scratch
+            yk = np.ascontiguousarray(y[k])
+            ok = self.kb.bed_system(float(t[k]), yk, need, self.sys.params, g[k], out, self.ws)
+            if not ok:
+                return False, g, jac
+        return True, g, jac
+
+    def derivative(self, y: FloatArray) -> FloatArray:
+        """D y: the exact time derivative of the trigonometric interpolant at the phases."""
+        kk = y.shape[0]
+        c = np.fft.rfft(y, axis=0)
+        c *= (1j * self.omega * np.arange(c.shape[0])).reshape((-1,) + (1,) * (y.ndim - 1))
+        return np.fft.irfft(c, n=kk, axis=0)
+
+    def solve(self, jac: FloatArray, rhs: FloatArray) -> tuple[FloatArray, int]:
+        """dY (K, m, p) of M D dY - J_k dY = rhs (K, m, p) on the periodic collocation (J_k
+        the Jacobians (K, m, m) at the phases); the GMRES iterations (all columns)."""
+        nd = self.nd
+        kk, _, p = rhs.shape
+        if self.ident:
+            jp, rp = jac, rhs
+        else:
+            jp, rp = jac[:, self.perm][:, :, self.perm], rhs[:, self.perm]
+        # the algebraic unknowns eliminated at each phase: J_aa^-1 [J_ad, r_a]
+        xr = np.linalg.solve(jp[:, nd:, nd:], np.concatenate([jp[:, nd:, :nd], rp[:, nd:]], 2))
+        x, ra = xr[:, :, :nd], xr[:, :, nd:]
+        amat = jp[:, :nd, :nd] - jp[:, :nd, nd:] @ x
+        red = rp[:, :nd] - jp[:, :nd, nd:] @ ra
+        w = self.omega * np.arange(kk // 2 + 1)
+        pinv = np.linalg.inv(1j * w[:, None, None] * np.diag(self.md)[None] - amat.mean(0)[None])
+
+        def prec(r: FloatArray) -> FloatArray:
+            c = np.fft.rfft(r, axis=0)
+            return np.fft.irfft((pinv @ c[:, :, None])[:, :, 0], n=kk, axis=0)
+
+        def apply(v: FloatArray) -> FloatArray:
+            xv = v.reshape(kk, nd)
+            out = self.md * self.derivative(xv) - (amat @ xv[:, :, None])[:, :, 0]
+            return prec(out).reshape(-1)
+
+        dd = np.empty((kk, nd, p))
+        its = 0
+        for j in range(p):
+            xd, n_it = _gmres(apply, prec(red[:, :, j]).reshape(-1))
+            dd[:, :, j] = xd.reshape(kk, nd)
+            its += n_it
+        out = np.empty((kk, self.m, p))
+        out[:, self.perm[:nd]] = dd
+        out[:, self.perm[nd:]] = -ra - x @ dd
+        return out, its
+
+
+def _gmres(apply: Callable[[FloatArray], FloatArray], b: FloatArray) -> tuple[FloatArray, int]:
+    """GMRES (Saad & Schultz 1986, Givens rotations, no restart) on the preconditioned
+    system: x with ||apply(x) - b|| <= _KRYLOV_TOL ||b||; raises ArithmeticError beyond
+    _KRYLOV_MAX iterations."""
+    n = b.size
+    beta = float(np.linalg.norm(b))
+    if beta == 0.0 or not math.isfinite(beta):
+        if beta == 0.0:
+            return np.zeros(n), 0
+        raise ArithmeticError("a right-hand side is not finite")
+    top = min(_KRYLOV_MAX, n)
+    v = np.zeros((top + 1, n))
+    h = np.zeros((top + 1, top))
+    cs = np.zeros(top)
+    sn = np.zeros(top)
+    s = np.zeros(top + 1)
+    s[0] = beta
+    v[0] = b / beta
+    for j in range(top):
+        w = apply(v[j])
+        for i in range(j + 1):  # modified Gram-Schmidt, twice
+            hij = float(v[i] @ w)
+            h[i, j] = hij
+            w -= hij * v[i]
+        for i in range(j + 1):
+            c = float(v[i] @ w)
+            h[i, j] += c
+            w -= c * v[i]
+        hn = float(np.linalg.norm(w))
+        h[j + 1, j] = hn
+        for i in range(j):
+            t = cs[i] * h[i, j] + sn[i] * h[i + 1, j]
+            h[i + 1, j] = -sn[i] * h[i, j] + cs[i] * h[i + 1, j]
+            h[i, j] = t
+        r = math.hypot(h[j, j], hn)
+        cs[j], sn[j] = (1.0, 0.0) if r == 0.0 else (h[j, j] / r, hn / r)
+        h[j, j] = r
+        s[j + 1] = -sn[j] * s[j]
+        s[j] = cs[j] * s[j]
+        done = abs(s[j + 1]) <= _KRYLOV_TOL * beta or hn == 0.0
+        if done or j + 1 == top:
+            if not done and abs(s[j + 1]) > 1e-6 * beta:
+                raise ArithmeticError("GMRES did not converge")
+            yv = np.linalg.solve(np.triu(h[: j + 1, : j + 1]), s[: j + 1])
+            return yv @ v[: j + 1], j + 1
+        if not math.isfinite(hn):
+            raise ArithmeticError("GMRES: a value is not finite")
+        v[j + 1] = w / hn
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _scale(y: FloatArray) -> FloatArray:
+    return 1.0 + np.max(np.abs(y), axis=0)
+
+
+def _newton(
+    prob: _Problem, y: FloatArray, tol: float, max_iter: int
+) -> tuple[bool, FloatArray, int, int, bool]:
+    """Newton on the collocation from y (K, m): (converged, y, iterations, GMRES
+    iterations, rates finite)."""
+    kk = y.shape[0]
+    t = prob.times(kk)
+    y = y.copy()
+    n_th = prob.sys.num - 1
+    prev = math.inf
+    krylov = 0
+    grow = 0
+    for it in range(1, max_iter + 1):
+        ok, g, jac = prob.rates(t, y, True)
+        if not ok:
+            return False, y, it, krylov, False
+        res = prob.mass * prob.derivative(y) - g
+        try:
+            step3, its = prob.solve(jac, -res[:, :, None])
+            step = step3[:, :, 0]
+        except (ArithmeticError, np.linalg.LinAlgError):
+            return False, y, it, krylov, True
+        krylov += its
+        if not np.all(np.isfinite(step)):
+            return False, y, it, krylov, True
+        turn = float(np.max(np.abs(step[:, :n_th])))
+        if turn > _MAX_TURN:
+            step *= _MAX_TURN / turn
+        y += step
+        size = float(np.max(np.abs(step) / _scale(y)))
+        if size <= tol or (size < 1e-10 and size >= 0.5 * prev):
+            return True, y, it, krylov, True
+        grow = grow + 1 if size > prev else 0
+        if grow >= 3:
+            return False, y, it, krylov, True
+        prev = size
+    return False, y, max_iter, krylov, True
+
+
+def _tail(y: FloatArray) -> float:
+    """The two highest harmonics' amplitudes over each component's scale, the largest."""
+    kk = y.shape[0]
+    c = np.abs(np.fft.rfft(y, axis=0)) * (2.0 / kk)
+    top = np.max(c[-2:], axis=0) if c.shape[0] > 2 else np.max(c, axis=0)
+    return float(np.max(top / _scale(y)))
+
+
+def _resample(y: FloatArray, kk_new: int) -> FloatArray:
+    """The trigonometric interpolant of y (K, m) at K' >= K equispaced phases."""
+    kk = y.shape[0]
+    c = np.fft.rfft(y, axis=0)
+    big = np.zeros((kk_new // 2 + 1, y.shape[1]), dtype=np.complex128)
+    big[: c.shape[0]] = c
+    return np.fft.irfft(big, n=kk_new, axis=0) * (kk_new / kk)
+
+
+def periodic_bed(
+    theta0: float,
+    kappa: float,
+    eps: float,
+    *,
+    omega: float,
+    wall: Any = None,
+    pressure: Any = None,
+    flow_rate: Any = None,
+    wall_stress: Any = None,
+    gamma: float = 1.0,
+    inertia: float = 0.0,
+    tangential_mass: float = 1.0,
+    womersley: float = 0.0,
+    num: int = 32,
+    num_gap: int = 16,
+    tol: float = 1e-10,
+    harmonics: int = 12,
+    max_harmonics: int = 384,
+    max_iterations: int = 30,
+) -> PeriodicBed:
+    """The porous bed's periodic steady state under drives of period 2 pi/omega, directly.
+
+    The bed of :func:`hairbed.dynamics.simulate_bed` (theory.md §15), M y' = g(t, y), under
+    drives that repeat with the period P = 2 pi/omega: its periodic state y(t + P) = y(t),
+    by trigonometric collocation in time with Newton's method (theory.md §16): y is the
+    trigonometric polynomial of degree H through K = 2H + 1 phases t_k = k P/K and
+    M y'(t_k) = g(t_k, y(t_k)) holds at each; Newton with the exact Jacobian, the algebraic
+    unknowns eliminated phase by phase, the differential ones by GMRES preconditioned by the
+    phase-averaged Jacobian; H doubles until the highest harmonics fall below ``tol``.
+    Time in T = zeta_perp L^4/(E I). The same spatial discretisation as simulate_bed (the
+    same N, map and rows): the two agree to their tolerances.
+
+    Parameters
+    ----------
+    theta0, kappa, eps : float
+        The bed (as :func:`hairbed.dynamics.simulate_bed`): base angle [rad] in
+        (-pi/2, pi/2), kappa [-] in [1e-6, 1e6], eps = L/H [-] in [1e-3, 1).
+    omega : float
+        The base angular frequency [1/T], in [1e-9, 1e9].
+    wall, wall_stress, pressure, flow_rate : number or sine, optional
+        The drives (as simulate_bed's; at most one of each pair): numbers or
+        :func:`hairbed.dynamics.sine` signals whose frequencies are whole multiples of omega.
+        flow_rate is not taken with womersley > 0 (an index-2 pressure).
+    gamma, inertia, tangential_mass, womersley : float, optional
+        As simulate_bed's (defaults 1, 0, 1, 0).
+    num : int, optional
+        The hair's Chebyshev degree N in [8, 128] (default 32, simulate_bed's).
+    num_gap : int, optional
+        The gap's degree M in [4, 128] (womersley > 0; default 16).
+    tol : float, optional
+        The periodic state's accuracy in [1e-13, 1e-3] (default 1e-10): the highest
+        harmonics' amplitudes over 1 + max abs(y) of each component, and Newton's last step.
+    harmonics : int, optional
+        The first degree H in [2, 1024] (default 12).
+    max_harmonics : int, optional
+        The largest degree in [harmonics, 4096] (default 384): status 1 beyond.
+    max_iterations : int, optional
+        Newton iterations per start and degree, in [2, 200] (default 30).
+
+    Returns
+    -------
+    PeriodicBed
+
+    Raises
+    ------
+    ValueError, TypeError
+        For inputs outside their ranges, naming the parameter.
+
+    Examples
+    --------
+    >>> from hairbed.dynamics import periodic_bed, sine
+    >>> st = periodic_bed(0.0, 1.0, 0.5, omega=1.0, wall=sine(0.0, 1.0, 1.0, 1.5707963267948966))
+    >>> st.success, round(float(st.outputs["wall_stress"].max()), 6)
+    (True, 1.134097)
+    """
+    om = check_number(omega, "omega", low=1e-9, high=1e9)
+    t0 = check_number(theta0, "theta0", low=-0.5 * np.pi, high=0.5 * np.pi, low_open=True,
+                      high_open=True)  # fmt: skip
+    kap = check_number(kappa, "kappa", low=KAPPA_RANGE[0], high=KAPPA_RANGE[1])
+    e = check_number(eps, "eps", low=EPS_MIN, high=1.0, high_open=True)
+    g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
+    mu = _zero_or_within(check_number(inertia, "inertia", low=0.0), "inertia")
+    chi = check_number(tangential_mass, "tangential_mass", low=0.0, high=1.0, low_open=True)
+    alpha = _zero_or_within(check_number(womersley, "womersley", low=0.0), "womersley")
+    deg = check_int(num, "num", 8, 128)
+    ngap = check_int(num_gap, "num_gap", 4, 128)
+    ptol = check_number(tol, "tol", low=1e-13, high=1e-3)
+    h0 = check_int(harmonics, "harmonics", 2, 1024)
+    hmax = check_int(max_harmonics, "max_harmonics", h0, 4096)
+    nit = check_int(max_iterations, "max_iterations", 2, 200)
+    top, top_in, top_name = _top_drive(wall, wall_stress)
+    pump, pump_in, pump_name = _pump_drive(pressure, flow_rate)
+    if pump == 1 and alpha > 0.0:
+        raise ValueError(
+            "flow_rate with womersley > 0 makes the pressure an index-2 unknown, which the "
+            "periodic solver does not take: drive the pressure, or use womersley = 0"
+        )
+    top_sig = _periodic_drive(top_in, top_name, om)
+    pump_sig = _periodic_drive(pump_in, pump_name, om)
+    a = 0.0
+    if top == 0 and pump == 0 and pump_sig.kind == "constant" and pump_sig.params[0] == 0.0:
+        from .._core.porous import _tip_map  # the map simulate_bed takes for this drive
+
+        a = float(_tip_map(0, np.array(kap), np.array(0.0)))
+    sys = _system(deg, a, ngap, t0, g, chi, mu, kap, e, alpha, top, pump, top_sig, pump_sig)
+    top_mean, pump_mean = _mean_value(top_sig), _mean_value(pump_sig)
+    mean_sys = _system(deg, a, ngap, t0, g, chi, mu, kap, e, alpha, top, pump,
+                       constant(top_mean), constant(pump_mean))  # fmt: skip
+    names = (top_name, pump_name)
+    y_mean = _mean_state(mean_sys, t0, kap, e, g, top_mean, pump_mean, names)
+    prob = _Problem(sys, om)
+    newton_tol = max(min(1e-2 * ptol, 1e-11), 1e-14)
+    hh = h0
+    kk = 2 * hh + 1
+    y = _linear_start(prob, mean_sys, y_mean, top_sig, pump_sig, kk)
+    start = "linear"
+    ok, y1, total, krylov, finite = _newton(prob, y, newton_tol, nit)
+    if not ok:
+        start = "quasi-static"
+        yq = _quasi_static_start(prob, y_mean, kk)
+        if yq is not None:
+            ok, y1, its, kry, finite = _newton(prob, yq, newton_tol, nit)
+            total, krylov = total + its, krylov + kry
+    if not ok:
+        start = "continuation"
+        build = functools.partial(_system, deg, a, ngap, t0, g, chi, mu, kap, e, alpha, top, pump)
+        ok, y1, its, kry, finite = _continuation(
+            build, om, top_sig, pump_sig, _linear_start(prob, mean_sys, y_mean, top_sig,
+                                                        pump_sig, kk, 0.0),
+            newton_tol, nit,
+        )  # fmt: skip
+        total, krylov = total + its, krylov + kry
+    status = 0
+    err = math.nan
+    while ok:
+        err = _tail(y1)
+        if err <= ptol:
+            break
+        if 2 * hh > hmax:
+            status = 1
+            break
+        hh *= 2
+        ok, y1, its, kry, finite = _newton(prob, _resample(y1, 2 * hh + 1), newton_tol, nit)
+        total, krylov = total + its, krylov + kry
+    if not ok:
+        status = -1 if finite else -3
+    elif np.any(np.abs(_angles(sys, y1)) >= 0.5 * math.pi):
+        status = -8
+    t = prob.times(y1.shape[0])
+    pump_vals = np.asarray(pump_sig(t), dtype=np.float64).reshape(t.shape)
+    outs = {k: np.asarray(v, dtype=np.float64) for k, v in
+            _output_values(sys, y1, pump_vals).items()}  # fmt: skip
+    return PeriodicBed(
+        omega=om, period=2.0 * math.pi / om, t=t, y=y1, outputs=MappingProxyType(outs),
+        harmonics=hh, error=err, iterations=total, krylov_iterations=krylov, start=start,
+        status=status, _sys=sys, _pump=pump_sig,
+    )  # fmt: skip
+
+
+def _mean_state(
+    sys: _System, theta0: float, kappa: float, eps: float, gamma: float, top: float,
+    pump: float, names: tuple[str, str],
+) -> FloatArray:  # fmt: skip
+    """The steady state of the drives' means: at rest (theta = theta0) where both vanish,
+    else simulate_bed's static start."""
+    if top == 0.0 and pump == 0.0:
+        rest = np.zeros(sys.layout.size)
+        rest[: sys.num - 1] = theta0
+        return _newton_steady(sys, rest, 0.0)
+    try:
+        return _static_start(sys, theta0, kappa, eps, gamma, top, pump, 0.0)
+    except ValueError as exc:
+        raise ValueError(
+            f"no steady state at the drives' means ({names[0]} = {show(top)}, {names[1]} = "
+            f"{show(pump)}) to start the periodic state from: {exc}"
+        ) from None
+
+
+def _scaled(sig: Signal, lam: float) -> Signal:
+    """The drive's swing about its mean times lam."""
+    if sig.kind == "constant":
+        return sig
+    mean, amp, om, phase = sig.params[:4]
+    return sine(mean, lam * amp, om, phase)
+
+
+def _continuation(
+    build: Callable[[Signal, Signal], _System], omega: float, top: Signal, pump: Signal,
+    y: FloatArray, tol: float, max_iter: int,
+) -> tuple[bool, FloatArray, int, int, bool]:  # fmt: skip
+    """Newton along the drives' swing scaled by lam from 0 to 1 (steps from 1/4, halved on a
+    failure down to 1/256, doubled after a success), each from the last state."""
+    lam, step = 0.0, 0.25
+    total = krylov = 0
+    finite = True
+    while lam < 1.0:
+        nxt = min(1.0, lam + step)
+        prob = _Problem(build(_scaled(top, nxt), _scaled(pump, nxt)), omega)
+        ok, y1, its, kry, finite = _newton(prob, y, tol, max_iter)
+        total, krylov = total + its, krylov + kry
+        if ok:
+            lam, y, step = nxt, y1, 2.0 * step
+        else:
+            step *= 0.5
+            if step < 1.0 / 256.0:
+                return False, y, total, krylov, finite
+    return True, y, total, krylov, finite
+
+
+def _linear_start(
+    prob: _Problem, mean_sys: _System, y_mean: FloatArray, top: Signal, pump: Signal, kk: int,
+    lam: float = 1.0,
+) -> FloatArray:  # fmt: skip
+    """The linear periodic response about the drives' mean state y* to the drives' swing
+    times lam: for each harmonic j of the drives, (i j omega M - J) Y_j = lam b d_j."""
+    ok, _g, jac = _evaluate(mean_sys, 0.0, y_mean, True)
+    cols = list(_drive_columns(mean_sys, y_mean).values())
+    t = prob.times(kk)
+    coef = np.zeros((kk // 2 + 1, prob.m), dtype=np.complex128)
+    if ok and lam != 0.0:
+        for col, sig in zip(cols, (top, pump)):
+            d = np.fft.rfft(np.asarray(sig(t), dtype=np.float64).reshape(t.shape) - sig.params[0])
+            big = float(np.max(np.abs(d)))
+            for j in range(1, d.size):
+                if abs(d[j]) > 1e-12 * big:
+                    mat = 1j * j * prob.omega * np.diag(prob.mass) - jac
+                    coef[j] += np.linalg.solve(mat, col * (lam * d[j]))
+    return y_mean[None, :] + np.fft.irfft(coef, n=kk, axis=0)
+
+
+def _quasi_static_start(prob: _Problem, y_mean: FloatArray, kk: int) -> FloatArray | None:
+    """The steady states of the drives' values at each phase (g(t_k, y) = 0, each from the
+    last): the low-frequency limit. None where one does not converge."""
+    t = prob.times(kk)
+    out = np.empty((kk, prob.m))
+    y = y_mean
+    try:
+        for k in range(kk):
+            y = _newton_steady(prob.sys, y, float(t[k]))
+            out[k] = y
+    except ArithmeticError:
+        return None
+    return out
+
+
+@dataclass(frozen=True)
+class PeriodicSensitivity:
+    """The periodic solution of the forced variational equation (:func:`periodic_sensitivity`).
+
+    Attributes
+    ----------
+    states : ndarray
+        S at the orbit's phases, (K, size, p): dy/dp along the periodic orbit for parameter
+        columns G = dg/dp.
+    initial : ndarray
+        S(0) = dy0/dp, (size, p): (I - Phi)^-1 times the forced solution from rest over one
+        period (Phi the monodromy matrix).
+    mean_outputs : mapping of str to ndarray
+        d(period-mean of the output)/dp through the state, (p,), for ``BED_OUTPUTS`` and
+        ``wall_speed`` (an output's direct dependence on p at fixed y is not included).
+    krylov_iterations : int
+        GMRES iterations (all columns).
+    """
+
+    states: FloatArray
+    initial: FloatArray
+    mean_outputs: Mapping[str, FloatArray]
+    krylov_iterations: int
+
+
+def periodic_sensitivity(
+    orbit: PeriodicBed,
+    forcing: Any,
+) -> PeriodicSensitivity:
+    """The periodic solution S of M S' = J(t) S + G(t) along a periodic state: implicit
+    differentiation of the periodic orbit.
+
+    With G = dg/dp (the derivative of the bed's rates in a parameter p at fixed y, one column
+    per parameter) S = dy/dp along the orbit, S(0) = dy0/dp = (I - Phi)^-1 S_p(P) with Phi
+    the monodromy matrix and S_p the forced solution from rest; the derivatives of the
+    period-means of the outputs follow as (1/P) int c_o(y(t)) . S(t) dt, c_o the outputs'
+    gradients (exact: the mean of the trigonometric polynomial at the K phases). Solved on
+    the orbit's collocation with its Newton matrix (theory.md §16), so S is exact for the
+    discrete periodic problem: d(periodic_bed's state)/dp.
+
+    Parameters
+    ----------
+    orbit : PeriodicBed
+        A converged :func:`periodic_bed` result.
+    forcing : array_like or callable
+        G at the orbit's phases ``orbit.t``: an array (K, size) or (K, size, p), or a callable
+        G(t, y) of one phase t [T] and its state y (size,) returning (size,) or (size, p).
+
+    Returns
+    -------
+    PeriodicSensitivity
+    """
+    if not isinstance(orbit, PeriodicBed):
+        raise TypeError(f"orbit must be a PeriodicBed (periodic_bed), got {type(orbit).__name__}")
+    if orbit.status not in (0, 1):
+        raise ValueError(f"orbit must be converged (status 0 or 1), got status {orbit.status}")
+    kk, m = orbit.y.shape
+    if callable(forcing):
+        cols = [np.asarray(forcing(float(orbit.t[k]), orbit.y[k].copy()), dtype=np.float64)
+                for k in range(kk)]  # fmt: skip
+        shapes = {c.shape for c in cols}
+        if len(shapes) != 1:
+            raise ValueError(f"forcing(t, y) must return one shape at every phase, got {shapes}")
+        gg = np.stack(cols)
+    else:
+        gg = np.asarray(forcing, dtype=np.float64)
+    if gg.ndim not in (2, 3) or gg.shape[:2] != (kk, m):
+        raise ValueError(
+            f"forcing must have shape ({kk}, {m}) or ({kk}, {m}, p) at the orbit's {kk} phases "
+            f"(or a callable returning ({m},) or ({m}, p)), got {gg.shape}"
+        )
+    bad = ~np.isfinite(gg)
+    if np.any(bad):
+        i = tuple(int(v) for v in np.argwhere(bad)[0])
+        raise ValueError(f"forcing must be finite, got {gg[i]!r} at index {i}")
+    if gg.ndim == 2:
+        gg = gg[:, :, None]
+    prob = _Problem(orbit._sys, orbit.omega)
+    ok, _g, jac = prob.rates(orbit.t, orbit.y, True)
+    if not ok:  # pragma: no cover - a converged orbit has finite rates
+        raise ValueError("the orbit's rates are not finite")
+    s, krylov = prob.solve(jac, gg)
+    for _ in range(2):  # iterative refinement on the full system's residual
+        res = gg - (prob.mass[:, None] * prob.derivative(s) - jac @ s)
+        fix, its = prob.solve(jac, res)
+        s += fix
+        krylov += its
+    pump = np.asarray(orbit._pump(orbit.t), dtype=np.float64).reshape(orbit.t.shape)
+    hstep = 1e-30
+    rows = orbit.y[:, None, :] + 1j * hstep * np.eye(m)[None]
+    vals = _output_values(orbit._sys, rows, pump[:, None])
+    means = {}
+    for name in (*BED_OUTPUTS, "wall_speed"):
+        grad = np.imag(np.asarray(vals[name])) / hstep  # (K, m)
+        means[name] = np.einsum("km,kmp->p", grad, s) / kk
+    return PeriodicSensitivity(
+        states=s, initial=s[0].copy(), mean_outputs=MappingProxyType(means),
+        krylov_iterations=krylov,
+    )  # fmt: skip
