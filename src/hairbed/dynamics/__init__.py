@@ -9,12 +9,10 @@
   :func:`simulate_pillars` many pillars in one call, on threads.
 - :func:`simulate_bed`: the porous bed in time (hairs and fluid, theory.md §15), on the same
   compiled Radau IIA; :func:`bed_operators` its semi-discrete system M y' = g(t, y)
-  linearised about a steady state: mass vector, exact Jacobian, drives, outputs.
+  linearised about a steady state: mass vector, exact Jacobian, drives, outputs;
+  :func:`simulate_beds` many beds in one call, on threads (a :class:`BedBatch`).
 - :func:`snap_through`: a slow ramp through the upper fold of a pillar's snap-through window:
   the jump's delay, the states before and after, the ringing.
-- :func:`periodic_bed`: the porous bed's periodic steady state under periodic drives, by
-  collocation in time with Newton's method (theory.md §16); :func:`periodic_sensitivity` the
-  periodic solution of its forced variational equation (dy/dp along the orbit).
 - :func:`linearise_bed`: the porous bed's linear dynamics about any steady state, its modes
   and its transfer functions (wall speed, pressure or flow rate -> tip deflection, tip
   height, base moment, top wall's stress, flow rate).
@@ -30,6 +28,7 @@ from ._bed import (
     bed_operators,
     simulate_bed,
 )
+from ._bed_batch import BED_BATCH_STATUS, BedBatch, simulate_beds
 from ._bed_linear import (
     BED_LINEAR_STATUS,
     BedFrequencyResponse,
@@ -48,13 +47,6 @@ from ._linear import (
     PillarModes,
     linearise_pillar,
 )
-from ._periodic import (
-    PERIODIC_STATUS,
-    PeriodicBed,
-    PeriodicSensitivity,
-    periodic_bed,
-    periodic_sensitivity,
-)
 from ._signals import CALLABLE_SAMPLES, Signal, constant, pulses, ramp, sampled, sine, step
 from ._snap import SNAP_STATUS, SnapThrough, snap_through
 from ._validity import (
@@ -71,6 +63,9 @@ __all__ = [
     "BedTrajectory",
     "bed_operators",
     "simulate_bed",
+    "BED_BATCH_STATUS",
+    "BedBatch",
+    "simulate_beds",
     "CALLABLE_SAMPLES",
     "PillarTrajectory",
     "Signal",
@@ -105,9 +100,4 @@ __all__ = [
     "BedModes",
     "LinearBed",
     "linearise_bed",
-    "PERIODIC_STATUS",
-    "PeriodicBed",
-    "PeriodicSensitivity",
-    "periodic_bed",
-    "periodic_sensitivity",
 ]
