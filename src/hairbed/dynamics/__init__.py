@@ -13,6 +13,9 @@
   :func:`simulate_beds` many beds in one call, on threads (a :class:`BedBatch`).
 - :func:`snap_through`: a slow ramp through the upper fold of a pillar's snap-through window:
   the jump's delay, the states before and after, the ringing.
+- :func:`periodic_bed`: the porous bed's periodic steady state under periodic drives, by
+  collocation in time with Newton's method (theory.md §16); :func:`periodic_sensitivity` the
+  periodic solution of its forced variational equation (dy/dp along the orbit).
 - :func:`linearise_bed`: the porous bed's linear dynamics about any steady state, its modes
   and its transfer functions (wall speed, pressure or flow rate -> tip deflection, tip
   height, base moment, top wall's stress, flow rate).
@@ -46,6 +49,13 @@ from ._linear import (
     LinearPillar,
     PillarModes,
     linearise_pillar,
+)
+from ._periodic import (
+    PERIODIC_STATUS,
+    PeriodicBed,
+    PeriodicSensitivity,
+    periodic_bed,
+    periodic_sensitivity,
 )
 from ._signals import CALLABLE_SAMPLES, Signal, constant, pulses, ramp, sampled, sine, step
 from ._snap import SNAP_STATUS, SnapThrough, snap_through
@@ -100,4 +110,9 @@ __all__ = [
     "BedModes",
     "LinearBed",
     "linearise_bed",
+    "PERIODIC_STATUS",
+    "PeriodicBed",
+    "PeriodicSensitivity",
+    "periodic_bed",
+    "periodic_sensitivity",
 ]
