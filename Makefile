@@ -8,6 +8,8 @@ BENCH_STAMP := $(VENV)/.installed-bench
 # one BLAS thread: the machines are 2-core and shared; threaded BLAS only adds contention
 export OPENBLAS_NUM_THREADS := 1
 export OMP_NUM_THREADS := 1
+# pytest workers (pytest-xdist), one per core of the 2-core machines; whole files per worker
+TEST_WORKERS ?= 2
 
 .PHONY: run test chromium lint format bench reference docs clean
 
@@ -31,7 +33,7 @@ test: $(STAMP) chromium
 	$(BIN)/ruff check src tests benchmarks
 	$(BIN)/ruff format --check src tests benchmarks
 	$(BIN)/mypy
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n $(TEST_WORKERS) --dist loadfile
 	# the kernels once more as plain Python (coverage of the compiled code's source)
 	NUMBA_DISABLE_JIT=1 $(BIN)/python -m pytest -q -p no:cacheprovider \
 		tests/test_kernels_elliptic.py tests/test_kernels_weak.py tests/test_jit.py \
