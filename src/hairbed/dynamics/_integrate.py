@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._core.loaded import _shape_at
+from .._core.loaded import _MAP_SCALE, _shape_at
 from .._core.pillar import (
     WINDOW_THETA0,
     PillarState,
@@ -371,6 +371,10 @@ def _forward_map(lam: float, theta0: float, tip: float, prof: FloatArray) -> flo
     mirror = -1.0 if lam < 0.0 else 1.0
     if mirror * theta0 < WINDOW_THETA0 and lam != 0.0:
         return None
+    # the map is 0 where the start's tip load W = Lambda int U s^2 (3 - s)/2 ds + P cannot
+    # exceed _MAP_SCALE^2 (abs(U) <= the sum of abs(U's Chebyshev coefficients))
+    if 0.375 * abs(lam) * float(np.sum(np.abs(prof))) + abs(tip) <= _MAP_SCALE**2:
+        return 0.0
     one = np.ones(1)
     _, a = _start_load(abs(lam) * one, mirror * theta0 * one, mirror * tip * one, prof[None, :])
     return float(a[0])
@@ -533,12 +537,12 @@ def _run(job: _Job) -> PillarTrajectory:
     theta[:, 0] = t0
     theta[:, 1:deg] = y_out[:, :n]
     theta[:, deg] = theta[:, :deg] @ srow[:deg]
-    ws = kern.workspace(deg)
-    f = np.empty(size)
-    jdummy = np.zeros((size, size))
     good = np.all(np.isfinite(y_out), axis=1)
     theta[~good] = np.nan
     if m == 0.0:  # the rates of the overdamped state: f(t, y)
+        ws = kern.workspace(deg)
+        f = np.empty(size)
+        jdummy = np.zeros((size, size))
         for i in np.flatnonzero(good):
             kern.pillar_rates(
                 float(te[i]), y_out[i], False, deg, dd, ii, srow, t0, g, chi, m, pr, drives,

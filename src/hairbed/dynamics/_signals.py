@@ -67,12 +67,15 @@ class Signal:
         from .._core._kernels import dynamics as kern
 
         tv = np.asarray(t, dtype=np.float64)
+        if self.kind == "constant":
+            return np.full(tv.shape, self.params[0]) if tv.ndim else float(self.params[0])
         row = self.row()
-        tt, vv = (self.times, self.values) if self.times.size else (np.zeros(1), np.zeros(1))
-        out = np.array(
-            [kern.drive_value(int(row[0]), row[1:], tt, vv, float(x)) for x in tv.reshape(-1)]
-        )
-        return out.reshape(tv.shape) if tv.ndim else float(out[0])
+        kind, pars = int(row[0]), row[1:]
+        tt, vv = (self.times, self.values) if self.times.size else (_ZERO, _ZERO)
+        if not tv.ndim:
+            return float(kern.drive_value(kind, pars, tt, vv, float(tv)))
+        out = np.array([kern.drive_value(kind, pars, tt, vv, float(x)) for x in tv.reshape(-1)])
+        return out.reshape(tv.shape)
 
     def at_start(self, t0: float) -> float:
         """d(t0)."""
@@ -80,6 +83,7 @@ class Signal:
 
 
 _EMPTY = np.zeros(0)
+_ZERO = np.zeros(1)
 
 
 def _finite(value: Any, name: str) -> float:
@@ -226,4 +230,11 @@ def _from_callable(func: Callable[..., Any], name: str, t0: float, t1: float) ->
         raise ValueError(
             f"{name}: the callable returned {show(float(vals[i]))} at t = {show(float(tt[i]))}"
         )
-    return sampled(tt, vals)
+    # the samples are checked: what :func:`sampled` would check again is the times alone
+    if not np.all(tt[1:] > tt[:-1]):
+        raise ValueError(
+            f"{name}: the run's span [{show(t0)}, {show(t1)}] is too short at its magnitude "
+            f"for {CALLABLE_SAMPLES} distinct sample times of the callable; pass a "
+            "sampled(times, values) signal"
+        )
+    return Signal("sampled", (), tt, np.ascontiguousarray(vals, dtype=np.float64))
