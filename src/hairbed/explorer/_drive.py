@@ -23,8 +23,16 @@ model's mass is then 2 m_s with the tangential/normal mass ratio chi = 1/2 (theo
 D3), and Sader's Reynolds scale R = rho_f b^2/(4 eta T) = 4 mu/(ln(2 L/a) + 1/2) needs the
 slenderness L/a.
 
-The views beside the animation are a registry, ``SIDE_VIEWS``: the Bode view now; the bed's
-Lissajous view (the rheometer) joins it there, with its own entry and figure.
+The views beside the animation are a registry, ``SIDE_VIEWS`` (URL key ``side_view``): the
+Bode view, and the Lissajous view of a bed of such hairs in a rheometer
+(:func:`lissajous_view`): the porous bed (theory.md §13, kappa and eps of the URL keys
+``bed_kappa``, ``bed_eps``, the pillar's base angle) whose top wall is driven by the same
+forcing, omega2(t) = Lambda_mean + A sin(omega t), i.e. the strain
+gamma = -A cos(omega t)/(kappa omega) about the steady shear of Lambda_mean
+(:func:`hairbed.rheometer.large_amplitude_shear`, its periodic state sampled at the FRAMES
+phases of the animation's frames): the wall's stress against the strain and against the
+strain rate (the Lissajous-Bowditch curves, with Cho's elastic and viscous parts), and the
+point of the frame on screen.
 """
 
 from __future__ import annotations
@@ -39,6 +47,7 @@ import numpy as np
 
 import hairbed
 from hairbed.dynamics import linearise_pillar, simulate_pillar, sine
+from hairbed.rheometer import large_amplitude_shear
 
 __all__ = [
     "BODE_OMEGA",
@@ -49,7 +58,9 @@ __all__ = [
     "SIDE_VIEWS",
     "DriveAnimation",
     "DriveParams",
+    "LissajousView",
     "drive_animation",
+    "lissajous_view",
     "validate_drive",
 ]
 
@@ -61,12 +72,21 @@ DRIVE_DEFAULTS: dict[str, str] = {
     "frequency": "5",
     "mu": "1",
     "drag_model": "quasi-steady",
+    "side_view": "bode",
+    "bed_kappa": "1",
+    "bed_eps": "0.5",
 }
+#: The Lissajous view's keys (carried by the URL in that side view only).
+LISSAJOUS_KEYS = ("bed_kappa", "bed_eps")
 #: The Bode view's drag models (the animation is always quasi-steady).
 DRAG_MODELS = ("quasi-steady", "sader")
-#: The views beside the animation: name -> label. The bed's Lissajous view (the rheometer's
-#: stress against strain) joins here.
-SIDE_VIEWS: dict[str, str] = {"bode": "Bode view of the tip deflection"}
+#: The views beside the animation: name -> label.
+SIDE_VIEWS: dict[str, str] = {
+    "bode": "Bode view of the tip deflection",
+    "lissajous": "Lissajous view of a bed in a rheometer",
+}
+#: The Lissajous view's kappa and eps ranges (those of hairbed.rheometer).
+_KAPPA_RANGE, _EPS_RANGE = (1e-4, 1e6), (1e-6, 1.0)
 #: Frames of the animation's period, and the largest settling time in periods.
 FRAMES = 48
 MAX_SETTLE_PERIODS = 200
@@ -96,12 +116,19 @@ class DriveParams:
         The solid's inertia number >= 0 [-].
     drag_model : str
         "quasi-steady" or "sader" (the Bode view's).
+    side_view : str
+        A key of :data:`SIDE_VIEWS`.
+    bed_kappa, bed_eps : float
+        The Lissajous view's bed: kappa > 0 and eps = L/H in (0, 1) [-].
     """
 
     amplitude: float
     frequency: float
     mu: float
     drag_model: str
+    side_view: str = "bode"
+    bed_kappa: float = 1.0
+    bed_eps: float = 0.5
 
 
 def _number(text: str) -> float | None:
@@ -138,7 +165,26 @@ def validate_drive(
             "drag_model 'sader' needs the slenderness L/a (Sader's drag depends on the "
             "pillar's radius)"
         )
-    params = DriveParams(values["amplitude"], values["frequency"], values["mu"], model)
+    side = full.get("side_view", DRIVE_DEFAULTS["side_view"]).strip()
+    bed = {"bed_kappa": 1.0, "bed_eps": 0.5}
+    if side not in SIDE_VIEWS:
+        problems.append(
+            f"side_view must be one of {', '.join(map(repr, SIDE_VIEWS))}, got {side!r}"
+        )
+    elif side == "lissajous":
+        for key, (lo, hi), what in (
+            ("bed_kappa", _KAPPA_RANGE, "the bed's kappa in [1e-4, 1e6]"),
+            ("bed_eps", _EPS_RANGE, "the bed's eps = L/H in [1e-6, 1)"),
+        ):
+            v = _number(full.get(key, DRIVE_DEFAULTS[key]))
+            if v is None or not lo <= v <= hi or (key == "bed_eps" and v == hi):
+                problems.append(f"{key} must be {what}, got {full.get(key)!r}")
+            else:
+                bed[key] = v
+        if values["amplitude"] == 0.0 and not any(p.startswith("amplitude") for p in problems):
+            problems.append("amplitude must be > 0 in the Lissajous view (a strain to shear by)")
+    params = DriveParams(values["amplitude"], values["frequency"], values["mu"], model, side,
+                         bed["bed_kappa"], bed["bed_eps"])  # fmt: skip
     return params, problems
 
 
@@ -267,4 +313,94 @@ def drive_animation(
         np.cos(theta_mean) @ ii.T, harmonic, BODE_OMEGA, np.asarray(both[:-1]),
         complex(both[-1]), settle, int(run.naccept), 0, "",
         {"solve": 1e3 * (time.perf_counter() - start)},
+    )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class LissajousView:
+    """The Lissajous view: the bed's periodic stress under the drive (the module's
+    description), at the animation's frames and as closed curves.
+
+    Attributes
+    ----------
+    strain, strain_rate, stress : ndarray
+        At the FRAMES frames of the animation (frame k at the same phase of the forcing):
+        gamma [-], its rate [1/T] and the top wall's stress [E I/(A L^2)].
+    curve : dict of str to ndarray
+        :meth:`hairbed.rheometer.LAOSAnalysis.lissajous` at 181 phases: ``strain``,
+        ``strain_rate``, ``total``, ``elastic``, ``viscous``.
+    strain_amplitude : float
+        gamma0 = A/(kappa omega) [-].
+    measures : dict of str to float
+        G'_1, G''_1, G'_M, G'_L [E I/(A L^2)], eta'_M, eta'_L [E I T/(A L^2)], I_3/I_1, the
+        even ratio, the periodicity error and the periods run.
+    status : int
+        :data:`hairbed.rheometer.LARGE_STATUS` (negative: no curve; ``message`` says why).
+    message : str
+        "" or the reason.
+    timings : dict
+        "solve" [ms].
+    """
+
+    strain: np.ndarray
+    strain_rate: np.ndarray
+    stress: np.ndarray
+    curve: dict[str, np.ndarray]
+    strain_amplitude: float
+    measures: dict[str, float]
+    status: int
+    message: str = ""
+    timings: dict[str, float] = field(default_factory=dict)
+
+
+@functools.lru_cache(maxsize=32)
+def lissajous_view(
+    forcing: float, theta0: float, kappa: float, eps: float, amplitude: float, omega: float
+) -> LissajousView:
+    """The bed's periodic state under the wall forcing Lambda_mean + A sin(omega t)
+    (:func:`hairbed.rheometer.large_amplitude_shear` with gamma0 = A/(kappa omega), sampled at
+    FRAMES phases; its strain is gamma0 sin(omega t'), t' = t - P/4), cached per input."""
+    import warnings
+
+    start = time.perf_counter()
+    empty = np.zeros(0)
+
+    def fail(status: int, message: str) -> LissajousView:
+        return LissajousView(empty, empty, empty, {}, math.nan, {}, status, message,
+                             {"solve": 1e3 * (time.perf_counter() - start)})  # fmt: skip
+
+    gamma0 = amplitude / (kappa * omega)
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            r = large_amplitude_shear(omega, gamma0, eps=eps, kappa=kappa, theta0=theta0,
+                                      forcing=forcing, samples=FRAMES)  # fmt: skip
+    except ValueError as exc:
+        return fail(-2, str(exc))
+    a = r.analysis
+    if a is None or r.status < 0:
+        return fail(int(r.status), str(r.message))
+    # frame k: omega t = 2 pi k/FRAMES, the bed's phase omega t' = omega t - pi/2
+    phase = np.mod(omega * np.asarray(r.t, dtype=np.float64), 2.0 * math.pi)
+    want = np.mod(2.0 * math.pi * np.arange(FRAMES) / FRAMES - 0.5 * math.pi, 2.0 * math.pi)
+    gap = np.abs(np.angle(np.exp(1j * (want[:, None] - phase[None, :]))))
+    idx = np.argmin(gap, axis=1)
+    rate = gamma0 * omega * np.cos(omega * np.asarray(r.t, dtype=np.float64))
+    curve = {k: v for k, v in a.lissajous(181).items() if k != "asymmetric"}
+    measures = {
+        "storage": float(a.storage[0]),
+        "loss": float(a.loss[0]),
+        "minimum_modulus": a.minimum_modulus,
+        "large_modulus": a.large_modulus,
+        "minimum_viscosity": a.minimum_viscosity,
+        "large_viscosity": a.large_viscosity,
+        "third_harmonic": float(a.relative_intensity[2]) if a.harmonic.size > 2 else 0.0,
+        "even_ratio": a.even_ratio,
+        "periodic_error": r.periodic_error,
+        "periods": float(r.periods),
+    }
+    return LissajousView(
+        np.asarray(r.strain, dtype=np.float64)[idx], rate[idx],
+        np.asarray(r.stress, dtype=np.float64)[idx], curve, gamma0, measures, int(r.status),
+        "" if r.status == 0 else str(r.message), {"solve": 1e3 * (time.perf_counter() - start)},
     )  # fmt: skip

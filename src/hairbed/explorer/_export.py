@@ -57,6 +57,9 @@ def page_figures(page: Any) -> list[list[Any]]:
             rows = [[pillar.shape_fig, pillar.cal_fig], [pillar.err_fig]]
         elif pillar.snapshot.params.view == "drive":  # the frame on screen and the Bode view
             rows = [[pillar.drive_fig, pillar.bode_gain_fig], [pillar.bode_phase_fig]]
+            d = pillar.snapshot.params.drive
+            if d is not None and d.side_view == "lissajous":  # the bed's Lissajous view
+                rows = [[pillar.drive_fig, pillar.liss_fig], [pillar.liss_rate_fig]]
         return rows
     views = page.views
     p = page.snapshot.params if page.snapshot is not None else None

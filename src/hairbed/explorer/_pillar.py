@@ -39,7 +39,16 @@ import hairbed
 from hairbed._core.pillar import WINDOW_THETA0, profile_coefficients
 from hairbed._jsonsafe import to_plain
 
-from ._drive import DRIVE_DEFAULTS, DriveAnimation, DriveParams, drive_animation, validate_drive
+from ._drive import (
+    DRIVE_DEFAULTS,
+    LISSAJOUS_KEYS,
+    DriveAnimation,
+    DriveParams,
+    LissajousView,
+    drive_animation,
+    lissajous_view,
+    validate_drive,
+)
 from ._model import DEFAULTS, INPUT_KEYS, PILLAR_DEFAULTS, InputError, _merge, _number, _recording
 
 __all__ = [
@@ -272,6 +281,8 @@ def pillar_query(p: PillarParams) -> str:
     '?mode=pillar&forcing=2&pillar_theta0=0&profile=sublayer&height_ratio=&slenderness=&tip_load=0&pillar_view=shape'
     """
     keys = (*PILLAR_DEFAULTS, *DRIVE_DEFAULTS) if p.view == "drive" else tuple(PILLAR_DEFAULTS)
+    if p.drive is None or p.drive.side_view != "lissajous":  # the bed's keys in its view only
+        keys = tuple(k for k in keys if k not in LISSAJOUS_KEYS)
     return "?" + urlencode({k: p.raw[k].strip() for k in keys} | {"mode": "pillar"})
 
 
@@ -556,6 +567,8 @@ class PillarSnapshot:
         Why no state is shown ("" when there are states).
     animation : DriveAnimation or None
         The drive view's period of motion and Bode view (that view only).
+    lissajous : LissajousView or None
+        The drive view's Lissajous view of the bed (side_view "lissajous" only).
     """
 
     params: PillarParams
@@ -567,6 +580,7 @@ class PillarSnapshot:
     timings: dict[str, float]
     message: str = ""
     animation: DriveAnimation | None = None
+    lissajous: LissajousView | None = None
 
     def error_at(self) -> float:
         """The linear formula's relative error at the first state [-] (NaN without one or
@@ -596,6 +610,7 @@ def clear_pillar_caches() -> None:
     for func in (pillar_branch, _states_on_branch, calibration_curve, _every_state):
         func.cache_clear()
     drive_animation.cache_clear()
+    lissajous_view.cache_clear()
 
 
 def _labels(n: int, sign: float) -> list[str]:
@@ -656,12 +671,17 @@ def compute_pillar(p: PillarParams) -> PillarSnapshot:
                 p.forcing, p.theta0, p.profile, p.height_ratio, p.gamma, p.tip_load,
                 p.slenderness, d.amplitude, d.frequency, d.mu, d.drag_model,
             )  # fmt: skip
+        liss = None
+        if p.view == "drive" and p.drive is not None and p.drive.side_view == "lissajous":
+            d = p.drive
+            liss = lissajous_view(p.forcing, p.theta0, d.bed_kappa, d.bed_eps, d.amplitude,
+                                  d.frequency)  # fmt: skip
     t2 = time.perf_counter()
     key = "drive" if p.view == "drive" else "calibration"
     return PillarSnapshot(
         p, states, z, u, cal, _merge(p.warnings, caught),
         {"solve": 1e3 * (t1 - t0), key: 1e3 * (t2 - t1), "total": 1e3 * (t2 - t0)},
-        message, anim,
+        message, anim, liss,
     )  # fmt: skip
 
 
@@ -700,6 +720,21 @@ def pillar_snapshot_json(snap: PillarSnapshot) -> str:
             "tip_height": a.tip_z,
             "first_harmonic": {"real": a.harmonic.real, "imag": a.harmonic.imag},
             "linear": {"real": a.bode_now.real, "imag": a.bode_now.imag},
+        }
+        if p.drive.side_view != "lissajous":  # the bed's keys in its view only
+            for k in LISSAJOUS_KEYS:
+                doc["drive"]["inputs"].pop(k)
+    li = snap.lissajous
+    if li is not None and "drive" in doc:
+        doc["drive"]["lissajous"] = {
+            "units": {"strain": "1", "strain_rate": "1/T", "stress": "E I/(A L^2)"},
+            "status": li.status,
+            "message": li.message,
+            "strain_amplitude": li.strain_amplitude,
+            "strain": li.strain,
+            "strain_rate": li.strain_rate,
+            "stress": li.stress,
+            "measures": li.measures,
         }
     c = snap.calibration
     if c is not None:

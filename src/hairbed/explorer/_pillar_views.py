@@ -58,12 +58,16 @@ TEXT_LABELS = {
     "slenderness": "slenderness L/a [-], > 1.5 (empty: gamma = 1/2)",
     "tip_load": "tip load [E I/L^2] (along +x)",
     "amplitude": "drive amplitude A of Lambda [-]: Lambda + A sin(omega t)",
+    "bed_kappa": "the bed's kappa = eta A/(zeta_perp L^2) [-], in [1e-4, 1e6]",
+    "bed_eps": "the bed's eps = L/H [-], in (0, 1)",
     "frequency": "drive frequency omega [1/T], T = zeta_perp L^4/(E I)",
     "mu": "inertia number mu [-], the solid's m_s E I/(zeta_perp^2 L^4)",
 }
 #: The drive view's inputs among the text fields (shown in that view only).
 DRIVE_TEXT = ("amplitude", "frequency", "mu")
 DRAG_OPTIONS = {"quasi-steady": "quasi-steady", "Sader (oscillating cylinder)": "sader"}
+#: The views beside the animation (:data:`._drive.SIDE_VIEWS`), as the selector shows them.
+SIDE_OPTIONS = {"Bode (pillar)": "bode", "Lissajous (bed in a rheometer)": "lissajous"}
 #: Milliseconds between the animation's frames (one period in FRAMES frames: about 2 s).
 FRAME_MS = 40
 #: Frame times kept for the page's p50/p90 readout, and how often it is shown (frames).
@@ -246,6 +250,49 @@ def drive_html(
     return f'<table class="hb hb-drive-table">{body}</table>'
 
 
+#: The Lissajous view's readout: measure -> label [unit].
+LISSAJOUS_LABELS = {
+    "strain_amplitude": "strain amplitude gamma0 = A/(kappa omega) [-]",
+    "storage": "G'_1 [E I/(A L^2)]",
+    "loss": "G''_1 [E I/(A L^2)]",
+    "minimum_modulus": "G'_M (Ewoldt) [E I/(A L^2)]",
+    "large_modulus": "G'_L (Ewoldt) [E I/(A L^2)]",
+    "minimum_viscosity": "eta'_M (Ewoldt) [E I T/(A L^2)]",
+    "large_viscosity": "eta'_L (Ewoldt) [E I T/(A L^2)]",
+    "third_harmonic": "I_3/I_1 [-]",
+    "even_ratio": "even part over I_1 [-] (a tilted bed)",
+    "periodic_error": "periodicity error [-]",
+    "liss_solve_ms": "time to the periodic state [ms]",
+}
+
+
+def lissajous_html(snap: PillarSnapshot) -> str:
+    """The Lissajous view's readout: the bed's LAOS measures, or why there are none."""
+    li = snap.lissajous
+    if li is None:
+        return ""
+    if li.status < 0:
+        return (
+            f'<p class="hb-lissajous-message" data-status="{li.status}">no Lissajous view: '
+            f"{html.escape(li.message)}</p>"
+        )
+    values = {**li.measures, "strain_amplitude": li.strain_amplitude,
+              "liss_solve_ms": li.timings.get("solve", math.nan)}  # fmt: skip
+    body = "".join(
+        f'<tr><th>{html.escape(label)}</th><td class="num" data-field="{key}">'
+        f"{_fmt(values.get(key))}</td></tr>"
+        for key, label in LISSAJOUS_LABELS.items()
+    )
+    note = (
+        "the porous bed (kappa, eps above, the pillar's theta0) whose top wall is driven by "
+        "the same forcing Lambda + A sin(omega t); time in T, stress in E I/(A L^2)"
+    )
+    return (
+        f'<table class="hb hb-lissajous-table" data-status="{li.status}"><caption>'
+        f"{html.escape(note)}</caption>{body}</table>"
+    )
+
+
 def _runs(stable: np.ndarray) -> list[tuple[int, int, bool]]:
     """Runs (start, stop, stable) of equal stability, each ending on the next one's start."""
     runs, start = [], 0
@@ -269,6 +316,8 @@ class PillarPanel:
         #: The animation on screen (None: none), its frame, the server's time per frame [ms]
         #: (the last _FRAME_WINDOW) and the periodic callback that plays it (served pages).
         self._anim: Any = None
+        #: The Lissajous view on screen (None: not shown).
+        self._liss: Any = None
         self._frame = 0
         self._clock: float | None = None
         self._timed = 0
@@ -317,9 +366,14 @@ class PillarPanel:
         self.drag_model = pn.widgets.RadioButtonGroup(
             options=DRAG_OPTIONS, value=DRIVE_DEFAULTS["drag_model"], css_classes=["hb-drag-model"]
         )
+        self.side_view = pn.widgets.RadioButtonGroup(
+            options=SIDE_OPTIONS, value=DRIVE_DEFAULTS["side_view"], css_classes=["hb-side-view"]
+        )
+        assert set(SIDE_OPTIONS.values()) == set(SIDE_VIEWS)
         self.drive_table = pn.pane.HTML("", css_classes=["hb-pillar-drive"], stylesheets=[_CSS])
         self.table = pn.pane.HTML("", css_classes=["hb-pillar-table"], stylesheets=[_CSS])
         self.linear_table = pn.pane.HTML("", css_classes=["hb-pillar-linear"], stylesheets=[_CSS])
+        self.liss_table = pn.pane.HTML("", css_classes=["hb-lissajous"], stylesheets=[_CSS])
         self.download_json = pn.widgets.FileDownload(
             callback=self._json_file, filename="hairbed-pillar.json", label="download JSON",
             css_classes=["hb-pillar-download-json"],
@@ -334,6 +388,7 @@ class PillarPanel:
             "profile": str(self.profile.value),
             "pillar_view": str(self.view.value),
             "drag_model": str(self.drag_model.value),
+            "side_view": str(self.side_view.value),
         }
 
     def apply_choices(self, args: dict[str, str]) -> None:
@@ -343,6 +398,7 @@ class PillarPanel:
             ("profile", self.profile),
             ("pillar_view", self.view),
             ("drag_model", self.drag_model),
+            ("side_view", self.side_view),
         ):
             if key in args and args[key].strip() in w.options.values():
                 w.value = args[key].strip()
@@ -543,6 +599,32 @@ class PillarPanel:
                                     line_dash="dashed")  # fmt: skip
         h.add_layout(self.bode_phase_mark)
         self.bode_phase_fig = h
+        self._build_lissajous_figures()
+
+    def _build_lissajous_figures(self) -> None:
+        """The Lissajous view: the bed's wall stress against the strain (with Cho's elastic
+        part) and against the strain rate (with the viscous part), the frame's point on
+        each."""
+        figs = []
+        for x_label, part, title in (
+            ("strain gamma [-]", "elastic", "Lissajous: the bed's wall stress against strain"),
+            ("strain rate [1/T]", "viscous", "against the strain rate"),
+        ):
+            f = _fig(title, x_label, "stress [E I/(A L^2)]", width=430, height=240)
+            total = ColumnDataSource({"x": [], "y": []})
+            tot = f.line("x", "y", source=total, color="black", line_width=2)
+            along = ColumnDataSource({"x": [], "y": []})
+            pl = f.line("x", "y", source=along, color="#0072B2", line_width=2, line_dash="dashed")
+            name = "hb-liss-dot" if part == "elastic" else "hb-liss-rate-dot"
+            dot = ColumnDataSource({"x": [], "y": []}, name=name)
+            now = f.scatter("x", "y", source=dot, color="#D55E00", size=10, line_color="black")
+            _style_legend(
+                f, [("stress", [tot]), (f"{part} part", [pl]), ("now", [now])], "top_left"
+            )
+            f.grid.grid_line_alpha = 0.3
+            figs.append((f, total, along, dot))
+        (self.liss_fig, self.liss_total, self.liss_elastic, self.liss_dot) = figs[0]
+        (self.liss_rate_fig, self.liss_rate_total, self.liss_viscous, self.liss_rate_dot) = figs[1]
 
     def _build_layout(self) -> None:
         self.controls = pn.Column(
@@ -569,10 +651,17 @@ class PillarPanel:
 
     def _drive_controls(self) -> Any:
         """The drive view's inputs (shown in that view only)."""
+        self.lissajous_controls = pn.Column(
+            self.text["bed_kappa"], self.text["bed_eps"], visible=False, margin=0,
+            css_classes=["hb-lissajous-controls"],
+        )  # fmt: skip
         self.drive_controls = pn.Column(
             *(self.text[k] for k in DRIVE_TEXT),
             pn.pane.HTML("drag of the Bode view:", margin=(5, 10, 0, 10)),
             self.drag_model,
+            pn.pane.HTML("beside the animation:", margin=(5, 10, 0, 10)),
+            self.side_view,
+            self.lissajous_controls,
             visible=False,
             margin=0,
             css_classes=["hb-drive-controls"],
@@ -591,14 +680,21 @@ class PillarPanel:
         self._shape_pane = pn.Column(
             pn.pane.Bokeh(self.shape_fig), css_classes=["hb-pillar-shape"]
         )
-        # the views beside the animation (._drive.SIDE_VIEWS): the Bode view; the bed's
-        # Lissajous view (the rheometer) is to be added to this column as another entry
+        # the views beside the animation (._drive.SIDE_VIEWS): the pillar's Bode view and
+        # the Lissajous view of a bed in a rheometer, one shown at a time
         self._side_views = {
             "bode": pn.Column(
                 pn.pane.Bokeh(self.bode_gain_fig),
                 pn.pane.Bokeh(self.bode_phase_fig),
                 css_classes=["hb-drive-bode"],
-            )
+            ),
+            "lissajous": pn.Column(
+                pn.pane.Bokeh(self.liss_fig),
+                pn.pane.Bokeh(self.liss_rate_fig),
+                self.liss_table,
+                css_classes=["hb-drive-lissajous"],
+                visible=False,
+            ),
         }
         assert set(self._side_views) == set(SIDE_VIEWS)
         self._drive_pane = pn.Row(
@@ -697,6 +793,9 @@ class PillarPanel:
         self._set(self.bode_phase, {"x": a.omega, "y": np.degrees(np.unwrap(np.angle(a.bode)))})
         d = snap.params.drive
         assert d is not None
+        for name, pane in self._side_views.items():
+            pane.visible = name == d.side_view
+        self._update_lissajous(snap)
         self.bode_mark.location = self.bode_phase_mark.location = d.frequency
         ph = math.degrees(math.atan2(a.harmonic.imag, a.harmonic.real))
         # the harmonic's phase on the linear curve's branch (unwrapped there)
@@ -705,6 +804,32 @@ class PillarPanel:
         ph += 360.0 * round((lin_ph - ph) / 360.0)
         self._set(self.bode_now_gain, {"x": [d.frequency], "y": [abs(a.harmonic)]})
         self._set(self.bode_now_phase, {"x": [d.frequency], "y": [ph]})
+
+    def _update_lissajous(self, snap: PillarSnapshot) -> None:
+        """The Lissajous view's curves, the first frame's points and its readout."""
+        li = snap.lissajous
+        self._liss = li if li is not None and li.status >= 0 else None
+        self.liss_table.object = lissajous_html(snap)
+        if self._liss is None:
+            for src in (self.liss_total, self.liss_elastic, self.liss_dot, self.liss_rate_total,
+                        self.liss_viscous, self.liss_rate_dot):  # fmt: skip
+                self._set(src, {"x": [], "y": []})
+            return
+        c = self._liss.curve
+        self._set(self.liss_total, {"x": c["strain"], "y": c["total"]})
+        self._set(self.liss_elastic, {"x": c["strain"], "y": c["elastic"]})
+        self._set(self.liss_rate_total, {"x": c["strain_rate"], "y": c["total"]})
+        self._set(self.liss_viscous, {"x": c["strain_rate"], "y": c["viscous"]})
+        self._liss_frame(0)
+
+    def _liss_frame(self, k: int) -> None:
+        li = self._liss
+        if li is None or not li.stress.size:
+            return
+        k %= li.stress.size
+        y = [float(li.stress[k])]
+        self.liss_dot.data = {"x": [float(li.strain[k])], "y": y}
+        self.liss_rate_dot.data = {"x": [float(li.strain_rate[k])], "y": y}
 
     def next_frame(self, frame: int | None = None) -> None:
         """The animation's frame of the clock (the periodic callback of a served page), or
@@ -724,6 +849,7 @@ class PillarPanel:
         with pn.io.hold():  # both changes in one message
             self.dr_shape.data = {"x": a.x[k].tolist(), "y": a.z[k].tolist()}
             self.dr_tip.data = {"x": [float(a.tip_x[k])], "y": [float(a.tip_z[k])]}
+            self._liss_frame(k)  # the bed's point at the same phase of the forcing
         self.frame_ms.append(1e3 * (time.perf_counter() - start))
         self.frame_cpu_ms.append(1e3 * (time.thread_time() - cpu))
         self.frame_at.append(start)
@@ -814,6 +940,8 @@ class PillarPanel:
             self.drive_controls.visible = p.view == "drive"
             if p.drive is not None:
                 self.drag_model.value = p.drive.drag_model
+                self.side_view.value = p.drive.side_view
+                self.lissajous_controls.visible = p.drive.side_view == "lissajous"
         finally:
             self._syncing = False
 
@@ -857,7 +985,8 @@ class PillarPanel:
                 obj.append(self.views)
                 break
         page.text.update(self.text)
-        for w in (*self.text.values(), self.mode, self.profile, self.view, self.drag_model):
+        for w in (*self.text.values(), self.mode, self.profile, self.view, self.drag_model,
+                  self.side_view):  # fmt: skip
             w.param.watch(page._on_input, "value")
 
     def restore(self, page: Any) -> bool:
@@ -882,6 +1011,7 @@ class PillarPanel:
             self._player.stop()
             self._player = None
         self._anim = None
+        self._liss = None
         for kept in (self.frame_ms, self.frame_cpu_ms, self.frame_at):
             kept.clear()
         self.snapshot = None
