@@ -49,12 +49,13 @@ from ._core.validation import (
 from ._optional import optional_import
 from ._version import __version__
 from .bed_simulation import _within_range
-from .dynamics import BedTrajectory, linearise_bed, simulate_bed, sine, step
+from .dynamics import BedTrajectory, linearise_bed, periodic_bed, simulate_bed, sine, step
 from .dynamics._bed import MAX_BED_DRIVE
 from .units import HairBed
 from .valve import valve_curve
 
 __all__ = [
+    "PUMP_METHODS",
     "PUMP_STATUS",
     "PUMP_VARIABLES",
     "PumpNetFlow",
@@ -77,9 +78,13 @@ SWITCH_STATUS = {
 }
 #: Status codes of :class:`PumpNetFlow`, per (amplitude, frequency).
 PUMP_STATUS = {
-    0: "the periodic state reached: the last two periods' net flows agree to the tolerance",
-    1: "max_periods reached before two periods' net flows agreed to the tolerance",
+    0: "the periodic state reached: the last two periods' net flows agree to the tolerance "
+    "(transient), or the collocation's truncation error is below it (collocation)",
+    1: "max_periods reached before two periods' net flows agreed to the tolerance "
+    "(transient), or the highest harmonics exceed it at the largest degree (collocation)",
 }
+#: The methods of :func:`pump_net_flow`.
+PUMP_METHODS = ("collocation", "transient")
 
 
 def bed_time_scales(bed: HairBed, hair_density: float | None = None) -> dict[str, float]:
@@ -358,7 +363,7 @@ class PumpNetFlow:
     peak_at_end : ndarray of bool
         (na,): the largest abs(net flow) lies at the grid's first or last frequency.
     periods : ndarray of int
-        Periods integrated for each (amplitude, frequency), (na, nf).
+        Periods integrated for each (amplitude, frequency), (na, nf) (0 by collocation).
     time_scale : float
         T = zeta_perp L^4/(E I) [s].
     status : ndarray of int
@@ -450,16 +455,23 @@ def pump_net_flow(
     tol: float = 1e-6,
     hair_density: float | None = None,
     rtol: float = 1e-8,
+    method: str = "collocation",
 ) -> PumpNetFlow:
     """The net flow of a bed pumped by dp(t) = A sin(2 pi f t): the rectification in time.
 
-    For each amplitude and frequency the bed starts at rest (dp = 0) and is integrated
-    (:func:`hairbed.dynamics.simulate_bed`) period after period; the net flow of a period is
-    the mean of Q'(t) over it by the periodic trapezoidal rule on ``samples_per_period``
-    samples (spectrally accurate on a periodic state). The periodic state is reached when two
-    consecutive periods' net flows agree within ``tol`` times the flow amplitude
-    max abs(Q'(t)) of the last period; the net flow reported is the last period's. The run is
-    extended (doubling its periods) up to ``max_periods``.
+    For each amplitude and frequency the bed's periodic state, by one of two methods:
+
+    * ``"collocation"`` (the default): :func:`hairbed.dynamics.periodic_bed`, trigonometric
+      collocation in time with Newton's method (theory.md §16), its truncation error below
+      min(tol, 1e-10); the net flow is the exact period-mean of its flow rate.
+    * ``"transient"`` (the baseline): the bed starts at rest (dp = 0) and is integrated
+      (:func:`hairbed.dynamics.simulate_bed`) period after period; the net flow of a period
+      is the mean of Q'(t) over it by the periodic trapezoidal rule on
+      ``samples_per_period`` samples (spectrally accurate on a periodic state). The
+      periodic state is reached when two consecutive periods' net flows agree within
+      ``tol`` times the flow amplitude max abs(Q'(t)) of the last period; the net flow
+      reported is the last period's. The run is extended (doubling its periods) up to
+      ``max_periods``.
 
     The quasi-static net flow, the phase average of the steady valve curve, is computed by
     :func:`hairbed.valve.valve_curve` on the same phases: the net flow tends to it as f -> 0.
@@ -483,7 +495,9 @@ def pump_net_flow(
     hair_density : float, optional
         The hairs' density [kg/m^3] for their inertia (default: overdamped hairs).
     rtol : float, optional
-        The integrator's relative tolerance in [1e-12, 1e-3] (default 1e-8).
+        The integrator's relative tolerance in [1e-12, 1e-3] (default 1e-8; transient only).
+    method : {"collocation", "transient"}, optional
+        The periodic state's method (above; default "collocation").
 
     Returns
     -------
@@ -498,6 +512,8 @@ def pump_net_flow(
     kmax = check_int(max_periods, "max_periods", 2, 10**5)
     ptol = check_number(tol, "tol", low=1e-12, high=1e-2)
     itol = check_number(rtol, "rtol", low=1e-12, high=1e-3)
+    if method not in PUMP_METHODS:
+        raise ValueError(f"method must be one of {PUMP_METHODS}, got {method!r}")
     with np.errstate(over="ignore"):
         big = amps * per_drop
     bad = ~(big <= MAX_BED_DRIVE)
@@ -523,9 +539,24 @@ def pump_net_flow(
     status = np.zeros((na, nf), dtype=np.int64)
     messages: dict[int, str] = {0: PUMP_STATUS[0]}
     qs = np.array([_quasi_static(bed, float(a), length, m) for a in amps])
-    rate = _slowest_decay(s)
+    rate = _slowest_decay(s) if method == "transient" else math.nan
     for i, pia in enumerate(big):
         for j, om in enumerate(omega_t):
+            if method == "collocation":
+                orbit = periodic_bed(
+                    s.theta0, s.kappa, s.eps, omega=float(om), pressure=sine(0.0, float(pia),
+                    float(om)), gamma=s.gamma, inertia=s.inertia,
+                    tangential_mass=s.tangential_mass, womersley=s.womersley,
+                    tol=min(ptol, 1e-10),
+                )  # fmt: skip
+                status[i, j] = orbit.status
+                if orbit.status >= 0:
+                    net[i, j] = orbit.mean("flow_rate") / s.q_per_flow
+                if orbit.status != 0:
+                    messages[orbit.status] = (
+                        PUMP_STATUS[1] if orbit.status == 1 else str(orbit.message)
+                    )
+                continue
             # the periods for the start's transient to decay below tol at the rest state's
             # slowest rate (the check below extends the run where the cycle's rate is slower)
             k = int(
@@ -651,6 +682,7 @@ def pump_sweep(
     hair_density: float | None = None,
     rtol: float = 1e-8,
     chunks: Any = None,
+    method: str = "collocation",
 ) -> Any:
     """The net flow of a bed pumped by dp(t) = A sin(2 pi f t) over the grid (amplitude,
     frequency), as an xarray Dataset with units (:func:`pump_net_flow`
@@ -669,7 +701,10 @@ def pump_sweep(
         "tol": tol,
         "hair_density": hair_density,
         "rtol": rtol,
+        "method": method,
     }
+    if method not in PUMP_METHODS:
+        raise ValueError(f"method must be one of {PUMP_METHODS}, got {method!r}")
     # every input checked now (one cheap cell), not inside a lazy block
     from .sweeps._blocks import stacked  # the sweeps' blocks (numpy now or dask later)
 
