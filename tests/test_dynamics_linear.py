@@ -129,6 +129,22 @@ def test_eigenvalues_of_the_cantilever(mu: float, theta0: float) -> None:
     assert np.all(modes.damping_ratio[: want.size] > 0.0)
 
 
+@pytest.mark.parametrize("mu", [1e8, 1e20, 1e100, 1e300])
+def test_heavy_pillars_keep_their_decay_rates(mu: float) -> None:
+    """A heavy pillar rings for ~mu periods: its decay rate Re lambda = -1/(2 mu) is
+    1/sqrt(mu) of its frequency, and must keep its own relative precision (mu = 1e20 once
+    gave a growing mode, 1e30 no mode at all). mpmath roots of mu lambda^2 + lambda + beta^4."""
+    modes = linearise_pillar(hairbed.solve_pillar(0.0), mu=mu).modes(4)
+    assert modes.success
+    for k, n in enumerate((1, 1, 2, 2)):
+        with mp.workdps(40):
+            im = mp.sqrt(4 * mp.mpf(mu) * _beta(n) ** 4 - 1) / (2 * mp.mpf(mu))
+            re = -1 / (2 * mp.mpf(mu))
+        got = modes.eigenvalues[k]
+        assert abs(got.real - float(re)) <= DYNAMICS_LINEAR_RTOL * abs(float(re)), (k, got)
+        assert abs(abs(got.imag) - float(im)) <= DYNAMICS_LINEAR_RTOL * float(im), (k, got)
+
+
 @pytest.mark.parametrize("mu", [0.0, 13.0])
 def test_tilted_straight_pillar_moves_normally(mu: float) -> None:
     """Tilted at theta0, at rest: the horizontal tip force's normal part is P cos(theta0),

@@ -145,6 +145,39 @@ def _first_order(
     )
 
 
+#: Above this inertia number the modes come from the undamped pencil and the damping's
+#: first-order correction, exact to (1/sqrt(mu))^2 = 1e-16 relative.
+_LIGHT_DAMPING_MU = 1e16
+
+
+def _eigen(
+    jr: FloatArray, br: FloatArray, mr: FloatArray, mu: float
+) -> tuple[ComplexArray, ComplexArray]:
+    """Eigenvalues lambda and right vectors (angles first) of mu lambda^2 M v + lambda B v = J v.
+
+    With inertia the pencil is solved on sigma = sqrt(mu) lambda, sigma^2 M v + eps sigma B v =
+    J v with eps = 1/sqrt(mu): its damping block shrinks like eps instead of its mass growing
+    like mu, so QZ keeps the decay rate ~1/(2 mu) to full relative precision (unscaled, mu =
+    1e20 gave a spurious growing mode and 1e30 no finite eigenvalue). Beyond eps^2 = 1e-16
+    the damping is below the rounding of sigma: there sigma = sigma0 + eps sigma1, with
+    sigma0^2 M v = J v and, for the left vector w, sigma1 = -w^H B v/(2 w^H M v) (first-order
+    perturbation; the next term is eps^2 relative).
+    """
+    if mu <= _LIGHT_DAMPING_MU:
+        scale = np.sqrt(mu) if mu > 1.0 else 1.0
+        a_mat, e_mat = _first_order(jr, br / scale, mr, mu / scale**2)
+        lam, vec = scipy.linalg.eig(a_mat, e_mat)
+        return lam / scale, vec
+    nu, left, right = scipy.linalg.eig(jr, mr, left=True, right=True)
+    sigma0 = np.sqrt(nu.astype(np.complex128))
+    sigma1 = -np.einsum("ij,ij->j", left.conj(), br @ right) / (
+        2.0 * np.einsum("ij,ij->j", left.conj(), mr @ right)
+    )
+    root = np.sqrt(mu)
+    lam = np.concatenate([sigma0 / root + sigma1 / mu, -sigma0 / root + sigma1 / mu])
+    return lam, np.concatenate([right, right], axis=1)
+
+
 @dataclass(frozen=True)
 class PillarModes:
     """The linear modes of a pillar about a static state (theory.md §14).
@@ -342,8 +375,7 @@ class LinearPillar:
         deg = self._degree() if num is None else _check_degree(num)
         p = self._pencil(deg, schur=False)
         n = deg - 1
-        a_mat, e_mat = _first_order(p.jr, p.br, p.mr, self.mu)
-        lam, vec = scipy.linalg.eig(a_mat, e_mat)
+        lam, vec = _eigen(p.jr, p.br, p.mr, self.mu)
         fin = np.flatnonzero(np.isfinite(lam))
         # by modulus (to 10 digits, so that a conjugate pair is one key), then Im > 0 first
         size = np.array([float(f"{x:.10g}") for x in np.abs(lam[fin])])
