@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 from tolerances import ARRAY_MODEL_CHAINED_RTOL
 
-from hairbed import HairBed, ModelValidityWarning, Pillar
+from hairbed import HairBed, ModelValidityWarning, Pillar, calibration
 from hairbed._core import loaded as core_loaded
-from hairbed.valve import diodicity
+from hairbed.valve import diodicity, valve_states
 
 BED = dict(
     length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=2e-3, viscosity=1.0,
@@ -97,6 +97,10 @@ def test_dense_bed_broadcasts_with_the_load():
         )
         assert_elements(st, one.deform(float(v[k, 0, 0])), (k, i, j), BED_FIELDS)
     assert np.shape(bed.eps) == (2, 3) and np.shape(bed.velocity_scale) == (2, 3)
+    ratio = bed.rectification_ratio(0.1)
+    for i, j in np.ndindex(2, 3):
+        one = bed.item((i, j))
+        assert same(ratio[i, j], one.rectification_ratio([0.1])[0])
 
 
 @pytest.mark.parametrize("drive", ["pressure_gradient", "flow_rate"])
@@ -191,6 +195,8 @@ def test_scalar_only_methods_and_bad_loads_say_so():
         lambda: bed.simulate([0.0, 1.0], velocity=0.1),
         lambda: bed.velocity_from_tip_deflection(1e-4),
         lambda: bed.sweep([0.1]),
+        lambda: valve_states(bed, 0.01, pressure_drop=(0.0, 1000.0)),
+        lambda: calibration.linear_range(bed),
     ):
         with pytest.raises(ValueError, match=r"needs a single bed.*base_angle is an array"):
             call()

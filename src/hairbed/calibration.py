@@ -325,6 +325,7 @@ def model_tip_deflection(
     pump-driven state is not found the deflection is NaN.
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
+    bed._require_scalar("the calibration")
     if isinstance(bed, Pillar):
         _no_pump(pressure_gradient, flow_rate)
         return bed.deform(_pillar_known(bed, velocity, wall_shear_stress)[1]).tip_deflection
@@ -846,6 +847,7 @@ def fit(
     (1.3, True)
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
+    bed._require_scalar("the calibration")
     pillar = isinstance(bed, Pillar)
     if isinstance(bed, Pillar):
         _no_pump(pressure_gradient, flow_rate)
@@ -1258,6 +1260,7 @@ def measure(
     Measurement
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
+    bed._require_scalar("the calibration")
     if fit is not None:
         check_type(fit, "fit", CalibrationFit, "a CalibrationFit (from calibration.fit) or None")
         if type(fit.bed) is not type(bed):
@@ -1458,6 +1461,7 @@ def linear_range(
     LinearRange
     """
     check_type(bed, "bed", (HairBed, Pillar), _SENSORS)
+    bed._require_scalar("the calibration")
     tol = check_number(rtol, "rtol", low=0.0, high=1.0, low_open=True, high_open=True)
     if not isinstance(quantity, str) or quantity not in _QUANTITIES:
         raise ValueError(

@@ -374,19 +374,26 @@ _WALL_XTOL = 1e-13
 class Pillar:
     """An isolated elastic pillar on the wall of a shear flow, in SI units (theory.md §12).
 
+    Every SI parameter may be an array (issue 32): they broadcast together into
+    :attr:`shape` and with the stresses of a call (numpy rules), each element checked on its
+    own; :meth:`deform`, :meth:`tip_deflection`, :meth:`sensitivity`, the inverse and the
+    linear calibration then solve every element in one compiled call (one per distinct
+    profile where the elements' profiles differ), and :meth:`item` gives the scalar pillar of
+    one element. Methods that need a pillar of numbers say so.
+
     Parameters
     ----------
-    length : float
+    length : float or array_like
         Pillar length L [m].
-    radius : float
+    radius : float or array_like
         Pillar radius a [m] (the radius, not the diameter); the slenderness L/a must be at
         least :data:`MIN_SLENDERNESS` = e^1.5/2 (Gray & Hancock's ratio gamma <= 1), and below
         :data:`SLENDERNESS_LIMIT` a :class:`hairbed.ModelValidityWarning` is issued.
-    youngs_modulus : float
+    youngs_modulus : float or array_like
         Young's modulus E of the pillar [Pa].
-    viscosity : float, optional
+    viscosity : float or array_like, optional
         Dynamic viscosity eta of the fluid [Pa s]; required unless a ``fluid`` gives it.
-    base_angle : float, optional
+    base_angle : float or array_like, optional
         Base angle theta0 from the wall normal towards +x [rad], in (-pi/2, pi/2); default 0.
     profile : {"sublayer", "couette", "poiseuille", "wall-law"} or callable, optional
         The undisturbed profile: the viscous sublayer u = tau_w z/eta (default), Couette or
@@ -397,15 +404,15 @@ class Pillar:
         of heights z [m] (an ndarray in [0, L]) giving the flow at a reference wall shear
         stress eta u'(0), which must not vanish; :meth:`deform` scales it to the stress asked
         for.
-    channel_height : float, optional
+    channel_height : float or array_like, optional
         Channel height H [m] of the "couette" and "poiseuille" profiles (required there, not
         accepted otherwise); the pillar must fit, L <= H.
-    density : float, optional
+    density : float or array_like, optional
         Fluid density rho [kg/m^3]: the wall units of the "wall-law" profile, and the
         validity checks of every state (the pillar Reynolds number, the height in wall units
         L+). Without it (and without a ``fluid``) those checks are off, which the first SI
         state of the pillar says once (a :class:`hairbed.ModelValidityWarning`).
-    drag_scale : float, optional
+    drag_scale : float or array_like, optional
         A factor c > 0 on both drag coefficients [-] (default 1: Gray & Hancock's); what a
         calibration of the drag fits (``free=("drag_scale",)``).
     fluid : {"water", "glycerol", "air"}, optional

@@ -578,28 +578,36 @@ class HairState:
 class HairBed:
     """A dense bed of elastic hairs at the bottom of a channel flow, in SI units.
 
+    Every SI parameter may be an array (issue 32): the parameters broadcast together into
+    :attr:`shape` and with the arrays of a call (numpy rules), each element checked on its
+    own; :meth:`deform` (every model and drive), :func:`hairbed.valve.valve_curve` and
+    :func:`hairbed.valve.diodicity` then solve every element in one compiled call, each the
+    scalar bed's result, and :meth:`item` gives the scalar bed of one element. Methods that
+    need a bed of numbers say so. The derived quantities (:attr:`eps`,
+    :attr:`velocity_scale`, ...) are then arrays of :attr:`shape`.
+
     Parameters
     ----------
-    length : float
+    length : float or array_like
         Hair length L [m].
-    radius : float
+    radius : float or array_like
         Hair radius a [m] (the radius, not the diameter).
-    youngs_modulus : float
+    youngs_modulus : float or array_like
         Young's modulus E of the hair material [Pa].
-    channel_height : float
+    channel_height : float or array_like
         Height H of the channel [m]; must exceed ``length``.
-    viscosity : float
+    viscosity : float or array_like
         Dynamic viscosity eta of the fluid [Pa s].
-    spacing : float, optional
+    spacing : float or array_like, optional
         Distance delta between neighbouring hairs of the hexagonal array [m].
-    packing_fraction : float, optional
+    packing_fraction : float or array_like, optional
         Fraction phi of the wall covered by hair bases [-]. Give exactly one of ``spacing`` and
         ``packing_fraction``; they are related by phi = (2 pi / sqrt 3) a^2 / delta^2.
-    base_angle : float, optional
+    base_angle : float or array_like, optional
         Angle theta0 of the hairs at the wall, from the wall normal towards +x [rad], in
         (-pi/2, pi/2). Positive leans the hairs along the flow of a positive velocity; negative
         leans them into it (where a tight channel can hold three states, theory.md §5).
-    density : float, optional
+    density : float or array_like, optional
         Density rho of the fluid [kg/m^3]. Only used to check the model's Stokes-flow
         assumption: states then carry the gap's Reynolds number, and a
         :class:`hairbed.ModelValidityWarning` is issued where it exceeds 1.

@@ -665,6 +665,7 @@ def valve_states(
     """
     if not isinstance(bed, HairBed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
+    bed._require_scalar("valve.valve_states")
     length = check_positive(channel_length, "channel_length", unit="m")
     if (pressure_drop is None) == (flow_rate is None):
         raise ValueError(

@@ -418,6 +418,8 @@ def bed_sweep(
     xr = optional_import("xarray", "HairBed.sweep", "sweep")
     if not all(hasattr(bed, a) for a in ("deform", "velocity_scale", "eps", "length")):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
+    if getattr(bed, "shape", ()):  # an array-valued bed (issue 32): one sweep per bed
+        bed._require_scalar("HairBed.sweep")
     if getattr(bed, "model", "dense") == "porous":
         from ._porous import porous_sweep
 
