@@ -10,7 +10,8 @@
   crossovers, from the linear bed (:func:`hairbed.dynamics.linearise_bed`);
   :func:`bed_moduli` the same in SI for a :class:`hairbed.HairBed` [Pa, Hz].
 - :func:`large_amplitude_shear`: the bed's periodic steady state under a large oscillatory
-  strain (:func:`hairbed.dynamics.simulate_bed` until the transient decays), analysed by
+  strain (:func:`hairbed.dynamics.periodic_bed`, collocation in time; or
+  :func:`hairbed.dynamics.simulate_bed` until the transient decays), analysed by
   :func:`analyse_laos`; :func:`pipkin_map` over frequency and amplitude.
 - :func:`bed_laos` and :func:`bed_pipkin_map`: the same for a :class:`hairbed.HairBed` in SI
   (frequency [Hz], stress and moduli [Pa], viscosities [Pa s], strain rate [1/s]).
