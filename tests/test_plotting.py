@@ -42,6 +42,8 @@ SMALL = {
     "fig_pillar_film": {"frames": 3, "periods": 0.5},
     "fig_valve_pump": {"num": 2, "frequency_range": (0.1, 10.0)},
     "fig_bed_moduli": {"num": 4, "forcings": (0.0,), "inertia": 0.0},
+    "fig_bed_lissajous": {"strain_amplitudes": (3.0,), "num": 33},
+    "fig_pipkin": {"omegas": (0.3,), "strain_amplitudes": (3.0,), "num": 33},
 }
 
 
@@ -162,6 +164,7 @@ PANELS = {
     "fig_pillar_film": 3,
     "fig_valve_pump": 2,
     "fig_bed_moduli": 2,
+    "fig_bed_lissajous": 2,
 }
 
 

@@ -48,6 +48,7 @@ from .extra import (
     fig_valve,
     fig_valve_result,
 )
+from .laos import fig_bed_lissajous, fig_pipkin
 from .paper import (
     fig_model,
     fig_pendulum,
@@ -62,6 +63,7 @@ from .valve_dynamics import fig_valve_pump
 
 __all__ = [
     "FIGURES",
+    "fig_bed_lissajous",
     "fig_bed_moduli",
     "fig_bistability",
     "fig_calibration",
@@ -78,6 +80,7 @@ __all__ = [
     "fig_pillar_snap",
     "fig_pillar_states",
     "fig_pillar_step",
+    "fig_pipkin",
     "fig_profiles",
     "fig_rheology",
     "fig_sensor_design",
@@ -124,6 +127,8 @@ FIGURES: dict[str, Callable[..., Figure]] = {
     "pillar_step": fig_pillar_step,
     "pillar_film": fig_pillar_film,
     "bed_moduli": fig_bed_moduli,
+    "bed_lissajous": fig_bed_lissajous,
+    "pipkin": fig_pipkin,
     "valve_pump": fig_valve_pump,
 }
 
