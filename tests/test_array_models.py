@@ -97,6 +97,10 @@ def test_dense_bed_broadcasts_with_the_load():
         )
         assert_elements(st, one.deform(float(v[k, 0, 0])), (k, i, j), BED_FIELDS)
     assert np.shape(bed.eps) == (2, 3) and np.shape(bed.velocity_scale) == (2, 3)
+    x, z = st.profile(7)  # the shape in metres: the bed's length broadcast per element
+    x1, z1 = bed.item((1, 2)).deform(float(v[3, 0, 0])).profile(7)
+    assert x.shape == (4, 2, 3, 7) and np.array_equal(x[3, 1, 2], x1)
+    assert np.array_equal(z[3, 1, 2], z1)
     ratio = bed.rectification_ratio(0.1)
     for i, j in np.ndindex(2, 3):
         one = bed.item((i, j))

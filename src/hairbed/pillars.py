@@ -261,7 +261,9 @@ class PillarDeformation:
         """
         num = check_int(num, "num", 2, 10**7)
         _, x, z, _ = self.solution.shape(np.linspace(0.0, 1.0, num))
-        scale = self.pillar.length
+        scale: Any = self.pillar.length
+        if isinstance(scale, np.ndarray):  # an array pillar: its shape broadcasts the states'
+            scale = scale[..., np.newaxis]
         return scale * np.asarray(x), scale * np.asarray(z)
 
 

@@ -569,7 +569,9 @@ class HairState:
             x, z = self.solution.profile(num)
         else:  # a LoadedState (a pump drive): its spectral interpolant
             _, x, z, _ = self.solution.shape(np.linspace(0.0, 1.0, num))
-        scale = self.bed.length
+        scale: Any = self.bed.length
+        if isinstance(scale, np.ndarray):  # an array bed: its shape broadcasts the states'
+            scale = scale[..., np.newaxis]
         direction = np.asarray(self.direction, dtype=np.float64)[..., np.newaxis]
         return direction * scale * np.asarray(x), scale * np.asarray(z)
 
