@@ -31,14 +31,15 @@ Measured (one run, load 13.5 on 2 shared cores, benchmarks/results/bench_pyelast
 CPU times: hairbed 0.52 ms at 1.9e-3 (N = 8, the least simulate_pillar takes, rtol 1), 0.57
 ms at 3.9e-4 (rtol 0.1), 64 ms at 2.6e-12 (N = 16, rtol 1e-8); its compiled Radau IIA is
 half of the 0.5 ms (13 steps at rtol 0.1, 9 of them before t = 0.3 T: the climb from its
-first step 1e-6 at most 5x a step), the call's Python (validation, the callable drive sampled at 4097 times and the
-callable profile fitted, the trajectory) the other half. PyElastica at its cheapest stable
-step, numpy forcing / compiled forcing: 227 / 173 ms (n = 20, step 0.8), 236 / 200 ms (n =
-40, 0.8), 655 / 553 ms (n = 80, 0.5), 1094 / 973 ms (n = 160, 0.8). The CPU-time ratio at
-PyElastica's accuracy: 438x / 334x (n = 20), 455x / 386x (n = 40), 1193x / 1007x (n = 80),
-1919x / 1706x (n = 160): the target holds from n = 80 up, not at n = 20 and 40 (at a
-quarter of the limit, this benchmark's step before, PyElastica took 3.2x longer at n = 20
-and 40 for the same error, and the ratios read 1022x to 1386x).
+first step 1e-6 at most 5x a step), the call's Python (validation, the callable drive
+sampled at 4097 times and the callable profile fitted, the trajectory) the other half.
+PyElastica at its cheapest stable step, numpy forcing / compiled forcing: 227 / 173 ms
+(n = 20, step 0.8), 236 / 200 ms (n = 40, 0.8), 655 / 553 ms (n = 80, 0.5), 1094 / 973 ms
+(n = 160, 0.8). The CPU-time ratio at PyElastica's accuracy: 438x / 334x (n = 20), 455x /
+386x (n = 40), 1193x / 1007x (n = 80), 1919x / 1706x (n = 160): the target holds from n = 80
+up, not at n = 20 and 40 (at a quarter of the limit, this benchmark's step before,
+PyElastica took 3.2x longer at n = 20 and 40 for the same error, and the ratios read 1022x
+to 1386x).
 
 Run: ``python benchmarks/bench_pyelastica.py [--elements 20 40 80 160] [--json PATH]``. Without
 pyelastica it prints one line and exits 0.
