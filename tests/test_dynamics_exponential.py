@@ -1,13 +1,16 @@
-"""The exponential integrator of the ringing pillar (``simulate_pillar(...,
+"""The exponential Rosenbrock integrator of the ringing pillar (``simulate_pillar(...,
 method="exponential")``, ``_core/_kernels/exponential.py``, theory.md §14):
 
-- its phi functions against mpmath's closed forms at 50 digits (small, middle and large
-  arguments, the oscillatory and the decaying directions, and the switch at |z| = 1);
+- its matrix functions against mpmath's matrix exponential at 30 digits: phi_0 .. phi_4 and
+  phi_1 at half the argument of a far-from-normal, oscillatory 4 x 4 matrix (from the
+  exponential of the block matrix [[A, I, 0, ..], [0, 0, I, ..], ..], whose first block row
+  is e^A, phi_1(A), .., phi_4(A)), and the balanced exponential of a badly scaled one;
 - the ringing pillar (mu = 13) under a smooth rise to Lambda = 2: the tip deflection at
-  N = 12, rtol 1e-7 against the Radau IIA run (the other integrator, sharing only the
+  N = 12, rtol 1e-8 against the Radau IIA run (the other integrator, sharing only the
   semi-discrete rates) at twice the degree, N = 24, and rtol 1e-10, within 1e-8 over 30 T
-  (measured 2.4e-9);
-- the wall and jump events at the times Radau IIA finds (measured 3e-13 and 3e-11 apart);
+  (measured 7.4e-10);
+- a true step (no smoothing) against Radau IIA at rtol 1e-10 (measured 3.9e-12);
+- the wall and jump events at the times Radau IIA finds;
 - bad input: an unknown method named.
 """
 
@@ -19,29 +22,61 @@ import mpmath
 import numpy as np
 import pytest
 
-from hairbed._core._kernels.exponential import phi_functions
+from hairbed._core._kernels.exponential import expm_augmented, phi_matrices
 from hairbed.dynamics import sampled, simulate_pillar, step
 
 
-def _phi_reference(z: complex, j: int) -> complex:
-    """phi_j(z) = (e^z - sum_{k<j} z^k/k!)/z^j at 50 digits (phi_0 = e^z)."""
-    with mpmath.workdps(50):
-        zz = mpmath.mpc(z)
-        acc = mpmath.exp(zz)
-        for k in range(j):
-            acc -= zz**k / mpmath.factorial(k)
-        return complex(acc / zz**j)
+def _phi_reference(a: np.ndarray) -> list[np.ndarray]:
+    """phi_0(A) .. phi_4(A) at 30 digits: the first block row of exp of the block matrix
+    with A, then identities above the diagonal (mpmath's expm)."""
+    p = a.shape[0]
+    with mpmath.workdps(30):
+        big = mpmath.zeros(5 * p, 5 * p)
+        for i in range(p):
+            for k in range(p):
+                big[i, k] = mpmath.mpf(float(a[i, k]))
+        for blk in range(4):
+            for i in range(p):
+                big[blk * p + i, (blk + 1) * p + i] = 1
+        ex = mpmath.expm(big)
+        return [
+            np.array([[float(ex[i, j * p + k]) for k in range(p)] for i in range(p)])
+            for j in range(5)
+        ]
 
 
-@pytest.mark.parametrize(
-    "z", [1e-9 + 2e-9j, 0.3 - 0.2j, 0.999j, -1.001, 1.0 + 0.5j, -40.0 + 800.0j, -2.5e4, 30j]
-)
-def test_phi_functions_against_mpmath(z: complex) -> None:
-    out = np.empty(4, dtype=np.complex128)
-    phi_functions(z, out)
-    for j in range(4):
-        ref = _phi_reference(z, j)
-        assert abs(out[j] - ref) <= 1e-14 * max(abs(ref), 1e-300) + 1e-300, (j, out[j], ref)
+def test_phi_matrices_against_mpmath() -> None:
+    # oscillatory (eigenvalues near +-20i, +-7i), weakly damped, far from normal
+    a = np.array(
+        [[0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0], [-300.0, 90.0, -0.5, 0.1],
+         [40.0, -60.0, 0.2, -0.3]]
+    )  # fmt: skip
+    out = np.empty((5, 4, 4))
+    half = np.empty((4, 4))
+    phi_matrices(a, 4, out, half, np.empty((3, 4, 4)))
+    ref = _phi_reference(a)
+    for k in range(5):
+        scale = np.max(np.abs(ref[k]))
+        assert np.max(np.abs(out[k] - ref[k])) <= 1e-12 * scale, k
+    ref_half = _phi_reference(0.5 * a)[1]
+    assert np.max(np.abs(half - ref_half)) <= 1e-12 * np.max(np.abs(ref_half))
+
+
+def test_balanced_exponential_against_mpmath() -> None:
+    # a similarity by diag(1, 1e3, 1e-3, 1) of an oscillatory matrix: 1-norm 1e5 to 1e6
+    base = np.array(
+        [[-0.2, 3.0, 0.0, 0.5], [-3.0, -0.1, 1.0, 0.0], [0.0, -1.0, -0.4, 2.0],
+         [0.3, 0.0, -2.0, -0.1]]
+    )  # fmt: skip
+    d = np.array([1.0, 1e3, 1e-3, 1.0])
+    a = base * d[None, :] / d[:, None]
+    e = np.empty((4, 4))
+    expm_augmented(a, e, np.zeros((4, 4, 4)))
+    with mpmath.workdps(30):
+        ref = mpmath.expm(mpmath.matrix(a.tolist()))
+        ref = np.array([[float(ref[i, k]) for k in range(4)] for i in range(4)])
+    # each entry to 1e-12 of its own scale, d_k/d_i (e^a = D^-1 e^base D)
+    assert np.all(np.abs(e - ref) <= 1e-12 * d[None, :] / d[:, None])
 
 
 def _rise(value: float) -> object:
@@ -52,11 +87,23 @@ def _rise(value: float) -> object:
 def test_ringing_pillar_against_radau_at_twice_the_degree() -> None:
     te = np.linspace(0.0, 30.0, 61)
     drive = _rise(2.0)
-    run = simulate_pillar(drive, te, mu=13.0, num=12, rtol=1e-7, atol=1e-9, method="exponential")
+    run = simulate_pillar(drive, te, mu=13.0, num=12, rtol=1e-8, atol=1e-10, method="exponential")
     ref = simulate_pillar(drive, te, mu=13.0, num=24, rtol=1e-10, atol=1e-12)
     assert run.success and ref.success
     assert np.max(np.abs(run.tip_deflection - ref.tip_deflection)) < 1e-8
     assert run.njev >= 1 and run.nsteps > 0
+
+
+def test_true_step_against_radau() -> None:
+    """The ringing pillar struck by a true step (Lambda 0 -> 4 at t = 0, no smoothing: every
+    mode of the grid rings), N = 8, over 12 T: rtol 1e-8 within 1e-9 of Radau IIA at
+    rtol 1e-10 in the tip deflection at every output time (measured 3.9e-12)."""
+    te = np.linspace(0.0, 12.0, 121)
+    kw: dict[str, Any] = {"mu": 13.0, "num": 8}
+    run = simulate_pillar(step(4.0), te, rtol=1e-8, atol=1e-9, method="exponential", **kw)
+    ref = simulate_pillar(step(4.0), te, rtol=1e-10, atol=1e-12, max_steps=10**6, **kw)
+    assert run.success and ref.success
+    assert np.max(np.abs(run.tip_deflection - ref.tip_deflection)) < 1e-9
 
 
 def test_unknown_method_is_named() -> None:

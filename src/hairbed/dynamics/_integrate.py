@@ -279,12 +279,12 @@ def simulate_pillar(
         speed: set the threshold above that, or leave it off.)
     method : {"radau", "exponential"}, optional
         The integrator. "radau" (the default): Radau IIA of order 5 on y' = f(t, y).
-        "exponential": an exponential Runge-Kutta method of order 4 about the steady state
-        y* of the drives' values at t_eval[-1], e' = J e + N(t, e) with e = y - y*, J the
-        exact Jacobian at y*, the linear part exact in J's modes and the error control on
-        the remainder N alone (theory.md §14): for a ringing pillar (mu > 0) that settles,
-        whose every mode rings about as long as the first. Needs a static state at the
-        drives' final values.
+        "exponential": the exponential Rosenbrock method exprb43 (order 4): linearised
+        afresh at every step with the exact Jacobian, the linear ringing about the current
+        state exact in every mode (matrix functions of h J), the remainder, second order in
+        the step's change, approximated (theory.md §14): for a ringing pillar (mu > 0),
+        whose every mode rings about as long as the first, its steps follow the modes'
+        nonlinear interaction instead of the fastest ringing.
 
     Returns
     -------
@@ -322,11 +322,6 @@ def simulate_pillar(
             num=deg,
         )
         a = float(last._map) if np.isfinite(last._map) else 0.0
-    if method == "exponential" and int(last.status) < 0:
-        raise ValueError(
-            "method='exponential' needs a static state at the drives' values at t_eval[-1] "
-            f"to linearise about ({last.message}); use method='radau'"
-        )
     before = float(np.nextafter(te[0], -np.inf))
     start: tuple[float, FloatArray] | None = None
     if initial is None and lam_sig.at_start(before) == 0.0 and tip_sig.at_start(before) == 0.0:
@@ -355,10 +350,8 @@ def simulate_pillar(
         )
     if initial is not None:
         start = (float(initial._map), np.asarray(initial._coefs, dtype=np.float64).reshape(3, -1))
-    end = None
-    if method == "exponential":
-        end = (float(last._map), np.asarray(last._coefs, dtype=np.float64).reshape(3, -1))
-    return _run(_Job(te, opts, t0, g, m, a, start, lam_sig, tip_sig, prof, end))
+    job = _Job(te, opts, t0, g, m, a, start, lam_sig, tip_sig, prof, method == "exponential")
+    return _run(job)
 
 
 def _forward_map(lam: float, theta0: float, tip: float, prof: FloatArray) -> float | None:
@@ -407,9 +400,8 @@ class _Job:
     lam_sig: Signal
     tip_sig: Signal
     prof: FloatArray
-    #: The exponential integrator's static state at the drives' final values (its map,
-    #: coefficients), or None: Radau IIA.
-    end: tuple[float, FloatArray] | None = None
+    #: The exponential Rosenbrock integrator (else Radau IIA).
+    exponential: bool = False
 
 
 def _no_start(lam: float, tip: float, why: Any) -> str:
@@ -505,8 +497,8 @@ def _run(job: _Job) -> PillarTrajectory:
     y_out = np.full((te.size, size), np.nan)
     counts = np.zeros(6, dtype=np.int64)
     pr = np.ascontiguousarray(job.prof)
-    if job.end is not None:
-        status, t_end = _exponential(job, y0, ss, dd, ii, srow, pr, drives, tabs, y_out, counts)
+    if job.exponential:
+        status, t_end = _exponential(job, y0, dd, ii, srow, pr, drives, tabs, y_out, counts)
     else:
         status, t_end = kern.integrate_pillar(
             y0,
@@ -584,7 +576,6 @@ def _run(job: _Job) -> PillarTrajectory:
 def _exponential(
     job: _Job,
     y0: FloatArray,
-    ss: FloatArray,
     dd: FloatArray,
     ii: FloatArray,
     srow: FloatArray,
@@ -594,26 +585,15 @@ def _exponential(
     y_out: FloatArray,
     counts: Any,
 ) -> tuple[int, float]:
-    """The run by the exponential integrator (``_kernels.exponential``): the steady state
-    of the rates at the drives' final values (Newton from the static state ``job.end``), its
-    modes, then the integration about it. (status, t_end); -3 where the steady state or its
-    modal basis fails."""
+    """The run by the exponential Rosenbrock integrator (``_kernels.exponential``):
+    (status, t_end)."""
     from .._core._kernels import exponential as expo
 
-    assert job.end is not None
     te, opts = job.te, job.opts
-    deg, n = opts.num, opts.num - 1
-    emap, ecoef = job.end
-    guess = np.zeros(y0.size)
-    guess[:n] = np.asarray(_shape_at(np.array([emap]), ecoef[:, None, :], (1,), ss)[3])[0, 1:deg]
-    pars = (deg, dd, ii, srow, job.theta0, job.gamma, opts.chi, job.mu, pr, drives, tabs)
-    ystar = np.empty(y0.size)
-    ok, lam, vec, inv = expo.steady_modes(guess, float(te[-1]), *pars, ystar, counts)
-    if not ok:
-        return -3, float(te[0])
+    pars = (opts.num, dd, ii, srow, job.theta0, job.gamma, opts.chi, job.mu, pr, drives, tabs)
     status, t_end = expo.integrate_exponential(
-        y0, ystar, lam, vec, inv, float(te[0]), te, opts.rtol, opts.atol, 1e-6, opts.max_steps,
-        *pars, y_out, counts, opts.jump,
+        y0, float(te[0]), te, opts.rtol, opts.atol, 1e-6, opts.max_steps, *pars, y_out,
+        counts, opts.jump,
     )  # fmt: skip
     return int(status), float(t_end)
 
