@@ -85,6 +85,9 @@ def drive_inputs(
     drive = "pressure" if name == "pressure_gradient" else "flow"
     scale = load_scale(bed, drive)
     value = as_float_array(given, name, unit=unit)
+    if getattr(bed, "shape", ()):  # each input against the bed first: the error names it
+        for a, n in ((value, name), (v, "velocity")):
+            bed._broadcast_input(a, n)
     v, value = broadcast_named(("velocity", v), (name, value))
     if getattr(bed, "shape", ()):  # an array-valued bed: the drive broadcast with it
         v, value = (bed._broadcast_input(a, n) for a, n in ((v, "velocity"), (value, name)))

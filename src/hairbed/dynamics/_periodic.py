@@ -41,7 +41,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._core.validation import check_int, check_number, show, status_messages
+from .._core.validation import as_float_array, check_int, check_number, show, status_messages
 from ._bed import (
     BED_OUTPUTS,
     EPS_MIN,
@@ -155,15 +155,12 @@ class PeriodicBed:
     def states_at(self, t: ArrayLike) -> FloatArray:
         """The states at times t [T] (any, taken modulo P) by the trigonometric interpolant:
         (len(t), size)."""
-        tt = np.asarray(t, dtype=np.float64).reshape(-1)
-        if not np.all(np.isfinite(tt)):
-            i = int(np.flatnonzero(~np.isfinite(tt))[0])
-            raise ValueError(f"t must be finite, got {show(float(tt[i]))} at index {i}")
+        tt = np.mod(as_float_array(t, "t").reshape(-1), self.period)
         return _interpolate(self.y, self.omega, tt)
 
     def outputs_at(self, t: ArrayLike) -> dict[str, FloatArray]:
         """``BED_OUTPUTS`` (and ``wall_speed``, ``pressure``) at times t [T]."""
-        tt = np.asarray(t, dtype=np.float64).reshape(-1)
+        tt = np.mod(as_float_array(t, "t").reshape(-1), self.period)  # the drives' period too
         ys = self.states_at(tt)
         pump = np.asarray(self._pump(tt), dtype=np.float64).reshape(tt.shape)
         return {k: np.asarray(v, dtype=np.float64) for k, v in
@@ -172,8 +169,8 @@ class PeriodicBed:
     def mean(self, output: str) -> float:
         """The period-mean of an output (exact for the trigonometric polynomial: the mean of
         its values at the K phases)."""
-        if output not in self.outputs:
-            raise ValueError(f"output must be one of {sorted(self.outputs)}, got {output!r}")
+        if not isinstance(output, str) or output not in self.outputs:
+            raise ValueError(f"output must be one of {sorted(self.outputs)}, got {show(output)}")
         return float(np.mean(self.outputs[output]))
 
 
@@ -706,14 +703,14 @@ def periodic_sensitivity(
         raise ValueError(f"orbit must be converged (status 0 or 1), got status {orbit.status}")
     kk, m = orbit.y.shape
     if callable(forcing):
-        cols = [np.asarray(forcing(float(orbit.t[k]), orbit.y[k].copy()), dtype=np.float64)
+        cols = [as_float_array(forcing(float(orbit.t[k]), orbit.y[k].copy()), "forcing")
                 for k in range(kk)]  # fmt: skip
         shapes = {c.shape for c in cols}
         if len(shapes) != 1:
             raise ValueError(f"forcing(t, y) must return one shape at every phase, got {shapes}")
         gg = np.stack(cols)
     else:
-        gg = np.asarray(forcing, dtype=np.float64)
+        gg = as_float_array(forcing, "forcing")
     if gg.ndim not in (2, 3) or gg.shape[:2] != (kk, m):
         raise ValueError(
             f"forcing must have shape ({kk}, {m}) or ({kk}, {m}, p) at the orbit's {kk} phases "
@@ -722,7 +719,7 @@ def periodic_sensitivity(
     bad = ~np.isfinite(gg)
     if np.any(bad):
         i = tuple(int(v) for v in np.argwhere(bad)[0])
-        raise ValueError(f"forcing must be finite, got {gg[i]!r} at index {i}")
+        raise ValueError(f"forcing must be finite, got {show(float(gg[i]))} at index {i}")
     if gg.ndim == 2:
         gg = gg[:, :, None]
     prob = _Problem(orbit._sys, orbit.omega)
