@@ -178,6 +178,7 @@ def valve_curve(
     if not isinstance(bed, HairBed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
     dp = as_float_array(pressure_drop, "pressure_drop", unit="Pa")
+    bed._broadcast_input(dp, "pressure_drop")  # an array bed: the error names pressure_drop
     length = check_positive(channel_length, "channel_length", unit="m")
     root = check_root(root)
     with np.errstate(over="ignore"):

@@ -303,8 +303,8 @@ def simulate_pillar(
     g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
     m = check_number(mu, "mu", low=0.0)
     opts = _options(te, tangential_mass, num, rtol, atol, max_steps, jump_speed)
-    if method not in ("radau", "exponential"):
-        raise ValueError(f"method must be 'radau' or 'exponential', got {method!r}")
+    if not isinstance(method, str) or method not in ("radau", "exponential"):
+        raise ValueError(f"method must be 'radau' or 'exponential', got {show(method)}")
     deg = opts.num
     lam_sig, tip_sig = _drives(forcing, tip_load, te)
     prof = profile_coefficients(profile, height_ratio)

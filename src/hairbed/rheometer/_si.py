@@ -320,6 +320,8 @@ def _bed_scales(bed: Any) -> _BedScales:
 def _omegas(frequency: Any, sc: _BedScales, name: str) -> tuple[FloatArray, FloatArray]:
     """(f, 2 pi f T) of finite f > 0 [Hz] within the bed dynamics' range of omega T."""
     f = as_float_array(frequency, name, unit="Hz").reshape(-1)
+    if f.size == 0:
+        raise ValueError(f"{name} must hold at least one frequency [Hz], got an empty array")
     bad = ~(f > 0.0)
     if np.any(bad):
         i = int(np.flatnonzero(bad)[0])
@@ -340,6 +342,8 @@ def _omegas(frequency: Any, sc: _BedScales, name: str) -> tuple[FloatArray, Floa
 
 def _amplitudes(strain_amplitude: Any, name: str) -> FloatArray:
     g = as_float_array(strain_amplitude, name).reshape(-1)
+    if g.size == 0:
+        raise ValueError(f"{name} must hold at least one amplitude, got an empty array")
     bad = ~(g > 0.0)
     if np.any(bad):
         i = int(np.flatnonzero(bad)[0])
@@ -347,16 +351,24 @@ def _amplitudes(strain_amplitude: Any, name: str) -> FloatArray:
     return g
 
 
-def _check_drive(sc: _BedScales, w0: float, om: FloatArray, g0: FloatArray, speed: float) -> None:
-    """The wall's forcing within the bed dynamics' range, said in SI."""
+def _check_drive(
+    sc: _BedScales,
+    w0: float,
+    om: FloatArray,
+    g0: FloatArray,
+    speed: float,
+    names: tuple[str, str] = ("strain_amplitude", "frequency"),
+) -> None:
+    """The wall's forcing within the bed dynamics' range, said in SI (``names``: the
+    caller's names of the amplitudes and the frequencies)."""
     amp = sc.kappa * float(np.max(g0)) * float(np.max(om))
     if not abs(w0) + amp <= MAX_BED_DRIVE:
         v_max = MAX_BED_DRIVE / sc.omega2_per_velocity
         v_amp = amp / sc.omega2_per_velocity
         raise ValueError(
-            f"strain_amplitude x frequency is too fast for this bed: the top wall's speed "
+            f"{names[0]} x {names[1]} is too fast for this bed: the top wall's speed "
             f"amplitude H gamma0 2 pi f = {v_amp:.4g} m/s plus abs(speed) = {abs(speed):.4g} m/s "
-            f"must stay within {v_max:.4g} m/s (give a smaller strain_amplitude or frequency)"
+            f"must stay within {v_max:.4g} m/s (give a smaller {names[0]} or {names[1]})"
         )
 
 
@@ -484,7 +496,7 @@ def bed_pipkin_map(
     v = check_number(speed, "speed", unit="m/s")
     check_int(workers, "workers", 1, 64)
     w0 = v * sc.omega2_per_velocity
-    _check_drive(sc, w0, om, g0, v)
+    _check_drive(sc, w0, om, g0, v, ("strain_amplitudes", "frequencies"))
     res = pipkin_map(
         om, g0, workers=workers, eps=sc.eps, kappa=sc.kappa, theta0=sc.theta0, gamma=sc.gamma,
         forcing=w0, womersley=sc.womersley, samples=samples, periodic_tol=periodic_tol,
