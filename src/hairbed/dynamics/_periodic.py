@@ -85,7 +85,7 @@ PERIODIC_STATUS: Mapping[int, str] = MappingProxyType(
 
 #: The Krylov solver's relative tolerance on the preconditioned residual and its iterations.
 _KRYLOV_TOL = 1e-12
-_KRYLOV_MAX = 150
+_KRYLOV_MAX = 100
 #: Newton's largest step in the angles [rad] (a longer step is shortened to it).
 _MAX_TURN = 0.5
 
@@ -308,14 +308,11 @@ def _gmres(apply: Callable[[FloatArray], FloatArray], b: FloatArray) -> tuple[Fl
     v[0] = b / beta
     for j in range(top):
         w = apply(v[j])
-        for i in range(j + 1):  # modified Gram-Schmidt, twice
-            hij = float(v[i] @ w)
-            h[i, j] = hij
-            w -= hij * v[i]
-        for i in range(j + 1):
-            c = float(v[i] @ w)
-            h[i, j] += c
-            w -= c * v[i]
+        basis = v[: j + 1]
+        for _ in range(2):  # classical Gram-Schmidt, twice (CGS2: orthogonal to rounding)
+            c = basis @ w
+            h[: j + 1, j] += c
+            w -= c @ basis
         hn = float(np.linalg.norm(w))
         h[j + 1, j] = hn
         for i in range(j):
@@ -373,10 +370,12 @@ def _newton(
             step *= _MAX_TURN / turn
         y += step
         size = float(np.max(np.abs(step) / _scale(y)))
-        if size <= tol or (size < 1e-10 and size >= 0.5 * prev):
+        # converged: the step below tol, or the error left after it (the step times the
+        # contraction rate size/prev) below tol, or the rounding floor reached
+        if size <= tol or (size * size <= tol * prev < math.inf) or (1e-10 > size >= 0.5 * prev):
             return True, y, it, krylov, True
         grow = grow + 1 if size > prev else 0
-        if grow >= 3:
+        if grow >= 2:
             return False, y, it, krylov, True
         prev = size
     return False, y, max_iter, krylov, True
@@ -388,6 +387,26 @@ def _tail(y: FloatArray) -> float:
     c = np.abs(np.fft.rfft(y, axis=0)) * (2.0 / kk)
     top = np.max(c[-2:], axis=0) if c.shape[0] > 2 else np.max(c, axis=0)
     return float(np.max(top / _scale(y)))
+
+
+def _next_degree(y: FloatArray, tol: float) -> int:
+    """The degree at which the harmonics' envelope, fitted as geometric over the upper half
+    of the present degree H, falls to tol/10 (within [H + 4, 4H]; 2H where it does not
+    decay)."""
+    kk = y.shape[0]
+    hh = kk // 2
+    c = np.abs(np.fft.rfft(y, axis=0)) * (2.0 / kk) / _scale(y)
+    env = np.max(c[1:], axis=1)  # harmonics 1 .. H
+    env = np.maximum(env, np.concatenate([[0.0], env[:-1]]))  # odd-only spectra: pairs
+    j = np.arange(1, hh + 1)
+    upper = (j >= hh // 2) & (env > 0.0)
+    if np.count_nonzero(upper) < 3:
+        return 2 * hh
+    slope, icpt = np.polyfit(j[upper], np.log(env[upper]), 1)
+    if not slope < -1e-3:
+        return 2 * hh
+    need = (math.log(0.1 * tol) - icpt) / slope
+    return int(min(max(math.ceil(need) + 2, hh + 4), 4 * hh))
 
 
 def _resample(y: FloatArray, kk_new: int) -> FloatArray:
@@ -516,7 +535,9 @@ def periodic_bed(
     kk = 2 * hh + 1
     y = _linear_start(prob, mean_sys, y_mean, top_sig, pump_sig, kk)
     start = "linear"
-    ok, y1, total, krylov, finite = _newton(prob, y, newton_tol, nit)
+    ok, y1, total, krylov, finite = False, y, 0, 0, True
+    if np.all(np.abs(_angles(sys, y)) < 0.5 * math.pi):  # else the linear start is no guide
+        ok, y1, total, krylov, finite = _newton(prob, y, newton_tol, nit)
     if not ok:
         start = "quasi-static"
         yq = _quasi_static_start(prob, y_mean, kk)
@@ -538,10 +559,10 @@ def periodic_bed(
         err = _tail(y1)
         if err <= ptol:
             break
-        if 2 * hh > hmax:
+        if hh >= hmax:
             status = 1
             break
-        hh *= 2
+        hh = min(_next_degree(y1, ptol), hmax)
         ok, y1, its, kry, finite = _newton(prob, _resample(y1, 2 * hh + 1), newton_tol, nit)
         total, krylov = total + its, krylov + kry
     if not ok:
