@@ -342,8 +342,9 @@ def pipkin_map(
     """:func:`large_amplitude_shear` over a grid of frequencies [1/T] and strain amplitudes
     [-] (one run each; ``kwargs`` as that function's): the Pipkin map's measures.
 
-    ``workers`` threads in [1, 64] share the runs (the integrator's kernel releases the
-    GIL)."""
+    ``workers`` threads in [1, 64] share the runs (LAPACK, the FFTs and the compiled rates
+    release the GIL; with the default collocation about a third of a run's time is Python,
+    which two threads share). ``method="transient"`` in ``kwargs`` runs the baseline."""
     om = np.atleast_1d(np.asarray(omegas, dtype=np.float64)).reshape(-1)
     ga = np.atleast_1d(np.asarray(strain_amplitudes, dtype=np.float64)).reshape(-1)
     nw = check_int(workers, "workers", 1, 64)
