@@ -343,7 +343,7 @@ def pipkin_map(
     [-] (one run each; ``kwargs`` as that function's): the Pipkin map's measures.
 
     ``workers`` threads in [1, 64] share the runs (LAPACK, the FFTs and the compiled rates
-    release the GIL; with the default collocation about a third of a run's time is Python,
+    release the GIL; with the default collocation about a quarter of a run's time is Python,
     which two threads share). ``method="transient"`` in ``kwargs`` runs the baseline."""
     om = np.atleast_1d(np.asarray(omegas, dtype=np.float64)).reshape(-1)
     ga = np.atleast_1d(np.asarray(strain_amplitudes, dtype=np.float64)).reshape(-1)
