@@ -36,6 +36,10 @@ FloatArray = NDArray[np.float64]
 #: A constraint is met to this relative tolerance, and active within it (scaled slack).
 FEASIBLE_RTOL = 1e-7
 ACTIVE_RTOL = 1e-6
+#: SLSQP's tolerance on the scaled objective (about 1 at the starts): above the rounding of
+#: the quantities (collocated states to ~1e-12, the linear range's Newton root to ~1e-10
+#: relative), where a tighter one only stalls the line search (status 8) and restarts it
+SLSQP_FTOL = 1e-12
 SENSES = ("min", "max")
 
 
@@ -267,7 +271,7 @@ def optimise(
             method="SLSQP",
             bounds=[(0.0, 1.0)] * space.size,
             constraints=scipy_constraints,
-            options={"maxiter": maxiter, "ftol": 1e-14},
+            options={"maxiter": maxiter, "ftol": SLSQP_FTOL},
         )
 
     for u0 in points:
