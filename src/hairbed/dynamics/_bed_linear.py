@@ -111,6 +111,8 @@ _MODAL_GRID = 3
 #: by Newton's method (at most ``_REFINE_MAX`` of them, else the Schur form).
 _REFINE_REACH = 10.0
 _REFINE_MAX = 96
+#: Frequencies per product of the modal sum.
+_MODAL_BLOCK = 64
 
 
 @dataclass(frozen=True)
@@ -696,8 +698,15 @@ def _refine(md: _Modal, reach: float) -> bool:
 
 
 def _modal_values(lam: ComplexArray, mdd: _ModalDrive, sv: ComplexArray) -> ComplexArray:
-    """sum_k R_k/(s - lambda_k) + D at each s of ``sv``: (outputs, sv.size)."""
-    return np.asarray(mdd.residues @ (1.0 / (sv[None, :] - lam[:, None])) + mdd.const[:, None])
+    """sum_k R_k/(s - lambda_k) + D at each s of ``sv``: (outputs, sv.size). In blocks of
+    ``_MODAL_BLOCK`` frequencies: each product stays below the size at which a threaded BLAS
+    starts its threads (measured on two loaded cores: 32 ms for 1,000 frequencies in one
+    product, 0.8 ms in blocks)."""
+    out = np.empty((mdd.residues.shape[0], sv.size), dtype=np.complex128)
+    for j in range(0, sv.size, _MODAL_BLOCK):
+        part = sv[j : j + _MODAL_BLOCK]
+        out[:, j : j + part.size] = mdd.residues @ (1.0 / (part[None, :] - lam[:, None]))
+    return out + mdd.const[:, None]
 
 
 def _direct(ops: BedOperators, sv: ComplexArray, col: FloatArray) -> ComplexArray:
