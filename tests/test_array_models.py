@@ -7,6 +7,7 @@ neighbouring elements of an array (as it does for an array of loads on one model
 """
 
 import functools
+import pickle
 import warnings
 
 import numpy as np
@@ -150,6 +151,8 @@ def test_hash_equality_and_items():
         a.base_angle[0] = 1.0
     assert a.item(1) == HairBed(**BED, base_angle=0.2)
     assert HairBed(**BED).item() == HairBed(**BED)
+    back = pickle.loads(pickle.dumps(a))
+    assert back == a and not back.base_angle.flags.writeable
     cached = functools.lru_cache(maxsize=4)(lambda bed: bed.deform(0.1).tip_deflection)
     assert cached(a) is cached(b)
     p = Pillar(**PILLAR, base_angle=[0.0, 0.3])

@@ -806,6 +806,20 @@ class Pillar:
     def __hash__(self) -> int:
         return hash(self._key())
 
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Unpickled: the array parameters and cached arrays read-only again."""
+
+        def frozen(value: Any) -> Any:
+            if isinstance(value, np.ndarray):
+                return _frozen(value)
+            if isinstance(value, tuple):
+                return tuple(frozen(v) for v in value)
+            if isinstance(value, dict):
+                return {k: frozen(v) for k, v in value.items()}
+            return value
+
+        self.__dict__.update({k: frozen(v) for k, v in state.items()})
+
     def _callable_profile(self, func: Callable[..., Any]) -> tuple[Any, float]:
         """(dimensionless profile U, u(tip)/(tau_w U(h1)) [m/(s Pa)]) of a callable u(z)."""
         length = self.length

@@ -983,6 +983,20 @@ class HairBed:
     def __hash__(self) -> int:
         return hash(self._key())
 
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Unpickled: the array parameters and cached arrays read-only again."""
+
+        def frozen(value: Any) -> Any:
+            if isinstance(value, np.ndarray):
+                return _frozen(value)
+            if isinstance(value, tuple):
+                return tuple(frozen(v) for v in value)
+            if isinstance(value, dict):
+                return {k: frozen(v) for k, v in value.items()}
+            return value
+
+        self.__dict__.update({k: frozen(v) for k, v in state.items()})
+
     # -- the bed -------------------------------------------------------------------------------
 
     @property
