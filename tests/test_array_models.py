@@ -139,6 +139,21 @@ def test_porous_bed_every_drive():
     assert np.shape(bed.kappa) == (3,) and np.shape(bed.drag_coefficients[0]) == (3,)
 
 
+@pytest.mark.parametrize("model", ["dense", "porous"])
+def test_bed_inverse_from_tip_deflection(model):
+    """The sensor's calibration read backwards on an array bed: each element the scalar
+    bed's (tips behind rest are flow towards -x)."""
+    angles = np.array([-0.5, 0.0, 0.6])
+    bed = HairBed(**BED, base_angle=angles, model=model)
+    d = np.array([[-2e-4], [1e-4], [6e-4]])
+    st = bed.state_from_tip_deflection(d)
+    v = bed.velocity_from_tip_deflection(d)
+    assert np.shape(v) == (3, 3) and np.array_equal(v, st.velocity)
+    for k, j in np.ndindex(3, 3):
+        one = HairBed(**BED, base_angle=float(angles[j]), model=model)
+        assert_elements(st, one.state_from_tip_deflection(d[k]), (k, j), BED_FIELDS)
+
+
 def test_hash_equality_and_items():
     """Array beds hash and compare by value (the design package caches on them); their
     arrays are read-only; item() gives the scalar model of an element."""
@@ -200,7 +215,7 @@ def test_scalar_only_methods_and_bad_loads_say_so():
         bed.deform([0.1, 0.2, 0.3])
     for call in (
         lambda: bed.simulate([0.0, 1.0], velocity=0.1),
-        lambda: bed.velocity_from_tip_deflection(1e-4),
+        lambda: bed.linear_velocity_from_tip_deflection(1e-4),
         lambda: bed.sweep([0.1]),
         lambda: valve_states(bed, 0.01, pressure_drop=(0.0, 1000.0)),
         lambda: calibration.linear_range(bed),

@@ -582,7 +582,8 @@ class HairBed:
 
     Every SI parameter may be an array (issue 32): the parameters broadcast together into
     :attr:`shape` and with the arrays of a call (numpy rules), each element checked on its
-    own; :meth:`deform` (every model and drive), :func:`hairbed.valve.valve_curve` and
+    own; :meth:`deform` (every model and drive), :meth:`state_from_tip_deflection` and the
+    calibrations read from it, :func:`hairbed.valve.valve_curve` and
     :func:`hairbed.valve.diodicity` then solve every element in one compiled call, each the
     scalar bed's result, and :meth:`item` gives the scalar bed of one element. Methods that
     need a bed of numbers say so. The derived quantities (:attr:`eps`,
@@ -952,8 +953,9 @@ class HairBed:
         verb = "is an array" if len(names) == 1 else "are arrays"
         raise ValueError(
             f"{what} needs a single bed, each parameter a number: {', '.join(names)} {verb} "
-            f"(shape {self.shape}) here. HairBed.deform, valve.valve_curve and valve.diodicity "
-            "take array parameters; HairBed.item(index) gives one bed of the array"
+            f"(shape {self.shape}) here. HairBed.deform, the inverse from a tip deflection, "
+            "valve.valve_curve and valve.diodicity take array parameters; "
+            "HairBed.item(index) gives one bed of the array"
         )
 
     def _broadcast_input(self, x: NDArray[np.float64], name: str) -> NDArray[np.float64]:
@@ -1528,13 +1530,12 @@ class HairBed:
 
     def _deflection(self, deflection: Any, name: str = "deflection") -> NDArray[np.float64]:
         """A tip deflection [m] (pint quantities converted) in (-length, length)."""
-        self._require_scalar("the calibration from a tip deflection")
-        d = as_float_array(deflection, name, unit="m")
-        length = self.length
+        d = self._broadcast_input(as_float_array(deflection, name, unit="m"), name)
         # |d| >= L, or |d|/L rounding to 1: a hair lying flat, the limit v -> inf (no state)
         with np.errstate(over="ignore"):
-            bad = np.abs(d) / length >= 1.0
+            bad = np.asarray(np.abs(d) / self.length >= 1.0)
         if np.any(bad):
+            length = _at(self.length, bad)
             raise ValueError(
                 f"{name}: the tip deflection must lie in (-length, length) = ({-length!r}, "
                 f"{length!r}) m, got {float(d[bad].flat[0])!r}{_first_index(bad)} (a tip at "
@@ -1555,7 +1556,7 @@ class HairBed:
         from .inverse import _solution_from_tip_deflection
 
         length = self.length
-        rest = length * math.sin(self.base_angle)
+        rest = length * _sin(self.base_angle)
         # a tip behind its rest position means flow towards -x: the mirror image. Either way
         # x1 = direction d/L lies in [sin(direction theta0), 1): no check to repeat
         direction = np.where(d < rest, -1.0, 1.0)
@@ -1588,7 +1589,7 @@ class HairBed:
         from .inverse import porous_state_from_tip_deflection
 
         length = self.length
-        direction = np.where(d < length * math.sin(self.base_angle), -1.0, 1.0)
+        direction = np.where(d < length * _sin(self.base_angle), -1.0, 1.0)
         sol = porous_state_from_tip_deflection(
             direction * d / length,
             self.eps,
