@@ -32,6 +32,9 @@ def test_small_amplitude_is_the_linear_bed_and_tilt_is_asymmetric() -> None:
     g_lin = lin.storage[0, 0] + 1j * lin.loss[0, 0]
     pm = pipkin_map([1.0], [0.01, 1.0], eps=0.5, kappa=1.0, workers=2)
     assert np.all(pm.success)
+    alone = pipkin_map([1.0], [0.01, 1.0], eps=0.5, kappa=1.0)  # the same runs, in process
+    for name in ("storage", "loss", "third_harmonic", "large_viscosity"):
+        assert np.array_equal(getattr(pm, name), getattr(alone, name)), name
     g_small = pm.storage[0, 0] + 1j * pm.loss[0, 0]
     assert abs(g_small - g_lin) < 1e-6 * abs(g_lin)
     assert pm.even_ratio[0, 1] < 1e-6  # the upright bed is symmetric

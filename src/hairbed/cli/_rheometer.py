@@ -45,7 +45,7 @@ strain, strain rate [1/s] and stress [Pa] (the Lissajous-Bowditch curves). --out
 .zarr writes the period with every harmonic, .csv or .parquet the period's table. With
 --pipkin, --laos takes a SPEC of amplitudes and the command prints the Pipkin map over
 --frequencies x --laos: G'_1, G''_1, I_3/I_1, the even ratio, G'_M, G'_L, eta'_M, eta'_L at
-each point (--workers threads share the runs; each run takes about a second).
+each point (--workers processes share the runs; a run takes tens of milliseconds).
 
 examples:
   hairbed rheometer --frequencies 0.1:1000:41:log --length 1e-3 --radius 50e-6 \\
@@ -128,7 +128,7 @@ def add_parser(sub: Any) -> None:
         type=int,
         default=1,
         metavar="N",
-        help="threads sharing the Pipkin map's runs, in [1, 64] (default 1)",
+        help="processes sharing the Pipkin map's runs, in [1, 64] (default 1)",
     )
     add_json(p)
     add_bed_options(p, velocity=False, model=True)

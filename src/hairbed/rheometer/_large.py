@@ -342,9 +342,10 @@ def pipkin_map(
     """:func:`large_amplitude_shear` over a grid of frequencies [1/T] and strain amplitudes
     [-] (one run each; ``kwargs`` as that function's): the Pipkin map's measures.
 
-    ``workers`` threads in [1, 64] share the runs (LAPACK, the FFTs and the compiled rates
-    release the GIL; with the default collocation about a quarter of a run's time is Python,
-    which two threads share). ``method="transient"`` in ``kwargs`` runs the baseline."""
+    ``workers`` processes in [1, 64] share the runs, one cell at a time as each frees
+    (forked where the platform can, so a worker starts with the parent's compiled kernels;
+    threads could not: about a quarter of a collocation run is Python, holding the GIL).
+    ``method="transient"`` in ``kwargs`` runs the baseline."""
     om = np.atleast_1d(np.asarray(omegas, dtype=np.float64)).reshape(-1)
     ga = np.atleast_1d(np.asarray(strain_amplitudes, dtype=np.float64)).reshape(-1)
     nw = check_int(workers, "workers", 1, 64)
@@ -355,16 +356,12 @@ def pipkin_map(
     status = np.full(shape, -1, dtype=np.int64)
     cells = [(i, j) for i in range(om.size) for j in range(ga.size)]
 
-    def run(cell: tuple[int, int]) -> LargeAmplitudeShear:
-        return large_amplitude_shear(float(om[cell[0]]), float(ga[cell[1]]), **kwargs)
-
+    omega_of = [float(om[i]) for i, _ in cells]
+    gamma_of = [float(ga[j]) for _, j in cells]
     if nw == 1 or len(cells) < 2:
-        results = [run(c) for c in cells]
+        results = [large_amplitude_shear(w, g, **kwargs) for w, g in zip(omega_of, gamma_of)]
     else:
-        from concurrent.futures import ThreadPoolExecutor
-
-        with ThreadPoolExecutor(max_workers=nw) as pool:
-            results = list(pool.map(run, cells))
+        results = _on_processes(nw, omega_of, gamma_of, kwargs)
     for (i, j), r in zip(cells, results):
         status[i, j] = r.status
         a = r.analysis
@@ -379,3 +376,27 @@ def pipkin_map(
         vals["large_viscosity"][i, j] = a.large_viscosity
         vals["minimum_viscosity"][i, j] = a.minimum_viscosity
     return PipkinMap(omega=om, strain_amplitude=ga, status=status, **vals)
+
+
+def _quiet_worker() -> None:
+    """A worker leaves Ctrl-C to the parent (one line, exit 130), which ends the pool."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _cell(omega: float, gamma0: float, kwargs: dict[str, Any]) -> LargeAmplitudeShear:
+    return large_amplitude_shear(omega, gamma0, **kwargs)
+
+
+def _on_processes(
+    workers: int, omegas: list[float], gammas: list[float], kwargs: dict[str, Any]
+) -> list[LargeAmplitudeShear]:
+    """The cells on ``workers`` processes, in order, each handed out as a worker frees."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    methods = multiprocessing.get_all_start_methods()
+    ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+    with ProcessPoolExecutor(workers, mp_context=ctx, initializer=_quiet_worker) as pool:
+        return list(pool.map(_cell, omegas, gammas, [kwargs] * len(omegas)))

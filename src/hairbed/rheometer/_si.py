@@ -482,7 +482,7 @@ def bed_pipkin_map(
 ) -> BedPipkinMap:
     """A hair bed's Pipkin map in SI: :func:`bed_laos`'s measures over a grid of frequencies
     f [Hz] and strain amplitudes gamma0 [-] (:func:`pipkin_map` in the bed's units, one run
-    per cell, ``workers`` threads in [1, 64]).
+    per cell, ``workers`` processes in [1, 64]).
 
     Returns
     -------
