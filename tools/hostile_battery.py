@@ -646,6 +646,7 @@ def _new_targets() -> list[Target]:
             edges={"pressure_drop": [0.0, [-100.0, 100.0]]},
         ),
         *_later_targets(pillar),
+        *_periodic_targets(),
     ]
 
 
@@ -789,6 +790,193 @@ def _later_targets(pillar: Any) -> list[Target]:
                 max_periods=20,
             ),
             fuzz=("amplitude", "frequency", "channel_length"),
+        ),
+    ]
+
+
+def _periodic_targets() -> list[Target]:
+    """Added in the fourth round: the bed's periodic state by collocation and its
+    sensitivity, batches of beds in time, the rheometer's LAOS in SI, array-valued SI
+    models (issue 32)."""
+    from hairbed import dynamics
+    from hairbed.rheometer import bed_laos, bed_pipkin_map
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        wall = dynamics.sine(0.0, 1.0, 1.0)
+        orbit = dynamics.periodic_bed(0.0, 1.0, 0.5, omega=1.0, wall=wall, num=8, tol=1e-6)
+        ones = np.ones(orbit.y.shape)
+        bed = hairbed.HairBed(**BED_KW, density=1000.0)
+        beds = hairbed.HairBed(**{**BED_KW, "base_angle": [0.0, 0.2]})
+        pillars = hairbed.Pillar(**{**PILLAR_KW, "youngs_modulus": [1e6, 2e6]})
+
+    return [
+        Target(
+            "dynamics.periodic_bed",
+            lambda **kw: dynamics.periodic_bed(**kw),
+            dict(
+                theta0=0.0,
+                kappa=1.0,
+                eps=0.5,
+                omega=1.0,
+                wall=wall,
+                pressure=None,
+                gamma=1.0,
+                inertia=0.0,
+                tangential_mass=1.0,
+                womersley=0.0,
+                num=8,
+                num_gap=4,
+                tol=1e-6,
+                harmonics=4,
+                max_harmonics=64,
+                max_iterations=30,
+            ),  # fmt: skip
+            edges={
+                "wall": [0.0, 1.0, dynamics.sine(0.5, 1.0, 2.0), dynamics.sine(0.0, 0.2, 3.0)],
+                "pressure": [0.0, dynamics.sine(0.0, 0.5, 1.0)],
+                "theta0": [-1.2, 1.2],
+                "inertia": [0.1],
+                "womersley": [1.0],
+                "harmonics": [2],
+                "tol": [1e-3, 1e-13],
+                "max_harmonics": [4],
+                "kappa": [1e-6, 1e6],
+            },
+        ),
+        Target(
+            "dynamics.periodic_sensitivity",
+            lambda **kw: dynamics.periodic_sensitivity(**kw),
+            dict(orbit=orbit, forcing=ones),
+            edges={
+                "forcing": [
+                    np.zeros(orbit.y.shape),
+                    ones[:, :, None].repeat(2, 2),
+                    lambda t, y: np.ones_like(y),
+                ],
+            },  # fmt: skip
+        ),
+        Target(
+            "PeriodicBed.states_at",
+            lambda **kw: orbit.states_at(**kw),
+            dict(t=[0.0, 1.0]),
+            edges={"t": [0.0, -1e6, np.array([])]},
+        ),  # fmt: skip
+        Target(
+            "PeriodicBed.outputs_at",
+            lambda **kw: orbit.outputs_at(**kw),
+            dict(t=[0.0, 1.0]),
+            edges={"t": [0.0, 1e6]},
+        ),  # fmt: skip
+        Target(
+            "PeriodicBed.mean",
+            lambda **kw: orbit.mean(**kw),
+            dict(output="tip_deflection"),
+            edges={"output": ["wall_stress"]},
+            text=("output",),
+        ),  # fmt: skip
+        Target(
+            "dynamics.simulate_beds",
+            lambda **kw: dynamics.simulate_beds(**kw),
+            dict(
+                theta0=0.0,
+                kappa=[0.1, 1.0],
+                eps=0.5,
+                t_eval=[0.0, 0.05],
+                wall=1.0,
+                gamma=1.0,
+                inertia=0.0,
+                womersley=0.0,
+                num=8,
+                num_gap=4,
+                max_steps=500,
+                workers=1,
+            ),  # fmt: skip
+            edges={
+                "theta0": [[0.0, 0.2], -1.2],
+                "kappa": [1.0, [1e-6, 1e6]],
+                "wall": [0.0, [1.0, 2.0], [dynamics.step(1.0), 0.5], dynamics.step(1.0)],
+                "inertia": [[0.0, 0.1]],
+                "womersley": [[0.0, 1.0]],
+                "workers": [2],
+                "t_eval": [[0.0]],
+            },
+        ),
+        Target(
+            "dynamics.simulate_pillar[exponential]",
+            lambda **kw: dynamics.simulate_pillar(**kw),
+            dict(
+                forcing=2.0, t_eval=[0.0, 0.05], theta0=0.1, mu=0.1, num=8, method="exponential"
+            ),  # fmt: skip
+            fuzz=("method", "forcing", "t_eval", "mu", "theta0", "rtol", "jump_speed"),
+            edges={
+                "forcing": [0.0, -2.0, dynamics.step(2.0), dynamics.sine(1.0, 0.5, 3.0)],
+                "mu": [0.0, 10.0],
+                "t_eval": [[0.0], [0.0, 1e-9]],
+                "theta0": [-1.2],
+                "rtol": [1e-4],
+            },
+            text=("method",),
+        ),
+        Target(
+            "rheometer.bed_laos",
+            lambda **kw: bed_laos(bed, **kw),
+            dict(frequency=1.0, strain_amplitude=0.1, speed=0.0, samples=16, max_periods=20),
+            fuzz=("frequency", "strain_amplitude", "speed", "samples"),
+            edges={"speed": [1e-4, -1e-4], "strain_amplitude": [1e-6]},
+        ),
+        Target(
+            "rheometer.bed_pipkin_map",
+            lambda **kw: bed_pipkin_map(bed, **kw),
+            dict(frequencies=[1.0], strain_amplitudes=[0.1], samples=16, max_periods=20),
+            fuzz=("frequencies", "strain_amplitudes", "workers"),
+            edges={"frequencies": [1.0], "strain_amplitudes": [0.1]},
+        ),
+        Target(
+            "HairBed[array]",
+            lambda **kw: hairbed.HairBed(**kw),
+            dict(BED_KW, base_angle=[0.0, 0.2]),
+            edges={
+                "base_angle": [[[0.0], [0.2]], np.array([0.1])],
+                "youngs_modulus": [[1e6, 2e6]],
+                "spacing": [[300e-6, 400e-6]],
+            },
+        ),
+        Target(
+            "HairBed[array].deform",
+            lambda **kw: beds.deform(**kw),
+            dict(velocity=[0.05, 0.1]),
+            edges={"velocity": [0.1, [[0.05], [0.1]], 0.0]},
+        ),
+        Target(
+            "HairBed[array].deform[pressure_gradient]",
+            lambda **kw: beds.deform(**kw),
+            dict(velocity=0.01, pressure_gradient=500.0),
+            edges={"pressure_gradient": [[0.0, -500.0]]},
+        ),
+        Target(
+            "valve.valve_curve[array]",
+            lambda **kw: valve.valve_curve(beds, **kw),
+            dict(pressure_drop=100.0, channel_length=0.01),
+            edges={"pressure_drop": [[-100.0, 100.0]]},
+        ),
+        Target(
+            "Pillar[array]",
+            lambda **kw: hairbed.Pillar(**kw),
+            dict(PILLAR_KW, youngs_modulus=[1e6, 2e6]),
+            edges={"length": [[400e-6, 500e-6]], "base_angle": [[0.0, 0.1]]},
+        ),
+        Target(
+            "Pillar[array].tip_deflection",
+            lambda **kw: pillars.tip_deflection(**kw),
+            dict(wall_shear_stress=1.0),
+            edges={"wall_shear_stress": [[1.0, 2.0], 0.0, [[1.0], [2.0]]]},
+        ),
+        Target(
+            "Pillar[array].wall_shear_stress_from_tip_deflection",
+            lambda **kw: pillars.wall_shear_stress_from_tip_deflection(**kw),
+            dict(tip_deflection=3e-5),
+            edges={"tip_deflection": [[3e-5, 1e-5], 0.0]},
         ),
     ]
 
@@ -949,6 +1137,24 @@ CLI_COMMANDS: dict[str, tuple[list[str], tuple[str, ...], list[tuple[str, str]]]
         ("--frequencies", "--velocity", "--hair-density", "--density"),
         [("--velocity", "-0.01"), ("--velocity", "0")],
     ),
+    "rheometer --laos": (
+        ["rheometer", "--laos=0.1", "--frequencies=1", "--samples=16", *_BED_ARGS],
+        ("--laos", "--frequencies", "--samples", "--velocity"),
+        [("--velocity", "1e-4"), ("--velocity", "-1e-4"), ("--laos", "1e-6")],
+    ),
+    "rheometer --laos --pipkin": (
+        [
+            "rheometer",
+            "--laos=0.1,0.2",
+            "--pipkin",
+            "--frequencies=1",
+            "--samples=16",
+            "--workers=1",
+            *_BED_ARGS,
+        ],
+        ("--laos", "--frequencies", "--workers"),
+        [("--workers", "2"), ("--laos", "0.1")],
+    ),  # fmt: skip
     "design": (
         ["design", _DESIGN],
         ("low", "high", "starts"),
@@ -1042,7 +1248,7 @@ def run_cli_battery(
         os.chdir(where)
         try:
             for name, (base, options, edges) in CLI_COMMANDS.items():
-                if only and only not in name:
+                if only and not any(o in name for o in only.split(",")):
                     continue
                 tally: Counter[str] = Counter()
                 cases = [(o, c, v, r, False) for o in options for c, v, r in hostile]
@@ -1239,7 +1445,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--json", help="write the counts and findings to this file")
     parser.add_argument("--quick", action="store_true", help="the first 8 hostile values only")
-    parser.add_argument("--only", help="targets whose name contains this")
+    parser.add_argument(
+        "--only", help="targets whose name contains this (a comma-separated list: any of them)"
+    )
     parser.add_argument("--no-cli", action="store_true", help="the Python API only")
     parser.add_argument(
         "--new", action="store_true", help="this session's API only (dynamics, design, ...)"
@@ -1251,7 +1459,7 @@ def main(argv: list[str] | None = None) -> int:
     start = time.perf_counter()
     hostile = HOSTILE[:8] if args.quick else HOSTILE
     for target in [*([] if args.new else _targets()), *_new_targets()]:
-        if args.only and args.only not in target.name:
+        if args.only and not any(o in target.name for o in args.only.split(",")):
             continue
         tally: Counter[str] = Counter()
         for param in target.fuzz:

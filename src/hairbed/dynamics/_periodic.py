@@ -507,7 +507,11 @@ def periodic_bed(
     ngap = check_int(num_gap, "num_gap", 4, 128)
     ptol = check_number(tol, "tol", low=1e-13, high=1e-3)
     h0 = check_int(harmonics, "harmonics", 2, 1024)
-    hmax = check_int(max_harmonics, "max_harmonics", h0, 4096)
+    hmax = check_int(max_harmonics, "max_harmonics", 2, 4096)
+    if hmax < h0:
+        raise ValueError(
+            f"max_harmonics must be >= harmonics, got max_harmonics = {hmax} < harmonics = {h0}"
+        )
     nit = check_int(max_iterations, "max_iterations", 2, 200)
     top, top_in, top_name = _top_drive(wall, wall_stress)
     pump, pump_in, pump_name = _pump_drive(pressure, flow_rate)
