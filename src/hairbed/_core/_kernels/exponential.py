@@ -121,11 +121,13 @@ def _scaling(a, p):
 
 
 @kernel
-def phi_matrices(a, kmax, out, half, tmp):
+def phi_matrices(a, kmax, out, half, tmp, full=True):
     """out[k] = phi_k(a) for k = 0 .. kmax (kmax >= 1; a square, float64) and half =
     phi_1(a/2): Taylor series at a/2^s (norm <= 1/2, s >= 1), then s doublings
     phi_k(2 z) = 2^-k (phi_0 phi_k + sum_{j=1}^k phi_j/(k - j)!) (Skaflestad and Wright).
-    tmp: a work array of out's shape. a is not balanced here (see ``_balance``)."""
+    Where ``full`` is False the last doubling skips phi_0 and phi_2 (out[0] and out[2] are
+    left at a/2: the step needs phi_1, phi_3 and phi_4 alone). tmp: a work array of out's
+    shape (three matrices). a is not balanced here (see ``_balance``)."""
     p = a.shape[0]
     s = _scaling(a, p)
     sc = 0.5**s
@@ -134,44 +136,54 @@ def phi_matrices(a, kmax, out, half, tmp):
     for i in range(p):
         for k in range(p):
             b[i, k] = a[i, k] * sc
-    # phi_kmax(b) by Horner: sum_j b^j/(j + kmax)!
+    # phi_kmax(b) by Horner, sum_j b^j/(j + kmax)!, between two buffers
+    cur = tmp[1]
+    nxt = tmp[2]
+    for i in range(p):
+        for k in range(p):
+            cur[i, k] = 0.0
+        cur[i, i] = 1.0 / math.gamma(_TAYLOR + kmax + 1.0)
+    for j in range(_TAYLOR - 1, -1, -1):
+        np.dot(b, cur, nxt)
+        nxt_diag = 1.0 / math.gamma(j + kmax + 1.0)
+        for i in range(p):
+            nxt[i, i] += nxt_diag
+        cur, nxt = nxt, cur
     top = out[kmax]
     for i in range(p):
         for k in range(p):
-            top[i, k] = 0.0
-        top[i, i] = 1.0 / math.gamma(_TAYLOR + kmax + 1.0)
-    w = tmp[1]
-    for j in range(_TAYLOR - 1, -1, -1):
-        np.dot(b, top, w)
-        cj = 1.0 / math.gamma(j + kmax + 1.0)
-        for i in range(p):
-            for k in range(p):
-                top[i, k] = w[i, k]
-            top[i, i] += cj
+            top[i, k] = cur[i, k]
     for kk in range(kmax - 1, -1, -1):  # phi_k = 1/k! + b phi_{k+1}
         np.dot(b, out[kk + 1], out[kk])
         ck = 1.0 / math.gamma(kk + 1.0)
         for i in range(p):
             out[kk, i, i] += ck
+    w = tmp[1]
     for level in range(s):
-        if level == s - 1:
+        last = level == s - 1
+        if last:
             for i in range(p):
                 for k in range(p):
                     half[i, k] = out[1, i, k]
-        for kk in range(kmax, 0, -1):  # phi_k(2z) from the phi_j(z), j <= k
+        for kk in range(kmax, 0, -1):  # phi_k(2z) from the phi_j(z), j <= k, in place
+            if last and not full and kk == 2:
+                continue
             np.dot(out[0], out[kk], w)
             fac = 0.5**kk
             for j in range(1, kk + 1):
-                inv[j] = 1.0 / math.gamma(kk - j + 1.0)
-            for i in range(p):
+                inv[j] = fac / math.gamma(kk - j + 1.0)
+            ok = out[kk]
+            for i in range(p):  # contiguous inner loops (they vectorise)
                 for k in range(p):
-                    acc = w[i, k]
-                    for j in range(1, kk + 1):
-                        acc += out[j, i, k] * inv[j]
-                    tmp[2, i, k] = fac * acc
-            for i in range(p):
-                for k in range(p):
-                    out[kk, i, k] = tmp[2, i, k]
+                    ok[i, k] = fac * w[i, k] + inv[kk] * ok[i, k]
+            for j in range(1, kk):
+                oj = out[j]
+                cj = inv[j]
+                for i in range(p):
+                    for k in range(p):
+                        ok[i, k] += cj * oj[i, k]
+        if last and not full:
+            break
         np.dot(out[0], out[0], w)
         for i in range(p):
             for k in range(p):
@@ -192,24 +204,26 @@ def expm_augmented(a, e, tmp):
     s = _scaling(bal, p)
     sc = 0.5**s
     b = tmp[0]
-    w = tmp[1]
+    cur = tmp[1]
+    nxt = e
     for i in range(p):
         for k in range(p):
             b[i, k] = bal[i, k] * sc
-            e[i, k] = 0.0
-        e[i, i] = 1.0 / math.gamma(_TAYLOR + 5.0)
+            cur[i, k] = 0.0
+        cur[i, i] = 1.0 / math.gamma(_TAYLOR + 5.0)
     for j in range(_TAYLOR + 3, -1, -1):  # degree _TAYLOR + 4 for phi_0 alone
-        np.dot(b, e, w)
+        np.dot(b, cur, nxt)
         cj = 1.0 / math.gamma(j + 1.0)
         for i in range(p):
-            for k in range(p):
-                e[i, k] = w[i, k]
-            e[i, i] += cj
+            nxt[i, i] += cj
+        cur, nxt = nxt, cur
     for _ in range(s):
-        np.dot(e, e, w)
+        np.dot(cur, cur, nxt)
+        cur, nxt = nxt, cur
+    if cur is not e:
         for i in range(p):
             for k in range(p):
-                e[i, k] = w[i, k]
+                e[i, k] = cur[i, k]
     for i in range(p):  # undo the balancing: D e D^-1
         for k in range(p):
             e[i, k] *= d[i] / d[k]
@@ -398,7 +412,7 @@ def integrate_exponential(
         for k in range(p):
             jt[m, k] = 0.0
         _balance(jt, p, dbal)
-        phi_matrices(jt, 4, phis, half, ptmp)
+        phi_matrices(jt, 4, phis, half, ptmp, False)
         counts[5] += 1
         good = True
         # stage 2: U_2 = y_n + (h/2) phi_1(h J~/2) F~
