@@ -4,7 +4,7 @@ Choose SI parameters of a :class:`~hairbed.HairBed` or a :class:`~hairbed.Pillar
 (:class:`Variable`, with bounds, optionally in log scale) to minimise or maximise a named
 quantity (:func:`diodicity`, :func:`resistance_ratio`, :func:`bistable_width`,
 :func:`tip_deflection`, :func:`sensitivity`, :func:`linear_sensitivity`,
-:func:`linear_range`, :func:`bandwidth`, :func:`resonance_frequency`,
+:func:`linear_range`, :func:`bandwidth`, :func:`resonance_frequency`, :func:`net_flow`,
 :func:`snap_window`, :func:`custom`, ...)
 under constraints written in the same vocabulary (``resistance_ratio(500, 0.01) <= 4``),
 with the model's validity as constraints (:func:`validity_constraints`).
@@ -29,6 +29,7 @@ from ._objectives import (
     l_plus,
     linear_range,
     linear_sensitivity,
+    net_flow,
     pillar_reynolds,
     resistance_ratio,
     resonance_frequency,
@@ -64,6 +65,7 @@ __all__ = [
     "l_plus",
     "linear_range",
     "linear_sensitivity",
+    "net_flow",
     "optimise",
     "pareto_front",
     "pillar_reynolds",

@@ -63,6 +63,7 @@ __all__ = [
     "l_plus",
     "linear_range",
     "linear_sensitivity",
+    "net_flow",
     "pillar_reynolds",
     "resistance_ratio",
     "resonance_frequency",
@@ -439,6 +440,130 @@ def resistance_ratio(pressure_drop: float, channel_length: float) -> Quantity:
         (("valve", dp, length),),
         porous=True,
     )
+
+
+def net_flow(
+    pressure_amplitude: float,
+    frequency: float,
+    channel_length: float,
+    *,
+    hair_density: float | None = None,
+) -> Quantity:
+    """The rectified net flow [m^2/s] of a bed pumped by dp(t) = A sin(2 pi f t) over a
+    channel of length l: the period mean of the flow per unit width Q'(t) through bed and
+    gap in the periodic state (:func:`hairbed.valve_dynamics.pump_net_flow`; theory.md
+    §15, §16), positive along +x (the way a bed tilted by base_angle > 0 leans).
+
+    The bed in time is the porous model of its geometry (either ``model``):
+    Q' = q/(6 A eta L^2/(E I H^2)) with q the flow of §11 in the dimensionless bed of
+    theta0, kappa, gamma, eps, driven by Pi(t) = Pi_A sin(omega t), Pi_A = A/l A_h L^3/(E I)
+    (A_h = pi a^2/phi the wall area per hair), omega = 2 pi f T, T = zeta_perp L^4/(E I);
+    with the bed's ``density`` the fluid's inertia alpha = rho L^2/(eta T), with
+    ``hair_density`` the hairs' (mu, chi). Its periodic state by collocation in time
+    (:func:`hairbed.dynamics.periodic_bed`, truncation error below 1e-12).
+
+    Gradient exact: the periodic orbit differentiated implicitly
+    (:func:`hairbed.dynamics.periodic_sensitivity` with the rates' exact parameter
+    columns of ``_core._kernels.bed_parameters``; ``hairbed.design._net_flow``), chained
+    through kappa's and gamma's drag model (``HairBed._drag_slopes``), T, Pi_A, alpha, mu,
+    chi and the flow's scale to the SI parameters.
+
+    Parameters
+    ----------
+    pressure_amplitude : float
+        A > 0 [Pa].
+    frequency : float
+        f > 0 [Hz].
+    channel_length : float
+        l > 0 [m].
+    hair_density : float, optional
+        rho_s > 0 [kg/m^3] for the hairs' inertia (default: overdamped hairs).
+
+    Returns
+    -------
+    Quantity
+        Of a HairBed (dense or porous), unit [m^2/s].
+    """
+    amp = _number(pressure_amplitude, "pressure_amplitude [Pa]")
+    freq = _number(frequency, "frequency [Hz]")
+    length = _number(channel_length, "channel_length [m]")
+    rho_s = None if hair_density is None else _number(hair_density, "hair_density [kg/m^3]")
+
+    def evaluate(bed: HairBed, hold: str) -> tuple[float, Grad]:
+        from .._bed_scales import _as_porous, _scales
+        from ..bed_simulation import _within_range
+        from ..dynamics._bed import MAX_BED_DRIVE
+        from ._net_flow import net_flow_derivatives, pumped_orbit
+
+        s = _within_range(_scales(bed, rho_s), bed, rho_s)
+        pia = amp / length * s.pi_per_gradient
+        if not (math.isfinite(pia) and pia <= MAX_BED_DRIVE):
+            raise ValueError(
+                f"pressure_amplitude must be at most "
+                f"{MAX_BED_DRIVE / s.pi_per_gradient * length:.4g} Pa over channel_length = "
+                f"{length:g} m for this bed in time (its pressure load "
+                f"within {MAX_BED_DRIVE:g}), got {amp:g}"
+            )
+        om = 2.0 * math.pi * freq * s.time
+        if not 1e-9 <= om <= 1e9:
+            lo, hi = 1e-9 / (2.0 * math.pi * s.time), 1e9 / (2.0 * math.pi * s.time)
+            raise ValueError(
+                f"frequency must lie in [{lo:.3g}, {hi:.3g}] Hz for this bed (1e-9 to 1e9 over "
+                f"its time scale 2 pi T), got {freq:g}"
+            )
+        orbit = pumped_orbit(s, pia, om)
+        if orbit.status != 0:
+            raise ArithmeticError(f"the pumped bed's periodic state: {orbit.message}")
+        d = net_flow_derivatives(orbit, pia)
+        qpf = s.q_per_flow
+        value = float(np.mean(orbit.outputs["flow_rate"])) / qpf
+        big_l, big_h, a = bed.length, bed.channel_height, bed.radius
+        d_l, d_e = _ln("length", big_l), _ln("youngs_modulus", bed.youngs_modulus)
+        d_a, d_eta = _ln("radius", a), _ln("viscosity", bed.viscosity)
+        d_ln_area = _comb((2.0, d_a), (-1.0, _ln_phi(bed, hold)))  # A_h = pi a^2/phi
+        held = {"length", "radius", hold}
+        slopes = {k: v for k, v in _as_porous(bed)._drag_slopes(hold).items() if k in held}
+        size = {"length": big_l, "radius": a, "spacing": bed.spacing, "packing_fraction":
+                bed.packing_fraction}  # fmt: skip
+        d_ln_kappa = {k: v[0] / float(size[k]) for k, v in slopes.items()}  # type: ignore[arg-type]
+        d_gamma = {k: v[1] / float(size[k]) for k, v in slopes.items()}  # type: ignore[arg-type]
+        # T = eta A_h L^2/(kappa E I), zeta_perp = eta A_h/(kappa L^2), I = pi a^4/4
+        d_ln_t = _comb((1.0, d_eta), (1.0, d_ln_area), (2.0, d_l), (-1.0, d_ln_kappa),
+                       (-1.0, d_e), (-4.0, d_a))  # fmt: skip
+        d_ln_pia = _comb((1.0, d_ln_area), (3.0, d_l), (-1.0, d_e), (-4.0, d_a))
+        d_ln_qpf = _comb((1.0, d_ln_area), (1.0, d_eta), (2.0, d_l), (-1.0, d_e), (-4.0, d_a),
+                         (-2.0, _ln("channel_height", big_h)))  # fmt: skip
+        d_ln_eps = _comb((1.0, d_l), (-1.0, _ln("channel_height", big_h)))
+        terms = [
+            (d["theta0"], {"base_angle": 1.0}),
+            (d["gamma"], d_gamma),
+            (d["kappa"] * s.kappa, d_ln_kappa),
+            (d["eps"] * s.eps, d_ln_eps),
+            (d["amplitude"] * pia, d_ln_pia),
+            (d["ln_omega"], d_ln_t),
+        ]
+        rho_f = bed.density
+        if s.womersley > 0.0 and rho_f is not None:  # alpha = rho L^2/(eta T)
+            d_ln_rho = {"density": 1.0 / float(rho_f)}
+            d_ln_alpha = _comb((1.0, d_ln_rho), (2.0, d_l), (-1.0, d_eta), (-1.0, d_ln_t))
+            terms.append((d["alpha"] * s.womersley, d_ln_alpha))
+        if s.inertia > 0.0 and rho_s is not None and rho_f is not None:
+            # mu = (rho_s + rho_f) pi a^2/(zeta_perp T), chi = rho_s/(rho_s + rho_f)
+            total = rho_s + float(rho_f)
+            d_ln_zeta = _comb((1.0, d_eta), (1.0, d_ln_area), (-1.0, d_ln_kappa), (-2.0, d_l))
+            d_ln_mu = _comb((1.0 / total, {"density": 1.0}), (2.0, d_a), (-1.0, d_ln_zeta),
+                            (-1.0, d_ln_t))  # fmt: skip
+            terms.append((d["mu"] * s.inertia, d_ln_mu))
+            terms.append((-d["chi"] * rho_s / (total * total), {"density": 1.0}))
+        elif s.inertia > 0.0:  # mu = rho_s pi a^2/(zeta_perp T), chi = 1
+            d_ln_zeta = _comb((1.0, d_eta), (1.0, d_ln_area), (-1.0, d_ln_kappa), (-2.0, d_l))
+            d_ln_mu = _comb((2.0, d_a), (-1.0, d_ln_zeta), (-1.0, d_ln_t))
+            terms.append((d["mu"] * s.inertia, d_ln_mu))
+        return value, _comb((1.0 / qpf, _comb(*terms)), (-value, d_ln_qpf))
+
+    name = f"net_flow(A={amp:g} Pa, f={freq:g} Hz, l={length:g} m"
+    name += ")" if rho_s is None else f", rho_s={rho_s:g} kg/m^3)"
+    return Quantity(name, "bed", "m^2/s", True, evaluate, porous=True)
 
 
 def gap_reynolds(pressure_drop: float, channel_length: float) -> Quantity:
