@@ -798,7 +798,7 @@ def _periodic_targets() -> list[Target]:
     """Added in the fourth round: the bed's periodic state by collocation and its
     sensitivity, batches of beds in time, the rheometer's LAOS in SI, array-valued SI
     models (issue 32)."""
-    from hairbed import dynamics
+    from hairbed import design, dynamics
     from hairbed.rheometer import bed_laos, bed_pipkin_map
 
     with warnings.catch_warnings():
@@ -901,6 +901,18 @@ def _periodic_targets() -> list[Target]:
                 "workers": [2],
                 "t_eval": [[0.0]],
             },
+        ),
+        *(
+            [
+                Target(
+                    "design.net_flow",  # the Quantity only: an evaluation takes tens of s
+                    lambda **kw: design.net_flow(**kw),
+                    dict(pressure_amplitude=100.0, frequency=1.0, channel_length=0.01),
+                    edges={"hair_density": [1000.0], "pressure_amplitude": [1e-3]},
+                )
+            ]
+            if hasattr(design, "net_flow")
+            else []
         ),
         Target(
             "dynamics.simulate_pillar[exponential]",
