@@ -141,17 +141,25 @@ def test_porous_bed_every_drive():
 
 @pytest.mark.parametrize("model", ["dense", "porous"])
 def test_bed_inverse_from_tip_deflection(model):
-    """The sensor's calibration read backwards on an array bed: each element the scalar
-    bed's (tips behind rest are flow towards -x)."""
+    """The sensor's calibration read backwards on an array bed, exact and linear, from a tip
+    deflection or a wall shear stress: each element the scalar bed's (tips behind rest are
+    flow towards -x)."""
     angles = np.array([-0.5, 0.0, 0.6])
     bed = HairBed(**BED, base_angle=angles, model=model)
     d = np.array([[-2e-4], [1e-4], [6e-4]])
     st = bed.state_from_tip_deflection(d)
     v = bed.velocity_from_tip_deflection(d)
     assert np.shape(v) == (3, 3) and np.array_equal(v, st.velocity)
+    linear = bed.linear_velocity_from_tip_deflection(d)
+    linear_tau = bed.linear_wall_shear_stress_from_tip_deflection(d)
+    tau = np.array([[-50.0], [0.0], [80.0]])
+    from_tau = bed.velocity_from_wall_shear_stress(tau)
     for k, j in np.ndindex(3, 3):
         one = HairBed(**BED, base_angle=float(angles[j]), model=model)
         assert_elements(st, one.state_from_tip_deflection(d[k]), (k, j), BED_FIELDS)
+        assert same(linear[k, j], one.linear_velocity_from_tip_deflection(d[k])[0])
+        assert same(linear_tau[k, j], one.linear_wall_shear_stress_from_tip_deflection(d[k])[0])
+        assert same(from_tau[k, j], one.velocity_from_wall_shear_stress(tau[k])[0])
 
 
 def test_hash_equality_and_items():
@@ -215,7 +223,7 @@ def test_scalar_only_methods_and_bad_loads_say_so():
         bed.deform([0.1, 0.2, 0.3])
     for call in (
         lambda: bed.simulate([0.0, 1.0], velocity=0.1),
-        lambda: bed.linear_velocity_from_tip_deflection(1e-4),
+        lambda: bed.fit_profile([1e-4, 2e-4], [5e-4, 9e-4]),
         lambda: bed.sweep([0.1]),
         lambda: valve_states(bed, 0.01, pressure_drop=(0.0, 1000.0)),
         lambda: calibration.linear_range(bed),

@@ -583,7 +583,7 @@ class HairBed:
     Every SI parameter may be an array (issue 32): the parameters broadcast together into
     :attr:`shape` and with the arrays of a call (numpy rules), each element checked on its
     own; :meth:`deform` (every model and drive), :meth:`state_from_tip_deflection` and the
-    calibrations read from it, :func:`hairbed.valve.valve_curve` and
+    calibrations (exact and linear), :func:`hairbed.valve.valve_curve` and
     :func:`hairbed.valve.diodicity` then solve every element in one compiled call, each the
     scalar bed's result, and :meth:`item` gives the scalar bed of one element. Methods that
     need a bed of numbers say so. The derived quantities (:attr:`eps`,
@@ -953,7 +953,7 @@ class HairBed:
         verb = "is an array" if len(names) == 1 else "are arrays"
         raise ValueError(
             f"{what} needs a single bed, each parameter a number: {', '.join(names)} {verb} "
-            f"(shape {self.shape}) here. HairBed.deform, the inverse from a tip deflection, "
+            f"(shape {self.shape}) here. HairBed.deform, the calibrations (exact and linear), "
             "valve.valve_curve and valve.diodicity take array parameters; "
             "HairBed.item(index) gives one bed of the array"
         )
@@ -1202,14 +1202,14 @@ class HairBed:
         the porous bed's the exact derivatives of its state at rest."""
         from .inverse import _slope
 
-        self._require_scalar("the linear calibration")
+        number: Any = float if not self.shape else np.asarray  # an array bed: its shape
         if self.model == "dense":
-            gap0 = 1.0 - self.eps * math.cos(self.base_angle)
-            return float(_slope(self.eps, self.base_angle)), 1.0 / gap0
+            gap0 = 1.0 - self.eps * _cos(self.base_angle)
+            return number(_slope(self.eps, self.base_angle)), 1.0 / gap0
         from ._core.porous_sensitivity import porous_derivatives
 
         table = porous_derivatives(self._tip_state(0.0, self.eps, self.base_angle)).table
-        return float(table["tip_deflection"]["omega2"]), float(table["tip_stress"]["omega2"])
+        return number(table["tip_deflection"]["omega2"]), number(table["tip_stress"]["omega2"])
 
     def deform(
         self,
@@ -1653,15 +1653,20 @@ class HairBed:
         eps), and the gap's condition gives omega^2 = eps w(1) + (1 - eps h1) Q(1)
         (theory.md §13).
         """
-        self._require_scalar("HairBed.velocity_from_wall_shear_stress")
         tau = as_float_array(wall_shear_stress, "wall_shear_stress", unit="Pa")
-        scale = self.wall_area_per_hair * self.length**2 / self.bending_stiffness
+        tau = self._broadcast_input(tau, "wall_shear_stress")
+        scale: Any = self.wall_area_per_hair * self.length**2 / self.bending_stiffness
+        if self.shape:  # element by element: the scalar bed's number
+            scale = self._per_element(
+                lambda b: b.wall_area_per_hair * b.length**2 / b.bending_stiffness
+            )
         with np.errstate(over="ignore"):
             forcing = np.abs(tau) * scale
         bad = ~np.isfinite(forcing)
         if np.any(bad):
+            limit = np.finfo(np.float64).max / _at(scale, bad)
             raise ValueError(
-                f"wall_shear_stress must be below {np.finfo(np.float64).max / scale:.3g} Pa "
+                f"wall_shear_stress must be below {limit:.3g} Pa "
                 f"for this bed (its forcing overflows), got {float(tau[bad].flat[0])!r}"
                 f"{_first_index(bad)}"
             )
@@ -1694,7 +1699,7 @@ class HairBed:
         """
         d = self._deflection(deflection)
         slope = self._linear_slopes()[0]
-        x1 = d / self.length - math.sin(self.base_angle)
+        x1 = d / self.length - _sin(self.base_angle)
         return float_or_array(x1 / slope * self.velocity_scale)
 
     def linear_wall_shear_stress_from_tip_deflection(self, deflection: Any) -> FloatOrArray:
@@ -1706,9 +1711,13 @@ class HairBed:
         """
         v = np.asarray(self.linear_velocity_from_tip_deflection(deflection))
         if self.model == "dense":
-            gap = self.channel_height - self.length * math.cos(self.base_angle)
+            gap = self.channel_height - self.length * _cos(self.base_angle)
             return float_or_array(self.viscosity * v / gap)
-        stress = self.bending_stiffness / (self.wall_area_per_hair * self.length**2)
+        stress: Any = self.bending_stiffness / (self.wall_area_per_hair * self.length**2)
+        if self.shape:  # element by element: the scalar bed's number
+            stress = self._per_element(
+                lambda b: b.bending_stiffness / (b.wall_area_per_hair * b.length**2)
+            )
         return float_or_array(v / self.velocity_scale * self._linear_slopes()[1] * stress)
 
     def fit_profile(self, x: Any, z: Any, **kwargs: Any) -> BedProfileFit:
