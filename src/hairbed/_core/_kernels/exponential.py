@@ -115,8 +115,8 @@ def _scaling(a, p):
             acc += abs(a[i, k])
         big = max(big, acc)
     s = 1
-    if big > _THETA:
-        s = max(1, int(math.ceil(math.log2(big / _THETA))))
+    if big > _THETA:  # (at most 1100 halvings: the largest finite norm)
+        s = max(1, int(math.ceil(math.log2(min(big, 1e308) / _THETA))))
     return s
 
 
@@ -404,7 +404,16 @@ def integrate_exponential(
             return _MAXSTEPS, t
         if h < 1e-14 * (abs(t) + 1.0):
             return _SMALL, t
-        # the phi functions of h J~ (balanced)
+        # the phi functions of h J~ (balanced); a non-finite linearisation ends the run
+        finite = True
+        for i in range(m):
+            if not (math.isfinite(fn[i]) and math.isfinite(v[i])):
+                finite = False
+            for k in range(m):
+                if not math.isfinite(jac[i, k]):
+                    finite = False
+        if not finite:
+            return _SMALL, t
         for i in range(m):
             for k in range(m):
                 jt[i, k] = h * jac[i, k]
