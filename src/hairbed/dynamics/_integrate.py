@@ -12,6 +12,7 @@ the wall event).
 from __future__ import annotations
 
 import functools
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -28,6 +29,7 @@ from .._core.pillar import (
     profile_coefficients,
     solve_pillar,
 )
+from .._core.solver import _scalar
 from .._core.validation import (
     STATUS_MESSAGES,
     as_float_array,
@@ -53,6 +55,16 @@ def _operators_at(num: int, a: float) -> tuple[FloatArray, ...]:
 
     ops = _mapped(num, a)
     return (*ops, np.asarray(_matrices(num)[1] / ops[1][:, None]))
+
+
+@functools.lru_cache(maxsize=256)
+def _tip_row(num: int, a: float) -> FloatArray:
+    """The row r with theta_N = r . theta (theta'(1) = 0 solved for the tip angle; r_N = 0)
+    of the map a at degree N, built once per (N, a): not to be written to."""
+    dd = _operators_at(num, a)[2]
+    srow = -dd[num, :] / dd[num, num]
+    srow[num] = 0.0
+    return srow
 
 
 #: The status codes of a :class:`PillarTrajectory`: the package's table and the jump event.
@@ -98,7 +110,8 @@ class PillarTrajectory:
         Where the integration ended [T].
     nsteps, naccept, nreject, nfev, njev, nlu : int
         Work: steps tried, accepted, rejected; evaluations of the rates, Jacobians, LU
-        factorisations.
+        factorisations (with ``method="exponential"``: the matrix functions, the phi
+        functions of a step and the exponentials of its dense output).
     """
 
     t: FloatArray
@@ -298,11 +311,14 @@ def simulate_pillar(
     (True, 0.539354)
     """
     te = _checked_times(t_eval)
-    t0 = check_number(theta0, "theta0", low=-0.5 * np.pi, high=0.5 * np.pi, low_open=True,
-                      high_open=True)  # fmt: skip
-    g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
-    m = check_number(mu, "mu", low=0.0)
-    opts = _options(te, tangential_mass, num, rtol, atol, max_steps, jump_speed)
+    plain = _plain_call(theta0, gamma, mu, tangential_mass, num, rtol, atol, max_steps,
+                        jump_speed)  # fmt: skip
+    if plain is not None:  # plain scalars in range skip the array checks (same values)
+        t0, g, m, opts = plain
+    else:
+        t0, g, m, opts = _checked_call(
+            te, theta0, gamma, mu, tangential_mass, num, rtol, atol, max_steps, jump_speed
+        )
     if not isinstance(method, str) or method not in ("radau", "exponential"):
         raise ValueError(f"method must be 'radau' or 'exponential', got {show(method)}")
     deg = opts.num
@@ -322,7 +338,7 @@ def simulate_pillar(
             num=deg,
         )
         a = float(last._map) if np.isfinite(last._map) else 0.0
-    before = float(np.nextafter(te[0], -np.inf))
+    before = math.nextafter(float(te[0]), -math.inf)
     start: tuple[float, FloatArray] | None = None
     if initial is None and lam_sig.at_start(before) == 0.0 and tip_sig.at_start(before) == 0.0:
         pass  # no load before the start: the straight pillar theta = theta0 (start None)
@@ -352,6 +368,66 @@ def simulate_pillar(
         start = (float(initial._map), np.asarray(initial._coefs, dtype=np.float64).reshape(3, -1))
     job = _Job(te, opts, t0, g, m, a, start, lam_sig, tip_sig, prof, method == "exponential")
     return _run(job)
+
+
+def _checked_call(
+    te: FloatArray,
+    theta0: Any,
+    gamma: Any,
+    mu: Any,
+    tangential_mass: Any,
+    num: Any,
+    rtol: Any,
+    atol: Any,
+    max_steps: Any,
+    jump_speed: Any,
+) -> tuple[float, float, float, _Options]:
+    """(theta0, gamma, mu, options) by the full checks, each error naming its parameter."""
+    t0 = check_number(theta0, "theta0", low=-0.5 * np.pi, high=0.5 * np.pi, low_open=True,
+                      high_open=True)  # fmt: skip
+    g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
+    m = check_number(mu, "mu", low=0.0)
+    return t0, g, m, _options(te, tangential_mass, num, rtol, atol, max_steps, jump_speed)
+
+
+_HALF_PI = 0.5 * np.pi
+_MAX_STEPS = 10**12
+
+
+def _plain_call(
+    theta0: Any,
+    gamma: Any,
+    mu: Any,
+    tangential_mass: Any,
+    num: Any,
+    rtol: Any,
+    atol: Any,
+    max_steps: Any,
+    jump_speed: Any,
+) -> tuple[float, float, float, _Options] | None:
+    """:func:`_checked_call`'s values where every input is a plain number (float, numpy
+    float64, a bounded int; ``num`` and ``max_steps`` ints) within its range, else None (then
+    the full checks run, with their messages): the scalar call skips numpy."""
+    t0, g, m, chi = _scalar(theta0), _scalar(gamma), _scalar(mu), _scalar(tangential_mass)
+    rt, at = _scalar(rtol), _scalar(atol)
+    jump = 0.0 if jump_speed is None else _scalar(jump_speed)
+    if t0 is None or g is None or m is None or chi is None or rt is None or at is None:
+        return None
+    if jump is None or type(num) is not int or type(max_steps) is not int:
+        return None
+    if (
+        -_HALF_PI < t0 < _HALF_PI
+        and 0.0 < g <= 1.0
+        and 0.0 <= m < math.inf
+        and 0.0 < chi <= 1.0
+        and 0.0 < rt < math.inf
+        and 0.0 < at < math.inf
+        and (jump_speed is None or 0.0 < jump < math.inf)
+        and 8 <= num <= 128
+        and 1 <= max_steps <= _MAX_STEPS
+    ):
+        return t0, g, m, _Options(chi, num, rt, at, max_steps, jump)
+    return None
 
 
 def _forward_map(lam: float, theta0: float, tip: float, prof: FloatArray) -> float | None:
@@ -413,6 +489,10 @@ def _no_start(lam: float, tip: float, why: Any) -> str:
 
 
 def _checked_times(t_eval: ArrayLike) -> FloatArray:
+    if type(t_eval) is np.ndarray and t_eval.dtype == np.float64 and t_eval.size:
+        te = t_eval.astype(np.float64).reshape(-1)  # a copy, as as_float_array's
+        if np.isfinite(te).all() and not (np.diff(te) < 0.0).any():
+            return te  # a float array in order: the checks below would pass
     te = as_float_array(t_eval, "t_eval").reshape(-1)
     if te.size < 1:
         raise ValueError("t_eval must hold at least one time")
@@ -480,8 +560,7 @@ def _run(job: _Job) -> PillarTrajectory:
     else:
         smap, scoef = job.start
         y0[:n] = np.asarray(_shape_at(np.array([smap]), scoef[:, None, :], (1,), ss)[3])[0, 1:deg]
-    srow = -dd[deg, :] / dd[deg, deg]
-    srow[deg] = 0.0
+    srow = _tip_row(deg, job.a)
     lam_sig, tip_sig = job.lam_sig, job.tip_sig
     drives = np.stack([lam_sig.row(), tip_sig.row()])
     tk = max(lam_sig.times.size, tip_sig.times.size, 1)
