@@ -93,3 +93,67 @@ def test_the_pillar_moves_beside_its_bode_view(browser, server, shots):  # noqa:
     assert "Traceback" not in server[2].read_text()
     hosts = {u.split("/")[2] for u in browser.requests if u.startswith(("http", "ws"))}
     assert hosts == {server[0].split("/")[2]}, hosts
+
+
+LISSAJOUS = QUERY + "&side_view=lissajous&bed_kappa=1&bed_eps=0.5"
+_DOT_JS = """() => {
+  const doc = Bokeh.documents[0];
+  const dot = doc.get_model_by_name('hb-liss-dot');
+  const rate = doc.get_model_by_name('hb-liss-rate-dot');
+  if (!dot || !rate || dot.data.x.length === 0) return null;
+  return {x: dot.data.x[0], y: dot.data.y[0], rate: rate.data.x[0], yr: rate.data.y[0]};
+}"""
+
+
+def _lissajous(page) -> dict[str, str]:
+    return dict(
+        page.locator("table.hb-lissajous-table td[data-field]").evaluate_all(
+            "els => els.map(e => [e.dataset.field, e.textContent])"
+        )
+    )
+
+
+def test_the_bed_lissajous_view_beside_the_drive(browser, server, shots):  # noqa: F811
+    """The Lissajous view (the same server as the Bode view's test): the library's measures,
+    the point moving on the curve in step with the pillar, the URL state, back to Bode."""
+    from hairbed.rheometer import large_amplitude_shear
+
+    page = browser.new_page()
+    page.goto(server[0] + LISSAJOUS, timeout=300e3)  # the server's first periodic state
+    cells = _until(lambda: _lissajous(page).get("large_modulus") and _lissajous(page), "LAOS")
+    # the bed whose top wall is driven by the pillar's forcing 8 + 1 sin(3 t): gamma0 = 1/3
+    r = large_amplitude_shear(3.0, 1.0 / 3.0, eps=0.5, kappa=1.0, theta0=0.3, forcing=8.0,
+                              samples=48)  # fmt: skip
+    assert r.analysis is not None
+    assert float(cells["strain_amplitude"]) == pytest.approx(1.0 / 3.0, rel=1e-11)
+    for key in ("large_modulus", "minimum_modulus", "large_viscosity", "minimum_viscosity"):
+        assert float(cells[key]) == pytest.approx(getattr(r.analysis, key), rel=1e-11), key
+    # the point moves, each position on the period's strain and stress, the wall's forcing
+    # in phase with the pillar: omega2 = 8 + kappa x strain rate stays within 8 +- 1
+    first = _until(lambda: page.evaluate(_DOT_JS), "the Lissajous point")
+    page.wait_for_timeout(300)
+    second = page.evaluate(_DOT_JS)
+    assert (second["x"], second["y"]) != (first["x"], first["y"])
+    for shot in (first, second):
+        assert shot["y"] == shot["yr"]
+        assert min(r.stress) - 1e-12 <= shot["y"] <= max(r.stress) + 1e-12
+        assert abs(shot["x"]) <= 1.0 / 3.0 + 1e-12 and abs(shot["rate"]) <= 1.0 + 1e-12
+        assert (3.0 * shot["x"]) ** 2 + shot["rate"] ** 2 == pytest.approx(1.0, rel=1e-9)
+    assert page.locator(".hb-drive-bode").is_hidden()
+    page.screenshot(path=str(shots / "explorer-pillar-lissajous.png"), full_page=True)
+    args = _search(page)
+    want = {"pillar_view": "drive", "side_view": "lissajous", "bed_kappa": "1", "bed_eps": "0.5"}
+    assert {k: args.get(k) for k in want} == want
+    # a bad kappa: the library's message, the last good view kept
+    _type(page, "bed_kappa", "0")
+    assert "bed_kappa" in _until(lambda: _error_text(page), "the error message")
+    _type(page, "bed_kappa", "1")
+    _until(lambda: not _error_text(page), "the error cleared")
+    # back to the Bode view: the bed's keys leave the URL
+    page.locator(".hb-side-view button", has_text="Bode").click()
+    _until(lambda: _search(page).get("side_view") == "bode", "the Bode view in the URL")
+    assert "bed_kappa" not in _search(page)
+    _until(lambda: page.locator(".hb-drive-lissajous").is_hidden(), "the Lissajous view hidden")
+    page.close()
+    time.sleep(1.0)
+    assert "Traceback" not in server[2].read_text()
