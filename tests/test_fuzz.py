@@ -1874,15 +1874,20 @@ COMMANDS: dict[str, tuple[list[str], tuple[str, ...]]] = {
         ["valve", "--pressure-drop=200", "--channel-length=0.01", "--diodicity", *BED_ARGS],
         ("--pressure-drop", "--channel-length"),
     ),
+    "rheometer-laos": (
+        ["rheometer", "--laos=0.1", "--frequencies=1", "--samples=16", *BED_ARGS],
+        ("--laos", "--samples"),
+    ),
     "figures": (
         ["figures", "--out=figs", "--quiet", "--only", "model", "--dpi=20"],
         ("--dpi", "--set=eps"),
     ),
 }
-#: Commands fuzzed from the catalogue only (each accepted value draws a figure, ~1 s); not
+#: Commands fuzzed from the catalogue only (each accepted value draws a figure or runs a
+#: large-amplitude shear, ~1 s); not
 #: fuzzed at all: bench (every accepted value runs the benchmark), explore (serves until
 #: stopped), demo (no input), calibrate (its CSV data is covered in test_cli_calibration).
-CATALOGUE_ONLY = ("figures",)
+CATALOGUE_ONLY = ("figures", "rheometer-laos")
 #: Command-line spellings of the hostile classes.
 CLI_VALUES: list[tuple[str, str]] = [
     ("nan", "nan"),
