@@ -1342,6 +1342,16 @@ NEW_TARGETS += [
         dict(velocity=0.01, pressure_gradient=[100.0, 500.0]),
     ),
     Target(
+        "HairBed.linear_velocity_from_tip_deflection[array]",
+        _method(ARRAY_BED, "linear_velocity_from_tip_deflection"),
+        dict(deflection=[3e-4, 1e-4]),
+    ),
+    Target(
+        "HairBed.velocity_from_wall_shear_stress[array]",
+        _method(ARRAY_BED, "velocity_from_wall_shear_stress"),
+        dict(wall_shear_stress=[1.0, 20.0]),
+    ),
+    Target(
         "valve.valve_curve[array]",
         hairbed.valve.valve_curve,
         dict(bed=ARRAY_BED, pressure_drop=100.0, channel_length=0.01),

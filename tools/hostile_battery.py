@@ -972,6 +972,19 @@ def _periodic_targets() -> list[Target]:
             dict(pressure_drop=100.0, channel_length=0.01),
             edges={"pressure_drop": [[-100.0, 100.0]]},
         ),
+        *(
+            Target(
+                f"HairBed[array].{meth}",
+                lambda _m=meth, **kw: getattr(beds, _m)(**kw),
+                {arg: value},
+                edges={arg: [[value, 2.0 * value], 0.0, [[value], [2.0 * value]]]},
+            )
+            for meth, arg, value in (
+                ("linear_velocity_from_tip_deflection", "deflection", 3e-4),
+                ("linear_wall_shear_stress_from_tip_deflection", "deflection", 3e-4),
+                ("velocity_from_wall_shear_stress", "wall_shear_stress", 1.0),
+            )
+        ),
         Target(
             "Pillar[array]",
             lambda **kw: hairbed.Pillar(**kw),
