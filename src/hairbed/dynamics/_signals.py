@@ -8,6 +8,7 @@ of the run and interpolated the same way.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -15,6 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._core.solver import _scalar
 from .._core.validation import as_float_array, check_number, show
 
 __all__ = [
@@ -79,6 +81,8 @@ class Signal:
 
     def at_start(self, t0: float) -> float:
         """d(t0)."""
+        if type(t0) is float and math.isfinite(t0):  # a plain time: check_number's value
+            return float(self(t0))
         return float(self(check_number(t0, "t0")))
 
 
@@ -170,10 +174,12 @@ MAX_DRIVE = 1e100
 
 def _peak(sig: Signal) -> float:
     """The largest magnitude of the signal's levels (see :data:`MAX_DRIVE`)."""
+    if sig.kind == "sampled":
+        return float(np.max(np.abs(sig.values)))
+    if sig.kind == "constant":
+        return abs(float(sig.params[0]))
     p = np.abs(np.asarray(sig.params, dtype=np.float64))
     with np.errstate(over="ignore"):
-        if sig.kind == "sampled":
-            return float(np.max(np.abs(sig.values)))
         if sig.kind == "sine":  # mean +- amplitude
             return float(p[0] + p[1])
         if sig.kind == "pulses":  # base, and base + height
@@ -199,6 +205,9 @@ def as_signal(value: Any, name: str, t0: float, t1: float) -> Signal:
         return value
     if callable(value):
         return _from_callable(value, name, t0, t1)
+    x = _scalar(value)
+    if x is not None and math.isfinite(x):  # a plain number: the checks' value, no numpy
+        return Signal("constant", (x,), _EMPTY, _EMPTY)
     if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
         return constant(check_number(value, name))
     raise TypeError(
