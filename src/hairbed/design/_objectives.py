@@ -1026,7 +1026,7 @@ def resonance_frequency(wall_shear_stress: float, pillar_density: float) -> Quan
         d_im = _comb(
             (1.0, _d_state(p, g.imag[:3], lam, d_ln_k, d_gamma)),
             (float(g.imag[3]) * mu, d_ln_mu),
-            (-float(g.imag[4]) * rho_s / (rho_s + rho_f) ** 2, {"density": 1.0}),
+            (-float(g.imag[4]) * chi / (rho_s + rho_f), {"density": 1.0}),  # d chi/d rho_f
         )
         return value, _comb((1.0 / (2.0 * math.pi * t_scale), d_im), (-value, d_ln_t))
 

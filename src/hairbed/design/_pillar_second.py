@@ -30,6 +30,7 @@ written over jets, whose value, Jacobian and partials agree with the kernels'
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -393,26 +394,37 @@ def mode_gradient(
     jr, br, mr = red(jac, smat), red(damp, smat), red(mass, smat)
     n = num - 1
     zero = np.zeros((n, n))
+    # with inertia on sigma = c lambda, c = sqrt(mu) where mu > 1, as LinearPillar.modes: the
+    # damping block B/c then shrinks instead of the mass block mu M growing (QZ keeps the
+    # decay rate ~1/(2 mu); unscaled, mu = 1e30 had no finite eigenvalue)
+    c = math.sqrt(mu) if mu > 1.0 else 1.0
     if mu == 0.0:
         a_mat, e_mat = jr, br
     else:
-        a_mat = np.block([[zero, np.eye(n)], [jr, -br]])
-        e_mat = np.block([[np.eye(n), zero], [zero, mu * mr]])
+        a_mat = np.block([[zero, np.eye(n)], [jr, -br / c]])
+        e_mat = np.block([[np.eye(n), zero], [zero, (mu / c**2) * mr]])
     lam_all, left, right = scipy.linalg.eig(a_mat, e_mat, left=True, right=True)
     fin = np.flatnonzero(np.isfinite(lam_all))
+    if fin.size == 0:
+        raise ArithmeticError(f"no finite mode of the pillar at the inertia number mu = {mu:.4g}")
     size = np.array([float(f"{x:.10g}") for x in np.abs(lam_all[fin])])
     i = fin[np.lexsort((-lam_all[fin].imag, size))][0]
-    lam1 = complex(lam_all[i])
+    sigma1 = complex(lam_all[i])
+    lam1 = sigma1 / c
     w, v = left[:, i], right[:, i]
     denom = np.conj(w) @ e_mat @ v
 
     def rate(da: FloatArray, de: FloatArray) -> complex:
-        return complex((np.conj(w) @ (da - lam1 * de) @ v) / denom)
+        """d sigma of the (scaled) pencil's da, de: d lambda = d sigma/c."""
+        return complex((np.conj(w) @ (da - sigma1 * de) @ v) / denom)
 
     def pencil(djr: FloatArray, dbr: FloatArray, dmr: FloatArray) -> tuple[Any, Any]:
         if mu == 0.0:
             return djr, dbr
-        return np.block([[zero, zero], [djr, -dbr]]), np.block([[zero, zero], [zero, dmr]])
+        return (
+            np.block([[zero, zero], [djr, -dbr / c]]),
+            np.block([[zero, zero], [zero, dmr / c**2]]),
+        )
 
     grad = np.zeros(5, dtype=np.complex128)
     for k in range(4):
@@ -424,7 +436,10 @@ def mode_gradient(
         if mu == 0.0 and k == 3:
             continue  # no inertia: chi does not enter
         idx = k if k < 3 else 4
-        grad[idx] = rate(*pencil(djr, dbr, dmr))
-    if mu != 0.0:
+        grad[idx] = rate(*pencil(djr, dbr, dmr)) / c
+    if mu != 0.0 and c == 1.0:
         grad[3] = rate(np.zeros_like(a_mat), np.block([[zero, zero], [zero, mr]]))
+    elif mu != 0.0:  # A's block -B/sqrt(mu) and lambda = sigma/sqrt(mu) both move with mu
+        d_sigma = rate(np.block([[zero, zero], [zero, br / (2.0 * mu * c)]]), np.zeros_like(e_mat))
+        grad[3] = d_sigma / c - sigma1 / (2.0 * mu * c)
     return lam1, grad
