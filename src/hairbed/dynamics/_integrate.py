@@ -562,15 +562,17 @@ def _run(job: _Job) -> PillarTrajectory:
         y0[:n] = np.asarray(_shape_at(np.array([smap]), scoef[:, None, :], (1,), ss)[3])[0, 1:deg]
     srow = _tip_row(deg, job.a)
     lam_sig, tip_sig = job.lam_sig, job.tip_sig
-    drives = np.stack([lam_sig.row(), tip_sig.row()])
+    drives = np.array([lam_sig.row(), tip_sig.row()])
     tk = max(lam_sig.times.size, tip_sig.times.size, 1)
     tabs = np.zeros((4, tk))
     for r, sig in ((0, lam_sig), (2, tip_sig)):
-        if sig.times.size:
-            tabs[r, : sig.times.size] = sig.times
-            tabs[r + 1, : sig.times.size] = sig.values
-            tabs[r, sig.times.size :] = sig.times[-1] + np.arange(1, tk - sig.times.size + 1)
-            tabs[r + 1, sig.times.size :] = sig.values[-1]
+        k = sig.times.size
+        if k:
+            tabs[r, :k] = sig.times
+            tabs[r + 1, :k] = sig.values
+            if k < tk:  # held past its last sample
+                tabs[r, k:] = sig.times[-1] + np.arange(1, tk - k + 1)
+                tabs[r + 1, k:] = sig.values[-1]
         else:
             tabs[r] = np.arange(tk, dtype=np.float64)
     y_out = np.full((te.size, size), np.nan)
@@ -608,8 +610,9 @@ def _run(job: _Job) -> PillarTrajectory:
     theta[:, 0] = t0
     theta[:, 1:deg] = y_out[:, :n]
     theta[:, deg] = theta[:, :deg] @ srow[:deg]
-    good = np.all(np.isfinite(y_out), axis=1)
-    theta[~good] = np.nan
+    good = np.isfinite(y_out).all(axis=1)
+    if not good.all():  # past an event or a failure
+        theta[~good] = np.nan
     if m == 0.0:  # the rates of the overdamped state: f(t, y)
         ws = kern.workspace(deg)
         f = np.empty(size)

@@ -66,11 +66,11 @@ class Signal:
 
     def __call__(self, t: ArrayLike) -> Any:
         """d(t) [-] at the times t (the compiled evaluation the integrator uses)."""
-        from .._core._kernels import dynamics as kern
-
         tv = np.asarray(t, dtype=np.float64)
         if self.kind == "constant":
             return np.full(tv.shape, self.params[0]) if tv.ndim else float(self.params[0])
+        from .._core._kernels import dynamics as kern
+
         row = self.row()
         kind, pars = int(row[0]), row[1:]
         tt, vv = (self.times, self.values) if self.times.size else (_ZERO, _ZERO)
