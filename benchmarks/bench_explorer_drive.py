@@ -22,6 +22,10 @@ The update that computes a new animation (the nonlinear run to the periodic stat
 view; hundreds of ms to seconds) happens once per change of an input, not per frame; its
 time is row 3.
 
+Each row is measured for both views beside the animation (``--side-views``): the pillar's
+Bode view, and the Lissajous view of a bed in a rheometer, whose frame also moves the bed's
+point on its two Lissajous curves (the figures' keys prefixed ``lissajous_``).
+
 Run: ``python benchmarks/bench_explorer_drive.py [--seconds S] [--json PATH]``. Needs the
 ``app`` extra and /usr/bin/chromium (``HAIRBED_CHROMIUM`` names another).
 """
@@ -47,6 +51,8 @@ import numpy as np
 __all__ = ["main", "run"]
 
 QUERY = "?mode=pillar&pillar_view=drive&forcing=8&pillar_theta0=0.3&amplitude=1&frequency=3&mu=1"
+#: The views beside the animation and their queries.
+QUERIES = {"bode": QUERY, "lissajous": QUERY + "&side_view=lissajous&bed_kappa=1&bed_eps=0.5"}
 CHROMIUM = os.environ.get("HAIRBED_CHROMIUM", "/usr/bin/chromium")
 CHROMIUM_ARGS = [
     "--no-sandbox",
@@ -73,11 +79,11 @@ def _error(page: Any) -> str:
     return (alert.text_content() or "") if alert.is_visible() else ""
 
 
-def in_process(frames: int) -> dict[str, float]:
+def in_process(frames: int, query: str = QUERY) -> dict[str, float]:
     """Row 1 and row 3: ``next_frame`` without a server, and the update's time."""
     from hairbed.explorer._page import ExplorerPage
 
-    page = ExplorerPage(QUERY, served=False)  # the kernels compiled (or loaded) here
+    page = ExplorerPage(query, served=False)  # the kernels compiled (or loaded) here
     page.text["amplitude"].value = "0.9"  # a new animation: the update's own time
     if page.errors:
         raise RuntimeError(str(page.errors))
@@ -116,12 +122,14 @@ def _wait_served(base: str, proc: Any, err: Path) -> None:
         time.sleep(0.5)
 
 
-def _sessions(ctx: Any, base: str, n: int, seconds: float) -> list[dict[str, Any]]:
+def _sessions(
+    ctx: Any, base: str, n: int, seconds: float, query: str = QUERY
+) -> list[dict[str, Any]]:
     """n pages at once in the drive view for ``seconds`` after each shows its readout: each
     one's readout (the frame times the server measured) and its error text."""
     pages = [ctx.new_page() for _ in range(n)]
     for p in pages:
-        p.goto(base + QUERY)
+        p.goto(base + query)
     for p in pages:
         p.locator("table.hb-drive-table td[data-field='linear_gain']").wait_for(timeout=300e3)
     time.sleep(seconds)
@@ -142,7 +150,7 @@ def _sessions(ctx: Any, base: str, n: int, seconds: float) -> list[dict[str, Any
     return out
 
 
-def served(seconds: float) -> dict[str, Any]:
+def served(seconds: float, query: str = QUERY) -> dict[str, Any]:
     """Row 2: one session, then 8 at once, served and animating in Chromium."""
     from playwright.sync_api import sync_playwright
 
@@ -166,8 +174,8 @@ def served(seconds: float) -> dict[str, Any]:
                     args=CHROMIUM_ARGS,
                     viewport={"width": 1400, "height": 1200},
                 )
-                one = _sessions(ctx, base, 1, seconds)[0]
-                eight = _sessions(ctx, base, 8, seconds)
+                one = _sessions(ctx, base, 1, seconds, query)[0]
+                eight = _sessions(ctx, base, 8, seconds, query)
                 ctx.close()
         finally:
             proc.send_signal(signal.SIGINT)
@@ -198,11 +206,16 @@ def served(seconds: float) -> dict[str, Any]:
     }
 
 
-def run(frames: int = 1000, seconds: float = 12.0) -> dict[str, Any]:
-    """Every figure (a dict of plain numbers)."""
-    out: dict[str, Any] = {"frames": frames, "seconds": seconds}
-    out.update(in_process(frames))
-    out.update(served(seconds))
+def run(
+    frames: int = 1000, seconds: float = 12.0, side_views: Sequence[str] = tuple(QUERIES)
+) -> dict[str, Any]:
+    """Every figure (a dict of plain numbers; the Lissajous view's keys prefixed
+    ``lissajous_``)."""
+    out: dict[str, Any] = {"frames": frames, "seconds": seconds, "side_views": list(side_views)}
+    for view in side_views:
+        pre = "" if view == "bode" else f"{view}_"
+        got = {**in_process(frames, QUERIES[view]), **served(seconds, QUERIES[view])}
+        out.update({pre + k: v for k, v in got.items()})
     out["load_average"] = os.getloadavg()[0]
     return out
 
@@ -212,8 +225,27 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--frames", type=int, default=1000)
     parser.add_argument("--seconds", type=float, default=12.0)
     parser.add_argument("--json", help="write the figures to this file")
+    parser.add_argument(
+        "--side-views", default="bode,lissajous", help="the views beside the animation, A,B"
+    )
     args = parser.parse_args(argv)
-    f = run(args.frames, args.seconds)
+    views = [v.strip() for v in args.side_views.split(",") if v.strip()]
+    unknown = [v for v in views if v not in QUERIES]
+    if unknown or not views:
+        parser.error(f"--side-views: one or more of {', '.join(QUERIES)}, got {args.side_views!r}")
+    g = run(args.frames, args.seconds, views)
+    for view in views:
+        pre = "" if view == "bode" else f"{view}_"
+        print(f"-- the {view} view beside the animation")
+        _print_rows({k[len(pre) :]: v for k, v in g.items() if k.startswith(pre)} | {
+            "load_average": g["load_average"]})  # fmt: skip
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump(g, fh, indent=2)
+    return 0
+
+
+def _print_rows(f: dict[str, Any]) -> None:
     rows = [
         ("in process, next_frame p50 / p90 [ms]",
          f"{f['frame_p50_ms']:.3f} / {f['frame_p90_ms']:.3f}"),
@@ -235,10 +267,6 @@ def main(argv: Sequence[str] | None = None) -> int:
     width = max(len(r[0]) for r in rows)
     for name, value in rows:
         print(f"{name:<{width}}  {value}")
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(f, fh, indent=2)
-    return 0
 
 
 if __name__ == "__main__":
