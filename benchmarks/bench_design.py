@@ -22,7 +22,10 @@ Rows:
    ``valve_curve`` at +-dp; the rectified net flow (``net_flow``, a porous bed pumped
    at 2 kPa, omega T = 1) over its periodic state alone (``periodic_bed``); the
    snap-through window of a pillar tilted upstream, its folds
-   followed from a neighbour (value and gradient) against the branch's scan [ms];
+   followed from a neighbour (value and gradient) against the branch's scan [ms]; every
+   other built-in quantity's value+gradient over the library's value alone
+   (:data:`OTHERS`, :func:`_other_ratios`; the closed forms' values are attributes of a
+   fraction of a microsecond, their ratios Python's call overhead);
 5. the linear range's value: Newton's method from a neighbour's root (10 pillars 0.2 %
    apart in length, after the first's scan) against :meth:`Pillar.linear_range`'s scan [ms].
 
@@ -52,9 +55,12 @@ from bench_common import report  # noqa: E402
 from hairbed import HairBed, Pillar  # noqa: E402
 from hairbed import design as D  # noqa: E402
 from hairbed._bed_scales import _scales  # noqa: E402
+from hairbed.branches import bistable_window  # noqa: E402
 from hairbed.design import _objectives  # noqa: E402
 from hairbed.design._linear_range import LinearRangeTracker  # noqa: E402
 from hairbed.design._net_flow import pumped_orbit  # noqa: E402
+from hairbed.design._objectives import _pillar_groups  # noqa: E402
+from hairbed.design._pillar_window import WindowTracker  # noqa: E402
 from hairbed.dynamics import linearise_pillar  # noqa: E402
 from hairbed.valve import diodicity, valve_curve  # noqa: E402
 
@@ -85,6 +91,83 @@ def _models() -> tuple[HairBed, Pillar]:
         pillar = Pillar(length=500e-6, radius=25e-6, youngs_modulus=1e6, viscosity=0.1,
                         density=1000.0)  # fmt: skip
     return bed, pillar
+
+
+#: The rows of :func:`_other_ratios`: (key, label).
+OTHERS = (
+    ("resistance_ratio", "resistance ratio (dense)"),
+    ("porous_resistance_ratio", "porous resistance ratio"),
+    ("gap_reynolds", "gap Reynolds number"),
+    ("bistable_width", "bistable width"),
+    ("brinkman_ratio", "Brinkman ratio (closed form)"),
+    ("linear_sensitivity", "linear sensitivity (closed form)"),
+    ("l_plus", "L+ (closed form)"),
+    ("slenderness", "slenderness (closed form)"),
+    ("pillar_reynolds", "pillar Reynolds number"),
+    ("snap_window_scanned", "snap window, scanned"),
+)
+
+
+def _other_ratios(
+    bed: HairBed,
+    pillar: Pillar,
+    porous: HairBed,
+    snap: Pillar,
+    gam_snap: float,
+    ratio: Any,
+    repeat: int,
+) -> dict[str, tuple[float, float, float]]:
+    """(value+gradient [s], value [s], their ratio) of the quantities of :data:`OTHERS`, each
+    against the library's own value: a valve state at the one drop (``valve_curve``), the
+    bistable window (``bistable_window``), the pillar's state (``deform``), the attributes
+    of the closed forms (microseconds: the ratio there is Python's call overhead), the snap
+    window's folds by a fresh scan (``WindowTracker.folds``) against a fresh quantity."""
+    bi = HairBed(length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=1.05e-3,
+                 viscosity=1.0, spacing=250e-6, base_angle=-1.0, density=1200.0)  # fmt: skip
+    dense_drop = np.array([1000.0])
+    q_rr, q_prr = D.resistance_ratio(1000.0, 0.01), D.resistance_ratio(300.0, 0.01)
+    q_re, q_bi, q_br = D.gap_reynolds(1000.0, 0.01), D.bistable_width(), D.brinkman_ratio()
+    q_ls, q_lp, q_sl = D.linear_sensitivity(), D.l_plus(0.5), D.slenderness()
+    q_pr = D.pillar_reynolds(0.5)
+    fast = 2000  # closed forms: microseconds a call
+    return {
+        "resistance_ratio": ratio(
+            lambda: q_rr.evaluate(bed),
+            lambda: valve_curve(bed, dense_drop, 0.01).resistance_ratio,
+        ),
+        "porous_resistance_ratio": ratio(
+            lambda: q_prr.evaluate(porous),
+            lambda: valve_curve(porous, np.array([300.0]), 0.01).resistance_ratio,
+        ),
+        "gap_reynolds": ratio(
+            lambda: q_re.evaluate(bed), lambda: valve_curve(bed, dense_drop, 0.01).tip_height
+        ),
+        "bistable_width": ratio(
+            lambda: q_bi.evaluate(bi), lambda: bistable_window(bi.eps, bi.base_angle)
+        ),
+        "brinkman_ratio": ratio(
+            lambda: q_br.evaluate(bed), lambda: bed.brinkman_length / bed.length, n=fast
+        ),
+        "linear_sensitivity": ratio(
+            lambda: q_ls.evaluate(pillar),
+            lambda: pillar.length * pillar.linear_coefficient * pillar.forcing_per_stress,
+            n=fast,
+        ),
+        "l_plus": ratio(
+            lambda: q_lp.evaluate(pillar), lambda: pillar._l_plus(np.asarray(0.5)), n=fast
+        ),
+        "slenderness": ratio(lambda: q_sl.evaluate(pillar), lambda: pillar.slenderness, n=fast),
+        "pillar_reynolds": ratio(
+            lambda: q_pr.evaluate(pillar), lambda: pillar.deform(0.5).tip_height
+        ),
+        "snap_window_scanned": ratio(
+            lambda: D.snap_window().evaluate(snap),
+            lambda: WindowTracker(snap._core_profile, snap.height_ratio).folds(
+                snap.base_angle, gam_snap
+            ),
+            n=1,
+        ),
+    }
 
 
 def run(repeat: int = 3) -> dict[str, Any]:
@@ -203,6 +286,9 @@ def run(repeat: int = 3) -> dict[str, Any]:
 
         t_wfollow, _ = best(window_follow, repeat)
         t_wscan, _ = best(window_scan, repeat)
+        # every other built-in quantity: value+gradient over the library's value alone
+        gam_snap = _pillar_groups(snap)[2]
+        others = _other_ratios(bed, pillar, porous, snap, gam_snap, ratio, repeat)
         tracker = q_lin._tracker  # type: ignore[attr-defined]
         lin = ratio(
             lambda: q_lin._evaluate.__wrapped__(pillar, "spacing"),  # type: ignore[attr-defined]
@@ -270,6 +356,9 @@ def run(repeat: int = 3) -> dict[str, Any]:
         "linear_range_ratio": lin[2],
         "linear_range_newton_ms": (t_follow - t_scan / 11) / 10 * 1e3,
         "linear_range_scan_ms": t_scan / 11 * 1e3,
+        **{f"{k}_grad_ms": v[0] * 1e3 for k, v in others.items()},
+        **{f"{k}_value_ms": v[1] * 1e3 for k, v in others.items()},
+        **{f"{k}_ratio": v[2] for k, v in others.items()},
     }
 
 
@@ -317,6 +406,9 @@ def main(argv: list[str] | None = None) -> None:
         ("linear range: value+gradient / value",
          f"{f['linear_range_ratio']:.2f}  ({f['linear_range_grad_ms']:.1f} / "
          f"{f['linear_range_value_ms']:.1f} ms)"),
+        *[(f"{label}: value+gradient / value (target <= 3)",
+           f"{f[key + '_ratio']:.2f}  ({f[key + '_grad_ms']:.4g} / "
+           f"{f[key + '_value_ms']:.4g} ms)") for key, label in OTHERS],
         ("linear range: Newton from a neighbour / full scan [ms]",
          f"{f['linear_range_newton_ms']:.1f} / {f['linear_range_scan_ms']:.1f}"),
         ("load average (1, 5, 15 min) at the end",
