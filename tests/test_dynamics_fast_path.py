@@ -171,3 +171,19 @@ def test_fifty_runs_through_either_path_are_the_same_to_the_bit() -> None:
         for name in FIELDS:
             a, b = getattr(fast, name), getattr(slow, name)
             assert a.dtype == b.dtype and a.tobytes() == b.tobytes(), (i, name)
+
+
+def test_a_callables_sample_times_are_linspaces_and_its_own() -> None:
+    from hairbed.dynamics import CALLABLE_SAMPLES
+
+    def scribbler(t: np.ndarray) -> np.ndarray:
+        out = np.sin(t)
+        t[:] = 0.0  # writes to its argument
+        return out
+
+    for t0, t1 in ((0.0, 2.0), (-0.0, 2.0), (1e3, 1e3 + 0.5)):
+        for _ in range(2):  # built, then taken from the cache
+            sig = as_signal(scribbler, "forcing", t0, t1)
+            ref = np.linspace(t0, t1, CALLABLE_SAMPLES)
+            assert sig.times.tobytes() == ref.tobytes() and sig.times.flags.writeable
+            assert sig.values.tobytes() == np.sin(ref).tobytes()

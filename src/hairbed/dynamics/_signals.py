@@ -8,6 +8,7 @@ of the run and interpolated the same way.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -216,10 +217,21 @@ def as_signal(value: Any, name: str, t0: float, t1: float) -> Signal:
     )
 
 
-def _from_callable(func: Callable[..., Any], name: str, t0: float, t1: float) -> Signal:
+@functools.lru_cache(maxsize=16)
+def _sample_times(t0: float, t1: float, s0: float, s1: float) -> tuple[FloatArray, bool]:
+    """A callable's sample times over [t0, t1] (read-only, shared: copy them) and whether
+    they are distinct, built once per span (s0, s1: the signs of t0, t1, so that -0.0 is
+    not 0.0's entry)."""
     tt = np.linspace(t0, t1, CALLABLE_SAMPLES)
+    tt.setflags(write=False)
+    return tt, bool(np.all(tt[1:] > tt[:-1]))
+
+
+def _from_callable(func: Callable[..., Any], name: str, t0: float, t1: float) -> Signal:
+    shared, distinct = _sample_times(t0, t1, math.copysign(1.0, t0), math.copysign(1.0, t1))
+    tt = shared.copy()
     try:
-        raw = func(tt)
+        raw = func(shared.copy())  # its own copy: a callable that writes to it changes no time
     except Exception as exc:  # the user's function: say whose error it is
         raise ValueError(
             f"{name}: the callable raised {type(exc).__name__}: {exc} (it is called with an "
@@ -240,7 +252,7 @@ def _from_callable(func: Callable[..., Any], name: str, t0: float, t1: float) ->
             f"{name}: the callable returned {show(float(vals[i]))} at t = {show(float(tt[i]))}"
         )
     # the samples are checked: what :func:`sampled` would check again is the times alone
-    if not np.all(tt[1:] > tt[:-1]):
+    if not distinct:
         raise ValueError(
             f"{name}: the run's span [{show(t0)}, {show(t1)}] is too short at its magnitude "
             f"for {CALLABLE_SAMPLES} distinct sample times of the callable; pass a "
