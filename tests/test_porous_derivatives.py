@@ -58,3 +58,32 @@ def test_arrays_are_their_elements() -> None:
     )
     with pytest.raises(TypeError, match="PorousState"):
         porous_derivatives(hairbed.solve(2.0, 0.5))  # type: ignore[arg-type]
+
+
+def test_the_fold_check_and_the_solve() -> None:
+    """One LU per state: the solve of J du = -dR/dp column by column against the residual,
+    and a fold (kappa_1(J) >= 1e14, estimated from the factors), a zero pivot or a non-finite
+    J leave the derivatives unset (NaN, status 1)."""
+    from hairbed._core.porous_sensitivity import _solve_checked
+
+    rng = np.random.default_rng(7)
+    jac = rng.standard_normal((40, 40)) + 40.0 * np.eye(40)
+    rhs = rng.standard_normal((40, 6))
+    out = np.full((40, 6), np.nan)
+    assert _solve_checked(jac, rhs, out)
+    assert np.max(np.abs(jac @ out + rhs)) < 1e-13 * np.max(np.abs(rhs))
+    # rank one short by 1e-15 of its scale: kappa ~ 1e15, above the fold's bound
+    u, _, vt = np.linalg.svd(rng.standard_normal((40, 40)))
+    near = u @ np.diag(np.r_[np.ones(39), 1e-15]) @ vt
+    fine = u @ np.diag(np.r_[np.ones(39), 1e-12]) @ vt  # kappa ~ 1e12: below it
+    assert _solve_checked(fine, rhs, out)
+    # backward stable: the residual at rounding of |J| |x| (|x| ~ 1e12 here)
+    assert np.max(np.abs(fine @ out + rhs)) < 1e-13 * np.max(np.abs(out))
+    singular = jac.copy()
+    singular[:, 3] = singular[:, 5]
+    nan = jac.copy()
+    nan[2, 2] = np.nan
+    for bad in (near, singular, nan, np.zeros((40, 40))):
+        out = np.full((40, 6), np.nan)
+        assert not _solve_checked(bad, rhs, out)
+        assert np.all(np.isnan(out))
