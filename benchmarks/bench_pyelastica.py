@@ -27,19 +27,21 @@ r_t per unit length. The tip deflection x1 at t = 0.5, 1, 1.5 and 2 T.
   the CPU ratio is free of the load); PyElastica's first step (its numba compilation) and
   hairbed's first call are excluded. The load average is stored with the figures.
 
-Measured (one run, load 13.5 on 2 shared cores, benchmarks/results/bench_pyelastica.json),
-CPU times: hairbed 0.52 ms at 1.9e-3 (N = 8, the least simulate_pillar takes, rtol 1), 0.57
-ms at 3.9e-4 (rtol 0.1), 64 ms at 2.6e-12 (N = 16, rtol 1e-8); its compiled Radau IIA is
-half of the 0.5 ms (13 steps at rtol 0.1, 9 of them before t = 0.3 T: the climb from its
-first step 1e-6 at most 5x a step), the call's Python (validation, the callable drive
-sampled at 4097 times and the callable profile fitted, the trajectory) the other half.
-PyElastica at its cheapest stable step, numpy forcing / compiled forcing: 227 / 173 ms
-(n = 20, step 0.8), 236 / 200 ms (n = 40, 0.8), 655 / 553 ms (n = 80, 0.5), 1094 / 973 ms
-(n = 160, 0.8). The CPU-time ratio at PyElastica's accuracy: 438x / 334x (n = 20), 455x /
-386x (n = 40), 1193x / 1007x (n = 80), 1919x / 1706x (n = 160): the target holds from n = 80
-up, not at n = 20 and 40 (at a quarter of the limit, this benchmark's step before,
-PyElastica took 3.2x longer at n = 20 and 40 for the same error, and the ratios read 1022x
-to 1386x).
+Measured (one run, load 2.6 on 2 shared cores, benchmarks/results/bench_pyelastica.json),
+CPU times: hairbed 0.41 ms at 1.9e-3 (N = 8, the least simulate_pillar takes, rtol 1), 0.46
+ms at 3.9e-4 (rtol 0.1), 63 ms at 2.6e-12 (N = 16, rtol 1e-8); its compiled Radau IIA is
+0.26 ms of the 0.46 (13 steps at rtol 0.1, 9 of them before t = 0.3 T: the climb from its
+first step 1e-6 at most 5x a step), the call's Python the other 0.20 ms, of which the
+callable drive sampled at 4097 times and the callable profile fitted (the user's functions)
+are about 0.06 ms (the checks, the drives' tables and the trajectory the rest; 0.30 ms
+before the scalar fast path of f567498, b3e7fb0, 246e6d5, in one A/B run). PyElastica at
+its cheapest stable step, numpy forcing / compiled forcing: 199 / 167 ms (n = 20, step
+0.8), 226 / 191 ms (n = 40, 0.8), 600 / 529 ms (n = 80, 0.5), 1018 / 918 ms (n = 160, 0.8).
+The CPU-time ratio at PyElastica's accuracy: 485x / 406x (n = 20), 552x / 467x (n = 40),
+1357x / 1197x (n = 80), 2206x / 1990x (n = 160): the target holds from n = 80 up, not at
+n = 20 and 40, where it cannot by cutting the call's Python alone: the compiled Radau's
+0.26 ms is already 1/640 of PyElastica's 167 ms (at a quarter of the limit, this
+benchmark's step before, PyElastica took 3.2x longer at n = 20 and 40 for the same error).
 
 Run: ``python benchmarks/bench_pyelastica.py [--elements 20 40 80 160] [--json PATH]``. Without
 pyelastica it prints one line and exits 0.
