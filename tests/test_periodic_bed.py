@@ -173,3 +173,17 @@ def test_pump_net_flow_by_collocation_is_the_transient_one() -> None:
     assert col.net_flow[0, 0] > 0.0
     with pytest.raises(ValueError, match="method must be one of"):
         pump_net_flow(bed, 300.0, f, 0.01, method="shooting")
+
+
+def test_a_fine_degree_stops_at_its_rounding_not_in_failure() -> None:
+    """At N = 64 the collocation's rates carry ~eps N^4 of rounding (Newton's steps stall at
+    1.5e-9): Newton ends there instead of failing (status -1 before), and the orbit is N = 32's
+    to the collocation's accuracy."""
+    wall = sine(0.0, 1.0, 1.0)
+    coarse = periodic_bed(0.0, 1.0, 0.5, omega=1.0, wall=wall, num=32)
+    fine = periodic_bed(0.0, 1.0, 0.5, omega=1.0, wall=wall, num=64)
+    assert coarse.status == 0 and fine.status in (0, 2), fine.message
+    t = np.linspace(0.0, coarse.period, 17)
+    for name in ("tip_deflection", "wall_stress"):
+        a, b = coarse.outputs_at(t)[name], fine.outputs_at(t)[name]
+        assert np.max(np.abs(a - b)) <= 1e-9 * np.max(np.abs(a)), name

@@ -77,6 +77,10 @@ PERIODIC_STATUS: Mapping[int, str] = MappingProxyType(
     {
         0: "periodic: Newton converged and the truncation error is below tol",
         1: "Newton converged, but the highest harmonics exceed tol at max_harmonics",
+        2: (
+            "Newton converged, but the highest harmonics are the rates' rounding at this "
+            "degree num (about eps num^4), above tol: a lower num or a larger tol is met"
+        ),
         -1: "Newton did not converge (from the linear and from the quasi-static start)",
         -3: "a rate is not finite at the periodic state's phases",
         -8: "the periodic state reaches abs(theta) = pi/2 at a node (outside the model)",
@@ -340,6 +344,15 @@ def _scale(y: FloatArray) -> FloatArray:
     return 1.0 + np.max(np.abs(y), axis=0)
 
 
+_EPS = float(np.finfo(np.float64).eps)
+
+
+def _rounding_floor(num: int) -> float:
+    """The collocation's rounding level at degree ``num``: the bending rows grow like
+    num^4, so the rates carry about eps num^4 (a Newton step stalled at 1.5e-9 at num 64)."""
+    return max(1e-10, 2.0 * _EPS * float(num) ** 4)
+
+
 def _newton(
     prob: _Problem, y: FloatArray, tol: float, max_iter: int
 ) -> tuple[bool, FloatArray, int, int, bool]:
@@ -352,6 +365,7 @@ def _newton(
     prev = math.inf
     krylov = 0
     grow = 0
+    floor = _rounding_floor(prob.sys.num)
     for it in range(1, max_iter + 1):
         ok, g, jac = prob.rates(t, y, True)
         if not ok:
@@ -371,8 +385,9 @@ def _newton(
         y += step
         size = float(np.max(np.abs(step) / _scale(y)))
         # converged: the step below tol, or the error left after it (the step times the
-        # contraction rate size/prev) below tol, or the rounding floor reached
-        if size <= tol or (size * size <= tol * prev < math.inf) or (1e-10 > size >= 0.5 * prev):
+        # contraction rate size/prev) below tol, or the rounding floor reached (the rates'
+        # rounding grows like eps N^4 with the bending rows: 1.5e-9 measured at N = 64)
+        if size <= tol or (size * size <= tol * prev < math.inf) or (floor > size >= 0.5 * prev):
             return True, y, it, krylov, True
         grow = grow + 1 if size > prev else 0
         if grow >= 2:
@@ -563,6 +578,9 @@ def periodic_bed(
         err = _tail(y1)
         if err <= ptol:
             break
+        if err <= 1e-2 * _rounding_floor(deg):
+            status = 2  # more harmonics would only resolve rounding noise
+            break
         if hh >= hmax:
             status = 1
             break
@@ -724,8 +742,8 @@ def periodic_sensitivity(
     """
     if not isinstance(orbit, PeriodicBed):
         raise TypeError(f"orbit must be a PeriodicBed (periodic_bed), got {type(orbit).__name__}")
-    if orbit.status not in (0, 1):
-        raise ValueError(f"orbit must be converged (status 0 or 1), got status {orbit.status}")
+    if orbit.status not in (0, 1, 2):
+        raise ValueError(f"orbit must be converged (status 0, 1 or 2), got status {orbit.status}")
     kk, m = orbit.y.shape
     if callable(forcing):
         cols = [as_float_array(forcing(float(orbit.t[k]), orbit.y[k].copy()), "forcing")
