@@ -164,17 +164,17 @@ def _callable_coefficients(func: Callable[..., Any]) -> FloatArray:
                 f"got shape {vals.shape}"
             )
         bad = ~np.isfinite(vals)
-        if np.any(bad):
+        if bad.any():
             i = int(np.flatnonzero(bad)[0])
             raise ValueError(
                 f"profile: the callable returned {float(vals[i])!r} at z = {float(z[i])!r} "
                 f"(index {i}); it must be finite on [0, 1]"
             )
         coef = _chebyshev_fit(vals)
-        big = float(np.max(np.abs(coef)))
+        big = float(np.abs(coef).max())  # (methods: numpy's reductions, less Python)
         # resolved: the last three coefficients at the fit's rounding level (K eps max U)
-        floor = _PROFILE_TAIL * big + 4.0 * k * 2.2e-16 * float(np.max(np.abs(vals)))
-        if big == 0.0 or float(np.sum(np.abs(coef[-3:]))) <= floor:
+        floor = _PROFILE_TAIL * big + 4.0 * k * 2.2e-16 * float(np.abs(vals).max())
+        if big == 0.0 or float(np.abs(coef[-3:]).sum()) <= floor:
             keep = np.flatnonzero(np.abs(coef) > 1e-17 * max(big, 1e-300))
             return coef[: (int(keep[-1]) + 1 if keep.size else 1)].copy()
     raise ValueError(
