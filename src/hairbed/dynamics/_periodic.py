@@ -77,10 +77,6 @@ PERIODIC_STATUS: Mapping[int, str] = MappingProxyType(
     {
         0: "periodic: Newton converged and the truncation error is below tol",
         1: "Newton converged, but the highest harmonics exceed tol at max_harmonics",
-        2: (
-            "Newton converged, but the highest harmonics are the rates' rounding at this "
-            "degree num (about eps num^4), above tol: a lower num or a larger tol is met"
-        ),
         -1: "Newton did not converge (from the linear and from the quasi-static start)",
         -3: "a rate is not finite at the periodic state's phases",
         -8: "the periodic state reaches abs(theta) = pi/2 at a node (outside the model)",
@@ -578,9 +574,6 @@ def periodic_bed(
         err = _tail(y1)
         if err <= ptol:
             break
-        if err <= 1e-2 * _rounding_floor(deg):
-            status = 2  # more harmonics would only resolve rounding noise
-            break
         if hh >= hmax:
             status = 1
             break
@@ -742,8 +735,8 @@ def periodic_sensitivity(
     """
     if not isinstance(orbit, PeriodicBed):
         raise TypeError(f"orbit must be a PeriodicBed (periodic_bed), got {type(orbit).__name__}")
-    if orbit.status not in (0, 1, 2):
-        raise ValueError(f"orbit must be converged (status 0, 1 or 2), got status {orbit.status}")
+    if orbit.status not in (0, 1):
+        raise ValueError(f"orbit must be converged (status 0 or 1), got status {orbit.status}")
     kk, m = orbit.y.shape
     if callable(forcing):
         cols = [as_float_array(forcing(float(orbit.t[k]), orbit.y[k].copy()), "forcing")
