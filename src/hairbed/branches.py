@@ -97,11 +97,11 @@ class Folds:
 
     Attributes
     ----------
-    omega2 : ndarray, shape (k,)
+    omega2 : ndarray (k,)
         Forcing omega^2 [-] at each fold, increasing; k = 0 (monotone branch) or 2.
-    xi : ndarray, shape (k,)
+    xi : ndarray (k,)
         Tip parameter xi = sin(theta1) [-] at each fold.
-    t : ndarray, shape (k,)
+    t : ndarray (k,)
         The curve parameter t of :func:`hairbed.from_parameter` [-] at each fold.
     """
 

@@ -525,7 +525,7 @@ class CalibrationFit:
         Fitted value of each free parameter, in its unit (:data:`FREE_PARAMETERS`).
     stderr : Mapping[str, float]
         Its standard error (square root of the covariance's diagonal), same unit.
-    covariance : ndarray, shape (k, k)
+    covariance : ndarray (k, k)
         Covariance of the fitted parameters in their units (linearised at the fit). With
         ``sigma`` given it is (J^T W J)^-1; without, scaled by chi2/dof.
     residuals : ndarray
@@ -1564,15 +1564,15 @@ class CalibrationPoints:
 
     Attributes
     ----------
-    tip_deflection : ndarray, shape (k,)
+    tip_deflection : ndarray (k,)
         Measured tip deflections [m].
-    velocity : ndarray, shape (k,), or None
+    velocity : ndarray (k,), or None
         The known wall speeds [m/s] (or None: stresses known).
-    wall_shear_stress : ndarray, shape (k,), or None
+    wall_shear_stress : ndarray (k,), or None
         The known wall shear stresses [Pa] (or None: speeds known).
-    sigma : ndarray, shape (k,), or None
+    sigma : ndarray (k,), or None
         The standard deviation of each deflection [m], if the file has them.
-    pressure_gradient, flow_rate : ndarray, shape (k,), or None
+    pressure_gradient, flow_rate : ndarray (k,), or None
         The known pressure gradients [Pa/m] or flow rates per unit width [m^2/s] of a
         pump-driven bed (both walls at rest), or None.
     """

@@ -107,9 +107,9 @@ class Equilibrium:
 
     Attributes
     ----------
-    sigma : ndarray, shape (num + 1,)
+    sigma : ndarray (num + 1,)
         Arc length of the nodes [-].
-    theta : ndarray, shape (num + 1,)
+    theta : ndarray (num + 1,)
         Angle at the nodes [rad] (the last iterate when ``success`` is False).
     success : bool
         Whether Newton's method converged.
@@ -262,15 +262,15 @@ class Stability:
 
     Attributes
     ----------
-    stable : ndarray of bool, shape S
+    stable : ndarray of bool (S)
         Every eigenvalue has negative real part. False for states that do not exist (NaN).
-    growth_rate : ndarray, shape S
+    growth_rate : ndarray (S)
         Largest real part of the eigenvalues [1 / bending relaxation time]; NaN if no state.
-    n_unstable : ndarray of int, shape S
+    n_unstable : ndarray of int (S)
         Number of eigenvalues with positive real part (-1 if no state).
-    eigenvalues : ndarray of complex, shape S + (k,)
+    eigenvalues : ndarray of complex (S + (k,))
         The k eigenvalues of largest real part, in decreasing order of real part.
-    status : ndarray of int, shape S
+    status : ndarray of int (S)
         How each classification ended: 0 classified; -1 no such state (the solution's
         values are NaN); -2 or -3 the discrete equilibrium near the state did not converge
         (iteration limit, singular step: values NaN, ``stable`` False; see
@@ -377,13 +377,13 @@ class Relaxation:
 
     Attributes
     ----------
-    t : ndarray, shape (m,)
+    t : ndarray (m,)
         Times [bending relaxation times].
-    sigma : ndarray, shape (num + 1,)
+    sigma : ndarray (num + 1,)
         Arc length of the nodes [-].
-    theta : ndarray, shape (m, num + 1)
+    theta : ndarray (m, num + 1)
         Angle at the nodes at each time [rad].
-    tip_height, tip_deflection : ndarray, shape (m,)
+    tip_height, tip_deflection : ndarray (m,)
         h1 and x1 (trapezoidal rule) at each time [-].
     success : bool
         Whether the integrator reached the end.
