@@ -85,10 +85,10 @@ from ._warnings import ModelValidityWarning
 from .units import (
     _array_names,
     _array_parameter,
+    _ArrayModel,
     _at,
     _flat_index,
     _frozen,
-    _hashable,
     _is_array,
     _shape_of,
     _sin,
@@ -372,8 +372,8 @@ _WALL_NEWTON = 40
 _WALL_XTOL = 1e-13
 
 
-@dataclass(frozen=True)
-class Pillar:
+@dataclass(frozen=True, eq=False)
+class Pillar(_ArrayModel):
     """An isolated elastic pillar on the wall of a shear flow, in SI units (theory.md §12).
 
     Every SI parameter may be an array (issue 32): they broadcast together into
@@ -791,34 +791,6 @@ class Pillar:
             return np.asarray(self._core_options[0])
         ratio = self._flat(self.height_ratio, shape)
         return np.array([profile_coefficients(self._core_profile, r) for r in ratio.tolist()])
-
-    def _key(self) -> tuple[Any, ...]:
-        return tuple(
-            _hashable(getattr(self, f.name)) for f in dataclasses.fields(self) if f.compare
-        )
-
-    def __eq__(self, other: object) -> bool:
-        """Equal pillars have equal parameters (arrays: the same shape and elements)."""
-        if not isinstance(other, Pillar) or other.__class__ is not self.__class__:
-            return NotImplemented
-        return self._key() == other._key()
-
-    def __hash__(self) -> int:
-        return hash(self._key())
-
-    def __setstate__(self, state: dict[str, Any]) -> None:
-        """Unpickled: the array parameters and cached arrays read-only again."""
-
-        def frozen(value: Any) -> Any:
-            if isinstance(value, np.ndarray):
-                return _frozen(value)
-            if isinstance(value, tuple):
-                return tuple(frozen(v) for v in value)
-            if isinstance(value, dict):
-                return {k: frozen(v) for k, v in value.items()}
-            return value
-
-        self.__dict__.update({k: frozen(v) for k, v in state.items()})
 
     def _callable_profile(self, func: Callable[..., Any]) -> tuple[Any, float]:
         """(dimensionless profile U, u(tip)/(tau_w U(h1)) [m/(s Pa)]) of a callable u(z)."""

@@ -332,6 +332,38 @@ def _hashable(value: Any) -> Any:
     return value
 
 
+class _ArrayModel:
+    """Equality, hashing and unpickling of a frozen model whose parameters may be arrays
+    (HairBed, Pillar; their dataclasses leave eq to this class: eq=False)."""
+
+    def _key(self) -> tuple[Any, ...]:
+        fields = dataclasses.fields(cast(Any, self))
+        return tuple(_hashable(getattr(self, f.name)) for f in fields if f.compare)
+
+    def __eq__(self, other: object) -> bool:
+        """Equal models have equal parameters (arrays: the same shape and elements)."""
+        if other.__class__ is not self.__class__:
+            return NotImplemented
+        return self._key() == other._key()
+
+    def __hash__(self) -> int:
+        return hash(self._key())
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Unpickled: the array parameters and cached arrays read-only again."""
+
+        def frozen(value: Any) -> Any:
+            if isinstance(value, np.ndarray):
+                return _frozen(value)
+            if isinstance(value, tuple):
+                return tuple(frozen(v) for v in value)
+            if isinstance(value, dict):
+                return {k: frozen(v) for k, v in value.items()}
+            return value
+
+        self.__dict__.update({k: frozen(v) for k, v in state.items()})
+
+
 #: What a porous bed (``HairBed(..., model="porous")``) supports so far; every other method
 #: and workflow says so rather than compute the dense bed's answer.
 POROUS_SUPPORTED = (
@@ -576,8 +608,8 @@ class HairState:
         return direction * scale * np.asarray(x), scale * np.asarray(z)
 
 
-@dataclass(frozen=True)
-class HairBed:
+@dataclass(frozen=True, eq=False)
+class HairBed(_ArrayModel):
     """A dense bed of elastic hairs at the bottom of a channel flow, in SI units.
 
     Every SI parameter may be an array (issue 32): the parameters broadcast together into
@@ -970,34 +1002,6 @@ class HairBed:
                 f"shape {self.shape} (numpy rules)"
             ) from None
         return np.array(np.broadcast_to(x, shape))
-
-    def _key(self) -> tuple[Any, ...]:
-        return tuple(
-            _hashable(getattr(self, f.name)) for f in dataclasses.fields(self) if f.compare
-        )
-
-    def __eq__(self, other: object) -> bool:
-        """Equal beds have equal parameters (arrays: the same shape and elements)."""
-        if not isinstance(other, HairBed) or other.__class__ is not self.__class__:
-            return NotImplemented
-        return self._key() == other._key()
-
-    def __hash__(self) -> int:
-        return hash(self._key())
-
-    def __setstate__(self, state: dict[str, Any]) -> None:
-        """Unpickled: the array parameters and cached arrays read-only again."""
-
-        def frozen(value: Any) -> Any:
-            if isinstance(value, np.ndarray):
-                return _frozen(value)
-            if isinstance(value, tuple):
-                return tuple(frozen(v) for v in value)
-            if isinstance(value, dict):
-                return {k: frozen(v) for k, v in value.items()}
-            return value
-
-        self.__dict__.update({k: frozen(v) for k, v in state.items()})
 
     # -- the bed -------------------------------------------------------------------------------
 
