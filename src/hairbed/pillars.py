@@ -729,21 +729,9 @@ class Pillar(_ArrayModel):
         if cached is not None:
             yield from cached
             return
-        shape = self.shape
-        cols = {
-            n: np.broadcast_to(np.asarray(v, dtype=np.float64), shape).reshape(-1)
-            for n in _PILLAR_NAMES
-            if (v := getattr(self, n)) is not None
-        }
-        for i in range(math.prod(shape)):
-            el = object.__new__(Pillar)
-            for n in _PILLAR_NAMES:
-                object.__setattr__(el, n, float(cols[n][i]) if n in cols else None)
-            object.__setattr__(el, "profile", self.profile)
-            object.__setattr__(el, "fluid", self.fluid)
-            object.__setattr__(el, "_told", self._told)
-            object.__setattr__(el, "_rows", self._rows)
-            yield el
+        shared = {"profile": self.profile, "fluid": self.fluid, "_told": self._told,
+                  "_rows": self._rows}  # fmt: skip
+        yield from self._bare_elements(Pillar, _PILLAR_NAMES, self.shape, shared)
 
     def _derived_value(self, name: str) -> Any:
         """An array pillar's derived quantity ``name``, each element's own (cached)."""

@@ -349,6 +349,24 @@ class _ArrayModel:
     def __hash__(self) -> int:
         return hash(self._key())
 
+    def _bare_elements(
+        self, cls: type, names: Any, shape: tuple[int, ...], shared: dict[str, Any]
+    ) -> Any:
+        """Each element (C order) as a ``cls`` built without its checks: the parameters
+        ``names`` as numbers (None where unset), the ``shared`` fields as they are."""
+        cols = {
+            n: np.broadcast_to(np.asarray(v, dtype=np.float64), shape).reshape(-1)
+            for n in names
+            if (v := getattr(self, n)) is not None
+        }
+        for i in range(math.prod(shape)):
+            el: Any = object.__new__(cls)
+            for n in names:
+                object.__setattr__(el, n, float(cols[n][i]) if n in cols else None)
+            for n, v in shared.items():
+                object.__setattr__(el, n, v)
+            yield el
+
     def __setstate__(self, state: dict[str, Any]) -> None:
         """Unpickled: the array parameters and cached arrays read-only again."""
 
@@ -908,18 +926,8 @@ class HairBed(_ArrayModel):
         """The beds of numbers of every element (C order), trusted: built without a check
         (the array bed was checked), their properties the scalar bed's own code."""
         shape = self.shape if shape is None else shape
-        cols = {
-            n: np.broadcast_to(np.asarray(v, dtype=np.float64), shape).reshape(-1)
-            for n in _BED_NAMES
-            if (v := getattr(self, n)) is not None
-        }
-        for i in range(math.prod(shape)):
-            bed = object.__new__(HairBed)
-            for n in _BED_NAMES:
-                object.__setattr__(bed, n, float(cols[n][i]) if n in cols else None)
-            object.__setattr__(bed, "model", self.model)
-            object.__setattr__(bed, "drag", self.drag)
-            yield bed
+        shared = {"model": self.model, "drag": self.drag}
+        yield from self._bare_elements(HairBed, _BED_NAMES, shape, shared)
 
     def _per_element(self, func: Any) -> NDArray[np.float64]:
         """``func(bed)`` of each element's bed of numbers, as an array of :attr:`shape`: a
