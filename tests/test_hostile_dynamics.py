@@ -290,3 +290,18 @@ def test_amplitude_sweep_bounds_the_frequency(pillar, f):
     """1e300 Hz gave a NaN atol named as such, 5e-324 Hz numpy's warning: now the range."""
     with pytest.raises(ValueError, match=r"frequency must lie in \[1e-100, 1e\+100\] Hz"):
         hairbed.sweeps.amplitude_sweep(pillar, [0.1], [10.0, f], pillar_density=1000.0)
+
+
+@pytest.mark.parametrize("mu", [5e-324, 1e-310])
+def test_modes_at_a_subnormal_inertia_number(mu):
+    """A subnormal mu leaked numpy's 'invalid value in divide' (the pencil's infinite
+    eigenvalues divided by 1): now no warning, and the modes of the straight pillar are the
+    overdamped cantilever's, lambda = -beta^4 with 1 + cos(beta) cosh(beta) = 0 (mpmath;
+    the inertial correction is O(mu), far below rounding)."""
+    state = hairbed.solve_pillar(0.0, 0.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        got = dynamics.linearise_pillar(state, mu=mu).modes(4).eigenvalues
+    f = lambda b: 1 + mpmath.cos(b) * mpmath.cosh(b)  # noqa: E731
+    ref = [-float(mpmath.findroot(f, g) ** 4) for g in (1.875, 4.694, 7.855, 10.996)]
+    np.testing.assert_allclose(got, ref, rtol=1e-10)

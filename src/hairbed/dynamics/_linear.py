@@ -167,7 +167,9 @@ def _eigen(
         scale = np.sqrt(mu) if mu > 1.0 else 1.0
         a_mat, e_mat = _first_order(jr, br / scale, mr, mu / scale**2)
         lam, vec = scipy.linalg.eig(a_mat, e_mat)
-        return lam / scale, vec
+        # a subnormal mu leaves E singular to rounding: its inertial modes are infinite
+        # eigenvalues (dropped by the callers), not to be divided into NaN
+        return (lam / scale if scale != 1.0 else lam), vec
     nu, left, right = scipy.linalg.eig(jr, mr, left=True, right=True)
     sigma0 = np.sqrt(nu.astype(np.complex128))
     sigma1 = -np.einsum("ij,ij->j", left.conj(), br @ right) / (
