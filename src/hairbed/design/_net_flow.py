@@ -7,8 +7,9 @@ Pi(t) = Pi_A sin(omega t) with its top wall at rest, has a periodic state
 the period mean of the flow rate q of §11, q_bar = (1/K) sum_k q(y_k, t_k).
 
 The derivatives are those of the discrete periodic problem, exact (implicit
-differentiation, :func:`hairbed.dynamics.periodic_sensitivity`): the forced variational
-equation M S' = J S + G_p has the periodic solution S = dy/dp, with the columns
+differentiation): the forced variational equation M S' = J S + G_p
+(:func:`hairbed.dynamics.periodic_sensitivity`) has the periodic solution S = dy/dp, with
+the columns
 
     G_p = dg/dp - (dM/dp) y'          p in theta0, gamma, kappa, eps, alpha, mu, chi
                                       (``_core._kernels.bed_parameters``, exact),
@@ -18,7 +19,11 @@ equation M S' = J S + G_p has the periodic solution S = dy/dp, with the columns
 
 and d q_bar/dp = (1/K) sum_k (c_k . S_k + dq/dp|_y), c = dq/dy, the explicit partials of q
 in kappa, eps and Pi by the complex step, in theta0 written out (theta_0 = theta0 and
-theta_N = srow . theta enter the tip height).
+theta_N = srow . theta enter the tip height). The sum through the state is the adjoint's,
+(1/K) sum_k c_k . S_k = sum_k lambda_k . G_p(t_k) with lambda the solution of the transposed
+collocation (:func:`hairbed.dynamics.periodic_adjoint`): one linear solve for all columns,
+not one per column. The columns at every phase come from one compiled call
+(``bed_parameter_phases``).
 """
 
 from __future__ import annotations
@@ -32,7 +37,7 @@ from numpy.typing import NDArray
 
 from .._core._kernels import bed as _bed_kernel
 from .._core._kernels import bed_parameters as _bpk
-from ..dynamics import PeriodicBed, periodic_bed, periodic_sensitivity, sine
+from ..dynamics import PeriodicBed, periodic_adjoint, periodic_bed, sine
 from ..dynamics._bed import _mass, _output_values
 
 __all__: list[str] = []
@@ -105,36 +110,35 @@ def _flow_partials(orbit: PeriodicBed, amplitude: float) -> dict[str, FloatArray
 def net_flow_derivatives(orbit: PeriodicBed, amplitude: float) -> dict[str, float]:
     """d q_bar/dp of a converged ``orbit`` (of :func:`pumped_orbit` at ``amplitude``) for p
     in :data:`PARAMETERS`; 0 for an absent parameter (alpha without the fluid's inertia,
-    mu and chi of overdamped hairs). Raises ArithmeticError where a column is not finite."""
+    mu and chi of overdamped hairs). Raises ArithmeticError where a column is not finite
+    or the adjoint's solve does not reach its rounding level."""
     sys, y = orbit._sys, orbit.y
     kk, m = y.shape
-    ydot = orbit.y_t
-    mass = _mass(sys)
     absent = set()
     if sys.alpha <= 0.0:
         absent.add("alpha")
     if sys.mu <= 0.0:
         absent.update(("mu", "chi"))
     names = [n for n in PARAMETERS if n not in absent]  # one forcing column each
-    forcing = np.zeros((kk, m, len(names)))
-    gp = np.zeros((_bpk.NPAR, m))
-    mp = np.zeros((_bpk.NPAR, m))
-    jac = np.zeros((m, m))
+    gp = np.zeros((kk, _bpk.NPAR, m))
+    mp = np.zeros((kk, _bpk.NPAR, m))
     ws = _bed_kernel.bed_workspace(sys.num, sys.num_gap)
-    sin = np.sin(orbit.omega * orbit.t)
-    for k in range(kk):
-        if not _bpk.bed_parameter_columns(float(orbit.t[k]), y[k], sys.params, gp, mp, jac, ws):
-            raise ArithmeticError("the bed's parameter derivatives are not finite on its orbit")
-        for j, name in enumerate(names):
-            if name == "amplitude":
-                forcing[k, :, j] = gp[_bpk.P_PUMP] * sin[k]
-            elif name == "ln_omega":
-                forcing[k, :, j] = -mass * ydot[k]
-            else:
-                p = _KERNEL_COLUMNS[PARAMETERS.index(name)]
-                forcing[k, :, j] = gp[p] - mp[p] * ydot[k]
-    sens = periodic_sensitivity(orbit, forcing)
-    through = np.asarray(sens.mean_outputs["flow_rate"], dtype=np.float64)
+    if not _bpk.bed_parameter_phases(orbit.t, y, sys.params, gp, mp, np.zeros((m, m)), ws):
+        raise ArithmeticError("the bed's parameter derivatives are not finite on its orbit")
+    ydot = orbit.y_t
+    forcing = np.empty((kk, m, len(names)))
+    for j, name in enumerate(names):
+        if name == "amplitude":
+            forcing[:, :, j] = gp[:, _bpk.P_PUMP] * np.sin(orbit.omega * orbit.t)[:, None]
+        elif name == "ln_omega":
+            forcing[:, :, j] = -_mass(sys) * ydot
+        else:
+            p = _KERNEL_COLUMNS[PARAMETERS.index(name)]
+            forcing[:, :, j] = gp[:, p] - mp[:, p] * ydot
+    adjoint = periodic_adjoint(orbit, "flow_rate")  # one transposed solve for every column
+    if not adjoint.success:
+        raise ArithmeticError(f"the net flow's adjoint: {adjoint.message}")
+    through = adjoint.mean_derivative(forcing)
     out = dict.fromkeys(PARAMETERS, 0.0)
     for j, name in enumerate(names):
         out[name] = float(through[j])

@@ -15,7 +15,9 @@
   the jump's delay, the states before and after, the ringing.
 - :func:`periodic_bed`: the porous bed's periodic steady state under periodic drives, by
   collocation in time with Newton's method (theory.md §16); :func:`periodic_sensitivity` the
-  periodic solution of its forced variational equation (dy/dp along the orbit).
+  periodic solution of its forced variational equation (dy/dp along the orbit);
+  :func:`periodic_adjoint` the transposed problem for one output's period mean (its
+  derivatives in every parameter for one solve).
 - :func:`linearise_bed`: the porous bed's linear dynamics about any steady state, its modes
   and its transfer functions (wall speed, pressure or flow rate -> tip deflection, tip
   height, base moment, top wall's stress, flow rate).
@@ -51,9 +53,12 @@ from ._linear import (
     linearise_pillar,
 )
 from ._periodic import (
+    PERIODIC_ADJOINT_STATUS,
     PERIODIC_STATUS,
+    PeriodicAdjoint,
     PeriodicBed,
     PeriodicSensitivity,
+    periodic_adjoint,
     periodic_bed,
     periodic_sensitivity,
 )
@@ -115,4 +120,7 @@ __all__ = [
     "PeriodicSensitivity",
     "periodic_bed",
     "periodic_sensitivity",
+    "PERIODIC_ADJOINT_STATUS",
+    "PeriodicAdjoint",
+    "periodic_adjoint",
 ]

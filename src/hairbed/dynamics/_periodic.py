@@ -27,6 +27,8 @@ its periodic solution on the same collocation and factors: for parameter columns
 this is dy/dp along the periodic orbit (implicit differentiation of the periodic state;
 S(0) = dy0/dp = (I - Phi)^-1 times the forced solution from rest over one period, Phi the
 monodromy matrix), and the derivatives of the period-means of the outputs follow.
+:func:`periodic_adjoint` solves the transposed problem once for one output's period mean,
+whose derivatives in any number of parameters are then dot products with their columns.
 """
 
 from __future__ import annotations
@@ -63,9 +65,12 @@ from ._bed import (
 from ._signals import Signal, as_signal, constant, sine
 
 __all__ = [
+    "PERIODIC_ADJOINT_STATUS",
     "PERIODIC_STATUS",
+    "PeriodicAdjoint",
     "PeriodicBed",
     "PeriodicSensitivity",
+    "periodic_adjoint",
     "periodic_bed",
     "periodic_sensitivity",
 ]
@@ -712,37 +717,8 @@ class PeriodicSensitivity:
     krylov_iterations: int
 
 
-def periodic_sensitivity(
-    orbit: PeriodicBed,
-    forcing: Any,
-) -> PeriodicSensitivity:
-    """The periodic solution S of M S' = J(t) S + G(t) along a periodic state: implicit
-    differentiation of the periodic orbit.
-
-    With G = dg/dp (the derivative of the bed's rates in a parameter p at fixed y, one column
-    per parameter) S = dy/dp along the orbit, S(0) = dy0/dp = (I - Phi)^-1 S_p(P) with Phi
-    the monodromy matrix and S_p the forced solution from rest; the derivatives of the
-    period-means of the outputs follow as (1/P) int c_o(y(t)) . S(t) dt, c_o the outputs'
-    gradients (exact: the mean of the trigonometric polynomial at the K phases). Solved on
-    the orbit's collocation with its Newton matrix (theory.md §16), so S is exact for the
-    discrete periodic problem: d(periodic_bed's state)/dp.
-
-    Parameters
-    ----------
-    orbit : PeriodicBed
-        A converged :func:`periodic_bed` result.
-    forcing : array_like or callable
-        G at the orbit's phases ``orbit.t``: an array (K, size) or (K, size, p), or a callable
-        G(t, y) of one phase t [T] and its state y (size,) returning (size,) or (size, p).
-
-    Returns
-    -------
-    PeriodicSensitivity
-    """
-    if not isinstance(orbit, PeriodicBed):
-        raise TypeError(f"orbit must be a PeriodicBed (periodic_bed), got {type(orbit).__name__}")
-    if orbit.status not in (0, 1):
-        raise ValueError(f"orbit must be converged (status 0 or 1), got status {orbit.status}")
+def _forcing_columns(orbit: PeriodicBed, forcing: Any) -> FloatArray:
+    """The forcing G at the orbit's phases, validated: (K, size, p)."""
     kk, m = orbit.y.shape
     if callable(forcing):
         cols = [as_float_array(forcing(float(orbit.t[k]), orbit.y[k].copy()), "forcing")
@@ -762,27 +738,276 @@ def periodic_sensitivity(
     if np.any(bad):
         i = tuple(int(v) for v in np.argwhere(bad)[0])
         raise ValueError(f"forcing must be finite, got {show(float(gg[i]))} at index {i}")
-    if gg.ndim == 2:
-        gg = gg[:, :, None]
+    return gg[:, :, None] if gg.ndim == 2 else gg
+
+
+def _checked_orbit(orbit: Any) -> None:
+    if not isinstance(orbit, PeriodicBed):
+        raise TypeError(f"orbit must be a PeriodicBed (periodic_bed), got {type(orbit).__name__}")
+    if orbit.status not in (0, 1):
+        raise ValueError(f"orbit must be converged (status 0 or 1), got status {orbit.status}")
+
+
+def _orbit_jacobians(orbit: PeriodicBed) -> tuple[_Problem, FloatArray]:
+    """The orbit's collocation problem and its Jacobians J_k (K, size, size)."""
     prob = _Problem(orbit._sys, orbit.omega)
     ok, _g, jac = prob.rates(orbit.t, orbit.y, True)
     if not ok:  # pragma: no cover - a converged orbit has finite rates
         raise ValueError("the orbit's rates are not finite")
+    return prob, jac
+
+
+def _output_gradients(orbit: PeriodicBed, names: tuple[str, ...]) -> dict[str, FloatArray]:
+    """{output: its gradient c_k = d(output)/dy at each phase, (K, size)}, by the complex
+    step (exact to rounding: the outputs are analytic in y)."""
+    m = orbit.y.shape[1]
+    pump = np.asarray(orbit._pump(orbit.t), dtype=np.float64).reshape(orbit.t.shape)
+    hstep = 1e-30
+    rows = orbit.y[:, None, :] + 1j * hstep * np.eye(m)[None]
+    vals = _output_values(orbit._sys, rows, pump[:, None])
+    return {name: np.imag(np.asarray(vals[name])) / hstep for name in names}
+
+
+def periodic_sensitivity(
+    orbit: PeriodicBed,
+    forcing: Any,
+) -> PeriodicSensitivity:
+    """The periodic solution S of M S' = J(t) S + G(t) along a periodic state: implicit
+    differentiation of the periodic orbit.
+
+    With G = dg/dp (the derivative of the bed's rates in a parameter p at fixed y, one column
+    per parameter) S = dy/dp along the orbit, S(0) = dy0/dp = (I - Phi)^-1 S_p(P) with Phi
+    the monodromy matrix and S_p the forced solution from rest; the derivatives of the
+    period-means of the outputs follow as (1/P) int c_o(y(t)) . S(t) dt, c_o the outputs'
+    gradients (exact: the mean of the trigonometric polynomial at the K phases). Solved on
+    the orbit's collocation with its Newton matrix (theory.md §16), so S is exact for the
+    discrete periodic problem: d(periodic_bed's state)/dp. One GMRES solve (and two of
+    refinement) per column: where only one output's mean is wanted, for many columns,
+    :func:`periodic_adjoint` costs one solve for all of them.
+
+    Parameters
+    ----------
+    orbit : PeriodicBed
+        A converged :func:`periodic_bed` result.
+    forcing : array_like or callable
+        G at the orbit's phases ``orbit.t``: an array (K, size) or (K, size, p), or a callable
+        G(t, y) of one phase t [T] and its state y (size,) returning (size,) or (size, p).
+
+    Returns
+    -------
+    PeriodicSensitivity
+    """
+    _checked_orbit(orbit)
+    gg = _forcing_columns(orbit, forcing)
+    kk = orbit.y.shape[0]
+    prob, jac = _orbit_jacobians(orbit)
     s, krylov = prob.solve(jac, gg)
     for _ in range(2):  # iterative refinement on the full system's residual
         res = gg - (prob.mass[:, None] * prob.derivative(s) - jac @ s)
         fix, its = prob.solve(jac, res, strict=False)
         s += fix
         krylov += its
-    pump = np.asarray(orbit._pump(orbit.t), dtype=np.float64).reshape(orbit.t.shape)
-    hstep = 1e-30
-    rows = orbit.y[:, None, :] + 1j * hstep * np.eye(m)[None]
-    vals = _output_values(orbit._sys, rows, pump[:, None])
-    means = {}
-    for name in (*BED_OUTPUTS, "wall_speed"):
-        grad = np.imag(np.asarray(vals[name])) / hstep  # (K, m)
-        means[name] = np.einsum("km,kmp->p", grad, s) / kk
+    grads = _output_gradients(orbit, (*BED_OUTPUTS, "wall_speed"))
+    means = {name: np.einsum("km,kmp->p", grad, s) / kk for name, grad in grads.items()}
     return PeriodicSensitivity(
         states=s, initial=s[0].copy(), mean_outputs=MappingProxyType(means),
         krylov_iterations=krylov,
+    )  # fmt: skip
+
+
+#: Status codes of :class:`PeriodicAdjoint`.
+PERIODIC_ADJOINT_STATUS: Mapping[int, str] = MappingProxyType(
+    {
+        0: "the transposed collocation is solved to its rounding level",
+        1: "the transposed collocation's residual stayed above 1e-10 of the output's gradient "
+        "after refinement",
+    }
+)
+
+#: The adjoint's largest residual, relative to the output's gradient, for status 0.
+_ADJOINT_RESIDUAL = 1e-10
+
+
+@dataclass(frozen=True)
+class PeriodicAdjoint:
+    """The adjoint of the periodic collocation for one output's period mean
+    (:func:`periodic_adjoint`).
+
+    Attributes
+    ----------
+    output : str
+        The output o whose period mean it differentiates.
+    multipliers : ndarray
+        lambda_k at the orbit's phases, (K, size) [units of the output's mean per unit of the
+        rates g]: d(mean of o)/dp = sum_k lambda_k . G_k for the forcing column G = dg/dp of
+        any parameter p (through the state; o's direct dependence on p at fixed y is not
+        included).
+    residual : float
+        ||c - L^T lambda|| / ||c|| [-], L the collocation's Newton matrix and c the
+        output's gradient over K.
+    krylov_iterations : int
+        GMRES iterations (the solve and its refinement).
+    status : int
+        ``PERIODIC_ADJOINT_STATUS``.
+    """
+
+    output: str
+    multipliers: FloatArray
+    residual: float
+    krylov_iterations: int
+    status: int
+
+    @property
+    def success(self) -> bool:
+        """True where status is 0."""
+        return self.status == 0
+
+    @property
+    def message(self) -> Any:
+        """``PERIODIC_ADJOINT_STATUS`` of ``status``."""
+        return status_messages(self.status, PERIODIC_ADJOINT_STATUS)
+
+    def mean_derivative(self, forcing: Any) -> FloatArray:
+        """d(mean of the output)/dp = sum_k lambda_k . G_k (p,) for forcing columns G at the
+        orbit's phases: an array (K, size) or (K, size, p) (as
+        :func:`periodic_sensitivity`'s, whose ``mean_outputs[output]`` this equals)."""
+        kk, m = self.multipliers.shape
+        gg = as_float_array(forcing, "forcing")
+        if gg.ndim not in (2, 3) or gg.shape[:2] != (kk, m):
+            raise ValueError(
+                f"forcing must have shape ({kk}, {m}) or ({kk}, {m}, p) at the orbit's {kk} "
+                f"phases, got {gg.shape}"
+            )
+        bad = ~np.isfinite(gg)
+        if np.any(bad):
+            i = tuple(int(v) for v in np.argwhere(bad)[0])
+            raise ValueError(f"forcing must be finite, got {show(float(gg[i]))} at index {i}")
+        if gg.ndim == 2:
+            gg = gg[:, :, None]
+        return np.asarray(np.einsum("km,kmp->p", self.multipliers, gg), dtype=np.float64)
+
+
+def _transposed_solver(
+    prob: _Problem, jac: FloatArray
+) -> Callable[[FloatArray, bool], tuple[FloatArray, int]]:
+    """The solver of L^T lambda = rhs (K, m), L Y = M D Y - J_k Y_k the collocation's Newton
+    matrix: L^T lambda = -M D lambda - J_k^T lambda_k (D antisymmetric: the derivative of the
+    trigonometric interpolant at an odd number of equispaced phases). As ``_Problem.solve``
+    transposed: the algebraic unknowns eliminated at each phase,
+    lambda_a = -J_aa^-T (rhs_a + J_da^T lambda_d), which leaves
+    -M_d D lambda_d - A_k^T lambda_d = rhs_d - (J_aa^-1 J_ad)^T rhs_a with A_k the same Schur
+    complement; GMRES preconditioned by the transposed phase average, per harmonic j
+    (-i j omega M_d - mean_k A_k^T)^-1. The elimination and the preconditioner are built
+    once; the solver returns lambda and its GMRES iterations (``strict`` as
+    :func:`_gmres`'s)."""
+    nd, kk = prob.nd, jac.shape[0]
+    if prob.ident:
+        jt = jac.transpose(0, 2, 1)
+    else:
+        jt = jac[:, prob.perm][:, :, prob.perm].transpose(0, 2, 1)
+    lu_aa = jt[:, nd:, nd:]
+    y = np.linalg.solve(lu_aa, jt[:, nd:, :nd])  # J_aa^-T J_da^T
+    j_ad_t = jt[:, :nd, nd:]  # J_ad^T
+    amat_t = jt[:, :nd, :nd] - j_ad_t @ y  # A_k^T
+    w = prob.omega * np.arange(kk // 2 + 1)
+    pinv = np.linalg.inv(-1j * w[:, None, None] * np.diag(prob.md)[None] - amat_t.mean(0)[None])
+
+    def prec(r: FloatArray) -> FloatArray:
+        c = np.fft.rfft(r, axis=0)
+        return np.fft.irfft((pinv @ c[:, :, None])[:, :, 0], n=kk, axis=0)
+
+    def apply(v: FloatArray) -> FloatArray:
+        xv = v.reshape(kk, nd)
+        out = -prob.md * prob.derivative(xv) - (amat_t @ xv[:, :, None])[:, :, 0]
+        return prec(out).reshape(-1)
+
+    def solve(rhs: FloatArray, strict: bool) -> tuple[FloatArray, int]:
+        rp = rhs if prob.ident else rhs[:, prob.perm]
+        z = np.linalg.solve(lu_aa, rp[:, nd:, None])  # J_aa^-T rhs_a
+        red = rp[:, :nd] - (j_ad_t @ z)[:, :, 0]
+        xd, its = _gmres(apply, prec(red).reshape(-1), strict)
+        ld = xd.reshape(kk, nd)
+        out = np.empty((kk, prob.m))
+        out[:, prob.perm[:nd]] = ld
+        out[:, prob.perm[nd:]] = -z[:, :, 0] - (y @ ld[:, :, None])[:, :, 0]
+        return out, its
+
+    return solve
+
+
+def periodic_adjoint(orbit: PeriodicBed, output: str = "flow_rate") -> PeriodicAdjoint:
+    """The adjoint of the periodic collocation for the period mean of one output: its
+    derivatives in any number of parameters for the cost of one linear solve.
+
+    The mean of an output o over the periodic orbit, <o> = (1/K) sum_k o(y_k), moves with a
+    parameter p through the state: d<o>/dp = (1/K) sum_k c_k . S_k, c_k = do/dy at the phase
+    t_k, S the periodic solution of the forced variational equation L S = G
+    (:func:`periodic_sensitivity`: (L S)_k = M (D S)_k - J_k S_k on the orbit's collocation,
+    G = dg/dp). With the multipliers lambda of the transposed problem
+
+        L^T lambda = c/K,   (L^T lambda)_k = -M (D lambda)_k - J_k^T lambda_k
+
+    (D, the derivative of the trigonometric interpolant at K = 2H + 1 equispaced phases, is
+    antisymmetric), d<o>/dp = lambda . G = sum_k lambda_k . G_k for every column G: one
+    solve instead of one per parameter (the adjoint method; Giles & Pierce, Flow Turbul.
+    Combust. 65, 393, 2000), exact for the discrete periodic problem like
+    :func:`periodic_sensitivity`, to which it is equal to rounding. Solved as
+    periodic_sensitivity's system transposed (theory.md §16): the algebraic unknowns
+    eliminated at each phase, GMRES on the differential ones preconditioned by the
+    transposed phase average, then two steps of iterative refinement on the full
+    transposed system's residual.
+
+    Parameters
+    ----------
+    orbit : PeriodicBed
+        A converged :func:`periodic_bed` result.
+    output : str, optional
+        One of ``BED_OUTPUTS`` or ``"wall_speed"`` (default ``"flow_rate"``).
+
+    Returns
+    -------
+    PeriodicAdjoint
+        ``mean_derivative(G)`` applies it to forcing columns G at the orbit's phases.
+
+    Examples
+    --------
+    d<h1>/dA of the mean tip height under the wall's drive A sin(t) (g is affine in the
+    drive: its column is the rates' drive column times sin(t)), as periodic_sensitivity's:
+
+    >>> import numpy as np
+    >>> import hairbed
+    >>> from hairbed.dynamics import (bed_operators, periodic_adjoint, periodic_bed,
+    ...                               periodic_sensitivity, sine)
+    >>> orbit = periodic_bed(0.0, 1.0, 0.5, omega=1.0, wall=sine(0.0, 1.0, 1.0))
+    >>> rest = hairbed.solve_porous(0.0, 0.5, 0.0, kappa=1.0)
+    >>> col = bed_operators(rest, num=32).drives["wall"]
+    >>> g = np.sin(orbit.t)[:, None] * col
+    >>> adj = periodic_adjoint(orbit, "tip_height")
+    >>> forward = periodic_sensitivity(orbit, g).mean_outputs["tip_height"]
+    >>> adj.success, bool(np.allclose(adj.mean_derivative(g), forward, rtol=1e-10, atol=0))
+    (True, True)
+    """
+    _checked_orbit(orbit)
+    names = (*BED_OUTPUTS, "wall_speed")
+    if not isinstance(output, str) or output not in names:
+        raise ValueError(f"output must be one of {sorted(names)}, got {show(output)}")
+    kk = orbit.y.shape[0]
+    prob, jac = _orbit_jacobians(orbit)
+    c = _output_gradients(orbit, (output,))[output] / kk
+    solve = _transposed_solver(prob, jac)
+    lam, krylov = solve(c, True)
+    jt = jac.transpose(0, 2, 1)
+
+    def residual(v: FloatArray) -> FloatArray:
+        return c + prob.mass * prob.derivative(v) + (jt @ v[:, :, None])[:, :, 0]
+
+    for _ in range(2):  # iterative refinement on the full transposed system's residual
+        fix, its = solve(residual(lam), False)
+        lam += fix
+        krylov += its
+    size = float(np.linalg.norm(c))
+    rel = float(np.linalg.norm(residual(lam))) / size if size > 0.0 else 0.0
+    return PeriodicAdjoint(
+        output=output, multipliers=lam, residual=rel, krylov_iterations=krylov,
+        status=0 if rel <= _ADJOINT_RESIDUAL else 1,
     )  # fmt: skip

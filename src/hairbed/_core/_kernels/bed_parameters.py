@@ -47,6 +47,7 @@ __all__ = [
     "P_THETA0",
     "P_WALL",
     "bed_parameter_columns",
+    "bed_parameter_phases",
 ]
 
 P_THETA0 = 0
@@ -223,3 +224,13 @@ def bed_parameter_columns(t, y, bp, gp, mp, jac, ws):
             if not np.isfinite(gp[p, i]):
                 return False
     return ok
+
+
+@kernel
+def bed_parameter_phases(t, y, bp, gp, mp, jac, ws):
+    """:func:`bed_parameter_columns` at every phase of an orbit in one call: t (K,), y
+    (K, size), gp and mp (K, NPAR, size). Returns False where a value is not finite."""
+    for k in range(t.size):
+        if not bed_parameter_columns(t[k], y[k], bp, gp[k], mp[k], jac, ws):
+            return False
+    return True
