@@ -1306,6 +1306,16 @@ NEW_TARGETS += [
         dynamics.periodic_sensitivity,
         dict(orbit=ORBIT, forcing=np.ones(ORBIT.y.shape)),
     ),
+    Target(
+        "dynamics.periodic_adjoint",
+        dynamics.periodic_adjoint,
+        dict(orbit=ORBIT, output="flow_rate"),
+    ),
+    Target(
+        "PeriodicAdjoint.mean_derivative",
+        _method(dynamics.periodic_adjoint(ORBIT), "mean_derivative"),
+        dict(forcing=np.ones(ORBIT.y.shape)),
+    ),
     Target("PeriodicBed.states_at", _method(ORBIT, "states_at"), dict(t=[0.0, 1.0])),
     Target("PeriodicBed.outputs_at", _method(ORBIT, "outputs_at"), dict(t=[0.0, 1.0])),
     Target("PeriodicBed.mean", _method(ORBIT, "mean"), dict(output="tip_deflection")),
