@@ -199,3 +199,18 @@ def test_new_options_answer_every_hostile_value_in_one_line(command, capsys, tmp
             if not ok:
                 failures.append(f"{argv}: exit {code}, stderr {err!r}")
     assert not failures, "\n".join(failures)
+
+
+def test_pump_switch_that_changes_nothing_says_why_its_times_are_nan(capsys):
+    """`--switch 0` from rest printed rise_time = nan with exit 0 and nothing on stderr (the
+    battery's 'silent NaN'): the result's message is now one warning line."""
+    code = main(
+        ["pump", "--switch=0", "--duration=1", "--num-times=3", "--channel-length=0.01",
+         "--length=1e-3", "--radius=50e-6", "--youngs-modulus=1e6", "--channel-height=2e-3",
+         "--viscosity=1", "--spacing=400e-6"]
+    )  # fmt: skip
+    out, err = capsys.readouterr()
+    assert code == 0 and "# rise_time = nan [s]" in out
+    assert err.splitlines() == [
+        "hairbed: warning: the step changes nothing (equal drops): no rise time"
+    ]

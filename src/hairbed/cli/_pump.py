@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 from typing import Any
 
 from ._grids import spec
 from ._options import add_bed_options, add_command, add_json, need_bed
 from ._output import NO_COMPRESS_HELP, check_dataset_output, print_json, write_dataset_output
-from ._report import UsageError
+from ._report import PROG, UsageError
 
 #: ``hairbed pump --help``: the summary line, the description and the examples.
 ABOUT = """a valve in time: the flow after a step in the pressure drop, a pulsing pump's net flow
@@ -130,6 +131,8 @@ def _run_switch(args: argparse.Namespace, bed: Any, to_stdout: bool) -> int:
         "status": (r.status, ""),
         "message": (r.message, ""),
     }
+    if r.status != 0:  # a NaN rise or settling time is said where it is seen, once
+        print(f"{PROG}: warning: {r.message}", file=sys.stderr)
     if args.json:
         print_json(
             {
@@ -164,6 +167,8 @@ def _run_pump(args: argparse.Namespace, bed: Any, to_stdout: bool) -> int:
         samples_per_period=args.samples_per_period,
         hair_density=args.hair_density,
     )
+    if (r.status != 0).any():
+        print(f"{PROG}: warning: {r.message}", file=sys.stderr)
     if args.json:
         print_json(
             {
