@@ -647,6 +647,7 @@ def _new_targets() -> list[Target]:
         ),
         *_later_targets(pillar),
         *_periodic_targets(),
+        *_fifth_targets(),
     ]
 
 
@@ -1006,6 +1007,71 @@ def _periodic_targets() -> list[Target]:
     ]
 
 
+def _fifth_targets() -> list[Target]:
+    """Added in the fifth round: the bed in time in SI (``HairBed.simulate``), the valve's
+    time scales and pump sweep, and the dynamic SI methods of array models where they
+    exist (issue 32 item 2)."""
+    from hairbed import dynamics, valve_dynamics
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        bed = hairbed.HairBed(**BED_KW, density=1000.0)
+        pillars = hairbed.Pillar(**{**PILLAR_KW, "youngs_modulus": [1e6, 2e6]}, density=1000.0)
+        beds = hairbed.HairBed(**{**BED_KW, "base_angle": [0.0, 0.2]})
+    targets = [
+        Target(
+            "HairBed.simulate",
+            lambda **kw: bed.simulate(**kw),
+            dict(times=[0.0, 1.0, 2.0], velocity=0.05, num=8, num_gap=4, max_steps=2000),
+            fuzz=("times", "velocity", "pressure_gradient", "hair_density", "num", "rtol"),
+            edges={
+                "velocity": [0.0, -0.05, dynamics.step(0.05), dynamics.sine(0.0, 0.02, 2.0)],
+                "pressure_gradient": [500.0, -500.0],
+                "hair_density": [1000.0],
+                "times": [[0.0]],
+            },
+        ),
+        Target(
+            "valve_dynamics.bed_time_scales",
+            lambda **kw: valve_dynamics.bed_time_scales(bed, **kw),
+            dict(hair_density=1000.0),
+            edges={"hair_density": [None]},
+        ),
+        Target(
+            "valve_dynamics.pump_sweep",
+            lambda **kw: valve_dynamics.pump_sweep(bed, **kw),
+            dict(
+                amplitude=[100.0],
+                frequency=[1.0],
+                channel_length=0.01,
+                samples_per_period=16,
+                max_periods=20,
+            ),
+            fuzz=("amplitude", "frequency", "channel_length"),
+            edges={"amplitude": [[50.0, 100.0]]},
+        ),
+        Target(
+            "HairBed[array].simulate",
+            lambda **kw: beds.simulate(**kw),
+            dict(times=[0.0, 1.0], velocity=0.05, num=8, num_gap=4, max_steps=2000),
+            fuzz=("times", "velocity", "workers"),
+            edges={"workers": [2]},
+        ),
+        Target(
+            "Pillar[array].frequency_response",
+            lambda **kw: pillars.frequency_response(**kw),
+            dict(frequency=[10.0, 100.0], wall_shear_stress=1.0, pillar_density=1000.0),
+        ),
+        Target(
+            "Pillar[array].simulate",
+            lambda **kw: pillars.simulate(**kw),
+            dict(wall_shear_stress=1.0, t=[0.0, 1e-4, 1e-3], pillar_density=1000.0, num=8),
+            fuzz=("wall_shear_stress", "t", "pillar_density"),
+        ),
+    ]
+    return targets
+
+
 # -- the command line ---------------------------------------------------------------------------
 
 _BED_ARGS = [
@@ -1179,6 +1245,37 @@ CLI_COMMANDS: dict[str, tuple[list[str], tuple[str, ...], list[tuple[str, str]]]
         ],
         ("--laos", "--frequencies", "--workers"),
         [("--workers", "2"), ("--laos", "0.1")],
+    ),  # fmt: skip
+    "pump --switch": (
+        [
+            "pump",
+            "--switch=300",
+            "--duration=1",
+            "--num-times=5",
+            "--channel-length=0.01",
+            *_BED_ARGS,
+        ],
+        (
+            "--switch",
+            "--initial-pressure-drop",
+            "--duration",
+            "--num-times",
+            "--channel-length",
+            "--hair-density",
+        ),
+        [("--switch", "-300"), ("--switch", "0")],
+    ),  # fmt: skip
+    "pump --amplitudes": (
+        [
+            "pump",
+            "--amplitudes=100",
+            "--frequencies=1",
+            "--samples-per-period=16",
+            "--channel-length=0.01",
+            *_BED_ARGS,
+        ],
+        ("--amplitudes", "--frequencies", "--samples-per-period"),
+        [("--frequencies", "0.1,1")],
     ),  # fmt: skip
     "design": (
         ["design", _DESIGN],
