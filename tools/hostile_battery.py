@@ -3,7 +3,8 @@ isolated pillar, their derivatives and calibration files; then this session's AP
 pillar's dynamics and the sensor's, ``hairbed.design``, the porous bed's branch and SI
 workflows) and its command line (``hairbed design``, ``measure --pillar --series``,
 ``--model porous`` on invert/linear-range/calibrate/measure/``valve --states``,
-``hairbed simulate`` and ``hairbed response``), run in-process from a temporary directory.
+``hairbed simulate``, ``hairbed response``, ``hairbed rheometer`` and ``hairbed pump``), run
+in-process from a temporary directory.
 
 Each call gets a valid set of arguments with one of them replaced by a hostile value (from a
 catalogue of NaN, infinities, huge and tiny numbers, zeros, empty and 0-d arrays, wrong
