@@ -25,8 +25,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._bed_scales import _BedScales, _scales
-from ._core.validation import as_float_array, check_number, show
+from ._bed_scales import _BedScales, _is_bed, _scales
+from ._core.validation import as_float_array, check_int, check_number, check_positive, show
 from .dynamics import (
     CALLABLE_SAMPLES,
     BedTrajectory,
@@ -38,7 +38,7 @@ from .dynamics import (
 )
 from .dynamics._bed import MAX_BED_DRIVE, NUMBER_RANGE
 from .dynamics._signals import _peak
-from .sensor_dynamics import _SIGNAL_UNITS
+from .sensor_dynamics import _SIGNAL_UNITS, _checked_index
 
 if TYPE_CHECKING:  # units.py calls this module (HairBed.simulate): no import cycle
     from .units import HairBed
@@ -114,26 +114,60 @@ class BedSimulation:
     hair_density: float
     model: str
     bed_model: str
-    status: int
-    t_end: float
-    trajectory: BedTrajectory = field(repr=False, compare=False)
+    status: Any
+    t_end: Any
+    trajectory: Any = field(repr=False, compare=False)
+    #: The array bed of an array run (None for a bed of numbers).
+    bed: Any = field(default=None, repr=False, compare=False)
 
     @property
-    def success(self) -> bool:
-        """True where the run reached its last time (status 0)."""
-        return self.status == 0
+    def shape(self) -> tuple[int, ...]:
+        """The bed's shape: () for a bed of numbers (issue 32)."""
+        return tuple(np.shape(self.status))
 
     @property
-    def message(self) -> str:
-        """The status's message (:data:`hairbed.dynamics.BED_STATUS`)."""
-        return str(self.trajectory.message)
+    def success(self) -> Any:
+        """True where the run reached its last time (status 0); an array of the bed's shape
+        for an array bed."""
+        ok = np.asarray(self.status) == 0
+        return bool(ok) if ok.ndim == 0 else ok
+
+    @property
+    def message(self) -> str | list[Any]:
+        """The status's message (:data:`hairbed.dynamics.BED_STATUS`; a nested list for an
+        array bed)."""
+        if not self.shape:
+            return str(self.trajectory.message)
+        return np.vectorize(lambda r: str(r.message), otypes=[object])(self.trajectory).tolist()
+
+    def item(self, index: Any = ()) -> BedSimulation:
+        """The run of the bed at ``index`` of :attr:`shape` (as :meth:`hairbed.HairBed.item`
+        indexes it); a bed of numbers' run is itself."""
+        if not self.shape:
+            return self
+        k = _checked_index(index, self.shape, "run")
+        fields: dict[str, Any] = {n: float(np.asarray(getattr(self, n))[k]) for n in _PER_BED}
+        series: dict[str, Any] = {n: np.array(getattr(self, n)[k]) for n in _BED_SERIES}
+        return dataclasses_replace(
+            self,
+            status=int(self.status[k]),
+            trajectory=self.trajectory[k],
+            bed=None,
+            **fields,
+            **series,
+        )
 
     def to_xarray(self) -> Any:
         """The motion as an xarray.Dataset with the dimension ``time``, CF attributes.
-        Needs the ``io`` extra."""
+        Needs the ``io`` extra. An array bed's run has its axes in front, named ``bed``
+        (``bed_0``, ``bed_1``, ... for several), with the bed's array parameters as
+        coordinates and each element's time scale, kappa, drag ratio, Womersley and
+        inertia numbers, status and end as variables on them."""
         from ._optional import optional_import
 
         xr = optional_import("xarray", "BedSimulation.to_xarray", "io")
+        if self.shape:
+            return self._array_xarray(xr)
 
         def var(value: FloatArray, units: str, name: str) -> Any:
             return ("time", value, {"units": units, "long_name": name})
@@ -173,6 +207,61 @@ class BedSimulation:
                 "Conventions": "CF-1.10",
             },
         )
+
+    def _array_xarray(self, xr: Any) -> Any:
+        """:meth:`to_xarray` of an array bed's run."""
+        from ._model_axes import model_coords, model_dims
+
+        dims = model_dims("bed", self.shape)
+        both = (*dims, "time")
+
+        def var(value: Any, units: str, name: str, on: tuple[str, ...] = both) -> Any:
+            return (on, np.asarray(value), {"units": units, "long_name": name})
+
+        data = {
+            "tip_deflection": var(self.tip_deflection, "m", "tip deflection (streamwise)"),
+            "tip_height": var(self.tip_height, "m", "tip height"),
+            "tip_angle": var(self.tip_angle, "rad", "tip angle"),
+            "base_moment": var(self.base_moment, "N m", "bending moment at the base"),
+            "wall_shear_stress": var(self.wall_shear_stress, "Pa", "top wall shear stress"),
+            "wall_velocity": var(self.wall_velocity, "m/s", "top wall speed"),
+            "flow_rate": var(self.flow_rate, "m^2/s", "flow rate per unit width"),
+            "pressure_gradient": var(self.pressure_gradient, "Pa/m", "pressure gradient -dp/dx"),
+            "time_scale": var(self.time_scale, "s", "T = zeta_perp L^4/(E I)", dims),
+            "kappa": var(self.kappa, "1", "permeability over L^2", dims),
+            "drag_ratio": var(self.drag_ratio, "1", "zeta_par/zeta_perp", dims),
+            "womersley": var(self.womersley, "1", "Womersley number as run", dims),
+            "inertia_number": var(self.inertia_number, "1", "inertia number as run", dims),
+            "status": var(self.status, "1", "status", dims),
+            "t_end": var(self.t_end, "s", "end of the run", dims),
+        }
+        coords = model_coords(self.bed, "bed", _BED_PARAMETERS)
+        coords["time"] = (
+            "time",
+            self.time,
+            {"units": "s", "long_name": "time", "standard_name": "time"},
+        )
+        return xr.Dataset(
+            data,
+            coords=coords,
+            attrs={
+                "title": "hairbed hair bed in time (array bed)",
+                "model": self.model,
+                "bed_model": self.bed_model,
+                "hair_density_kg_per_m3": self.hair_density,
+                "Conventions": "CF-1.10",
+            },
+        )  # fmt: skip
+
+
+#: The series of a :class:`BedSimulation` (one row per bed of an array run).
+_BED_SERIES = ("tip_deflection", "tip_height", "tip_angle", "base_moment",
+               "wall_shear_stress", "wall_velocity", "flow_rate", "pressure_gradient")  # fmt: skip
+#: The fields of a :class:`BedSimulation` with one value per bed.
+_PER_BED = ("time_scale", "kappa", "drag_ratio", "womersley", "inertia_number", "t_end")
+#: The parameters of a HairBed that may be arrays (the coordinates of an array run).
+_BED_PARAMETERS = ("length", "radius", "youngs_modulus", "channel_height", "viscosity",
+                   "spacing", "packing_fraction", "base_angle", "density")  # fmt: skip
 
 
 def _si_drive(
@@ -272,6 +361,7 @@ def simulate(
     rtol: float = 1e-8,
     atol: float = 1e-10,
     max_steps: int = 100_000,
+    workers: int = 1,
 ) -> BedSimulation:
     """A hair bed's motion in time-dependent flow, in SI (theory.md §15).
 
@@ -317,10 +407,18 @@ def simulate(
         The integrator's tolerances (default 1e-8, 1e-10).
     max_steps : int, optional
         The most steps (status -2 beyond).
+    workers : int, optional
+        Threads in [1, 64] for the runs of an array bed (default 1; the compiled
+        integrator releases the GIL).
 
     Returns
     -------
     BedSimulation
+        For an array bed of shape S (issue 32: a design scan), one run with S in front of
+        every series (``tip_deflection`` of shape S + (time,), ...) and of ``time_scale``,
+        ``kappa``, ``drag_ratio``, ``womersley``, ``inertia_number``, ``status`` and
+        ``t_end``: each element bitwise the run of its :meth:`hairbed.HairBed.item`
+        (:meth:`BedSimulation.item`), the runs shared out over ``workers`` threads.
 
     Raises
     ------
@@ -339,7 +437,6 @@ def simulate(
     >>> round(float(run.tip_deflection[-1] / bed.deform(0.1).tip_deflection), 8)
     1.0
     """
-    s: _BedScales = _scales(bed, hair_density)
     tt = as_float_array(times, "times", unit="s").reshape(-1)
     if tt.size == 0:
         raise ValueError("times must hold at least one time [s]")
@@ -348,6 +445,32 @@ def simulate(
         i = int(back[0]) + 1
         raise ValueError(f"times must not decrease [s]; times[{i}] = {show(float(tt[i]))} is "
                          "earlier")  # fmt: skip
+    if velocity is not None and wall_shear_stress is not None:
+        raise ValueError("give at most one of velocity [m/s] and wall_shear_stress [Pa], got both")
+    if pressure_gradient is not None and flow_rate is not None:
+        raise ValueError(
+            "give at most one of pressure_gradient [Pa/m] and flow_rate [m^2/s], got both"
+        )
+    given = {"velocity": velocity, "wall_shear_stress": wall_shear_stress,
+             "pressure_gradient": pressure_gradient, "flow_rate": flow_rate}  # fmt: skip
+    options: dict[str, Any] = dict(
+        num=num, num_gap=num_gap, rtol=rtol, atol=atol, max_steps=max_steps
+    )
+    workers = check_int(workers, "workers", 1, 64)
+    if not _is_bed(bed) or not bed.shape:  # (not a bed: _scales says so)
+        s, t_dim, drives = _run_inputs(bed, tt, given, hair_density)
+        run = simulate_bed(s.theta0, s.kappa, s.eps, t_eval=t_dim, gamma=s.gamma,
+                           inertia=s.inertia, tangential_mass=s.tangential_mass,
+                           womersley=s.womersley, **options, **drives)  # fmt: skip
+        return _simulation_of(bed, s, run, tt, hair_density)
+    return _array_simulate(bed, tt, given, hair_density, options, workers)
+
+
+def _run_inputs(
+    bed: Any, tt: FloatArray, given: dict[str, Any], hair_density: Any
+) -> tuple[_BedScales, FloatArray, dict[str, Any]]:
+    """(the scales as run, t/T, the dimensionless drives) of one bed of numbers' run."""
+    s: _BedScales = _scales(bed, hair_density)
     with np.errstate(over="ignore"):
         t_dim = tt / s.time
     if not np.all(np.isfinite(t_dim)):
@@ -355,42 +478,23 @@ def simulate(
             f"times must stay below {np.finfo(np.float64).max * s.time:.4g} s in magnitude for "
             f"this bed (t/T overflows, T = {s.time:.4g} s), got {float(np.max(np.abs(tt)))!r}"
         )
-    if velocity is not None and wall_shear_stress is not None:
-        raise ValueError("give at most one of velocity [m/s] and wall_shear_stress [Pa], got both")
-    if pressure_gradient is not None and flow_rate is not None:
-        raise ValueError(
-            "give at most one of pressure_gradient [Pa/m] and flow_rate [m^2/s], got both"
-        )
-    drives = {
-        "wall": _si_drive(velocity, "velocity", "m/s", s.omega2_per_velocity, tt, s.time),
-        "wall_stress": _si_drive(
-            wall_shear_stress, "wall_shear_stress", "Pa", s.load_per_stress, tt, s.time
-        ),
-        "pressure": _si_drive(
-            pressure_gradient, "pressure_gradient", "Pa/m", s.pi_per_gradient, tt, s.time
-        ),
-        "flow_rate": _si_drive(flow_rate, "flow_rate", "m^2/s", s.q_per_flow, tt, s.time),
-    }
-    s = _within_range(s, bed, hair_density)
-    run = simulate_bed(
-        s.theta0,
-        s.kappa,
-        s.eps,
-        t_eval=t_dim,
-        gamma=s.gamma,
-        inertia=s.inertia,
-        tangential_mass=s.tangential_mass,
-        womersley=s.womersley,
-        num=num,
-        num_gap=num_gap,
-        rtol=rtol,
-        atol=atol,
-        max_steps=max_steps,
-        wall=drives["wall"],
-        wall_stress=drives["wall_stress"],
-        pressure=drives["pressure"],
-        flow_rate=drives["flow_rate"],
-    )
+    drives: dict[str, Any] = {
+        "wall": _si_drive(given["velocity"], "velocity", "m/s", s.omega2_per_velocity, tt,
+                          s.time),
+        "wall_stress": _si_drive(given["wall_shear_stress"], "wall_shear_stress", "Pa",
+                                 s.load_per_stress, tt, s.time),
+        "pressure": _si_drive(given["pressure_gradient"], "pressure_gradient", "Pa/m",
+                              s.pi_per_gradient, tt, s.time),
+        "flow_rate": _si_drive(given["flow_rate"], "flow_rate", "m^2/s", s.q_per_flow, tt,
+                               s.time),
+    }  # fmt: skip
+    return _within_range(s, bed, hair_density), t_dim, drives
+
+
+def _simulation_of(
+    bed: Any, s: _BedScales, run: BedTrajectory, tt: FloatArray, hair_density: Any
+) -> BedSimulation:
+    """One bed of numbers' run in SI."""
     length, ei = bed.length, bed.bending_stiffness
     return BedSimulation(
         time=tt,
@@ -413,4 +517,70 @@ def simulate(
         status=int(run.status),
         t_end=float(run.t_end) * s.time,
         trajectory=run,
+    )
+
+
+def _array_simulate(
+    bed: Any,
+    tt: FloatArray,
+    given: dict[str, Any],
+    hair_density: Any,
+    options: dict[str, Any],
+    workers: int,
+) -> BedSimulation:
+    """:func:`simulate` of an array bed (issue 32): each element's run is the compiled
+    integration of the bed of numbers (:func:`hairbed.dynamics.simulate_bed`, as
+    :func:`hairbed.dynamics.simulate_beds` runs each of its beds: so each element is
+    bitwise its :meth:`hairbed.HairBed.item`'s), shared out over ``workers`` threads (the
+    integrator releases the GIL), the runs stacked behind the bed's shape. (simulate_beds
+    itself takes one time grid in T for all its beds; the elements of a scan have each
+    their own T unless only the angle, the channel or the density vary.)"""
+    from ._model_axes import element_index
+
+    shape = tuple(bed.shape)
+    elements = list(bed._elements())
+    if hair_density is not None:  # shared by every element: its error names no element
+        check_positive(hair_density, "hair_density", "kg/m^3")
+    inputs = []
+    for k, el in enumerate(elements):
+        try:
+            inputs.append(_run_inputs(el, tt, given, hair_density))
+        except ValueError as exc:  # this element's scales or its drives' range
+            raise ValueError(f"{exc} (bed {element_index(k, shape)})") from None
+
+    def one(k: int) -> BedTrajectory:
+        s, t_dim, drives = inputs[k]
+        try:
+            return simulate_bed(s.theta0, s.kappa, s.eps, t_eval=t_dim, gamma=s.gamma,
+                                inertia=s.inertia, tangential_mass=s.tangential_mass,
+                                womersley=s.womersley, **options, **drives)  # fmt: skip
+        except ValueError as exc:
+            raise ValueError(f"{exc} (bed {element_index(k, shape)})") from None
+
+    if workers == 1 or len(elements) == 1:
+        runs = [one(k) for k in range(len(elements))]
+    else:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(max_workers=min(workers, len(elements))) as pool:
+            runs = list(pool.map(one, range(len(elements))))
+    out = [_simulation_of(el, inputs[k][0], runs[k], tt, hair_density)
+           for k, el in enumerate(elements)]  # fmt: skip
+
+    def stacked(name: str, dtype: Any = np.float64) -> Any:
+        rows = np.array([getattr(r, name) for r in out], dtype=dtype)
+        return rows.reshape(shape + rows.shape[1:])
+
+    trajectories = np.empty(len(runs), dtype=object)
+    trajectories[:] = runs
+    series = {n: stacked(n) for n in (*_BED_SERIES, *_PER_BED)}
+    return BedSimulation(
+        time=tt,
+        **series,
+        hair_density=out[0].hair_density,
+        model="porous",
+        bed_model=str(bed.model),
+        status=stacked("status", np.int64),
+        trajectory=trajectories.reshape(shape),
+        bed=bed,
     )

@@ -1537,10 +1537,10 @@ class Pillar(_ArrayModel):
         linearised about the static state at the mean ``wall_shear_stress`` [Pa], with the
         resonance, its quality factor and the bandwidth:
         :func:`hairbed.sensor_dynamics.frequency_response` (a
-        :class:`hairbed.sensor_dynamics.SensorResponse`)."""
+        :class:`hairbed.sensor_dynamics.SensorResponse`). An array pillar (a design scan)
+        gives one response with its shape in front, each element that of its :meth:`item`."""
         from .sensor_dynamics import frequency_response
 
-        self._require_scalar("Pillar.frequency_response")
         return frequency_response(
             self,
             frequency,
@@ -1590,15 +1590,17 @@ class Pillar(_ArrayModel):
         rtol: float = 1e-6,
         atol: float = 1e-7,
         max_steps: int = 100_000,
+        workers: int = 1,
     ) -> Any:
         """The pillar's nonlinear motion [m] at times ``t`` [s] under a wall-shear-stress drive
         tau_w(t) [Pa] (a number: a step from rest at t[0]; a :mod:`hairbed.dynamics` signal
         in seconds and pascals; or a callable of t [s]), from rest in the static state before
         t[0]: :func:`hairbed.sensor_dynamics.simulate` (a
-        :class:`hairbed.sensor_dynamics.SensorTrajectory`)."""
+        :class:`hairbed.sensor_dynamics.SensorTrajectory`). An array pillar (a design scan)
+        gives one run with its shape in front, each element the run of its :meth:`item`
+        (on ``workers`` threads)."""
         from .sensor_dynamics import simulate
 
-        self._require_scalar("Pillar.simulate")
         return simulate(
             self,
             wall_shear_stress,
@@ -1609,4 +1611,5 @@ class Pillar(_ArrayModel):
             rtol=rtol,
             atol=atol,
             max_steps=max_steps,
+            workers=workers,
         )

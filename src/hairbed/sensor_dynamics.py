@@ -45,6 +45,7 @@ from ._core.validation import (
     check_number,
     check_positive,
     show,
+    status_messages,
 )
 from ._warnings import ModelValidityWarning
 from .dynamics import linearise_pillar, warn_dynamics_validity
@@ -307,42 +308,78 @@ class SensorResponse:
     response: ComplexArray
     magnitude: FloatArray
     phase: FloatArray
-    static_gain: float
-    resonance_frequency: float
-    quality_factor: float
-    bandwidth: float
+    static_gain: Any
+    resonance_frequency: Any
+    quality_factor: Any
+    bandwidth: Any
     magnitude_tolerance: float
     phase_tolerance: float
     wall_shear_stress: float
     drag: str
-    time_scale: float
-    inertia_number: float
-    valid_below: float
-    status: int
+    time_scale: Any
+    inertia_number: Any
+    valid_below: Any
+    status: Any
     _model: Any = field(repr=False, compare=False)
+    #: The array pillar of an array response (None for a pillar of numbers).
+    pillar: Any = field(default=None, repr=False, compare=False)
 
     @property
-    def success(self) -> bool:
-        """True where status is 0."""
-        return self.status == 0
+    def shape(self) -> tuple[int, ...]:
+        """The pillar's shape: () for a pillar of numbers (issue 32)."""
+        return tuple(np.shape(self.status))
 
     @property
-    def message(self) -> str:
-        """``SENSOR_STATUS`` of ``status``."""
-        return SENSOR_STATUS[self.status]
+    def success(self) -> Any:
+        """True where status is 0 (an array of the pillar's shape for an array pillar)."""
+        ok = np.asarray(self.status) == 0
+        return bool(ok) if ok.ndim == 0 else ok
+
+    @property
+    def message(self) -> str | list[Any]:
+        """``SENSOR_STATUS`` of ``status`` (a nested list for an array pillar)."""
+        return status_messages(self.status, SENSOR_STATUS)
+
+    def item(self, index: Any = ()) -> SensorResponse:
+        """The response of the pillar at ``index`` of :attr:`shape` (as
+        :meth:`hairbed.Pillar.item` indexes it); a pillar of numbers' response is itself."""
+        if not self.shape:
+            return self
+        k = _checked_index(index, self.shape, "response")
+
+        fields: dict[str, Any] = {n: float(np.asarray(getattr(self, n))[k]) for n in _PER_PILLAR}
+        return dataclasses_replace(
+            self,
+            response=np.array(self.response[k]),
+            magnitude=np.array(self.magnitude[k]),
+            phase=np.array(self.phase[k]),
+            status=int(self.status[k]),
+            _model=self._model[k],
+            pillar=None,
+            **fields,
+        )
 
     def at(self, frequency: Any) -> ComplexArray:
-        """H(f) [m/Pa] at other frequencies f [Hz] (finite, >= 0), of their shape."""
+        """H(f) [m/Pa] at other frequencies f [Hz] (finite, >= 0), of their shape (behind
+        the pillar's shape for an array pillar)."""
         f = _frequencies(frequency)
-        return self._model.response(f)[0]
+        if not self.shape:
+            return self._model.response(f)[0]
+        rows = [m.response(f)[0] for m in self._model.reshape(-1)]
+        return np.stack(rows).reshape(self.shape + f.shape)
 
     def to_xarray(self) -> Any:
         """The response as an xarray.Dataset with the dimension ``frequency`` and CF
         attributes (H split into magnitude and phase, and real and imaginary parts: netCDF
-        has no complex type). Needs the ``io`` extra."""
+        has no complex type). Needs the ``io`` extra. An array pillar's response has its
+        axes in front, named ``pillar`` (``pillar_0``, ``pillar_1``, ... for a pillar of
+        several axes), with the pillar's array parameters as coordinates and the resonance,
+        quality factor, bandwidth, static gain and status as variables on them."""
         from ._optional import optional_import
 
         xr = optional_import("xarray", "SensorResponse.to_xarray", "io")
+        if self.shape:
+            return self._array_xarray(xr)
         h = self.response
         data = {
             "magnitude": (
@@ -386,6 +423,76 @@ class SensorResponse:
                 "Conventions": "CF-1.10",
             },
         )
+
+    def _array_xarray(self, xr: Any) -> Any:
+        """:meth:`to_xarray` of an array pillar's response."""
+        from ._model_axes import model_coords, model_dims
+
+        shape = self.shape
+        dims = model_dims("pillar", shape)
+        both = (*dims, "frequency")
+        f = np.asarray(self.frequency).reshape(-1)
+        h = np.asarray(self.response).reshape(shape + f.shape)
+
+        def var(value: Any, units: str, long_name: str, on: tuple[str, ...] = both) -> Any:
+            return (on, np.asarray(value), {"units": units, "long_name": long_name})
+
+        data = {
+            "magnitude": var(np.abs(h), "m/Pa", "tip deflection per wall shear stress, |H|"),
+            "phase": var(np.angle(h), "rad", "phase of H (exp(+i 2 pi f t))"),
+            "response_real": var(h.real, "m/Pa", "Re H"),
+            "response_imag": var(h.imag, "m/Pa", "Im H"),
+            "static_gain": var(self.static_gain, "m/Pa", "static gain H(0)", dims),
+            "resonance_frequency": var(self.resonance_frequency, "Hz", "resonance", dims),
+            "quality_factor": var(self.quality_factor, "1", "half-power quality factor", dims),
+            "bandwidth": var(self.bandwidth, "Hz", "usable bandwidth", dims),
+            "time_scale": var(self.time_scale, "s", "T = zeta_perp L^4/(E I)", dims),
+            "inertia_number": var(self.inertia_number, "1", "inertia number mu", dims),
+            "valid_below": var(self.valid_below, "Hz", "nu/(pi L^2)", dims),
+            "status": var(self.status, "1", "status", dims),
+        }
+        coords = model_coords(self.pillar, "pillar", _PILLAR_PARAMETERS)
+        coords["frequency"] = (
+            "frequency",
+            f,
+            {"units": "Hz", "long_name": "frequency", "standard_name": "frequency"},
+        )
+        return xr.Dataset(
+            data,
+            coords=coords,
+            attrs={
+                "title": "hairbed pillar sensor frequency response (array pillar)",
+                "magnitude_tolerance": self.magnitude_tolerance,
+                "phase_tolerance_rad": self.phase_tolerance,
+                "wall_shear_stress_Pa": self.wall_shear_stress,
+                "drag": self.drag,
+                "time_convention": "exp(+i 2 pi f t)",
+                "Conventions": "CF-1.10",
+            },
+        )
+
+
+#: The fields of a :class:`SensorResponse` with one value per pillar.
+_PER_PILLAR = (
+    "static_gain",
+    "resonance_frequency",
+    "quality_factor",
+    "bandwidth",
+    "time_scale",
+    "inertia_number",
+    "valid_below",
+)
+#: The parameters of a Pillar that may be arrays (the coordinates of an array response).
+_PILLAR_PARAMETERS = (
+    "length",
+    "radius",
+    "youngs_modulus",
+    "viscosity",
+    "base_angle",
+    "drag_scale",
+    "channel_height",
+    "density",
+)
 
 
 def _frequencies(frequency: Any) -> FloatArray:
@@ -507,7 +614,12 @@ def frequency_response(
     Parameters
     ----------
     pillar : Pillar
-        The sensor; it needs the fluid's ``density`` (or a ``fluid`` preset).
+        The sensor; it needs the fluid's ``density`` (or a ``fluid`` preset). An
+        array-valued pillar (issue 32: any of its SI parameters an array, a design scan)
+        gives one response with the pillar's shape in front: each element linearised about
+        its own static state, bitwise the response of its :meth:`hairbed.Pillar.item`
+        (:meth:`SensorResponse.item`; the elements run one after the other, the
+        linearisation being per pillar).
     frequency : array_like
         Frequencies f >= 0 [Hz] (any shape).
     wall_shear_stress : float, optional
@@ -526,7 +638,11 @@ def frequency_response(
     -------
     SensorResponse
         With the resonance (the peak of abs(H)), its half-power quality factor and the
-        bandwidth, each found on an internal scan refined by Brent's method.
+        bandwidth, each found on an internal scan refined by Brent's method. For an array
+        pillar of shape S: ``response`` of shape S + frequency.shape, the resonance, quality
+        factor, bandwidth, static gain, time scale, inertia number and status arrays of
+        shape S; :meth:`SensorResponse.to_xarray` names the axes ``pillar`` (``pillar_0``,
+        ... for several) with the pillar's array parameters as coordinates.
 
     Warns
     -----
@@ -566,8 +682,16 @@ def frequency_response(
         high_open=True,
         unit="rad",
     )
-    model = _model(pillar, wall_shear_stress, pillar_density, drag)
+    p = _as_pillar(pillar)
+    if p.shape:
+        return _array_response(p, f, wall_shear_stress, pillar_density, drag, mtol, ptol)
+    model = _model(p, wall_shear_stress, pillar_density, drag)
     _warn_validity(model, f, 3)
+    return _response_of(model, f, mtol, ptol)
+
+
+def _response_of(model: _Model, f: FloatArray, mtol: float, ptol: float) -> SensorResponse:
+    """The response of one pillar's linear model at checked frequencies and tolerances."""
     h, status = model.response(f)  # with Sader's drag the dynamics' own checks warn here
     with warnings.catch_warnings():  # the internal scan's frequencies are not the user's
         warnings.simplefilter("ignore", ModelValidityWarning)
@@ -593,6 +717,66 @@ def frequency_response(
         valid_below=model.valid_below,
         status=int(code),
         _model=model,
+    )
+
+
+def _array_response(
+    p: Any, f: FloatArray, tau: Any, rho_s: Any, drag: Any, mtol: float, ptol: float
+) -> SensorResponse:
+    """:func:`frequency_response` of an array pillar (issue 32): each element's linear
+    model about its own static state and its response, resonance and bandwidth, as the
+    pillar of numbers computes them (so each element is bitwise its
+    :meth:`hairbed.Pillar.item`'s), stacked behind the pillar's shape. The linearisation
+    (a QZ or an LU per frequency of each element's own pencil) is per element: the elements
+    run one after the other, the warnings of their runs re-issued once per kind."""
+    from ._model_axes import element_index, reissue
+
+    shape = tuple(p.shape)
+    # the arguments shared by every element, checked once (their errors name no element)
+    check_number(tau, "wall_shear_stress", unit="Pa")
+    if rho_s is not None:
+        check_positive(rho_s, "pillar_density", "kg/m^3")
+    check_choice(drag, "drag", DRAG_MODELS)
+    runs: list[SensorResponse] = []
+    records: list[list[warnings.WarningMessage]] = []
+    for k, el in enumerate(p._elements()):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                model = _model(el, tau, rho_s, drag)
+            except ValueError as exc:
+                raise ValueError(f"{exc} (pillar {element_index(k, shape)})") from None
+            _warn_validity(model, f, 3)
+            runs.append(_response_of(model, f, mtol, ptol))
+        records.append(list(caught))
+    reissue(records, shape, "pillar", 3)
+    first = runs[0]
+
+    def stacked(name: str, dtype: Any = np.float64) -> Any:
+        rows = np.array([getattr(r, name) for r in runs], dtype=dtype)
+        return rows.reshape(shape + rows.shape[1:])
+
+    models = np.empty(len(runs), dtype=object)
+    models[:] = [r._model for r in runs]
+    return SensorResponse(
+        frequency=f,
+        response=stacked("response", np.complex128),
+        magnitude=stacked("magnitude"),
+        phase=stacked("phase"),
+        static_gain=stacked("static_gain"),
+        resonance_frequency=stacked("resonance_frequency"),
+        quality_factor=stacked("quality_factor"),
+        bandwidth=stacked("bandwidth"),
+        magnitude_tolerance=mtol,
+        phase_tolerance=ptol,
+        wall_shear_stress=first.wall_shear_stress,
+        drag=first.drag,
+        time_scale=stacked("time_scale"),
+        inertia_number=stacked("inertia_number"),
+        valid_below=stacked("valid_below"),
+        status=stacked("status", np.int64),
+        _model=models.reshape(shape),
+        pillar=p,
     )
 
 
@@ -1015,26 +1199,60 @@ class SensorTrajectory:
     time_scale: float
     inertia_number: float
     pillar_density: float
-    status: int
-    t_end: float
+    status: Any
+    t_end: Any
     trajectory: Any = field(repr=False, compare=False)
+    #: The array pillar of an array run (None for a pillar of numbers).
+    pillar: Any = field(default=None, repr=False, compare=False)
 
     @property
-    def success(self) -> bool:
-        """True where the run reached its last time (status 0)."""
-        return self.status == 0
+    def shape(self) -> tuple[int, ...]:
+        """The pillar's shape: () for a pillar of numbers (issue 32)."""
+        return tuple(np.shape(self.status))
 
     @property
-    def message(self) -> str:
-        """The status's message."""
-        return str(self.trajectory.message)
+    def success(self) -> Any:
+        """True where the run reached its last time (status 0); an array of the pillar's
+        shape for an array pillar."""
+        ok = np.asarray(self.status) == 0
+        return bool(ok) if ok.ndim == 0 else ok
+
+    @property
+    def message(self) -> str | list[Any]:
+        """The status's message (a nested list for an array pillar)."""
+        if not self.shape:
+            return str(self.trajectory.message)
+        return np.vectorize(lambda r: str(r.message), otypes=[object])(self.trajectory).tolist()
+
+    def item(self, index: Any = ()) -> SensorTrajectory:
+        """The run of the pillar at ``index`` of :attr:`shape` (as :meth:`hairbed.Pillar.item`
+        indexes it); a pillar of numbers' run is itself."""
+        if not self.shape:
+            return self
+        k = _checked_index(index, self.shape, "run")
+        per = ("time_scale", "inertia_number", "t_end")
+        fields: dict[str, Any] = {n: float(np.asarray(getattr(self, n))[k]) for n in per}
+        arrays: dict[str, Any] = {n: np.array(getattr(self, n)[k]) for n in _RUN_SERIES}
+        return dataclasses_replace(
+            self,
+            status=int(self.status[k]),
+            trajectory=self.trajectory[k],
+            pillar=None,
+            **fields,
+            **arrays,
+        )
 
     def to_xarray(self) -> Any:
         """The motion as an xarray.Dataset with the dimensions ``time`` (and ``node`` for the
-        shape), CF attributes. Needs the ``io`` extra."""
+        shape), CF attributes. Needs the ``io`` extra. An array pillar's run has its axes in
+        front, named ``pillar`` (``pillar_0``, ... for several), with the pillar's array
+        parameters as coordinates and each element's time scale, inertia number, status and
+        end as variables on them."""
         from ._optional import optional_import
 
         xr = optional_import("xarray", "SensorTrajectory.to_xarray", "io")
+        if self.shape:
+            return self._array_xarray(xr)
         t2 = ("time", "node")
         data = {
             "wall_shear_stress": (
@@ -1084,6 +1302,75 @@ class SensorTrajectory:
                 "Conventions": "CF-1.10",
             },
         )
+
+    def _array_xarray(self, xr: Any) -> Any:
+        """:meth:`to_xarray` of an array pillar's run."""
+        from ._model_axes import model_coords, model_dims
+
+        dims = model_dims("pillar", self.shape)
+        t1, t2 = (*dims, "time"), (*dims, "time", "node")
+
+        def var(value: Any, on: tuple[str, ...], units: str, long_name: str) -> Any:
+            return (on, np.asarray(value), {"units": units, "long_name": long_name})
+
+        data = {
+            "wall_shear_stress": var(self.wall_shear_stress, t1, "Pa",
+                                     "wall shear stress (the drive)"),
+            "tip_deflection": var(self.tip_deflection, t1, "m", "tip deflection (streamwise)"),
+            "tip_height": var(self.tip_height, t1, "m", "tip height"),
+            "tip_angle": var(self.tip_angle, t1, "rad", "tip angle"),
+            "base_moment": var(self.base_moment, t1, "N m", "bending moment at the base"),
+            "angle": var(self.angle, t2, "rad", "tangent angle"),
+            "x": var(self.x, t2, "m", "streamwise position of the pillar"),
+            "z": var(self.z, t2, "m", "height of the pillar"),
+            "time_scale": var(self.time_scale, dims, "s", "T = zeta_perp L^4/(E I)"),
+            "inertia_number": var(self.inertia_number, dims, "1", "inertia number mu"),
+            "status": var(self.status, dims, "1", "status"),
+            "t_end": var(self.t_end, dims, "s", "end of the run"),
+        }  # fmt: skip
+        coords = model_coords(self.pillar, "pillar", _PILLAR_PARAMETERS)
+        coords["time"] = (
+            "time",
+            self.time,
+            {"units": "s", "long_name": "time", "standard_name": "time"},
+        )
+        coords["arc_length"] = (
+            (*dims, "node"),
+            self.arc_length,
+            {"units": "m", "long_name": "arc length from the base"},
+        )
+        return xr.Dataset(
+            data,
+            coords=coords,
+            attrs={
+                "title": "hairbed pillar sensor in time (array pillar)",
+                "pillar_density_kg_per_m3": self.pillar_density,
+                "drag": "quasi-steady",
+                "Conventions": "CF-1.10",
+            },
+        )  # fmt: skip
+
+
+#: The series of a :class:`SensorTrajectory` (one row per pillar of an array run).
+_RUN_SERIES = ("wall_shear_stress", "tip_deflection", "tip_height", "tip_angle",
+               "base_moment", "arc_length", "angle", "x", "z")  # fmt: skip
+
+
+def _checked_index(index: Any, shape: tuple[int, ...], what: str) -> tuple[int, ...]:
+    """``index`` (an int or a tuple of ints, negative from the end) into ``shape``, or a
+    ValueError."""
+    idx = index if isinstance(index, tuple) else (index,)
+    whole = all(
+        isinstance(i, (int, np.integer)) and not isinstance(i, (bool, np.bool_)) for i in idx
+    )
+    if not whole or len(idx) != len(shape):
+        raise ValueError(
+            f"index must be {len(shape)} integer(s) into the {what}'s shape {shape} (an int "
+            f"or a tuple), got {show(index)}"
+        )
+    if not all(-n <= int(i) < n for i, n in zip(idx, shape, strict=True)):
+        raise ValueError(f"index {show(index)} is out of range for the {what}'s shape {shape}")
+    return tuple(int(i) for i in idx)
 
 
 #: The parameters of each named signal that are times [s] (divided by T) and stresses [Pa]
@@ -1221,6 +1508,7 @@ def simulate(
     rtol: float = 1e-6,
     atol: float = 1e-7,
     max_steps: int = 100_000,
+    workers: int = 1,
 ) -> SensorTrajectory:
     """A pillar sensor's nonlinear motion under a wall-shear-stress drive tau_w(t), in SI.
 
@@ -1266,10 +1554,18 @@ def simulate(
         The integrator's tolerances on the angles [rad] (and rates).
     max_steps : int, optional
         The most steps (status -2 beyond).
+    workers : int, optional
+        Threads in [1, 64] for the runs of an array pillar (default 1; the compiled
+        integrator releases the GIL).
 
     Returns
     -------
     SensorTrajectory
+        For an array pillar of shape S (issue 32: a design scan), one run with S in front
+        of every series (``tip_deflection`` of shape S + (time,), ``angle``, ``x``, ``z`` S
+        + (time, node)) and ``time_scale``, ``inertia_number``, ``status``, ``t_end`` of
+        shape S: each element bitwise the run of its :meth:`hairbed.Pillar.item`
+        (:meth:`SensorTrajectory.item`), the runs shared out over ``workers`` threads.
 
     Raises
     ------
@@ -1305,18 +1601,12 @@ def simulate(
     if back.size:
         i = int(back[0]) + 1
         raise ValueError(f"t must not decrease [s]; t[{i}] = {show(float(tt[i]))} is earlier")
-    ei, length = p.bending_stiffness, p.length
-    t_scale, mu, chi = time_scale_and_inertia(p, pillar_density, overdamped=overdamped)
-    rho_s = math.nan if overdamped else float(pillar_density)  # type: ignore[arg-type]
-    per_stress = p.forcing_per_stress
-    with np.errstate(over="ignore"):
-        t_dim = tt / t_scale
-    if tt.size and np.all(np.isfinite(tt)) and not np.all(np.isfinite(t_dim)):
-        raise ValueError(
-            f"t must stay below {np.finfo(np.float64).max * t_scale:.4g} s in magnitude for "
-            f"this pillar (t/T overflows, T = {t_scale:.4g} s), got {float(np.max(np.abs(tt)))!r}"
-        )
-    lam = _si_drive(wall_shear_stress, tt, t_scale, per_stress)
+    workers = check_int(workers, "workers", 1, 64)
+    if p.shape:
+        return _array_simulate(p, wall_shear_stress, tt, pillar_density, overdamped, num,
+                               rtol, atol, max_steps, workers)  # fmt: skip
+    t_scale, mu, chi, t_dim, lam = _run_inputs(p, wall_shear_stress, tt, pillar_density,
+                                               overdamped)  # fmt: skip
     run = dynamics.simulate_pillar(
         lam,
         t_dim,
@@ -1331,6 +1621,33 @@ def simulate(
         atol=atol,
         max_steps=max_steps,
     )
+    rho_s = math.nan if overdamped else float(pillar_density)  # type: ignore[arg-type]
+    return _trajectory_of(p, run, tt, t_scale, mu, rho_s)
+
+
+def _run_inputs(
+    p: Any, drive: Any, tt: FloatArray, pillar_density: Any, overdamped: bool
+) -> tuple[float, float, float, FloatArray, Any]:
+    """(T [s], mu, chi, t/T, the dimensionless drive) of one pillar of numbers' run."""
+    t_scale, mu, chi = time_scale_and_inertia(p, pillar_density, overdamped=overdamped)
+    with np.errstate(over="ignore"):
+        t_dim = tt / t_scale
+    if tt.size and np.all(np.isfinite(tt)) and not np.all(np.isfinite(t_dim)):
+        raise ValueError(
+            f"t must stay below {np.finfo(np.float64).max * t_scale:.4g} s in magnitude for "
+            f"this pillar (t/T overflows, T = {t_scale:.4g} s), got {float(np.max(np.abs(tt)))!r}"
+        )
+    lam = _si_drive(drive, tt, t_scale, p.forcing_per_stress)
+    return t_scale, mu, chi, t_dim, lam
+
+
+def _trajectory_of(
+    p: Any, run: Any, tt: FloatArray, t_scale: float, mu: float, rho_s: float
+) -> SensorTrajectory:
+    """One pillar of numbers' run in SI (the static validity checks at its largest stress
+    run here)."""
+    ei, length = p.bending_stiffness, p.length
+    per_stress = p.forcing_per_stress
     tau = np.asarray(run.forcing, dtype=np.float64) / per_stress
     finite = tau[np.isfinite(tau)]
     if finite.size and np.max(np.abs(finite)) > 0.0:  # the static checks at the largest stress
@@ -1353,4 +1670,98 @@ def simulate(
         status=int(run.status),
         t_end=float(run.t_end) * t_scale,
         trajectory=run,
+    )
+
+
+def _array_simulate(
+    p: Any,
+    drive: Any,
+    tt: FloatArray,
+    pillar_density: Any,
+    overdamped: bool,
+    num: int,
+    rtol: float,
+    atol: float,
+    max_steps: int,
+    workers: int,
+) -> SensorTrajectory:
+    """:func:`simulate` of an array pillar (issue 32): each element's run is the compiled
+    integration :func:`hairbed.dynamics.simulate_pillar` of the pillar of numbers (so each
+    is bitwise its :meth:`hairbed.Pillar.item`'s), shared out over ``workers`` threads (the
+    integrator releases the GIL), the runs stacked behind the pillar's shape."""
+    from . import dynamics
+    from ._model_axes import element_index, reissue
+
+    shape = tuple(p.shape)
+    elements = list(p._elements())
+    # the arguments every element shares, checked once (their errors name no element)
+    time_scale_and_inertia(elements[0], pillar_density, overdamped=overdamped)
+    rho_s = math.nan if overdamped else float(pillar_density)
+    inputs = []
+    for k, el in enumerate(elements):
+        try:
+            inputs.append(_run_inputs(el, drive, tt, pillar_density, overdamped))
+        except ValueError as exc:  # this element's scales or its drive's range
+            raise ValueError(f"{exc} (pillar {element_index(k, shape)})") from None
+
+    def one(k: int) -> Any:
+        el, (_, mu, chi, t_dim, lam) = elements[k], inputs[k]
+        try:
+            return dynamics.simulate_pillar(
+                lam,
+                t_dim,
+                theta0=el.base_angle,
+                profile=el._core_profile,
+                height_ratio=el.height_ratio,
+                gamma=el.drag_ratio,
+                mu=mu,
+                tangential_mass=chi,
+                num=num,
+                rtol=rtol,
+                atol=atol,
+                max_steps=max_steps,
+            )
+        except ValueError as exc:
+            raise ValueError(f"{exc} (pillar {element_index(k, shape)})") from None
+
+    if workers == 1 or len(elements) == 1:
+        runs = [one(k) for k in range(len(elements))]
+    else:
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(max_workers=min(workers, len(elements))) as pool:
+            runs = list(pool.map(one, range(len(elements))))
+    records = []
+    out = []
+    for k, el in enumerate(elements):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            out.append(_trajectory_of(el, runs[k], tt, inputs[k][0], inputs[k][1], rho_s))
+        records.append(list(caught))
+    reissue(records, shape, "pillar", 3)
+
+    def stacked(name: str, dtype: Any = np.float64) -> Any:
+        rows = np.array([getattr(r, name) for r in out], dtype=dtype)
+        return rows.reshape(shape + rows.shape[1:])
+
+    trajectories = np.empty(len(out), dtype=object)
+    trajectories[:] = runs
+    return SensorTrajectory(
+        time=tt,
+        wall_shear_stress=stacked("wall_shear_stress"),
+        tip_deflection=stacked("tip_deflection"),
+        tip_height=stacked("tip_height"),
+        tip_angle=stacked("tip_angle"),
+        base_moment=stacked("base_moment"),
+        arc_length=stacked("arc_length"),
+        angle=stacked("angle"),
+        x=stacked("x"),
+        z=stacked("z"),
+        time_scale=stacked("time_scale"),
+        inertia_number=stacked("inertia_number"),
+        pillar_density=rho_s,
+        status=stacked("status", np.int64),
+        t_end=stacked("t_end"),
+        trajectory=trajectories.reshape(shape),
+        pillar=p,
     )

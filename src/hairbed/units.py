@@ -1450,6 +1450,7 @@ class HairBed(_ArrayModel):
         rtol: float = 1e-8,
         atol: float = 1e-10,
         max_steps: int = 100_000,
+        workers: int = 1,
     ) -> BedSimulation:
         """The bed's motion in time-dependent flow, in SI: the porous bed in time (theory.md
         §15; a dense bed runs the porous model of its geometry) under a top wall's speed
@@ -1457,10 +1458,11 @@ class HairBed(_ArrayModel):
         steps from rest at times[0]; :mod:`hairbed.dynamics` signals in SI; callables of
         t [s]), the fluid's inertia from ``density``, the hairs' from ``hair_density``
         [kg/m^3]: :func:`hairbed.bed_simulation.simulate` (a
-        :class:`hairbed.bed_simulation.BedSimulation`)."""
+        :class:`hairbed.bed_simulation.BedSimulation`). An array bed (a design scan) gives
+        one run with its shape in front, each element the run of its :meth:`item` (on
+        ``workers`` threads)."""
         from .bed_simulation import simulate
 
-        self._require_scalar("HairBed.simulate")
         return simulate(
             self,
             times,
@@ -1474,6 +1476,7 @@ class HairBed(_ArrayModel):
             rtol=rtol,
             atol=atol,
             max_steps=max_steps,
+            workers=workers,
         )
 
     def wall_shear_stress(self, velocity: Any, *, root: str = "low") -> FloatOrArray:
