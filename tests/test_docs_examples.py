@@ -125,3 +125,19 @@ def test_the_quick_start_runs_as_written():
     runner = doctest.DocTestRunner(optionflags=doctest.NORMALIZE_WHITESPACE)
     result = runner.run(test)
     assert result.attempted >= 8 and result.failed == 0
+
+
+def test_the_design_spec_example_is_the_pages_and_reads():
+    """docs/examples/valve.toml (named in ``hairbed design --help``) is the spec that
+    docs/api/design.rst prints, and it reads as a design problem (no optimisation here:
+    tests/test_cli_design.py runs specs)."""
+    tomllib = pytest.importorskip("tomllib")  # Python 3.11+, as hairbed design itself
+    from hairbed.design import _spec
+
+    spec = tomllib.loads((ROOT / "docs" / "examples" / "valve.toml").read_text())
+    page = (ROOT / "docs" / "api" / "design.rst").read_text(encoding="utf-8")
+    block = re.search(r"source tree\)::\n\n((?:   .*\n|\n)+)", page)
+    assert block is not None
+    assert tomllib.loads(textwrap.dedent(block.group(1))) == spec
+    assert spec["objective"]["quantity"] in _spec.QUANTITIES
+    assert all(c["quantity"] in _spec.QUANTITIES for c in spec["constraints"])

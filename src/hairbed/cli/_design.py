@@ -27,8 +27,8 @@ snap_window. Prints the result as one line of JSON; a problem with no
 design (infeasible: the constraint that cannot be met is in its message) prints it too and
 exits 1.
 
-examples:
-  hairbed design valve.toml
+examples (docs/examples/valve.toml is a whole spec, the valve of docs/api/design.rst):
+  hairbed design docs/examples/valve.toml
   hairbed design sensor.toml > best.json
   hairbed design front.toml --plot front.png
 """
