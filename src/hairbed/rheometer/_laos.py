@@ -224,23 +224,10 @@ class LAOSAnalysis:
         from .._optional import optional_import
 
         xr = optional_import("xarray", "LAOSAnalysis.to_xarray", "io")
-        odd = self.harmonic[self.harmonic % 2 == 1]
-        h, o = "harmonic", "odd_harmonic"
-        fields = {
-            "storage": (h, self.storage, "stress", "G'_n, in-phase harmonic per unit strain"),
-            "loss": (h, self.loss, "stress", "G''_n, quadrature harmonic per unit strain"),
-            "intensity": (h, self.intensity, "stress", "I_n, harmonic amplitude"),
-            "relative_intensity": (h, self.relative_intensity, "1", "I_n/I_1"),
-            "phase": (h, self.phase, "rad", "phi_n of sigma_n = I_n sin(n theta + phi_n)"),
-            "elastic_chebyshev": (o, self.elastic_chebyshev, "stress", "e_n (Ewoldt 2008)"),
-            "viscous_chebyshev": (o, self.viscous_chebyshev, "stress time", "v_n (Ewoldt 2008)"),
-        }
+        data, coords = harmonic_variables(self, "stress", "stress time")
         return xr.Dataset(
-            {k: (d, v, _attrs(u, ln)) for k, (d, v, u, ln) in fields.items()},
-            coords={
-                "harmonic": ("harmonic", self.harmonic, _attrs("1", "harmonic number n")),
-                "odd_harmonic": ("odd_harmonic", odd, _attrs("1", "odd harmonic number n")),
-            },
+            data,
+            coords=coords,
             attrs={
                 "title": "hairbed LAOS analysis",
                 "omega": self.omega,
@@ -264,6 +251,33 @@ class LAOSAnalysis:
 
 def _attrs(units: str, long_name: str) -> dict[str, str]:
     return {"units": units, "long_name": long_name}
+
+
+def harmonic_variables(
+    record: Any, stress: str, viscosity: str
+) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The harmonics of a LAOS record as xarray (data variables, coordinates): G'_n, G''_n,
+    I_n, I_n/I_1 and phi_n on ``harmonic``, Ewoldt's e_n and v_n on ``odd_harmonic``, with
+    units and long names. ``record`` has those fields by the names of :class:`LAOSAnalysis`
+    (it, or :class:`hairbed.rheometer.BedLAOS` in SI); ``stress`` and ``viscosity`` are the
+    units of its moduli and of v_n. One table for every LAOS dataset."""
+    odd = record.harmonic[record.harmonic % 2 == 1]
+    h, o = "harmonic", "odd_harmonic"
+    fields = {
+        "storage": (h, record.storage, stress, "G'_n, in-phase harmonic per unit strain"),
+        "loss": (h, record.loss, stress, "G''_n, quadrature harmonic per unit strain"),
+        "intensity": (h, record.intensity, stress, "I_n, harmonic amplitude"),
+        "relative_intensity": (h, record.relative_intensity, "1", "I_n/I_1"),
+        "phase": (h, record.phase, "rad", "phi_n of sigma_n = I_n sin(n theta + phi_n)"),
+        "elastic_chebyshev": (o, record.elastic_chebyshev, stress, "e_n (Ewoldt 2008)"),
+        "viscous_chebyshev": (o, record.viscous_chebyshev, viscosity, "v_n (Ewoldt 2008)"),
+    }
+    data = {k: (d, v, _attrs(u, ln)) for k, (d, v, u, ln) in fields.items()}
+    coords = {
+        h: (h, record.harmonic, _attrs("1", "harmonic number n")),
+        o: (o, odd, _attrs("1", "odd harmonic number n")),
+    }
+    return data, coords
 
 
 def _check_record(time: ArrayLike, strain: ArrayLike, stress: ArrayLike) -> tuple[FloatArray, ...]:

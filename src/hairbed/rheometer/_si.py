@@ -30,6 +30,7 @@ from .._core.validation import as_float_array, check_int, check_number, show
 from ..bed_simulation import _within_range
 from ..dynamics._bed import MAX_BED_DRIVE
 from ..units import HairBed
+from ._laos import harmonic_variables
 from ._large import LARGE_STATUS, LargeAmplitudeShear, PipkinMap, large_amplitude_shear, pipkin_map
 from ._saos import OMEGA_RANGE
 
@@ -161,30 +162,21 @@ class BedLAOS:
         from .._optional import optional_import
 
         xr = optional_import("xarray", "BedLAOS.to_xarray", "io")
-        odd = self.harmonic[self.harmonic % 2 == 1]
-        t, h, o = "time", "harmonic", "odd_harmonic"
+        t = "time"
         fields = {
-            "strain": (t, self.strain, "1", "strain gamma = top wall displacement / H"),
-            "strain_rate": (t, self.strain_rate, "s-1", "strain rate"),
-            "stress": (t, self.stress, "Pa", "top wall shear stress"),
+            "strain": (self.strain, "1", "strain gamma = top wall displacement / H"),
+            "strain_rate": (self.strain_rate, "s-1", "strain rate"),
+            "stress": (self.stress, "Pa", "top wall shear stress"),
             "quasi_static_stress": (
-                t, self.quasi_static_stress, "Pa", "static bed's stress at the speed now",
+                self.quasi_static_stress,
+                "Pa",
+                "static bed's stress at the speed now",
             ),
-            "storage": (h, self.storage, "Pa", "G'_n, in-phase harmonic per unit strain"),
-            "loss": (h, self.loss, "Pa", "G''_n, quadrature harmonic per unit strain"),
-            "intensity": (h, self.intensity, "Pa", "I_n, harmonic amplitude"),
-            "relative_intensity": (h, self.relative_intensity, "1", "I_n/I_1"),
-            "phase": (h, self.phase, "rad", "phi_n of sigma_n = I_n sin(n theta + phi_n)"),
-            "elastic_chebyshev": (o, self.elastic_chebyshev, "Pa", "e_n (Ewoldt 2008)"),
-            "viscous_chebyshev": (o, self.viscous_chebyshev, "Pa s", "v_n (Ewoldt 2008)"),
-        }  # fmt: skip
+        }
+        harmonics, coords = harmonic_variables(self, "Pa", "Pa s")
         return xr.Dataset(
-            {k: (d, v, _att(u, ln)) for k, (d, v, u, ln) in fields.items()},
-            coords={
-                t: (t, self.time, _att("s", "time within the last period")),
-                h: (h, self.harmonic, _att("1", "harmonic number n")),
-                o: (o, odd, _att("1", "odd harmonic number n")),
-            },
+            {**{k: (t, v, _att(u, ln)) for k, (v, u, ln) in fields.items()}, **harmonics},
+            coords={t: (t, self.time, _att("s", "time within the last period")), **coords},
             attrs={
                 "title": "hairbed bed in a rheometer: large-amplitude oscillatory shear (SI)",
                 "frequency_Hz": self.frequency,
