@@ -759,13 +759,14 @@ def _orbit_jacobians(orbit: PeriodicBed) -> tuple[_Problem, FloatArray]:
 
 def _output_gradients(orbit: PeriodicBed, names: tuple[str, ...]) -> dict[str, FloatArray]:
     """{output: its gradient c_k = d(output)/dy at each phase, (K, size)}, by the complex
-    step (exact to rounding: the outputs are analytic in y)."""
-    m = orbit.y.shape[1]
+    step (exact to rounding: the outputs are analytic in y), the K size steps as the rows
+    of one matrix (one product per output's sum, not one per phase)."""
+    kk, m = orbit.y.shape
     pump = np.asarray(orbit._pump(orbit.t), dtype=np.float64).reshape(orbit.t.shape)
     hstep = 1e-30
-    rows = orbit.y[:, None, :] + 1j * hstep * np.eye(m)[None]
-    vals = _output_values(orbit._sys, rows, pump[:, None])
-    return {name: np.imag(np.asarray(vals[name])) / hstep for name in names}
+    rows = (orbit.y[:, None, :] + 1j * hstep * np.eye(m)[None]).reshape(kk * m, m)
+    vals = _output_values(orbit._sys, rows, np.repeat(pump, m))
+    return {name: np.imag(np.asarray(vals[name])).reshape(kk, m) / hstep for name in names}
 
 
 def periodic_sensitivity(
