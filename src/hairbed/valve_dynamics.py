@@ -88,7 +88,8 @@ PUMP_METHODS = ("collocation", "transient")
 
 
 def bed_time_scales(bed: HairBed, hair_density: float | None = None) -> dict[str, float]:
-    """The bed's time scale and the numbers of its dynamics (theory.md §15).
+    """The bed's time scale and the numbers of its dynamics (theory.md §15), with the
+    hairs' density ``hair_density`` rho_s [kg/m^3] (None: overdamped hairs, mu = 0).
 
     Returns a dict with ``time_scale`` T = zeta_perp L^4/(E I) [s], ``inertia`` mu [-],
     ``tangential_mass`` chi [-], ``womersley`` alpha = rho L^2/(eta T) [-] and ``kappa`` [-].

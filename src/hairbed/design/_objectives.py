@@ -1251,7 +1251,8 @@ def custom(
     gradient: Callable[[Any], dict[str, float]] | None = None,
     unit: str = "",
 ) -> Quantity:
-    """A user's quantity: ``function(model) -> float``.
+    """A user's quantity: ``function(model) -> float``, called ``name`` in results and
+    messages, in the units ``unit`` (a label only, e.g. "Pa"; "" for none).
 
     With ``gradient(model) -> {parameter: d value/d parameter}`` (SI) the gradient is the
     user's (``exact`` True: the user vouches for it); without, it is a central difference

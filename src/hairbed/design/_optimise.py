@@ -210,7 +210,10 @@ def optimise(
         :func:`~hairbed.design.validity_constraints`). A design outside it is never
         reported as optimal.
     maxiter : int
-        SLSQP's iteration limit per start.
+        SLSQP's iteration limit per start, in [1, 100000].
+    seed : int
+        The seed of the scrambled Sobol starts, in [0, 2^63 - 1] (default 0: the same
+        starts, and the same result, on every run).
 
     Returns
     -------

@@ -474,7 +474,9 @@ def bed_pipkin_map(
 ) -> BedPipkinMap:
     """A hair bed's Pipkin map in SI: :func:`bed_laos`'s measures over a grid of frequencies
     f [Hz] and strain amplitudes gamma0 [-] (:func:`pipkin_map` in the bed's units, one run
-    per cell, ``workers`` processes in [1, 64]).
+    per cell, ``workers`` processes in [1, 64]). ``speed`` (the pre-stress's steady wall
+    speed [m/s]), ``samples``, ``periodic_tol``, ``max_periods`` and ``rtol`` are those of
+    :func:`bed_laos`, for every cell.
 
     Returns
     -------
