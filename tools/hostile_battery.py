@@ -1070,6 +1070,27 @@ def _fifth_targets() -> list[Target]:
             fuzz=("wall_shear_stress", "t", "pillar_density"),
         ),
     ]
+    if hasattr(dynamics, "periodic_adjoint"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            wall = dynamics.sine(0.0, 1.0, 1.0)
+            orbit = dynamics.periodic_bed(0.0, 1.0, 0.5, omega=1.0, wall=wall, num=8, tol=1e-6)
+            adjoint = dynamics.periodic_adjoint(orbit)
+        targets += [
+            Target(
+                "dynamics.periodic_adjoint",
+                lambda **kw: dynamics.periodic_adjoint(**kw),
+                dict(orbit=orbit, output="flow_rate"),
+                edges={"output": ["wall_stress", "tip_deflection"]},
+                text=("output", "orbit"),
+            ),
+            Target(
+                "PeriodicAdjoint.mean_derivative",
+                lambda **kw: adjoint.mean_derivative(**kw),
+                dict(forcing=np.ones(orbit.y.shape)),
+                edges={"forcing": [np.zeros(orbit.y.shape)]},
+            ),
+        ]
     return targets
 
 
