@@ -20,18 +20,20 @@ Rows:
    are second derivatives (jets, the eigenvalue's derivative); the resonance frequency
    over the state and its slowest mode with inertia; the porous bed's diodicity over
    ``valve_curve`` at +-dp; the rectified net flow (``net_flow``, a porous bed pumped
-   at 2 kPa, omega T = 1) over its periodic state alone (``periodic_bed``); the
-   snap-through window of a pillar tilted upstream, its folds
-   followed from a neighbour (value and gradient) against the branch's scan [ms]; every
-   other built-in quantity's value+gradient over the library's value alone
-   (:data:`OTHERS`, :func:`_other_ratios`; the closed forms' values are attributes of a
-   fraction of a microsecond, their ratios Python's call overhead);
+   at 2 kPa, omega T = 1) over its periodic state alone (``periodic_bed``; the gradient by
+   the orbit's adjoint, ``periodic_adjoint``: one transposed solve for its six parameter
+   columns, not one forward solve each); the snap-through window of a pillar tilted
+   upstream, its folds followed from a neighbour (value and gradient) against the
+   branch's scan [ms]; every other built-in quantity's value+gradient over the library's
+   value alone (:data:`OTHERS`, :func:`_other_ratios`; the closed forms' values are
+   attributes of a fraction of a microsecond, their ratios Python's call overhead);
 5. the linear range's value: Newton's method from a neighbour's root (10 pillars 0.2 %
    apart in length, after the first's scan) against :meth:`Pillar.linear_range`'s scan [ms].
 
 Each time is the least CPU time (``time.process_time``: free of the load of a shared machine)
-of ``--repeat`` runs, the design's caches cleared before each; the load average is stored with
-the figures.
+of ``--repeat`` runs, the design's caches cleared before each, on one BLAS thread
+(``OPENBLAS_NUM_THREADS=1`` unless set: threaded OpenBLAS's spinning threads count as CPU
+time); the load average is stored with the figures.
 
 Run: ``python benchmarks/bench_design.py [--repeat N] [--json PATH]``.
 """
@@ -48,6 +50,10 @@ import warnings
 from typing import Any
 
 sys.path.insert(0, os.path.dirname(__file__))
+# before numpy: one core is one. Threaded OpenBLAS spins its idle threads, which
+# process_time counts: on a loaded machine the net flow's gradient ratio read 0.9 to 1.6
+# threaded against a steady 1.83 to 1.88 on one thread (the Makefile's setting too)
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 from bench_common import report  # noqa: E402
@@ -262,7 +268,7 @@ def run(repeat: int = 3) -> dict[str, Any]:
             lambda: valve_curve(porous, np.array([300.0, -300.0]), 0.01).flow_rate,
         )
         # the rectified net flow: the periodic state alone against it and its gradient
-        # (the orbit differentiated implicitly, 6 forcing columns)
+        # (the orbit's adjoint: one transposed solve for the 6 forcing columns)
         q_nf = D.net_flow(2000.0, 0.022, 0.01)
         s_nf = _scales(porous, None)
         pia_nf = 2000.0 / 0.01 * s_nf.pi_per_gradient
