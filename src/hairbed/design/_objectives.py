@@ -462,9 +462,10 @@ def net_flow(
     ``hair_density`` the hairs' (mu, chi). Its periodic state by collocation in time
     (:func:`hairbed.dynamics.periodic_bed`, truncation error below 1e-12).
 
-    Gradient exact: the periodic orbit differentiated implicitly
-    (:func:`hairbed.dynamics.periodic_sensitivity` with the rates' exact parameter
-    columns of ``_core._kernels.bed_parameters``; ``hairbed.design._net_flow``), chained
+    Gradient exact: the periodic orbit differentiated implicitly, by its adjoint
+    (:func:`hairbed.dynamics.periodic_adjoint`: one transposed solve for all the rates'
+    exact parameter columns of ``_core._kernels.bed_parameters``;
+    ``hairbed.design._net_flow``; 1.85 times the value's cost), chained
     through kappa's and gamma's drag model (``HairBed._drag_slopes``), T, Pi_A, alpha, mu,
     chi and the flow's scale to the SI parameters.
 
