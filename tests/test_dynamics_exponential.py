@@ -4,7 +4,11 @@ method="exponential")``, ``_core/_kernels/exponential.py``, theory.md §14):
 - its matrix functions against mpmath's matrix exponential at 30 digits: phi_0 .. phi_4 and
   phi_1 at half the argument of a far-from-normal, oscillatory 4 x 4 matrix (from the
   exponential of the block matrix [[A, I, 0, ..], [0, 0, I, ..], ..], whose first block row
-  is e^A, phi_1(A), .., phi_4(A)), and the balanced exponential of a badly scaled one;
+  is e^A, phi_1(A), .., phi_4(A)) and of a damped oscillator's 2 x 2 matrix at norms from
+  0.1 to 150 (every degree and scaling the least-work choice takes there), and the balanced
+  exponential of a badly scaled one;
+- the Taylor degrees' thresholds theta_nb: the largest arguments at which the series'
+  remainders are below 2^-53, summed by mpmath at 40 digits;
 - the ringing pillar (mu = 13) under a smooth rise to Lambda = 2: the tip deflection at
   N = 12, rtol 1e-8 against the Radau IIA run (the other integrator, sharing only the
   semi-discrete rates) at twice the degree, N = 24, and rtol 1e-10, within 1e-8 over 30 T
@@ -22,7 +26,12 @@ import mpmath
 import numpy as np
 import pytest
 
-from hairbed._core._kernels.exponential import expm_augmented, phi_matrices
+from hairbed._core._kernels.exponential import (
+    _EXP_THETAS,
+    _PHI_THETAS,
+    expm_augmented,
+    phi_matrices,
+)
 from hairbed.dynamics import sampled, simulate_pillar, step
 
 
@@ -60,6 +69,49 @@ def test_phi_matrices_against_mpmath() -> None:
         assert np.max(np.abs(out[k] - ref[k])) <= 1e-12 * scale, k
     ref_half = _phi_reference(0.5 * a)[1]
     assert np.max(np.abs(half - ref_half)) <= 1e-12 * np.max(np.abs(ref_half))
+
+
+def test_phi_matrices_every_degree_against_mpmath() -> None:
+    """A damped oscillator's matrix times 0.4 .. 70 (||.||_1 1.8 .. 320): the least-work
+    choices s = 1 .. 5 and Taylor degrees 14 .. 34 of phi_4 (nb = 3 .. 7), each phi_k to
+    1e-12 of its largest entry (measured: at most 7e-15, but 2.5e-13 in phi_0 = e^A where
+    it has decayed to 1e-6)."""
+    base = np.array([[-0.1, 1.0], [-4.5, -0.3]])
+    for scale in (0.4, 1.5, 2.0, 3.0, 4.0, 10.0, 70.0):  # (s, nb) (1, 3) .. (5, 7)
+        a = scale * base
+        out = np.empty((5, 2, 2))
+        half = np.empty((2, 2))
+        phi_matrices(a, 4, out, half, np.empty((3, 2, 2)))
+        ref = _phi_reference(a)
+        for k in range(5):
+            assert np.max(np.abs(out[k] - ref[k])) <= 1e-12 * np.max(np.abs(ref[k])), (scale, k)
+        ref_half = _phi_reference(0.5 * a)[1]
+        assert np.max(np.abs(half - ref_half)) <= 1e-12 * np.max(np.abs(ref_half)), scale
+
+
+def test_taylor_thresholds_against_mpmath() -> None:
+    """theta_nb of ``_PHI_THETAS`` is the largest x with max_k k! sum_{i > 5 nb + 3 - k}
+    x^i/(i + k)! <= 2^-53 (phi_0 .. phi_4 from phi_4's polynomial of degree 5 nb - 1),
+    theta_nb of ``_EXP_THETAS`` the largest with sum_{i > 5 nb - 1} x^i/i! <= 2^-53: the
+    remainder at theta is 2^-53 to 1e-12, and above it 1e-6 further on."""
+
+    def remainders(x: Any, nb: int) -> tuple[Any, Any]:
+        deg = 5 * nb - 1
+        unit = mpmath.mpf(2) ** -53
+        phi = max(
+            mpmath.factorial(k)
+            * mpmath.fsum(x**i / mpmath.factorial(i + k) for i in range(deg + 5 - k, deg + 150))
+            for k in range(5)
+        )
+        exp = mpmath.fsum(x**i / mpmath.factorial(i) for i in range(deg + 1, deg + 150))
+        return phi / unit, exp / unit
+
+    with mpmath.workdps(40):
+        for nb in range(3, 8):
+            for which, table in enumerate((_PHI_THETAS, _EXP_THETAS)):
+                theta = mpmath.mpf(float(table[nb]))
+                assert abs(remainders(theta, nb)[which] - 1) < 1e-12, (nb, which)
+                assert remainders(theta * (1 + 1e-6), nb)[which] > 1, (nb, which)
 
 
 def test_balanced_exponential_against_mpmath() -> None:

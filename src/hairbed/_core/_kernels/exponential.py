@@ -28,13 +28,26 @@ constant coefficients carried by four more unknowns (its matrix exponential).
 
 The matrix functions are dense (2 (N - 1) + 1 unknowns): the matrix is balanced by a
 diagonal similarity of powers of two (Parlett and Reinsch; the Chebyshev rows make it far
-from normal, ||J||_1 = 2e6 against a spectral radius of 900 at N = 12), scaled by 2^-s to a
-norm below 1/2, its phi_0 .. phi_4 summed there by a Taylor series and brought back by the
-doubling formulas phi_k(2 z) = 2^-k (phi_0(z) phi_k(z) + sum_{j=1}^k phi_j(z)/(k - j)!)
-(B. Skaflestad and W. M. Wright, Appl. Numer. Math. 59, 783-799, 2009); phi_1(h J~/2) is
-the last level but one. Error norm: every component, err/(atol + rtol |y|) (weighing
-the angles alone lets the fast modes' rates drift and the slow mode's phase with them: a
-floor of 1.2e-6 in the tip at any tolerance); the step by Gustafsson's PI control,
+from normal, ||J||_1 = 2e6 against a spectral radius of 900 at N = 12), scaled by 2^-s, its
+phi_4 summed there by a Taylor polynomial of degree 5 nb - 1 evaluated by Paterson and
+Stockmeyer's scheme (the powers X^2 .. X^5, then nb - 1 products in X^5), phi_3 .. phi_0 by
+phi_k = 1/k! + X phi_(k+1), and brought back by the doubling formulas
+phi_k(2 z) = 2^-k (phi_0(z) phi_k(z) + sum_{j=1}^k phi_j(z)/(k - j)!) (B. Skaflestad and
+W. M. Wright, Appl. Numer. Math. 59, 783-799, 2009); phi_1(h J~/2) is the last level but one.
+The scaling follows A. H. Al-Mohy and N. J. Higham, SIAM J. Matrix Anal. Appl. 31, 970-989
+(2009), Theorem 4.2: a power series' tail sum_{i > m} c_i X^i is bounded by that of |c_i|
+at alpha = min_p max(d_p, d_(p+1)), d_j = ||X^j||_1^(1/j) (p = 1 .. 4, p (p - 1) <= m + 1),
+which for the non-normal Jacobian is 4 to 5 times below ||X||_1 (d_4 = 1590 h against
+||h J||_1 = 6900 h, balanced): s and nb (3 .. 7) are those of least work (a doubling costs
+about six products) with alpha 2^-s <= theta_nb, theta_nb the largest x at which every
+phi_k's (k = 0 .. 4) Taylor remainder, sum_{i > 5 nb + 3 - k} x^i/(i + k)!, is below
+2^-53/k! (``_PHI_THETAS``; the exponential of the dense output likewise, degree 5 nb - 1,
+``_EXP_THETAS``). At a typical step (h = 0.01 T, N = 12) this is two doublings where the
+1-norm and a degree-15 series at 1/2 took eight.
+
+Error norm: every component, err/(atol + rtol |y|) (weighing the angles alone lets the fast
+modes' rates drift and the slow mode's phase with them: a floor of 1.2e-6 in the tip at any
+tolerance); the step by Gustafsson's PI control,
 0.9 err_n^(-0.175) err_(n-1)^(0.1) within [0.2, 5] (0.9 err^(-1/4) after a rejection).
 
 With the drag every mode of the ringing pillar decays at about 1/(2 mu): a true step rings
@@ -60,10 +73,29 @@ _OUTSIDE = -8
 _MAXSTEPS = -2
 _SMALL = -3
 _JUMP = -9
-#: The Taylor degree of the phi functions at the scaled matrix (norm <= 1/2): the series'
-#: tail is below 0.5^12/16! = 1.2e-17 of phi_4, and below that in phi_0 .. phi_3.
-_TAYLOR = 11
-_THETA = 0.5
+#: Paterson and Stockmeyer's block: the powers X^1 .. X^5 of the scaled matrix, the Taylor
+#: polynomial in nb blocks of five coefficients (degree 5 nb - 1, nb = 3 .. _NB).
+_R = 5
+_NB = 7
+#: phi_4's Taylor coefficients 1/(j + 4)! and the exponential's 1/j!, j = 0 .. 5 _NB - 1.
+_PHI_COEF = np.array([1.0 / math.factorial(j + 4) for j in range(_R * _NB)])
+_EXP_COEF = np.array([1.0 / math.factorial(j) for j in range(_R * _NB)])
+#: theta_nb (index nb): the largest x with max_k k! sum_{i > 5 nb + 3 - k} x^i/(i + k)! <= 2^-53
+#: (phi_0 .. phi_4 from phi_4 of degree 5 nb - 1; mpmath at 40 digits, bisection), and for
+#: the exponential alone sum_{i > 5 nb - 1} x^i/i! <= 2^-53 (tests/test_dynamics_exponential.py
+#: checks both tables).
+_PHI_THETAS = np.array(
+    [0.0, 0.0, 0.0, 0.95925330888514256, 2.0941243196094493, 3.2752135590741406,
+     4.5755269456515098, 5.9777666132527752]
+)  # fmt: skip
+_EXP_THETAS = np.array(
+    [0.0, 0.0, 0.0, 0.55349051569385327, 1.318781226194848, 2.3324673844012391,
+     3.5255637669883704, 4.8487666817790796]
+)  # fmt: skip
+#: The cost of one doubling of the phi functions (four products and the sums) and of one
+#: squaring of the exponential, in matrix products.
+_PHI_DOUBLING = 6.0
+_EXP_SQUARING = 1.1
 
 
 @kernel
@@ -106,58 +138,127 @@ def _balance(a, p, d):
 
 
 @kernel
-def _scaling(a, p):
-    """The number of halvings s >= 1 that bring ||a[:p, :p]||_1 below 1/2."""
+def _norm1(a, p):
+    """||a[:p, :p]||_1, the largest column sum."""
     big = 0.0
     for k in range(p):
         acc = 0.0
         for i in range(p):
             acc += abs(a[i, k])
         big = max(big, acc)
-    s = 1
-    if big > _THETA:  # (at most 1100 halvings: the largest finite norm)
-        s = max(1, int(math.ceil(math.log2(min(big, 1e308) / _THETA))))
-    return s
+    return big
+
+
+@kernel
+def _scaled_powers(a, p, thetas, cost, smin, x, pw):
+    """The scaling 2^-s and the number of blocks nb of least work ((nb - 1) + cost s
+    products) with alpha 2^-s <= thetas[nb], s >= smin (module docstring); x = a 2^-s and
+    pw[j] = x^(j + 2), j = 0 .. 3. Returns (s, nb).
+
+    The powers are formed at a first scaling 2^-s0 with ||a 2^-s0||_1 <= thetas[_NB] (no
+    overflow) and brought to 2^-s by exact powers of two."""
+    top = thetas[_NB]
+    big = _norm1(a, p)
+    s0 = 0
+    if big > top:  # (at most 1100 halvings: the largest finite norm)
+        s0 = int(math.ceil(math.log2(min(big, 1e308) / top)))
+    sc = 0.5**s0
+    for i in range(p):
+        for k in range(p):
+            x[i, k] = a[i, k] * sc
+    np.dot(x, x, pw[0])
+    for j in range(1, _R - 1):
+        np.dot(pw[j - 1], x, pw[j])
+    # alpha = min_p max(d_p, d_(p+1)), d_j = ||x^j||_1^(1/j), p = 1 .. 4 (d_1 >= d_2 bound)
+    alpha = _norm1(x, p)
+    dprev = _norm1(pw[0], p) ** 0.5
+    for j in range(1, _R - 1):
+        dj = _norm1(pw[j], p) ** (1.0 / (j + 2.0))
+        alpha = min(alpha, max(dprev, dj))
+        dprev = dj
+    best = math.inf
+    s = smin
+    nb = _NB
+    for b in range(3, _NB + 1):
+        sb = smin
+        if alpha > 0.0:
+            sb = max(smin, s0 + int(math.ceil(math.log2(alpha / thetas[b]))))
+        work = (b - 1.0) + cost * sb
+        if work < best:
+            best = work
+            s = sb
+            nb = b
+    if s != s0:
+        c = 2.0 ** (s0 - s)
+        for i in range(p):
+            for k in range(p):
+                x[i, k] *= c
+        ck = c
+        for j in range(_R - 1):
+            ck *= c
+            w = pw[j]
+            for i in range(p):
+                for k in range(p):
+                    w[i, k] *= ck
+    return s, nb
+
+
+@kernel
+def _ps_poly(coef, nb, p, x, pw, acc, buf, res):
+    """res = sum_{j < 5 nb} coef[j] x^j by Paterson and Stockmeyer: the blocks
+    B_i = sum_{l < 5} coef[5 i + l] x^l in the powers x, pw[0 .. 2] = x^2 .. x^4, by Horner in
+    pw[3] = x^5 (nb - 1 products). acc, buf: work (res may be either)."""
+    cur = acc
+    nxt = buf
+    for blk in range(nb - 1, -1, -1):
+        if blk == nb - 1:
+            for i in range(p):
+                for k in range(p):
+                    cur[i, k] = 0.0
+        else:
+            np.dot(pw[_R - 2], cur, nxt)
+            cur, nxt = nxt, cur
+        b0 = blk * _R
+        c1 = coef[b0 + 1]
+        for i in range(p):
+            for k in range(p):
+                cur[i, k] += c1 * x[i, k]
+            cur[i, i] += coef[b0]
+        for ll in range(2, _R):
+            cl = coef[b0 + ll]
+            w = pw[ll - 2]
+            for i in range(p):
+                for k in range(p):
+                    cur[i, k] += cl * w[i, k]
+    for i in range(p):
+        for k in range(p):
+            res[i, k] = cur[i, k]
 
 
 @kernel
 def phi_matrices(a, kmax, out, half, tmp, full=True):
-    """out[k] = phi_k(a) for k = 0 .. kmax (kmax >= 1; a square, float64) and half =
-    phi_1(a/2): Taylor series at a/2^s (norm <= 1/2, s >= 1), then s doublings
+    """out[k] = phi_k(a) for k = 0 .. 4 (kmax = 4; a square, float64) and half =
+    phi_1(a/2): phi_4's Taylor polynomial at a/2^s by Paterson and Stockmeyer (s >= 1 and
+    its degree by the scaling of Al-Mohy and Higham, module docstring), phi_3 .. phi_0 by
+    phi_k = 1/k! + X phi_(k+1), then s doublings
     phi_k(2 z) = 2^-k (phi_0 phi_k + sum_{j=1}^k phi_j/(k - j)!) (Skaflestad and Wright).
     Where ``full`` is False the last doubling skips phi_0 and phi_2 (out[0] and out[2] are
-    left at a/2: the step needs phi_1, phi_3 and phi_4 alone). tmp: a work array of out's
-    shape (three matrices). a is not balanced here (see ``_balance``)."""
+    left at a/2: the step needs phi_1, phi_3 and phi_4 alone). tmp: a work array of three
+    matrices of a's shape (out[0 .. 3] hold the powers meanwhile). a is not balanced here
+    (see ``_balance``)."""
+    if kmax != 4:
+        raise ValueError("phi_matrices: kmax must be 4")
     p = a.shape[0]
-    s = _scaling(a, p)
-    sc = 0.5**s
-    inv = np.empty(kmax + 1)
-    b = tmp[0]
-    for i in range(p):
-        for k in range(p):
-            b[i, k] = a[i, k] * sc
-    # phi_kmax(b) by Horner, sum_j b^j/(j + kmax)!, between two buffers
-    cur = tmp[1]
-    nxt = tmp[2]
-    for i in range(p):
-        for k in range(p):
-            cur[i, k] = 0.0
-        cur[i, i] = 1.0 / math.gamma(_TAYLOR + kmax + 1.0)
-    for j in range(_TAYLOR - 1, -1, -1):
-        np.dot(b, cur, nxt)
-        nxt_diag = 1.0 / math.gamma(j + kmax + 1.0)
-        for i in range(p):
-            nxt[i, i] += nxt_diag
-        cur, nxt = nxt, cur
-    top = out[kmax]
-    for i in range(p):
-        for k in range(p):
-            top[i, k] = cur[i, k]
-    for kk in range(kmax - 1, -1, -1):  # phi_k = 1/k! + b phi_{k+1}
-        np.dot(b, out[kk + 1], out[kk])
+    x = tmp[0]
+    pw = out[: _R - 1]
+    s, nb = _scaled_powers(a, p, _PHI_THETAS, _PHI_DOUBLING, 1, x, pw)
+    _ps_poly(_PHI_COEF, nb, p, x, pw, tmp[1], tmp[2], out[4])
+    for kk in range(3, -1, -1):  # phi_k = 1/k! + x phi_{k+1}
+        np.dot(x, out[kk + 1], out[kk])
         ck = 1.0 / math.gamma(kk + 1.0)
         for i in range(p):
             out[kk, i, i] += ck
+    inv = np.empty(5)
     w = tmp[1]
     for level in range(s):
         last = level == s - 1
@@ -165,7 +266,7 @@ def phi_matrices(a, kmax, out, half, tmp, full=True):
             for i in range(p):
                 for k in range(p):
                     half[i, k] = out[1, i, k]
-        for kk in range(kmax, 0, -1):  # phi_k(2z) from the phi_j(z), j <= k, in place
+        for kk in range(4, 0, -1):  # phi_k(2z) from the phi_j(z), j <= k, in place
             if last and not full and kk == 2:
                 continue
             np.dot(out[0], out[kk], w)
@@ -192,35 +293,31 @@ def phi_matrices(a, kmax, out, half, tmp, full=True):
 
 @kernel
 def expm_augmented(a, e, tmp):
-    """e = exp(a) (a square; balanced in tmp, undone on the result): the scaling and
-    squaring of ``phi_matrices`` with phi_0 alone. tmp: (4, p, p) work, d in tmp[3, 0]."""
+    """e = exp(a) (a square; balanced in the work, undone on the result): the Taylor
+    polynomial of the scaled, balanced matrix by Paterson and Stockmeyer and s squarings,
+    s and the degree by the scaling of Al-Mohy and Higham (module docstring). tmp: work
+    (8, p, p) (a smaller one is replaced by a fresh array)."""
     p = a.shape[0]
-    bal = tmp[2]
-    d = tmp[3, 0]
+    if tmp.shape[0] >= 8:
+        w = tmp
+    else:
+        w = np.empty((8, p, p))
+    bal = w[0]
+    d = w[7, 0]
     for i in range(p):
         for k in range(p):
             bal[i, k] = a[i, k]
     _balance(bal, p, d)
-    s = _scaling(bal, p)
-    sc = 0.5**s
-    b = tmp[0]
-    cur = tmp[1]
+    x = w[1]
+    pw = w[2:6]
+    s, nb = _scaled_powers(bal, p, _EXP_THETAS, _EXP_SQUARING, 0, x, pw)
+    _ps_poly(_EXP_COEF, nb, p, x, pw, w[0], w[6], w[6])
+    cur = w[6]
     nxt = e
-    for i in range(p):
-        for k in range(p):
-            b[i, k] = bal[i, k] * sc
-            cur[i, k] = 0.0
-        cur[i, i] = 1.0 / math.gamma(_TAYLOR + 5.0)
-    for j in range(_TAYLOR + 3, -1, -1):  # degree _TAYLOR + 4 for phi_0 alone
-        np.dot(b, cur, nxt)
-        cj = 1.0 / math.gamma(j + 1.0)
-        for i in range(p):
-            nxt[i, i] += cj
-        cur, nxt = nxt, cur
     for _ in range(s):
         np.dot(cur, cur, nxt)
         cur, nxt = nxt, cur
-    if cur is not e:
+    if s % 2 == 0:  # (the last square is in e where s is odd)
         for i in range(p):
             for k in range(p):
                 e[i, k] = cur[i, k]
@@ -261,7 +358,7 @@ def _dense_matrix(m, h, fn, v, d2, d3, tau, aug, arg, e, tmp):
     """e = exp(tau A) for the step's dense output: A acts on (u - y_n, 1, s/h, (s/h)^2,
     (s/h)^3) with u' = f_n + J_n (u - y_n) + v_n h (s/h) + d_2 (s/h)^2 + d_3 (s/h)^3 and
     d/ds (s/h)^j = (j/h) (s/h)^(j-1); aug[:m, :m] holds J_n already. arg: work of e's
-    shape; tmp: (4, m + 4, m + 4) work."""
+    shape; tmp: (8, m + 4, m + 4) work."""
     for i in range(m):
         aug[i, m] = fn[i]
         aug[i, m + 1] = v[i] * h
@@ -357,7 +454,7 @@ def integrate_exponential(
     emat = np.empty((q, q))
     estep = np.empty((q, q))
     earg = np.empty((q, q))
-    etmp = np.zeros((4, q, q))
+    etmp = np.zeros((8, q, q))
     zc = np.empty(q)
     zn = np.empty(q)
     for k in range(m):
