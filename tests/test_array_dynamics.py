@@ -1,11 +1,13 @@
 """Array-valued models in time and frequency (issue 32 item 2): a design scan in one call.
 
-``Pillar.frequency_response``, ``Pillar.simulate`` and ``HairBed.simulate`` of an
-array-valued model give one result with the model's shape in front; each element is
-compared with the call of the model's :meth:`item` (the pillar or bed of numbers, built
-through its own checks): bitwise, since each element runs the scalar model's own code on the
-same numbers. The scalar paths themselves are tested against references written from the
-equations in test_sensor_dynamics.py, test_sensor_simulate.py and test_bed_simulation.py.
+``Pillar.frequency_response``, ``Pillar.simulate``, ``HairBed.simulate`` and
+``rheometer.bed_moduli`` (the bed's transfer function in SI) of an array-valued model give
+one result with the model's shape in front; each element is compared with the call of the
+model's :meth:`item` (the pillar or bed of numbers, built through its own checks): bitwise,
+since each element runs the scalar model's own code on the same numbers. The scalar paths
+themselves are tested against references written from the equations in
+test_sensor_dynamics.py, test_sensor_simulate.py, test_bed_simulation.py and
+test_rheometer*.py.
 """
 
 import warnings
@@ -15,6 +17,7 @@ import pytest
 
 from hairbed import HairBed, ModelValidityWarning, Pillar
 from hairbed.dynamics import sine
+from hairbed.rheometer import bed_moduli
 
 WATER = dict(viscosity=1e-3, density=998.0)
 PILLAR = dict(length=1e-3, radius=50e-6, **WATER)
@@ -185,3 +188,28 @@ def test_array_calls_refuse_bad_inputs():
             viscosity=1.0,
             spacing=400e-6,
         ).simulate([0.0, 1.0], velocity=1e4)
+
+
+def test_bed_moduli_over_tilt():
+    """rheometer.bed_moduli (the linear bed's transfer function in SI) of an array bed:
+    each element bitwise its item's, the xarray form with the ``bed`` axis."""
+    bed = HairBed(length=1e-3, radius=50e-6, youngs_modulus=1e6, channel_height=2e-3,
+                  viscosity=1.0, spacing=400e-6, model="porous",
+                  base_angle=[0.0, 0.4], density=1000.0)  # fmt: skip
+    f, v = [0.01, 0.1, 1.0], [0.0, 0.05]
+    r = bed_moduli(bed, f, v)
+    assert r.shape == (2,) and r.storage.shape == (2, 3, 2) and r.lead_crossover.shape == (2, 2)
+    assert r.status.shape == (2, 3, 2) and r.success.all()
+    for i in range(2):
+        one = bed_moduli(bed.item(i), f, v)
+        for name in ("pre_stress", "storage", "loss", "lead", "lead_crossover",
+                     "modulus_crossover"):  # fmt: skip
+            assert np.array_equal(getattr(r, name)[i], getattr(one, name), equal_nan=True)
+        assert r.item(i).time_scale == one.time_scale
+        assert np.array_equal(r.item(i).status, one.status)
+    assert r.storage[0, 0, 1] != r.storage[1, 0, 1]  # the tilt matters under a pre-stress
+    ds = r.to_xarray()
+    assert ds["storage"].dims == ("bed", "frequency", "pre_stress")
+    assert ds["storage"].attrs["units"] == "Pa" and ds["base_angle"].attrs["units"] == "rad"
+    with pytest.raises(ValueError, match="hair_density"):
+        bed_moduli(bed, f, v, hair_density=0.0)

@@ -18,6 +18,8 @@ from typing import Any
 
 import numpy as np
 
+from ._core.validation import show
+
 __all__: list[str] = []
 
 #: SI units of the models' parameters (CF spelling), for their coordinates.
@@ -40,6 +42,23 @@ def model_dims(kind: str, shape: tuple[int, ...]) -> tuple[str, ...]:
     if len(shape) == 1:
         return (kind,)
     return tuple(f"{kind}_{k}" for k in range(len(shape)))
+
+
+def checked_index(index: Any, shape: tuple[int, ...], what: str) -> tuple[int, ...]:
+    """``index`` (an int or a tuple of ints, negative from the end) into ``shape``, or a
+    ValueError."""
+    idx = index if isinstance(index, tuple) else (index,)
+    whole = all(
+        isinstance(i, (int, np.integer)) and not isinstance(i, (bool, np.bool_)) for i in idx
+    )
+    if not whole or len(idx) != len(shape):
+        raise ValueError(
+            f"index must be {len(shape)} integer(s) into the {what}'s shape {shape} (an int "
+            f"or a tuple), got {show(index)}"
+        )
+    if not all(-n <= int(i) < n for i, n in zip(idx, shape, strict=True)):
+        raise ValueError(f"index {show(index)} is out of range for the {what}'s shape {shape}")
+    return tuple(int(i) for i in idx)
 
 
 def element_index(flat: int, shape: tuple[int, ...]) -> Any:

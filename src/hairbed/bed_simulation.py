@@ -27,6 +27,7 @@ from numpy.typing import NDArray
 
 from ._bed_scales import _BedScales, _is_bed, _scales
 from ._core.validation import as_float_array, check_int, check_number, check_positive, show
+from ._model_axes import checked_index as _checked_index
 from .dynamics import (
     CALLABLE_SAMPLES,
     BedTrajectory,
@@ -38,7 +39,7 @@ from .dynamics import (
 )
 from .dynamics._bed import MAX_BED_DRIVE, NUMBER_RANGE
 from .dynamics._signals import _peak
-from .sensor_dynamics import _SIGNAL_UNITS, _checked_index
+from .sensor_dynamics import _SIGNAL_UNITS
 
 if TYPE_CHECKING:  # units.py calls this module (HairBed.simulate): no import cycle
     from .units import HairBed

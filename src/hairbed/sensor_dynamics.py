@@ -47,6 +47,7 @@ from ._core.validation import (
     show,
     status_messages,
 )
+from ._model_axes import checked_index as _checked_index
 from ._warnings import ModelValidityWarning
 from .dynamics import linearise_pillar, warn_dynamics_validity
 from .dynamics._signals import MAX_DRIVE, _peak
@@ -1354,23 +1355,6 @@ class SensorTrajectory:
 #: The series of a :class:`SensorTrajectory` (one row per pillar of an array run).
 _RUN_SERIES = ("wall_shear_stress", "tip_deflection", "tip_height", "tip_angle",
                "base_moment", "arc_length", "angle", "x", "z")  # fmt: skip
-
-
-def _checked_index(index: Any, shape: tuple[int, ...], what: str) -> tuple[int, ...]:
-    """``index`` (an int or a tuple of ints, negative from the end) into ``shape``, or a
-    ValueError."""
-    idx = index if isinstance(index, tuple) else (index,)
-    whole = all(
-        isinstance(i, (int, np.integer)) and not isinstance(i, (bool, np.bool_)) for i in idx
-    )
-    if not whole or len(idx) != len(shape):
-        raise ValueError(
-            f"index must be {len(shape)} integer(s) into the {what}'s shape {shape} (an int "
-            f"or a tuple), got {show(index)}"
-        )
-    if not all(-n <= int(i) < n for i, n in zip(idx, shape, strict=True)):
-        raise ValueError(f"index {show(index)} is out of range for the {what}'s shape {shape}")
-    return tuple(int(i) for i in idx)
 
 
 #: The parameters of each named signal that are times [s] (divided by T) and stresses [Pa]

@@ -29,7 +29,8 @@ inertia (alpha = mu = 0) G' >= 0 at every frequency: no lead.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from dataclasses import replace as dataclasses_replace
 from typing import Any
 
 import numpy as np
@@ -339,14 +340,25 @@ class BedModuli:
     lead: FloatArray
     lead_crossover: FloatArray
     modulus_crossover: FloatArray
-    time_scale: float
-    modulus_scale: float
-    dimensionless: OscillatoryShear
+    time_scale: Any
+    modulus_scale: Any
+    dimensionless: Any
+    #: The array bed of an array result (None for a bed of numbers).
+    bed: Any = field(default=None, repr=False, compare=False)
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        """The bed's shape: () for a bed of numbers (issue 32)."""
+        return tuple(np.shape(self.time_scale))
 
     @property
     def status(self) -> NDArray[np.int64]:
-        """``SAOS_STATUS`` (frequency, pre_stress)."""
-        return self.dimensionless.status
+        """``SAOS_STATUS`` (frequency, pre_stress), behind the bed's shape for an array
+        bed."""
+        if not self.shape:
+            return self.dimensionless.status
+        rows = np.stack([d.status for d in self.dimensionless.reshape(-1)])
+        return rows.reshape(self.shape + rows.shape[1:])
 
     @property
     def success(self) -> Any:
@@ -356,14 +368,35 @@ class BedModuli:
     @property
     def message(self) -> Any:
         """``SAOS_STATUS`` of each status."""
-        return self.dimensionless.message
+        return status_messages(self.status, SAOS_STATUS)
+
+    def item(self, index: Any = ()) -> BedModuli:
+        """The moduli of the bed at ``index`` of :attr:`shape` (as
+        :meth:`hairbed.HairBed.item` indexes it); a bed of numbers' are themselves."""
+        if not self.shape:
+            return self
+        from .._model_axes import checked_index
+
+        k = checked_index(index, self.shape, "result")
+        arrays: dict[str, Any] = {n: np.array(getattr(self, n)[k]) for n in _PER_BED}
+        return dataclasses_replace(
+            self,
+            time_scale=float(self.time_scale[k]),
+            modulus_scale=float(self.modulus_scale[k]),
+            dimensionless=self.dimensionless[k],
+            bed=None,
+            **arrays,
+        )
 
     def to_xarray(self) -> Any:
         """An xarray.Dataset with dimensions ``frequency`` [Hz] and ``pre_stress`` [Pa]. Needs
-        the ``io`` extra."""
+        the ``io`` extra. An array bed's moduli have its axes in front, named ``bed``
+        (``bed_0``, ... for several), with the bed's array parameters as coordinates."""
         from .._optional import optional_import
 
         xr = optional_import("xarray", "BedModuli.to_xarray", "io")
+        if self.shape:
+            return self._array_xarray(xr)
         dims = ("frequency", "pre_stress")
         p, f = "pre_stress", "frequency"
 
@@ -392,6 +425,43 @@ class BedModuli:
             },
         )  # fmt: skip
 
+    def _array_xarray(self, xr: Any) -> Any:
+        """:meth:`to_xarray` of an array bed's moduli."""
+        from .._model_axes import model_coords, model_dims
+
+        beds = model_dims("bed", self.shape)
+        dims, p = (*beds, "frequency", "pre_stress"), (*beds, "pre_stress")
+
+        def att(units: str, name: str) -> dict[str, str]:
+            return {"units": units, "long_name": name}
+
+        coords = model_coords(self.bed, "bed", _BED_PARAMETERS)
+        coords["frequency"] = ("frequency", self.frequency, att("Hz", "frequency"))
+        coords["speed"] = ("pre_stress", self.speed, att("m s-1", "steady wall speed"))
+        return xr.Dataset(
+            {
+                "storage": (dims, self.storage, att("Pa", "storage modulus G'")),
+                "loss": (dims, self.loss, att("Pa", "loss modulus G''")),
+                "lead": (dims, self.lead, att("rad", "stress phase against the wall speed")),
+                "status": (dims, self.status, att("1", "status")),
+                "pre_stress": (p, self.pre_stress, att("Pa", "top wall's steady stress")),
+                "lead_crossover": (p, self.lead_crossover, att("Hz", "G' = 0")),
+                "modulus_crossover": (p, self.modulus_crossover, att("Hz", "G' = G''")),
+                "time_scale": (beds, self.time_scale, att("s", "T = zeta_perp L^4/(E I)")),
+                "modulus_scale": (beds, self.modulus_scale, att("Pa", "E I/(A L^2)")),
+            },
+            coords=coords,
+            attrs={"title": "hairbed bed in a rheometer (SI, array bed)",
+                   "Conventions": "CF-1.10"},
+        )  # fmt: skip
+
+
+#: The arrays of a :class:`BedModuli` with one row per bed of an array bed.
+_PER_BED = ("pre_stress", "storage", "loss", "lead", "lead_crossover", "modulus_crossover")
+#: The parameters of a HairBed that may be arrays (the coordinates of an array result).
+_BED_PARAMETERS = ("length", "radius", "youngs_modulus", "channel_height", "viscosity",
+                   "spacing", "packing_fraction", "base_angle", "density")  # fmt: skip
+
 
 def bed_moduli(
     bed: HairBed,
@@ -414,7 +484,13 @@ def bed_moduli(
     Parameters
     ----------
     bed : HairBed
-        The bed (any ``model``: its porous description is used).
+        The bed (any ``model``: its porous description is used). An array-valued bed
+        (issue 32, a design scan) gives one result with the bed's shape S in front: storage,
+        loss, lead and status of shape S + (frequency, pre_stress), the pre-stresses and
+        crossovers S + (pre_stress,), the time and modulus scales S; each element's linear
+        bed about its own steady states (one after the other: the linearisation is per
+        bed), bitwise the result of its :meth:`hairbed.HairBed.item`
+        (:meth:`BedModuli.item`).
     frequency : array_like
         f [Hz], finite, > 0, increasing.
     speed : array_like, optional
@@ -442,6 +518,47 @@ def bed_moduli(
         raise ValueError(f"frequency must increase, got frequency[{i}] <= frequency[{i - 1}]")
     if hair_density is not None:
         check_number(hair_density, "hair_density", low=0.0, low_open=True)
+    if bed.shape:
+        return _array_moduli(bed, f, v, hair_density)
+    return _moduli_of(bed, f, v, hair_density)
+
+
+def _array_moduli(
+    bed: HairBed, f: FloatArray, v: FloatArray, hair_density: float | None
+) -> BedModuli:
+    """:func:`bed_moduli` of an array bed (issue 32): each element's linear bed about its
+    own steady states (the linearisation is per bed), as the bed of numbers computes it (so
+    each element is bitwise its :meth:`hairbed.HairBed.item`'s), stacked behind the bed's
+    shape."""
+    from .._model_axes import element_index
+
+    shape = tuple(bed.shape)
+    out = []
+    for k, el in enumerate(bed._elements()):
+        try:
+            out.append(_moduli_of(el, f, v, hair_density))
+        except ValueError as exc:  # this element's scales or its frequencies' range
+            raise ValueError(f"{exc} (bed {element_index(k, shape)})") from None
+
+    def stacked(name: str) -> Any:
+        rows = np.array([getattr(r, name) for r in out], dtype=np.float64)
+        return rows.reshape(shape + rows.shape[1:])
+
+    dimless = np.empty(len(out), dtype=object)
+    dimless[:] = [r.dimensionless for r in out]
+    return BedModuli(
+        frequency=f,
+        speed=v,
+        **{n: stacked(n) for n in (*_PER_BED, "time_scale", "modulus_scale")},
+        dimensionless=dimless.reshape(shape),
+        bed=bed,
+    )
+
+
+def _moduli_of(
+    bed: HairBed, f: FloatArray, v: FloatArray, hair_density: float | None
+) -> BedModuli:
+    """:func:`bed_moduli` of a bed of numbers at checked frequencies and speeds."""
     # the one HairBed -> model conversion (T, alpha, mu, chi; numbers below the bed
     # dynamics' range run as 0, their effect of that relative order)
     sc = _within_range(_scales(bed, hair_density), bed, hair_density)
