@@ -73,7 +73,8 @@ def _scales(bed: Any, hair_density: Any) -> _BedScales:
     None: overdamped hairs)."""
     if not _is_bed(bed):
         raise TypeError(f"bed must be a hairbed.HairBed, got {type(bed).__name__}")
-    bed._require_scalar("the bed in time (simulate, valve_dynamics, the rheometer)")
+    # an array bed's elements come here one by one (simulate, rheometer.bed_moduli)
+    bed._require_scalar("the bed in time (valve_dynamics, the rheometer's bed_laos)")
     porous = _as_porous(bed)
     zeta = porous.drag_coefficients[0]
     t_scale = zeta * bed.length**4 / bed.bending_stiffness

@@ -751,7 +751,8 @@ class Pillar(_ArrayModel):
         raise ValueError(
             f"{what} needs a single pillar, each parameter a number: {', '.join(names)} "
             f"{verb} (shape {self.shape}) here. Pillar.deform, tip_deflection, sensitivity, "
-            "the inverse and the linear calibration take array parameters; "
+            "the inverse, the linear calibration, frequency_response and simulate take array "
+            "parameters; "
             "Pillar.item(index) gives one pillar of the array"
         )
 

@@ -994,7 +994,8 @@ class HairBed(_ArrayModel):
         raise ValueError(
             f"{what} needs a single bed, each parameter a number: {', '.join(names)} {verb} "
             f"(shape {self.shape}) here. HairBed.deform, the calibrations (exact and linear), "
-            "valve.valve_curve and valve.diodicity take array parameters; "
+            "valve.valve_curve, valve.diodicity, HairBed.simulate and rheometer.bed_moduli "
+            "take array parameters; "
             "HairBed.item(index) gives one bed of the array"
         )
 
