@@ -154,7 +154,7 @@ def test_bad_inputs() -> None:
     with pytest.raises(ValueError, match="theta0"):
         simulate_pillar(1.0, [0.0, 1.0], theta0=2.0)
     with pytest.raises(ValueError, match="num"):
-        simulate_pillar(1.0, [0.0, 1.0], num=4)
+        simulate_pillar(1.0, [0.0, 1.0], num=3)
     with pytest.raises(ValueError, match="mu"):
         simulate_pillar(1.0, [0.0, 1.0], mu=-0.1)
     with pytest.raises(TypeError, match="forcing"):

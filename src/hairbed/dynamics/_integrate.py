@@ -42,9 +42,22 @@ from .._core.validation import (
 from ._operators import _mapped
 from ._signals import Signal, as_signal, check_drive
 
-__all__ = ["TRAJECTORY_STATUS", "PillarTrajectory", "simulate_pillar", "simulate_pillars"]
+__all__ = [
+    "LEAST_NUM",
+    "TRAJECTORY_STATUS",
+    "PillarTrajectory",
+    "simulate_pillar",
+    "simulate_pillars",
+]
 
 FloatArray = NDArray[np.float64]
+#: The least Chebyshev degree N of a run (three interior angles): for loose work, where the
+#: discretisation's error, ~ 1e-3 of the tip at N = 4 and falling about tenfold per degree
+#: (docs/theory.md §14), may exceed the time integration's. The static states a run starts
+#: from and maps its collocation by are solved at N >= ``_STATIC_NUM`` and evaluated at the
+#: run's nodes.
+LEAST_NUM = 4
+_STATIC_NUM = 8
 
 
 @functools.lru_cache(maxsize=256)
@@ -258,8 +271,10 @@ def simulate_pillar(
     forcing : number, Signal or callable
         Lambda(t): a constant, a :mod:`hairbed.dynamics` signal (``step``, ``ramp``,
         ``sine``, ``pulses``, ``sampled``) or a callable of an ndarray of times (sampled at
-        ``CALLABLE_SAMPLES`` uniform times of the run); its levels within +-1e100
-        (beyond it the compiled rates would overflow).
+        ``CALLABLE_SAMPLES`` uniform times of the run where rtol <= 1e-10; at a looser rtol
+        at fewer, from 65 up, doubled until the interpolant of every other sample gives the
+        samples between to rtol times the largest); its levels within +-1e100 (beyond it
+        the compiled rates would overflow).
     t_eval : array_like
         Output times [T], finite and non-decreasing; the run starts at t_eval[0].
     theta0 : float, optional
@@ -278,7 +293,8 @@ def simulate_pillar(
         before it (so a step at t_eval[0] starts from its value before): straight (theta =
         theta0) where both are zero.
     num : int, optional
-        The Chebyshev degree N in [8, 128] (default 32).
+        The Chebyshev degree N in [``LEAST_NUM`` = 4, 128] (default 32); below 8 for loose
+        work only (the discretisation's error of the tip ~ 1e-3 at N = 4).
     rtol, atol : float, optional
         The integrator's tolerances on the angles (and rates).
     max_steps : int, optional
@@ -322,7 +338,7 @@ def simulate_pillar(
     if not isinstance(method, str) or method not in ("radau", "exponential"):
         raise ValueError(f"method must be 'radau' or 'exponential', got {show(method)}")
     deg = opts.num
-    lam_sig, tip_sig = _drives(forcing, tip_load, te)
+    lam_sig, tip_sig = _drives(forcing, tip_load, te, opts.rtol)
     prof = profile_coefficients(profile, height_ratio)
     # the map of the collocation: that of the static state at the drives' last values
     lam_end, tip_end = lam_sig.at_start(float(te[-1])), tip_sig.at_start(float(te[-1]))
@@ -335,7 +351,7 @@ def simulate_pillar(
             height_ratio=height_ratio,
             gamma=g,
             tip_load=tip_end,
-            num=deg,
+            num=max(deg, _STATIC_NUM),
         )
         a = float(last._map) if np.isfinite(last._map) else 0.0
     before = math.nextafter(float(te[0]), -math.inf)
@@ -350,7 +366,7 @@ def simulate_pillar(
             height_ratio=height_ratio,
             gamma=g,
             tip_load=tip_sig.at_start(before),
-            num=deg,
+            num=max(deg, _STATIC_NUM),
         )
         if int(initial.status) < 0:  # (3, a tail above rtol at a small fixed N, will do)
             raise ValueError(
@@ -423,7 +439,7 @@ def _plain_call(
         and 0.0 < rt < math.inf
         and 0.0 < at < math.inf
         and (jump_speed is None or 0.0 < jump < math.inf)
-        and 8 <= num <= 128
+        and LEAST_NUM <= num <= 128
         and 1 <= max_steps <= _MAX_STEPS
     ):
         return t0, g, m, _Options(chi, num, rt, at, max_steps, jump)
@@ -491,7 +507,12 @@ def _no_start(lam: float, tip: float, why: Any) -> str:
 def _checked_times(t_eval: ArrayLike) -> FloatArray:
     if type(t_eval) is np.ndarray and t_eval.dtype == np.float64 and t_eval.size:
         te = t_eval.astype(np.float64).reshape(-1)  # a copy, as as_float_array's
-        if np.isfinite(te).all() and not (np.diff(te) < 0.0).any():
+        if te.size <= 16:  # a few times: Python's floats (no NaN is <= anything)
+            vals = te.tolist()
+            ends = math.isfinite(vals[0]) and math.isfinite(vals[-1])
+            if ends and all(a <= b for a, b in zip(vals, vals[1:])):
+                return te  # in order between two finite ends: finite
+        elif np.isfinite(te).all() and not (np.diff(te) < 0.0).any():
             return te  # a float array in order: the checks below would pass
     te = as_float_array(t_eval, "t_eval").reshape(-1)
     if te.size < 1:
@@ -527,7 +548,7 @@ def _options(
     )
     return _Options(
         chi=chi,
-        num=check_int(num, "num", 8, 128),
+        num=check_int(num, "num", LEAST_NUM, 128),
         rtol=check_positive(rtol, "rtol"),
         atol=check_positive(atol, "atol"),
         # the kernel counts steps in int64: a bound far beyond any run, not an overflow
@@ -536,19 +557,31 @@ def _options(
     )
 
 
-def _drives(forcing: Any, tip_load: Any, te: FloatArray) -> tuple[Signal, Signal]:
-    span_end = float(te[-1]) if te[-1] > te[0] else float(te[0]) + 1.0
+def _drives(
+    forcing: Any, tip_load: Any, te: FloatArray, rtol: float | None = None
+) -> tuple[Signal, Signal]:
+    """The drives as signals (callables sampled to the run's ``rtol``: :func:`as_signal`)."""
+    t0 = float(te[0])
+    span_end = float(te[-1]) if te[-1] > te[0] else t0 + 1.0
     return (
-        check_drive(as_signal(forcing, "forcing", float(te[0]), span_end), "forcing"),
-        check_drive(as_signal(tip_load, "tip_load", float(te[0]), span_end), "tip_load"),
+        check_drive(as_signal(forcing, "forcing", t0, span_end, rtol), "forcing"),
+        check_drive(as_signal(tip_load, "tip_load", t0, span_end, rtol), "tip_load"),
     )
+
+
+@functools.lru_cache(maxsize=1)
+def _kernels() -> tuple[Any, Any]:
+    """The compiled modules ``dynamics`` and ``pillar_run``, imported on first use (``import
+    hairbed`` loads no kernel)."""
+    from .._core._kernels import dynamics, pillar_run
+
+    return dynamics, pillar_run
 
 
 def _run(job: _Job) -> PillarTrajectory:
     """The compiled integration of one pillar and its trajectory (the kernel releases the
     GIL: runs of several pillars go in parallel on threads)."""
-    from .._core._kernels import dynamics as kern
-
+    kern, pillar_run = _kernels()
     te, opts = job.te, job.opts
     deg, t0, g, m, chi = opts.num, job.theta0, job.gamma, job.mu, opts.chi
     ss, sp, dd, ii, d0, d1s = _operators_at(deg, job.a)
@@ -581,13 +614,15 @@ def _run(job: _Job) -> PillarTrajectory:
     if job.exponential:
         status, t_end = _exponential(job, y0, dd, ii, srow, pr, drives, tabs, y_out, counts)
     else:
+        pars = (deg, dd, ii, srow, t0, g, chi, m, pr, drives, tabs)
+        h0 = _start_step(job, y0, pars, counts)
         status, t_end = kern.integrate_pillar(
             y0,
             float(te[0]),
             te,
             opts.rtol,
             opts.atol,
-            1e-6,
+            h0,
             opts.max_steps,
             deg,
             dd,
@@ -604,38 +639,21 @@ def _run(job: _Job) -> PillarTrajectory:
             counts,
             opts.jump,
         )
-    # the angles and rates at the nodes
-    theta = np.full((te.size, deg + 1), np.nan)
-    rates = np.full((te.size, deg + 1), np.nan)
-    theta[:, 0] = t0
-    theta[:, 1:deg] = y_out[:, :n]
-    theta[:, deg] = theta[:, :deg] @ srow[:deg]
-    good = np.isfinite(y_out).all(axis=1)
-    if not good.all():  # past an event or a failure
-        theta[~good] = np.nan
-    if m == 0.0:  # the rates of the overdamped state: f(t, y)
-        ws = kern.workspace(deg)
-        f = np.empty(size)
-        jdummy = np.zeros((size, size))
-        for i in np.flatnonzero(good):
-            kern.pillar_rates(
-                float(te[i]), y_out[i], False, deg, dd, ii, srow, t0, g, chi, m, pr, drives,
-                tabs, f, jdummy, ws,
-            )  # fmt: skip
-            rates[i, 1:deg] = f
-    else:  # with inertia they are the state's second half
-        rates[good, 1:deg] = y_out[good, n:]
-    rates[good, 0] = 0.0
-    rates[good, deg] = rates[good, 1:deg] @ srow[1:deg]
-    c, s = np.cos(theta), np.sin(theta)
+    # the angles and rates at the nodes, the tip and the base moment (NaN past an event)
+    theta = np.empty((te.size, deg + 1))
+    rates = np.empty((te.size, deg + 1))
+    out = np.empty((4, te.size))
+    pillar_run.trajectory_outputs(
+        te, y_out, deg, dd, ii, srow, d0, t0, g, chi, m, pr, drives, tabs, theta, rates, out
+    )
     return PillarTrajectory(
         t=te,
         forcing=np.asarray(lam_sig(te), dtype=np.float64).reshape(te.shape),
         tip_load=np.asarray(tip_sig(te), dtype=np.float64).reshape(te.shape),
-        tip_deflection=s @ ii[deg],
-        tip_height=c @ ii[deg],
-        tip_angle=theta[:, deg].copy(),
-        base_moment=theta @ d0,
+        tip_deflection=out[0],
+        tip_height=out[1],
+        tip_angle=out[2],
+        base_moment=out[3],
         s=ss,
         theta=theta,
         theta_t=rates,
@@ -653,6 +671,39 @@ def _run(job: _Job) -> PillarTrajectory:
         nlu=int(counts[5]),
         _ops={"ii": ii, "d1s": d1s, "prof": job.prof},
     )
+
+
+def _start_step(job: _Job, y0: FloatArray, pars: tuple[Any, ...], counts: Any) -> float:
+    """Radau IIA's first step [T]: ``pillar_run.start_step`` (the starting step of Hairer,
+    Norsett & Wanner, Solving ODEs I, II.4, its probe repeated at the step it proposes)
+    over the span to the last output time, or to the drives' first corner or jump after the
+    start where that is sooner (a step's time, a ramp's or a pulse train's corners: the
+    first step does not straddle it)."""
+    pillar_run = _kernels()[1]
+    te, opts = job.te, job.opts
+    t_start = float(te[0])
+    span = min(float(te[-1]) - t_start, _next_break(job.lam_sig, t_start),
+               _next_break(job.tip_sig, t_start))  # fmt: skip
+    return float(pillar_run.start_step(t_start, y0, span, opts.rtol, opts.atol, *pars, counts))
+
+
+def _next_break(sig: Signal, t0: float) -> float:
+    """The time from t0 to the signal's first corner or jump after it (inf: none known: a
+    constant, a sine, a sampled signal)."""
+    p = sig.params
+    if sig.kind == "step":
+        corners: tuple[float, ...] = (p[2],)
+    elif sig.kind == "ramp":
+        corners = (p[2], p[3])
+    elif sig.kind == "pulses":  # the next start or end of a pulse
+        period, width, start = p[2], p[3], p[4]
+        k = math.floor((t0 - start) / period)
+        base = start + k * period
+        corners = (base, base + width, base + period)
+    else:
+        return math.inf
+    ahead = [c - t0 for c in corners if c > t0]
+    return min(ahead) if ahead else math.inf
 
 
 def _exponential(
@@ -774,6 +825,7 @@ def simulate_pillars(
                     lams[i] if lams is not None else forcing,
                     tips[i] if tips is not None else tip_load,
                     te,
+                    opts.rtol,
                 )
             )
         except (ValueError, TypeError) as exc:
@@ -789,7 +841,7 @@ def simulate_pillars(
             height_ratio=height_ratio,
             gamma=np.array(gs),
             tip_load=np.array([ts.at_start(t) for _, ts in sigs]),
-            num=opts.num,
+            num=max(opts.num, _STATIC_NUM),
         )
 
     last = states(float(te[-1]))

@@ -3,7 +3,8 @@
 A :class:`Signal` is evaluated inside the compiled integrator (``_kernels.dynamics``); the
 named ones are exact, a sampled series is its piecewise cubic Hermite interpolant
 (Catmull-Rom slopes), and a Python callable is sampled at ``CALLABLE_SAMPLES`` uniform times
-of the run and interpolated the same way.
+of the run (fewer where the run's tolerance is loose and they resolve the callable to it:
+:func:`as_signal`'s ``rtol``) and interpolated the same way.
 """
 
 from __future__ import annotations
@@ -34,8 +35,11 @@ __all__ = [
 
 FloatArray = NDArray[np.float64]
 #: The uniform samples over the run of a callable drive (its cubic interpolant's error is
-#: ~ (dt)^4 f'''' / 384 per sample interval).
+#: ~ (dt)^3 f''' inside, ~ (dt)^2 f'' on the two end intervals, whose slopes are one-sided):
+#: all of them where no tolerance is given, the most where one is (:func:`as_signal`).
 CALLABLE_SAMPLES = 4097
+#: The least uniform samples of a callable drive under a tolerance (:func:`as_signal`).
+CALLABLE_LEAST_SAMPLES = 65
 _KINDS = {"constant": 0, "step": 1, "ramp": 2, "sine": 3, "pulses": 4, "sampled": 5}
 
 
@@ -65,26 +69,43 @@ class Signal:
         out[1 : 1 + len(self.params)] = self.params
         return out
 
+    @functools.cached_property
+    def _kernel_args(self) -> tuple[int, FloatArray, FloatArray, FloatArray]:
+        """(kind code, parameters, times, values) of the kernel's ``drive_value``, built
+        once per signal."""
+        row = self.row()
+        tt, vv = (self.times, self.values) if self.times.size else (_ZERO, _ZERO)
+        return int(row[0]), row[1:], tt, vv
+
     def __call__(self, t: ArrayLike) -> Any:
         """d(t) [-] at the times t (the compiled evaluation the integrator uses)."""
         tv = np.asarray(t, dtype=np.float64)
         if self.kind == "constant":
             return np.full(tv.shape, self.params[0]) if tv.ndim else float(self.params[0])
-        from .._core._kernels import dynamics as kern
-
-        row = self.row()
-        kind, pars = int(row[0]), row[1:]
-        tt, vv = (self.times, self.values) if self.times.size else (_ZERO, _ZERO)
+        value = _drive_value()
+        kind, pars, tt, vv = self._kernel_args
         if not tv.ndim:
-            return float(kern.drive_value(kind, pars, tt, vv, float(tv)))
-        out = np.array([kern.drive_value(kind, pars, tt, vv, float(x)) for x in tv.reshape(-1)])
+            return float(value(kind, pars, tt, vv, float(tv)))
+        out = np.array([value(kind, pars, tt, vv, float(x)) for x in tv.reshape(-1)])
         return out.reshape(tv.shape)
 
     def at_start(self, t0: float) -> float:
         """d(t0)."""
         if type(t0) is float and math.isfinite(t0):  # a plain time: check_number's value
-            return float(self(t0))
+            if self.kind == "constant":
+                return float(self.params[0])
+            kind, pars, tt, vv = self._kernel_args
+            return float(_drive_value()(kind, pars, tt, vv, t0))
         return float(self(check_number(t0, "t0")))
+
+
+@functools.lru_cache(maxsize=1)
+def _drive_value() -> Any:
+    """The compiled ``drive_value`` (imported on first use: ``import hairbed`` loads no
+    kernel)."""
+    from .._core._kernels import dynamics as kern
+
+    return kern.drive_value
 
 
 _EMPTY = np.zeros(0)
@@ -200,12 +221,23 @@ def check_drive(sig: Signal, name: str) -> Signal:
     return sig
 
 
-def as_signal(value: Any, name: str, t0: float, t1: float) -> Signal:
-    """A Signal from a number, a Signal or a callable d(t) (sampled over [t0, t1])."""
+def as_signal(value: Any, name: str, t0: float, t1: float, rtol: float | None = None) -> Signal:
+    """A Signal from a number, a Signal or a callable d(t) (sampled over [t0, t1]).
+
+    A callable is sampled at ``CALLABLE_SAMPLES`` uniform times where ``rtol`` is None. Under
+    a tolerance rtol > 0 (the run's) it is sampled at K = 2^k + 1 uniform times, K from
+    :func:`_first_samples` (the interpolant's error ~ K^-3, scaled from CALLABLE_SAMPLES at
+    rtol = 1e-10; at least ``CALLABLE_LEAST_SAMPLES``), and K doubled (2 K - 1 times, the
+    old among them) until the interpolant of every other sample reproduces the samples
+    between them to rtol max|d| (the interpolant of all K, at half that spacing, is then
+    within about an eighth of it inside, a quarter on the end intervals) or K reaches
+    CALLABLE_SAMPLES. Like any sampling it cannot see a feature narrower than the spacing
+    (t1 - t0)/(K - 1) that falls between the samples.
+    """
     if isinstance(value, Signal):
         return value
     if callable(value):
-        return _from_callable(value, name, t0, t1)
+        return _from_callable(value, name, t0, t1, rtol)
     x = _scalar(value)
     if x is not None and math.isfinite(x):  # a plain number: the checks' value, no numpy
         return Signal("constant", (x,), _EMPTY, _EMPTY)
@@ -217,18 +249,64 @@ def as_signal(value: Any, name: str, t0: float, t1: float) -> Signal:
     )
 
 
-@functools.lru_cache(maxsize=16)
-def _sample_times(t0: float, t1: float, s0: float, s1: float) -> tuple[FloatArray, bool]:
-    """A callable's sample times over [t0, t1] (read-only, shared: copy them) and whether
-    they are distinct, built once per span (s0, s1: the signs of t0, t1, so that -0.0 is
-    not 0.0's entry)."""
-    tt = np.linspace(t0, t1, CALLABLE_SAMPLES)
+def _first_samples(rtol: float) -> int:
+    """The first count K = 2^k + 1 of a callable's samples under the tolerance rtol > 0:
+    the least with 2^k >= 4096 (1e-10/rtol)^(1/3), within [``CALLABLE_LEAST_SAMPLES``,
+    ``CALLABLE_SAMPLES``]."""
+    want = (CALLABLE_SAMPLES - 1) * (1e-10 / rtol) ** (1.0 / 3.0)
+    count = CALLABLE_LEAST_SAMPLES
+    while count < CALLABLE_SAMPLES and count - 1 < want:
+        count = 2 * count - 1
+    return count
+
+
+def _resolved(vals: FloatArray, rtol: float) -> bool:
+    """Whether the cubic Hermite interpolant (Catmull-Rom slopes inside, the secant's at the
+    two ends, as the kernel's ``drive_value``) of the even samples reproduces the odd ones
+    to rtol max|vals| (uniform times: a slope times the spacing is a difference)."""
+    even = vals[::2]
+    lo, hi = even[:-1], even[1:]
+    central = 0.5 * (even[2:] - even[:-2])
+    s0 = np.empty_like(lo)  # the slopes at each interval's two ends, times its length
+    s1 = np.empty_like(lo)
+    s0[0] = hi[0] - lo[0]
+    s0[1:] = central
+    s1[-1] = hi[-1] - lo[-1]
+    s1[:-1] = central
+    mid = 0.5 * (lo + hi) + 0.125 * (s0 - s1)  # the Hermite basis at x = 1/2
+    return bool(np.abs(mid - vals[1::2]).max() <= rtol * np.abs(vals).max())
+
+
+@functools.lru_cache(maxsize=32)
+def _sample_times(
+    t0: float, t1: float, s0: float, s1: float, count: int = CALLABLE_SAMPLES
+) -> tuple[FloatArray, bool]:
+    """A callable's ``count`` sample times over [t0, t1] (read-only, shared: copy them) and
+    whether they are distinct, built once per span and count (s0, s1: the signs of t0, t1,
+    so that -0.0 is not 0.0's entry)."""
+    tt = np.linspace(t0, t1, count)
     tt.setflags(write=False)
     return tt, bool(np.all(tt[1:] > tt[:-1]))
 
 
-def _from_callable(func: Callable[..., Any], name: str, t0: float, t1: float) -> Signal:
-    shared, distinct = _sample_times(t0, t1, math.copysign(1.0, t0), math.copysign(1.0, t1))
+def _from_callable(
+    func: Callable[..., Any], name: str, t0: float, t1: float, rtol: float | None = None
+) -> Signal:
+    """The callable sampled as :func:`as_signal` says."""
+    count = CALLABLE_SAMPLES if rtol is None else _first_samples(rtol)
+    while True:
+        sig = _sampled_callable(func, name, t0, t1, count)
+        if rtol is None or count >= CALLABLE_SAMPLES or _resolved(sig.values, rtol):
+            return sig
+        count = 2 * count - 1
+
+
+def _sampled_callable(
+    func: Callable[..., Any], name: str, t0: float, t1: float, count: int
+) -> Signal:
+    """The callable at ``count`` uniform times over [t0, t1], its values checked."""
+    sign0, sign1 = math.copysign(1.0, t0), math.copysign(1.0, t1)
+    shared, distinct = _sample_times(t0, t1, sign0, sign1, count)
     tt = shared.copy()
     try:
         raw = func(shared.copy())  # its own copy: a callable that writes to it changes no time
@@ -255,7 +333,7 @@ def _from_callable(func: Callable[..., Any], name: str, t0: float, t1: float) ->
     if not distinct:
         raise ValueError(
             f"{name}: the run's span [{show(t0)}, {show(t1)}] is too short at its magnitude "
-            f"for {CALLABLE_SAMPLES} distinct sample times of the callable; pass a "
+            f"for {count} distinct sample times of the callable; pass a "
             "sampled(times, values) signal"
         )
     return Signal("sampled", (), tt, np.ascontiguousarray(vals, dtype=np.float64))
