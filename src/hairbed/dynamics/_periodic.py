@@ -729,10 +729,15 @@ def _forcing_columns(orbit: PeriodicBed, forcing: Any) -> FloatArray:
         gg = np.stack(cols)
     else:
         gg = as_float_array(forcing, "forcing")
+    return _checked_columns(gg, kk, m, f" (or a callable returning ({m},) or ({m}, p))")
+
+
+def _checked_columns(gg: FloatArray, kk: int, m: int, alt: str = "") -> FloatArray:
+    """Forcing columns (K, size) or (K, size, p), checked: (K, size, p)."""
     if gg.ndim not in (2, 3) or gg.shape[:2] != (kk, m):
         raise ValueError(
-            f"forcing must have shape ({kk}, {m}) or ({kk}, {m}, p) at the orbit's {kk} phases "
-            f"(or a callable returning ({m},) or ({m}, p)), got {gg.shape}"
+            f"forcing must have shape ({kk}, {m}) or ({kk}, {m}, p) at the orbit's {kk} phases"
+            f"{alt}, got {gg.shape}"
         )
     bad = ~np.isfinite(gg)
     if np.any(bad):
@@ -873,18 +878,7 @@ class PeriodicAdjoint:
         orbit's phases: an array (K, size) or (K, size, p) (as
         :func:`periodic_sensitivity`'s, whose ``mean_outputs[output]`` this equals)."""
         kk, m = self.multipliers.shape
-        gg = as_float_array(forcing, "forcing")
-        if gg.ndim not in (2, 3) or gg.shape[:2] != (kk, m):
-            raise ValueError(
-                f"forcing must have shape ({kk}, {m}) or ({kk}, {m}, p) at the orbit's {kk} "
-                f"phases, got {gg.shape}"
-            )
-        bad = ~np.isfinite(gg)
-        if np.any(bad):
-            i = tuple(int(v) for v in np.argwhere(bad)[0])
-            raise ValueError(f"forcing must be finite, got {show(float(gg[i]))} at index {i}")
-        if gg.ndim == 2:
-            gg = gg[:, :, None]
+        gg = _checked_columns(as_float_array(forcing, "forcing"), kk, m)
         return np.asarray(np.einsum("km,kmp->p", self.multipliers, gg), dtype=np.float64)
 
 
