@@ -214,3 +214,19 @@ def test_pump_switch_that_changes_nothing_says_why_its_times_are_nan(capsys):
     assert err.splitlines() == [
         "hairbed: warning: the step changes nothing (equal drops): no rise time"
     ]
+
+
+def test_response_frequencies_take_the_log_spelling_of_every_spec():
+    """`hairbed response --frequencies 1:1000:4:log` (the spelling of every other SPEC, and
+    of `hairbed rheometer --frequencies`) was refused, although LO:HI:N is log-spaced here:
+    now the same frequencies; any other fourth field is refused in one line."""
+    import numpy as np
+
+    from hairbed.cli._report import UsageError
+    from hairbed.cli._response import parse_frequencies
+
+    expected = [1.0, 10.0, 100.0, 1000.0]
+    np.testing.assert_allclose(parse_frequencies("1:1000:4:log"), expected, rtol=1e-15)
+    np.testing.assert_allclose(parse_frequencies("1:1000:4"), expected, rtol=1e-15)
+    with pytest.raises(UsageError, match="LO:HI:N:log"):
+        parse_frequencies("1:1000:4:lin")

@@ -73,8 +73,8 @@ def add_parser(sub: Any) -> None:
         "--frequencies",
         default="1:1000:200",
         metavar="SPEC",
-        help="LO:HI:N, N log-spaced frequencies from LO > 0 to HI [Hz], or a comma-separated "
-        "list F1,F2,... [Hz] >= 0 (default 1:1000:200)",
+        help="LO:HI:N, N log-spaced frequencies from LO > 0 to HI [Hz] (LO:HI:N:log is the "
+        "same), or a comma-separated list F1,F2,... [Hz] >= 0 (default 1:1000:200)",
     )
     g.add_argument(
         "--wall-shear-stress",
@@ -144,18 +144,22 @@ def add_parser(sub: Any) -> None:
 
 
 def parse_frequencies(spec: str) -> Any:
-    """The frequencies [Hz] of ``LO:HI:N`` (log-spaced) or ``F1,F2,...``; a usage error
-    naming --frequencies otherwise."""
+    """The frequencies [Hz] of ``LO:HI:N`` (log-spaced; ``LO:HI:N:log``, the spelling of
+    every other SPEC, is the same) or ``F1,F2,...``; a usage error naming --frequencies
+    otherwise."""
     text = spec.strip()
     if ":" in text:
         parts = text.split(":")
+        if len(parts) == 4 and parts[3].strip() == "log":
+            parts = parts[:3]
         try:
             if len(parts) != 3:
                 raise ValueError
             lo, hi, n = float(parts[0]), float(parts[1]), int(parts[2])
         except ValueError:
             raise UsageError(
-                f"--frequencies {spec!r}: expected LO:HI:N (numbers, N an integer)"
+                f"--frequencies {spec!r}: expected LO:HI:N or LO:HI:N:log, both log-spaced "
+                "(numbers, N an integer)"
             ) from None
         if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 < lo < hi and 2 <= n <= MAX_N):
             raise UsageError(
