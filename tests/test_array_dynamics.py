@@ -162,6 +162,10 @@ def test_array_calls_refuse_bad_inputs():
         r.item((0, 0))
     with pytest.raises(ValueError, match="out of range"):
         r.item(2)
+    single = r.item(1)  # a pillar of numbers' response is its own only item
+    assert single.item() is single
+    with pytest.raises(ValueError, match=r"index must be 0 integer"):
+        single.item(0)
     t = [0.0, 1e-3]
     with pytest.raises(ValueError, match="pillar_density"):
         p.simulate(1.0, t)

@@ -915,6 +915,7 @@ NEW_TARGETS = [
         dict(frequency=[10.0, 100.0], wall_shear_stress=1.0, pillar_density=1000.0, drag="sader"),
     ),
     Target("SensorResponse.at", _method(SENSOR_RESPONSE, "at"), dict(frequency=[5.0, 50.0])),
+    Target("SensorResponse.item", _method(SENSOR_RESPONSE, "item"), dict(index=())),
     Target(
         "sensor_dynamics.wall_shear_stress_from_tip_deflection_series",
         sensor_dynamics.wall_shear_stress_from_tip_deflection_series,

@@ -56,6 +56,11 @@ class BedSimulation:
     Always the porous model of theory.md §15 (``model`` "porous"; a dense ``HairBed`` runs
     the porous model of its geometry, ``bed_model`` "dense").
 
+    The run of an array bed of shape S (issue 32) holds S in front of every series (time,);
+    ``time_scale``, ``kappa``, ``drag_ratio``, ``womersley``, ``inertia_number``, ``status``,
+    ``t_end`` and ``trajectory`` (an object array of the dimensionless runs) are of shape S;
+    :meth:`item` gives one bed's run.
+
     Attributes
     ----------
     time : ndarray
@@ -144,9 +149,9 @@ class BedSimulation:
     def item(self, index: Any = ()) -> BedSimulation:
         """The run of the bed at ``index`` of :attr:`shape` (as :meth:`hairbed.HairBed.item`
         indexes it); a bed of numbers' run is itself."""
+        k = _checked_index(index, self.shape, "run")
         if not self.shape:
             return self
-        k = _checked_index(index, self.shape, "run")
         fields: dict[str, Any] = {n: float(np.asarray(getattr(self, n))[k]) for n in _PER_BED}
         series: dict[str, Any] = {n: np.array(getattr(self, n)[k]) for n in _BED_SERIES}
         return dataclasses_replace(

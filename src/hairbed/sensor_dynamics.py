@@ -264,6 +264,11 @@ class SensorResponse:
     is x(t) = x_mean + Re(H(f) tau_hat e^{2 pi i f t}), linearised about the static state at
     tau_mean (theory.md §14).
 
+    The response of an array pillar of shape S (issue 32) holds S in front: ``response``,
+    ``magnitude`` and ``phase`` of shape S + frequency.shape, the per-pillar numbers (static
+    gain, resonance, quality factor, bandwidth, time scale, inertia number, valid_below,
+    status) arrays of shape S; :meth:`item` gives one pillar's response.
+
     Attributes
     ----------
     frequency : ndarray
@@ -344,9 +349,9 @@ class SensorResponse:
     def item(self, index: Any = ()) -> SensorResponse:
         """The response of the pillar at ``index`` of :attr:`shape` (as
         :meth:`hairbed.Pillar.item` indexes it); a pillar of numbers' response is itself."""
+        k = _checked_index(index, self.shape, "response")
         if not self.shape:
             return self
-        k = _checked_index(index, self.shape, "response")
 
         fields: dict[str, Any] = {n: float(np.asarray(getattr(self, n))[k]) for n in _PER_PILLAR}
         return dataclasses_replace(
@@ -1153,6 +1158,11 @@ class SensorTrajectory:
     mapped to SI: t = T t', T = zeta_perp L^4/(E I); tau_w = Lambda/(Lambda/tau_w); lengths
     L x; the base moment E I theta'(0)/L.
 
+    The run of an array pillar of shape S (issue 32) holds S in front of every series
+    (time,) or (time, node) and of the arc length; ``time_scale``, ``inertia_number``,
+    ``status``, ``t_end`` and ``trajectory`` (an object array of the dimensionless runs) are
+    of shape S; :meth:`item` gives one pillar's run.
+
     Attributes
     ----------
     time : ndarray
@@ -1228,9 +1238,9 @@ class SensorTrajectory:
     def item(self, index: Any = ()) -> SensorTrajectory:
         """The run of the pillar at ``index`` of :attr:`shape` (as :meth:`hairbed.Pillar.item`
         indexes it); a pillar of numbers' run is itself."""
+        k = _checked_index(index, self.shape, "run")
         if not self.shape:
             return self
-        k = _checked_index(index, self.shape, "run")
         per = ("time_scale", "inertia_number", "t_end")
         fields: dict[str, Any] = {n: float(np.asarray(getattr(self, n))[k]) for n in per}
         arrays: dict[str, Any] = {n: np.array(getattr(self, n)[k]) for n in _RUN_SERIES}

@@ -307,7 +307,9 @@ def oscillatory_shear(
 class BedModuli:
     """G'(f) and G''(f) of a :class:`hairbed.HairBed` in SI (:func:`bed_moduli`).
 
-    Arrays are (frequency, pre_stress).
+    Arrays are (frequency, pre_stress); an array bed's (issue 32) have its shape S in front
+    (the crossovers and pre-stresses S + (pre_stress,), the scales S, ``dimensionless`` an
+    object array of shape S); :meth:`item` gives one bed's moduli.
 
     Attributes
     ----------
@@ -373,11 +375,11 @@ class BedModuli:
     def item(self, index: Any = ()) -> BedModuli:
         """The moduli of the bed at ``index`` of :attr:`shape` (as
         :meth:`hairbed.HairBed.item` indexes it); a bed of numbers' are themselves."""
-        if not self.shape:
-            return self
         from .._model_axes import checked_index
 
         k = checked_index(index, self.shape, "result")
+        if not self.shape:
+            return self
         arrays: dict[str, Any] = {n: np.array(getattr(self, n)[k]) for n in _PER_BED}
         return dataclasses_replace(
             self,
