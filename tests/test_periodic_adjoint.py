@@ -81,7 +81,7 @@ def test_adjoint_is_the_forward_sensitivity(args: tuple, drives: dict) -> None:
 
 def test_adjoint_of_the_pumped_bed_is_the_forward_sensitivity() -> None:
     """The net flow's orbit (design.net_flow's test bed: kappa = 1.5e-3, a pressure drop
-    2.2 sin(t), the hairs swinging far: H = 48, GMRES at its 100 iterations each solve)
+    2.2 sin(t), the hairs swinging far: H = 48, the preconditioned GMRES's hardest case)
     and its parameter columns dg/dp - (dM/dp) y' (bed_parameter_phases): the adjoint's
     d(mean flow)/dp against the forward sensitivity's, one solve against seven."""
     orbit = periodic_bed(0.5, 0.0015266302336162853, 0.5, omega=0.9984111915889885,
