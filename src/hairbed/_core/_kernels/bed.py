@@ -200,16 +200,17 @@ def bed_system(t, y, need, bp, out, jac, ws):
         h1 += ii[num, j] * cs[j]
         ax = 0.0
         az = 0.0
-        for k in range(n1):
-            ax += ii[j, k] * om[k] * cs[k]
-            az -= ii[j, k] * om[k] * sn[k]
-        rx[j] = ax
-        rz[j] = az
         a1 = 0.0
         a2 = 0.0
-        for k in range(n1):
-            a1 += d1s[j, k] * vv[k]
-            a2 += d1s[j, k] * qq[k]
+        for k in range(n1):  # four independent sums in one loop (each in its own order)
+            w = ii[j, k]
+            d = d1s[j, k]
+            ax += w * om[k] * cs[k]
+            az -= w * om[k] * sn[k]
+            a1 += d * vv[k]
+            a2 += d * qq[k]
+        rx[j] = ax
+        rz[j] = az
         dv[j] = a1
         dq[j] = a2
     for j in range(n1):
