@@ -34,6 +34,28 @@ Rows:
    one and two threads: how many cores the machine gave then), and the largest distance
    of the last tip deflection from the static state.
 
+Measured (one run, ``--repeat 1``, load 12.7 at the start and 14.7 at the end on 2 shared
+cores, benchmarks/results/bench_bed_dynamics.json), row 7 by CPU time: 1,000 beds in 9.90 s
+on one thread (9.9 ms a bed: 65 steps, 83 LUs, all reached t = 8, the last tip deflections
+within 4.7e-11 of ``solve_porous``), from 137 s (137 ms a bed, load 13.6) before d8077d9.
+Where the time went before, one bed (40 ms CPU with OpenBLAS on one thread, load ~6): the
+kernel ~32 ms, of which by the parts' timings about 2/3 in ~40 real and complex LUs of size
+127 (a new pair at every new step size; a complex one ~5x a real one), 1/5 in their solves,
+1/7 in ~462 evaluations of g and 1% in ~3 Jacobians; ~6 ms evaluating the static state's
+Chebyshev series to all its 256 (zero-padded) terms; and with OpenBLAS' default threads
+~100 ms more in numpy's LAPACK solves of the steady and consistent starts, whose idle threads
+spin on a loaded machine (most of the 137 ms). Since d8077d9 (the algebraic unknowns
+eliminated once a Jacobian: LUs of size 31 per step size, ~0.16 ms a Jacobian for the
+elimination; the starts on the compiled LU; the series cut after its last nonzero term) one
+bed takes ~8 ms in the kernel, half of it g's ~456 evaluations at ~9 us, and ~1.9 ms in
+the call's Python (the static start 0.9, the consistent start 0.4). Two threads: 1.24x in
+wall time while the machine gave 1.47x to the compiled control (cpu/wall 0.17: the load,
+not the batch; the call's Python, up to ~20% of a bed, holds the GIL between its kernel
+calls: were all of it serial, two idle cores would give at most ~1.7x). Rows 1-5 at that
+load, CPU (before d8077d9, load 13.6): row 1 12.7 / 24.9 ms at rtol 1e-6 / 1e-8 (156 /
+104), row 2 51 / 116 ms (181 / 301), row 3 25 / 48 ms (78 / 131), row 4 19.5 ms (73), row
+5 45 ms (90); with fluid inertia more unknowns are kept (77 of 143 at alpha = 0.5).
+
 Run: ``python benchmarks/bench_bed_dynamics.py [--repeat N] [--beds N] [--json PATH]``.
 """
 
