@@ -91,6 +91,8 @@ PERIODIC_STATUS: Mapping[int, str] = MappingProxyType(
 #: The Krylov solver's relative tolerance on the preconditioned residual and its iterations.
 _KRYLOV_TOL = 1e-12
 _KRYLOV_MAX = 100
+#: The phase-averaged preconditioner's GMRES iterations before the time-varying one is taken.
+_AVERAGE_MAX = 40
 #: Newton's largest step in the angles [rad] (a longer step is shortened to it).
 _MAX_TURN = 0.5
 
@@ -230,6 +232,9 @@ class _Problem:
         self.kb = kb
         self.ws = kb.bed_workspace(sys.num, sys.num_gap)
         self.scratch = np.zeros((self.m, self.m))
+        #: True once the phase-averaged preconditioner has failed: then the cyclic
+        #: implicit Euler one (:func:`_cyclic_euler`) for every later solve
+        self.time_varying = False
 
     def times(self, kk: int) -> FloatArray:
         return np.arange(kk) * (2.0 * math.pi / self.omega) / kk
@@ -272,12 +277,11 @@ class _Problem:
         x, ra = xr[:, :, :nd], xr[:, :, nd:]
         amat = jp[:, :nd, :nd] - jp[:, :nd, nd:] @ x
         red = rp[:, :nd] - jp[:, :nd, nd:] @ ra
-        w = self.omega * np.arange(kk // 2 + 1)
-        pinv = np.linalg.inv(1j * w[:, None, None] * np.diag(self.md)[None] - amat.mean(0)[None])
-
-        def prec(r: FloatArray) -> FloatArray:
-            c = np.fft.rfft(r, axis=0)
-            return np.fft.irfft((pinv @ c[:, :, None])[:, :, 0], n=kk, axis=0)
+        prec: Callable[[FloatArray], FloatArray]
+        if self.time_varying:
+            prec = _cyclic_euler(self.md, amat, 2.0 * math.pi / (self.omega * kk))
+        else:
+            prec = _phase_average(self.md, amat, self.omega)
 
         def apply(v: FloatArray) -> FloatArray:
             xv = v.reshape(kk, nd)
@@ -287,6 +291,21 @@ class _Problem:
         dd = np.empty((kk, nd, p))
         its = 0
         for j in range(p):
+            if not self.time_varying:
+                try:
+                    xd, n_it = _gmres(apply, prec(red[:, :, j]).reshape(-1), True,
+                                      _AVERAGE_MAX)  # fmt: skip
+                except ArithmeticError:
+                    # the phase average is no guide where the Jacobian swings with the
+                    # phase (hairs swinging by radians, a dense bed): from here on the
+                    # time-varying preconditioner, for this and the higher degrees
+                    its += _AVERAGE_MAX
+                    self.time_varying = True
+                    prec = _cyclic_euler(self.md, amat, 2.0 * math.pi / (self.omega * kk))
+                else:
+                    dd[:, :, j] = xd.reshape(kk, nd)
+                    its += n_it
+                    continue
             xd, n_it = _gmres(apply, prec(red[:, :, j]).reshape(-1), strict)
             dd[:, :, j] = xd.reshape(kk, nd)
             its += n_it
@@ -296,20 +315,76 @@ class _Problem:
         return out, its
 
 
+def _phase_average(
+    md: FloatArray, amat: FloatArray, omega: float
+) -> Callable[[FloatArray], FloatArray]:
+    """The preconditioner of M_d D x - A_k x_k = r by its phase average: in frequency, one
+    (i j omega M_d - mean_k A_k)^-1 per harmonic j. Exact where A does not vary with the
+    phase; r and the result (K, nd)."""
+    kk = amat.shape[0]
+    w = omega * np.arange(kk // 2 + 1)
+    pinv = np.linalg.inv(1j * w[:, None, None] * np.diag(md)[None] - amat.mean(0)[None])
+
+    def prec(r: FloatArray) -> FloatArray:
+        c = np.fft.rfft(r, axis=0)
+        return np.fft.irfft((pinv @ c[:, :, None])[:, :, 0], n=kk, axis=0)
+
+    return prec
+
+
+def _cyclic_euler(
+    md: FloatArray, amat: FloatArray, h: float
+) -> Callable[[FloatArray], FloatArray]:
+    """The preconditioner of M_d D x - A_k x_k = r by the periodic implicit Euler scheme on
+    the same phases, with each phase's own A_k: M_d (x_k - x_(k-1))/h - A_k x_k = r_k,
+    x_(-1) = x_(K-1) (h = P/K). It keeps the Jacobian's variation over the period, which the
+    phase average loses where the hairs swing by radians; its derivative's symbol
+    (1 - e^(-i theta))/h against the exact i theta/h (theta = j omega h) differs by a factor
+    of modulus 1 to pi/2 and phase below pi/2 only, so GMRES's iterations stay bounded as K
+    grows. Solved exactly by the recurrence x_k = C_k x_(k-1) + B_k^-1 r_k,
+    B_k = M_d/h - A_k, C_k = B_k^-1 M_d/h, closed by the periodicity:
+    x_(-1) = (I - C_(K-1) ... C_0)^-1 z_(K-1) with z the recurrence from zero;
+    r and the result (K, nd)."""
+    kk, nd, _ = amat.shape
+    binv = np.linalg.inv(np.diag(md / h)[None] - amat)
+    cmat = binv * (md / h)[None, None, :]
+    prefix = np.empty_like(cmat)  # C_k ... C_0
+    acc = np.eye(nd)
+    for k in range(kk):
+        acc = cmat[k] @ acc
+        prefix[k] = acc
+    close = np.linalg.inv(np.eye(nd) - acc)
+
+    def prec(r: FloatArray) -> FloatArray:
+        d = (binv @ r[:, :, None])[:, :, 0]
+        z = np.empty_like(d)
+        zk = np.zeros(nd)
+        for k in range(kk):
+            zk = cmat[k] @ zk + d[k]
+            z[k] = zk
+        return z + (prefix @ (close @ zk))
+
+    return prec
+
+
 def _gmres(
-    apply: Callable[[FloatArray], FloatArray], b: FloatArray, strict: bool = True
+    apply: Callable[[FloatArray], FloatArray],
+    b: FloatArray,
+    strict: bool = True,
+    limit: int | None = None,
 ) -> tuple[FloatArray, int]:
     """GMRES (Saad & Schultz 1986, Givens rotations, no restart) on the preconditioned
     system: x with ||apply(x) - b|| <= _KRYLOV_TOL ||b||; raises ArithmeticError beyond
-    _KRYLOV_MAX iterations, unless not ``strict`` (a refinement's correction, whose
-    right-hand side is the residual's rounding: then the best x of the iterations)."""
+    ``limit`` (default _KRYLOV_MAX) iterations where the residual has not fallen below 1e-6
+    ||b||, unless not ``strict`` (a refinement's correction, whose right-hand side is the
+    residual's rounding: then the best x of the iterations)."""
     n = b.size
     beta = float(np.linalg.norm(b))
     if beta == 0.0 or not math.isfinite(beta):
         if beta == 0.0:
             return np.zeros(n), 0
         raise ArithmeticError("a right-hand side is not finite")
-    top = min(_KRYLOV_MAX, n)
+    top = min(_KRYLOV_MAX if limit is None else limit, n)
     v = np.zeros((top + 1, n))
     h = np.zeros((top + 1, top))
     cs = np.zeros(top)
@@ -907,9 +982,17 @@ def _transposed_solver(
     w = prob.omega * np.arange(kk // 2 + 1)
     pinv = np.linalg.inv(-1j * w[:, None, None] * np.diag(prob.md)[None] - amat_t.mean(0)[None])
 
-    def prec(r: FloatArray) -> FloatArray:
+    def average(r: FloatArray) -> FloatArray:
         c = np.fft.rfft(r, axis=0)
         return np.fft.irfft((pinv @ c[:, :, None])[:, :, 0], n=kk, axis=0)
+
+    # the phase average first; where it fails, the transposed cyclic implicit Euler
+    # preconditioner (_Problem.solve's fallback): P^T's backward recurrence is the forward
+    # one of the phases reversed, with B_k^T = M_d/h - A_k^T
+    precs: list[Callable[[FloatArray], FloatArray]] = [average]
+
+    def prec(r: FloatArray) -> FloatArray:
+        return precs[-1](r)
 
     def apply(v: FloatArray) -> FloatArray:
         xv = v.reshape(kk, nd)
@@ -920,7 +1003,14 @@ def _transposed_solver(
         rp = rhs if prob.ident else rhs[:, prob.perm]
         z = np.linalg.solve(lu_aa, rp[:, nd:, None])  # J_aa^-T rhs_a
         red = rp[:, :nd] - (j_ad_t @ z)[:, :, 0]
-        xd, its = _gmres(apply, prec(red).reshape(-1), strict)
+        if len(precs) == 1:
+            try:
+                xd, its = _gmres(apply, prec(red).reshape(-1), True, _AVERAGE_MAX)
+            except ArithmeticError:
+                back = _cyclic_euler(prob.md, amat_t[::-1], 2.0 * math.pi / (prob.omega * kk))
+                precs.append(lambda r: back(r[::-1])[::-1])
+        if len(precs) > 1:
+            xd, its = _gmres(apply, prec(red).reshape(-1), strict)
         ld = xd.reshape(kk, nd)
         out = np.empty((kk, prob.m))
         out[:, prob.perm[:nd]] = ld
