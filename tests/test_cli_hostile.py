@@ -230,3 +230,18 @@ def test_response_frequencies_take_the_log_spelling_of_every_spec():
     np.testing.assert_allclose(parse_frequencies("1:1000:4"), expected, rtol=1e-15)
     with pytest.raises(UsageError, match="LO:HI:N:log"):
         parse_frequencies("1:1000:4:lin")
+
+
+@pytest.mark.parametrize(
+    "status, code, line",
+    [(0, 0, None), (2, 0, "hairbed: warning: a caveat"), (-1, 1, "hairbed: a caveat")],
+)
+def test_a_result_status_is_said_in_one_line(status, code, line, capsys):
+    """rheometer (moduli, --laos, --pipkin) and pump exited 1 on a failed run, or 0 on a
+    caveat, with NaN in the table and nothing on stderr (the help's own Pipkin example, a
+    cell at 1 Hz and gamma0 = 30 whose periodic state fails): now one line says why."""
+    from hairbed.cli._report import say_status
+
+    assert say_status(status, "a\n caveat") == code
+    err = capsys.readouterr().err.splitlines()
+    assert err == ([] if line is None else [line])

@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import argparse
 import math
-import sys
 from typing import Any
+
+import numpy as np
 
 from ._grids import spec
 from ._options import add_bed_options, add_command, add_json, need_bed
 from ._output import NO_COMPRESS_HELP, check_dataset_output, print_json, write_dataset_output
-from ._report import PROG, UsageError
+from ._report import UsageError, say_status
 
 #: ``hairbed pump --help``: the summary line, the description and the examples.
 ABOUT = """a valve in time: the flow after a step in the pressure drop, a pulsing pump's net flow
@@ -131,8 +132,6 @@ def _run_switch(args: argparse.Namespace, bed: Any, to_stdout: bool) -> int:
         "status": (r.status, ""),
         "message": (r.message, ""),
     }
-    if r.status != 0:  # a NaN rise or settling time is said where it is seen, once
-        print(f"{PROG}: warning: {r.message}", file=sys.stderr)
     if args.json:
         print_json(
             {
@@ -151,7 +150,7 @@ def _run_switch(args: argparse.Namespace, bed: Any, to_stdout: bool) -> int:
         print("time,flow_rate,tip_height")
         for t, q, h in zip(r.time, r.flow_rate, r.tip_height):
             print(f"{float(t)!r},{float(q)!r},{float(h)!r}")
-    return 0 if r.status >= 0 else 1
+    return say_status(int(r.status), r.message)  # a NaN rise or settling time says why
 
 
 def _run_pump(args: argparse.Namespace, bed: Any, to_stdout: bool) -> int:
@@ -167,8 +166,6 @@ def _run_pump(args: argparse.Namespace, bed: Any, to_stdout: bool) -> int:
         samples_per_period=args.samples_per_period,
         hair_density=args.hair_density,
     )
-    if (r.status != 0).any():
-        print(f"{PROG}: warning: {r.message}", file=sys.stderr)
     if args.json:
         print_json(
             {
@@ -202,7 +199,8 @@ def _run_pump(args: argparse.Namespace, bed: Any, to_stdout: bool) -> int:
                     f"{float(r.quasi_static_net_flow[i])!r},"
                     f"{int(r.periods[i, j])},{int(r.status[i, j])}"
                 )
-    return 0 if (r.status >= 0).all() else 1
+    s = np.asarray(r.status).reshape(-1)
+    return say_status(int(s.min()) if s.min() < 0 else int(s.max()), r.message)
 
 
 def run(args: argparse.Namespace) -> int:

@@ -21,6 +21,7 @@ __all__ = [
     "UsageError",
     "WriteError",
     "one_line",
+    "say_status",
     "show_warning",
 ]
 
@@ -82,3 +83,17 @@ def show_warning(
         return
     WARNED.add(text)
     print(f"{PROG}: warning: {text}", file=sys.stderr)
+
+
+def say_status(status: int, message: Any) -> int:
+    """A result's status where its table shows NaN or stops: nothing for 0; for a caveat
+    (status > 0) the line ``hairbed: warning: <message>``; for a failure (< 0) the line
+    ``hairbed: <message>``. The exit status: 1 for a failure, else 0."""
+    if status == 0:
+        return 0
+    text = " ".join(str(message).split())
+    if status > 0:
+        print(f"{PROG}: warning: {text}", file=sys.stderr)
+        return 0
+    print(f"{PROG}: {text}", file=sys.stderr)
+    return 1

@@ -15,7 +15,7 @@ import numpy as np
 from ._grids import spec
 from ._options import add_bed_options, add_command, add_json, need_bed
 from ._output import NO_COMPRESS_HELP, check_dataset_output, print_json, write_dataset_output
-from ._report import UsageError
+from ._report import UsageError, say_status
 
 #: ``hairbed rheometer --help``: the summary line, the description and the examples.
 ABOUT = """the bed in a rheometer: G'(f), G''(f) and the phase about a pre-stress, the crossovers
@@ -149,6 +149,13 @@ def _frequencies(text: str) -> Any:
     return f
 
 
+def _cells(status: Any, message: str, what: str) -> str:
+    """The worst status's message with how many of the grid's points have it."""
+    s = np.asarray(status).reshape(-1)
+    worst = _worst(s)
+    return f"{int(np.sum(s == worst))} of {s.size} {what}: {message}"
+
+
 def _worst(status: Any) -> int:
     """The status that speaks for all frequencies: a failure first, else the largest."""
     s = np.asarray(status).reshape(-1)
@@ -229,7 +236,7 @@ def run(args: argparse.Namespace) -> int:
         print("frequency [Hz],storage [Pa],loss [Pa],phase [deg],status")
         for f, gs, gl, ph, st in zip(r.frequency, storage, loss, phase, status):
             print(f"{float(f)!r},{float(gs)!r},{float(gl)!r},{float(ph)!r},{int(st)}")
-    return 0 if worst >= 0 else 1
+    return say_status(worst, _cells(status, SAOS_STATUS[worst], "frequencies"))
 
 
 def _amplitudes(args: argparse.Namespace) -> Any:
@@ -361,7 +368,7 @@ def _run_laos(
         print("time [s],strain,strain rate [1/s],stress [Pa]")
         for t, g, gd, s in zip(r.time, r.strain, r.strain_rate, r.stress):
             print(f"{float(t)!r},{float(g)!r},{float(gd)!r},{float(s)!r}")
-    return 0 if r.status >= 0 else 1
+    return say_status(int(r.status), r.message)
 
 
 #: The Pipkin map's columns: name -> unit.
@@ -423,4 +430,4 @@ def _run_pipkin(
             for j, g in enumerate(m.strain_amplitude):
                 row = ",".join(repr(float(getattr(m, k)[i, j])) for k in PIPKIN_COLUMNS)
                 print(f"{float(f)!r},{float(g)!r},{row},{int(d.status[i, j])}")
-    return 0 if worst >= 0 else 1
+    return say_status(worst, _cells(m.status, LARGE_STATUS[worst], "cells"))
