@@ -308,6 +308,34 @@ def test_accuracy_against_twice_the_resolution() -> None:
     assert np.max(np.abs(a.wall_stress[1:] - b.wall_stress[1:])) < 1e-8
 
 
+@pytest.mark.parametrize(
+    ("mu", "alpha", "drives"),
+    [
+        (0.2, 0.0, {"wall": sine(0.5, 0.5, 2.0, -np.pi / 2)}),
+        (13.0, 0.3, {"wall": sine(0.5, 0.5, 2.0, -np.pi / 2)}),
+        (0.2, 0.3, {"wall": 1.0, "flow_rate": sine(0.1, 0.1, 2.0, -np.pi / 2)}),
+    ],
+)  # fmt: skip
+def test_inertial_accuracy_against_twice_the_resolution(
+    mu: float, alpha: float, drives: dict[str, Any]
+) -> None:
+    """Issue 30's accuracy target for the inertial bed: hairs with inertia (mu = 0.2, and 13,
+    the ringing pillar in water), a quasi-steady and an inertial fluid, and the flow-rate
+    drive whose Pi is of index 2 (alpha > 0); drives smooth at their start (a wall speed or
+    flow rate rising as 1 - cos(2 t)). N = 24 at rtol 1e-8 against N = 48 at rtol 1e-10: the
+    tip deflection within 1e-8 at every output time (measured to t = 3: 6.5e-12, 9.5e-12 and
+    1.8e-12). A step drive is not covered: with inertia it rings in every mode the grid
+    holds (theory.md §15): at mu = 0.2, alpha = 0, 200,000 steps at N = 24 end before t = 3."""
+    te = [0.0, 0.3, 1.0]
+    common = {"t_eval": te, "inertia": mu, "womersley": alpha, **drives}
+    a = simulate_bed(0.2, 0.1, 0.5, num=24, rtol=1e-8, atol=1e-10, **common)
+    b = simulate_bed(0.2, 0.1, 0.5, num=48, rtol=1e-10, atol=1e-10, **common)
+    assert a.success and b.success, (a.message, b.message)
+    assert np.max(np.abs(a.tip_deflection - b.tip_deflection)) < 1e-8
+    # the hairs do move: the drive's work is not lost in the comparison
+    assert np.ptp(b.tip_deflection) > 1e-3
+
+
 def test_the_wall_event_the_xarray_and_a_given_start() -> None:
     """A downstream-tilted inertial hair (theta0 = 1.3, mu = 1) struck by a step of the top
     wall's speed overshoots to abs(theta) = pi/2: status -8 at t_end (N = 12 and 16 agree on
