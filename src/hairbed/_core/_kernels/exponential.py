@@ -327,12 +327,15 @@ def expm_augmented(a, e, tmp):
 
 
 @kernel
-def _apply(mat, d, x, p, out):
-    """out = D mat D^-1 x (the matrix function of the unbalanced matrix applied to x)."""
+def _apply(mat, d, x, p, out, wv):
+    """out = D mat D^-1 x (the matrix function of the unbalanced matrix applied to x); wv:
+    work of p."""
+    for k in range(p):
+        wv[k] = x[k] / d[k]
     for i in range(p):
         acc = 0.0
         for k in range(p):
-            acc += mat[i, k] * (x[k] / d[k])
+            acc += mat[i, k] * wv[k]
         out[i] = d[i] * acc
 
 
@@ -441,6 +444,7 @@ def integrate_exponential(
     half = np.empty((p, p))
     ptmp = np.empty((3, p, p))
     x = np.zeros(p)
+    xw = np.empty(p)
     z = np.empty(p)
     z2 = np.empty(p)
     lin1 = np.empty(m)  # h phi_1(h J~) F~ (the y part)
@@ -525,7 +529,7 @@ def integrate_exponential(
         for i in range(m):
             x[i] = fn[i]
         x[m] = 1.0
-        _apply(half, dbal, x, p, z)
+        _apply(half, dbal, x, p, z, xw)
         for i in range(m):
             yt[i] = y[i] + 0.5 * h * z[i]
         good = pillar_rates(t + 0.5 * h, yt, False, *pr, f, jdummy, ws)
@@ -536,12 +540,12 @@ def integrate_exponential(
                     acc -= jac[i, k] * (yt[k] - y[k])
                 d2[i] = acc
             # stage 3: U_3 = y_n + h phi_1(h J~) (F~ + D_2)
-            _apply(phis[1], dbal, x, p, z)
+            _apply(phis[1], dbal, x, p, z, xw)
             for i in range(m):
                 lin1[i] = h * z[i]
                 x[i] = d2[i]
             x[m] = 0.0
-            _apply(phis[1], dbal, x, p, z)
+            _apply(phis[1], dbal, x, p, z, xw)
             for i in range(m):
                 yt[i] = y[i] + lin1[i] + h * z[i]
             good = pillar_rates(t + h, yt, False, *pr, f, jdummy, ws)
@@ -555,10 +559,10 @@ def integrate_exponential(
                 d3[i] = acc
                 x[i] = 16.0 * d2[i] - 2.0 * d3[i]
             x[m] = 0.0
-            _apply(phis[3], dbal, x, p, z)
+            _apply(phis[3], dbal, x, p, z, xw)
             for i in range(m):
                 x[i] = -48.0 * d2[i] + 12.0 * d3[i]
-            _apply(phis[4], dbal, x, p, z2)
+            _apply(phis[4], dbal, x, p, z2, xw)
             for i in range(m):
                 err[i] = h * z2[i]
                 y1[i] = y[i] + lin1[i] + h * z[i] + err[i]
