@@ -1003,14 +1003,17 @@ def _transposed_solver(
         rp = rhs if prob.ident else rhs[:, prob.perm]
         z = np.linalg.solve(lu_aa, rp[:, nd:, None])  # J_aa^-T rhs_a
         red = rp[:, :nd] - (j_ad_t @ z)[:, :, 0]
+        lost = 0  # the phase average's iterations where it failed
         if len(precs) == 1:
             try:
                 xd, its = _gmres(apply, prec(red).reshape(-1), True, _AVERAGE_MAX)
             except ArithmeticError:
+                lost = _AVERAGE_MAX
                 back = _cyclic_euler(prob.md, amat_t[::-1], 2.0 * math.pi / (prob.omega * kk))
                 precs.append(lambda r: back(r[::-1])[::-1])
         if len(precs) > 1:
             xd, its = _gmres(apply, prec(red).reshape(-1), strict)
+            its += lost
         ld = xd.reshape(kk, nd)
         out = np.empty((kk, prob.m))
         out[:, prob.perm[:nd]] = ld
