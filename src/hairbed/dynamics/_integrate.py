@@ -570,18 +570,18 @@ def _drives(
 
 
 @functools.lru_cache(maxsize=1)
-def _kernels() -> tuple[Any, Any]:
-    """The compiled modules ``dynamics`` and ``pillar_run``, imported on first use (``import
-    hairbed`` loads no kernel)."""
-    from .._core._kernels import dynamics, pillar_run
+def _kernels() -> Any:
+    """The compiled module ``pillar_run``, imported on first use (``import hairbed`` loads
+    no kernel)."""
+    from .._core._kernels import pillar_run
 
-    return dynamics, pillar_run
+    return pillar_run
 
 
 def _run(job: _Job) -> PillarTrajectory:
     """The compiled integration of one pillar and its trajectory (the kernel releases the
     GIL: runs of several pillars go in parallel on threads)."""
-    kern, pillar_run = _kernels()
+    pillar_run = _kernels()
     te, opts = job.te, job.opts
     deg, t0, g, m, chi = opts.num, job.theta0, job.gamma, job.mu, opts.chi
     ss, sp, dd, ii, d0, d1s = _operators_at(deg, job.a)
@@ -608,44 +608,23 @@ def _run(job: _Job) -> PillarTrajectory:
                 tabs[r + 1, k:] = sig.values[-1]
         else:
             tabs[r] = np.arange(tk, dtype=np.float64)
-    y_out = np.full((te.size, size), np.nan)
-    counts = np.zeros(6, dtype=np.int64)
     pr = np.ascontiguousarray(job.prof)
     if job.exponential:
+        y_out = np.full((te.size, size), np.nan)
+        counts = np.zeros(6, dtype=np.int64)
         status, t_end = _exponential(job, y0, dd, ii, srow, pr, drives, tabs, y_out, counts)
-    else:
-        pars = (deg, dd, ii, srow, t0, g, chi, m, pr, drives, tabs)
-        h0 = _start_step(job, y0, pars, counts)
-        status, t_end = kern.integrate_pillar(
-            y0,
-            float(te[0]),
-            te,
-            opts.rtol,
-            opts.atol,
-            h0,
-            opts.max_steps,
-            deg,
-            dd,
-            ii,
-            srow,
-            t0,
-            g,
-            chi,
-            m,
-            pr,
-            drives,
-            tabs,
-            y_out,
-            counts,
-            opts.jump,
+        # the angles and rates at the nodes, the tip and the base moment (NaN past an event)
+        theta = np.empty((te.size, deg + 1))
+        rates = np.empty((te.size, deg + 1))
+        out = np.empty((4, te.size))
+        pillar_run.trajectory_outputs(
+            te, y_out, deg, dd, ii, srow, d0, t0, g, chi, m, pr, drives, tabs, theta, rates, out
         )
-    # the angles and rates at the nodes, the tip and the base moment (NaN past an event)
-    theta = np.empty((te.size, deg + 1))
-    rates = np.empty((te.size, deg + 1))
-    out = np.empty((4, te.size))
-    pillar_run.trajectory_outputs(
-        te, y_out, deg, dd, ii, srow, d0, t0, g, chi, m, pr, drives, tabs, theta, rates, out
-    )
+    else:  # one compiled call: the first step, the integration, the outputs
+        status, t_end, counts, theta, rates, out = pillar_run.run_radau(
+            y0, te, _start_span(job), opts.rtol, opts.atol, opts.max_steps, deg, dd, ii, srow,
+            d0, t0, g, chi, m, pr, drives, tabs, opts.jump,
+        )  # fmt: skip
     return PillarTrajectory(
         t=te,
         forcing=np.asarray(lam_sig(te), dtype=np.float64).reshape(te.shape),
@@ -673,18 +652,14 @@ def _run(job: _Job) -> PillarTrajectory:
     )
 
 
-def _start_step(job: _Job, y0: FloatArray, pars: tuple[Any, ...], counts: Any) -> float:
-    """Radau IIA's first step [T]: ``pillar_run.start_step`` (the starting step of Hairer,
-    Norsett & Wanner, Solving ODEs I, II.4, its probe repeated at the step it proposes)
-    over the span to the last output time, or to the drives' first corner or jump after the
-    start where that is sooner (a step's time, a ramp's or a pulse train's corners: the
-    first step does not straddle it)."""
-    pillar_run = _kernels()[1]
-    te, opts = job.te, job.opts
-    t_start = float(te[0])
-    span = min(float(te[-1]) - t_start, _next_break(job.lam_sig, t_start),
+def _start_span(job: _Job) -> float:
+    """The span of Radau IIA's first step (``pillar_run.start_step``, the starting step of
+    Hairer, Norsett & Wanner, Solving ODEs I, II.4) [T]: to the last output time, or to the
+    drives' first corner or jump after the start where that is sooner (a step's time, a
+    ramp's or a pulse train's corners: the first step does not straddle it)."""
+    t_start = float(job.te[0])
+    return min(float(job.te[-1]) - t_start, _next_break(job.lam_sig, t_start),
                _next_break(job.tip_sig, t_start))  # fmt: skip
-    return float(pillar_run.start_step(t_start, y0, span, opts.rtol, opts.atol, *pars, counts))
 
 
 def _next_break(sig: Signal, t0: float) -> float:

@@ -9,9 +9,16 @@ import math
 import numpy as np
 
 from .._jit import kernel
-from .dynamics import pillar_rates, workspace
+from .dynamics import integrate_pillar, pillar_rates, workspace
 
-__all__ = ["START_FLOOR", "START_GROWTH", "START_PROBES", "start_step", "trajectory_outputs"]
+__all__ = [
+    "START_FLOOR",
+    "START_GROWTH",
+    "START_PROBES",
+    "run_radau",
+    "start_step",
+    "trajectory_outputs",
+]
 
 #: The first probe where the start says nothing of the solution's time scale (y0 or f0
 #: near 0): Hairer, Norsett & Wanner's 1e-6 [T].
@@ -147,3 +154,27 @@ def trajectory_outputs(
         out[1, i] = z
         out[2, i] = tip
         out[3, i] = moment
+
+
+@kernel
+def run_radau(
+    y0, t_eval, span, rtol, atol, max_steps, num, dd, ii, srow, d0, theta0, gamma, chi, mu,
+    prof, drives, tabs, jump_speed,
+):  # fmt: skip
+    """A pillar's run by Radau IIA in one call: the first step of :func:`start_step` over
+    ``span``, ``dynamics.integrate_pillar`` from (t_eval[0], y0) to t_eval[-1], and the
+    outputs of :func:`trajectory_outputs`. Returns (status, t_end, counts, theta, rates,
+    out) as those."""
+    nt = t_eval.size
+    counts = np.zeros(6, dtype=np.int64)
+    pars = (num, dd, ii, srow, theta0, gamma, chi, mu, prof, drives, tabs)
+    h0 = start_step(t_eval[0], y0, span, rtol, atol, *pars, counts)
+    y_out = np.full((nt, y0.size), np.nan)
+    status, t_end = integrate_pillar(
+        y0, t_eval[0], t_eval, rtol, atol, h0, max_steps, *pars, y_out, counts, jump_speed
+    )
+    theta = np.empty((nt, num + 1))
+    rates = np.empty((nt, num + 1))
+    out = np.empty((4, nt))
+    trajectory_outputs(t_eval, y_out, num, dd, ii, srow, d0, *pars[4:], theta, rates, out)
+    return status, t_end, counts, theta, rates, out
