@@ -12,6 +12,7 @@ continuation, its ladder of N and its status codes. The model is theory.md §12:
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
@@ -96,13 +97,25 @@ def gray_hancock_ratio(slenderness: ArrayLike) -> Any:
     return scalar_or_array(np.minimum((lg + 0.5) / (2.0 * lg - 1.0), 1.0))
 
 
-def _chebyshev_fit(values: FloatArray) -> FloatArray:
-    """Chebyshev coefficients of the values at the K + 1 points t_j = -cos(pi j/K)."""
-    k = values.size - 1
-    vand = _chebyshev_values(k)  # T_m(t_j), rows j
+@functools.lru_cache(maxsize=8)
+def _fit_operators(k: int) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """(z_j = (1 + t_j)/2 at the K + 1 points t_j = -cos(pi j/K), the weights (2/K) h_m,
+    the matrix (T_m(t_j) h_j)^T) of :func:`_chebyshev_fit` at K, h = (1/2, 1, .., 1, 1/2):
+    built once per K; shared, so read-only."""
+    z = 0.5 * (-np.cos(np.pi * np.arange(k + 1) / k) + 1.0)
     half = np.ones(k + 1)
     half[0] = half[-1] = 0.5
-    return (2.0 / k) * half * ((vand * half[:, None]).T @ values)
+    weights = (2.0 / k) * half
+    matrix = (_chebyshev_values(k) * half[:, None]).T
+    for arr in (z, weights, matrix):
+        arr.flags.writeable = False
+    return z, weights, matrix
+
+
+def _chebyshev_fit(values: FloatArray) -> FloatArray:
+    """Chebyshev coefficients of the values at the K + 1 points t_j = -cos(pi j/K)."""
+    _, weights, matrix = _fit_operators(values.size - 1)
+    return weights * (matrix @ values)
 
 
 def profile_coefficients(
@@ -141,8 +154,7 @@ def profile_coefficients(
 def _callable_coefficients(func: Callable[..., Any]) -> FloatArray:
     coef = np.zeros(1)
     for k in _PROFILE_DEGREES:
-        t = -np.cos(np.pi * np.arange(k + 1) / k)
-        z = 0.5 * (t + 1.0)
+        z = _fit_operators(k)[0].copy()  # (the user's copy: the shared one is read-only)
         try:
             raw = func(z)
         except (ValueError, TypeError) as exc:
