@@ -23,25 +23,26 @@ r_t per unit length. The tip deflection x1 at t = 0.5, 1, 1.5 and 2 T.
 - The speed ratio is PyElastica's time at each n over hairbed's time at the cheapest
   setting tried whose error is at most PyElastica's there (target >= 1000x), by wall time
   and by CPU time (``time.process_time``: on a loaded machine PyElastica's one long run gets
-  a fraction of a core while hairbed's best of ten short calls gets a whole one, so only
+  a fraction of a core while hairbed's best of twenty short calls gets a whole one, so only
   the CPU ratio is free of the load); PyElastica's first step (its numba compilation) and
   hairbed's first call are excluded. The load average is stored with the figures.
 
-Measured (one run, load 2.6 on 2 shared cores, benchmarks/results/bench_pyelastica.json),
-CPU times: hairbed 0.41 ms at 1.9e-3 (N = 8, the least simulate_pillar takes, rtol 1), 0.46
-ms at 3.9e-4 (rtol 0.1), 63 ms at 2.6e-12 (N = 16, rtol 1e-8); its compiled Radau IIA is
-0.26 ms of the 0.46 (13 steps at rtol 0.1, 9 of them before t = 0.3 T: the climb from its
-first step 1e-6 at most 5x a step), the call's Python the other 0.20 ms, of which the
-callable drive sampled at 4097 times and the callable profile fitted (the user's functions)
-are about 0.06 ms (the checks, the drives' tables and the trajectory the rest; 0.30 ms
-before the scalar fast path of f567498, b3e7fb0, 246e6d5, in one A/B run). PyElastica at
-its cheapest stable step, numpy forcing / compiled forcing: 199 / 167 ms (n = 20, step
-0.8), 226 / 191 ms (n = 40, 0.8), 600 / 529 ms (n = 80, 0.5), 1018 / 918 ms (n = 160, 0.8).
-The CPU-time ratio at PyElastica's accuracy: 485x / 406x (n = 20), 552x / 467x (n = 40),
-1357x / 1197x (n = 80), 2206x / 1990x (n = 160): the target holds from n = 80 up, not at
-n = 20 and 40, where it cannot by cutting the call's Python alone: the compiled Radau's
-0.26 ms is already 1/640 of PyElastica's 167 ms (at a quarter of the limit, this
-benchmark's step before, PyElastica took 3.2x longer at n = 20 and 40 for the same error).
+Measured (one run, load 13-14 on 2 shared cores, benchmarks/results/bench_pyelastica.json),
+CPU times: hairbed 0.16 ms at 1.5e-3 (N = 4, the least simulate_pillar takes, rtol 1), 0.18
+ms at 7.8e-4 (N = 4, rtol 0.3), 0.20 ms at 4.8e-4 (N = 4, rtol 0.1), 0.22 ms at 1.7e-3 (N =
+8, rtol 1), 65 ms at 2.9e-12 (N = 16, rtol 1e-8). At N = 4, rtol 1 the compiled run
+(``pillar_run.run_radau``: the first step, Radau IIA, the outputs) is ~0.055 ms: 3 steps,
+the first 0.2 T by Hairer, Norsett & Wanner's starting step (before: 1e-6, growing at most
+5x a step, 11 steps at N = 8); the call's Python the rest, of which the callable drive
+(sampled at 65 times at rtol 1, and its resolution check) and the callable profile's fit
+(the user's functions) are 0.02 to 0.03 ms each in the call. PyElastica at its
+cheapest stable step, numpy forcing / compiled forcing: 211 / 178 ms (n = 20, step 0.8),
+244 / 208 ms (n = 40, 0.8), 725 / 561 ms (n = 80, 0.5; at 0.8 it blows up), 1105 / 990 ms
+(n = 160, 0.8). The CPU-time ratio at PyElastica's accuracy: 1331x / 1120x (n = 20),
+1537x / 1310x (n = 40), 4099x / 3171x (n = 80), 5650x / 5061x (n = 160): the target
+>= 1000x holds at every n (the last session's run: 485x / 406x at n = 20, 552x / 467x at
+n = 40, hairbed's cheapest 0.41 ms at N = 8). The wall-time ratios (8356x and more) count
+the load: PyElastica's long runs got about a seventh of a core.
 
 Run: ``python benchmarks/bench_pyelastica.py [--elements 20 40 80 160] [--json PATH]``. Without
 pyelastica it prints one line and exits 0.
@@ -68,17 +69,17 @@ LAMBDA = 2.0  # the flow's final speed (load per length) [E I/L^3]
 RISE = 1.0  # the rise time [T]
 RADIUS = 0.01  # PyElastica's radius [L] (hairbed's rod is inextensible: a -> 0)
 TIMES = np.array([0.5, 1.0, 1.5, 2.0])  # [T]
-#: hairbed settings tried, cheapest first: (N, rtol); N = 8 is the least simulate_pillar takes
+#: hairbed settings tried, cheapest first: (N, rtol); N = 4 is the least simulate_pillar takes
 SETTINGS = (
-    (8, 1.0), (8, 3e-1), (8, 1e-1), (8, 1e-2), (8, 1e-3), (8, 1e-4), (12, 1e-5), (16, 1e-6),
-    (16, 1e-8),
+    (4, 1.0), (4, 3e-1), (4, 1e-1), (6, 1.0), (6, 1e-1), (8, 1.0), (8, 3e-1), (8, 1e-1),
+    (8, 1e-2), (8, 1e-3), (8, 1e-4), (12, 1e-5), (16, 1e-6), (16, 1e-8),
 )  # fmt: skip
 #: PyElastica's forcing: "python", the NoForces subclass of numpy operations (PyElastica's
 #: documented way to add a force), or "compiled", the same forcing in one numba kernel and the
 #: drive by the math module (the fastest PyElastica this benchmark found)
 FORCINGS = ("python", "compiled")
 #: hairbed's calls per setting: the best CPU (and wall) time of these
-REPEAT = 10
+REPEAT = 20
 #: PyElastica's steps tried, as fractions of the explicit limit (:func:`_time_step`); the
 #: cheapest stable one is PyElastica's time (at 1.0 the run blows up)
 STEP_FRACTIONS = (0.25, 0.5, 0.8)
