@@ -465,7 +465,7 @@ def net_flow(
     Gradient exact: the periodic orbit differentiated implicitly, by its adjoint
     (:func:`hairbed.dynamics.periodic_adjoint`: one transposed solve for all the rates'
     exact parameter columns of ``_core._kernels.bed_parameters``;
-    ``hairbed.design._net_flow``; 1.85 times the value's cost), chained
+    ``hairbed.design._net_flow``; about twice the value's cost), chained
     through kappa's and gamma's drag model (``HairBed._drag_slopes``), T, Pi_A, alpha, mu,
     chi and the flow's scale to the SI parameters.
 

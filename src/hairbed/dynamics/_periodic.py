@@ -967,9 +967,9 @@ def _transposed_solver(
     lambda_a = -J_aa^-T (rhs_a + J_da^T lambda_d), which leaves
     -M_d D lambda_d - A_k^T lambda_d = rhs_d - (J_aa^-1 J_ad)^T rhs_a with A_k the same Schur
     complement; GMRES preconditioned by the transposed phase average, per harmonic j
-    (-i j omega M_d - mean_k A_k^T)^-1. The elimination and the preconditioner are built
-    once; the solver returns lambda and its GMRES iterations (``strict`` as
-    :func:`_gmres`'s)."""
+    (-i j omega M_d - mean_k A_k^T)^-1, or where that fails by the transposed cyclic
+    implicit Euler scheme. The elimination and the preconditioner are built once; the
+    solver returns lambda and its GMRES iterations (``strict`` as :func:`_gmres`'s)."""
     nd, kk = prob.nd, jac.shape[0]
     if prob.ident:
         jt = jac.transpose(0, 2, 1)
