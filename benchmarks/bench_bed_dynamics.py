@@ -56,6 +56,13 @@ load, CPU (before d8077d9, load 13.6): row 1 12.7 / 24.9 ms at rtol 1e-6 / 1e-8 
 104), row 2 51 / 116 ms (181 / 301), row 3 25 / 48 ms (78 / 131), row 4 19.5 ms (73), row
 5 45 ms (90); with fluid inertia more unknowns are kept (77 of 143 at alpha = 0.5).
 
+A quiet run (``--repeat 3``, load 0.1 at the start and 0.4 at the end; the JSON is this run):
+row 7, 1,000 beds in 9.40 s on one thread (9.4 ms a bed, CPU 9.39 s; target <= 10 s) and
+4.82 s on two (CPU/wall 1.92): 1.95x (target >= 1.8x; the compiled control 1.94x), end
+error 4.7e-11. Rows 1-6, CPU: row 1 11.9 / 22.8 ms, row 2 47.8 / 109.5 ms, row 3 24.5 /
+45.1 ms, row 4 17.8 ms, row 5 1.2 ms; row 6 (1,000 frequencies, prepared) 0.46 / 0.87 /
+0.97 ms, 4.8e-13 / 4.0e-12 / 6.0e-12 from one LU per frequency.
+
 Run: ``python benchmarks/bench_bed_dynamics.py [--repeat N] [--beds N] [--json PATH]``.
 """
 

@@ -27,22 +27,23 @@ r_t per unit length. The tip deflection x1 at t = 0.5, 1, 1.5 and 2 T.
   the CPU ratio is free of the load); PyElastica's first step (its numba compilation) and
   hairbed's first call are excluded. The load average is stored with the figures.
 
-Measured (one run, load 13-14 on 2 shared cores, benchmarks/results/bench_pyelastica.json),
-CPU times: hairbed 0.16 ms at 1.5e-3 (N = 4, the least simulate_pillar takes, rtol 1), 0.18
-ms at 7.8e-4 (N = 4, rtol 0.3), 0.20 ms at 4.8e-4 (N = 4, rtol 0.1), 0.22 ms at 1.7e-3 (N =
-8, rtol 1), 65 ms at 2.9e-12 (N = 16, rtol 1e-8). At N = 4, rtol 1 the compiled run
+Measured (one quiet run, load 0.9 on 2 cores, benchmarks/results/bench_pyelastica.json), CPU
+times: hairbed 0.16 ms at 1.5e-3 (N = 4, the least simulate_pillar takes, rtol 1), 0.18 ms at
+7.8e-4 (N = 4, rtol 0.3), 0.19 ms at 4.8e-4 (N = 4, rtol 0.1), 0.21 ms at 1.7e-3 (N = 8, rtol
+1), 63 ms at 2.9e-12 (N = 16, rtol 1e-8). At N = 4, rtol 1 the compiled run
 (``pillar_run.run_radau``: the first step, Radau IIA, the outputs) is ~0.055 ms: 3 steps,
 the first 0.2 T by Hairer, Norsett & Wanner's starting step (before: 1e-6, growing at most
 5x a step, 11 steps at N = 8); the call's Python the rest, of which the callable drive
 (sampled at 65 times at rtol 1, and its resolution check) and the callable profile's fit
 (the user's functions) are 0.02 to 0.03 ms each in the call. PyElastica at its
-cheapest stable step, numpy forcing / compiled forcing: 211 / 178 ms (n = 20, step 0.8),
-244 / 208 ms (n = 40, 0.8), 725 / 561 ms (n = 80, 0.5; at 0.8 it blows up), 1105 / 990 ms
-(n = 160, 0.8). The CPU-time ratio at PyElastica's accuracy: 1331x / 1120x (n = 20),
-1537x / 1310x (n = 40), 4099x / 3171x (n = 80), 5650x / 5061x (n = 160): the target
->= 1000x holds at every n (the last session's run: 485x / 406x at n = 20, 552x / 467x at
-n = 40, hairbed's cheapest 0.41 ms at N = 8). The wall-time ratios (8356x and more) count
-the load: PyElastica's long runs got about a seventh of a core.
+cheapest stable step, numpy forcing / compiled forcing: 196 / 164 ms (n = 20, step 0.8),
+222 / 190 ms (n = 40, 0.8), 591 / 517 ms (n = 80, 0.5; at 0.8 it blows up), 1019 / 920 ms
+(n = 160, 0.8). The CPU-time ratio at PyElastica's accuracy: 1218x / 1022x (n = 20),
+1385x / 1186x (n = 40), 3373x / 2949x (n = 80), 5325x / 4809x (n = 160): the target
+>= 1000x holds at every n, by 2 % at n = 20 with the compiled forcing (the last session's
+run: 485x / 406x at n = 20, 552x / 467x at n = 40, hairbed's cheapest 0.41 ms at N = 8).
+Under load 13-14 the same code measured 1331x / 1120x at n = 20 (PyElastica's long runs
+lose more to the load than hairbed's short calls, even in CPU time).
 
 Run: ``python benchmarks/bench_pyelastica.py [--elements 20 40 80 160] [--json PATH]``. Without
 pyelastica it prints one line and exits 0.
