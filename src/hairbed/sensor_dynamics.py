@@ -1538,7 +1538,7 @@ def simulate(
     overdamped : bool, optional
         Neglect all inertia (mu = 0): the elastoviscous relaxation alone.
     num : int, optional
-        The Chebyshev degree N in [8, 128]. The default 12 with rtol 1e-6, atol 1e-7: a sharp
+        The Chebyshev degree N in [4, 128]. The default 12 with rtol 1e-6, atol 1e-7: a sharp
         step with inertia strikes every resolved mode, and in the quasi-steady drag every
         ringing mode decays at the same rate 1/(2 mu T), so the work grows fast with N
         (the PDMS pillar in water, a step to 1 Pa: N = 12 takes about 15,000 steps to

@@ -110,7 +110,7 @@ def add_parser(sub: Any) -> None:
         type=int,
         default=12,
         metavar="N",
-        help="Chebyshev degree, in [8, 128] (default 12)",
+        help="Chebyshev degree, in [4, 128] (default 12)",
     )
     g.add_argument(
         "--rtol",
