@@ -1251,6 +1251,7 @@ ORBIT = dynamics.periodic_bed(0.0, 1.0, 0.5, omega=1.0, wall=PERIODIC_WALL, num=
 # the compiled integrators loaded (or compiled) here, not under a call's TIMEOUT
 dynamics.simulate_beds(0.0, 0.1, 0.5, t_eval=[0.0, 0.01], wall=1.0, num=8, num_gap=4)
 dynamics.simulate_pillar(2.0, [0.0, 0.01], num=8, method="exponential")
+dynamics.simulate_pillar(2.0, [0.0, 0.01], num=8)  # Radau: pillar_run.run_radau
 ARRAY_BED = hairbed.HairBed(**{**BED_KW, "base_angle": [0.0, 0.2]})
 
 
