@@ -1578,8 +1578,6 @@ def simulate(
     >>> round(float(run.tip_deflection[-1] / p.deform(1.0).tip_deflection), 8)  # N = 12
     1.0
     """
-    from . import dynamics
-
     p = _as_pillar(pillar)
     if p.profile == "wall-law":
         raise ValueError(
@@ -1601,7 +1599,19 @@ def simulate(
                                rtol, atol, max_steps, workers)  # fmt: skip
     t_scale, mu, chi, t_dim, lam = _run_inputs(p, wall_shear_stress, tt, pillar_density,
                                                overdamped)  # fmt: skip
-    run = dynamics.simulate_pillar(
+    run = _simulate_one(p, lam, t_dim, mu, chi, num, rtol, atol, max_steps)
+    rho_s = math.nan if overdamped else float(pillar_density)  # type: ignore[arg-type]
+    return _trajectory_of(p, run, tt, t_scale, mu, rho_s)
+
+
+def _simulate_one(
+    p: Any, lam: Any, t_dim: Any, mu: float, chi: float, num: int, rtol: float, atol: float,
+    max_steps: int,
+) -> Any:  # fmt: skip
+    """One scalar pillar's run in units of T (simulate_pillar with the pillar's model)."""
+    from . import dynamics
+
+    return dynamics.simulate_pillar(
         lam,
         t_dim,
         theta0=p.base_angle,
@@ -1615,8 +1625,6 @@ def simulate(
         atol=atol,
         max_steps=max_steps,
     )
-    rho_s = math.nan if overdamped else float(pillar_density)  # type: ignore[arg-type]
-    return _trajectory_of(p, run, tt, t_scale, mu, rho_s)
 
 
 def _run_inputs(
@@ -1683,7 +1691,6 @@ def _array_simulate(
     integration :func:`hairbed.dynamics.simulate_pillar` of the pillar of numbers (so each
     is bitwise its :meth:`hairbed.Pillar.item`'s), shared out over ``workers`` threads (the
     integrator releases the GIL), the runs stacked behind the pillar's shape."""
-    from . import dynamics
     from ._model_axes import element_index, reissue
 
     shape = tuple(p.shape)
@@ -1701,20 +1708,7 @@ def _array_simulate(
     def one(k: int) -> Any:
         el, (_, mu, chi, t_dim, lam) = elements[k], inputs[k]
         try:
-            return dynamics.simulate_pillar(
-                lam,
-                t_dim,
-                theta0=el.base_angle,
-                profile=el._core_profile,
-                height_ratio=el.height_ratio,
-                gamma=el.drag_ratio,
-                mu=mu,
-                tangential_mass=chi,
-                num=num,
-                rtol=rtol,
-                atol=atol,
-                max_steps=max_steps,
-            )
+            return _simulate_one(el, lam, t_dim, mu, chi, num, rtol, atol, max_steps)
         except ValueError as exc:
             raise ValueError(f"{exc} (pillar {element_index(k, shape)})") from None
 
