@@ -621,7 +621,7 @@ PILLAR: Mapping[str, Variable] = _table(
 )  # fmt: skip
 
 
-#: A hair in a porous (Brinkman) bed (theory.md §13): every field of a
+#: A hair in a porous (Brinkman) bed (theory.md §13), with every field of a
 #: :class:`hairbed.PorousState` in its order (``drive`` aside), inputs first. Loads and the
 #: fluid's stresses are in E I/(A L^2), its velocity in E I/(eta A L) (the load units of
 #: the paper's omega^2).

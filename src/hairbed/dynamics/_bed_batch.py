@@ -118,7 +118,7 @@ wall_speed, flow_rate, pressure : ndarray
 
     @property
     def success(self) -> Any:
-        """(bed,): True where the bed's run reached the last time (status 0)."""
+        """True where the bed's run reached the last time (status 0), one per bed."""
         return self.status == 0
 
     @property
