@@ -49,6 +49,20 @@ __all__ = ["BedSimulation", "simulate"]
 FloatArray = NDArray[np.float64]
 
 
+#: The run's time series in SI: (attribute, units, long_name), one table for both
+#: :meth:`BedSimulation.to_xarray` forms.
+_SERIES = (
+    ("tip_deflection", "m", "tip deflection (streamwise)"),
+    ("tip_height", "m", "tip height"),
+    ("tip_angle", "rad", "tip angle"),
+    ("base_moment", "N m", "bending moment at the base"),
+    ("wall_shear_stress", "Pa", "top wall shear stress"),
+    ("wall_velocity", "m/s", "top wall speed"),
+    ("flow_rate", "m^2/s", "flow rate per unit width"),
+    ("pressure_gradient", "Pa/m", "pressure gradient -dp/dx"),
+)
+
+
 @dataclass(frozen=True)
 class BedSimulation:
     """A hair bed's motion in time-dependent flow, in SI (from :meth:`hairbed.HairBed.simulate`).
@@ -178,16 +192,7 @@ class BedSimulation:
         def var(value: FloatArray, units: str, name: str) -> Any:
             return ("time", value, {"units": units, "long_name": name})
 
-        data = {
-            "tip_deflection": var(self.tip_deflection, "m", "tip deflection (streamwise)"),
-            "tip_height": var(self.tip_height, "m", "tip height"),
-            "tip_angle": var(self.tip_angle, "rad", "tip angle"),
-            "base_moment": var(self.base_moment, "N m", "bending moment at the base"),
-            "wall_shear_stress": var(self.wall_shear_stress, "Pa", "top wall shear stress"),
-            "wall_velocity": var(self.wall_velocity, "m/s", "top wall speed"),
-            "flow_rate": var(self.flow_rate, "m^2/s", "flow rate per unit width"),
-            "pressure_gradient": var(self.pressure_gradient, "Pa/m", "pressure gradient -dp/dx"),
-        }
+        data = {key: var(getattr(self, key), u, name) for key, u, name in _SERIES}
         return xr.Dataset(
             data,
             coords={
@@ -225,14 +230,7 @@ class BedSimulation:
             return (on, np.asarray(value), {"units": units, "long_name": name})
 
         data = {
-            "tip_deflection": var(self.tip_deflection, "m", "tip deflection (streamwise)"),
-            "tip_height": var(self.tip_height, "m", "tip height"),
-            "tip_angle": var(self.tip_angle, "rad", "tip angle"),
-            "base_moment": var(self.base_moment, "N m", "bending moment at the base"),
-            "wall_shear_stress": var(self.wall_shear_stress, "Pa", "top wall shear stress"),
-            "wall_velocity": var(self.wall_velocity, "m/s", "top wall speed"),
-            "flow_rate": var(self.flow_rate, "m^2/s", "flow rate per unit width"),
-            "pressure_gradient": var(self.pressure_gradient, "Pa/m", "pressure gradient -dp/dx"),
+            **{key: var(getattr(self, key), u, name) for key, u, name in _SERIES},
             "time_scale": var(self.time_scale, "s", "T = zeta_perp L^4/(E I)", dims),
             "kappa": var(self.kappa, "1", "permeability over L^2", dims),
             "drag_ratio": var(self.drag_ratio, "1", "zeta_par/zeta_perp", dims),
@@ -261,8 +259,7 @@ class BedSimulation:
 
 
 #: The series of a :class:`BedSimulation` (one row per bed of an array run).
-_BED_SERIES = ("tip_deflection", "tip_height", "tip_angle", "base_moment",
-               "wall_shear_stress", "wall_velocity", "flow_rate", "pressure_gradient")  # fmt: skip
+_BED_SERIES = tuple(key for key, _, _ in _SERIES)
 #: The fields of a :class:`BedSimulation` with one value per bed.
 _PER_BED = ("time_scale", "kappa", "drag_ratio", "womersley", "inertia_number", "t_end")
 #: The parameters of a HairBed that may be arrays (the coordinates of an array run).
