@@ -20,7 +20,11 @@ directly, not by integrating until the transient decays:
   component's scale 1 + max abs(y) (the error of the truncation, geometric decay).
 * **The start.** The linear periodic response about the steady state of the drives' means
   (one (i j omega M - J) solve per harmonic of the drives); if Newton fails from it, the
-  quasi-static states (g(t_k, y_k) = 0 phase by phase, the low-frequency limit).
+  quasi-static states (g(t_k, y_k) = 0 phase by phase, the low-frequency limit); then
+  continuation in the drives' swing; last, where these fail or end beyond abs(theta) =
+  pi/2, the state approached in time (the bed integrated period after period until it
+  settles: hairs that snap through within a small part of the period), its spectrum
+  choosing the first degree.
 
 :func:`periodic_sensitivity` solves the forced variational equation M S' = J(t) S + G(t) for
 its periodic solution on the same collocation and factors: for parameter columns G = dg/dp
@@ -50,6 +54,7 @@ from ._bed import (
     KAPPA_RANGE,
     _angles,
     _bounded_drive,
+    _consistent,
     _drive_columns,
     _evaluate,
     _mass,
@@ -82,7 +87,8 @@ PERIODIC_STATUS: Mapping[int, str] = MappingProxyType(
     {
         0: "periodic: Newton converged and the truncation error is below tol",
         1: "Newton converged, but the highest harmonics exceed tol at max_harmonics",
-        -1: "Newton did not converge (from the linear and from the quasi-static start)",
+        -1: "Newton did not converge (from the linear, quasi-static, continuation and "
+        "transient starts)",
         -3: "a rate is not finite at the periodic state's phases",
         -8: "the periodic state reaches abs(theta) = pi/2 at a node (outside the model)",
     }
@@ -95,6 +101,14 @@ _KRYLOV_MAX = 100
 _AVERAGE_MAX = 40
 #: Newton's largest step in the angles [rad] (a longer step is shortened to it).
 _MAX_TURN = 0.5
+#: The transient start (:func:`_transient_start`): at most this many periods, until the
+#: state at the period's start changes by less than _SETTLE_TOL of its scale per period
+#: (Newton then converges from it), integrated to _SETTLE_RTOL; its harmonics above
+#: _SETTLE_FLOOR (of each component's scale) choose the first degree.
+_SETTLE_PERIODS = 2000
+_SETTLE_TOL = 1e-7
+_SETTLE_RTOL = 1e-9
+_SETTLE_FLOOR = 1e-7
 
 
 @dataclass(frozen=True)
@@ -122,7 +136,8 @@ class PeriodicBed:
     krylov_iterations : int
         GMRES iterations (all Newton steps).
     start : str
-        "linear" or "quasi-static": the start Newton converged from.
+        "linear", "quasi-static", "continuation" or "transient": the start Newton converged
+        from.
     status : int
         ``PERIODIC_STATUS``.
     """
@@ -507,12 +522,97 @@ def _next_degree(y: FloatArray, tol: float) -> int:
 
 
 def _resample(y: FloatArray, kk_new: int) -> FloatArray:
-    """The trigonometric interpolant of y (K, m) at K' >= K equispaced phases."""
+    """The trigonometric interpolant of y (K, m) at K' equispaced phases (odd K and K'; for
+    K' < K its truncation to degree (K' - 1)/2)."""
     kk = y.shape[0]
     c = np.fft.rfft(y, axis=0)
     big = np.zeros((kk_new // 2 + 1, y.shape[1]), dtype=np.complex128)
-    big[: c.shape[0]] = c
+    n = min(c.shape[0], big.shape[0])
+    big[:n] = c[:n]
     return np.fft.irfft(big, n=kk_new, axis=0) * (kk_new / kk)
+
+
+def _refined(
+    prob: _Problem, ok: bool, y1: FloatArray, finite: bool, ptol: float, hmax: int,
+    newton_tol: float, nit: int,
+) -> tuple[int, float, int, FloatArray, int, int, bool]:  # fmt: skip
+    """From Newton's state y1 at its first degree (converged where ``ok``) the degree raised
+    until the truncation error is below ptol: (status, error, H, y, Newton iterations,
+    GMRES iterations, finite)."""
+    total = krylov = 0
+    status, err = 0, math.nan
+    while ok:
+        err = _tail(y1)
+        if err <= ptol:
+            break
+        if (y1.shape[0] - 1) // 2 >= hmax:
+            status = 1
+            break
+        hh = min(_next_degree(y1, ptol), hmax)
+        ok, y1, its, kry, finite = _newton(prob, _resample(y1, 2 * hh + 1), newton_tol, nit)
+        total, krylov = total + its, krylov + kry
+    if not ok:
+        status = -1 if finite else -3
+    elif np.any(np.abs(_angles(prob.sys, y1)) >= 0.5 * math.pi):
+        status = -8
+    return status, err, (y1.shape[0] - 1) // 2, y1, total, krylov, finite
+
+
+def _transient_start(prob: _Problem, y_mean: FloatArray, h0: int, hmax: int) -> FloatArray | None:
+    """The periodic state approached in time, the last resort where Newton fails from the
+    other starts (hairs that snap through within a small part of the period, whose
+    quasi-static and linear guides are far from it): the bed integrated from the drives'
+    mean state (simulate_bed's Radau IIA, rtol _SETTLE_RTOL) period after period until its
+    state at the period's start changes by less than _SETTLE_TOL of its scale, then sampled
+    over one more period at 2 hmax + 1 phases and truncated to the degree H in
+    [h0, hmax] beyond which its harmonics lie below _SETTLE_FLOOR of each component's scale.
+    An attracting periodic state only; None where the run stops (an event, a failure) or has
+    not settled after _SETTLE_PERIODS periods."""
+    from .._core._kernels import dynamics as kern
+
+    sys = prob.sys
+    lay = sys.layout
+    m = prob.m
+    index2 = lay.pi if (lay.pi >= 0 and sys.alpha > 0.0) else m
+    period = 2.0 * math.pi / prob.omega
+    try:
+        y = _consistent(sys, y_mean, 0.0)
+    except ArithmeticError:
+        return None
+    counts = np.zeros(6, dtype=np.int64)
+    done, batch = 0, 4
+    h_start = 1e-6 * period
+    while done < _SETTLE_PERIODS:
+        te = period * np.arange(done, done + batch + 1, dtype=np.float64)
+        out = np.full((te.size, m), np.nan)
+        status, _t_end = kern.integrate_bed(y, prob.mass, index2, float(te[0]), te,
+                                            _SETTLE_RTOL, 1e-3 * _SETTLE_RTOL, h_start,
+                                            10**6, sys.params, out, counts)  # fmt: skip
+        if status != 0 or not np.all(np.isfinite(out)):
+            return None
+        done += batch
+        y = out[-1].copy()
+        change = np.max(np.abs(out[-1] - out[-2]) / (1.0 + np.abs(out[-1])))
+        if change <= _SETTLE_TOL:
+            break
+        batch = min(2 * batch, 64)
+    else:
+        return None
+    kk = 2 * hmax + 1
+    te = period * done + prob.times(kk)
+    out = np.full((kk + 1, m), np.nan)
+    status, _t_end = kern.integrate_bed(y, prob.mass, index2, float(te[0]),
+                                        np.append(te, period * (done + 1)), _SETTLE_RTOL,
+                                        1e-3 * _SETTLE_RTOL, h_start, 10**6, sys.params, out,
+                                        counts)  # fmt: skip
+    if status != 0 or not np.all(np.isfinite(out)):
+        return None
+    samples = out[:kk]
+    c = np.abs(np.fft.rfft(samples, axis=0)) * (2.0 / kk) / _scale(samples)
+    env = np.max(c, axis=1)
+    above = np.flatnonzero(env > _SETTLE_FLOOR)
+    hh = int(min(max(int(above[-1]) + 1 if above.size else h0, h0), hmax))
+    return _resample(samples, 2 * hh + 1)
 
 
 def periodic_bed(
@@ -654,22 +754,19 @@ def periodic_bed(
             newton_tol, nit,
         )  # fmt: skip
         total, krylov = total + its, krylov + kry
-    status = 0
-    err = math.nan
-    while ok:
-        err = _tail(y1)
-        if err <= ptol:
-            break
-        if hh >= hmax:
-            status = 1
-            break
-        hh = min(_next_degree(y1, ptol), hmax)
-        ok, y1, its, kry, finite = _newton(prob, _resample(y1, 2 * hh + 1), newton_tol, nit)
-        total, krylov = total + its, krylov + kry
-    if not ok:
-        status = -1 if finite else -3
-    elif np.any(np.abs(_angles(sys, y1)) >= 0.5 * math.pi):
-        status = -8
+    status, err, hh, y1, its, kry, finite = _refined(prob, ok, y1, finite, ptol, hmax,
+                                                     newton_tol, nit)  # fmt: skip
+    total, krylov = total + its, krylov + kry
+    if status in (-1, -8):  # the state approached in time, the last resort
+        yt = _transient_start(prob, y_mean, h0, hmax)
+        if yt is not None:
+            ok, y2, its, kry, fin2 = _newton(prob, yt, newton_tol, nit)
+            total, krylov = total + its, krylov + kry
+            res = _refined(prob, ok, y2, fin2, ptol, hmax, newton_tol, nit)
+            total, krylov = total + res[4], krylov + res[5]
+            if res[0] == 0 or (res[0] == 1 and status != 1):
+                start = "transient"
+                status, err, hh, y1, _its, _kry, finite = res
     t = prob.times(y1.shape[0])
     pump_vals = np.asarray(pump_sig(t), dtype=np.float64).reshape(t.shape)
     outs = {k: np.asarray(v, dtype=np.float64) for k, v in
