@@ -127,6 +127,10 @@ def test_cli_sweeps(tmp_path: object, capsys: pytest.CaptureFixture[str]) -> Non
     # --chunks 1 cuts the frequencies too: each its own band, the same to rounding
     assert np.allclose(got["magnitude"].values, want["magnitude"].values, rtol=1e-12, atol=0)
     assert got["magnitude"].attrs["units"] == "m/Pa"
+    # the phase in degrees, as the plain response's (it was rad in the sweep alone)
+    assert got["phase"].attrs["units"] == "deg"
+    assert np.allclose(got["phase"].values, np.degrees(want["phase"].values), rtol=1e-12,
+                       atol=1e-12)  # fmt: skip
     got.close()
     capsys.readouterr()
     glyc = [*water, "--fluid", "glycerol", "--drag-model", "quasi-steady"]

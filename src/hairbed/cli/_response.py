@@ -47,7 +47,7 @@ under tau_w(t) = tau + a sin(2 pi f t) over the grid of (amplitude, frequency) a
 --wall-shear-stress (amplitude_sweep, quasi-steady drag): the first harmonic per amplitude
 beside the linear H, the mean shift and the distortion. Either writes a dataset to --out
 (.nc, .zarr, .csv, .parquet) or a long CSV table on stdout; SPEC is a value, a list A,B,...
-or START:STOP:NUM[:log].
+or START:STOP:NUM[:log]. Phases are in degrees everywhere.
 
 examples:
   hairbed response --pillar-density 970 --length 1e-3 --radius 50e-6 \\
@@ -251,6 +251,9 @@ def _sweep(args: argparse.Namespace, pillar: Any, freq: Any) -> int:
         ds = ds.compute()
     for note in caught:
         warnings.warn_explicit(note.message, note.category, note.filename, note.lineno)
+    if "phase" in ds.data_vars and ds["phase"].attrs.get("units") == "rad":
+        # the CLI's phases are in degrees, as the plain response's
+        ds["phase"] = np.degrees(ds["phase"]).assign_attrs({**ds["phase"].attrs, "units": "deg"})
     write_dataset_output(ds, args.out)
     return 0
 
