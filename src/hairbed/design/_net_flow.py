@@ -50,12 +50,12 @@ PARAMETERS = ("theta0", "gamma", "kappa", "eps", "alpha", "mu", "chi", "amplitud
 _KERNEL_COLUMNS = (_bpk.P_THETA0, _bpk.P_GAMMA, _bpk.P_KAPPA, _bpk.P_EPS, _bpk.P_ALPHA,
                    _bpk.P_MU, _bpk.P_CHI)  # fmt: skip
 #: The periodic state's accuracy (periodic_bed's tol): its truncation error, well below
-#: the 1e-7 to which the gradient is checked against central differences of step 1e-3.
+#: the 1e-7 to which the gradient is checked against central differences of step 1e-4.
 ORBIT_TOL = 1e-12
 #: The largest degree of the periodic state: hairs that snap through within a few
-#: hundredths of the period need H ~ 1,600 for ORBIT_TOL (measured: base angle 0.76,
-#: swings of +-1.5 rad).
-ORBIT_MAX_HARMONICS = 2048
+#: hundredths of the period need H ~ 1,600 to 2,600 for ORBIT_TOL (measured: base angles
+#: 0.76 and 1.01, swings of +-1.5 rad; 70 to 120 s an orbit).
+ORBIT_MAX_HARMONICS = 4096
 
 
 def pumped_orbit(s: Any, amplitude: float, omega: float) -> PeriodicBed:

@@ -103,11 +103,15 @@ _AVERAGE_MAX = 40
 _MAX_TURN = 0.5
 #: The transient start (:func:`_transient_start`): at most this many periods, until the
 #: state at the period's start changes by less than _SETTLE_TOL of its scale per period
-#: (Newton then converges from it), integrated to _SETTLE_RTOL; its harmonics above
-#: _SETTLE_FLOOR (of each component's scale) choose the first degree.
+#: (Newton then converges from it), integrated to _SETTLE_RTOL and _SETTLE_ATOL (at atol
+#: 1e-12 the Radau steps stall on the rates' rounding: 10^6 steps for 4 periods, measured)
+#: in at most _SETTLE_STEPS steps in all (about a minute at N = 32: 0.56 ms a step); its
+#: harmonics above _SETTLE_FLOOR (of each component's scale) choose the first degree.
 _SETTLE_PERIODS = 2000
 _SETTLE_TOL = 1e-7
 _SETTLE_RTOL = 1e-9
+_SETTLE_ATOL = 1e-10
+_SETTLE_STEPS = 100_000
 _SETTLE_FLOOR = 1e-7
 
 
@@ -567,7 +571,7 @@ def _transient_start(prob: _Problem, y_mean: FloatArray, h0: int, hmax: int) -> 
     over one more period at 2 hmax + 1 phases and truncated to the degree H in
     [h0, hmax] beyond which its harmonics lie below _SETTLE_FLOOR of each component's scale.
     An attracting periodic state only; None where the run stops (an event, a failure) or has
-    not settled after _SETTLE_PERIODS periods."""
+    not settled after _SETTLE_PERIODS periods or _SETTLE_STEPS steps."""
     from .._core._kernels import dynamics as kern
 
     sys = prob.sys
@@ -582,12 +586,13 @@ def _transient_start(prob: _Problem, y_mean: FloatArray, h0: int, hmax: int) -> 
     counts = np.zeros(6, dtype=np.int64)
     done, batch = 0, 4
     h_start = 1e-6 * period
-    while done < _SETTLE_PERIODS:
+    while done < _SETTLE_PERIODS and counts[0] < _SETTLE_STEPS:
         te = period * np.arange(done, done + batch + 1, dtype=np.float64)
         out = np.full((te.size, m), np.nan)
         status, _t_end = kern.integrate_bed(y, prob.mass, index2, float(te[0]), te,
-                                            _SETTLE_RTOL, 1e-3 * _SETTLE_RTOL, h_start,
-                                            10**6, sys.params, out, counts)  # fmt: skip
+                                            _SETTLE_RTOL, _SETTLE_ATOL, h_start,
+                                            _SETTLE_STEPS - counts[0], sys.params, out,
+                                            counts)  # fmt: skip
         if status != 0 or not np.all(np.isfinite(out)):
             return None
         done += batch
@@ -598,13 +603,15 @@ def _transient_start(prob: _Problem, y_mean: FloatArray, h0: int, hmax: int) -> 
         batch = min(2 * batch, 64)
     else:
         return None
+    if counts[0] >= _SETTLE_STEPS:
+        return None
     kk = 2 * hmax + 1
     te = period * done + prob.times(kk)
     out = np.full((kk + 1, m), np.nan)
     status, _t_end = kern.integrate_bed(y, prob.mass, index2, float(te[0]),
                                         np.append(te, period * (done + 1)), _SETTLE_RTOL,
-                                        1e-3 * _SETTLE_RTOL, h_start, 10**6, sys.params, out,
-                                        counts)  # fmt: skip
+                                        _SETTLE_ATOL, h_start, _SETTLE_STEPS - counts[0],
+                                        sys.params, out, counts)  # fmt: skip
     if status != 0 or not np.all(np.isfinite(out)):
         return None
     samples = out[:kk]
