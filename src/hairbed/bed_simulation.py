@@ -26,20 +26,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._bed_scales import _BedScales, _is_bed, _scales
-from ._core.validation import as_float_array, check_int, check_number, check_positive, show
+from ._core.validation import as_float_array, check_int, check_positive, show
 from ._model_axes import checked_index as _checked_index
 from .dynamics import (
-    CALLABLE_SAMPLES,
     BedTrajectory,
     Signal,
-    constant,
-    sampled,
     simulate_bed,
-    step,
 )
 from .dynamics._bed import MAX_BED_DRIVE, NUMBER_RANGE
-from .dynamics._signals import _peak
-from .sensor_dynamics import _SIGNAL_UNITS
+from .dynamics._signals import si_signal
 
 if TYPE_CHECKING:  # units.py calls this module (HairBed.simulate): no import cycle
     from .units import HairBed
@@ -273,61 +268,8 @@ def _si_drive(
     """The dimensionless drive of an SI one d(t) [unit], t [s]: ``per_unit`` d(T t')."""
     if drive is None:
         return None
-    top = MAX_BED_DRIVE / per_unit  # [unit]: the bed dynamics' bound on its drives, in SI
-
-    def within(peak: float) -> None:
-        if not peak <= top:
-            raise ValueError(
-                f"{name} must stay within [-{top:.4g}, {top:.4g}] {unit} for this bed (its "
-                f"dimensionless drive within +-{MAX_BED_DRIVE:g}), got a drive of magnitude "
-                f"{show(peak)} {unit}"
-            )
-
-    if isinstance(drive, Signal):
-        within(_peak(drive))
-        if drive.kind == "sampled":
-            return sampled(drive.times / t_scale, drive.values * per_unit)
-        scale = {"stress": per_unit, "time": 1.0 / t_scale, "rate": t_scale, "angle": 1.0}
-        units = _SIGNAL_UNITS[drive.kind]
-        params = tuple(p * scale[u] for p, u in zip(drive.params, units, strict=True))
-        return dataclasses_replace(drive, params=params)
-    if callable(drive):  # sampled at CALLABLE_SAMPLES uniform times of the run, in seconds
-        ts = np.linspace(float(t[0]), float(t[-1]), CALLABLE_SAMPLES)
-        try:
-            raw = drive(ts)
-        except Exception as exc:  # the user's function: say whose error it is
-            raise ValueError(
-                f"{name}: the callable raised {type(exc).__name__}: {exc} (it is called with "
-                f"an ndarray of times [s] and returns {unit})"
-            ) from exc
-        vals = np.asarray(raw, dtype=np.float64)
-        if vals.ndim == 0:
-            vals = np.full(ts.shape, float(vals))
-        if vals.shape != ts.shape:
-            raise ValueError(
-                f"{name}: the callable must return an array of the shape of t {ts.shape} "
-                f"[{unit}], got {vals.shape}"
-            )
-        bad = ~np.isfinite(vals)
-        if np.any(bad):
-            i = int(np.flatnonzero(bad)[0])
-            raise ValueError(
-                f"{name}: the callable returned {float(vals[i])!r} {unit} at "
-                f"t = {float(ts[i])!r} s"
-            )
-        within(float(np.max(np.abs(vals))))
-        if ts[-1] == ts[0]:
-            return constant(float(vals[0]) * per_unit)
-        return sampled(ts / t_scale, vals * per_unit)
-    if isinstance(drive, (int, float, np.integer, np.floating)) and not isinstance(drive, bool):
-        value = check_number(drive, name, unit=unit)
-        within(abs(value))
-        return step(value * per_unit, 0.0, float(t[0]) / t_scale)  # from rest at t[0]
-    raise TypeError(
-        f"{name} must be a number [{unit}] (a step from rest at times[0]), a hairbed.dynamics "
-        f"signal in SI (step, ramp, sine, pulses, sampled: times [s], values [{unit}], sine's "
-        f"omega [rad/s]) or a callable of t [s] returning {unit}, got {type(drive).__name__}"
-    )
+    return si_signal(drive, name, unit, per_unit, t, t_scale, MAX_BED_DRIVE, "this bed",
+                     "its dimensionless drive")  # fmt: skip
 
 
 def _within_range(s: _BedScales, bed: Any, hair_density: Any) -> _BedScales:

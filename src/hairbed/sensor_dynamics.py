@@ -50,7 +50,7 @@ from ._core.validation import (
 from ._model_axes import checked_index as _checked_index
 from ._warnings import ModelValidityWarning
 from .dynamics import linearise_pillar, warn_dynamics_validity
-from .dynamics._signals import MAX_DRIVE, _peak
+from .dynamics._signals import MAX_DRIVE, si_signal
 
 if TYPE_CHECKING:  # the Pillar's module calls this one (its methods): no import cycle
     from .pillars import Pillar
@@ -1367,76 +1367,10 @@ _RUN_SERIES = ("wall_shear_stress", "tip_deflection", "tip_height", "tip_angle",
                "base_moment", "arc_length", "angle", "x", "z")  # fmt: skip
 
 
-#: The parameters of each named signal that are times [s] (divided by T) and stresses [Pa]
-#: (times Lambda/tau_w); sine's third is omega [rad/s] (times T).
-_SIGNAL_UNITS = {
-    "constant": ("stress",),
-    "step": ("stress", "stress", "time"),
-    "ramp": ("stress", "stress", "time", "time"),
-    "sine": ("stress", "stress", "rate", "angle"),
-    "pulses": ("stress", "stress", "time", "time", "time"),
-}
-
-
 def _si_drive(drive: Any, t: FloatArray, t_scale: float, per_stress: float) -> Any:
     """The dimensionless Lambda(t') of an SI drive tau_w(t) [Pa], t [s]."""
-    from . import dynamics
-
-    top = MAX_DRIVE / per_stress  # [Pa]: the dynamics' bound on Lambda, in SI
-
-    def within(peak: float) -> None:
-        if not peak <= top:
-            raise ValueError(
-                f"wall_shear_stress must stay within [-{top:.4g}, {top:.4g}] Pa for this "
-                f"pillar (the forcing (Lambda/tau_w) tau_w within +-{MAX_DRIVE:g}), got a "
-                f"drive of magnitude {show(peak)} Pa"
-            )
-
-    if isinstance(drive, dynamics.Signal):
-        within(_peak(drive))
-        if drive.kind == "sampled":
-            return dynamics.sampled(drive.times / t_scale, drive.values * per_stress)
-        scale = {"stress": per_stress, "time": 1.0 / t_scale, "rate": t_scale, "angle": 1.0}
-        units = _SIGNAL_UNITS[drive.kind]
-        params = tuple(p * scale[u] for p, u in zip(drive.params, units, strict=True))
-        return dataclasses_replace(drive, params=params)
-    if callable(drive):  # sampled at CALLABLE_SAMPLES uniform times of the run, in seconds
-        ts = np.linspace(float(t[0]), float(t[-1]), dynamics.CALLABLE_SAMPLES)
-        try:
-            raw = drive(ts)
-        except Exception as exc:  # the user's function: say whose error it is
-            raise ValueError(
-                f"wall_shear_stress: the callable raised {type(exc).__name__}: {exc} (it is "
-                "called with an ndarray of times [s] and returns stresses [Pa])"
-            ) from exc
-        vals = np.asarray(raw, dtype=np.float64)
-        if vals.ndim == 0:
-            vals = np.full(ts.shape, float(vals))
-        if vals.shape != ts.shape:
-            raise ValueError(
-                f"wall_shear_stress: the callable must return an array of the shape of t "
-                f"{ts.shape} [Pa], got {vals.shape}"
-            )
-        bad = ~np.isfinite(vals)
-        if np.any(bad):
-            i = int(np.flatnonzero(bad)[0])
-            raise ValueError(
-                f"wall_shear_stress: the callable returned {float(vals[i])!r} Pa at "
-                f"t = {float(ts[i])!r} s"
-            )
-        within(float(np.max(np.abs(vals))))
-        if ts[-1] == ts[0]:
-            return dynamics.constant(float(vals[0]) * per_stress)
-        return dynamics.sampled(ts / t_scale, vals * per_stress)
-    if isinstance(drive, (int, float, np.integer, np.floating)) and not isinstance(drive, bool):
-        tau = check_number(drive, "wall_shear_stress", unit="Pa")
-        within(abs(tau))
-        return dynamics.step(tau * per_stress, 0.0, float(t[0]) / t_scale)  # from rest at t[0]
-    raise TypeError(
-        "wall_shear_stress must be a number [Pa] (a step from rest at t[0]), a hairbed.dynamics "
-        "signal in SI (step, ramp, sine, pulses, sampled: times [s], stresses [Pa], sine's "
-        f"omega [rad/s]) or a callable tau_w(t) [Pa] of t [s], got {type(drive).__name__}"
-    )
+    return si_signal(drive, "wall_shear_stress", "Pa", per_stress, t, t_scale, MAX_DRIVE,
+                     "this pillar", "the forcing (Lambda/tau_w) tau_w")  # fmt: skip
 
 
 def time_scale_and_inertia(

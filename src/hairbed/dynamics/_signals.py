@@ -9,6 +9,7 @@ of the run (fewer where the run's tolerance is loose and they resolve the callab
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from collections.abc import Callable
@@ -337,3 +338,83 @@ def _sampled_callable(
             "sampled(times, values) signal"
         )
     return Signal("sampled", (), tt, np.ascontiguousarray(vals, dtype=np.float64))
+
+
+#: The parameters of each named signal that are levels (times the drive's scale), times
+#: [s] (over T) and angular frequencies [rad/s] (times T), for :func:`si_signal`.
+SI_PARAMETER_UNITS = {
+    "constant": ("level",),
+    "step": ("level", "level", "time"),
+    "ramp": ("level", "level", "time", "time"),
+    "sine": ("level", "level", "rate", "angle"),
+    "pulses": ("level", "level", "time", "time", "time"),
+}
+
+
+def si_signal(
+    drive: Any, name: str, unit: str, per_unit: float, t: FloatArray, t_scale: float,
+    bound: float, subject: str, bound_name: str,
+) -> Signal:  # fmt: skip
+    """The dimensionless drive d'(t') = ``per_unit`` d(T t') of an SI drive d(t) [unit], t
+    [s], T = ``t_scale`` [s]: a number (a step from rest at t[0]), a signal in SI or a
+    callable of t [s] (sampled at CALLABLE_SAMPLES uniform times of t). A ValueError naming
+    ``name`` where its levels exceed ``bound`` (dimensionless: ``bound_name`` of ``subject``) or a
+    callable fails, raises or returns a value that is not finite; a TypeError for any other
+    kind."""
+    top = bound / per_unit  # [unit]
+
+    def within(peak: float) -> None:
+        if not peak <= top:
+            raise ValueError(
+                f"{name} must stay within [-{top:.4g}, {top:.4g}] {unit} for {subject} "
+                f"({bound_name} within +-{bound:g}), got a drive of magnitude {show(peak)} "
+                f"{unit}"
+            )
+
+    if isinstance(drive, Signal):
+        within(_peak(drive))
+        if drive.kind == "sampled":
+            return sampled(drive.times / t_scale, drive.values * per_unit)
+        scale = {"level": per_unit, "time": 1.0 / t_scale, "rate": t_scale, "angle": 1.0}
+        units = SI_PARAMETER_UNITS[drive.kind]
+        params = tuple(p * scale[u] for p, u in zip(drive.params, units, strict=True))
+        return dataclasses.replace(drive, params=params)
+    if callable(drive):
+        ts = np.linspace(float(t[0]), float(t[-1]), CALLABLE_SAMPLES)
+        try:
+            raw = drive(ts)
+        except Exception as exc:  # the user's function: say whose error it is
+            raise ValueError(
+                f"{name}: the callable raised {type(exc).__name__}: {exc} (it is called with "
+                f"an ndarray of times [s] and returns {name} [{unit}])"
+            ) from exc
+        vals = np.asarray(raw, dtype=np.float64)
+        if vals.ndim == 0:
+            vals = np.full(ts.shape, float(vals))
+        if vals.shape != ts.shape:
+            raise ValueError(
+                f"{name}: the callable must return an array of the shape of t {ts.shape} "
+                f"[{unit}], got {vals.shape}"
+            )
+        bad = ~np.isfinite(vals)
+        if np.any(bad):
+            i = int(np.flatnonzero(bad)[0])
+            raise ValueError(
+                f"{name}: the callable returned {float(vals[i])!r} {unit} at "
+                f"t = {float(ts[i])!r} s"
+            )
+        within(float(np.max(np.abs(vals))))
+        if ts[-1] == ts[0]:
+            return constant(float(vals[0]) * per_unit)
+        return sampled(ts / t_scale, vals * per_unit)
+    if isinstance(drive, (int, float, np.integer, np.floating)) and not isinstance(drive, bool):
+        value = check_number(drive, name, unit=unit)
+        within(abs(value))
+        return step(value * per_unit, 0.0, float(t[0]) / t_scale)  # from rest at t[0]
+    raise TypeError(
+        f"{name} must be a number [{unit}] (a step from rest at the first time), a "
+        f"hairbed.dynamics "
+        f"signal in SI (step, ramp, sine, pulses, sampled: times [s], values [{unit}], sine's "
+        f"omega [rad/s]) or a callable of t [s] returning {name} [{unit}], got "
+        f"{type(drive).__name__}"
+    )
