@@ -445,9 +445,7 @@ def bed_operators(
         raise TypeError("state must be one PorousState (a scalar solve_porous result)")
     if int(state.status) < 0:
         raise ValueError(f"state must be a converged state, got status {int(state.status)}")
-    mu = _zero_or_within(check_number(inertia, "inertia", low=0.0), "inertia")
-    chi = check_number(tangential_mass, "tangential_mass", low=0.0, high=1.0, low_open=True)
-    alpha = _zero_or_within(check_number(womersley, "womersley", low=0.0), "womersley")
+    mu, chi, alpha = _checked_masses(inertia, tangential_mass, womersley)
     deg = int(state.num) if num is None else check_int(num, "num", 8, 128)
     deg = min(max(deg, 8), 128)
     ngap = check_int(num_gap, "num_gap", 4, 128)
@@ -778,6 +776,32 @@ def _static_start(
         ) from None
 
 
+def _checked_masses(
+    inertia: Any, tangential_mass: Any, womersley: Any
+) -> tuple[float, float, float]:
+    """(mu, chi, alpha) checked: the inertia and Womersley numbers 0 or within NUMBER_RANGE,
+    chi in (0, 1]."""
+    mu = _zero_or_within(check_number(inertia, "inertia", low=0.0), "inertia")
+    chi = check_number(tangential_mass, "tangential_mass", low=0.0, high=1.0, low_open=True)
+    alpha = _zero_or_within(check_number(womersley, "womersley", low=0.0), "womersley")
+    return mu, chi, alpha
+
+
+def _checked_bed(
+    theta0: Any, kappa: Any, eps: Any, gamma: Any, inertia: Any, tangential_mass: Any,
+    womersley: Any, num_gap: Any,
+) -> tuple[float, float, float, float, float, float, float, int]:  # fmt: skip
+    """The bed in time's model, checked (simulate_bed's and periodic_bed's ranges): (theta0,
+    kappa, eps, gamma, mu, chi, alpha, num_gap)."""
+    t0 = check_number(theta0, "theta0", low=-0.5 * np.pi, high=0.5 * np.pi, low_open=True,
+                      high_open=True)  # fmt: skip
+    kap = check_number(kappa, "kappa", low=KAPPA_RANGE[0], high=KAPPA_RANGE[1])
+    e = check_number(eps, "eps", low=EPS_MIN, high=1.0, high_open=True)
+    g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
+    mu, chi, alpha = _checked_masses(inertia, tangential_mass, womersley)
+    return t0, kap, e, g, mu, chi, alpha, check_int(num_gap, "num_gap", 4, 128)
+
+
 def simulate_bed(
     theta0: float,
     kappa: float,
@@ -871,15 +895,9 @@ def simulate_bed(
     from ._integrate import _checked_times
 
     te = _checked_times(t_eval)
-    t0 = check_number(theta0, "theta0", low=-0.5 * np.pi, high=0.5 * np.pi, low_open=True,
-                      high_open=True)  # fmt: skip
-    kap = check_number(kappa, "kappa", low=KAPPA_RANGE[0], high=KAPPA_RANGE[1])
-    e = check_number(eps, "eps", low=EPS_MIN, high=1.0, high_open=True)
-    g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
-    mu = _zero_or_within(check_number(inertia, "inertia", low=0.0), "inertia")
-    chi = check_number(tangential_mass, "tangential_mass", low=0.0, high=1.0, low_open=True)
-    alpha = _zero_or_within(check_number(womersley, "womersley", low=0.0), "womersley")
-    ngap = check_int(num_gap, "num_gap", 4, 128)
+    t0, kap, e, g, mu, chi, alpha, ngap = _checked_bed(
+        theta0, kappa, eps, gamma, inertia, tangential_mass, womersley, num_gap
+    )
     tol_r = check_positive(rtol, "rtol")
     tol_a = check_positive(atol, "atol")
     steps = check_int(max_steps, "max_steps", 1, 10**12)

@@ -50,10 +50,9 @@ from numpy.typing import ArrayLike, NDArray
 from .._core.validation import as_float_array, check_int, check_number, show, status_messages
 from ._bed import (
     BED_OUTPUTS,
-    EPS_MIN,
-    KAPPA_RANGE,
     _angles,
     _bounded_drive,
+    _checked_bed,
     _consistent,
     _drive_columns,
     _evaluate,
@@ -65,7 +64,6 @@ from ._bed import (
     _System,
     _system,
     _top_drive,
-    _zero_or_within,
 )
 from ._signals import Signal, as_signal, constant, sine
 
@@ -699,16 +697,10 @@ def periodic_bed(
     (True, 1.134097)
     """
     om = check_number(omega, "omega", low=1e-9, high=1e9)
-    t0 = check_number(theta0, "theta0", low=-0.5 * np.pi, high=0.5 * np.pi, low_open=True,
-                      high_open=True)  # fmt: skip
-    kap = check_number(kappa, "kappa", low=KAPPA_RANGE[0], high=KAPPA_RANGE[1])
-    e = check_number(eps, "eps", low=EPS_MIN, high=1.0, high_open=True)
-    g = check_number(gamma, "gamma", low=0.0, high=1.0, low_open=True)
-    mu = _zero_or_within(check_number(inertia, "inertia", low=0.0), "inertia")
-    chi = check_number(tangential_mass, "tangential_mass", low=0.0, high=1.0, low_open=True)
-    alpha = _zero_or_within(check_number(womersley, "womersley", low=0.0), "womersley")
+    t0, kap, e, g, mu, chi, alpha, ngap = _checked_bed(
+        theta0, kappa, eps, gamma, inertia, tangential_mass, womersley, num_gap
+    )
     deg = check_int(num, "num", 8, 128)
-    ngap = check_int(num_gap, "num_gap", 4, 128)
     ptol = check_number(tol, "tol", low=1e-13, high=1e-3)
     h0 = check_int(harmonics, "harmonics", 2, 1024)
     hmax = check_int(max_harmonics, "max_harmonics", 2, 4096)
