@@ -506,6 +506,44 @@ def bed_operators(
 BED_STATUS: Mapping[int, str] = STATUS_MESSAGES
 
 
+_LOAD = "E I/(A L^2)"
+#: The series of a bed in time, one value per time: (units, long_name) for the datasets of
+#: :class:`BedTrajectory` and :class:`hairbed.dynamics.BedBatch`.
+SERIES_ATTRS: Mapping[str, tuple[str, str]] = MappingProxyType(
+    {
+        "top_drive": ("1", "top wall drive"),
+        "pump_drive": ("1", "pump drive"),
+        "tip_deflection": ("L", "tip deflection x1"),
+        "tip_height": ("L", "tip height h1"),
+        "tip_angle": ("rad", "tip angle theta(1)"),
+        "base_moment": ("E I/L", "base moment theta'(0)"),
+        "wall_stress": (_LOAD, "top wall shear stress"),
+        "wall_speed": ("1", "top wall speed omega2 = eta V A L^2/(E I H)"),
+        "flow_rate": ("1", "flow rate q = 6 eps^2 Phi"),
+        "pressure": ("1", "pressure gradient Pi = A G L^3/(E I)"),
+    }
+)
+#: The series at the hair's nodes, (time, node).
+NODE_SERIES_ATTRS: Mapping[str, tuple[str, str]] = MappingProxyType(
+    {
+        "theta": ("rad", "angle"),
+        "theta_t": ("rad/T", "angular rate"),
+        "velocity": ("L/T", "fluid velocity at the node"),
+        "stress": (_LOAD, "fluid shear stress at the node"),
+    }
+)
+
+
+def _drive_names(
+    table: Mapping[str, tuple[str, str]], top: str, pump: str
+) -> dict[str, tuple[str, str]]:
+    """The series table with the drives' long names saying which drive each is."""
+    out = dict(table)
+    out["top_drive"] = (table["top_drive"][0], f"top wall drive ({top})")
+    out["pump_drive"] = (table["pump_drive"][0], f"pump drive ({pump})")
+    return out
+
+
 @dataclass(frozen=True)
 class BedTrajectory:
     """A porous bed's motion (theory.md §15); time in T = zeta_perp L^4/(E I), lengths in L,
@@ -609,27 +647,13 @@ class BedTrajectory:
         from .._optional import optional_import
 
         xr = optional_import("xarray", "BedTrajectory.to_xarray", "io")
-        load = "E I/(A L^2)"
 
-        def var(dims: Any, value: Any, units: str, name: str) -> tuple[Any, Any, dict[str, str]]:
-            return (dims, value, {"units": units, "long_name": name})
-
-        data = {
-            "top_drive": var("t", self.top_drive, "1", f"top wall drive ({self.top})"),
-            "pump_drive": var("t", self.pump_drive, "1", f"pump drive ({self.pump})"),
-            "tip_deflection": var("t", self.tip_deflection, "L", "tip deflection x(1)"),
-            "tip_height": var("t", self.tip_height, "L", "tip height z(1)"),
-            "tip_angle": var("t", self.tip_angle, "rad", "tip angle theta(1)"),
-            "base_moment": var("t", self.base_moment, "E I/L", "base moment theta'(0)"),
-            "wall_stress": var("t", self.wall_stress, load, "top wall shear stress"),
-            "wall_speed": var("t", self.wall_speed, "1", "top wall speed omega2"),
-            "flow_rate": var("t", self.flow_rate, "1", "flow rate q"),
-            "pressure": var("t", self.pressure, "1", "pressure gradient load Pi"),
-            "theta": var(("t", "s"), self.theta, "rad", "angle"),
-            "theta_t": var(("t", "s"), self.theta_t, "rad/T", "angular rate"),
-            "velocity": var(("t", "s"), self.velocity, "L/T", "fluid velocity at the node"),
-            "stress": var(("t", "s"), self.stress, load, "fluid shear stress at the node"),
+        data: dict[str, Any] = {
+            name: ("t", getattr(self, name), {"units": units, "long_name": long})
+            for name, (units, long) in _drive_names(SERIES_ATTRS, self.top, self.pump).items()
         }
+        for name, (units, long) in NODE_SERIES_ATTRS.items():
+            data[name] = (("t", "s"), getattr(self, name), {"units": units, "long_name": long})
         return xr.Dataset(
             data,
             coords={

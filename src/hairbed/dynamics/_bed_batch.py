@@ -25,7 +25,16 @@ from .._core.validation import (
     show,
     status_messages,
 )
-from ._bed import BED_STATUS, EPS_MIN, KAPPA_RANGE, NUMBER_RANGE, BedTrajectory, simulate_bed
+from ._bed import (
+    BED_STATUS,
+    EPS_MIN,
+    KAPPA_RANGE,
+    NUMBER_RANGE,
+    SERIES_ATTRS,
+    BedTrajectory,
+    _drive_names,
+    simulate_bed,
+)
 
 __all__ = ["BED_BATCH_STATUS", "BedBatch", "simulate_beds"]
 
@@ -36,18 +45,6 @@ IntArray = NDArray[np.int64]
 BED_BATCH_STATUS: Mapping[int, str] = BED_STATUS
 
 #: The time series of a batch, (bed, t), as in :class:`BedTrajectory`, with their units.
-_SERIES = {
-    "top_drive": ("1", "top wall drive"),
-    "pump_drive": ("1", "pump drive"),
-    "tip_deflection": ("L", "tip deflection x1"),
-    "tip_height": ("L", "tip height h1"),
-    "tip_angle": ("rad", "tip angle theta(1)"),
-    "base_moment": ("E I/L", "base moment theta'(0)"),
-    "wall_stress": ("E I/(A L^2)", "top wall shear stress"),
-    "wall_speed": ("1", "top wall speed omega2 = eta V A L^2/(E I H)"),
-    "flow_rate": ("1", "flow rate q = 6 eps^2 Phi"),
-    "pressure": ("1", "pressure gradient Pi = A G L^3/(E I)"),
-}
 _PARAMS = ("theta0", "kappa", "eps", "gamma", "inertia", "tangential_mass", "womersley")
 _WORK = ("nsteps", "naccept", "nreject", "nfev", "njev", "nlu")
 
@@ -133,11 +130,7 @@ wall_speed, flow_rate, pressure : ndarray
 
         xr = optional_import("xarray", "BedBatch.to_xarray", "io")
         data: dict[str, Any] = {}
-        for name, (units, long) in _SERIES.items():
-            if name == "top_drive":
-                long = f"top wall drive ({self.top})"
-            elif name == "pump_drive":
-                long = f"pump drive ({self.pump})"
+        for name, (units, long) in _drive_names(SERIES_ATTRS, self.top, self.pump).items():
             data[name] = (("bed", "t"), getattr(self, name), {"units": units, "long_name": long})
         par_units = {"theta0": "rad"}
         for name in _PARAMS:
@@ -360,7 +353,7 @@ def _gather(te: FloatArray, runs: list[BedTrajectory]) -> BedBatch:
             "the beds of a batch must share the kinds of their drives (wall or wall_stress, "
             f"pressure or flow_rate), got {sorted(tops)} and {sorted(pumps)}"
         )
-    series: dict[str, Any] = {k: np.stack([getattr(r, k) for r in runs]) for k in _SERIES}
+    series: dict[str, Any] = {k: np.stack([getattr(r, k) for r in runs]) for k in SERIES_ATTRS}
     consts: dict[str, Any] = {k: np.array([float(getattr(r, k)) for r in runs]) for k in _PARAMS}
     ints: dict[str, Any] = {k: np.array([int(getattr(r, k)) for r in runs], dtype=np.int64)
             for k in ("num", "num_gap", "status", *_WORK)}  # fmt: skip
