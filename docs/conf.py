@@ -49,7 +49,14 @@ napoleon_use_ivar = True  # "Attributes" as fields: no duplicate of a dataclass'
 napoleon_preprocess_types = False
 autodoc_typehints = "none"  # the docstrings carry the types and units [brackets]
 autodoc_member_order = "bysource"
-autodoc_default_options = {"members": True, "show-inheritance": False}
+# the members the results inherit (success and message from StatusResult and
+# CollocatedState), none of the builtins' members
+autodoc_default_options = {
+    "members": True,
+    "show-inheritance": False,
+    "inherited-members": "BaseException,ImportError,ValueError,Exception,Warning,UserWarning,"
+    "tuple,dict,list,str,int,float,Mapping",
+}
 autosummary_generate = False
 add_module_names = False
 

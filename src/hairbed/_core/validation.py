@@ -6,7 +6,7 @@ import math
 import numbers
 from collections.abc import Mapping
 from types import MappingProxyType
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -91,6 +91,24 @@ def status_messages(status: Any, messages: Mapping[int, str] = STATUS_MESSAGES) 
     if st.ndim == 0:
         return messages[int(st)]
     return np.vectorize(messages.__getitem__, otypes=[object])(st).tolist()
+
+
+class StatusResult:
+    """The ``success`` and ``message`` of a result type with a ``status`` field, read in the
+    class's own status table ``_status_table`` (scalars and arrays of codes alike)."""
+
+    status: Any
+    _status_table: ClassVar[Mapping[int, str]]
+
+    @property
+    def success(self) -> Any:
+        """True where status is 0 (an array of them for an array of codes)."""
+        return self.status == 0
+
+    @property
+    def message(self) -> Any:
+        """The status table's message of ``status`` (a nested list for arrays)."""
+        return status_messages(self.status, self._status_table)
 
 
 def _first_index(mask: NDArray[np.bool_]) -> str:

@@ -13,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -22,11 +22,11 @@ from .._core.loaded import _matrices
 from .._core.porous import PorousState
 from .._core.validation import (
     STATUS_MESSAGES,
+    StatusResult,
     check_int,
     check_number,
     check_positive,
     show,
-    status_messages,
 )
 from ._signals import Signal, as_signal, constant
 
@@ -545,7 +545,7 @@ def _drive_names(
 
 
 @dataclass(frozen=True)
-class BedTrajectory:
+class BedTrajectory(StatusResult):
     """A porous bed's motion (theory.md §15); time in T = zeta_perp L^4/(E I), lengths in L,
     stresses and loads in the units of §13 (a stress times A L^2/(E I)).
 
@@ -631,15 +631,7 @@ class BedTrajectory:
     njev: int
     nlu: int
 
-    @property
-    def success(self) -> bool:
-        """True where the run reached its last time (status 0)."""
-        return self.status == 0
-
-    @property
-    def message(self) -> Any:
-        """``BED_STATUS`` of the status."""
-        return status_messages(self.status, BED_STATUS)
+    _status_table: ClassVar[Mapping[int, str]] = BED_STATUS
 
     def to_xarray(self) -> Any:
         """The trajectory as an xarray.Dataset with the dimensions ``t`` and ``s``, CF

@@ -13,17 +13,17 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .._core.validation import (
+    StatusResult,
     as_float_array,
     check_int,
     check_positive,
     show,
-    status_messages,
 )
 from ._bed import (
     BED_STATUS,
@@ -50,7 +50,7 @@ _WORK = ("nsteps", "naccept", "nreject", "nfev", "njev", "nlu")
 
 
 @dataclass(frozen=True)
-class BedBatch:
+class BedBatch(StatusResult):
     """A batch of porous beds in time (:func:`simulate_beds`): each output of
     :class:`BedTrajectory` stacked on a ``bed`` dimension, (bed, t). Time in
     T = zeta_perp L^4/(E I) (each bed's own), lengths in L, stresses in the load units of
@@ -113,15 +113,7 @@ wall_speed, flow_rate, pressure : ndarray
     def __len__(self) -> int:
         return int(self.status.size)
 
-    @property
-    def success(self) -> Any:
-        """True where the bed's run reached the last time (status 0), one per bed."""
-        return self.status == 0
-
-    @property
-    def message(self) -> Any:
-        """``BED_BATCH_STATUS`` of each bed's status."""
-        return status_messages(self.status, BED_BATCH_STATUS)
+    _status_table: ClassVar[Mapping[int, str]] = BED_BATCH_STATUS
 
     def to_xarray(self) -> Any:
         """The batch as an xarray.Dataset with the dimensions ``bed`` and ``t``, CF

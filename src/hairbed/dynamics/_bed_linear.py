@@ -58,15 +58,16 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import scipy.linalg
 from numpy.typing import ArrayLike, NDArray
 
 from .._core.porous import PorousState
-from .._core.validation import as_float_array, check_number, show, status_messages
+from .._core.validation import StatusResult, as_float_array, check_number, show
 from ._bed import BED_OUTPUTS, BedOperators, bed_operators
 
 __all__ = [
@@ -215,7 +216,7 @@ _DRIVE_UNITS = {
 
 
 @dataclass(frozen=True)
-class BedFrequencyResponse:
+class BedFrequencyResponse(StatusResult):
     """Transfer functions of the porous bed about a steady state (theory.md §15).
 
     For a drive d(t) = d* + Re(D e^{i omega t}) (t in T) each output is
@@ -264,15 +265,7 @@ class BedFrequencyResponse:
     status: NDArray[np.int64]
     method: NDArray[np.str_]
 
-    @property
-    def success(self) -> Any:
-        """True where status is 0."""
-        return self.status == 0
-
-    @property
-    def message(self) -> Any:
-        """``BED_LINEAR_STATUS`` of each status."""
-        return status_messages(self.status, BED_LINEAR_STATUS)
+    _status_table: ClassVar[Mapping[int, str]] = BED_LINEAR_STATUS
 
     def to_xarray(self) -> Any:
         """The response as an xarray.Dataset on ``omega`` with CF attributes: each output's

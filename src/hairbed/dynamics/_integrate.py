@@ -16,7 +16,7 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -32,6 +32,7 @@ from .._core.pillar import (
 from .._core.solver import _scalar
 from .._core.validation import (
     STATUS_MESSAGES,
+    StatusResult,
     as_float_array,
     check_int,
     check_number,
@@ -93,7 +94,7 @@ TRAJECTORY_STATUS: Mapping[int, str] = MappingProxyType(
 
 
 @dataclass(frozen=True)
-class PillarTrajectory:
+class PillarTrajectory(StatusResult):
     """A pillar's motion (theory.md §14); time in T = zeta_perp L^4/(E I), lengths in L.
 
     Attributes
@@ -151,15 +152,7 @@ class PillarTrajectory:
     nlu: int
     _ops: Any
 
-    @property
-    def success(self) -> bool:
-        """True where the run reached its last time (status 0)."""
-        return self.status == 0
-
-    @property
-    def message(self) -> Any:
-        """``TRAJECTORY_STATUS`` of the status."""
-        return status_messages(self.status, TRAJECTORY_STATUS)
+    _status_table: ClassVar[Mapping[int, str]] = TRAJECTORY_STATUS
 
     def energy(self) -> dict[str, FloatArray]:
         """The energy budget at every output time (units E I/L, time T):

@@ -28,15 +28,16 @@ is evaluated at its nodes.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import scipy.linalg
 from numpy.typing import ArrayLike, NDArray
 
 from .._core.pillar import PillarState, profile_coefficients
-from .._core.validation import as_float_array, check_number, show, status_messages
+from .._core.validation import StatusResult, as_float_array, check_number, show
 from ._hydrodynamic import sader_drag_ratio
 from ._operators import StateOperators, state_operators, velocity_operators
 from ._validity import warn_dynamics_validity
@@ -232,7 +233,7 @@ class PillarModes:
 
 
 @dataclass(frozen=True)
-class FrequencyResponse:
+class FrequencyResponse(StatusResult):
     """Transfer functions of a pillar about a static state (theory.md §14).
 
     For a drive delta(t) = Re(delta_hat e^{i omega t}) (t in T) each output is
@@ -268,15 +269,7 @@ class FrequencyResponse:
     tangential_mass: float
     status: NDArray[np.int64]
 
-    @property
-    def success(self) -> Any:
-        """True where status is 0."""
-        return self.status == 0
-
-    @property
-    def message(self) -> Any:
-        """``LINEAR_STATUS`` of each status."""
-        return status_messages(self.status, LINEAR_STATUS)
+    _status_table: ClassVar[Mapping[int, str]] = LINEAR_STATUS
 
     def to_xarray(self) -> Any:
         """The response as an xarray.Dataset with the dimension ``omega`` and CF attributes:

@@ -42,12 +42,19 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._core.validation import as_float_array, check_int, check_number, show, status_messages
+from .._core.validation import (
+    StatusResult,
+    as_float_array,
+    check_int,
+    check_number,
+    show,
+    status_messages,
+)
 from ._bed import (
     BED_OUTPUTS,
     _angles,
@@ -1006,7 +1013,7 @@ _ADJOINT_RESIDUAL = 1e-10
 
 
 @dataclass(frozen=True)
-class PeriodicAdjoint:
+class PeriodicAdjoint(StatusResult):
     """The adjoint of the periodic collocation for one output's period mean
     (:func:`periodic_adjoint`).
 
@@ -1034,15 +1041,7 @@ class PeriodicAdjoint:
     krylov_iterations: int
     status: int
 
-    @property
-    def success(self) -> bool:
-        """True where status is 0."""
-        return self.status == 0
-
-    @property
-    def message(self) -> Any:
-        """``PERIODIC_ADJOINT_STATUS`` of ``status``."""
-        return status_messages(self.status, PERIODIC_ADJOINT_STATUS)
+    _status_table: ClassVar[Mapping[int, str]] = PERIODIC_ADJOINT_STATUS
 
     def mean_derivative(self, forcing: Any) -> FloatArray:
         """d(mean of the output)/dp = sum_k lambda_k . G_k (p,) for forcing columns G at the

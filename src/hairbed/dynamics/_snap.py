@@ -16,14 +16,14 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from types import MappingProxyType
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .._core.pillar import WINDOW_THETA0
 from .._core.pillar_branch import continue_pillar, solve_pillar_all
-from .._core.validation import check_int, check_number, check_positive, status_messages
+from .._core.validation import StatusResult, check_int, check_number, check_positive
 from ._integrate import PillarTrajectory, simulate_pillar
 from ._signals import ramp
 
@@ -59,7 +59,7 @@ _WINDOW_TEXT = (
 
 
 @dataclass(frozen=True)
-class SnapThrough:
+class SnapThrough(StatusResult):
     """A snap-through in time (theory.md §14); time in T = zeta_perp L^4/(E I), lengths in L.
 
     Attributes
@@ -125,15 +125,7 @@ class SnapThrough:
     trajectory: PillarTrajectory | None
     status: int
 
-    @property
-    def success(self) -> bool:
-        """True where the jump was found and the pillar settled (status 0)."""
-        return self.status == 0
-
-    @property
-    def message(self) -> Any:
-        """``SNAP_STATUS`` of the status."""
-        return status_messages(self.status, SNAP_STATUS)
+    _status_table: ClassVar[Mapping[int, str]] = SNAP_STATUS
 
 
 def _window(

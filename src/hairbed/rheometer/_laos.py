@@ -48,13 +48,14 @@ harmonics, measurable where the record spans several periods).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._core.validation import as_float_array, show, status_messages
+from .._core.validation import StatusResult, as_float_array, show
 
 __all__ = [
     "LAOS_STATUS",
@@ -85,7 +86,7 @@ _ALIAS_TOL = 1e-8
 
 
 @dataclass(frozen=True)
-class LAOSAnalysis:
+class LAOSAnalysis(StatusResult):
     """The harmonics, Chebyshev coefficients and LAOS measures of a periodic stress record.
 
     The units of the stress are the caller's ([stress]); the strain is dimensionless.
@@ -148,15 +149,7 @@ class LAOSAnalysis:
     periods: int
     status: int
 
-    @property
-    def success(self) -> bool:
-        """True where status is 0."""
-        return self.status == 0
-
-    @property
-    def message(self) -> Any:
-        """``LAOS_STATUS`` of ``status``."""
-        return status_messages(self.status, LAOS_STATUS)
+    _status_table: ClassVar[Mapping[int, str]] = LAOS_STATUS
 
     @property
     def relative_intensity(self) -> FloatArray:

@@ -31,14 +31,15 @@ to O(omega T).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.typing import NDArray
 
 from .._core.porous import solve_porous
-from .._core.validation import check_int, check_number, status_messages
+from .._core.validation import StatusResult, check_int, check_number
 from ..dynamics import linearise_bed, periodic_bed, simulate_bed, sine
 from ..dynamics._bed import MAX_BED_DRIVE
 from ._laos import LAOSAnalysis, analyse_laos
@@ -69,7 +70,7 @@ LARGE_METHODS = ("collocation", "transient")
 
 
 @dataclass(frozen=True)
-class LargeAmplitudeShear:
+class LargeAmplitudeShear(StatusResult):
     """The bed's periodic response to a large-amplitude oscillatory strain.
 
     Attributes
@@ -119,15 +120,7 @@ class LargeAmplitudeShear:
     method: str = "transient"
     harmonics: int = 0
 
-    @property
-    def success(self) -> bool:
-        """True where status is 0."""
-        return self.status == 0
-
-    @property
-    def message(self) -> Any:
-        """``LARGE_STATUS`` of ``status``."""
-        return status_messages(self.status, LARGE_STATUS)
+    _status_table: ClassVar[Mapping[int, str]] = LARGE_STATUS
 
 
 def large_amplitude_shear(

@@ -29,9 +29,10 @@ inertia (alpha = mu = 0) G' >= 0 at every frequency: no lead.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from dataclasses import replace as dataclasses_replace
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import scipy.optimize
@@ -39,7 +40,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .._bed_scales import _scales
 from .._core.porous import solve_porous
-from .._core.validation import as_float_array, check_number, show, status_messages
+from .._core.validation import StatusResult, as_float_array, check_number, show
 from ..bed_simulation import _within_range
 from ..dynamics import LinearBed, linearise_bed
 from ..units import HairBed
@@ -63,7 +64,7 @@ OMEGA_RANGE = (1e-9, 1e9)
 
 
 @dataclass(frozen=True)
-class OscillatoryShear:
+class OscillatoryShear(StatusResult):
     """The bed's moduli over frequency and pre-stress (:func:`oscillatory_shear`).
 
     Arrays are (frequency, pre_stress).
@@ -108,15 +109,7 @@ class OscillatoryShear:
     womersley: float
     status: NDArray[np.int64]
 
-    @property
-    def success(self) -> Any:
-        """True where status is 0."""
-        return self.status == 0
-
-    @property
-    def message(self) -> Any:
-        """``SAOS_STATUS`` of each status."""
-        return status_messages(self.status, SAOS_STATUS)
+    _status_table: ClassVar[Mapping[int, str]] = SAOS_STATUS
 
     @property
     def loss_tangent(self) -> FloatArray:
@@ -304,7 +297,7 @@ def oscillatory_shear(
 
 
 @dataclass(frozen=True)
-class BedModuli:
+class BedModuli(StatusResult):
     """G'(f) and G''(f) of a :class:`hairbed.HairBed` in SI (:func:`bed_moduli`).
 
     Arrays are (frequency, pre_stress); an array bed's (issue 32) have its shape S in front
@@ -362,15 +355,7 @@ class BedModuli:
         rows = np.stack([d.status for d in self.dimensionless.reshape(-1)])
         return rows.reshape(self.shape + rows.shape[1:])
 
-    @property
-    def success(self) -> Any:
-        """True where status is 0."""
-        return self.status == 0
-
-    @property
-    def message(self) -> Any:
-        """``SAOS_STATUS`` of each status."""
-        return status_messages(self.status, SAOS_STATUS)
+    _status_table: ClassVar[Mapping[int, str]] = SAOS_STATUS
 
     def item(self, index: Any = ()) -> BedModuli:
         """The moduli of the bed at ``index`` of :attr:`shape` (as
