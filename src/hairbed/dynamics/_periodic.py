@@ -608,8 +608,6 @@ def _transient_start(prob: _Problem, y_mean: FloatArray, h0: int, hmax: int) -> 
         batch = min(2 * batch, 64)
     else:
         return None
-    if counts[0] >= _SETTLE_STEPS:
-        return None
     kk = 2 * hmax + 1
     te = period * done + prob.times(kk)
     out = np.full((kk + 1, m), np.nan)
@@ -770,7 +768,7 @@ def periodic_bed(
             total, krylov = total + its, krylov + kry
             res = _refined(prob, ok, y2, fin2, ptol, hmax, newton_tol, nit)
             total, krylov = total + res[4], krylov + res[5]
-            if res[0] == 0 or (res[0] == 1 and status != 1):
+            if res[0] in (0, 1):  # a periodic state (status 1: short of tol at hmax)
                 start = "transient"
                 status, err, hh, y1, _its, _kry, finite = res
     t = prob.times(y1.shape[0])
