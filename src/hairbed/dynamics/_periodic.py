@@ -174,9 +174,7 @@ class PeriodicBed:
     def y_t(self) -> FloatArray:
         """dy/dt at the phases [1/T], (K, size): the exact derivative of the trigonometric
         interpolant (the collocation's D y)."""
-        c = np.fft.rfft(self.y, axis=0)
-        c *= 1j * self.omega * np.arange(c.shape[0])[:, None]
-        return np.fft.irfft(c, n=self.y.shape[0], axis=0)
+        return _derivative(self.y, self.omega)
 
     @property
     def message(self) -> Any:
@@ -203,6 +201,14 @@ class PeriodicBed:
         if not isinstance(output, str) or output not in self.outputs:
             raise ValueError(f"output must be one of {sorted(self.outputs)}, got {show(output)}")
         return float(np.mean(self.outputs[output]))
+
+
+def _derivative(y: FloatArray, omega: float) -> FloatArray:
+    """The exact time derivative of the trigonometric interpolant of y (K, ...) at its K
+    equispaced phases (period 2 pi/omega), by the FFT."""
+    c = np.fft.rfft(y, axis=0)
+    c *= (1j * omega * np.arange(c.shape[0])).reshape((-1,) + (1,) * (y.ndim - 1))
+    return np.fft.irfft(c, n=y.shape[0], axis=0)
 
 
 def _interpolate(y: FloatArray, omega: float, t: FloatArray) -> FloatArray:
@@ -279,10 +285,7 @@ class _Problem:
 
     def derivative(self, y: FloatArray) -> FloatArray:
         """D y: the exact time derivative of the trigonometric interpolant at the phases."""
-        kk = y.shape[0]
-        c = np.fft.rfft(y, axis=0)
-        c *= (1j * self.omega * np.arange(c.shape[0])).reshape((-1,) + (1,) * (y.ndim - 1))
-        return np.fft.irfft(c, n=kk, axis=0)
+        return _derivative(y, self.omega)
 
     def solve(
         self, jac: FloatArray, rhs: FloatArray, strict: bool = True
